@@ -1,0 +1,137 @@
+//! Patch bases: for fixed barycentric coordinates, the weights that combine a patch's control
+//! points into a point of the surface, and the weights of its two directional derivatives.
+//!
+//! Every scheme is such a linear combination, so a refinement pattern can hold the weights of
+//! each of its points once ([`crate::Stencil`]) and every backend evaluates a patch as a
+//! weighted sum of its control points.
+//!
+//! Derivatives are taken along `u` (from P1 towards P2) and `v` (from P1 towards P3), with
+//! barycentric `(l1, l2, l3) = (1-u-v, u, v)`; `Du × Dv` points to the side a
+//! counter-clockwise triangle faces.
+
+use serde::Serialize;
+
+/// Cubic control points in storage order: corners, then two points per edge walking
+/// P1 → P2 → P3 → P1, then the centre. Index `i` of `b_ijk` belongs to P1 (see ERRATA.md).
+pub const CUBIC_ORDER: [[u8; 3]; 10] = [
+    [3, 0, 0], // b300 = P1
+    [0, 3, 0], // b030 = P2
+    [0, 0, 3], // b003 = P3
+    [2, 1, 0], // b210, edge P1P2 near P1
+    [1, 2, 0], // b120, edge P1P2 near P2
+    [0, 2, 1], // b021, edge P2P3 near P2
+    [0, 1, 2], // b012, edge P2P3 near P3
+    [1, 0, 2], // b102, edge P3P1 near P3
+    [2, 0, 1], // b201, edge P3P1 near P1
+    [1, 1, 1], // b111
+];
+
+/// Number of control normals of the quadratic normal net: `N1, N2, N3, n110, n011, n101`.
+pub const NORMAL_NET_LEN: usize = 6;
+
+/// The family of functions a scheme's control points are combined with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Basis {
+    /// The cubic Bernstein basis of a Bézier triangle, 10 control points ([`CUBIC_ORDER`]).
+    /// Flat and Phong patches are degree-elevated into it.
+    Cubic,
+}
+
+/// Weights of one parameter point: value, `Du` and `Dv`, one entry per control point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BasisWeights {
+    pub value: Vec<f64>,
+    pub du: Vec<f64>,
+    pub dv: Vec<f64>,
+}
+
+impl Basis {
+    /// Number of control points per patch.
+    pub const fn len(self) -> usize {
+        match self {
+            Basis::Cubic => 10,
+        }
+    }
+
+    /// Weights at barycentric `l = (l1, l2, l3)`, `l1 + l2 + l3 = 1`, computed in f64.
+    pub fn weights(self, l: [f64; 3]) -> BasisWeights {
+        match self {
+            Basis::Cubic => cubic_weights(l),
+        }
+    }
+}
+
+fn factorial(n: u8) -> f64 {
+    (1..=n as u32).product::<u32>() as f64
+}
+
+/// Cubic Bernstein polynomials `3!/(i!j!k!) l1^i l2^j l3^k` and their `Du`, `Dv`.
+fn cubic_weights(l: [f64; 3]) -> BasisWeights {
+    let mut value = Vec::with_capacity(10);
+    let mut du = Vec::with_capacity(10);
+    let mut dv = Vec::with_capacity(10);
+    for e in CUBIC_ORDER {
+        let c = 6.0 / (factorial(e[0]) * factorial(e[1]) * factorial(e[2]));
+        let pow = |x: f64, n: u8| if n == 0 { 1.0 } else { x.powi(n as i32) };
+        // Partial derivative along barycentric coordinate `m`.
+        let partial = |m: usize| {
+            if e[m] == 0 {
+                return 0.0;
+            }
+            let mut p = c * e[m] as f64;
+            for (k, &lk) in l.iter().enumerate() {
+                p *= pow(lk, if k == m { e[k] - 1 } else { e[k] });
+            }
+            p
+        };
+        value.push(c * pow(l[0], e[0]) * pow(l[1], e[1]) * pow(l[2], e[2]));
+        let d1 = partial(0);
+        du.push(partial(1) - d1);
+        dv.push(partial(2) - d1);
+    }
+    BasisWeights { value, du, dv }
+}
+
+/// Weights of the quadratic normal net `N1, N2, N3, n110, n011, n101` at `l`:
+/// `l1², l2², l3², l1 l2, l2 l3, l3 l1` (Vlachos et al., with the mid coefficients carrying
+/// their factor; see ERRATA.md).
+pub fn normal_weights(l: [f64; 3]) -> [f64; NORMAL_NET_LEN] {
+    let [a, b, c] = l;
+    [a * a, b * b, c * c, a * b, b * c, c * a]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cubic_partition_of_unity_and_derivatives() {
+        for &l in &[
+            [1.0, 0.0, 0.0],
+            [0.2, 0.3, 0.5],
+            [1.0 / 3.0; 3],
+            [0.0, 0.25, 0.75],
+        ] {
+            let w = Basis::Cubic.weights(l);
+            assert!((w.value.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+            assert!(w.du.iter().sum::<f64>().abs() < 1e-13);
+            assert!(w.dv.iter().sum::<f64>().abs() < 1e-13);
+            // Finite differences agree with the analytic derivatives.
+            let h = 1e-6;
+            let fu = Basis::Cubic.weights([l[0] - h, l[1] + h, l[2]]);
+            let bu = Basis::Cubic.weights([l[0] + h, l[1] - h, l[2]]);
+            for k in 0..10 {
+                let fd = (fu.value[k] - bu.value[k]) / (2.0 * h);
+                assert!((fd - w.du[k]).abs() < 1e-8, "k={k} {fd} {}", w.du[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn corner_weights_select_corner_points() {
+        let w = Basis::Cubic.weights([0.0, 1.0, 0.0]);
+        assert_eq!(w.value[1], 1.0);
+        assert_eq!(w.value.iter().filter(|&&x| x != 0.0).count(), 1);
+    }
+}

@@ -1,0 +1,44 @@
+//! # tessella-core
+//!
+//! Turns coarse triangle meshes into smooth curved surfaces by *refinement patterns*
+//! (Boubekeur & Schlick 2005): one pre-tessellated triangle ([`Pattern`]) is mapped onto every
+//! coarse triangle's curved patch.
+//!
+//! Data flows one way:
+//!
+//! ```text
+//! Mesh ──topology──▶ Topology ─┐
+//!   │                          ├─▶ OutputLayout (who owns each shared vertex)
+//!   └──scheme──▶ PatchNets ────┤
+//! Pattern ──basis──▶ Stencil ──┴─▶ evaluate: vertex = Σ weight × control point ─▶ RefinedMesh
+//! ```
+//!
+//! A scheme ([`Scheme`]) only builds control nets; a basis ([`Basis`]) only says how a net is
+//! combined at a barycentric point. Backends (this crate's CPU evaluator, the GPU crate) consume
+//! nets and stencils unchanged.
+//!
+//! ## Conventions
+//! - Barycentric `(l1, l2, l3)` weigh the corners `(P1, P2, P3)` of a triangle in index order;
+//!   control point `b_ijk` has `i` for P1 (see `shared/papers/ERRATA.md`).
+//! - Triangles are counter-clockwise seen from the side their normals face; refined triangles
+//!   keep the winding.
+//! - "Level" is the number of segments per coarse edge: level `N` makes `N²` triangles per
+//!   coarse triangle.
+//! - Normals are unit length on input (normalised when read) and output.
+
+pub mod basis;
+pub mod error;
+pub mod mesh;
+pub mod pattern;
+pub mod refine;
+pub mod samples;
+pub mod scheme;
+pub mod stencil;
+
+pub use basis::Basis;
+pub use error::{MeshError, RefineError};
+pub use mesh::{Mesh, Topology, TopologyReport};
+pub use pattern::Pattern;
+pub use refine::{refine, OutputLayout, RefineOptions, RefinedMesh, Refiner};
+pub use scheme::{NormalMode, PatchNets, Scheme};
+pub use stencil::Stencil;

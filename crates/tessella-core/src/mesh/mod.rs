@@ -1,0 +1,263 @@
+//! The coarse input: positions, unit normals, optional UVs and counter-clockwise triangles.
+//!
+//! A [`Mesh`] is validated when it is built ([`Mesh::new`]): every later stage may assume finite
+//! coordinates, indices in range, no degenerate triangles and unit normals. Normals missing from
+//! the input are computed ([`normals::angle_weighted`]).
+//!
+//! A *vertex* is one (position, normal, uv) combination: a file that gives one position two
+//! normals (a hard edge) has two vertices there. Refined output shares exactly what the input
+//! shares: two triangles that use the same vertex index share their refined edge.
+
+pub mod normals;
+pub mod topology;
+
+use crate::error::MeshError;
+use glam::Vec3;
+
+pub use topology::{Topology, TopologyReport};
+
+/// A validated triangle mesh. Build it with [`Mesh::new`]; fields are read-only afterwards.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    uvs: Option<Vec<[f32; 2]>>,
+    triangles: Vec<[u32; 3]>,
+    normals_computed: bool,
+}
+
+impl Mesh {
+    /// Validates the arrays and builds a mesh.
+    ///
+    /// - `positions`: #V points.
+    /// - `normals`: #V normals or `None` to compute them (angle-weighted, see [`normals`]).
+    ///   Given normals are normalised; a zero or non-finite one is an error.
+    /// - `uvs`: #V texture coordinates or `None`.
+    /// - `triangles`: #F corner indices, counter-clockwise seen from the side the normals face.
+    ///
+    /// ```
+    /// use tessella_core::Mesh;
+    /// let mesh = Mesh::new(
+    ///     vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    ///     None,
+    ///     None,
+    ///     vec![[0, 1, 2]],
+    /// )?;
+    /// assert_eq!(mesh.normals()[0], [0.0, 0.0, 1.0]);
+    /// # Ok::<(), tessella_core::MeshError>(())
+    /// ```
+    pub fn new(
+        positions: Vec<[f32; 3]>,
+        normals: Option<Vec<[f32; 3]>>,
+        uvs: Option<Vec<[f32; 2]>>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Mesh, MeshError> {
+        let count = positions.len();
+        if count > u32::MAX as usize {
+            return Err(MeshError::TooManyVertices {
+                count,
+                max: u32::MAX as usize,
+            });
+        }
+        if triangles.is_empty() {
+            return Err(MeshError::NoTriangles);
+        }
+        for (vertex, p) in positions.iter().enumerate() {
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(MeshError::NonFinitePosition { vertex, value: *p });
+            }
+        }
+        for (face, t) in triangles.iter().enumerate() {
+            for &index in t {
+                if index as usize >= count {
+                    return Err(MeshError::IndexOutOfRange { face, index, count });
+                }
+            }
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                let index = if t[0] == t[1] || t[0] == t[2] {
+                    t[0]
+                } else {
+                    t[1]
+                };
+                return Err(MeshError::RepeatedIndex {
+                    face,
+                    index,
+                    indices: *t,
+                });
+            }
+            let [a, b, c] = t.map(|i| Vec3::from(positions[i as usize]).as_dvec3());
+            if (b - a).cross(c - a).length_squared() == 0.0 {
+                return Err(MeshError::ZeroArea { face });
+            }
+        }
+        if let Some(uvs) = &uvs {
+            if uvs.len() != count {
+                return Err(MeshError::AttributeCount {
+                    what: "uvs",
+                    got: uvs.len(),
+                    expected: count,
+                });
+            }
+            for (vertex, uv) in uvs.iter().enumerate() {
+                if !uv.iter().all(|c| c.is_finite()) {
+                    return Err(MeshError::NonFiniteUv { vertex, value: *uv });
+                }
+            }
+        }
+        let (normals, normals_computed) = match normals {
+            Some(given) => {
+                if given.len() != count {
+                    return Err(MeshError::AttributeCount {
+                        what: "normals",
+                        got: given.len(),
+                        expected: count,
+                    });
+                }
+                (normals::normalized(given)?, false)
+            }
+            None => (normals::angle_weighted(&positions, &triangles), true),
+        };
+        Ok(Mesh {
+            positions,
+            normals,
+            uvs,
+            triangles,
+            normals_computed,
+        })
+    }
+
+    /// Vertex positions, #V.
+    pub fn positions(&self) -> &[[f32; 3]] {
+        &self.positions
+    }
+    /// Unit vertex normals, #V.
+    pub fn normals(&self) -> &[[f32; 3]] {
+        &self.normals
+    }
+    /// Texture coordinates, #V, when the input had them.
+    pub fn uvs(&self) -> Option<&[[f32; 2]]> {
+        self.uvs.as_deref()
+    }
+    /// Counter-clockwise triangles, #F.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+    /// Number of triangles.
+    pub fn face_count(&self) -> usize {
+        self.triangles.len()
+    }
+    /// True when the normals were computed because the input had none.
+    pub fn normals_computed(&self) -> bool {
+        self.normals_computed
+    }
+    /// The three corner positions of face `f`.
+    pub fn corner_positions(&self, f: usize) -> [Vec3; 3] {
+        self.triangles[f].map(|i| Vec3::from(self.positions[i as usize]))
+    }
+    /// The three corner normals of face `f`.
+    pub fn corner_normals(&self, f: usize) -> [Vec3; 3] {
+        self.triangles[f].map(|i| Vec3::from(self.normals[i as usize]))
+    }
+    /// Axis-aligned bounds `(min, max)` of the positions.
+    pub fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        bounds(&self.positions)
+    }
+    /// Length of the bounding box's diagonal: the scale tolerances are measured against.
+    pub fn diagonal(&self) -> f32 {
+        let (lo, hi) = self.bounds();
+        (Vec3::from(hi) - Vec3::from(lo)).length()
+    }
+    /// Edge adjacency, boundary and non-manifold edges, split normals (computed on demand).
+    pub fn topology(&self) -> Topology {
+        Topology::new(self)
+    }
+}
+
+/// Axis-aligned bounds of a point set; `([0;3],[0;3])` when it is empty.
+pub fn bounds(points: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
+    if points.is_empty() {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for p in points {
+        lo = lo.min(Vec3::from(*p));
+        hi = hi.max(Vec3::from(*p));
+    }
+    (lo.into(), hi.into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+        (
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![[0, 1, 2]],
+        )
+    }
+
+    #[test]
+    fn rejects_bad_input_with_named_problem() {
+        let (p, t) = tri();
+        let mut nan = p.clone();
+        nan[1][2] = f32::NAN;
+        assert!(matches!(
+            Mesh::new(nan, None, None, t.clone()),
+            Err(MeshError::NonFinitePosition { vertex: 1, .. })
+        ));
+        assert!(matches!(
+            Mesh::new(p.clone(), None, None, vec![[0, 1, 3]]),
+            Err(MeshError::IndexOutOfRange {
+                face: 0,
+                index: 3,
+                count: 3
+            })
+        ));
+        assert!(matches!(
+            Mesh::new(p.clone(), None, None, vec![[0, 1, 1]]),
+            Err(MeshError::RepeatedIndex { .. })
+        ));
+        let collinear = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+        assert!(matches!(
+            Mesh::new(collinear, None, None, t.clone()),
+            Err(MeshError::ZeroArea { face: 0 })
+        ));
+        let zero_n = vec![[0.0, 0.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+        assert!(matches!(
+            Mesh::new(p.clone(), Some(zero_n), None, t.clone()),
+            Err(MeshError::ZeroNormal { vertex: 1 })
+        ));
+        assert!(matches!(
+            Mesh::new(p.clone(), None, None, vec![]),
+            Err(MeshError::NoTriangles)
+        ));
+        assert!(matches!(
+            Mesh::new(p, None, Some(vec![[0.0; 2]; 2]), t),
+            Err(MeshError::AttributeCount {
+                what: "uvs",
+                got: 2,
+                expected: 3
+            })
+        ));
+    }
+
+    #[test]
+    fn given_normals_are_normalised() {
+        let (p, t) = tri();
+        let mesh = Mesh::new(
+            p,
+            Some(vec![[0.0, 0.0, 2.0], [0.0, 3.0, 4.0], [1.0, 0.0, 0.0]]),
+            None,
+            t,
+        )
+        .unwrap();
+        assert_eq!(mesh.normals()[1], [0.0, 0.6, 0.8]);
+        assert!(!mesh.normals_computed());
+    }
+}

@@ -1,0 +1,242 @@
+//! Small meshes the project generates itself: test inputs, benchmark inputs and the bundled
+//! sample files (`tessella samples` writes them).
+
+use crate::mesh::Mesh;
+use std::collections::HashMap;
+use std::f32::consts::PI;
+
+/// Names of the bundled samples, in the order [`by_name`] knows them.
+pub const NAMES: [&str; 6] = [
+    "icosphere",
+    "torus",
+    "tetrahedron",
+    "hard-cube",
+    "creature",
+    "icosphere-4k",
+];
+
+/// A bundled sample by name (see [`NAMES`]).
+pub fn by_name(name: &str) -> Option<Mesh> {
+    Some(match name {
+        "icosphere" => icosphere(1),
+        "torus" => torus(1.0, 0.4, 12, 8),
+        "tetrahedron" => tetrahedron(),
+        "hard-cube" => hard_cube(),
+        "creature" => creature(),
+        "icosphere-4k" => icosphere_4k(),
+        _ => return None,
+    })
+}
+
+/// The unit icosahedron subdivided `subdivisions` times (`20 · 4^s` triangles), vertices on the
+/// unit sphere, normals equal to positions (the sphere's exact normals).
+pub fn icosphere(subdivisions: u32) -> Mesh {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut positions: Vec<[f32; 3]> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|&p| normalize(p))
+    .collect();
+    let mut triangles: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut mid = |a: u32, b: u32, positions: &mut Vec<[f32; 3]>| {
+            *midpoint.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (pa, pb) = (positions[a as usize], positions[b as usize]);
+                positions.push(normalize([pa[0] + pb[0], pa[1] + pb[1], pa[2] + pb[2]]));
+                positions.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::with_capacity(triangles.len() * 4);
+        for [a, b, c] in triangles {
+            let ab = mid(a, b, &mut positions);
+            let bc = mid(b, c, &mut positions);
+            let ca = mid(c, a, &mut positions);
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        triangles = next;
+    }
+    let normals = positions.clone();
+    Mesh::new(positions, Some(normals), None, triangles).expect("icosphere is valid")
+}
+
+/// About 4k triangles: the benchmark mesh (an icosphere of 5120 triangles).
+pub fn icosphere_4k() -> Mesh {
+    icosphere(4)
+}
+
+/// A torus around +Z with tube centre radius `major` and tube radius `minor`, `around × tube`
+/// quads split into triangles, with exact normals and UVs.
+pub fn torus(major: f32, minor: f32, around: u32, tube: u32) -> Mesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut uvs = Vec::new();
+    for i in 0..around {
+        let u = i as f32 / around as f32 * 2.0 * PI;
+        for j in 0..tube {
+            let v = j as f32 / tube as f32 * 2.0 * PI;
+            let n = [u.cos() * v.cos(), u.sin() * v.cos(), v.sin()];
+            positions.push([
+                (major + minor * v.cos()) * u.cos(),
+                (major + minor * v.cos()) * u.sin(),
+                minor * v.sin(),
+            ]);
+            normals.push(n);
+            uvs.push([i as f32 / around as f32, j as f32 / tube as f32]);
+        }
+    }
+    let id = |i: u32, j: u32| (i % around) * tube + (j % tube);
+    let mut triangles = Vec::new();
+    for i in 0..around {
+        for j in 0..tube {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    // UVs wrap, so they are not per-vertex continuous on the seam; keep positions shared and
+    // drop UVs here: the torus is the closed genus-1 test surface.
+    let _ = uvs;
+    Mesh::new(positions, Some(normals), None, triangles).expect("torus is valid")
+}
+
+/// A regular tetrahedron with centroid normals (PNG1 paper, Figure 10): the coarsest closed
+/// mesh, where PN and PNG1 differ most.
+pub fn tetrahedron() -> Mesh {
+    let positions = vec![
+        [1.0, 1.0, 1.0],
+        [1.0, -1.0, -1.0],
+        [-1.0, 1.0, -1.0],
+        [-1.0, -1.0, 1.0],
+    ];
+    let normals = positions.iter().map(|&p| normalize(p)).collect();
+    let triangles = vec![[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]];
+    Mesh::new(positions, Some(normals), None, triangles).expect("tetrahedron is valid")
+}
+
+/// A unit cube with hard edges: each face has its own four vertices with the face normal, so
+/// every corner position carries three normals (split normals).
+pub fn hard_cube() -> Mesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut triangles = Vec::new();
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let n = unit(axis, sign);
+            let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+            let base = positions.len() as u32;
+            for (s, t) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let mut p = [0.0; 3];
+                p[axis] = sign;
+                p[a] = s;
+                p[b] = t;
+                positions.push(p);
+                normals.push(n);
+            }
+            // (a, b, axis) is right-handed, so the quad is counter-clockwise seen from +axis.
+            if sign > 0.0 {
+                triangles.extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
+            } else {
+                triangles.extend([[base, base + 2, base + 1], [base, base + 3, base + 2]]);
+            }
+        }
+    }
+    Mesh::new(positions, Some(normals), None, triangles).expect("cube is valid")
+}
+
+/// Something character-like: an icosphere pushed out into a head, two arms and two legs, with
+/// computed normals. Closed, genus 0, 320 triangles.
+pub fn creature() -> Mesh {
+    let sphere = icosphere(2);
+    let bumps: [([f32; 3], f32, f32); 5] = [
+        ([0.0, 0.0, 1.0], 0.9, 0.35), // head
+        ([1.0, 0.0, 0.2], 0.7, 0.25), // arms
+        ([-1.0, 0.0, 0.2], 0.7, 0.25),
+        ([0.45, 0.0, -1.0], 0.6, 0.3), // legs
+        ([-0.45, 0.0, -1.0], 0.6, 0.3),
+    ];
+    let positions: Vec<[f32; 3]> = sphere
+        .positions()
+        .iter()
+        .map(|&p| {
+            let mut r = 0.8 - 0.15 * p[1] * p[1];
+            for (dir, height, width) in bumps {
+                let d = normalize(dir);
+                let cos = p[0] * d[0] + p[1] * d[1] + p[2] * d[2];
+                r += height * (-(1.0 - cos) / (width * width)).exp();
+            }
+            [p[0] * r, p[1] * r * 0.7, p[2] * r]
+        })
+        .collect();
+    Mesh::new(positions, None, None, sphere.triangles().to_vec()).expect("creature is valid")
+}
+
+fn normalize(p: [f32; 3]) -> [f32; 3] {
+    let l = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    [p[0] / l, p[1] / l, p[2] / l]
+}
+
+fn unit(axis: usize, sign: f32) -> [f32; 3] {
+    let mut n = [0.0; 3];
+    n[axis] = sign;
+    n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_are_closed_with_expected_euler_characteristic() {
+        for name in NAMES {
+            let mesh = by_name(name).unwrap();
+            let report = mesh.topology().report;
+            assert!(report.is_closed_manifold(), "{name}: {report:?}");
+            let expected = if name == "torus" { 0 } else { 2 };
+            assert_eq!(report.euler_characteristic, expected, "{name}");
+            // Outward orientation: the normals agree with the face normals on average.
+            let mut agree = 0.0;
+            for f in 0..mesh.face_count() {
+                let [a, b, c] = mesh.corner_positions(f);
+                let n = (b - a).cross(c - a);
+                agree += mesh.corner_normals(f).iter().map(|m| m.dot(n)).sum::<f32>();
+            }
+            assert!(agree > 0.0, "{name} is inside out");
+        }
+        assert_eq!(hard_cube().topology().report.split_normal_positions, 8);
+        assert_eq!(icosphere_4k().face_count(), 5120);
+    }
+}

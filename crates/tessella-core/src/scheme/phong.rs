@@ -1,0 +1,23 @@
+//! Phong tessellation (Boubekeur & Alexa 2008; the FEM poster's equations (1), (2), with the
+//! parenthesis fixed as in ERRATA.md).
+
+use super::{cubic_from_quadratic, Corners};
+use glam::Vec3;
+
+/// `pi_i(q) = q - ((q - Pi) . Ni) Ni`: `q` projected onto the tangent plane at corner `i`.
+fn project(q: Vec3, p: Vec3, n: Vec3) -> Vec3 {
+    q - (q - p).dot(n) * n
+}
+
+/// `p_alpha = (1 - alpha) p_flat + alpha p*`, with
+/// `p* = sum li² Pi + sum_{i<j} li lj (pi_i(Pj) + pi_j(Pi))`. Both are quadratics with the same
+/// corner terms, so the mid coefficients blend: `m_ij = (1-alpha)(Pi + Pj) + alpha (pi_i(Pj) + pi_j(Pi))`.
+pub fn control_points(c: &Corners, alpha: f32) -> [Vec3; 10] {
+    let Corners { p, n } = c;
+    let mid = |i: usize, j: usize| {
+        let flat = p[i] + p[j];
+        let phong = project(p[j], p[i], n[i]) + project(p[i], p[j], n[j]);
+        flat + alpha * (phong - flat)
+    };
+    cubic_from_quadratic(*p, [mid(0, 1), mid(1, 2), mid(2, 0)])
+}

@@ -1,0 +1,1 @@
+//! GPU backend for tessella (being written).

@@ -1,0 +1,1 @@
+//! Mesh files for tessella (being written).
