@@ -46,6 +46,7 @@ pub struct BasisWeights {
     pub dv: Vec<f64>,
 }
 
+#[allow(clippy::len_without_is_empty)] // a basis always has control points
 impl Basis {
     /// Number of control points per patch.
     pub const fn len(self) -> usize {

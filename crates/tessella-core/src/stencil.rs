@@ -18,6 +18,63 @@ pub struct Stencil {
     pub edge_points: [Vec<u32>; 3],
     /// Pattern point index of each interior point, in interior order.
     pub interior_points: Vec<u32>,
+    /// The same weights transposed (weight-major) for runs of points that are evaluated
+    /// together: the interior points, each edge's points, and all points (soup output).
+    pub blocks: StencilBlocks,
+}
+
+/// Transposed weight tables, see [`Block`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct StencilBlocks {
+    pub interior: Block,
+    pub edges: [Block; 3],
+    pub all: Block,
+}
+
+/// Weights of a run of pattern points, weight-major: `value[k * len + i]` is control point
+/// `k`'s weight at the run's point `i`. Summing `weight × control point` over `k` for many points
+/// at once is then a run of independent multiply-adds the compiler vectorises.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Block {
+    /// Pattern point index of each point of the run.
+    pub points: Vec<u32>,
+    pub value: Vec<f32>,
+    pub du: Vec<f32>,
+    pub dv: Vec<f32>,
+    /// Weights of the six control normals, `normal[k * len + i]`.
+    pub normal: Vec<f32>,
+}
+
+impl Block {
+    fn new(points: Vec<u32>, rows: &[f32], k: usize) -> Block {
+        let stride = Stencil::stride_for(k);
+        let len = points.len();
+        let column = |offset: usize, count: usize| {
+            let mut out = vec![0.0f32; count * len];
+            for (i, &p) in points.iter().enumerate() {
+                let row = &rows[p as usize * stride..];
+                for c in 0..count {
+                    out[c * len + i] = row[offset + c];
+                }
+            }
+            out
+        };
+        Block {
+            value: column(0, k),
+            du: column(k, k),
+            dv: column(2 * k, k),
+            normal: column(3 * k, NORMAL_NET_LEN),
+            points,
+        }
+    }
+    /// Number of points in the run.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+    /// True when the run is empty.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
 }
 
 impl Stencil {
@@ -68,12 +125,18 @@ impl Stencil {
                 PointClass::Corner { .. } => {}
             }
         }
+        let blocks = StencilBlocks {
+            interior: Block::new(interior_points.clone(), &weights, k),
+            edges: edge_points.clone().map(|e| Block::new(e, &weights, k)),
+            all: Block::new((0..pattern.points.len() as u32).collect(), &weights, k),
+        };
         Stencil {
             basis,
             level: pattern.level,
             weights,
             edge_points,
             interior_points,
+            blocks,
         }
     }
 

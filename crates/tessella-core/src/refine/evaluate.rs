@@ -8,7 +8,7 @@ use crate::basis::NORMAL_NET_LEN;
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
 use crate::scheme::{NormalMode, PatchNets};
-use crate::stencil::Stencil;
+use crate::stencil::{Block, Stencil};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -19,7 +19,8 @@ const FACES_PER_TASK: usize = 32;
 ///
 /// Normals: `Real` takes `Du × Dv` and falls back to the normal net where the derivatives are
 /// (nearly) parallel; the others take the normal net. A normal that still vanishes becomes the
-/// normal of the patch's corner triangle.
+/// normal of the patch's corner triangle. [`eval_block`] computes the same, bit for bit, for
+/// many points at once.
 #[inline(always)]
 pub fn eval_point<const K: usize>(
     row: &[f32],
@@ -28,29 +29,50 @@ pub fn eval_point<const K: usize>(
     mode: NormalMode,
 ) -> ([f32; 3], [f32; 3]) {
     let points: &[[f32; 3]; K] = points.try_into().expect("patch has K control points");
-    let normals: &[[f32; 3]; NORMAL_NET_LEN] =
-        normals.try_into().expect("normal net has 6 entries");
     let w: &[f32; K] = row[..K].try_into().unwrap();
     let position = combine(w, points);
+    let (du, dv) = if mode == NormalMode::Real {
+        (
+            combine::<K>(row[K..2 * K].try_into().unwrap(), points),
+            combine::<K>(row[2 * K..3 * K].try_into().unwrap(), points),
+        )
+    } else {
+        (Vec3::ZERO, Vec3::ZERO)
+    };
+    let normal = finish_normal::<K>(mode, du, dv, row, points, normals);
+    (position.into(), normal.into())
+}
+
+/// The unit normal from the accumulated derivatives (`Real`) or the normal net, with the
+/// fallbacks described at [`eval_point`].
+#[inline(always)]
+fn finish_normal<const K: usize>(
+    mode: NormalMode,
+    du: Vec3,
+    dv: Vec3,
+    row: &[f32],
+    points: &[[f32; 3]; K],
+    normals: &[[f32; 3]],
+) -> Vec3 {
     let mut n = Vec3::ZERO;
     if mode == NormalMode::Real {
-        let du = combine::<K>(row[K..2 * K].try_into().unwrap(), points);
-        let dv = combine::<K>(row[2 * K..3 * K].try_into().unwrap(), points);
         let c = du.cross(dv);
         if c.length_squared() > 1e-12 * du.length_squared() * dv.length_squared() {
             n = c;
         }
     }
     if n == Vec3::ZERO {
+        let normals: &[[f32; 3]; NORMAL_NET_LEN] =
+            normals.try_into().expect("normal net has 6 entries");
         let nw: &[f32; NORMAL_NET_LEN] = row[3 * K..3 * K + NORMAL_NET_LEN].try_into().unwrap();
         n = combine(nw, normals);
     }
-    let mut unit = n.normalize_or_zero();
+    let unit = n.normalize_or_zero();
     if unit == Vec3::ZERO {
         let [a, b, c] = [points[0], points[1], points[2]].map(Vec3::from);
-        unit = (b - a).cross(c - a).normalize_or(Vec3::Z);
+        return (b - a).cross(c - a).normalize_or(Vec3::Z);
     }
-    (position.into(), unit.into())
+    unit
 }
 
 #[inline(always)]
@@ -62,6 +84,91 @@ fn combine<const K: usize>(w: &[f32; K], c: &[[f32; 3]; K]) -> Vec3 {
         z += w[k] * c[k][2];
     }
     Vec3::new(x, y, z)
+}
+
+/// Points per tile of [`eval_block`]: the accumulators stay in L1.
+const TILE: usize = 64;
+
+/// Accumulates `Σ_k w[k*len + i] c[k]` for the tile's points `start..start+n` into `acc`.
+#[inline(always)]
+fn accumulate(
+    weights: &[f32],
+    len: usize,
+    start: usize,
+    n: usize,
+    controls: &[[f32; 3]],
+    acc: &mut [[f32; TILE]; 3],
+) {
+    for a in acc.iter_mut() {
+        a[..n].fill(0.0);
+    }
+    for (k, c) in controls.iter().enumerate() {
+        let w = &weights[k * len + start..k * len + start + n];
+        let [cx, cy, cz] = *c;
+        let [ax, ay, az] = acc;
+        for i in 0..n {
+            ax[i] += w[i] * cx;
+            ay[i] += w[i] * cy;
+            az[i] += w[i] * cz;
+        }
+    }
+}
+
+/// Evaluates a run of pattern points of one patch ([`Block`]) into `positions`/`normals`
+/// (reversed when `reverse`, for edges stored against the owner's direction). Equal, bit for
+/// bit, to [`eval_point`] on each point.
+#[allow(clippy::too_many_arguments)]
+pub fn eval_block<const K: usize>(
+    block: &Block,
+    stencil: &Stencil,
+    points: &[[f32; 3]],
+    normals: &[[f32; 3]],
+    mode: NormalMode,
+    positions_out: &mut [[f32; 3]],
+    normals_out: &mut [[f32; 3]],
+    reverse: bool,
+) {
+    let points: &[[f32; 3]; K] = points.try_into().expect("patch has K control points");
+    let len = block.len();
+    let slot = |i: usize| if reverse { len - 1 - i } else { i };
+    let mut pos = [[0.0f32; TILE]; 3];
+    let mut d1 = [[0.0f32; TILE]; 3];
+    let mut d2 = [[0.0f32; TILE]; 3];
+    for start in (0..len).step_by(TILE) {
+        let n = TILE.min(len - start);
+        accumulate(&block.value, len, start, n, points, &mut pos);
+        if mode == NormalMode::Real {
+            accumulate(&block.du, len, start, n, points, &mut d1);
+            accumulate(&block.dv, len, start, n, points, &mut d2);
+        } else {
+            accumulate(&block.normal, len, start, n, normals, &mut d1);
+        }
+        for i in 0..n {
+            let at = |a: &[[f32; TILE]; 3]| Vec3::new(a[0][i], a[1][i], a[2][i]);
+            let p = block.points[start + i] as usize;
+            let normal = if mode == NormalMode::Real {
+                finish_normal::<K>(mode, at(&d1), at(&d2), stencil.row(p), points, normals)
+            } else {
+                // The net normal is already summed: normalise it as finish_normal would.
+                let unit = at(&d1).normalize_or_zero();
+                if unit == Vec3::ZERO {
+                    finish_normal::<K>(
+                        mode,
+                        Vec3::ZERO,
+                        Vec3::ZERO,
+                        stencil.row(p),
+                        points,
+                        normals,
+                    )
+                } else {
+                    unit
+                }
+            };
+            let s = slot(start + i);
+            positions_out[s] = at(&pos).into();
+            normals_out[s] = normal.into();
+        }
+    }
 }
 
 /// Barycentric interpolation of the face's UVs at the row's `l`.
@@ -125,6 +232,28 @@ impl Job<'_> {
             self.nets.patch_points(f),
             self.nets.patch_normals(f),
             self.nets.normal_mode,
+        );
+    }
+
+    /// Evaluates a run of pattern points of face `f`, see [`eval_block`].
+    #[inline(always)]
+    fn eval_block_into<const K: usize>(
+        &self,
+        block: &Block,
+        f: usize,
+        ps: &mut [[f32; 3]],
+        ns: &mut [[f32; 3]],
+        reverse: bool,
+    ) {
+        eval_block::<K>(
+            block,
+            self.stencil,
+            self.nets.patch_points(f),
+            self.nets.patch_normals(f),
+            self.nets.normal_mode,
+            ps,
+            ns,
+            reverse,
         );
     }
 
@@ -241,10 +370,14 @@ impl Job<'_> {
             let first = task * FACES_PER_TASK;
             let faces = ps.len() / ni;
             for lf in 0..faces {
-                let f = first + lf;
-                for (i, &p) in self.stencil.interior_points.iter().enumerate() {
-                    self.eval_into::<K>(f, p as usize, &mut ps[lf * ni + i], &mut ns[lf * ni + i]);
-                }
+                let range = lf * ni..(lf + 1) * ni;
+                self.eval_block_into::<K>(
+                    &self.stencil.blocks.interior,
+                    first + lf,
+                    &mut ps[range.clone()],
+                    &mut ns[range],
+                    false,
+                );
             }
             if let Some(uvs) = uvs {
                 for lf in 0..faces {

@@ -11,7 +11,7 @@
 mod evaluate;
 mod layout;
 
-pub use evaluate::eval_point;
+pub use evaluate::{eval_block, eval_point};
 pub use layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE};
 
 use crate::error::{human_bytes, RefineError};
@@ -164,6 +164,14 @@ impl<'m> Refiner<'m> {
     /// The options.
     pub fn options(&self) -> &RefineOptions {
         &self.options
+    }
+    /// The mesh being refined.
+    pub fn mesh(&self) -> &'m Mesh {
+        self.mesh
+    }
+    /// The topology (edges and their owners); `Some` for welded output.
+    pub fn topology(&self) -> Option<&Topology> {
+        self.topology.as_ref()
     }
 
     /// Refines into `out`, reusing its allocations when they are large enough.
