@@ -421,8 +421,8 @@ impl Job<'_> {
                 for (lf, face_tris) in tris.chunks_mut(per_face).enumerate() {
                     let f = task * FACES_PER_TASK + lf;
                     let t = self.mesh.triangles()[f];
-                    for c in 0..3 {
-                        map[self.stencil.corner_point(c) as usize] = t[c];
+                    for (c, &v) in t.iter().enumerate() {
+                        map[self.stencil.corner_point(c) as usize] = v;
                     }
                     for k in 0..3 {
                         let e = topo.face_edges[f][k] as usize;
