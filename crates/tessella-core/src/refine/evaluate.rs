@@ -424,6 +424,7 @@ impl Job<'_> {
                     for (c, &v) in t.iter().enumerate() {
                         map[self.stencil.corner_point(c) as usize] = v;
                     }
+                    #[allow(clippy::needless_range_loop)] // k indexes four tables
                     for k in 0..3 {
                         let e = topo.face_edges[f][k] as usize;
                         let forward = t[k] == topo.edges[e][0];
