@@ -1,0 +1,149 @@
+//! `tessella._tessella`: the compiled half of the `tessella` Python package. The pure-Python
+//! half (`tessella/__init__.py`) re-exports these functions and adds trimesh/meshio interop.
+//!
+//! Every function converts its arrays while holding the GIL, then releases it
+//! (`Python::detach`) for the work itself, so other Python threads run meanwhile.
+
+mod arrays;
+mod errors;
+mod options;
+
+use numpy::PyArray2;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use tessella_core::{Mesh, Pattern, RefineOptions, Refiner};
+
+type Arrays<'py> = (
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray2<u32>>,
+    Bound<'py, PyArray2<f32>>,
+);
+
+/// Builds a validated mesh from Python arrays (GIL held only for reading them).
+fn mesh_from(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    normals: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Mesh> {
+    let positions = arrays::points(vertices, "vertices")?;
+    let triangles = arrays::triangles(faces, "faces")?;
+    let normals = match normals {
+        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
+        _ => None,
+    };
+    py.detach(|| Mesh::new(positions, normals, None, triangles))
+        .map_err(errors::mesh_error)
+}
+
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,
+                    normals_mode=None, tags=None, backend="auto", weld=true))]
+#[allow(clippy::too_many_arguments)]
+fn refine<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    normals: Option<&Bound<'py, PyAny>>,
+    scheme: &str,
+    level: i64,
+    alpha: f64,
+    normals_mode: Option<&str>,
+    tags: Option<&Bound<'py, PyAny>>,
+    backend: &str,
+    weld: bool,
+) -> PyResult<Arrays<'py>> {
+    let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
+    let normal_mode = options::normal_mode(normals_mode)?;
+    let options::Backend::Cpu = options::backend(backend)?;
+    if tags.is_some_and(|t| !t.is_none()) {
+        return Err(PyValueError::new_err(format!(
+            "tags are not used by the schemes in this build ({:?}); pass tags=None",
+            options::SCHEMES
+        )));
+    }
+    let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
+    opts.normals = normal_mode;
+    let mesh = mesh_from(py, vertices, faces, normals)?;
+    let out = py
+        .detach(|| Refiner::new(&mesh, &opts).map(|r| r.refine()))
+        .map_err(errors::refine_error)?;
+    Ok((
+        arrays::to_numpy(py, out.positions),
+        arrays::to_numpy(py, out.triangles),
+        arrays::to_numpy(py, out.normals),
+    ))
+}
+
+#[pyfunction]
+fn pattern<'py>(
+    py: Python<'py>,
+    level: i64,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>)> {
+    let level = options::level(level)?;
+    // A pattern has (N+1)(N+2)/2 points; refuse sizes that cannot be allocated sensibly.
+    if Pattern::point_count(level) > 1 << 28 {
+        return Err(PyValueError::new_err(format!(
+            "level {level} makes a pattern of {} points; choose a level of 23000 or less",
+            Pattern::point_count(level)
+        )));
+    }
+    let p = py.detach(|| Pattern::uniform(level));
+    Ok((
+        arrays::to_numpy(py, p.points),
+        arrays::to_numpy(py, p.triangles),
+    ))
+}
+
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, normals=None))]
+fn info<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    normals: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mesh = mesh_from(py, vertices, faces, normals)?;
+    let (report, (lo, hi), diagonal) =
+        py.detach(|| (mesh.topology().report, mesh.bounds(), mesh.diagonal()));
+    let d = PyDict::new(py);
+    d.set_item("vertices", report.vertices)?;
+    d.set_item("faces", report.faces)?;
+    d.set_item("positions", report.positions)?;
+    d.set_item("edges", report.edges)?;
+    d.set_item("boundary_edges", report.boundary_edges)?;
+    d.set_item("non_manifold_edges", report.non_manifold_edges)?;
+    d.set_item("inconsistent_edges", report.inconsistent_edges)?;
+    d.set_item("seam_edges", report.seam_edges)?;
+    d.set_item("split_normal_positions", report.split_normal_positions)?;
+    d.set_item("unreferenced_vertices", report.unreferenced_vertices)?;
+    d.set_item("euler_characteristic", report.euler_characteristic)?;
+    d.set_item("closed_manifold", report.is_closed_manifold())?;
+    d.set_item("normals_computed", mesh.normals_computed())?;
+    d.set_item("bounds_min", lo.to_vec())?;
+    d.set_item("bounds_max", hi.to_vec())?;
+    d.set_item("diagonal", diagonal)?;
+    Ok(d)
+}
+
+#[pyfunction]
+fn schemes() -> Vec<&'static str> {
+    options::SCHEMES.to_vec()
+}
+
+#[pyfunction]
+fn backends() -> Vec<&'static str> {
+    options::BACKENDS.to_vec()
+}
+
+#[pymodule]
+fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(refine, m)?)?;
+    m.add_function(wrap_pyfunction!(pattern, m)?)?;
+    m.add_function(wrap_pyfunction!(info, m)?)?;
+    m.add_function(wrap_pyfunction!(schemes, m)?)?;
+    m.add_function(wrap_pyfunction!(backends, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

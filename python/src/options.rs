@@ -1,0 +1,86 @@
+//! Names the Python API accepts, mapped to core types in this one place. A scheme or backend
+//! that lands in the Rust crates is added here and nowhere else; `schemes()` and `backends()`
+//! report what this build has, so scripts can adapt.
+
+use pyo3::exceptions::{PyNotImplementedError, PyValueError};
+use pyo3::PyResult;
+use tessella_core::{NormalMode, Scheme};
+
+/// Scheme names, in the order `tessella.schemes()` lists them.
+pub const SCHEMES: &[&str] = &["flat", "phong", "pn"];
+
+/// Backends this build can run.
+pub const BACKENDS: &[&str] = &["cpu"];
+
+/// Backends the project plans but this build lacks (a clear error instead of "unknown").
+const PLANNED_BACKENDS: &[&str] = &["gpu"];
+
+/// Normal mode names.
+pub const NORMAL_MODES: &[&str] = &["linear", "quadratic", "real"];
+
+/// The scheme called `name`; `alpha` is Phong's shape factor (ignored by other schemes).
+pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
+    match name.to_ascii_lowercase().as_str() {
+        "flat" => Ok(Scheme::Flat),
+        "phong" => Ok(Scheme::Phong {
+            alpha: alpha as f32,
+        }),
+        "pn" => Ok(Scheme::Pn),
+        _ => Err(PyValueError::new_err(format!(
+            "unknown scheme {name:?}; this build has {SCHEMES:?} (see tessella.schemes())"
+        ))),
+    }
+}
+
+/// The normal mode called `name`; `None` means the scheme's default.
+pub fn normal_mode(name: Option<&str>) -> PyResult<Option<NormalMode>> {
+    let Some(name) = name else { return Ok(None) };
+    match name.to_ascii_lowercase().as_str() {
+        "linear" => Ok(Some(NormalMode::Linear)),
+        "quadratic" => Ok(Some(NormalMode::Quadratic)),
+        "real" => Ok(Some(NormalMode::Real)),
+        _ => Err(PyValueError::new_err(format!(
+            "unknown normals_mode {name:?}; use one of {NORMAL_MODES:?} or None for the scheme's default"
+        ))),
+    }
+}
+
+/// Which backend runs the work. `"auto"` picks the fastest this build has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Backend {
+    Cpu,
+}
+
+/// The backend called `name`.
+pub fn backend(name: &str) -> PyResult<Backend> {
+    match name.to_ascii_lowercase().as_str() {
+        "auto" | "cpu" => Ok(Backend::Cpu),
+        other if PLANNED_BACKENDS.contains(&other) => Err(PyNotImplementedError::new_err(format!(
+            "backend {name:?} is not in this build of tessella (it has {BACKENDS:?}); \
+             use backend=\"auto\" or \"cpu\""
+        ))),
+        _ => Err(PyValueError::new_err(format!(
+            "unknown backend {name:?}; use \"auto\" or one of {BACKENDS:?}"
+        ))),
+    }
+}
+
+/// A refinement level from a Python int: 1 or more.
+pub fn level(level: i64) -> PyResult<u32> {
+    if level < 1 || level > u32::MAX as i64 {
+        return Err(PyValueError::new_err(format!(
+            "level must be 1 or more (segments per coarse edge), got {level}"
+        )));
+    }
+    Ok(level as u32)
+}
+
+/// Phong's shape factor must be finite.
+pub fn alpha(alpha: f64) -> PyResult<f64> {
+    if !alpha.is_finite() {
+        return Err(PyValueError::new_err(format!(
+            "alpha must be finite (usually within 0..=1), got {alpha}"
+        )));
+    }
+    Ok(alpha)
+}

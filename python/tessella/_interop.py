@@ -1,0 +1,74 @@
+"""trimesh interop (optional dependency: ``pip install trimesh``)."""
+
+from __future__ import annotations
+
+from typing import Any, Optional
+
+import numpy as np
+
+
+def _trimesh() -> Any:
+    try:
+        import trimesh
+    except ImportError as e:  # pragma: no cover - exercised only without trimesh
+        raise ImportError(
+            "this function needs trimesh; install it with `pip install trimesh`"
+        ) from e
+    return trimesh
+
+
+def to_trimesh(vertices: Any, faces: Any, normals: Any = None) -> Any:
+    """Wrap arrays (e.g. :func:`tessella.refine`'s result) in a ``trimesh.Trimesh``.
+
+    The mesh is built with ``process=False``, so trimesh keeps the vertices exactly as given
+    (no merging, no reordering); faces become int64 as trimesh expects.
+    """
+    trimesh = _trimesh()
+    return trimesh.Trimesh(
+        vertices=np.asarray(vertices),
+        faces=np.asarray(faces, dtype=np.int64),
+        vertex_normals=None if normals is None else np.asarray(normals),
+        process=False,
+    )
+
+
+def refine_trimesh(
+    mesh: Any,
+    *,
+    normals: Any = None,
+    scheme: str = "pn",
+    level: int = 8,
+    alpha: float = 0.75,
+    normals_mode: Optional[str] = None,
+    tags: Any = None,
+    backend: str = "auto",
+    weld: bool = True,
+) -> Any:
+    """Refine a ``trimesh.Trimesh`` and return a new ``Trimesh`` with refined normals.
+
+    ``normals`` chooses the input normals: ``None`` lets tessella compute angle-weighted
+    normals, ``"trimesh"`` takes ``mesh.vertex_normals`` (the file's normals when trimesh loaded
+    some, else trimesh's own average), and an ``(n, 3)`` array is used as given. The other
+    arguments are :func:`tessella.refine`'s.
+    """
+    from . import _tessella
+
+    if isinstance(normals, str):
+        if normals != "trimesh":
+            raise ValueError(
+                f"normals must be None, 'trimesh' or an (n, 3) array, got {normals!r}"
+            )
+        normals = mesh.vertex_normals
+    v, f, n = _tessella.refine(
+        mesh.vertices,
+        mesh.faces,
+        normals,
+        scheme=scheme,
+        level=level,
+        alpha=alpha,
+        normals_mode=normals_mode,
+        tags=tags,
+        backend=backend,
+        weld=weld,
+    )
+    return to_trimesh(v, f, n)
