@@ -1,1 +1,123 @@
-//! Mesh files for tessella (being written).
+//! # tessella-io
+//!
+//! Mesh files for tessella: read OBJ, PLY, glTF/GLB and STL into a [`RawMesh`] or a validated
+//! [`tessella_core::Mesh`]; write any [`MeshView`] (a coarse [`tessella_core::Mesh`] or a
+//! [`tessella_core::RefinedMesh`]) as OBJ, PLY (binary or ascii), glTF, GLB or STL.
+//!
+//! ```
+//! use tessella_io::{read_mesh, write_mesh, MeshView, WriteOptions};
+//! let dir = tempfile::tempdir().unwrap();
+//! let path = dir.path().join("tetrahedron.glb");
+//! let mesh = tessella_core::samples::tetrahedron();
+//! write_mesh(&path, MeshView::from(&mesh), &WriteOptions::default())?;
+//! let back = read_mesh(&path)?;
+//! assert_eq!(back.positions(), mesh.positions());
+//! assert_eq!(back.triangles(), mesh.triangles());
+//! # Ok::<(), tessella_io::IoError>(())
+//! ```
+//!
+//! ## What each format keeps
+//!
+//! | format | read | written |
+//! | --- | --- | --- |
+//! | `.obj` | `v`, `vt`, `vn`, polygons (fan-triangulated); one vertex per distinct `v/vt/vn` triple | `v`, `vt`, `vn`, `f a/a/a` |
+//! | `.ply` | ascii, binary LE/BE; `x y z`, `nx ny nz`, `u v`/`s t`/`texture_u texture_v`, extra vertex scalars, polygons (fan-triangulated), `edge` element | binary LE (default) or ascii; `x y z nx ny nz u v`, `vertex_indices` |
+//! | `.gltf`, `.glb` | triangle primitives of the default scene in world space, merged; `data:` URIs or `.bin` files beside it | one primitive: POSITION (with min/max), NORMAL, TEXCOORD_0, u32 indices; `.gltf` embeds the buffer as base64 |
+//! | `.stl` | ascii or binary; corners with equal positions welded; facet normals ignored | binary; geometric facet normals; normals and uvs are lost |
+//!
+//! Conventions: triangles are counter-clockwise; texture coordinates have their origin at the
+//! image's bottom-left (OBJ/PLY), so glTF's `v` is flipped on read and write (see [`gltf`]).
+//! Details per format are in the module docs ([`obj`], [`ply`], [`gltf`], [`stl`]).
+//!
+//! ## Errors
+//! Every failure is an [`IoError`] naming the file: unknown extensions, malformed or truncated
+//! files, files without triangles, indices out of range, and (for [`read_mesh`]) the core's
+//! [`tessella_core::MeshError`]. Readers never panic on bad input.
+//!
+//! ## Writing is atomic
+//! [`write_mesh`] writes through [`write_atomic`]: a temporary file in the target's folder is
+//! renamed over the target only once it is complete, so a failure leaves the old file (or none).
+
+mod atomic;
+mod error;
+mod format;
+pub mod gltf;
+pub mod obj;
+pub mod ply;
+mod raw;
+pub mod stl;
+
+pub use atomic::write_atomic;
+pub use error::IoError;
+pub use format::Format;
+pub use raw::{MeshView, RawEdge, RawMesh};
+
+use std::io::BufReader;
+use std::path::Path;
+
+/// How [`write_mesh`] encodes formats that have choices.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct WriteOptions {
+    /// Write `.ply` as ascii instead of binary little-endian.
+    pub ply_ascii: bool,
+}
+
+/// Reads what a mesh file holds, picking the format by extension. Checks that there are
+/// triangles, that attribute counts match and that indices are in range; geometry is checked by
+/// [`read_mesh`].
+pub fn read_raw(path: &Path) -> Result<RawMesh, IoError> {
+    let format = Format::from_path(path)?;
+    let read_error = |source| IoError::Read {
+        path: path.to_path_buf(),
+        source,
+    };
+    match format {
+        Format::Obj => {
+            let file = std::fs::File::open(path).map_err(read_error)?;
+            obj::read(path, BufReader::new(file))
+        }
+        Format::Ply | Format::PlyAscii => {
+            let file = std::fs::File::open(path).map_err(read_error)?;
+            ply::read(path, BufReader::new(file))
+        }
+        Format::Gltf | Format::Glb => {
+            let bytes = std::fs::read(path).map_err(read_error)?;
+            gltf::read(path, &bytes, format.name())
+        }
+        Format::Stl => {
+            let bytes = std::fs::read(path).map_err(read_error)?;
+            stl::read(path, bytes)
+        }
+    }
+}
+
+/// Reads a mesh file and validates it into a [`tessella_core::Mesh`] (normals computed when the
+/// file has none).
+pub fn read_mesh(path: &Path) -> Result<tessella_core::Mesh, IoError> {
+    let raw = read_raw(path)?;
+    tessella_core::Mesh::new(raw.positions, raw.normals, raw.uvs, raw.triangles).map_err(|source| {
+        IoError::Mesh {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
+}
+
+/// Writes `mesh` in the format named by `path`'s extension, atomically (see [`write_atomic`]).
+/// The arrays are checked first (matching lengths, indices in range, finite positions, at least
+/// one triangle).
+pub fn write_mesh(path: &Path, mesh: MeshView, options: &WriteOptions) -> Result<(), IoError> {
+    let format = match Format::from_path(path)? {
+        Format::Ply if options.ply_ascii => Format::PlyAscii,
+        format => format,
+    };
+    mesh.check(path)?;
+    write_atomic(path, |out| match format {
+        Format::Obj => obj::write(out, &mesh),
+        Format::Ply => ply::write(out, &mesh, false),
+        Format::PlyAscii => ply::write(out, &mesh, true),
+        Format::Gltf => gltf::write(out, &mesh, false),
+        Format::Glb => gltf::write(out, &mesh, true),
+        Format::Stl => stl::write(out, &mesh),
+    })
+}

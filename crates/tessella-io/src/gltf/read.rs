@@ -1,0 +1,370 @@
+//! Reads every triangle primitive the default scene shows, in world space.
+//!
+//! Meshes are taken from the default scene (or the first scene) with each node's world transform
+//! applied to positions and normals; a mesh used by two nodes appears twice, and a mirroring
+//! transform flips the triangles' winding back to counter-clockwise. A file without scenes has
+//! its meshes read as stored. Primitives are merged with offset indices and are not welded to
+//! each other. Modes TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN are read (strip triangles with a
+//! repeated index, used to stitch strips, are dropped); points and lines are skipped.
+//!
+//! Attributes: POSITION (f32), NORMAL (f32), TEXCOORD_0 (f32 or normalised u8/u16), indices
+//! (u8/u16/u32) or none. If any primitive lacks NORMAL (or TEXCOORD_0), the merged mesh has no
+//! normals (uvs), since they cannot be mixed; the core then computes normals. Sparse accessors,
+//! accessors without a buffer view and buffers behind `http:`-style URIs are refused.
+
+use super::flip_v;
+use crate::{IoError, RawMesh};
+use glam::{Mat3, Mat4, Vec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+use gltf::{Accessor, Document, Gltf};
+use std::path::Path;
+
+/// Reads a `.gltf` or `.glb` file held in memory; external buffers are read from `path`'s folder.
+pub fn read(path: &Path, bytes: &[u8], format: &'static str) -> Result<RawMesh, IoError> {
+    let parse = |message: String| IoError::Parse {
+        path: path.to_path_buf(),
+        format,
+        message,
+    };
+    let unsupported = |message: String| IoError::Unsupported {
+        path: path.to_path_buf(),
+        format,
+        message,
+    };
+    let Gltf { document, blob } = Gltf::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
+    let buffers = load_buffers(path, &document, blob, format)?;
+    let mut raw = RawMesh::default();
+    let (mut normals, mut uvs) = (Some(Vec::new()), Some(Vec::new()));
+    for (mesh, transform) in instances(&document).map_err(parse)? {
+        for primitive in mesh.primitives() {
+            let mode = primitive.mode();
+            if !matches!(
+                mode,
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+            ) {
+                continue;
+            }
+            let what = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+            let position = primitive
+                .get(&gltf::Semantic::Positions)
+                .ok_or_else(|| parse(format!("{what} has no POSITION attribute")))?;
+            let normal = primitive.get(&gltf::Semantic::Normals);
+            let uv = primitive.get(&gltf::Semantic::TexCoords(0));
+            let indices = primitive.indices();
+            let float = [DataType::F32];
+            let checks = [
+                (Some(&position), "POSITION", Dimensions::Vec3, &float[..]),
+                (normal.as_ref(), "NORMAL", Dimensions::Vec3, &float[..]),
+                (
+                    uv.as_ref(),
+                    "TEXCOORD_0",
+                    Dimensions::Vec2,
+                    &[DataType::F32, DataType::U8, DataType::U16],
+                ),
+                (
+                    indices.as_ref(),
+                    "indices",
+                    Dimensions::Scalar,
+                    &[DataType::U8, DataType::U16, DataType::U32],
+                ),
+            ];
+            for (accessor, name, dimensions, types) in checks {
+                if let Some(accessor) = accessor {
+                    check_accessor(accessor, dimensions, types, &buffers)
+                        .map_err(|m| unsupported(format!("{what} {name}: {m}")))?;
+                }
+            }
+            let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+            let count_mismatch = |name: &str, got: usize, n: usize| {
+                parse(format!("{what} has {got} {name} values for {n} positions"))
+            };
+            let positions: Vec<[f32; 3]> = reader
+                .read_positions()
+                .map(Iterator::collect)
+                .unwrap_or_default();
+            let n = positions.len();
+            if n != position.count() {
+                return Err(count_mismatch("POSITION", n, position.count()));
+            }
+            let prim_normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
+            let prim_uvs: Option<Vec<[f32; 2]>> = reader
+                .read_tex_coords(0)
+                .map(|t| t.into_f32().map(flip_v).collect());
+            for (name, got) in [
+                ("NORMAL", prim_normals.as_ref().map(Vec::len)),
+                ("TEXCOORD_0", prim_uvs.as_ref().map(Vec::len)),
+            ] {
+                if let Some(got) = got.filter(|&g| g != n) {
+                    return Err(count_mismatch(name, got, n));
+                }
+            }
+            let corners: Vec<u32> = match reader.read_indices() {
+                Some(i) => i.into_u32().collect(),
+                None => (0..n as u32).collect(),
+            };
+            if let Some(&bad) = corners.iter().find(|&&i| i as usize >= n) {
+                return Err(parse(format!(
+                    "{what} uses vertex {bad} but has only {n} vertices"
+                )));
+            }
+            let mut triangles =
+                assemble(mode, &corners).map_err(|m| parse(format!("{what}: {m}")))?;
+            let base = raw.positions.len();
+            if base + n > u32::MAX as usize {
+                return Err(parse("more than 4294967295 vertices in all".into()));
+            }
+            let base = base as u32;
+            let (positions, prim_normals) =
+                apply(transform, positions, prim_normals, &mut triangles);
+            raw.positions.extend(positions);
+            raw.triangles
+                .extend(triangles.iter().map(|t| t.map(|i| i + base)));
+            merge_attribute(&mut normals, prim_normals);
+            merge_attribute(&mut uvs, prim_uvs);
+        }
+    }
+    raw.normals = normals;
+    raw.uvs = uvs;
+    raw.check(path, format)?;
+    Ok(raw)
+}
+
+/// Appends a primitive's attribute, or drops the attribute for the whole mesh once one lacks it.
+fn merge_attribute<T>(all: &mut Option<Vec<T>>, primitive: Option<Vec<T>>) {
+    match (all.as_mut(), primitive) {
+        (Some(all), Some(values)) => all.extend(values),
+        _ => *all = None,
+    }
+}
+
+/// Meshes to read with their world transforms.
+fn instances(document: &Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, String> {
+    let Some(scene) = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    else {
+        return Ok(document.meshes().map(|m| (m, Mat4::IDENTITY)).collect());
+    };
+    let limit = document.nodes().len();
+    let mut out = Vec::new();
+    let mut stack: Vec<(gltf::Node, Mat4, usize)> =
+        scene.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect();
+    while let Some((node, parent, depth)) = stack.pop() {
+        if depth > limit {
+            return Err("the node hierarchy has a cycle".into());
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(mesh) = node.mesh() {
+            out.push((mesh, world));
+        }
+        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+    }
+    // The stack visits nodes last-first; keep the file's order for readers' sake.
+    out.reverse();
+    Ok(out)
+}
+
+/// Applies a world transform; normals use the inverse transpose, and mirroring flips winding.
+fn apply(
+    transform: Mat4,
+    mut positions: Vec<[f32; 3]>,
+    mut normals: Option<Vec<[f32; 3]>>,
+    triangles: &mut [[u32; 3]],
+) -> (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>) {
+    // Identity leaves the data bit-exact (no -0.0 + 0.0 rounding).
+    if transform == Mat4::IDENTITY {
+        return (positions, normals);
+    }
+    for p in &mut positions {
+        *p = transform.transform_point3(Vec3::from(*p)).into();
+    }
+    let linear = Mat3::from_mat4(transform);
+    let normal_matrix = if linear.determinant() != 0.0 {
+        linear.inverse().transpose()
+    } else {
+        linear
+    };
+    if let Some(normals) = &mut normals {
+        for n in normals {
+            *n = (normal_matrix * Vec3::from(*n)).into();
+        }
+    }
+    if linear.determinant() < 0.0 {
+        for t in triangles {
+            t.swap(1, 2);
+        }
+    }
+    (positions, normals)
+}
+
+/// Turns a primitive's index list into triangles (glTF 2.0 spec, section 3.7.2.1 "Topology
+/// Types").
+fn assemble(mode: Mode, corners: &[u32]) -> Result<Vec<[u32; 3]>, String> {
+    let v = corners;
+    Ok(match mode {
+        Mode::Triangles => {
+            if v.len() % 3 != 0 {
+                return Err(format!(
+                    "TRIANGLES with {} indices, not a multiple of 3",
+                    v.len()
+                ));
+            }
+            v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+        }
+        // p_i = {v_i, v_(i+(1+i%2)), v_(i+(2-i%2))}
+        Mode::TriangleStrip => (0..v.len().saturating_sub(2))
+            .map(|i| [v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]])
+            .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+            .collect(),
+        // p_i = {v_(i+1), v_(i+2), v_0}
+        Mode::TriangleFan => (0..v.len().saturating_sub(2))
+            .map(|i| [v[i + 1], v[i + 2], v[0]])
+            .collect(),
+        _ => Vec::new(),
+    })
+}
+
+/// Checks an accessor's type and that all its elements lie inside its buffer data, so the
+/// `gltf` reader never indexes past the end of a slice.
+fn check_accessor(
+    accessor: &Accessor,
+    dimensions: Dimensions,
+    types: &[DataType],
+    buffers: &[Vec<u8>],
+) -> Result<(), String> {
+    if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+        return Err(format!(
+            "accessor {} is {:?} {:?}; expected {dimensions:?} of {types:?}",
+            accessor.index(),
+            accessor.dimensions(),
+            accessor.data_type()
+        ));
+    }
+    if accessor.sparse().is_some() {
+        return Err(format!("accessor {} is sparse", accessor.index()));
+    }
+    let view = accessor
+        .view()
+        .ok_or_else(|| format!("accessor {} has no bufferView", accessor.index()))?;
+    let data = buffers.get(view.buffer().index()).map_or(0, Vec::len);
+    let view_end = view.offset().checked_add(view.length());
+    if view_end.is_none_or(|end| end > data) {
+        return Err(format!(
+            "bufferView {} reaches past the end of buffer {}",
+            view.index(),
+            view.buffer().index()
+        ));
+    }
+    let element = accessor.size();
+    let stride = view.stride().unwrap_or(element);
+    if let Some(last) = accessor.count().checked_sub(1) {
+        let end = stride
+            .checked_mul(last)
+            .and_then(|x| x.checked_add(element))
+            .and_then(|x| x.checked_add(accessor.offset()));
+        if end.is_none_or(|end| end > view.length()) {
+            return Err(format!(
+                "accessor {} ({} elements) reaches past the end of bufferView {}",
+                accessor.index(),
+                accessor.count(),
+                view.index()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Loads every buffer: the GLB binary chunk, `data:` URIs, or files beside the `.gltf`.
+fn load_buffers(
+    path: &Path,
+    document: &Document,
+    blob: Option<Vec<u8>>,
+    format: &'static str,
+) -> Result<Vec<Vec<u8>>, IoError> {
+    let parse = |message: String| IoError::Parse {
+        path: path.to_path_buf(),
+        format,
+        message,
+    };
+    let mut blob = blob;
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                parse(format!(
+                    "buffer {} has no uri and the file has no binary chunk",
+                    buffer.index()
+                ))
+            })?,
+            gltf::buffer::Source::Uri(uri) => load_uri(path, uri, format)?,
+        };
+        if data.len() < buffer.length() {
+            return Err(parse(format!(
+                "buffer {} holds {} bytes but declares byteLength {}",
+                buffer.index(),
+                data.len(),
+                buffer.length()
+            )));
+        }
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+fn load_uri(path: &Path, uri: &str, format: &'static str) -> Result<Vec<u8>, IoError> {
+    use base64::Engine;
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (header, payload) = rest.split_once(',').unwrap_or((rest, ""));
+        if !header.ends_with(";base64") {
+            return Err(IoError::Unsupported {
+                path: path.to_path_buf(),
+                format,
+                message: "a data: URI that is not base64".into(),
+            });
+        }
+        return base64::engine::general_purpose::STANDARD
+            .decode(payload)
+            .map_err(|e| IoError::Parse {
+                path: path.to_path_buf(),
+                format,
+                message: format!("bad base64 in a data: URI: {e}"),
+            });
+    }
+    if uri.contains("://") {
+        return Err(IoError::Unsupported {
+            path: path.to_path_buf(),
+            format,
+            message: format!("buffer URI {uri:?} is not a data: URI or a relative file path"),
+        });
+    }
+    let file = path
+        .parent()
+        .unwrap_or(Path::new(""))
+        .join(percent_decode(uri));
+    std::fs::read(&file).map_err(|source| IoError::Read { path: file, source })
+}
+
+/// Decodes `%XX` escapes of a relative URI (glTF 2.0 spec, section 3.1 "URIs").
+fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(byte)) => {
+                out.push(byte);
+                i += 3;
+            }
+            (byte, _) => {
+                out.push(byte);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}

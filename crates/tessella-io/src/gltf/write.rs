@@ -1,0 +1,139 @@
+//! Writes one mesh, one node, one scene; the binary data is streamed, never copied whole.
+
+use super::flip_v;
+use crate::MeshView;
+use base64::engine::general_purpose::STANDARD;
+use serde_json::{json, Value};
+use std::io::Write;
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+const FLOAT: u32 = 5126;
+const UNSIGNED_INT: u32 = 5125;
+/// Stands in for the base64 data in the JSON text until the data is streamed in its place.
+const PLACEHOLDER: &str = "@TESSELLA_BUFFER@";
+
+/// The JSON document for `mesh` and the byte length of its single buffer.
+fn document(mesh: &MeshView, uri: Option<String>) -> (Value, u64) {
+    let n = mesh.positions.len() as u64;
+    let (mut views, mut accessors) = (Vec::new(), Vec::new());
+    let mut offset = 0u64;
+    let mut push = |bytes: u64, target: u32, accessor: Value| {
+        views.push(
+            json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes, "target": target}),
+        );
+        let mut accessor = accessor;
+        accessor["bufferView"] = json!(views.len() - 1);
+        accessors.push(accessor);
+        offset += bytes;
+        accessors.len() - 1
+    };
+    let (lo, hi) = tessella_core::mesh::bounds(mesh.positions);
+    let mut attributes = serde_json::Map::new();
+    let position = push(
+        12 * n,
+        ARRAY_BUFFER,
+        json!({"componentType": FLOAT, "count": n, "type": "VEC3", "min": lo, "max": hi}),
+    );
+    attributes.insert("POSITION".into(), json!(position));
+    if mesh.normals.is_some() {
+        let normal = push(
+            12 * n,
+            ARRAY_BUFFER,
+            json!({"componentType": FLOAT, "count": n, "type": "VEC3"}),
+        );
+        attributes.insert("NORMAL".into(), json!(normal));
+    }
+    if mesh.uvs.is_some() {
+        let uv = push(
+            8 * n,
+            ARRAY_BUFFER,
+            json!({"componentType": FLOAT, "count": n, "type": "VEC2"}),
+        );
+        attributes.insert("TEXCOORD_0".into(), json!(uv));
+    }
+    let f = mesh.triangles.len() as u64;
+    let indices = push(
+        12 * f,
+        ELEMENT_ARRAY_BUFFER,
+        json!({"componentType": UNSIGNED_INT, "count": 3 * f, "type": "SCALAR"}),
+    );
+    let mut buffer = json!({"byteLength": offset});
+    if let Some(uri) = uri {
+        buffer["uri"] = json!(uri);
+    }
+    let doc = json!({
+        "asset": {"version": "2.0", "generator": "tessella"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": indices, "mode": 4}]}],
+        "buffers": [buffer],
+        "bufferViews": views,
+        "accessors": accessors,
+    });
+    (doc, offset)
+}
+
+/// Streams the buffer: positions, normals, uvs (v flipped), indices, little-endian.
+fn write_buffer(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
+    fn floats(out: &mut dyn Write, values: impl Iterator<Item = f32>) -> std::io::Result<()> {
+        values
+            .into_iter()
+            .try_for_each(|x| out.write_all(&x.to_le_bytes()))
+    }
+    floats(out, mesh.positions.iter().flatten().copied())?;
+    if let Some(normals) = mesh.normals {
+        floats(out, normals.iter().flatten().copied())?;
+    }
+    if let Some(uvs) = mesh.uvs {
+        floats(out, uvs.iter().flat_map(|&t| flip_v(t)))?;
+    }
+    mesh.triangles
+        .iter()
+        .flatten()
+        .try_for_each(|i| out.write_all(&i.to_le_bytes()))
+}
+
+/// Writes `.glb` (`binary`) or `.gltf` with the buffer embedded as a base64 `data:` URI.
+/// Errors with `InvalidInput` when a `.glb` would exceed the format's 4 GiB limit.
+pub fn write(out: &mut dyn Write, mesh: &MeshView, binary: bool) -> std::io::Result<()> {
+    if binary {
+        let (doc, bin_len) = document(mesh, None);
+        let mut json = serde_json::to_vec(&doc).map_err(std::io::Error::other)?;
+        json.resize(json.len().next_multiple_of(4), b' ');
+        let bin_padded = bin_len.next_multiple_of(4);
+        let total = 12 + 8 + json.len() as u64 + 8 + bin_padded;
+        let total = u32::try_from(total).map_err(|_| {
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("a GLB file holds at most 4 GiB, this mesh needs {total} bytes; write .gltf or .ply instead"),
+            )
+        })?;
+        out.write_all(b"glTF")?;
+        out.write_all(&2u32.to_le_bytes())?;
+        out.write_all(&total.to_le_bytes())?;
+        out.write_all(&(json.len() as u32).to_le_bytes())?;
+        out.write_all(b"JSON")?;
+        out.write_all(&json)?;
+        out.write_all(&(bin_padded as u32).to_le_bytes())?;
+        out.write_all(b"BIN\0")?;
+        write_buffer(out, mesh)?;
+        out.write_all(&vec![0; (bin_padded - bin_len) as usize])
+    } else {
+        let uri = format!("data:application/octet-stream;base64,{PLACEHOLDER}");
+        let (doc, _) = document(mesh, Some(uri));
+        let text = serde_json::to_string_pretty(&doc).map_err(std::io::Error::other)?;
+        let (head, tail) = text
+            .split_once(PLACEHOLDER)
+            .ok_or_else(|| std::io::Error::other("glTF writer lost its buffer placeholder"))?;
+        out.write_all(head.as_bytes())?;
+        {
+            let mut encoder = base64::write::EncoderWriter::new(&mut *out, &STANDARD);
+            write_buffer(&mut encoder, mesh)?;
+            encoder.finish()?;
+        }
+        out.write_all(tail.as_bytes())?;
+        out.write_all(b"\n")
+    }
+}

@@ -1,0 +1,355 @@
+//! PLY: read with `ply-rs-bw` (ascii, binary little- and big-endian), written by hand.
+//!
+//! Read: element `vertex` with `x y z` (float or double; required), `nx ny nz`, texture
+//! coordinates as `u v`, `s t`, `texture_u texture_v` or `texture_s texture_t`; every other
+//! scalar vertex property goes to [`RawMesh::vertex_scalars`] as f32 (list properties on vertices
+//! are ignored). Element `face` with a list `vertex_indices` or `vertex_index` of any integer
+//! type; polygons with more than three corners are fan-triangulated (corner 0 with each
+//! following pair), faces with fewer than three corners are refused. Element `edge` with
+//! `vertex1 vertex2` and scalar properties goes to [`RawMesh::edges`]. Other elements are read
+//! and ignored.
+//!
+//! Write: `binary_little_endian` (default) or `ascii`; float `x y z`, `nx ny nz`, `u v`; faces as
+//! `list uchar uint vertex_indices`.
+
+use crate::{IoError, MeshView, RawEdge, RawMesh};
+use ply_rs_bw::parser::Parser;
+use ply_rs_bw::ply::{ElementDef, Property, PropertyAccess, PropertyAccessResult, PropertyType};
+use std::collections::BTreeMap;
+use std::io::{BufRead, Write};
+use std::path::Path;
+
+const FORMAT: &str = "PLY";
+
+/// One element of the payload: scalar values and lists in header order. Cheaper than
+/// `ply_rs_bw::ply::DefaultElement`, which keeps a map with owned names per element.
+#[derive(Debug, Default)]
+struct Row {
+    scalars: Vec<f64>,
+    lists: Vec<Vec<f64>>,
+}
+
+fn list<T: Copy + Into<f64>>(values: Vec<T>) -> Vec<f64> {
+    values.into_iter().map(Into::into).collect()
+}
+
+impl PropertyAccess for Row {
+    fn new() -> Self {
+        Row::default()
+    }
+    fn set_property(&mut self, _name: &str, property: Property) -> PropertyAccessResult {
+        match property {
+            Property::Char(v) => self.scalars.push(v.into()),
+            Property::UChar(v) => self.scalars.push(v.into()),
+            Property::Short(v) => self.scalars.push(v.into()),
+            Property::UShort(v) => self.scalars.push(v.into()),
+            Property::Int(v) => self.scalars.push(v.into()),
+            Property::UInt(v) => self.scalars.push(v.into()),
+            Property::Float(v) => self.scalars.push(v.into()),
+            Property::Double(v) => self.scalars.push(v),
+            Property::ListChar(v) => self.lists.push(list(v)),
+            Property::ListUChar(v) => self.lists.push(list(v)),
+            Property::ListShort(v) => self.lists.push(list(v)),
+            Property::ListUShort(v) => self.lists.push(list(v)),
+            Property::ListInt(v) => self.lists.push(list(v)),
+            Property::ListUInt(v) => self.lists.push(list(v)),
+            Property::ListFloat(v) => self.lists.push(list(v)),
+            Property::ListDouble(v) => self.lists.push(v),
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+/// Where each named property of an element lands in a [`Row`].
+#[derive(Debug)]
+enum Slot {
+    Scalar(usize),
+    List(usize),
+}
+
+fn slots(element: &ElementDef) -> Vec<(&str, Slot)> {
+    let (mut scalars, mut lists) = (0, 0);
+    element
+        .properties
+        .values()
+        .map(|p| {
+            let slot = match p.data_type {
+                PropertyType::Scalar(_) => {
+                    scalars += 1;
+                    Slot::Scalar(scalars - 1)
+                }
+                PropertyType::List(..) => {
+                    lists += 1;
+                    Slot::List(lists - 1)
+                }
+            };
+            (p.name.as_str(), slot)
+        })
+        .collect()
+}
+
+fn scalar_slot(slots: &[(&str, Slot)], name: &str) -> Option<usize> {
+    slots.iter().find_map(|(n, s)| match s {
+        Slot::Scalar(i) if *n == name => Some(*i),
+        _ => None,
+    })
+}
+
+/// Reads a PLY file (any encoding).
+pub fn read(path: &Path, mut reader: impl BufRead) -> Result<RawMesh, IoError> {
+    let parse = |message: String| IoError::Parse {
+        path: path.to_path_buf(),
+        format: FORMAT,
+        message,
+    };
+    let ply = Parser::<Row>::new()
+        .read_ply(&mut reader)
+        .map_err(|e| parse(e.to_string()))?;
+    let rows = |name: &str| ply.payload.get(name).map(Vec::as_slice).unwrap_or(&[]);
+    for (name, element) in &ply.header.elements {
+        let (scalars, lists) =
+            element
+                .properties
+                .values()
+                .fold((0, 0), |(s, l), p| match p.data_type {
+                    PropertyType::Scalar(_) => (s + 1, l),
+                    PropertyType::List(..) => (s, l + 1),
+                });
+        if let Some(row) = rows(name)
+            .iter()
+            .find(|r| r.scalars.len() != scalars || r.lists.len() != lists)
+        {
+            return Err(parse(format!(
+                "element {name:?} has {} scalars and {} lists where the header declares {scalars} and {lists}",
+                row.scalars.len(),
+                row.lists.len()
+            )));
+        }
+    }
+    let vertex = ply.header.elements.get("vertex").ok_or_else(|| {
+        parse("there is no `element vertex`; a mesh PLY needs one with x, y, z".into())
+    })?;
+    let mut raw = read_vertices(path, vertex, rows("vertex"))?;
+    if let Some(face) = ply.header.elements.get("face") {
+        raw.triangles = read_faces(path, face, rows("face"))?;
+    }
+    if let Some(edge) = ply.header.elements.get("edge") {
+        raw.edges = read_edges(path, edge, rows("edge"))?;
+    }
+    raw.check(path, FORMAT)?;
+    Ok(raw)
+}
+
+/// Texture coordinate property pairs, in order of preference.
+const UV_NAMES: [[&str; 2]; 4] = [
+    ["u", "v"],
+    ["s", "t"],
+    ["texture_u", "texture_v"],
+    ["texture_s", "texture_t"],
+];
+
+fn read_vertices(path: &Path, element: &ElementDef, rows: &[Row]) -> Result<RawMesh, IoError> {
+    let slots = slots(element);
+    let find = |names: &[&str]| -> Option<Vec<usize>> {
+        names.iter().map(|n| scalar_slot(&slots, n)).collect()
+    };
+    let position = find(&["x", "y", "z"]).ok_or_else(|| IoError::Parse {
+        path: path.to_path_buf(),
+        format: FORMAT,
+        message: "`element vertex` lacks one of the scalar properties x, y, z".into(),
+    })?;
+    let normal = find(&["nx", "ny", "nz"]);
+    let (uv_names, uv) = UV_NAMES
+        .iter()
+        .find_map(|names| find(names).map(|slots| (&names[..], slots)))
+        .unzip();
+    let used: Vec<&str> = ["x", "y", "z"]
+        .into_iter()
+        .chain(
+            normal
+                .as_ref()
+                .map_or(&[][..], |_| &["nx", "ny", "nz"][..])
+                .iter()
+                .copied(),
+        )
+        .chain(uv_names.unwrap_or(&[]).iter().copied())
+        .collect();
+    let gather = |slots: &[usize]| -> Vec<Vec<f32>> {
+        rows.iter()
+            .map(|r| slots.iter().map(|&i| r.scalars[i] as f32).collect())
+            .collect()
+    };
+    let mut raw = RawMesh {
+        positions: gather(&position)
+            .into_iter()
+            .map(|v| [v[0], v[1], v[2]])
+            .collect(),
+        normals: normal.map(|s| gather(&s).into_iter().map(|v| [v[0], v[1], v[2]]).collect()),
+        uvs: uv.map(|s| gather(&s).into_iter().map(|v| [v[0], v[1]]).collect()),
+        ..RawMesh::default()
+    };
+    for (name, slot) in &slots {
+        if let (Slot::Scalar(i), false) = (slot, used.contains(name)) {
+            let values = rows.iter().map(|r| r.scalars[*i] as f32).collect();
+            raw.vertex_scalars.insert(name.to_string(), values);
+        }
+    }
+    Ok(raw)
+}
+
+/// Converts a list entry to a vertex index, refusing negative and fractional values.
+fn to_index(value: f64) -> Option<u32> {
+    (value >= 0.0 && value <= f64::from(u32::MAX) && value.fract() == 0.0).then_some(value as u32)
+}
+
+fn read_faces(path: &Path, element: &ElementDef, rows: &[Row]) -> Result<Vec<[u32; 3]>, IoError> {
+    let parse = |message: String| IoError::Parse {
+        path: path.to_path_buf(),
+        format: FORMAT,
+        message,
+    };
+    let slots = slots(element);
+    let list = slots
+        .iter()
+        .find_map(|(n, s)| match s {
+            Slot::List(i) if *n == "vertex_indices" || *n == "vertex_index" => Some(*i),
+            _ => None,
+        })
+        .ok_or_else(|| {
+            parse("`element face` has no list property vertex_indices or vertex_index".into())
+        })?;
+    if let Some(p) = element
+        .properties
+        .values()
+        .find(|p| p.name == "vertex_indices" || p.name == "vertex_index")
+    {
+        use ply_rs_bw::ply::ScalarType::{Double, Float};
+        if let PropertyType::List(_, Float | Double) = p.data_type {
+            return Err(parse(format!(
+                "face property {} holds floating-point numbers; vertex indices must be integers",
+                p.name
+            )));
+        }
+    }
+    let mut triangles = Vec::with_capacity(rows.len());
+    for (face, row) in rows.iter().enumerate() {
+        let corners = &row.lists[list];
+        if corners.len() < 3 {
+            return Err(parse(format!(
+                "face {face} has {} corners; a face needs at least 3",
+                corners.len()
+            )));
+        }
+        let index = |k: usize| {
+            to_index(corners[k]).ok_or_else(|| {
+                parse(format!(
+                    "face {face} has an invalid vertex index {}",
+                    corners[k]
+                ))
+            })
+        };
+        // Fan triangulation: (0, k, k + 1).
+        let first = index(0)?;
+        for k in 1..corners.len() - 1 {
+            triangles.push([first, index(k)?, index(k + 1)?]);
+        }
+    }
+    Ok(triangles)
+}
+
+fn read_edges(path: &Path, element: &ElementDef, rows: &[Row]) -> Result<Vec<RawEdge>, IoError> {
+    let parse = |message: String| IoError::Parse {
+        path: path.to_path_buf(),
+        format: FORMAT,
+        message,
+    };
+    let slots = slots(element);
+    let ends = [
+        scalar_slot(&slots, "vertex1"),
+        scalar_slot(&slots, "vertex2"),
+    ];
+    let [Some(a), Some(b)] = ends else {
+        return Err(parse(
+            "`element edge` lacks one of the scalar properties vertex1, vertex2".into(),
+        ));
+    };
+    rows.iter()
+        .enumerate()
+        .map(|(edge, row)| {
+            let vertex = |i: usize| {
+                to_index(row.scalars[i]).ok_or_else(|| {
+                    parse(format!(
+                        "edge {edge} has an invalid vertex index {}",
+                        row.scalars[i]
+                    ))
+                })
+            };
+            let scalars: BTreeMap<String, f32> = slots
+                .iter()
+                .filter_map(|(name, slot)| match slot {
+                    Slot::Scalar(i) if *i != a && *i != b => {
+                        Some((name.to_string(), row.scalars[*i] as f32))
+                    }
+                    _ => None,
+                })
+                .collect();
+            Ok(RawEdge {
+                vertices: [vertex(a)?, vertex(b)?],
+                scalars,
+            })
+        })
+        .collect()
+}
+
+/// Writes a PLY file, binary little-endian or ascii.
+pub fn write(out: &mut dyn Write, mesh: &MeshView, ascii: bool) -> std::io::Result<()> {
+    let encoding = if ascii {
+        "ascii"
+    } else {
+        "binary_little_endian"
+    };
+    writeln!(
+        out,
+        "ply\nformat {encoding} 1.0\ncomment written by tessella"
+    )?;
+    writeln!(out, "element vertex {}", mesh.positions.len())?;
+    let mut names = vec!["x", "y", "z"];
+    if mesh.normals.is_some() {
+        names.extend(["nx", "ny", "nz"]);
+    }
+    if mesh.uvs.is_some() {
+        names.extend(["u", "v"]);
+    }
+    for name in &names {
+        writeln!(out, "property float {name}")?;
+    }
+    writeln!(out, "element face {}", mesh.triangles.len())?;
+    writeln!(out, "property list uchar uint vertex_indices\nend_header")?;
+    let mut values = Vec::with_capacity(names.len());
+    for v in 0..mesh.positions.len() {
+        values.clear();
+        values.extend(mesh.positions[v]);
+        values.extend(mesh.normals.map(|n| n[v]).into_iter().flatten());
+        values.extend(mesh.uvs.map(|t| t[v]).into_iter().flatten());
+        if ascii {
+            // `{}` prints the shortest text that parses back to the same f32.
+            let line: Vec<String> = values.iter().map(f32::to_string).collect();
+            writeln!(out, "{}", line.join(" "))?;
+        } else {
+            for x in &values {
+                out.write_all(&x.to_le_bytes())?;
+            }
+        }
+    }
+    for t in mesh.triangles {
+        if ascii {
+            writeln!(out, "3 {} {} {}", t[0], t[1], t[2])?;
+        } else {
+            out.write_all(&[3])?;
+            for i in t {
+                out.write_all(&i.to_le_bytes())?;
+            }
+        }
+    }
+    Ok(())
+}
