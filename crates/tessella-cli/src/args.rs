@@ -1,0 +1,218 @@
+//! Command-line arguments.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use tessella_core::{NormalMode, Scheme};
+
+/// Turn coarse triangle meshes into smooth curved surfaces.
+///
+/// Each coarse triangle is replaced by a curved patch (Phong tessellation or PN triangles)
+/// sampled with a refinement pattern of LEVEL segments per edge, so LEVEL 8 turns every
+/// triangle into 64. Files: OBJ, PLY, glTF/GLB (read and write), STL (read).
+#[derive(Debug, Parser)]
+#[command(name = "tessella", version, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Refine a mesh file into a smooth, denser mesh file.
+    ///
+    /// Example: tessella refine bunny.obj -o smooth.ply --scheme pn --level 8
+    Refine(RefineArgs),
+    /// Report a mesh file's counts, bounds, boundary and non-manifold edges, split normals and
+    /// degenerate triangles.
+    Info(InfoArgs),
+    /// Print a refinement pattern (barycentric points and small triangles) as JSON.
+    Pattern(PatternArgs),
+    /// Write the bundled sample meshes (icosphere, torus, tetrahedron, hard-cube, creature) as
+    /// OBJ files.
+    Samples(SamplesArgs),
+    /// Refine every bundled sample with every scheme and print a table of counts, time and
+    /// distance to the coarse input.
+    Demo(DemoArgs),
+    /// Measure refinement throughput and print a Markdown table.
+    Bench(BenchArgs),
+}
+
+/// Surface schemes on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SchemeArg {
+    /// The coarse triangles themselves (normals interpolated).
+    Flat,
+    /// Phong tessellation (quadratic; shape factor --alpha).
+    Phong,
+    /// Curved PN triangles (cubic).
+    Pn,
+}
+
+impl SchemeArg {
+    pub fn scheme(self, alpha: f32) -> Scheme {
+        match self {
+            SchemeArg::Flat => Scheme::Flat,
+            SchemeArg::Phong => Scheme::Phong { alpha },
+            SchemeArg::Pn => Scheme::Pn,
+        }
+    }
+}
+
+/// Normal modes on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum NormalsArg {
+    /// Vertex normals interpolated linearly (default for flat and phong).
+    Linear,
+    /// Vlachos' quadratic normals (default for pn).
+    Quadratic,
+    /// The surface's own normal, from its derivatives.
+    Real,
+}
+
+impl From<NormalsArg> for NormalMode {
+    fn from(n: NormalsArg) -> NormalMode {
+        match n {
+            NormalsArg::Linear => NormalMode::Linear,
+            NormalsArg::Quadratic => NormalMode::Quadratic,
+            NormalsArg::Real => NormalMode::Real,
+        }
+    }
+}
+
+/// Where refinement runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BackendArg {
+    /// A hardware GPU when there is one, else the CPU.
+    Auto,
+    /// The CPU, all cores.
+    Cpu,
+    /// The GPU (a software adapter is used when there is no hardware one).
+    Gpu,
+}
+
+#[derive(Debug, Args)]
+pub struct RefineArgs {
+    /// Input mesh (.obj, .ply, .gltf, .glb, .stl).
+    pub input: PathBuf,
+    /// Output mesh (.obj, .ply, .gltf, .glb); the format follows the extension.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Surface built over each coarse triangle.
+    #[arg(long, value_enum, default_value = "pn")]
+    pub scheme: SchemeArg,
+    /// Segments per coarse edge: each triangle becomes LEVEL² triangles.
+    #[arg(short, long, default_value_t = 8)]
+    pub level: u32,
+    /// Phong shape factor: 0 is flat, 1 the full projection.
+    #[arg(long, default_value_t = 0.75)]
+    pub alpha: f32,
+    /// How refined normals are made (default: the scheme's own).
+    #[arg(long, value_enum)]
+    pub normals: Option<NormalsArg>,
+    /// Give every coarse triangle its own vertices instead of sharing them along coarse edges.
+    #[arg(long)]
+    pub soup: bool,
+    /// Write PLY as ASCII instead of binary little-endian.
+    #[arg(long)]
+    pub ply_ascii: bool,
+    /// Refuse outputs larger than this (e.g. 512MiB, 8GiB).
+    #[arg(long, default_value = "8GiB", value_parser = parse_bytes)]
+    pub max_memory: u64,
+    /// Where to refine.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub backend: BackendArg,
+}
+
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Mesh file to inspect.
+    pub input: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct PatternArgs {
+    /// Segments per edge.
+    #[arg(short, long)]
+    pub level: u32,
+    /// Write to this file instead of standard output.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct SamplesArgs {
+    /// Folder to write the samples into (created if missing).
+    #[arg(short, long, default_value = "samples")]
+    pub output: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Segments per coarse edge.
+    #[arg(short, long, default_value_t = 8)]
+    pub level: u32,
+    /// Also write each refined sample here as OBJ.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Mesh to refine (default: the bundled 5120-triangle icosphere).
+    #[arg(long)]
+    pub mesh: Option<PathBuf>,
+    /// Levels to measure, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [4u32, 8, 16, 32])]
+    pub levels: Vec<u32>,
+    /// Repetitions per measurement (the median is reported).
+    #[arg(long, default_value_t = 15)]
+    pub repeat: usize,
+}
+
+/// Parses `512MiB`, `8GiB`, `1.5G`, `1000000` into bytes.
+pub fn parse_bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let value: f64 = number
+        .parse()
+        .map_err(|_| format!("'{text}' is not a size like 512MiB or 8GiB"))?;
+    let scale: f64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1.0,
+        "k" | "kb" | "kib" => 1024.0,
+        "m" | "mb" | "mib" => 1024.0 * 1024.0,
+        "g" | "gb" | "gib" => 1024.0 * 1024.0 * 1024.0,
+        "t" | "tb" | "tib" => 1024.0f64.powi(4),
+        other => {
+            return Err(format!(
+                "unknown size unit '{other}' in '{text}'; use B, KiB, MiB, GiB or TiB"
+            ))
+        }
+    };
+    Ok((value * scale) as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!(parse_bytes("8GiB"), Ok(8 << 30));
+        assert_eq!(parse_bytes("512 MiB"), Ok(512 << 20));
+        assert_eq!(parse_bytes("1000"), Ok(1000));
+        assert!(parse_bytes("lots").is_err());
+        assert!(parse_bytes("3 parsecs").is_err());
+    }
+
+    #[test]
+    fn cli_is_well_formed() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

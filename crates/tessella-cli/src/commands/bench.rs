@@ -1,0 +1,64 @@
+//! `tessella bench`: refinement throughput, all cores against one core in the same run.
+
+use crate::args::BenchArgs;
+use anyhow::Context;
+use std::time::{Duration, Instant};
+use tessella_core::{samples, Mesh, RefineOptions, RefinedMesh, Refiner, Scheme};
+
+fn median(mut times: Vec<Duration>) -> Duration {
+    times.sort();
+    times[times.len() / 2]
+}
+
+/// Median time of `repeat` refinements into reused buffers.
+fn time_refine(refiner: &Refiner, repeat: usize) -> Duration {
+    let mut out = RefinedMesh::default();
+    refiner.refine_into(&mut out, &|_| {}); // warm up: allocate, fault pages in
+    median(
+        (0..repeat)
+            .map(|_| {
+                let start = Instant::now();
+                refiner.refine_into(&mut out, &|_| {});
+                start.elapsed()
+            })
+            .collect(),
+    )
+}
+
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let mesh: Mesh = match &args.mesh {
+        Some(path) => tessella_io::read_mesh(path)?,
+        None => samples::icosphere_4k(),
+    };
+    let repeat = args.repeat.max(1);
+    let threads = rayon::current_num_threads();
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .context("cannot start a one-thread pool")?;
+    println!("CPU refinement, PN, welded, positions + quadratic normals + indices; {} coarse triangles; median of {repeat}", mesh.face_count());
+    println!();
+    println!("| level | vertices | triangles | prepare (ms) | refine {threads} threads (ms) | M vertices/s | 1 thread (ms) | M vertices/s | speed-up |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for &level in &args.levels {
+        let options = RefineOptions::new(Scheme::Pn, level);
+        let start = Instant::now();
+        let refiner = Refiner::new(&mesh, &options)?;
+        let prepare = start.elapsed();
+        let vertices = refiner.layout().vertex_count;
+        let many = time_refine(&refiner, repeat);
+        let one = single.install(|| time_refine(&refiner, repeat));
+        let rate = |d: Duration| vertices as f64 / d.as_secs_f64() / 1e6;
+        println!(
+            "| {level} | {vertices} | {} | {:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2}x |",
+            refiner.layout().triangle_count,
+            prepare.as_secs_f64() * 1e3,
+            many.as_secs_f64() * 1e3,
+            rate(many),
+            one.as_secs_f64() * 1e3,
+            rate(one),
+            one.as_secs_f64() / many.as_secs_f64()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,53 @@
+//! `tessella demo`: every bundled sample, every scheme, one table.
+
+use crate::args::DemoArgs;
+use anyhow::Context;
+use std::time::Instant;
+use tessella_core::{refine, samples, Mesh, RefineOptions, RefinedMesh, Scheme};
+use tessella_io::{write_mesh, MeshView, WriteOptions};
+
+/// The schemes the demo compares.
+pub const SCHEMES: [Scheme; 3] = [Scheme::Flat, Scheme::PHONG, Scheme::Pn];
+
+/// Largest distance between matching vertices of two refinements with the same layout.
+fn max_offset(a: &RefinedMesh, b: &RefinedMesh) -> f32 {
+    a.positions
+        .iter()
+        .zip(&b.positions)
+        .map(|(p, q)| {
+            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+        .fold(0.0, f32::max)
+}
+
+pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
+    if let Some(dir) = &args.output {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    println!("| sample | scheme | coarse triangles | vertices | triangles | time (ms) | max offset from coarse (% of diagonal) |");
+    println!("|---|---|---:|---:|---:|---:|---:|");
+    for name in samples::NAMES.iter().filter(|n| **n != "icosphere-4k") {
+        let mesh: Mesh = samples::by_name(name).expect("listed sample");
+        // The flat refinement has the same layout, so vertex i of every scheme sits at the same
+        // barycentric point of the same coarse triangle: the offset is how far the curve bulges.
+        let flat = refine(&mesh, &RefineOptions::new(Scheme::Flat, args.level))?;
+        for scheme in SCHEMES {
+            let start = Instant::now();
+            let out = refine(&mesh, &RefineOptions::new(scheme, args.level))?;
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            let offset = 100.0 * max_offset(&out, &flat) / mesh.diagonal();
+            println!(
+                "| {name} | {} | {} | {} | {} | {ms:.2} | {offset:.2} |",
+                scheme.name(),
+                mesh.face_count(),
+                out.positions.len(),
+                out.triangles.len()
+            );
+            if let Some(dir) = &args.output {
+                let path = dir.join(format!("{name}-{}-level{}.obj", scheme.name(), args.level));
+                write_mesh(&path, MeshView::from(&out), &WriteOptions::default())?;
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,167 @@
+//! `tessella info`: what a mesh file holds and what is wrong with it.
+
+use crate::args::InfoArgs;
+use glam_free::*;
+use serde::Serialize;
+use tessella_core::{Mesh, TopologyReport};
+use tessella_io::read_raw;
+
+/// Small vector helpers; the CLI does not need a math crate for a report.
+mod glam_free {
+    pub fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
+        [
+            (a[0] - b[0]) as f64,
+            (a[1] - b[1]) as f64,
+            (a[2] - b[2]) as f64,
+        ]
+    }
+    pub fn cross_len2(a: [f64; 3], b: [f64; 3]) -> f64 {
+        let c = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
+    }
+}
+
+#[derive(Serialize)]
+struct Info {
+    file: String,
+    vertices: usize,
+    triangles: usize,
+    has_normals: bool,
+    has_uvs: bool,
+    bounds_min: [f32; 3],
+    bounds_max: [f32; 3],
+    non_finite_vertices: usize,
+    out_of_range_triangles: usize,
+    degenerate_triangles: usize,
+    /// Topology of the valid triangles (absent when none are left or the mesh cannot be built).
+    topology: Option<TopologyReport>,
+    /// Why `tessella refine` would refuse this file, if it would.
+    problem: Option<String>,
+}
+
+pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
+    let raw = read_raw(&args.input)?;
+    let nv = raw.positions.len();
+    let finite = |p: &[f32; 3]| p.iter().all(|c| c.is_finite());
+    let non_finite_vertices = raw.positions.iter().filter(|p| !finite(p)).count();
+    let mut out_of_range = 0;
+    let mut degenerate = 0;
+    let mut valid = Vec::with_capacity(raw.triangles.len());
+    for t in &raw.triangles {
+        if t.iter().any(|&i| i as usize >= nv) {
+            out_of_range += 1;
+            continue;
+        }
+        let [a, b, c] = t.map(|i| raw.positions[i as usize]);
+        let repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+        if repeated || cross_len2(sub(b, a), sub(c, a)) == 0.0 {
+            degenerate += 1;
+            continue;
+        }
+        valid.push(*t);
+    }
+    let (lo, hi) = tessella_core::mesh::bounds(
+        &raw.positions
+            .iter()
+            .copied()
+            .filter(finite)
+            .collect::<Vec<_>>(),
+    );
+    let full = Mesh::new(
+        raw.positions.clone(),
+        raw.normals.clone(),
+        raw.uvs.clone(),
+        raw.triangles.clone(),
+    );
+    let problem = full.as_ref().err().map(|e| e.to_string());
+    // Topology of what is usable: the whole mesh, or its valid triangles without normals.
+    let topology = match full {
+        Ok(mesh) => Some(mesh.topology().report),
+        Err(_) if non_finite_vertices == 0 && !valid.is_empty() => {
+            Mesh::new(raw.positions.clone(), None, None, valid)
+                .ok()
+                .map(|m| m.topology().report)
+        }
+        Err(_) => None,
+    };
+    let info = Info {
+        file: args.input.display().to_string(),
+        vertices: nv,
+        triangles: raw.triangles.len(),
+        has_normals: raw.normals.is_some(),
+        has_uvs: raw.uvs.is_some(),
+        bounds_min: lo,
+        bounds_max: hi,
+        non_finite_vertices,
+        out_of_range_triangles: out_of_range,
+        degenerate_triangles: degenerate,
+        topology,
+        problem,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&info)?);
+    } else {
+        print_text(&info);
+    }
+    Ok(())
+}
+
+fn print_text(i: &Info) {
+    println!("{}", i.file);
+    println!("  vertices            {}", i.vertices);
+    println!("  triangles           {}", i.triangles);
+    println!(
+        "  normals             {}",
+        if i.has_normals {
+            "given"
+        } else {
+            "missing (computed when refining)"
+        }
+    );
+    println!(
+        "  uvs                 {}",
+        if i.has_uvs { "given" } else { "none" }
+    );
+    println!(
+        "  bounds              {:?} .. {:?}",
+        i.bounds_min, i.bounds_max
+    );
+    println!("  non-finite vertices {}", i.non_finite_vertices);
+    println!(
+        "  bad indices         {} triangles",
+        i.out_of_range_triangles
+    );
+    println!("  degenerate          {} triangles", i.degenerate_triangles);
+    if let Some(t) = &i.topology {
+        println!("  positions           {}", t.positions);
+        println!("  edges               {}", t.edges);
+        println!("  boundary edges      {}", t.boundary_edges);
+        println!("  non-manifold edges  {}", t.non_manifold_edges);
+        println!(
+            "  inconsistent edges  {} (faces winding the same way along them)",
+            t.inconsistent_edges
+        );
+        println!(
+            "  seam edges          {} (one position, split vertices)",
+            t.seam_edges
+        );
+        println!(
+            "  split normals       {} positions",
+            t.split_normal_positions
+        );
+        println!("  unreferenced        {} vertices", t.unreferenced_vertices);
+        println!("  euler characteristic {}", t.euler_characteristic);
+        println!(
+            "  closed manifold     {}",
+            if t.is_closed_manifold() { "yes" } else { "no" }
+        );
+    }
+    match &i.problem {
+        Some(p) => println!("  refine would refuse: {p}"),
+        None => println!("  ready to refine"),
+    }
+}

@@ -1,0 +1,22 @@
+//! One module per subcommand.
+
+mod bench;
+mod demo;
+mod info;
+mod pattern;
+mod refine;
+mod samples;
+
+use crate::args::{Cli, Command};
+
+/// Runs the chosen subcommand.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Refine(args) => refine::run(&args),
+        Command::Info(args) => info::run(&args),
+        Command::Pattern(args) => pattern::run(&args),
+        Command::Samples(args) => samples::run(&args),
+        Command::Demo(args) => demo::run(&args),
+        Command::Bench(args) => bench::run(&args),
+    }
+}
