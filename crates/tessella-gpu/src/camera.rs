@@ -1,0 +1,103 @@
+//! A camera that frames a bounding sphere, orbits it (yaw, pitch) and zooms.
+
+use glam::{Mat4, Vec3, Vec4};
+
+/// Vertical field of view.
+const FOV_Y_DEGREES: f32 = 30.0;
+
+/// Where the camera is and how it projects.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Camera {
+    pub view_proj: Mat4,
+    pub eye: Vec3,
+    /// Unit direction towards the light: a key light above-left of the viewer.
+    pub light_dir: Vec3,
+}
+
+/// Centre and radius of a sphere around `points` (the bounding box's centre).
+pub(crate) fn bounding_sphere(points: &[[f32; 3]]) -> (Vec3, f32) {
+    let (lo, hi) = tessella_core::mesh::bounds(points);
+    let center = (Vec3::from(lo) + Vec3::from(hi)) * 0.5;
+    let radius = points
+        .iter()
+        .map(|&p| Vec3::from(p).distance(center))
+        .fold(0.0f32, f32::max);
+    (center, radius.max(1e-6))
+}
+
+impl Camera {
+    /// Frames the sphere `(center, radius)`: `yaw` turns about +Y, `pitch` raises the eye,
+    /// `zoom > 1` moves closer.
+    pub fn framing(center: Vec3, radius: f32, yaw: f32, pitch: f32, zoom: f32, aspect: f32) -> Camera {
+        let fov_y = FOV_Y_DEGREES.to_radians();
+        let half_x = ((fov_y * 0.5).tan() * aspect).atan();
+        let half = (fov_y * 0.5).min(half_x);
+        let distance = radius / half.sin() / zoom;
+        let (yaw, pitch) = (yaw.to_radians(), pitch.to_radians());
+        let dir = Vec3::new(pitch.cos() * yaw.sin(), pitch.sin(), pitch.cos() * yaw.cos());
+        let eye = center + dir * distance;
+        let up = if dir.y.abs() > 0.999 { Vec3::Z } else { Vec3::Y };
+        let view = look_at_rh(eye, center, up);
+        let near = (distance - radius * 1.5).max(distance * 0.01);
+        let far = distance + radius * 1.5;
+        let proj = perspective_rh(fov_y, aspect, near, far);
+        let forward = (center - eye).normalize();
+        let right = forward.cross(up).normalize();
+        let cam_up = right.cross(forward);
+        let light_dir = (-0.45 * right + 0.6 * cam_up - 0.65 * forward).normalize();
+        Camera {
+            view_proj: proj * view,
+            eye,
+            light_dir,
+        }
+    }
+}
+
+/// Right-handed view matrix looking from `eye` at `center`.
+fn look_at_rh(eye: Vec3, center: Vec3, up: Vec3) -> Mat4 {
+    let f = (center - eye).normalize();
+    let s = f.cross(up).normalize();
+    let u = s.cross(f);
+    Mat4::from_cols(
+        Vec4::new(s.x, u.x, -f.x, 0.0),
+        Vec4::new(s.y, u.y, -f.y, 0.0),
+        Vec4::new(s.z, u.z, -f.z, 0.0),
+        Vec4::new(-s.dot(eye), -u.dot(eye), f.dot(eye), 1.0),
+    )
+}
+
+/// Right-handed perspective projection onto wgpu's depth range `0..=1`.
+fn perspective_rh(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
+    let h = 1.0 / (fov_y * 0.5).tan();
+    let w = h / aspect;
+    let r = far / (near - far);
+    Mat4::from_cols(
+        Vec4::new(w, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, h, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, r, -1.0),
+        Vec4::new(0.0, 0.0, r * near, 0.0),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn framed_sphere_projects_inside_the_view() {
+        let (c, r) = (Vec3::new(1.0, 2.0, 3.0), 2.0);
+        for (yaw, pitch, aspect) in [(0.0, 0.0, 1.0), (45.0, 30.0, 2.0), (200.0, -60.0, 0.5)] {
+            let cam = Camera::framing(c, r, yaw, pitch, 1.0, aspect);
+            let centre = cam.view_proj * c.extend(1.0);
+            let ndc = centre.truncate() / centre.w;
+            assert!(ndc.x.abs() < 1e-4 && ndc.y.abs() < 1e-4 && ndc.z > 0.0 && ndc.z < 1.0);
+            // Points on the sphere stay within the view (NDC x,y in -1..1, depth in 0..1).
+            for d in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z] {
+                let p = cam.view_proj * (c + d * r).extend(1.0);
+                let q = p.truncate() / p.w;
+                assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0, "{q:?}");
+                assert!(q.z > 0.0 && q.z < 1.0, "{q:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,32 @@
+//! The GPU crate's one error type.
+
+use thiserror::Error;
+
+/// What went wrong on the GPU side. Every message says what to do about it.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum GpuError {
+    #[error(
+        "no {wanted} GPU adapter found; install a Vulkan/Metal/DX12 driver (for a software \
+         adapter on Linux: apt-get install mesa-vulkan-drivers libvulkan1) or use the CPU backend"
+    )]
+    NoAdapter { wanted: &'static str },
+    #[error("the GPU adapter '{adapter}' refused to open a device: {reason}")]
+    RequestDevice { adapter: String, reason: String },
+    #[error("the GPU device was lost ({reason}); retry, or use the CPU backend")]
+    DeviceLost { reason: String },
+    #[error("the GPU reported an error: {0}; this is a bug in tessella-gpu, please report it")]
+    Validation(String),
+    #[error("reading GPU results back failed: {0}")]
+    Readback(String),
+    #[error(
+        "{what} needs {bytes} bytes in one GPU buffer binding, over this adapter's limit of \
+         {limit}; use fewer coarse triangles or the CPU backend"
+    )]
+    TooLarge { what: &'static str, bytes: u64, limit: u64 },
+    #[error("invalid render option: {0}")]
+    BadOption(String),
+    #[error(transparent)]
+    Refine(#[from] tessella_core::RefineError),
+    #[error("writing '{path}' failed: {reason}")]
+    Write { path: String, reason: String },
+}

@@ -1,0 +1,85 @@
+//! Rust twins of the WGSL uniform structs. Each is `#[repr(C)]`, `Pod`, and pinned by size and
+//! offset assertions, so the Rust and WGSL layouts cannot drift apart silently.
+
+use bytemuck::{Pod, Zeroable};
+use std::mem::{offset_of, size_of};
+
+/// `EvalParams` in `shaders/eval.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct EvalParams {
+    pub k: u32,
+    pub stride: u32,
+    pub normal_mode: u32,
+    pub face_count: u32,
+}
+const _: () = assert!(size_of::<EvalParams>() == 16);
+const _: () = assert!(offset_of!(EvalParams, normal_mode) == 8);
+
+/// `DisplaceParams` in `shaders/displace.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct DisplaceParams {
+    pub kind: u32,
+    pub amplitude: f32,
+    pub frequency: f32,
+    pub map_width: u32,
+    pub map_height: u32,
+    pub _pad: [u32; 3],
+}
+const _: () = assert!(size_of::<DisplaceParams>() == 32);
+const _: () = assert!(offset_of!(DisplaceParams, map_height) == 16);
+
+/// `RefineParams` in `shaders/refine.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub(crate) struct RefineParams {
+    pub level: u32,
+    pub weld: u32,
+    pub first: u32,
+    pub count: u32,
+    pub input_vertices: u32,
+    pub edge_base: u32,
+    pub interior_base: u32,
+    pub interior_per_face: u32,
+    pub points_per_face: u32,
+    pub has_uv: u32,
+    pub triangles_at: u32,
+    pub vertex_owner_at: u32,
+    pub edge_owner_at: u32,
+    pub edges_at: u32,
+    pub face_edges_at: u32,
+    pub corner_points_at: u32,
+    pub edge_points_at: u32,
+    pub interior_points_at: u32,
+    pub point_codes_at: u32,
+    pub pattern_triangles_at: u32,
+    pub positions_at: u32,
+    pub normals_at: u32,
+    pub uvs_at: u32,
+    pub _pad: u32,
+}
+const _: () = assert!(size_of::<RefineParams>() == 96);
+const _: () = assert!(offset_of!(RefineParams, has_uv) == 36);
+const _: () = assert!(offset_of!(RefineParams, pattern_triangles_at) == 76);
+const _: () = assert!(offset_of!(RefineParams, uvs_at) == 88);
+
+/// `RenderUniforms` in `shaders/render.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct RenderUniforms {
+    pub view_proj: [[f32; 4]; 4],
+    /// xyz: camera position.
+    pub eye: [f32; 4],
+    /// xyz: unit direction towards the light.
+    pub light_dir: [f32; 4],
+    pub base_color: [f32; 4],
+    /// rgb: line colour, a: line width in pixels.
+    pub wire_color: [f32; 4],
+    /// x: wireframe on, y: pattern level, z: facet normals from screen derivatives, w: unused.
+    pub flags: [u32; 4],
+}
+const _: () = assert!(size_of::<RenderUniforms>() == 144);
+const _: () = assert!(offset_of!(RenderUniforms, eye) == 64);
+const _: () = assert!(offset_of!(RenderUniforms, wire_color) == 112);
+const _: () = assert!(offset_of!(RenderUniforms, flags) == 128);

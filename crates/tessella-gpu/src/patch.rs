@@ -1,0 +1,154 @@
+//! Bind group 0 of every pipeline: the stencil, the control nets, and the displacement, i.e.
+//! what `shaders/eval.wgsl` and `shaders/displace.wgsl` read. Uploaded unchanged from
+//! tessella-core's `Stencil` and `PatchNets`.
+
+use crate::context::GpuContext;
+use crate::displace::Displacement;
+use crate::error::GpuError;
+use crate::gpu_types::EvalParams;
+use tessella_core::{NormalMode, PatchNets, Stencil};
+use wgpu::util::DeviceExt;
+
+/// `NormalMode` as `eval.wgsl` numbers it.
+pub(crate) fn normal_mode_code(mode: NormalMode) -> u32 {
+    match mode {
+        NormalMode::Linear => 0,
+        NormalMode::Quadratic => 1,
+        NormalMode::Real => 2,
+    }
+}
+
+/// Layout of group 0, for the given shader stages.
+pub(crate) fn layout(ctx: &GpuContext, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayout {
+    let storage = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let uniform = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("patch"),
+        entries: &[storage(0), storage(1), storage(2), uniform(3), uniform(4), storage(5)],
+    })
+}
+
+/// The GPU copies of one mesh's nets plus a pattern's stencil.
+pub(crate) struct PatchBuffers {
+    pub stencil: wgpu::Buffer,
+    pub points: wgpu::Buffer,
+    pub normals: wgpu::Buffer,
+    pub eval: wgpu::Buffer,
+    pub displace: wgpu::Buffer,
+    pub displace_data: wgpu::Buffer,
+    pub face_count: u32,
+}
+
+impl PatchBuffers {
+    pub fn new(
+        ctx: &GpuContext,
+        stencil: &Stencil,
+        nets: &PatchNets,
+        displacement: &Displacement,
+    ) -> Result<PatchBuffers, GpuError> {
+        let limit = ctx.max_binding();
+        for (what, bytes) in [
+            ("the pattern's stencil", stencil.weights.len() as u64 * 4),
+            ("the control nets", nets.points.len() as u64 * 12),
+        ] {
+            if bytes > limit {
+                return Err(GpuError::TooLarge { what, bytes, limit });
+            }
+        }
+        let k = nets.basis.len() as u32;
+        let eval = EvalParams {
+            k,
+            stride: stencil.stride() as u32,
+            normal_mode: normal_mode_code(nets.normal_mode),
+            face_count: nets.len() as u32,
+        };
+        let (dparams, ddata) = displacement.gpu_data();
+        let copy = wgpu::BufferUsages::COPY_DST;
+        let uniform = |label, bytes: &[u8]| {
+            ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage: wgpu::BufferUsages::UNIFORM | copy,
+            })
+        };
+        Ok(PatchBuffers {
+            stencil: ctx.storage_buffer("stencil", bytemuck::cast_slice(&stencil.weights), copy),
+            points: ctx.storage_buffer("net points", bytemuck::cast_slice(&nets.points), copy),
+            normals: ctx.storage_buffer("net normals", bytemuck::cast_slice(&nets.normals), copy),
+            eval: uniform("eval params", bytemuck::bytes_of(&eval)),
+            displace: uniform("displace params", bytemuck::bytes_of(&dparams)),
+            displace_data: ctx.storage_buffer("displace data", bytemuck::cast_slice(&ddata), copy),
+            face_count: nets.len() as u32,
+        })
+    }
+
+    /// Replaces the nets with new ones of the same size: the only per-frame upload of a
+    /// deforming mesh. Returns the bytes written.
+    pub fn update_nets(&self, ctx: &GpuContext, nets: &PatchNets) -> u64 {
+        let points: &[u8] = bytemuck::cast_slice(&nets.points);
+        let normals: &[u8] = bytemuck::cast_slice(&nets.normals);
+        ctx.queue.write_buffer(&self.points, 0, points);
+        ctx.queue.write_buffer(&self.normals, 0, normals);
+        (points.len() + normals.len()) as u64
+    }
+
+    /// Bytes held on the GPU.
+    pub fn byte_size(&self) -> u64 {
+        [&self.stencil, &self.points, &self.normals, &self.eval, &self.displace, &self.displace_data]
+            .iter()
+            .map(|b| b.size())
+            .sum()
+    }
+
+    pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
+        let buffers = [
+            &self.stencil,
+            &self.points,
+            &self.normals,
+            &self.eval,
+            &self.displace,
+            &self.displace_data,
+        ];
+        let entries: Vec<_> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("patch"),
+            layout,
+            entries: &entries,
+        })
+    }
+}
+
+/// The WGSL source of a pipeline: the shared evaluation and displacement modules, then its own.
+pub(crate) fn shader_source(own: &str) -> String {
+    [
+        include_str!("shaders/eval.wgsl"),
+        include_str!("shaders/displace.wgsl"),
+        own,
+    ]
+    .join("\n")
+}

@@ -1,0 +1,104 @@
+// Displacement along the normal, applied to evaluated surface points (GMR section 4).
+// Mirrors src/displace.rs (the Rust twin): change both together; tests compare them.
+
+struct DisplaceParams {
+    kind: u32, // 0 none, 1 sine a*sin(f*|P|), 2 Perlin a*noise(f*P), 3 height map a*h(uv)
+    amplitude: f32,
+    frequency: f32,
+    map_width: u32,
+    map_height: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+@group(0) @binding(4) var<uniform> displace_params: DisplaceParams;
+// Kind 2: Perlin's permutation, 512 entries (as f32). Kind 3: heights, row 0 at the image top.
+@group(0) @binding(5) var<storage, read> displace_data: array<f32>;
+
+fn perm(i: i32) -> i32 {
+    return i32(displace_data[i & 511]);
+}
+
+// a + t (b - a), written out so the Rust twin rounds the same way.
+fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    return a + t * (b - a);
+}
+
+fn fade(t: f32) -> f32 {
+    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+}
+
+// Gradient of Perlin's "Improving noise" (2002): 12 cube-edge directions, chosen by 4 hash bits.
+fn grad(hash: i32, x: f32, y: f32, z: f32) -> f32 {
+    let h = hash & 15;
+    let u = select(y, x, h < 8);
+    var v = z;
+    if (h < 4) {
+        v = y;
+    } else if (h == 12 || h == 14) {
+        v = x;
+    }
+    return select(-u, u, (h & 1) == 0) + select(-v, v, (h & 2) == 0);
+}
+
+fn perlin(p: vec3<f32>) -> f32 {
+    let f = floor(p);
+    let xi = i32(f.x) & 255;
+    let yi = i32(f.y) & 255;
+    let zi = i32(f.z) & 255;
+    let x = p.x - f.x;
+    let y = p.y - f.y;
+    let z = p.z - f.z;
+    let u = fade(x);
+    let v = fade(y);
+    let w = fade(z);
+    let a = perm(xi) + yi;
+    let aa = perm(a) + zi;
+    let ab = perm(a + 1) + zi;
+    let b = perm(xi + 1) + yi;
+    let ba = perm(b) + zi;
+    let bb = perm(b + 1) + zi;
+    let x1 = lerp(grad(perm(aa), x, y, z), grad(perm(ba), x - 1.0, y, z), u);
+    let x2 = lerp(grad(perm(ab), x, y - 1.0, z), grad(perm(bb), x - 1.0, y - 1.0, z), u);
+    let y1 = lerp(x1, x2, v);
+    let x3 = lerp(grad(perm(aa + 1), x, y, z - 1.0), grad(perm(ba + 1), x - 1.0, y, z - 1.0), u);
+    let x4 = lerp(grad(perm(ab + 1), x, y - 1.0, z - 1.0), grad(perm(bb + 1), x - 1.0, y - 1.0, z - 1.0), u);
+    let y2 = lerp(x3, x4, v);
+    return lerp(y1, y2, w);
+}
+
+fn height_texel(x: i32, y: i32) -> f32 {
+    let w = i32(displace_params.map_width);
+    let h = i32(displace_params.map_height);
+    let xx = ((x % w) + w) % w;
+    let yy = ((y % h) + h) % h;
+    return displace_data[yy * w + xx];
+}
+
+// Bilinear, repeating; v = 0 is the image's bottom row.
+fn height_map(uv: vec2<f32>) -> f32 {
+    let px = uv.x * f32(displace_params.map_width) - 0.5;
+    let py = (1.0 - uv.y) * f32(displace_params.map_height) - 0.5;
+    let x0 = floor(px);
+    let y0 = floor(py);
+    let tx = px - x0;
+    let ty = py - y0;
+    let ix = i32(x0);
+    let iy = i32(y0);
+    let top = lerp(height_texel(ix, iy), height_texel(ix + 1, iy), tx);
+    let bottom = lerp(height_texel(ix, iy + 1), height_texel(ix + 1, iy + 1), tx);
+    return lerp(top, bottom, ty);
+}
+
+// The scalar offset along the unit normal at surface point `p` with texture coordinate `uv`.
+fn displacement(p: vec3<f32>, uv: vec2<f32>) -> f32 {
+    let a = displace_params.amplitude;
+    let f = displace_params.frequency;
+    switch displace_params.kind {
+        case 1u: { return a * sin(f * length(p)); }
+        case 2u: { return a * perlin(f * p); }
+        case 3u: { return a * height_map(uv); }
+        default: { return 0.0; }
+    }
+}

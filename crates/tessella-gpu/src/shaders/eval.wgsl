@@ -1,0 +1,78 @@
+// Patch evaluation: the generic weighted sum of tessella-core's `eval_point` (refine/evaluate.rs).
+// The schemes' formulas live in Rust only: the CPU builds each coarse triangle's control net
+// (K points, 6 normal-net entries) and the pattern's stencil rows
+// (value[K] | du[K] | dv[K] | normal weights[6] | l[3]); here we only combine them.
+// K and the row stride are uniforms, so every basis (cubic K=10, PNG1 K=21, ...) runs unchanged.
+
+struct EvalParams {
+    k: u32,
+    stride: u32,
+    normal_mode: u32, // 0 linear, 1 quadratic, 2 real (NormalMode order)
+    face_count: u32,
+}
+
+@group(0) @binding(0) var<storage, read> stencil: array<f32>;
+@group(0) @binding(1) var<storage, read> net_points: array<f32>;
+@group(0) @binding(2) var<storage, read> net_normals: array<f32>;
+@group(0) @binding(3) var<uniform> eval_params: EvalParams;
+
+const NORMAL_NET_LEN: u32 = 6u;
+const MODE_REAL: u32 = 2u;
+
+struct SurfacePoint {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    // The row's barycentric coordinates (l1, l2, l3).
+    l: vec3<f32>,
+}
+
+fn net_point(face: u32, k: u32) -> vec3<f32> {
+    let i = (face * eval_params.k + k) * 3u;
+    return vec3<f32>(net_points[i], net_points[i + 1u], net_points[i + 2u]);
+}
+
+fn net_normal(face: u32, k: u32) -> vec3<f32> {
+    let i = (face * NORMAL_NET_LEN + k) * 3u;
+    return vec3<f32>(net_normals[i], net_normals[i + 1u], net_normals[i + 2u]);
+}
+
+// sum_k w_k C_k with w read from `stencil` starting at `first`, in the CPU's order.
+fn combine_points(face: u32, first: u32) -> vec3<f32> {
+    var acc = vec3<f32>(0.0);
+    for (var k = 0u; k < eval_params.k; k++) {
+        acc += stencil[first + k] * net_point(face, k);
+    }
+    return acc;
+}
+
+// Evaluates stencil row `row` on coarse triangle `face` (same fallbacks as `eval_point`).
+fn eval_patch(face: u32, row: u32) -> SurfacePoint {
+    let k = eval_params.k;
+    let base = row * eval_params.stride;
+    var out: SurfacePoint;
+    out.position = combine_points(face, base);
+    var n = vec3<f32>(0.0);
+    if (eval_params.normal_mode == MODE_REAL) {
+        let du = combine_points(face, base + k);
+        let dv = combine_points(face, base + 2u * k);
+        let c = cross(du, dv);
+        if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {
+            n = c;
+        }
+    }
+    if (all(n == vec3<f32>(0.0))) {
+        for (var j = 0u; j < NORMAL_NET_LEN; j++) {
+            n += stencil[base + 3u * k + j] * net_normal(face, j);
+        }
+    }
+    if (dot(n, n) > 0.0) {
+        out.normal = normalize(n);
+    } else {
+        let a = net_point(face, 0u);
+        let fn_ = cross(net_point(face, 1u) - a, net_point(face, 2u) - a);
+        out.normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(fn_), dot(fn_, fn_) > 0.0);
+    }
+    let l0 = base + 3u * k + NORMAL_NET_LEN;
+    out.l = vec3<f32>(stencil[l0], stencil[l0 + 1u], stencil[l0 + 2u]);
+    return out;
+}

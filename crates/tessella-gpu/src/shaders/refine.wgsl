@@ -1,0 +1,179 @@
+// Compute refinement: one kernel evaluates every output vertex of a chunk, one writes every
+// output triangle of a chunk. Output order and indices are those of tessella-core's
+// OutputLayout (refine/layout.rs): welded = corners | edges (lower -> higher vertex index) |
+// interiors; soup = (N+1)(N+2)/2 pattern points per face. Prepended: eval.wgsl, displace.wgsl.
+
+struct RefineParams {
+    level: u32,
+    weld: u32,
+    first: u32,             // first output item (vertex or triangle) of this chunk
+    count: u32,             // items in this chunk
+    input_vertices: u32,    // V
+    edge_base: u32,
+    interior_base: u32,
+    interior_per_face: u32, // (N-1)(N-2)/2
+    points_per_face: u32,   // (N+1)(N+2)/2
+    has_uv: u32,
+    // Offsets (in u32s) of the tables packed into `mesh_u32`.
+    triangles_at: u32,      // F x 3 input corner indices
+    vertex_owner_at: u32,   // V: face*4+corner, or NONE
+    edge_owner_at: u32,     // E: face*4+edge slot
+    edges_at: u32,          // E x 2 vertex indices, lower first
+    face_edges_at: u32,     // F x 3 edge ids
+    corner_points_at: u32,  // 3 pattern points
+    edge_points_at: u32,    // 3 x (N-1) pattern points, by edge then step
+    interior_points_at: u32,// (N-1)(N-2)/2 pattern points
+    point_codes_at: u32,    // per pattern point: class<<30 | edge<<28 | index
+    pattern_triangles_at: u32, // N^2 x 3 pattern points
+    // Offsets (in f32s) of the arrays packed into `mesh_f32`.
+    positions_at: u32,
+    normals_at: u32,
+    uvs_at: u32,
+    _pad: u32,
+}
+
+const NONE: u32 = 0xffffffffu;
+
+@group(1) @binding(0) var<uniform> params: RefineParams;
+@group(1) @binding(1) var<storage, read> mesh_u32: array<u32>;
+@group(1) @binding(2) var<storage, read> mesh_f32: array<f32>;
+@group(1) @binding(3) var<storage, read_write> out_vertices: array<f32>;
+@group(1) @binding(4) var<storage, read_write> out_indices: array<u32>;
+
+fn input_vec3(at: u32, v: u32) -> vec3<f32> {
+    let i = at + v * 3u;
+    return vec3<f32>(mesh_f32[i], mesh_f32[i + 1u], mesh_f32[i + 2u]);
+}
+
+fn input_uv(v: u32) -> vec2<f32> {
+    let i = params.uvs_at + v * 2u;
+    return vec2<f32>(mesh_f32[i], mesh_f32[i + 1u]);
+}
+
+fn corner(face: u32, c: u32) -> u32 {
+    return mesh_u32[params.triangles_at + face * 3u + c];
+}
+
+// Same sum order as the CPU's interpolate_uv.
+fn face_uv(face: u32, l: vec3<f32>) -> vec2<f32> {
+    let a = input_uv(corner(face, 0u));
+    let b = input_uv(corner(face, 1u));
+    let c = input_uv(corner(face, 2u));
+    return vec2<f32>(l.x * a.x + l.y * b.x + l.z * c.x, l.x * a.y + l.y * b.y + l.z * c.y);
+}
+
+// Is edge slot k of `face` stored in the same direction as the face runs along it?
+fn forward(face: u32, k: u32, e: u32) -> bool {
+    return corner(face, k) == mesh_u32[params.edges_at + e * 2u];
+}
+
+fn write_vertex(local: u32, p: vec3<f32>, n: vec3<f32>, uv: vec2<f32>) {
+    // Displace after evaluation, once per output slot: shared vertices stay shared.
+    let q = p + displacement(p, uv) * n;
+    let pi = local * 3u;
+    out_vertices[pi] = q.x;
+    out_vertices[pi + 1u] = q.y;
+    out_vertices[pi + 2u] = q.z;
+    let ni = params.count * 3u + local * 3u;
+    out_vertices[ni] = n.x;
+    out_vertices[ni + 1u] = n.y;
+    out_vertices[ni + 2u] = n.z;
+    if (params.has_uv != 0u) {
+        let ui = params.count * 6u + local * 2u;
+        out_vertices[ui] = uv.x;
+        out_vertices[ui + 1u] = uv.y;
+    }
+}
+
+@compute @workgroup_size(64)
+fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let local = gid.x;
+    if (local >= params.count) {
+        return;
+    }
+    let g = params.first + local;
+    let m = params.level - 1u;
+    var face: u32;
+    var row: u32;
+    if (params.weld != 0u) {
+        if (g < params.input_vertices) {
+            // Corners: the input position exactly; the normal of the owning patch.
+            let owner = mesh_u32[params.vertex_owner_at + g];
+            var n = input_vec3(params.normals_at, g);
+            if (owner != NONE) {
+                let c = mesh_u32[params.corner_points_at + (owner & 3u)];
+                n = eval_patch(owner >> 2u, c).normal;
+            }
+            var uv = vec2<f32>(0.0);
+            if (params.has_uv != 0u) {
+                uv = input_uv(g);
+            }
+            write_vertex(local, input_vec3(params.positions_at, g), n, uv);
+            return;
+        } else if (g < params.interior_base) {
+            // Edges: evaluated on the owning face, stored from the lower vertex index up.
+            let e = (g - params.edge_base) / m;
+            let s = (g - params.edge_base) % m;
+            let owner = mesh_u32[params.edge_owner_at + e];
+            face = owner >> 2u;
+            let k = owner & 3u;
+            let step = select(m - 1u - s, s, forward(face, k, e));
+            row = mesh_u32[params.edge_points_at + k * m + step];
+        } else {
+            let i = g - params.interior_base;
+            face = i / params.interior_per_face;
+            row = mesh_u32[params.interior_points_at + i % params.interior_per_face];
+        }
+    } else {
+        face = g / params.points_per_face;
+        row = g % params.points_per_face;
+    }
+    let sp = eval_patch(face, row);
+    var p = sp.position;
+    let code = mesh_u32[params.point_codes_at + row];
+    if (params.weld == 0u && (code >> 30u) == 0u) {
+        // Soup corners also copy the input position exactly.
+        p = input_vec3(params.positions_at, corner(face, code & 3u));
+    }
+    var uv = vec2<f32>(0.0);
+    if (params.has_uv != 0u) {
+        uv = face_uv(face, sp.l);
+    }
+    write_vertex(local, p, sp.normal, uv);
+}
+
+// Output vertex of pattern point `p` on `face` (the CPU's welded_triangles map).
+fn output_vertex(face: u32, p: u32) -> u32 {
+    if (params.weld == 0u) {
+        return face * params.points_per_face + p;
+    }
+    let code = mesh_u32[params.point_codes_at + p];
+    let class = code >> 30u;
+    if (class == 0u) {
+        return corner(face, code & 3u);
+    }
+    if (class == 1u) {
+        let m = params.level - 1u;
+        let k = (code >> 28u) & 3u;
+        let s = code & 0x0fffffffu;
+        let e = mesh_u32[params.face_edges_at + face * 3u + k];
+        return params.edge_base + e * m + select(m - 1u - s, s, forward(face, k, e));
+    }
+    return params.interior_base + face * params.interior_per_face + (code & 0x3fffffffu);
+}
+
+@compute @workgroup_size(64)
+fn refine_indices(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let local = gid.x;
+    if (local >= params.count) {
+        return;
+    }
+    let t = params.first + local;
+    let per_face = params.level * params.level;
+    let face = t / per_face;
+    let j = t % per_face;
+    for (var c = 0u; c < 3u; c++) {
+        let p = mesh_u32[params.pattern_triangles_at + j * 3u + c];
+        out_indices[local * 3u + c] = output_vertex(face, p);
+    }
+}
