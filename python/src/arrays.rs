@@ -2,7 +2,7 @@
 //!
 //! Inputs: any array-like (lists too; they go through `numpy.asarray`), of shape `(n, 3)`,
 //! C or Fortran order or any other strides (read element by element, no copy of the array
-//! first). Points: float32 as is, float64 rounded to float32. Indices: int32, int64, uint32,
+//! first). Points: float32 as is, float64 rounded to float32, integers converted. Indices: int32, int64, uint32,
 //! uint64 (also int8/16, uint8/16), checked to be non-negative and below 2³².
 //! Outputs: fresh C-ordered float32 `(n, 3)` and uint32 `(m, 3)` arrays that own their memory.
 
@@ -79,11 +79,17 @@ pub fn points(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f32; 3]>> {
     if let Some(r) = rows::<f32, f32>(&a, |_, _, x| Ok(x)) {
         return r;
     }
-    if let Some(r) = rows::<f64, f32>(&a, |_, _, x| Ok(x as f32)) {
-        return r;
+    // float64 is rounded to the nearest float32; integers (lists like [[0, 0, 1]]) convert too.
+    macro_rules! try_dtypes {
+        ($($t:ty),*) => {$(
+            if let Some(r) = rows::<$t, f32>(&a, |_, _, x| Ok(x as f32)) {
+                return r;
+            }
+        )*};
     }
+    try_dtypes!(f64, i64, i32, u32, u64, i16, u16, i8, u8);
     Err(PyTypeError::new_err(format!(
-        "{what} must be float32 or float64, got dtype {}; convert with .astype(numpy.float64)",
+        "{what} must be float32 or float64 (or integers), got dtype {}; convert with .astype(numpy.float64)",
         dtype_name(&a)
     )))
 }

@@ -6,10 +6,11 @@ triangles per coarse triangle). The work runs in Rust, in parallel, with the GIL
 
 Conventions
 -----------
-- ``vertices``: ``(n, 3)`` float32 or float64 points. float64 is rounded to float32.
+- ``vertices``: ``(n, 3)`` float32 or float64 points. float64 is rounded to float32 (integer
+  arrays are converted too).
 - ``faces``: ``(m, 3)`` integer vertex indices (int8..int64, uint8..uint64), counter-clockwise
   seen from the side the normals face. Indices must lie in ``0 .. n-1``.
-- ``normals``: ``(n, 3)`` float32/float64 vertex normals (normalised on input), or ``None`` to
+- ``normals``: ``(n, 3)`` float32/float64 (or integer) vertex normals (normalised on input), or ``None`` to
   compute angle-weighted normals.
 - Any array-like is accepted (lists go through ``numpy.asarray``); C order, Fortran order and
   strided views are all read as they are, without a copy first.

@@ -1,0 +1,36 @@
+"""The GIL is released while tessella works, so other Python threads make progress."""
+
+import sys
+import threading
+import time
+
+import tessella
+from conftest import icosphere
+
+
+def test_another_thread_runs_python_code_during_refine():
+    v, f = icosphere(2)
+    stamps = {}
+    started = threading.Event()
+
+    def worker():
+        started.set()
+        stamps["start"] = time.perf_counter()
+        tessella.refine(v, f, v, scheme="pn", level=48)
+        stamps["end"] = time.perf_counter()
+
+    old = sys.getswitchinterval()
+    # With a huge switch interval a thread gives up the GIL only when it blocks or releases it
+    # itself: the main thread can run while the worker is inside refine only if refine
+    # released the GIL. Without the release every main-thread stamp falls after "end".
+    sys.setswitchinterval(1000.0)
+    try:
+        t = threading.Thread(target=worker)
+        t.start()
+        started.wait()
+        ours = [time.perf_counter() for _ in range(2000)]
+        t.join()
+    finally:
+        sys.setswitchinterval(old)
+    assert stamps["start"] < ours[0]
+    assert ours[-1] < stamps["end"], "the main thread could not run while refine was working"
