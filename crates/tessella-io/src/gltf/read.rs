@@ -204,7 +204,7 @@ fn assemble(mode: Mode, corners: &[u32]) -> Result<Vec<[u32; 3]>, String> {
     let v = corners;
     Ok(match mode {
         Mode::Triangles => {
-            if v.len() % 3 != 0 {
+            if !v.len().is_multiple_of(3) {
                 return Err(format!(
                     "TRIANGLES with {} indices, not a multiple of 3",
                     v.len()

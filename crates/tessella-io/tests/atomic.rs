@@ -1,0 +1,111 @@
+mod common;
+
+use common::{entries, Sample};
+use std::fs;
+use std::io::Error;
+use tessella_io::{write_atomic, write_mesh, IoError, MeshView, WriteOptions};
+
+#[test]
+fn a_failing_writer_leaves_no_file_and_no_temporary() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.ply");
+    let err = write_atomic(&path, |w| {
+        w.write_all(b"half a file")?;
+        Err(Error::other("disk on fire"))
+    })
+    .unwrap_err();
+    assert!(matches!(err, IoError::Write { .. }), "{err}");
+    assert!(err.to_string().contains("disk on fire"), "{err}");
+    assert!(err.to_string().contains("out.ply"), "{err}");
+    assert!(entries(dir.path()).is_empty(), "{:?}", entries(dir.path()));
+}
+
+#[test]
+fn a_failing_writer_leaves_the_old_file_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.obj");
+    fs::write(&path, "old contents").unwrap();
+    let result = write_atomic(&path, |w| {
+        w.write_all(&[b'x'; 100_000])?;
+        Err(Error::other("interrupted"))
+    });
+    assert!(result.is_err());
+    assert_eq!(fs::read_to_string(&path).unwrap(), "old contents");
+    assert_eq!(entries(dir.path()), ["out.obj"]);
+}
+
+#[test]
+fn a_failing_rename_leaves_the_target_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    // The target is a non-empty folder: the data is written, but renaming over it fails.
+    let target = dir.path().join("taken.ply");
+    fs::create_dir(&target).unwrap();
+    fs::write(target.join("keep.txt"), "keep").unwrap();
+    let err = write_atomic(&target, |w| w.write_all(b"new")).unwrap_err();
+    assert!(matches!(err, IoError::Write { .. }), "{err}");
+    assert!(target.is_dir());
+    assert_eq!(fs::read_to_string(target.join("keep.txt")).unwrap(), "keep");
+    assert_eq!(entries(dir.path()), ["taken.ply"]);
+}
+
+#[test]
+fn success_replaces_the_old_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.txt");
+    fs::write(&path, "old").unwrap();
+    write_atomic(&path, |w| w.write_all(b"new")).unwrap();
+    assert_eq!(fs::read_to_string(&path).unwrap(), "new");
+    assert_eq!(entries(dir.path()), ["out.txt"]);
+}
+
+#[test]
+fn a_missing_folder_is_a_write_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("no/such/folder/out.glb");
+    let err = write_mesh(&path, Sample::new().view(), &WriteOptions::default()).unwrap_err();
+    assert!(matches!(err, IoError::Write { .. }), "{err}");
+}
+
+#[test]
+fn inconsistent_views_are_refused_before_anything_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = Sample::new();
+    let path = dir.path().join("bad.gltf");
+    let cases = [
+        MeshView {
+            normals: Some(&sample.normals[..2]),
+            ..sample.view()
+        },
+        MeshView {
+            uvs: Some(&sample.uvs[..1]),
+            ..sample.view()
+        },
+        MeshView {
+            triangles: &[],
+            ..sample.view()
+        },
+        MeshView {
+            triangles: &[[0, 1, 5]],
+            ..sample.view()
+        },
+    ];
+    for view in cases {
+        let err = write_mesh(&path, view, &WriteOptions::default()).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                IoError::BadMesh { .. } | IoError::IndexOutOfRange { .. }
+            ),
+            "{err}"
+        );
+    }
+    let nan = [[f32::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let view = MeshView {
+        positions: &nan,
+        normals: None,
+        uvs: None,
+        triangles: &[[0, 1, 2]],
+    };
+    assert!(write_mesh(&path, view, &WriteOptions::default()).is_err());
+    assert!(entries(dir.path()).is_empty());
+}
