@@ -109,3 +109,17 @@ fn inconsistent_views_are_refused_before_anything_is_written() {
     assert!(write_mesh(&path, view, &WriteOptions::default()).is_err());
     assert!(entries(dir.path()).is_empty());
 }
+
+/// The temporary file is created 0600; the result must get a plain file's permissions.
+#[cfg(unix)]
+#[test]
+fn written_files_get_the_permissions_of_a_plain_create() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let plain = dir.path().join("plain.txt");
+    fs::write(&plain, "x").unwrap();
+    let atomic = dir.path().join("atomic.txt");
+    write_atomic(&atomic, |w| w.write_all(b"x")).unwrap();
+    let mode = |p: &std::path::Path| fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode(&atomic), mode(&plain));
+}
