@@ -36,6 +36,10 @@ pub enum Basis {
     /// The cubic Bernstein basis of a Bézier triangle, 10 control points ([`CUBIC_ORDER`]).
     /// Flat and Phong patches are degree-elevated into it.
     Cubic,
+    /// PNG1's 21 control points ([`crate::scheme::png1::PNG1_ORDER`]): cubic Bernstein
+    /// polynomials times the paper's rational blends of two versions of each edge slot and six
+    /// centre candidates (Fünfzig et al. 2008, equation (6)).
+    Png1,
 }
 
 /// Weights of one parameter point: value, `Du` and `Dv`, one entry per control point.
@@ -52,6 +56,7 @@ impl Basis {
     pub const fn len(self) -> usize {
         match self {
             Basis::Cubic => 10,
+            Basis::Png1 => crate::scheme::png1::PNG1_LEN,
         }
     }
 
@@ -59,6 +64,7 @@ impl Basis {
     pub fn weights(self, l: [f64; 3]) -> BasisWeights {
         match self {
             Basis::Cubic => cubic_weights(l),
+            Basis::Png1 => crate::scheme::png1::weights(l),
         }
     }
 }

@@ -207,6 +207,7 @@ impl Job<'_> {
     pub fn run(&self, out: &mut RefinedMesh, progress: &(dyn Fn(u64) + Sync)) {
         match self.nets.basis.len() {
             10 => self.run_k::<10>(out, progress),
+            21 => self.run_k::<21>(out, progress),
             k => unreachable!("no evaluator for a basis of {k} points"),
         }
     }

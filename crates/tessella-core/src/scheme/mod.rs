@@ -7,11 +7,16 @@
 //! | [`Scheme::Flat`] | the input triangle | cubic (degree-elevated) | linear |
 //! | [`Scheme::Phong`] | Boubekeur & Alexa 2008; FEM poster | cubic (degree-elevated quadratic) | linear |
 //! | [`Scheme::Pn`] | Vlachos et al. 2001; GMR Appendix A | cubic | quadratic |
+//! | [`Scheme::Png1`] | Fünfzig et al. 2008 | [`Basis::Png1`] (21 points, rational blends) | section 3.3 smoothed |
+//!
+//! PNG1 looks across edges (neighbours by position, [`Topology::neighbors`]); the others see one
+//! triangle at a time.
 
 mod flat;
 mod normal_net;
 mod phong;
 mod pn;
+pub mod png1;
 
 use crate::basis::{Basis, NORMAL_NET_LEN};
 use crate::error::RefineError;
@@ -31,6 +36,9 @@ pub enum Scheme {
     Phong { alpha: f32 },
     /// Curved PN triangles: cubic geometry from positions and normals.
     Pn,
+    /// PNG1 triangles: G1 across edges, from each triangle, its normals and its edge
+    /// neighbours ([`png1`]).
+    Png1,
 }
 
 impl Scheme {
@@ -39,14 +47,22 @@ impl Scheme {
 
     /// The basis this scheme's control nets are combined with.
     pub fn basis(&self) -> Basis {
-        Basis::Cubic
+        match self {
+            Scheme::Png1 => Basis::Png1,
+            _ => Basis::Cubic,
+        }
+    }
+
+    /// True for schemes whose nets depend on the triangles across each edge.
+    pub fn needs_topology(&self) -> bool {
+        matches!(self, Scheme::Png1)
     }
 
     /// The normals a scheme uses unless told otherwise.
     pub fn default_normals(&self) -> NormalMode {
         match self {
             Scheme::Flat | Scheme::Phong { .. } => NormalMode::Linear,
-            Scheme::Pn => NormalMode::Quadratic,
+            Scheme::Pn | Scheme::Png1 => NormalMode::Quadratic,
         }
     }
 
@@ -56,6 +72,7 @@ impl Scheme {
             Scheme::Flat => "flat",
             Scheme::Phong { .. } => "phong",
             Scheme::Pn => "pn",
+            Scheme::Png1 => "png1",
         }
     }
 
@@ -74,7 +91,8 @@ impl Scheme {
 pub enum NormalMode {
     /// Vertex normals interpolated linearly (Phong shading), normalised.
     Linear,
-    /// Vlachos' quadratic normals: the mid-edge normals reflect the edge's curvature.
+    /// Vlachos' quadratic normals: the mid-edge normals reflect the edge's curvature. For PNG1,
+    /// the smoothed normals of its section 3.3 (exact at corners and edge midpoints).
     Quadratic,
     /// The surface's own normal, `Du × Dv` of the patch ("real" normals, van Veen 3.2.2).
     Real,
@@ -119,14 +137,24 @@ pub struct Corners {
 
 /// Builds the control nets of every face of `mesh`, in parallel.
 ///
-/// `topology` is for schemes that look across edges; flat, Phong and PN ignore it.
+/// `topology` is for schemes that look across edges ([`Scheme::needs_topology`]); it is computed
+/// here when such a scheme gets `None`. Flat, Phong and PN ignore it.
 pub fn build_nets(
     mesh: &Mesh,
-    _topology: Option<&Topology>,
+    topology: Option<&Topology>,
     scheme: &Scheme,
     normal_mode: NormalMode,
 ) -> Result<PatchNets, RefineError> {
     scheme.validate()?;
+    let owned;
+    let topology = match topology {
+        Some(t) => Some(t),
+        None if scheme.needs_topology() => {
+            owned = mesh.topology();
+            Some(&owned)
+        }
+        None => None,
+    };
     let basis = scheme.basis();
     let k = basis.len();
     let faces = mesh.face_count();
@@ -141,10 +169,22 @@ pub fn build_nets(
                 p: mesh.corner_positions(f),
                 n: mesh.corner_normals(f),
             };
+            if *scheme == Scheme::Png1 {
+                let topo = topology.expect("PNG1 has its topology");
+                let (net, nnet) = png1_face(mesh, topo, f, normal_mode);
+                for (dst, src) in pts.iter_mut().zip(net) {
+                    *dst = src.as_vec3().into();
+                }
+                for (dst, src) in nrm.iter_mut().zip(nnet) {
+                    *dst = src.into();
+                }
+                return;
+            }
             let net = match *scheme {
                 Scheme::Flat => flat::control_points(&c),
                 Scheme::Phong { alpha } => phong::control_points(&c, alpha),
                 Scheme::Pn => pn::control_points(&c),
+                Scheme::Png1 => unreachable!("handled above"),
             };
             for (dst, src) in pts.iter_mut().zip(net) {
                 *dst = src.into();
@@ -164,6 +204,94 @@ pub fn build_nets(
         points,
         normals,
     })
+}
+
+/// The face across local edge `k` of face `f` (by position), with the vertex indices it uses at
+/// the edge's start and end positions and its corner opposite the edge. `None` on boundary and
+/// non-manifold edges.
+pub(crate) fn across_edge(mesh: &Mesh, topo: &Topology, f: usize, k: usize) -> Option<Across> {
+    let g = topo.neighbors[f][k];
+    if g == crate::mesh::topology::NO_NEIGHBOR {
+        return None;
+    }
+    let t = mesh.triangles()[f];
+    let pid = |v: u32| topo.position_ids[v as usize];
+    let (a, b) = (pid(t[k]), pid(t[(k + 1) % 3]));
+    let tg = mesh.triangles()[g as usize];
+    let (mut at_a, mut at_b, mut opposite) = (None, None, None);
+    for &v in &tg {
+        match pid(v) {
+            x if x == a => at_a = Some(v),
+            x if x == b => at_b = Some(v),
+            _ => opposite = Some(v),
+        }
+    }
+    Some(Across {
+        face: g as usize,
+        at_a: at_a?,
+        at_b: at_b?,
+        opposite: opposite?,
+    })
+}
+
+/// See [`across_edge`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Across {
+    #[allow(dead_code)]
+    pub face: usize,
+    pub at_a: u32,
+    pub at_b: u32,
+    pub opposite: u32,
+}
+
+/// What PNG1 sees of the edges of face `f`: neighbours' opposite corners, and sharp edges where
+/// the two sides disagree on a normal (G1 cannot hold there).
+pub fn png1_edges(mesh: &Mesh, topo: &Topology, f: usize) -> [png1::Png1Edge; 3] {
+    let t = mesh.triangles()[f];
+    let pos = |v: u32| glam::Vec3::from(mesh.positions()[v as usize]).as_dvec3();
+    std::array::from_fn(|k| match across_edge(mesh, topo, f, k) {
+        None => png1::Png1Edge::default(),
+        Some(x) => {
+            let nrm = |v: u32| mesh.normals()[v as usize];
+            let split = nrm(x.at_a) != nrm(t[k]) || nrm(x.at_b) != nrm(t[(k + 1) % 3]);
+            png1::Png1Edge {
+                opposite: Some(pos(x.opposite)),
+                sharp: split.then_some(0.0),
+            }
+        }
+    })
+}
+
+/// The PNG1 net of face `f` in f64 and its normal net for `mode`.
+fn png1_face(
+    mesh: &Mesh,
+    topo: &Topology,
+    f: usize,
+    mode: NormalMode,
+) -> ([glam::DVec3; png1::PNG1_LEN], [Vec3; NORMAL_NET_LEN]) {
+    let p = mesh.corner_positions(f).map(|v| v.as_dvec3());
+    let n = mesh.corner_normals(f).map(|v| v.as_dvec3());
+    let net = png1::control_points_f64(p, n, png1_edges(mesh, topo, f));
+    let nnet = match mode {
+        NormalMode::Quadratic => png1::smoothed_normal_net(&net, n).map(|v| v.as_vec3()),
+        NormalMode::Linear | NormalMode::Real => normal_net::linear(&Corners {
+            p: mesh.corner_positions(f),
+            n: mesh.corner_normals(f),
+        }),
+    };
+    (net, nnet)
+}
+
+/// PNG1 nets of every face in f64 (what [`build_nets`] rounds to f32): for checking G1 without
+/// f32 rounding.
+pub fn png1_nets_f64(mesh: &Mesh, topo: &Topology) -> Vec<[glam::DVec3; png1::PNG1_LEN]> {
+    (0..mesh.face_count())
+        .map(|f| {
+            let p = mesh.corner_positions(f).map(|v| v.as_dvec3());
+            let n = mesh.corner_normals(f).map(|v| v.as_dvec3());
+            png1::control_points_f64(p, n, png1_edges(mesh, topo, f))
+        })
+        .collect()
 }
 
 /// Degree-elevates a quadratic patch `sum li² Pi + sum_{i<j} li lj m_ij` (monomial mid
