@@ -9,7 +9,9 @@ use reference::corpus::{closed_meshes, perturbed_sphere};
 use reference::{
     angle, d3, diagonal, occurrences, undirected_edges, PnNet, RefNormals, RefPatch, RefScheme, Tri,
 };
-use tessella_core::{refine, Mesh, NormalMode, Pattern, RefineOptions, Scheme};
+use tessella_core::{
+    refine, Mesh, NormalMode, Pattern, RefineOptions, RefinedMesh, Refiner, Scheme,
+};
 
 /// Positions must agree to this fraction of the bounding box diagonal (f32 output: about 1e-7
 /// relative rounding, times the few dozen terms of a cubic).
@@ -52,9 +54,30 @@ struct Worst {
     normal: f64,
 }
 
-/// Refines `mesh` with `cfg` at `level` in one layout and compares every output vertex, at
+/// The options of one refinement of a sweep.
+fn options(cfg: Config, level: u32, weld: bool) -> RefineOptions {
+    RefineOptions::new(cfg.scheme, level)
+        .with_normals(cfg.normals)
+        .with_weld(weld)
+}
+
+/// The reference's (position, normal) at every pattern point of every face:
+/// `[f * points + p]` is pattern point `p` on face `f`.
+fn expected_values(mesh: &Mesh, cfg: Config, pattern: &Pattern) -> Vec<(DVec3, DVec3)> {
+    (0..mesh.face_count())
+        .flat_map(|f| {
+            let patch = RefPatch::new(Tri::of(mesh, f), cfg.ref_scheme, cfg.ref_normals);
+            pattern
+                .points
+                .iter()
+                .map(move |&l| (patch.position(l), patch.normal(l)))
+        })
+        .collect()
+}
+
+/// Compares every vertex of `out` (`mesh` refined with `cfg` at `level`, welded or not), at
 /// every (face, pattern point) it stands for, with the reference values `expected`
-/// (`expected[f * points + p]` = (position, normal) of pattern point `p` on face `f`).
+/// (see [`expected_values`]).
 #[allow(clippy::too_many_arguments)]
 fn compare_layout(
     name: &str,
@@ -62,15 +85,12 @@ fn compare_layout(
     cfg: Config,
     level: u32,
     weld: bool,
-    pattern: &Pattern,
+    out: &RefinedMesh,
     expected: &[(DVec3, DVec3)],
-    tol: f64,
     worst: &mut Worst,
 ) {
-    let options = RefineOptions::new(cfg.scheme, level)
-        .with_normals(cfg.normals)
-        .with_weld(weld);
-    let out = refine(mesh, &options).expect("refine");
+    let pattern = &Pattern::uniform(level);
+    let tol = POSITION_TOLERANCE * diagonal(mesh);
     let what = format!("{name}, {cfg:?}, level {level}, weld {weld}");
     let (v, f, n) = (mesh.vertex_count(), mesh.face_count(), level as usize);
     let e = undirected_edges(mesh.triangles());
@@ -93,7 +113,7 @@ fn compare_layout(
     let per_vertex_best = cfg.ref_normals == RefNormals::Real && weld;
     let mut best = vec![f64::INFINITY; vertex_count];
     let mut covered = vec![false; vertex_count];
-    for occ in occurrences(&out, f, pattern) {
+    for occ in occurrences(out, f, pattern) {
         covered[occ.vertex] = true;
         let (p_ref, n_ref) = expected[occ.face * np + occ.point];
         let p = out.positions[occ.vertex];
@@ -165,34 +185,31 @@ fn sweep(cfg: Config) {
         } else {
             (1..=32).collect()
         };
-        let tol = POSITION_TOLERANCE * diagonal(&mesh);
-        let patches: Vec<RefPatch> = (0..mesh.face_count())
-            .map(|f| RefPatch::new(Tri::of(&mesh, f), cfg.ref_scheme, cfg.ref_normals))
-            .collect();
-        let mut worst = Worst::default();
-        for level in levels {
-            let pattern = Pattern::uniform(level);
-            check_pattern_points(&pattern);
-            let expected: Vec<(DVec3, DVec3)> = patches
-                .iter()
-                .flat_map(|patch| {
-                    pattern
-                        .points
-                        .iter()
-                        .map(|&l| (patch.position(l), patch.normal(l)))
-                })
-                .collect();
-            for weld in [true, false] {
-                compare_layout(
-                    name, &mesh, cfg, level, weld, &pattern, &expected, tol, &mut worst,
-                );
-            }
-        }
-        println!(
-            "{:?} {:?} on {name}: worst position error {:.2e} (tolerance {:.2e}), worst normal angle {:.2e} rad",
-            cfg.scheme, cfg.normals, worst.position, tol, worst.normal
-        );
+        sweep_mesh(name, &mesh, cfg, &levels);
     }
+}
+
+/// `mesh` with `cfg` at `levels`, welded and soup, against the reference.
+fn sweep_mesh(name: &str, mesh: &Mesh, cfg: Config, levels: &[u32]) {
+    let mut worst = Worst::default();
+    for &level in levels {
+        let pattern = Pattern::uniform(level);
+        check_pattern_points(&pattern);
+        let expected = expected_values(mesh, cfg, &pattern);
+        for weld in [true, false] {
+            let out = refine(mesh, &options(cfg, level, weld)).expect("refine");
+            compare_layout(name, mesh, cfg, level, weld, &out, &expected, &mut worst);
+        }
+    }
+    println!(
+        "{:?} {:?} on {name}: worst position error {:.2e} (diagonal {:.2}), worst normal angle \
+         {:.2e} rad",
+        cfg.scheme,
+        cfg.normals,
+        worst.position,
+        diagonal(mesh),
+        worst.normal
+    );
 }
 
 #[test]
@@ -262,6 +279,111 @@ fn pn_is_the_default_normal_mode_quadratic() {
         let l = pattern.points[occ.point];
         let a = angle(d3(out.normals[occ.vertex]), patch.normal(l));
         assert!(a <= NORMAL_TOLERANCE, "angle {a:e} at {l:?}");
+    }
+}
+
+#[test]
+fn other_scheme_and_normal_combinations_agree_with_reference() {
+    // The options allow any normal mode with any scheme; the sweeps above cover each scheme's
+    // usual pairing at every level, this covers the rest at a few levels.
+    let combos = [
+        (
+            Scheme::Flat,
+            NormalMode::Real,
+            RefScheme::Flat,
+            RefNormals::Real,
+        ),
+        (
+            Scheme::Flat,
+            NormalMode::Quadratic,
+            RefScheme::Flat,
+            RefNormals::Quadratic,
+        ),
+        (
+            Scheme::PHONG,
+            NormalMode::Real,
+            RefScheme::Phong { alpha: 0.75 },
+            RefNormals::Real,
+        ),
+        (
+            Scheme::PHONG,
+            NormalMode::Quadratic,
+            RefScheme::Phong { alpha: 0.75 },
+            RefNormals::Quadratic,
+        ),
+        (
+            Scheme::Phong { alpha: 0.0 },
+            NormalMode::Linear,
+            RefScheme::Flat,
+            RefNormals::Linear,
+        ),
+        (
+            Scheme::Phong { alpha: 1.0 },
+            NormalMode::Real,
+            RefScheme::Phong { alpha: 1.0 },
+            RefNormals::Real,
+        ),
+        (
+            Scheme::Pn,
+            NormalMode::Linear,
+            RefScheme::Pn,
+            RefNormals::Linear,
+        ),
+    ];
+    let meshes = [
+        ("tetrahedron", tessella_core::samples::tetrahedron()),
+        ("perturbed sphere", perturbed_sphere(5)),
+    ];
+    for (scheme, normals, ref_scheme, ref_normals) in combos {
+        let cfg = Config {
+            scheme,
+            normals,
+            ref_scheme,
+            ref_normals,
+        };
+        for (name, mesh) in &meshes {
+            sweep_mesh(name, mesh, cfg, &[1, 2, 3, 5, 8]);
+        }
+    }
+}
+
+#[test]
+fn reused_output_buffers_agree_with_reference() {
+    // `refine_into` reuses the caller's buffers: after a larger or a different-layout output,
+    // every slot of the next one must still be the reference's.
+    let cfg = Config {
+        scheme: Scheme::Pn,
+        normals: NormalMode::Real,
+        ref_scheme: RefScheme::Pn,
+        ref_normals: RefNormals::Real,
+    };
+    let meshes = [
+        ("perturbed sphere", perturbed_sphere(13)),
+        ("tetrahedron", tessella_core::samples::tetrahedron()),
+    ];
+    let mut out = RefinedMesh::default();
+    let mut worst = Worst::default();
+    for (level, weld, m) in [
+        (9, true, 0),
+        (4, false, 0),
+        (6, true, 1),
+        (2, true, 0),
+        (7, false, 1),
+        (3, false, 0),
+    ] {
+        let (name, mesh) = &meshes[m];
+        let refiner = Refiner::new(mesh, &options(cfg, level, weld)).unwrap();
+        let total = std::sync::atomic::AtomicU64::new(0);
+        refiner.refine_into(&mut out, &|done| {
+            total.fetch_add(done, std::sync::atomic::Ordering::Relaxed);
+        });
+        assert_eq!(
+            total.into_inner(),
+            refiner.progress_total(),
+            "progress adds up"
+        );
+        let expected = expected_values(mesh, cfg, &Pattern::uniform(level));
+        compare_layout(name, mesh, cfg, level, weld, &out, &expected, &mut worst);
     }
 }
 
