@@ -3,12 +3,19 @@
 //! | Rust error | Python exception |
 //! |---|---|
 //! | `MeshError`, `RefineError` (bad mesh, level, alpha, too large) | `ValueError` |
+//! | `IoError::Read`/`Write` (the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
+//! | other `IoError`s (unknown extension, malformed file, no triangles, bad arrays) | `ValueError` |
 //! | wrong array dtype or object type | `TypeError` |
 //! | a backend this build does not have | `NotImplementedError` |
 
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{
+    PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyNotADirectoryError,
+    PyOSError, PyPermissionError, PyValueError,
+};
 use pyo3::PyErr;
+use std::io::ErrorKind;
 use tessella_core::{MeshError, RefineError};
+use tessella_io::IoError;
 
 /// A bad mesh is a bad value.
 pub fn mesh_error(e: MeshError) -> PyErr {
@@ -18,4 +25,20 @@ pub fn mesh_error(e: MeshError) -> PyErr {
 /// A refinement that cannot be honoured (level 0, too large, bad alpha, bad mesh).
 pub fn refine_error(e: RefineError) -> PyErr {
     PyValueError::new_err(e.to_string())
+}
+
+/// A file error: the OS's refusals keep their `OSError` subclass, bad content is a bad value.
+pub fn io_error(e: IoError) -> PyErr {
+    let message = e.to_string();
+    match &e {
+        IoError::Read { source, .. } | IoError::Write { source, .. } => match source.kind() {
+            ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+            ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+            ErrorKind::AlreadyExists => PyFileExistsError::new_err(message),
+            ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
+            ErrorKind::NotADirectory => PyNotADirectoryError::new_err(message),
+            _ => PyOSError::new_err(message),
+        },
+        _ => PyValueError::new_err(message),
+    }
 }

@@ -12,7 +12,9 @@ use numpy::PyArray2;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::PathBuf;
 use tessella_core::{Mesh, Pattern, RefineOptions, Refiner};
+use tessella_io::{MeshView, WriteOptions};
 
 type Arrays<'py> = (
     Bound<'py, PyArray2<f32>>,
@@ -37,6 +39,7 @@ fn mesh_from(
         .map_err(errors::mesh_error)
 }
 
+/// Refines a mesh; see `tessella.refine` (the Python wrapper) for the full documentation.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,
                     normals_mode=None, tags=None, backend="auto", weld=true))]
@@ -76,6 +79,15 @@ fn refine<'py>(
     ))
 }
 
+/// The uniform refinement pattern of ``level`` segments per edge.
+///
+/// Returns ``(barycentric, triangles)``: ``barycentric`` is float64 ``((level+1)(level+2)/2, 3)``,
+/// the weights ``(l1, l2, l3)`` of the coarse corners ``(P1, P2, P3)``, row by row:
+/// point ``(i, j)`` (``j`` outer, ``i`` inner) is ``((N-i-j)/N, i/N, j/N)``. ``triangles`` is
+/// uint32 ``(level**2, 3)``, counter-clockwise like the coarse triangle. This is the table every
+/// coarse triangle is mapped through; ``weld=False`` output follows its order per face.
+///
+/// Raises ``ValueError`` for ``level < 1`` or a pattern too large to allocate.
 #[pyfunction]
 fn pattern<'py>(
     py: Python<'py>,
@@ -96,6 +108,17 @@ fn pattern<'py>(
     ))
 }
 
+/// A topology report of a mesh, as a dict.
+///
+/// Keys: ``vertices``, ``faces``, ``positions`` (distinct positions used by faces), ``edges``
+/// (between positions), ``boundary_edges`` (one face), ``non_manifold_edges`` (more than two),
+/// ``inconsistent_edges`` (two faces running the same way), ``seam_edges`` (faces meeting at one
+/// position through different vertices), ``split_normal_positions``,
+/// ``unreferenced_vertices``, ``euler_characteristic`` (V - E + F over positions),
+/// ``closed_manifold`` (bool), ``normals_computed`` (bool: no normals given), ``bounds_min``,
+/// ``bounds_max`` (lists of 3 floats) and ``diagonal`` (float).
+///
+/// The arrays are read and validated like ``refine``'s (same exceptions).
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None))]
 fn info<'py>(
@@ -127,11 +150,74 @@ fn info<'py>(
     Ok(d)
 }
 
+/// Reads a mesh file: ``.obj``, ``.ply`` (ascii or binary), ``.gltf``/``.glb`` or ``.stl``.
+///
+/// Returns ``(vertices, faces, normals)``: float32 ``(n, 3)``, uint32 ``(m, 3)`` and float32
+/// ``(n, 3)`` normals as stored in the file, or ``None`` when it has none (``refine`` then
+/// computes them). Polygons are fan-triangulated; texture coordinates are not returned.
+///
+/// Raises ``OSError`` (``FileNotFoundError``, ``PermissionError``, ...) when the file cannot be
+/// read, ``ValueError`` when its extension is unknown or its content is malformed or holds no
+/// triangles.
+#[pyfunction]
+fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<(
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray2<u32>>,
+    Option<Bound<'py, PyArray2<f32>>>,
+)> {
+    let raw = py
+        .detach(|| tessella_io::read_raw(&path))
+        .map_err(errors::io_error)?;
+    Ok((
+        arrays::to_numpy(py, raw.positions),
+        arrays::to_numpy(py, raw.triangles),
+        raw.normals.map(|n| arrays::to_numpy(py, n)),
+    ))
+}
+
+/// Writes a mesh file; the format follows the extension: ``.obj``, ``.ply`` (binary
+/// little-endian, or ascii with ``ply_ascii=True``), ``.gltf``, ``.glb``, ``.stl``.
+///
+/// ``vertices``/``normals`` are ``(n, 3)`` float arrays, ``faces`` ``(m, 3)`` integers (as for
+/// ``refine``). The file is written to a temporary file in the same folder and renamed, so a
+/// failure never leaves half a file. STL keeps no normals.
+///
+/// Raises ``ValueError`` for bad arrays (shapes, indices out of range, non-finite positions,
+/// no triangles) or an unknown extension, ``TypeError`` for unsupported dtypes and ``OSError``
+/// when the file cannot be written.
+#[pyfunction]
+#[pyo3(signature = (path, vertices, faces, normals=None, *, ply_ascii=false))]
+fn save(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    normals: Option<&Bound<'_, PyAny>>,
+    ply_ascii: bool,
+) -> PyResult<()> {
+    let positions = arrays::points(vertices, "vertices")?;
+    let triangles = arrays::triangles(faces, "faces")?;
+    let normals = match normals {
+        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
+        _ => None,
+    };
+    let view = MeshView {
+        positions: &positions,
+        normals: normals.as_deref(),
+        uvs: None,
+        triangles: &triangles,
+    };
+    py.detach(|| tessella_io::write_mesh(&path, view, &WriteOptions { ply_ascii }))
+        .map_err(errors::io_error)
+}
+
+/// Names of the schemes this build has, e.g. ``["flat", "phong", "pn"]``.
 #[pyfunction]
 fn schemes() -> Vec<&'static str> {
     options::SCHEMES.to_vec()
 }
 
+/// Names of the backends this build can run, e.g. ``["cpu"]`` (``"auto"`` picks among them).
 #[pyfunction]
 fn backends() -> Vec<&'static str> {
     options::BACKENDS.to_vec()
@@ -142,6 +228,8 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine, m)?)?;
     m.add_function(wrap_pyfunction!(pattern, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(save, m)?)?;
     m.add_function(wrap_pyfunction!(schemes, m)?)?;
     m.add_function(wrap_pyfunction!(backends, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -38,15 +38,17 @@ from typing import Any, Optional, Tuple
 import numpy as np
 
 from . import _tessella
-from ._tessella import __version__, backends, info, pattern, schemes
+from ._tessella import __version__, backends, info, load, pattern, save, schemes
 
 __all__ = [
     "__version__",
     "backends",
     "info",
+    "load",
     "pattern",
     "refine",
     "refine_trimesh",
+    "save",
     "schemes",
     "to_trimesh",
     "read_fem",

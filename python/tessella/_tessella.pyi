@@ -1,0 +1,42 @@
+"""Type stubs of the compiled module (documentation: the functions' docstrings)."""
+
+import os
+from typing import Any, Dict, List, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_F32 = npt.NDArray[np.float32]
+_U32 = npt.NDArray[np.uint32]
+_Path = Union[str, "os.PathLike[str]"]
+
+def refine(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    normals: Optional[npt.ArrayLike] = None,
+    *,
+    scheme: str = "pn",
+    level: int = 8,
+    alpha: float = 0.75,
+    normals_mode: Optional[str] = None,
+    tags: Any = None,
+    backend: str = "auto",
+    weld: bool = True,
+) -> Tuple[_F32, _U32, _F32]: ...
+def pattern(level: int) -> Tuple[npt.NDArray[np.float64], _U32]: ...
+def info(
+    vertices: npt.ArrayLike, faces: npt.ArrayLike, normals: Optional[npt.ArrayLike] = None
+) -> Dict[str, Any]: ...
+def load(path: _Path) -> Tuple[_F32, _U32, Optional[_F32]]: ...
+def save(
+    path: _Path,
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    normals: Optional[npt.ArrayLike] = None,
+    *,
+    ply_ascii: bool = False,
+) -> None: ...
+def schemes() -> List[str]: ...
+def backends() -> List[str]: ...
