@@ -67,6 +67,8 @@ pub enum RefineError {
     BadAlpha(f32),
     #[error(transparent)]
     Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Tags(#[from] crate::tags::TagError),
 }
 
 /// Formats a byte count for messages: `1.5 GiB`.

@@ -34,6 +34,7 @@ pub mod refine;
 pub mod samples;
 pub mod scheme;
 pub mod stencil;
+pub mod tags;
 
 pub use basis::Basis;
 pub use error::{MeshError, RefineError};
@@ -42,3 +43,4 @@ pub use pattern::Pattern;
 pub use refine::{refine, OutputLayout, RefineOptions, RefinedMesh, Refiner};
 pub use scheme::{NormalMode, PatchNets, Scheme};
 pub use stencil::Stencil;
+pub use tags::{TagError, Tags};

@@ -141,7 +141,7 @@ fn corners(mesh: &Mesh, f: usize) -> ([DVec3; 3], [DVec3; 3]) {
 
 fn png1_defects(mesh: &Mesh, oriented: bool) -> (f64, f64, usize) {
     let topo = mesh.topology();
-    let nets = png1_nets_f64(mesh, &topo);
+    let nets = png1_nets_f64(mesh, &topo, None);
     let eval = |f: usize, l: [f64; 3]| png1::eval_f64(&nets[f], l);
     edge_defects(mesh, &topo, &eval, oriented)
 }

@@ -17,7 +17,7 @@ pub use layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE};
 use crate::error::{human_bytes, RefineError};
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
-use crate::scheme::{build_nets, NormalMode, PatchNets, Scheme};
+use crate::scheme::{build_nets_tagged, NormalMode, PatchNets, Scheme};
 use crate::stencil::Stencil;
 
 /// Default cap on the output's size: 8 GiB.
@@ -36,6 +36,8 @@ pub struct RefineOptions {
     pub weld: bool,
     /// Refuse work whose output would need more bytes than this.
     pub max_output_bytes: u64,
+    /// Shape tags (creases, scalar tags) for the schemes that read them; `None`: no tags.
+    pub tags: Option<std::sync::Arc<crate::tags::Tags>>,
 }
 
 impl RefineOptions {
@@ -47,7 +49,13 @@ impl RefineOptions {
             normals: None,
             weld: true,
             max_output_bytes: DEFAULT_MAX_OUTPUT_BYTES,
+            tags: None,
         }
+    }
+    /// Sets the shape tags.
+    pub fn with_tags(mut self, tags: crate::tags::Tags) -> Self {
+        self.tags = Some(std::sync::Arc::new(tags));
+        self
     }
     /// Sets the normal mode.
     pub fn with_normals(mut self, normals: NormalMode) -> Self {
@@ -124,11 +132,12 @@ impl<'m> Refiner<'m> {
         }
         let pattern = Pattern::uniform(options.level);
         let stencil = Stencil::new(&pattern, options.scheme.basis());
-        let nets = build_nets(
+        let nets = build_nets_tagged(
             mesh,
             topology.as_ref(),
             &options.scheme,
             options.normal_mode(),
+            options.tags.as_deref(),
         )?;
         Ok(Refiner {
             mesh,

@@ -8,19 +8,24 @@
 //! | [`Scheme::Phong`] | Boubekeur & Alexa 2008; FEM poster | cubic (degree-elevated quadratic) | linear |
 //! | [`Scheme::Pn`] | Vlachos et al. 2001; GMR Appendix A | cubic | quadratic |
 //! | [`Scheme::Png1`] | Fünfzig et al. 2008 | [`Basis::Png1`] (21 points, rational blends) | section 3.3 smoothed |
+//! | [`Scheme::PnAen`] | McDonald & Kilgard 2010 | cubic | quadratic |
+//! | [`Scheme::ScalarTagged`] | GMR Appendix B | cubic | quadratic (side normals) |
 //!
-//! PNG1 looks across edges (neighbours by position, [`Topology::neighbors`]); the others see one
-//! triangle at a time.
+//! PNG1 and PN-AEN look across edges (neighbours by position, [`Topology::neighbors`]); the
+//! scalar-tagged scheme reads [`Tags`] by position. The others see one triangle at a time.
 
 mod flat;
 mod normal_net;
 mod phong;
 mod pn;
+mod pn_aen;
 pub mod png1;
+mod scalar_tagged;
 
 use crate::basis::{Basis, NORMAL_NET_LEN};
 use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};
+use crate::tags::Tags;
 use glam::Vec3;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -39,6 +44,12 @@ pub enum Scheme {
     /// PNG1 triangles: G1 across edges, from each triangle, its normals and its edge
     /// neighbours ([`png1`]).
     Png1,
+    /// Crack-free PN triangles (PN-AEN): PN whose edge points average both sides' normals, so
+    /// hard edges and UV seams stay closed ([`pn_aen`](self)).
+    PnAen,
+    /// Scalar-tagged PN (GMR Appendix B): PN shaped by per-vertex tension, sharpness, bias and
+    /// crease direction and per-edge crease sharpness from [`Tags`]; zero tags give PN.
+    ScalarTagged,
 }
 
 impl Scheme {
@@ -55,14 +66,16 @@ impl Scheme {
 
     /// True for schemes whose nets depend on the triangles across each edge.
     pub fn needs_topology(&self) -> bool {
-        matches!(self, Scheme::Png1)
+        matches!(self, Scheme::Png1 | Scheme::PnAen | Scheme::ScalarTagged)
     }
 
     /// The normals a scheme uses unless told otherwise.
     pub fn default_normals(&self) -> NormalMode {
         match self {
             Scheme::Flat | Scheme::Phong { .. } => NormalMode::Linear,
-            Scheme::Pn | Scheme::Png1 => NormalMode::Quadratic,
+            Scheme::Pn | Scheme::Png1 | Scheme::PnAen | Scheme::ScalarTagged => {
+                NormalMode::Quadratic
+            }
         }
     }
 
@@ -73,6 +86,8 @@ impl Scheme {
             Scheme::Phong { .. } => "phong",
             Scheme::Pn => "pn",
             Scheme::Png1 => "png1",
+            Scheme::PnAen => "pn-aen",
+            Scheme::ScalarTagged => "st",
         }
     }
 
@@ -145,6 +160,18 @@ pub fn build_nets(
     scheme: &Scheme,
     normal_mode: NormalMode,
 ) -> Result<PatchNets, RefineError> {
+    build_nets_tagged(mesh, topology, scheme, normal_mode, None)
+}
+
+/// [`build_nets`] with shape tags: sharp edges for PNG1, everything for the scalar-tagged
+/// scheme (checked against its restrictions first); other schemes ignore them.
+pub fn build_nets_tagged(
+    mesh: &Mesh,
+    topology: Option<&Topology>,
+    scheme: &Scheme,
+    normal_mode: NormalMode,
+    tags: Option<&Tags>,
+) -> Result<PatchNets, RefineError> {
     scheme.validate()?;
     let owned;
     let topology = match topology {
@@ -154,6 +181,16 @@ pub fn build_nets(
             Some(&owned)
         }
         None => None,
+    };
+    let empty = Tags::new();
+    let tags = tags.unwrap_or(&empty);
+    let mean_normals = match scheme {
+        Scheme::ScalarTagged => {
+            let topo = topology.expect("computed above");
+            tags.validate_scalar_tagged(mesh, topo)?;
+            scalar_tagged::position_normals(mesh, topo)
+        }
+        _ => Vec::new(),
     };
     let basis = scheme.basis();
     let k = basis.len();
@@ -171,7 +208,7 @@ pub fn build_nets(
             };
             if *scheme == Scheme::Png1 {
                 let topo = topology.expect("PNG1 has its topology");
-                let (net, nnet) = png1_face(mesh, topo, f, normal_mode);
+                let (net, nnet) = png1_face(mesh, topo, tags, f, normal_mode);
                 for (dst, src) in pts.iter_mut().zip(net) {
                     *dst = src.as_vec3().into();
                 }
@@ -180,10 +217,18 @@ pub fn build_nets(
                 }
                 return;
             }
-            let net = match *scheme {
-                Scheme::Flat => flat::control_points(&c),
-                Scheme::Phong { alpha } => phong::control_points(&c, alpha),
-                Scheme::Pn => pn::control_points(&c),
+            let (net, c) = match *scheme {
+                Scheme::Flat => (flat::control_points(&c), c),
+                Scheme::Phong { alpha } => (phong::control_points(&c, alpha), c),
+                Scheme::Pn => (pn::control_points(&c), c),
+                Scheme::PnAen => {
+                    let topo = topology.expect("computed above");
+                    (pn_aen::control_points(mesh, topo, f, &c), c)
+                }
+                Scheme::ScalarTagged => {
+                    let topo = topology.expect("computed above");
+                    scalar_tagged::control_points(mesh, topo, tags, &mean_normals, f, &c)
+                }
                 Scheme::Png1 => unreachable!("handled above"),
             };
             for (dst, src) in pts.iter_mut().zip(net) {
@@ -244,19 +289,27 @@ pub(crate) struct Across {
     pub opposite: u32,
 }
 
-/// What PNG1 sees of the edges of face `f`: neighbours' opposite corners, and sharp edges where
-/// the two sides disagree on a normal (G1 cannot hold there).
-pub fn png1_edges(mesh: &Mesh, topo: &Topology, f: usize) -> [png1::Png1Edge; 3] {
+/// What PNG1 sees of the edges of face `f`: neighbours' opposite corners, sharp edges from
+/// `tags` (sharpness > 0, displaced by their `kappa`), and sharp edges where the two sides
+/// disagree on a normal (G1 cannot hold there).
+pub fn png1_edges(mesh: &Mesh, topo: &Topology, tags: &Tags, f: usize) -> [png1::Png1Edge; 3] {
     let t = mesh.triangles()[f];
+    let pid = |v: u32| topo.position_ids[v as usize];
     let pos = |v: u32| glam::Vec3::from(mesh.positions()[v as usize]).as_dvec3();
     std::array::from_fn(|k| match across_edge(mesh, topo, f, k) {
         None => png1::Png1Edge::default(),
         Some(x) => {
             let nrm = |v: u32| mesh.normals()[v as usize];
             let split = nrm(x.at_a) != nrm(t[k]) || nrm(x.at_b) != nrm(t[(k + 1) % 3]);
+            let tag = tags.edge(pid(t[k]), pid(t[(k + 1) % 3]));
+            let sharp = if tag.sharpness > 0.0 {
+                Some(tag.kappa as f64)
+            } else {
+                split.then_some(0.0)
+            };
             png1::Png1Edge {
                 opposite: Some(pos(x.opposite)),
-                sharp: split.then_some(0.0),
+                sharp,
             }
         }
     })
@@ -266,12 +319,13 @@ pub fn png1_edges(mesh: &Mesh, topo: &Topology, f: usize) -> [png1::Png1Edge; 3]
 fn png1_face(
     mesh: &Mesh,
     topo: &Topology,
+    tags: &Tags,
     f: usize,
     mode: NormalMode,
 ) -> ([glam::DVec3; png1::PNG1_LEN], [Vec3; NORMAL_NET_LEN]) {
     let p = mesh.corner_positions(f).map(|v| v.as_dvec3());
     let n = mesh.corner_normals(f).map(|v| v.as_dvec3());
-    let net = png1::control_points_f64(p, n, png1_edges(mesh, topo, f));
+    let net = png1::control_points_f64(p, n, png1_edges(mesh, topo, tags, f));
     let nnet = match mode {
         NormalMode::Quadratic => png1::smoothed_normal_net(&net, n).map(|v| v.as_vec3()),
         NormalMode::Linear | NormalMode::Real => normal_net::linear(&Corners {
@@ -284,12 +338,18 @@ fn png1_face(
 
 /// PNG1 nets of every face in f64 (what [`build_nets`] rounds to f32): for checking G1 without
 /// f32 rounding.
-pub fn png1_nets_f64(mesh: &Mesh, topo: &Topology) -> Vec<[glam::DVec3; png1::PNG1_LEN]> {
+pub fn png1_nets_f64(
+    mesh: &Mesh,
+    topo: &Topology,
+    tags: Option<&Tags>,
+) -> Vec<[glam::DVec3; png1::PNG1_LEN]> {
+    let empty = Tags::new();
+    let tags = tags.unwrap_or(&empty);
     (0..mesh.face_count())
         .map(|f| {
             let p = mesh.corner_positions(f).map(|v| v.as_dvec3());
             let n = mesh.corner_normals(f).map(|v| v.as_dvec3());
-            png1::control_points_f64(p, n, png1_edges(mesh, topo, f))
+            png1::control_points_f64(p, n, png1_edges(mesh, topo, tags, f))
         })
         .collect()
 }

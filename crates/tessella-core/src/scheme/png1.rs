@@ -458,7 +458,6 @@ mod tests {
                 assert!((s[1] - c.du[j]).abs() < 1e-13, "{l:?} {j}");
                 assert!((s[2] - c.dv[j]).abs() < 1e-13, "{l:?} {j}");
             }
-
         }
     }
 
