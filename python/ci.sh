@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Builds the tessella Python package in a fresh virtual environment and runs its tests.
+#
+#   bash python/ci.sh [VENV]        (VENV defaults to $TESSELLA_VENV, else /tmp/tessella-venv)
+#
+# Needs: python3 with venv, a Rust toolchain (cargo, for the extension and the CLI the tests
+# compare against), PyPI. The FEM example's gmsh wheel needs X11/OpenGL client libraries; when
+# they are missing and this runs as root with apt-get, they are installed (Debian names below).
+set -euo pipefail
+
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+VENV="${1:-${TESSELLA_VENV:-/tmp/tessella-venv}}"
+PYTHON="${PYTHON:-python3}"
+GMSH_DEBS="libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1"
+
+echo "== python: fresh venv in $VENV"
+rm -rf "$VENV"
+"$PYTHON" -m venv "$VENV"
+PIP=("$VENV/bin/python" -m pip --disable-pip-version-check -q)
+"${PIP[@]}" install --upgrade pip
+"${PIP[@]}" install maturin numpy pytest trimesh meshio gmsh matplotlib
+
+echo "== python: building and installing the package (maturin, release)"
+"${PIP[@]}" install "$HERE"
+
+if ! "$VENV/bin/python" -c "import gmsh" 2>/dev/null; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "== python: installing gmsh's system libraries: $GMSH_DEBS"
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $GMSH_DEBS >/dev/null
+    else
+        echo "gmsh cannot be imported; install: apt-get install $GMSH_DEBS" >&2
+    fi
+fi
+
+echo "== python: pytest"
+# Run from outside python/ so the source tree's tessella/ does not shadow the installed one.
+cd "$VENV"
+"$VENV/bin/python" -m pytest "$HERE/tests" -q -p no:cacheprovider
