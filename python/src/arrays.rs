@@ -7,10 +7,7 @@
 //! Outputs: fresh C-ordered float32 `(n, 3)` and uint32 `(m, 3)` arrays that own their memory.
 
 use numpy::ndarray::{Array2, ArrayView2};
-use numpy::{
-    Element, PyArray2, PyReadonlyArray2, PyUntypedArray,
-    PyUntypedArrayMethods,
-};
+use numpy::{Element, PyArray2, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 

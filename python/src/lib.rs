@@ -16,11 +16,10 @@ use std::path::PathBuf;
 use tessella_core::{Mesh, Pattern, RefineOptions, Refiner};
 use tessella_io::{MeshView, WriteOptions};
 
-type Arrays<'py> = (
-    Bound<'py, PyArray2<f32>>,
-    Bound<'py, PyArray2<u32>>,
-    Bound<'py, PyArray2<f32>>,
-);
+type F32Array<'py> = Bound<'py, PyArray2<f32>>;
+type U32Array<'py> = Bound<'py, PyArray2<u32>>;
+/// `(vertices, faces, normals)` as returned to Python.
+type Arrays<'py> = (F32Array<'py>, U32Array<'py>, F32Array<'py>);
 
 /// Builds a validated mesh from Python arrays (GIL held only for reading them).
 fn mesh_from(
@@ -92,7 +91,7 @@ fn refine<'py>(
 fn pattern<'py>(
     py: Python<'py>,
     level: i64,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>)> {
+) -> PyResult<(Bound<'py, PyArray2<f64>>, U32Array<'py>)> {
     let level = options::level(level)?;
     // A pattern has (N+1)(N+2)/2 points; refuse sizes that cannot be allocated sensibly.
     if Pattern::point_count(level) > 1 << 28 {
@@ -160,11 +159,10 @@ fn info<'py>(
 /// read, ``ValueError`` when its extension is unknown or its content is malformed or holds no
 /// triangles.
 #[pyfunction]
-fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<(
-    Bound<'py, PyArray2<f32>>,
-    Bound<'py, PyArray2<u32>>,
-    Option<Bound<'py, PyArray2<f32>>>,
-)> {
+fn load<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+) -> PyResult<(F32Array<'py>, U32Array<'py>, Option<F32Array<'py>>)> {
     let raw = py
         .detach(|| tessella_io::read_raw(&path))
         .map_err(errors::io_error)?;
