@@ -46,6 +46,12 @@ pub enum SchemeArg {
     Phong,
     /// Curved PN triangles (cubic).
     Pn,
+    /// PNG1: tangent-plane continuous (G1) patches from each triangle and its edge neighbours.
+    Png1,
+    /// PN with adjacent edge normals: crack-free PN across hard edges (split normals).
+    PnAen,
+    /// Scalar-tagged PN: creases and per-vertex tension, sharpness, bias (see --tags).
+    St,
 }
 
 impl SchemeArg {
@@ -54,6 +60,9 @@ impl SchemeArg {
             SchemeArg::Flat => Scheme::Flat,
             SchemeArg::Phong => Scheme::Phong { alpha },
             SchemeArg::Pn => Scheme::Pn,
+            SchemeArg::Png1 => Scheme::Png1,
+            SchemeArg::PnAen => Scheme::PnAen,
+            SchemeArg::St => Scheme::ScalarTagged,
         }
     }
 }
@@ -121,6 +130,26 @@ pub struct RefineArgs {
     /// Where to refine.
     #[arg(long, value_enum, default_value = "auto")]
     pub backend: BackendArg,
+    #[command(flatten)]
+    pub tags: TagArgs,
+    /// Also print the surface-quality report (G1 defect, watertightness, distance from the
+    /// coarse mesh).
+    #[arg(long)]
+    pub report: bool,
+}
+
+/// Creases and shape tags, for `--scheme st` (all tags) and `--scheme png1` (sharp edges).
+/// Hard edges in the file (one position, several normals) become creases on their own.
+#[derive(Debug, Args)]
+pub struct TagArgs {
+    /// Sidecar JSON with per-edge sharpness and per-vertex tension/sharpness/bias/crease
+    /// (format: `tessella_core::tags` docs and the README). PLY inputs may carry the same as
+    /// vertex properties and an `edge` element.
+    #[arg(long = "tags", value_name = "FILE")]
+    pub file: Option<PathBuf>,
+    /// Also crease every edge whose two faces bend by more than this many degrees.
+    #[arg(long, value_name = "DEG")]
+    pub crease_angle: Option<f32>,
 }
 
 #[derive(Debug, Args)]
@@ -130,6 +159,15 @@ pub struct InfoArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Also compare the surface quality of every scheme: normal jump across coarse edges (the G1
+    /// defect), gaps (watertightness), distance from the coarse mesh.
+    #[arg(long)]
+    pub quality: bool,
+    /// Level whose pattern samples the distance from the coarse mesh (with --quality).
+    #[arg(long, default_value_t = 8)]
+    pub level: u32,
+    #[command(flatten)]
+    pub tags: TagArgs,
 }
 
 #[derive(Debug, Args)]

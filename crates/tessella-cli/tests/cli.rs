@@ -237,3 +237,63 @@ fn help_explains_levels_and_schemes() {
         assert!(text.contains(needle), "help lacks {needle}");
     }
 }
+
+#[test]
+fn neighbour_and_tag_schemes_refine_and_bad_tags_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let creature = write_sample(dir.path(), "creature");
+    for scheme in ["png1", "pn-aen", "st"] {
+        let output = dir.path().join(format!("{scheme}.ply"));
+        let o = tessella(&[
+            "refine",
+            s(&creature),
+            "-o",
+            s(&output),
+            "--scheme",
+            scheme,
+            "--level",
+            "4",
+            "--crease-angle",
+            "80",
+        ]);
+        assert!(o.status.success(), "{scheme}: {}", stderr(&o));
+        assert!(output.exists());
+    }
+    let tags = dir.path().join("tags.json");
+    std::fs::write(
+        &tags,
+        r#"{"edges": [{"vertices": [0, 100000], "sharpness": 1}]}"#,
+    )
+    .unwrap();
+    let output = dir.path().join("tagged.ply");
+    let o = tessella(&[
+        "refine",
+        s(&creature),
+        "-o",
+        s(&output),
+        "--scheme",
+        "st",
+        "--tags",
+        s(&tags),
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("tags.json"), "{}", stderr(&o));
+    assert!(!output.exists());
+}
+
+#[test]
+fn quality_report_shows_png1_closing_the_g1_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = write_sample(dir.path(), "icosphere");
+    let o = tessella(&["info", s(&sphere), "--quality", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = json["quality"].as_array().unwrap();
+    let jump = |name: &str| {
+        rows.iter().find(|r| r["scheme"] == name).unwrap()["normal_jump_max_deg"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(jump("png1") < 0.01, "png1 {}", jump("png1"));
+    assert!(jump("pn") > 1.0, "pn {}", jump("pn"));
+}

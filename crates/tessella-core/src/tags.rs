@@ -169,6 +169,14 @@ impl Tags {
     pub fn new() -> Tags {
         Tags::default()
     }
+
+    /// Adds `other`'s tags; where both tag the same vertex or edge, `other` wins. Lets tags from
+    /// several sources (split normals, a crease angle, a file) be layered.
+    pub fn merge(&mut self, other: Tags) {
+        self.vertices.extend(other.vertices);
+        self.edges.extend(other.edges);
+    }
+
     /// True when nothing is tagged.
     pub fn is_empty(&self) -> bool {
         self.vertices.is_empty() && self.edges.is_empty()

@@ -3,7 +3,7 @@
 use crate::args::InfoArgs;
 use glam_free::*;
 use serde::Serialize;
-use tessella_core::{Mesh, TopologyReport};
+use tessella_core::{quality, Mesh, QualityReport, RefineOptions, Scheme, TopologyReport};
 use tessella_io::read_raw;
 
 /// Small vector helpers; the CLI does not need a math crate for a report.
@@ -102,12 +102,85 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         topology,
         problem,
     };
+    let quality = if args.quality {
+        let (raw, mesh) = super::tags::read(&args.input)?;
+        let mut options = RefineOptions::new(Scheme::Pn, args.level);
+        if let Some(tags) = super::tags::gather(&raw, &mesh, Scheme::ScalarTagged, &args.tags)? {
+            options = options.with_tags(tags);
+        }
+        // Each scheme on its own: one that refuses this mesh (ST allows one crease through a
+        // vertex) gets its reason in the table instead of sinking the others.
+        let rows: Vec<QualityRow> = ALL_SCHEMES
+            .iter()
+            .map(|&scheme| {
+                let mut o = options.clone();
+                o.scheme = scheme;
+                match quality::report(&mesh, &o) {
+                    Ok(report) => QualityRow::Measured(report),
+                    Err(e) => QualityRow::Refused {
+                        scheme: scheme.name().into(),
+                        reason: e.to_string(),
+                    },
+                }
+            })
+            .collect();
+        Some(rows)
+    } else {
+        None
+    };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&info)?);
+        let value = serde_json::json!({ "info": info, "quality": quality });
+        println!("{}", serde_json::to_string_pretty(&value)?);
     } else {
         print_text(&info);
+        if let Some(reports) = &quality {
+            println!();
+            print_quality(reports);
+        }
     }
     Ok(())
+}
+
+/// Every scheme, for quality comparisons.
+const ALL_SCHEMES: [Scheme; 6] = [
+    Scheme::Flat,
+    Scheme::PHONG,
+    Scheme::Pn,
+    Scheme::PnAen,
+    Scheme::ScalarTagged,
+    Scheme::Png1,
+];
+
+/// One scheme's quality, or why it refused the mesh.
+#[derive(Serialize)]
+#[serde(untagged)]
+pub enum QualityRow {
+    Measured(QualityReport),
+    Refused { scheme: String, reason: String },
+}
+
+/// Prints quality reports as a Markdown table.
+pub fn print_quality(reports: &[QualityRow]) {
+    println!("| scheme | level | normal jump across edges, max (°) | mean (°) | largest gap (% of diagonal) | largest distance from coarse (% of diagonal) |");
+    println!("|---|---:|---:|---:|---:|---:|");
+    for row in reports {
+        let r = match row {
+            QualityRow::Measured(r) => r,
+            QualityRow::Refused { scheme, reason } => {
+                println!("| {scheme} | | refused: {reason} | | | |");
+                continue;
+            }
+        };
+        println!(
+            "| {} | {} | {:.4} | {:.4} | {:.2e} | {:.3} |",
+            r.scheme,
+            r.level,
+            r.normal_jump_max_deg,
+            r.normal_jump_mean_deg,
+            100.0 * r.gap_max_relative,
+            100.0 * r.distance_max_relative
+        );
+    }
 }
 
 fn print_text(i: &Info) {

@@ -6,6 +6,7 @@ mod info;
 mod pattern;
 mod refine;
 mod samples;
+mod tags;
 
 use crate::args::{Cli, Command};
 

@@ -1,23 +1,25 @@
 //! `tessella refine`: file in, refined file out.
 
+use super::tags;
 use crate::args::{BackendArg, RefineArgs};
 use crate::progress;
 use anyhow::{bail, Context};
 use std::time::Instant;
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
-use tessella_io::{read_mesh, write_mesh, Format, MeshView, WriteOptions};
+use tessella_io::{write_mesh, Format, MeshView, WriteOptions};
 
 pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
-    // Refuse an unwritable output format before doing any work.
-    let format = Format::from_path(&args.output)?;
-    if format == Format::Stl {
-        bail!("cannot write {}: STL is read-only here (it has no shared vertices or normals); use .obj, .ply, .gltf or .glb", args.output.display());
-    }
-    let mesh = read_mesh(&args.input)?;
-    let mut options =
-        RefineOptions::new(args.scheme.scheme(args.alpha), args.level).with_weld(!args.soup);
+    // Refuse an unknown output format before doing any work.
+    Format::from_path(&args.output)?;
+    let (raw, mesh) = tags::read(&args.input)?;
+    let scheme = args.scheme.scheme(args.alpha);
+    let mut options = RefineOptions::new(scheme, args.level).with_weld(!args.soup);
     options.normals = args.normals.map(Into::into);
     options.max_output_bytes = args.max_memory;
+    if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
+        options = options.with_tags(tags);
+    }
+    drop(raw);
 
     let start = Instant::now();
     let refiner = Refiner::new(&mesh, &options)
@@ -46,6 +48,10 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
         options.level,
         elapsed.as_secs_f64() * 1e3
     );
+    if args.report {
+        let report = tessella_core::quality::report(&mesh, &options)?;
+        super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
+    }
     Ok(())
 }
 
