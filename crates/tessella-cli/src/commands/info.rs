@@ -41,6 +41,9 @@ struct Info {
     topology: Option<TopologyReport>,
     /// Why `tessella refine` would refuse this file, if it would.
     problem: Option<String>,
+    /// Every scheme's surface quality (with --quality).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    quality: Option<Vec<QualityRow>>,
 }
 
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
@@ -101,6 +104,7 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         degenerate_triangles: degenerate,
         topology,
         problem,
+        quality: None,
     };
     let quality = if args.quality {
         let (raw, mesh) = super::tags::read(&args.input)?;
@@ -128,12 +132,12 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     } else {
         None
     };
+    let info = Info { quality, ..info };
     if args.json {
-        let value = serde_json::json!({ "info": info, "quality": quality });
-        println!("{}", serde_json::to_string_pretty(&value)?);
+        println!("{}", serde_json::to_string_pretty(&info)?);
     } else {
         print_text(&info);
-        if let Some(reports) = &quality {
+        if let Some(reports) = &info.quality {
             println!();
             print_quality(reports);
         }
