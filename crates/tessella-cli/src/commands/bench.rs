@@ -60,5 +60,37 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             one.as_secs_f64() / many.as_secs_f64()
         );
     }
+
+    // Every scheme at one level, relative to PN measured in the same run.
+    let level = 16;
+    println!();
+    println!("All schemes at level {level}, {threads} threads, relative to PN (prepare = topology + control nets + stencil):");
+    println!();
+    println!("| scheme | prepare (ms) | refine (ms) | M vertices/s | throughput vs PN |");
+    println!("|---|---:|---:|---:|---:|");
+    let schemes = [
+        Scheme::Pn,
+        Scheme::Flat,
+        Scheme::PHONG,
+        Scheme::PnAen,
+        Scheme::ScalarTagged,
+        Scheme::Png1,
+    ];
+    let mut pn_rate = None;
+    for scheme in schemes {
+        let start = Instant::now();
+        let refiner = Refiner::new(&mesh, &RefineOptions::new(scheme, level))?;
+        let prepare = start.elapsed();
+        let time = time_refine(&refiner, repeat);
+        let rate = refiner.layout().vertex_count as f64 / time.as_secs_f64() / 1e6;
+        let pn = *pn_rate.get_or_insert(rate);
+        println!(
+            "| {} | {:.2} | {:.2} | {rate:.1} | {:.2}x |",
+            scheme.name(),
+            prepare.as_secs_f64() * 1e3,
+            time.as_secs_f64() * 1e3,
+            rate / pn
+        );
+    }
     Ok(())
 }
