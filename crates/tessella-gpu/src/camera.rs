@@ -28,15 +28,30 @@ pub(crate) fn bounding_sphere(points: &[[f32; 3]]) -> (Vec3, f32) {
 impl Camera {
     /// Frames the sphere `(center, radius)`: `yaw` turns about +Y, `pitch` raises the eye,
     /// `zoom > 1` moves closer.
-    pub fn framing(center: Vec3, radius: f32, yaw: f32, pitch: f32, zoom: f32, aspect: f32) -> Camera {
+    pub fn framing(
+        center: Vec3,
+        radius: f32,
+        yaw: f32,
+        pitch: f32,
+        zoom: f32,
+        aspect: f32,
+    ) -> Camera {
         let fov_y = FOV_Y_DEGREES.to_radians();
         let half_x = ((fov_y * 0.5).tan() * aspect).atan();
         let half = (fov_y * 0.5).min(half_x);
         let distance = radius / half.sin() / zoom;
         let (yaw, pitch) = (yaw.to_radians(), pitch.to_radians());
-        let dir = Vec3::new(pitch.cos() * yaw.sin(), pitch.sin(), pitch.cos() * yaw.cos());
+        let dir = Vec3::new(
+            pitch.cos() * yaw.sin(),
+            pitch.sin(),
+            pitch.cos() * yaw.cos(),
+        );
         let eye = center + dir * distance;
-        let up = if dir.y.abs() > 0.999 { Vec3::Z } else { Vec3::Y };
+        let up = if dir.y.abs() > 0.999 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
         let view = look_at_rh(eye, center, up);
         let near = (distance - radius * 1.5).max(distance * 0.01);
         let far = distance + radius * 1.5;

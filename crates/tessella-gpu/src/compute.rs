@@ -10,9 +10,19 @@ use crate::error::GpuError;
 use crate::gpu_types::RefineParams;
 use crate::patch::{self, PatchBuffers};
 use tessella_core::{Pattern, RefinedMesh, Refiner};
+use wgpu::util::DeviceExt;
 
 /// Threads per workgroup of both kernels (`@workgroup_size(64)` in `refine.wgsl`).
 const WORKGROUP: u64 = 64;
+
+/// Largest staging buffer for one batch of chunks read back together.
+const STAGING_BYTES: u64 = 256 << 20;
+
+#[derive(Debug, Clone, Copy)]
+enum Job {
+    Vertices,
+    Indices,
+}
 
 /// Options of [`gpu_refine_with`].
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -47,36 +57,43 @@ impl Pipelines {
         };
         let read = wgpu::BufferBindingType::Storage { read_only: true };
         let write = wgpu::BufferBindingType::Storage { read_only: false };
-        let refine_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("refine"),
-            entries: &[
-                buffer(0, wgpu::BufferBindingType::Uniform),
-                buffer(1, read),
-                buffer(2, read),
-                buffer(3, write),
-                buffer(4, write),
-            ],
-        });
-        let layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("refine"),
-            bind_group_layouts: &[Some(&patch_layout), Some(&refine_layout)],
-            immediate_size: 0,
-        });
-        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("refine.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(
-                patch::shader_source(include_str!("shaders/refine.wgsl")).into(),
-            ),
-        });
+        let refine_layout = ctx
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("refine"),
+                entries: &[
+                    buffer(0, wgpu::BufferBindingType::Uniform),
+                    buffer(1, read),
+                    buffer(2, read),
+                    buffer(3, write),
+                    buffer(4, write),
+                ],
+            });
+        let layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("refine"),
+                bind_group_layouts: &[Some(&patch_layout), Some(&refine_layout)],
+                immediate_size: 0,
+            });
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("refine.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(
+                    patch::shader_source(include_str!("shaders/refine.wgsl")).into(),
+                ),
+            });
         let pipeline = |entry| {
-            ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            ctx.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: Some(&layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
         };
         Pipelines {
             vertices: pipeline("refine_vertices"),
@@ -168,28 +185,6 @@ pub fn gpu_refine_with(
         usage,
         mapped_at_creation: false,
     });
-    let params_buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("refine params"),
-        size: std::mem::size_of::<RefineParams>() as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let refine_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("refine"),
-        layout: &pipelines.refine_layout,
-        entries: &[
-            (0, &params_buffer),
-            (1, &mesh_u32),
-            (2, &mesh_f32),
-            (3, &out_vertices),
-            (4, &out_indices),
-        ]
-        .map(|(binding, b)| wgpu::BindGroupEntry {
-            binding,
-            resource: b.as_entire_binding(),
-        }),
-    });
-
     let nv = layout.vertex_count as usize;
     let mut out = RefinedMesh {
         positions: Vec::with_capacity(nv),
@@ -197,50 +192,118 @@ pub fn gpu_refine_with(
         uvs: has_uv.then(|| Vec::with_capacity(nv)),
         triangles: Vec::with_capacity(layout.triangle_count as usize),
     };
-    let run = |pipeline: &wgpu::ComputePipeline,
-               output: &wgpu::Buffer,
-               first: u64,
-               count: u64,
-               bytes: u64|
-     -> Result<Vec<u8>, GpuError> {
-        let params = RefineParams {
-            first: first as u32,
-            count: count as u32,
-            ..tables.params
-        };
-        ctx.queue.write_buffer(&params_buffer, 0, bytemuck::bytes_of(&params));
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+
+    // Every chunk is one dispatch plus a copy into a staging buffer; dispatches are batched
+    // into as few submissions as the staging size cap allows (each submission costs a wait).
+    let mut jobs = Vec::new();
+    for (kind, total, chunk, item_bytes) in [
+        (
+            Job::Vertices,
+            layout.vertex_count,
+            vertex_chunk,
+            floats_per_vertex * 4,
+        ),
+        (Job::Indices, layout.triangle_count, triangle_chunk, 12),
+    ] {
+        let mut first = 0;
+        while first < total {
+            let count = chunk.min(total - first);
+            jobs.push((kind, first, count, count * item_bytes));
+            first += count;
+        }
+    }
+    let staging_cap = STAGING_BYTES.min(ctx.limits.max_buffer_size);
+    let mut batch_start = 0;
+    while batch_start < jobs.len() {
+        let mut batch_end = batch_start;
+        let mut bytes = 0;
+        while batch_end < jobs.len()
+            && (batch_end == batch_start || bytes + jobs[batch_end].3 <= staging_cap)
         {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &patch_group, &[]);
-            pass.set_bind_group(1, &refine_group, &[]);
-            pass.dispatch_workgroups(count.div_ceil(WORKGROUP) as u32, 1, 1);
+            bytes += jobs[batch_end].3;
+            batch_end += 1;
+        }
+        let batch = &jobs[batch_start..batch_end];
+        let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("refine readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        let mut offset = 0;
+        for &(kind, first, count, size) in batch {
+            let params = RefineParams {
+                first: first as u32,
+                count: count as u32,
+                ..tables.params
+            };
+            let params_buffer = ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("refine params"),
+                    contents: bytemuck::bytes_of(&params),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+            let refine_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("refine"),
+                layout: &pipelines.refine_layout,
+                entries: &[
+                    (0, &params_buffer),
+                    (1, &mesh_u32),
+                    (2, &mesh_f32),
+                    (3, &out_vertices),
+                    (4, &out_indices),
+                ]
+                .map(|(binding, b)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: b.as_entire_binding(),
+                }),
+            });
+            let (pipeline, output) = match kind {
+                Job::Vertices => (&pipelines.vertices, &out_vertices),
+                Job::Indices => (&pipelines.indices, &out_indices),
+            };
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &patch_group, &[]);
+                pass.set_bind_group(1, &refine_group, &[]);
+                pass.dispatch_workgroups(count.div_ceil(WORKGROUP) as u32, 1, 1);
+            }
+            encoder.copy_buffer_to_buffer(output, 0, &staging, offset, size);
+            offset += size;
         }
         ctx.submit_and_wait(encoder)?;
-        ctx.read_buffer(output, bytes)
-    };
-
-    let mut first = 0;
-    while first < layout.vertex_count {
-        let count = vertex_chunk.min(layout.vertex_count - first);
-        let bytes = run(&pipelines.vertices, &out_vertices, first, count, count * floats_per_vertex * 4)?;
-        let floats: &[f32] = bytemuck::cast_slice(&bytes);
-        let c = count as usize;
-        out.positions.extend(floats[..3 * c].chunks_exact(3).map(|v| [v[0], v[1], v[2]]));
-        out.normals.extend(floats[3 * c..6 * c].chunks_exact(3).map(|v| [v[0], v[1], v[2]]));
-        if let Some(uvs) = out.uvs.as_mut() {
-            uvs.extend(floats[6 * c..8 * c].chunks_exact(2).map(|v| [v[0], v[1]]));
+        // Copied into u32s so the casts below are aligned.
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&ctx.map_and_copy(&staging)?);
+        let mut offset = 0;
+        for &(kind, _, count, size) in batch {
+            let bytes = &words[(offset / 4) as usize..((offset + size) / 4) as usize];
+            offset += size;
+            let c = count as usize;
+            match kind {
+                Job::Vertices => {
+                    let floats: &[f32] = bytemuck::cast_slice(bytes);
+                    out.positions
+                        .extend(floats[..3 * c].chunks_exact(3).map(|v| [v[0], v[1], v[2]]));
+                    out.normals.extend(
+                        floats[3 * c..6 * c]
+                            .chunks_exact(3)
+                            .map(|v| [v[0], v[1], v[2]]),
+                    );
+                    if let Some(uvs) = out.uvs.as_mut() {
+                        uvs.extend(floats[6 * c..8 * c].chunks_exact(2).map(|v| [v[0], v[1]]));
+                    }
+                }
+                Job::Indices => {
+                    let ints: &[u32] = bytemuck::cast_slice(bytes);
+                    out.triangles
+                        .extend(ints.chunks_exact(3).map(|t| [t[0], t[1], t[2]]));
+                }
+            }
         }
-        first += count;
-    }
-    let mut first = 0;
-    while first < layout.triangle_count {
-        let count = triangle_chunk.min(layout.triangle_count - first);
-        let bytes = run(&pipelines.indices, &out_indices, first, count, count * 12)?;
-        let ints: &[u32] = bytemuck::cast_slice(&bytes);
-        out.triangles.extend(ints.chunks_exact(3).map(|t| [t[0], t[1], t[2]]));
-        first += count;
+        batch_start = batch_end;
     }
     Ok(out)
 }
@@ -281,17 +344,29 @@ impl Tables {
         p.triangles_at = at(&mut mesh.triangles().iter().flatten().copied(), &mut u32s);
         if let Some(topo) = refiner.topology() {
             p.vertex_owner_at = at(
-                &mut topo.vertex_owner.iter().map(|o| o.map_or(NONE, |(f, c)| f * 4 + c as u32)),
+                &mut topo
+                    .vertex_owner
+                    .iter()
+                    .map(|o| o.map_or(NONE, |(f, c)| f * 4 + c as u32)),
                 &mut u32s,
             );
-            p.edge_owner_at = at(&mut topo.edge_owner.iter().map(|&(f, k)| f * 4 + k as u32), &mut u32s);
+            p.edge_owner_at = at(
+                &mut topo.edge_owner.iter().map(|&(f, k)| f * 4 + k as u32),
+                &mut u32s,
+            );
             p.edges_at = at(&mut topo.edges.iter().flatten().copied(), &mut u32s);
             p.face_edges_at = at(&mut topo.face_edges.iter().flatten().copied(), &mut u32s);
         }
         p.corner_points_at = at(&mut (0..3).map(|c| stencil.corner_point(c)), &mut u32s);
-        p.edge_points_at = at(&mut stencil.edge_points.iter().flatten().copied(), &mut u32s);
+        p.edge_points_at = at(
+            &mut stencil.edge_points.iter().flatten().copied(),
+            &mut u32s,
+        );
         p.interior_points_at = at(&mut stencil.interior_points.iter().copied(), &mut u32s);
-        p.point_codes_at = at(&mut point_codes(stencil, pattern.points.len()).into_iter(), &mut u32s);
+        p.point_codes_at = at(
+            &mut point_codes(stencil, pattern.points.len()).into_iter(),
+            &mut u32s,
+        );
         p.pattern_triangles_at = at(&mut pattern.triangles.iter().flatten().copied(), &mut u32s);
 
         let mut f32s: Vec<f32> = mesh.positions().iter().flatten().copied().collect();
@@ -301,7 +376,11 @@ impl Tables {
         if let Some(uvs) = mesh.uvs() {
             f32s.extend(uvs.iter().flatten());
         }
-        Tables { u32s, f32s, params: p }
+        Tables {
+            u32s,
+            f32s,
+            params: p,
+        }
     }
 }
 

@@ -171,6 +171,8 @@ impl GpuContext {
     /// Submits `encoder` and blocks until the GPU has finished it.
     pub(crate) fn submit_and_wait(&self, encoder: wgpu::CommandEncoder) -> Result<(), GpuError> {
         let index = self.queue.submit([encoder.finish()]);
+        // A rejected submission shows up as a recorded error; report that, not the wait.
+        self.check()?;
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: Some(index),
@@ -180,23 +182,6 @@ impl GpuContext {
                 reason: e.to_string(),
             })?;
         self.check()
-    }
-
-    /// Copies `size` bytes of `buffer` (which needs COPY_SRC) back to the CPU.
-    pub(crate) fn read_buffer(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, GpuError> {
-        if size == 0 {
-            return Ok(Vec::new());
-        }
-        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
-        self.submit_and_wait(encoder)?;
-        self.map_and_copy(&staging)
     }
 
     /// Maps a MAP_READ buffer and copies it out.
@@ -226,7 +211,12 @@ impl GpuContext {
     }
 
     /// A storage buffer initialised from `data` (at least 4 bytes: empty bindings are invalid).
-    pub(crate) fn storage_buffer(&self, label: &str, data: &[u8], extra: wgpu::BufferUsages) -> wgpu::Buffer {
+    pub(crate) fn storage_buffer(
+        &self,
+        label: &str,
+        data: &[u8],
+        extra: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
         use wgpu::util::DeviceExt;
         let padded;
         let contents = if data.len() < 4 {
@@ -235,10 +225,11 @@ impl GpuContext {
         } else {
             data
         };
-        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents,
-            usage: wgpu::BufferUsages::STORAGE | extra,
-        })
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE | extra,
+            })
     }
 }

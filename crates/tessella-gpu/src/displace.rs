@@ -75,7 +75,11 @@ pub enum Displacement {
     /// `a · sin(f · ‖P‖)` (GMR section 4, Figure 4).
     Sine { amplitude: f32, frequency: f32 },
     /// `a · noise(f · P)`, Perlin's improved noise (2002) with a permutation shuffled by `seed`.
-    Perlin { amplitude: f32, frequency: f32, seed: u32 },
+    Perlin {
+        amplitude: f32,
+        frequency: f32,
+        seed: u32,
+    },
     /// `a · h(uv)`: needs a mesh with texture coordinates.
     HeightMap { amplitude: f32, map: HeightMap },
 }
@@ -90,8 +94,15 @@ impl Displacement {
     pub fn validate(&self, has_uvs: bool) -> Result<(), GpuError> {
         let (a, f) = match self {
             Displacement::None => return Ok(()),
-            Displacement::Sine { amplitude, frequency }
-            | Displacement::Perlin { amplitude, frequency, .. } => (*amplitude, *frequency),
+            Displacement::Sine {
+                amplitude,
+                frequency,
+            }
+            | Displacement::Perlin {
+                amplitude,
+                frequency,
+                ..
+            } => (*amplitude, *frequency),
             Displacement::HeightMap { amplitude, map } => {
                 if !has_uvs {
                     return Err(GpuError::BadOption(
@@ -101,7 +112,9 @@ impl Displacement {
                 if map.heights.len() != (map.width as usize) * (map.height as usize)
                     || map.heights.is_empty()
                 {
-                    return Err(GpuError::BadOption("the height map's size does not match its data".into()));
+                    return Err(GpuError::BadOption(
+                        "the height map's size does not match its data".into(),
+                    ));
                 }
                 (*amplitude, 1.0)
             }
@@ -118,11 +131,18 @@ impl Displacement {
     pub fn offset(&self, p: [f32; 3], uv: [f32; 2]) -> f32 {
         match self {
             Displacement::None => 0.0,
-            Displacement::Sine { amplitude, frequency } => {
+            Displacement::Sine {
+                amplitude,
+                frequency,
+            } => {
                 let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
                 amplitude * (frequency * len).sin()
             }
-            Displacement::Perlin { amplitude, frequency, seed } => {
+            Displacement::Perlin {
+                amplitude,
+                frequency,
+                seed,
+            } => {
                 let perm = permutation(*seed);
                 amplitude * perlin(&perm, p.map(|x| frequency * x))
             }
@@ -145,9 +165,14 @@ impl Displacement {
             let n = mesh.normals[i];
             let uv = mesh.uvs.as_ref().map_or([0.0; 2], |u| u[i]);
             let d = match (&perm, self) {
-                (Some(perm), Displacement::Perlin { amplitude, frequency, .. }) => {
-                    amplitude * perlin(perm, p.map(|x| frequency * x))
-                }
+                (
+                    Some(perm),
+                    Displacement::Perlin {
+                        amplitude,
+                        frequency,
+                        ..
+                    },
+                ) => amplitude * perlin(perm, p.map(|x| frequency * x)),
                 _ => self.offset(p, uv),
             };
             mesh.positions[i] = [p[0] + d * n[0], p[1] + d * n[1], p[2] + d * n[2]];
@@ -167,11 +192,18 @@ impl Displacement {
         };
         let data = match self {
             Displacement::None => vec![0.0],
-            Displacement::Sine { amplitude, frequency } => {
+            Displacement::Sine {
+                amplitude,
+                frequency,
+            } => {
                 (params.kind, params.amplitude, params.frequency) = (1, *amplitude, *frequency);
                 vec![0.0]
             }
-            Displacement::Perlin { amplitude, frequency, seed } => {
+            Displacement::Perlin {
+                amplitude,
+                frequency,
+                seed,
+            } => {
                 (params.kind, params.amplitude, params.frequency) = (2, *amplitude, *frequency);
                 permutation(*seed).iter().map(|&x| x as f32).collect()
             }
@@ -233,9 +265,17 @@ pub fn perlin(perm: &[u32; 512], p: [f32; 3]) -> f32 {
     let ba = pm(b) + zi;
     let bb = pm(b + 1) + zi;
     let x1 = lerp(grad(pm(aa), x, y, z), grad(pm(ba), x - 1.0, y, z), u);
-    let x2 = lerp(grad(pm(ab), x, y - 1.0, z), grad(pm(bb), x - 1.0, y - 1.0, z), u);
+    let x2 = lerp(
+        grad(pm(ab), x, y - 1.0, z),
+        grad(pm(bb), x - 1.0, y - 1.0, z),
+        u,
+    );
     let y1 = lerp(x1, x2, v);
-    let x3 = lerp(grad(pm(aa + 1), x, y, z - 1.0), grad(pm(ba + 1), x - 1.0, y, z - 1.0), u);
+    let x3 = lerp(
+        grad(pm(aa + 1), x, y, z - 1.0),
+        grad(pm(ba + 1), x - 1.0, y, z - 1.0),
+        u,
+    );
     let x4 = lerp(
         grad(pm(ab + 1), x, y - 1.0, z - 1.0),
         grad(pm(bb + 1), x - 1.0, y - 1.0, z - 1.0),
@@ -283,7 +323,11 @@ mod tests {
 
     #[test]
     fn height_map_bilinear_matches_hand_values() {
-        let map = HeightMap { width: 2, height: 2, heights: vec![0.0, 1.0, 0.5, 0.25] };
+        let map = HeightMap {
+            width: 2,
+            height: 2,
+            heights: vec![0.0, 1.0, 0.5, 0.25],
+        };
         // Texel centres: (0.25, 0.75) is the top-left texel, (0.75, 0.25) the bottom-right.
         assert!((map.sample([0.25, 0.75]) - 0.0).abs() < 1e-6);
         assert!((map.sample([0.75, 0.75]) - 1.0).abs() < 1e-6);
@@ -297,7 +341,11 @@ mod tests {
     fn height_map_without_uvs_is_an_error() {
         let d = Displacement::HeightMap {
             amplitude: 1.0,
-            map: HeightMap { width: 1, height: 1, heights: vec![1.0] },
+            map: HeightMap {
+                width: 1,
+                height: 1,
+                heights: vec![1.0],
+            },
         };
         assert!(matches!(d.validate(false), Err(GpuError::BadOption(_))));
     }

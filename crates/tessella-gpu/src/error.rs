@@ -22,7 +22,11 @@ pub enum GpuError {
         "{what} needs {bytes} bytes in one GPU buffer binding, over this adapter's limit of \
          {limit}; use fewer coarse triangles or the CPU backend"
     )]
-    TooLarge { what: &'static str, bytes: u64, limit: u64 },
+    TooLarge {
+        what: &'static str,
+        bytes: u64,
+        limit: u64,
+    },
     #[error("invalid render option: {0}")]
     BadOption(String),
     #[error(transparent)]

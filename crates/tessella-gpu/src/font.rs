@@ -95,7 +95,11 @@ pub fn draw_label(image: &mut RgbaImage, text: &str, x: u32, y: u32, scale: u32)
 pub fn side_by_side(pictures: &[RgbaImage], labels: &[&str]) -> RgbaImage {
     let (w, h) = pictures.first().map_or((0, 0), |p| p.dimensions());
     let n = pictures.len() as u32;
-    let mut out = RgbaImage::from_pixel(n * w + n.saturating_sub(1) * GAP, h, Rgba([40, 40, 48, 255]));
+    let mut out = RgbaImage::from_pixel(
+        n * w + n.saturating_sub(1) * GAP,
+        h,
+        Rgba([40, 40, 48, 255]),
+    );
     let scale = (w / 128).clamp(1, 4);
     for (i, (picture, label)) in pictures.iter().zip(labels).enumerate() {
         let x0 = i as u32 * (w + GAP);

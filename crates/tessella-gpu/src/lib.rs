@@ -56,3 +56,24 @@ pub use displace::{perlin, permutation, Displacement, HeightMap};
 pub use error::GpuError;
 pub use image::RgbaImage;
 pub use render::{render, render_compare, RenderOptions};
+
+/// Writes `image` as a PNG to a temporary file beside `path`, then renames it into place, so
+/// a failure never leaves a partial file.
+pub fn save_png(image: &RgbaImage, path: &std::path::Path) -> Result<(), GpuError> {
+    let fail = |reason: String| GpuError::Write {
+        path: path.display().to_string(),
+        reason,
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| fail("the path has no file name".into()))?;
+    let tmp = path.with_file_name(format!(".{}.tmp", name.to_string_lossy()));
+    let result = image
+        .save_with_format(&tmp, image::ImageFormat::Png)
+        .map_err(|e| fail(e.to_string()))
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| fail(e.to_string())));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}

@@ -40,10 +40,18 @@ pub(crate) fn layout(ctx: &GpuContext, visibility: wgpu::ShaderStages) -> wgpu::
         },
         count: None,
     };
-    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("patch"),
-        entries: &[storage(0), storage(1), storage(2), uniform(3), uniform(4), storage(5)],
-    })
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("patch"),
+            entries: &[
+                storage(0),
+                storage(1),
+                storage(2),
+                uniform(3),
+                uniform(4),
+                storage(5),
+            ],
+        })
 }
 
 /// The GPU copies of one mesh's nets plus a pattern's stencil.
@@ -83,11 +91,12 @@ impl PatchBuffers {
         let (dparams, ddata) = displacement.gpu_data();
         let copy = wgpu::BufferUsages::COPY_DST;
         let uniform = |label, bytes: &[u8]| {
-            ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytes,
-                usage: wgpu::BufferUsages::UNIFORM | copy,
-            })
+            ctx.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytes,
+                    usage: wgpu::BufferUsages::UNIFORM | copy,
+                })
         };
         Ok(PatchBuffers {
             stencil: ctx.storage_buffer("stencil", bytemuck::cast_slice(&stencil.weights), copy),
@@ -112,10 +121,17 @@ impl PatchBuffers {
 
     /// Bytes held on the GPU.
     pub fn byte_size(&self) -> u64 {
-        [&self.stencil, &self.points, &self.normals, &self.eval, &self.displace, &self.displace_data]
-            .iter()
-            .map(|b| b.size())
-            .sum()
+        [
+            &self.stencil,
+            &self.points,
+            &self.normals,
+            &self.eval,
+            &self.displace,
+            &self.displace_data,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
     }
 
     pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {

@@ -66,7 +66,10 @@ impl RenderOptions {
             )));
         }
         if !(self.zoom.is_finite() && self.zoom > 0.0) {
-            return Err(GpuError::BadOption(format!("zoom must be positive, got {}", self.zoom)));
+            return Err(GpuError::BadOption(format!(
+                "zoom must be positive, got {}",
+                self.zoom
+            )));
         }
         if !self.yaw.is_finite() || !self.pitch.is_finite() {
             return Err(GpuError::BadOption("yaw and pitch must be finite".into()));
@@ -109,7 +112,9 @@ pub fn render_compare(
     options: &RenderOptions,
 ) -> Result<RgbaImage, GpuError> {
     if panels.is_empty() {
-        return Err(GpuError::BadOption("nothing to compare: give at least one panel".into()));
+        return Err(GpuError::BadOption(
+            "nothing to compare: give at least one panel".into(),
+        ));
     }
     let pictures = panels
         .iter()
@@ -120,19 +125,31 @@ pub fn render_compare(
 }
 
 /// Uniforms for a framed view of `mesh`.
-pub(crate) fn scene_uniforms(mesh: &Mesh, options: &RenderOptions, level: u32, reach: &f32) -> RenderUniforms {
+pub(crate) fn scene_uniforms(
+    mesh: &Mesh,
+    options: &RenderOptions,
+    level: u32,
+    reach: &f32,
+) -> RenderUniforms {
     let (center, radius) = bounding_sphere(mesh.positions());
     // Curved patches bulge past the coarse hull, displacement further.
     let radius = radius * 1.1 + reach;
     let (w, h) = options.size;
-    let cam = Camera::framing(center, radius, options.yaw, options.pitch, options.zoom, w as f32 / h as f32);
+    let cam = Camera::framing(
+        center,
+        radius,
+        options.yaw,
+        options.pitch,
+        options.zoom,
+        w as f32 / h as f32,
+    );
     let c = options.color.map(srgb_to_linear);
     RenderUniforms {
         view_proj: cam.view_proj.to_cols_array_2d(),
         eye: cam.eye.extend(1.0).into(),
         light_dir: cam.light_dir.extend(0.0).into(),
         base_color: [c[0], c[1], c[2], 1.0],
-        wire_color: [0.02, 0.02, 0.05, 0.75],
+        wire_color: [0.0, 0.0, 0.004, 0.75],
         flags: [
             options.wireframe as u32,
             level,
@@ -162,86 +179,96 @@ pub(crate) struct Pipelines {
 impl Pipelines {
     pub fn new(ctx: &GpuContext) -> Pipelines {
         let patch_layout = patch::layout(ctx, wgpu::ShaderStages::VERTEX);
-        let render_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("render"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
+        let render_layout = ctx
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("render"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
                     },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only: true },
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
                     },
-                    count: None,
-                },
-            ],
-        });
-        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("render.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(
-                patch::shader_source(include_str!("shaders/render.wgsl")).into(),
-            ),
-        });
-        let pattern_layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("pattern"),
-            bind_group_layouts: &[Some(&patch_layout), Some(&render_layout)],
-            immediate_size: 0,
-        });
-        let fixed_layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("static"),
-            bind_group_layouts: &[None, Some(&render_layout)],
-            immediate_size: 0,
-        });
+                ],
+            });
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("render.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(
+                    patch::shader_source(include_str!("shaders/render.wgsl")).into(),
+                ),
+            });
+        let pattern_layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("pattern"),
+                bind_group_layouts: &[Some(&patch_layout), Some(&render_layout)],
+                immediate_size: 0,
+            });
+        let fixed_layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("static"),
+                bind_group_layouts: &[None, Some(&render_layout)],
+                immediate_size: 0,
+            });
         let pattern_attrs = wgpu::vertex_attr_array![0 => Uint32];
         let fixed_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let make = |layout: &wgpu::PipelineLayout, entry: &str, buffer: wgpu::VertexBufferLayout| {
-            ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(entry),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(buffer)],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: SAMPLES,
-                    ..Default::default()
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(COLOR_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let make =
+            |layout: &wgpu::PipelineLayout, entry: &str, buffer: wgpu::VertexBufferLayout| {
+                ctx.device
+                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some(entry),
+                        layout: Some(layout),
+                        vertex: wgpu::VertexState {
+                            module: &module,
+                            entry_point: Some(entry),
+                            compilation_options: Default::default(),
+                            buffers: &[Some(buffer)],
+                        },
+                        primitive: wgpu::PrimitiveState {
+                            topology: wgpu::PrimitiveTopology::TriangleList,
+                            front_face: wgpu::FrontFace::Ccw,
+                            cull_mode: None,
+                            ..Default::default()
+                        },
+                        depth_stencil: Some(wgpu::DepthStencilState {
+                            format: DEPTH_FORMAT,
+                            depth_write_enabled: Some(true),
+                            depth_compare: Some(wgpu::CompareFunction::Less),
+                            stencil: Default::default(),
+                            bias: Default::default(),
+                        }),
+                        multisample: wgpu::MultisampleState {
+                            count: SAMPLES,
+                            ..Default::default()
+                        },
+                        fragment: Some(wgpu::FragmentState {
+                            module: &module,
+                            entry_point: Some("fs_main"),
+                            compilation_options: Default::default(),
+                            targets: &[Some(COLOR_FORMAT.into())],
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    })
+            };
         Pipelines {
             pattern: make(
                 &pattern_layout,
@@ -268,7 +295,10 @@ impl Pipelines {
 }
 
 /// Builds the control nets for rendering (no output layout needed).
-pub(crate) fn nets_for(mesh: &Mesh, refine: &RefineOptions) -> Result<(Stencil, PatchNets), GpuError> {
+pub(crate) fn nets_for(
+    mesh: &Mesh,
+    refine: &RefineOptions,
+) -> Result<(Stencil, PatchNets), GpuError> {
     if refine.level == 0 {
         return Err(RefineError::LevelZero.into());
     }
@@ -309,14 +339,23 @@ impl PatternScene {
         let rows: Vec<u32> = (0..pattern.points.len() as u32).collect();
         let indices: Vec<u32> = pattern.triangles.iter().flatten().copied().collect();
         let init = |label, contents: &[u8], usage| {
-            ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
+            ctx.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                })
         };
-        let pattern_vertices = init("pattern vertices", bytemuck::cast_slice(&rows), wgpu::BufferUsages::VERTEX);
-        let pattern_indices = init("pattern indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
+        let pattern_vertices = init(
+            "pattern vertices",
+            bytemuck::cast_slice(&rows),
+            wgpu::BufferUsages::VERTEX,
+        );
+        let pattern_indices = init(
+            "pattern indices",
+            bytemuck::cast_slice(&indices),
+            wgpu::BufferUsages::INDEX,
+        );
         let face_uvs: Vec<f32> = match mesh.uvs() {
             Some(uv) => mesh
                 .triangles()
@@ -326,7 +365,11 @@ impl PatternScene {
                 .collect(),
             None => vec![0.0],
         };
-        let face_uvs = ctx.storage_buffer("face uvs", bytemuck::cast_slice(&face_uvs), wgpu::BufferUsages::empty());
+        let face_uvs = ctx.storage_buffer(
+            "face uvs",
+            bytemuck::cast_slice(&face_uvs),
+            wgpu::BufferUsages::empty(),
+        );
         let uniforms = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("render uniforms"),
             size: std::mem::size_of::<RenderUniforms>() as u64,
@@ -368,8 +411,15 @@ impl PatternScene {
     }
 
     /// Draws into `target` (one instanced draw) and waits for the GPU.
-    pub fn draw(&self, ctx: &GpuContext, target: &Target, uniforms: &RenderUniforms, background: [u8; 4]) {
-        ctx.queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
+    pub fn draw(
+        &self,
+        ctx: &GpuContext,
+        target: &Target,
+        uniforms: &RenderUniforms,
+        background: [u8; 4],
+    ) {
+        ctx.queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = target.begin(&mut encoder, background);
@@ -395,8 +445,14 @@ pub(crate) fn render_group(
         label: Some("render"),
         layout,
         entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: uniforms.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: face_uvs.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: face_uvs.as_entire_binding(),
+            },
         ],
     })
 }
@@ -415,7 +471,11 @@ impl Target {
         let texture = |label, format, samples, usage| {
             ctx.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: samples,
                 dimension: wgpu::TextureDimension::D2,
@@ -426,7 +486,12 @@ impl Target {
         };
         let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let color = texture("color", COLOR_FORMAT, SAMPLES, attach);
-        let resolve = texture("resolve", COLOR_FORMAT, 1, attach | wgpu::TextureUsages::COPY_SRC);
+        let resolve = texture(
+            "resolve",
+            COLOR_FORMAT,
+            1,
+            attach | wgpu::TextureUsages::COPY_SRC,
+        );
         let depth = texture("depth", DEPTH_FORMAT, SAMPLES, attach);
         Target {
             color: color.create_view(&Default::default()),
@@ -437,8 +502,13 @@ impl Target {
         }
     }
 
-    pub fn begin<'e>(&'e self, encoder: &'e mut wgpu::CommandEncoder, background: [u8; 4]) -> wgpu::RenderPass<'e> {
-        let [r, g, b] = [background[0], background[1], background[2]].map(|c| srgb_to_linear(c) as f64);
+    pub fn begin<'e>(
+        &'e self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        background: [u8; 4],
+    ) -> wgpu::RenderPass<'e> {
+        let [r, g, b] =
+            [background[0], background[1], background[2]].map(|c| srgb_to_linear(c) as f64);
         encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("draw"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -446,7 +516,12 @@ impl Target {
                 depth_slice: None,
                 resolve_target: Some(&self.resolve_view),
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: background[3] as f64 / 255.0 }),
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r,
+                        g,
+                        b,
+                        a: background[3] as f64 / 255.0,
+                    }),
                     store: wgpu::StoreOp::Discard,
                 },
             })],
@@ -486,7 +561,11 @@ impl Target {
                     rows_per_image: Some(h),
                 },
             },
-            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
         );
         ctx.submit_and_wait(encoder)?;
         let bytes = ctx.map_and_copy(&staging)?;
@@ -495,6 +574,7 @@ impl Target {
             let start = y * padded as usize;
             pixels.extend_from_slice(&bytes[start..start + row as usize]);
         }
-        RgbaImage::from_raw(w, h, pixels).ok_or_else(|| GpuError::Readback("picture size mismatch".into()))
+        RgbaImage::from_raw(w, h, pixels)
+            .ok_or_else(|| GpuError::Readback("picture size mismatch".into()))
     }
 }

@@ -148,11 +148,11 @@ fn output_vertex(face: u32, p: u32) -> u32 {
         return face * params.points_per_face + p;
     }
     let code = mesh_u32[params.point_codes_at + p];
-    let class = code >> 30u;
-    if (class == 0u) {
+    let kind = code >> 30u;
+    if (kind == 0u) {
         return corner(face, code & 3u);
     }
-    if (class == 1u) {
+    if (kind == 1u) {
         let m = params.level - 1u;
         let k = (code >> 28u) & 3u;
         let s = code & 0x0fffffffu;

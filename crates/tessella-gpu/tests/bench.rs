@@ -1,0 +1,52 @@
+//! The benchmark functions run and report the sizes they claim (timings are not asserted).
+
+mod common;
+
+use common::ctx;
+use tessella_core::{samples, Pattern, RefineOptions, Refiner, Scheme};
+use tessella_gpu::bench::{
+    figure7, figure7_table, mesh_with_faces, refine_table, refine_throughput, Figure7Config,
+};
+
+#[test]
+fn figure7_rows_count_vertices_like_the_paper() {
+    let config = Figure7Config {
+        faces: vec![10],
+        levels: vec![4],
+        frames: 1,
+        size: (32, 32),
+        scheme: Scheme::Pn,
+    };
+    let rows = figure7(ctx(), &config).unwrap();
+    assert_eq!(rows.len(), 1);
+    let r = &rows[0];
+    assert_eq!(r.faces, 10);
+    // The pattern stores one triangle's (N+1)(N+2)/2 points, whatever the mesh.
+    assert_eq!(r.pattern_vertices, Pattern::point_count(4));
+    let mesh = mesh_with_faces(10).unwrap();
+    let welded = Refiner::new(&mesh, &RefineOptions::new(Scheme::Pn, 4))
+        .unwrap()
+        .layout()
+        .vertex_count;
+    assert_eq!(r.static_vertices, welded);
+    assert!(r.static_ms >= 0.0 && r.pattern_ms >= 0.0);
+    assert!(
+        r.adapter.contains("software"),
+        "lavapipe rows are labelled: {}",
+        r.adapter
+    );
+    let table = figure7_table(&rows);
+    assert_eq!(table.lines().count(), 3);
+}
+
+#[test]
+fn throughput_rows_report_layout_sizes() {
+    let mesh = samples::icosphere(0);
+    let rows = refine_throughput(ctx(), &mesh, Scheme::Pn, &[2, 3], 1).unwrap();
+    assert_eq!(rows.iter().map(|r| r.level).collect::<Vec<_>>(), vec![2, 3]);
+    assert_eq!(rows[0].triangles, 20 * 4);
+    assert!(refine_table(&rows).contains("| 3 |"));
+    for faces in [1, 10, 100, 1000] {
+        assert_eq!(mesh_with_faces(faces).unwrap().face_count(), faces);
+    }
+}
