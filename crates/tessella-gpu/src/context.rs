@@ -74,7 +74,7 @@ impl GpuContext {
         candidates.sort_by_key(|a| rank(a));
         let adapter = candidates.into_iter().next().ok_or(GpuError::NoAdapter {
             wanted: match choice {
-                AdapterChoice::Auto => "",
+                AdapterChoice::Auto => "usable",
                 AdapterChoice::Hardware => "hardware",
                 AdapterChoice::Software => "software",
             },
@@ -144,7 +144,9 @@ impl GpuContext {
 
     /// Largest byte size of one storage-buffer binding.
     pub fn max_binding(&self) -> u64 {
-        (self.limits.max_storage_buffer_binding_size as u64).min(self.limits.max_buffer_size)
+        self.limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size)
     }
 
     /// The compute kernels, compiled on first use.

@@ -32,11 +32,34 @@
 //! let opts = RefineOptions::new(Scheme::Pn, 8);
 //! let refined = gpu_refine(&ctx, &Refiner::new(&mesh, &opts)?)?;
 //! let picture = render(&ctx, &mesh, &opts, &RenderOptions::default())?;
+//! tessella_gpu::save_png(&picture, std::path::Path::new("pn.png"))?;
 //! # Ok::<(), tessella_gpu::GpuError>(())
 //! ```
 //!
+//! ## For the CLI
+//! - `refine --backend auto`: `GpuContext::new(AdapterChoice::Hardware)`; on any `Err` use the
+//!   CPU (a software adapter is for tests, not speed). `--backend gpu`: `AdapterChoice::Auto`
+//!   (falls back to a software adapter). Then `gpu_refine(&ctx, &refiner)`; write the file only
+//!   after it returned `Ok`.
+//! - `render`: [`RenderOptions`] `{ size, yaw, pitch, zoom, wireframe, background, color,
+//!   displacement }`, [`render`], [`render_compare`] with `(label, RefineOptions)` panels,
+//!   [`save_png`] (temporary file + rename).
+//! - `bench`: [`bench::refine_throughput`] + [`bench::refine_table`], [`bench::figure7`] +
+//!   [`bench::figure7_table`], [`bench::scheme_frame_times`] + [`bench::scheme_table`] (PN vs
+//!   PNG1); `examples/bench_tables.rs` prints all three.
+//! - animation: [`animate::render_twist`] writes `frame_000.png`... and returns the bytes
+//!   uploaded per frame (nets only) against a refined mesh's bytes.
+//!
+//! ## Shaders
+//! `shaders/eval.wgsl` (patch evaluation) and `shaders/displace.wgsl` (displacement) are
+//! prepended to `shaders/refine.wgsl` (compute) and `shaders/render.wgsl` (vertex/fragment).
+//! Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
+//! `displace.wgsl`'s Rust twin is `displace.rs`. The tests tie each pair together by comparing
+//! GPU and CPU outputs.
+//!
 //! Linux without a GPU: `apt-get install mesa-vulkan-drivers libvulkan1` gives lavapipe, a
-//! software Vulkan adapter ([`AdapterChoice::Software`]); the tests run on it.
+//! software Vulkan adapter ([`AdapterChoice::Software`]); the tests run on it and fail (not
+//! skip) without it.
 
 pub mod animate;
 pub mod bench;

@@ -133,7 +133,7 @@ pub(crate) fn scene_uniforms(
 ) -> RenderUniforms {
     let (center, radius) = bounding_sphere(mesh.positions());
     // Curved patches bulge past the coarse hull, displacement further.
-    let radius = radius * 1.1 + reach;
+    let radius = radius * 1.2 + reach;
     let (w, h) = options.size;
     let cam = Camera::framing(
         center,

@@ -1,0 +1,42 @@
+//! Prints the benchmark tables: `cargo run --release -p tessella-gpu --example bench_tables`
+//! (the `tessella bench` command prints the same tables).
+
+use tessella_core::{samples, Scheme};
+use tessella_gpu::bench::{
+    figure7, figure7_table, refine_table, refine_throughput, scheme_frame_times, scheme_table,
+    Figure7Config,
+};
+use tessella_gpu::{AdapterChoice, GpuContext};
+
+fn main() {
+    let ctx = match GpuContext::new(AdapterChoice::Auto) {
+        Ok(ctx) => ctx,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(1);
+        }
+    };
+    let frames = std::env::var("FRAMES")
+        .ok()
+        .and_then(|f| f.parse().ok())
+        .unwrap_or(5);
+    let run = || -> Result<(), tessella_gpu::GpuError> {
+        let mesh = samples::icosphere(2);
+        let rows = refine_throughput(&ctx, &mesh, Scheme::Pn, &[4, 16, 64], 3)?;
+        println!("{}", refine_table(&rows));
+        let config = Figure7Config {
+            frames,
+            ..Default::default()
+        };
+        println!("{}", figure7_table(&figure7(&ctx, &config)?));
+        let schemes = [Scheme::Pn, Scheme::Png1];
+        let rows =
+            scheme_frame_times(&ctx, &samples::creature(), &schemes, 64, frames, (512, 512))?;
+        println!("{}", scheme_table(&rows));
+        Ok(())
+    };
+    if let Err(e) = run() {
+        eprintln!("{e}");
+        std::process::exit(1);
+    }
+}
