@@ -20,7 +20,7 @@
 //!   side by side; [`animate::render_twist`] re-uploads only the nets per frame.
 //! - **Displacement:** [`Displacement`] (sine, Perlin, height map) along the normal, on the CPU
 //!   ([`Displacement::apply`]) and in both GPU paths (`shaders/displace.wgsl`).
-//! - **Benchmarks:** [`bench`] returns rows for Markdown tables (CPU vs GPU refinement, GMR
+//! - **Benchmarks:** [`mod@bench`] returns rows for Markdown tables (CPU vs GPU refinement, GMR
 //!   Figure 7), labelled with the adapter.
 //!
 //! ```no_run
