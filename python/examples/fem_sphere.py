@@ -2,9 +2,11 @@
 
 gmsh meshes a sphere and a torus coarsely with tetrahedra (as a solver would), the mesh goes
 through a .msh file, tessella reads its boundary surface (`tessella.read_fem`), refines it with
-every scheme this build has (`tessella.schemes()`), and the script measures how far the refined
-surface lies from the true geometry at each level. It prints a table, saves a plot and writes the
-refined PN boundaries as .vtu files next to it.
+every scheme this build has (`tessella.schemes()`: flat, Phong, PN, PNG1, PN-AEN, scalar-tagged
+PN), and the script measures how far the refined surface lies from the true geometry at each
+level. It prints a table, saves a plot (schemes that give the same surface share a curve: PN-AEN
+and the scalar-tagged scheme are PN on a smooth untagged mesh) and writes the refined PN
+boundaries as .vtu files next to it.
 
 Distance is measured at the refined vertices *and* at the centroids of the refined triangles,
 so it covers the flat facets between samples, relative to the part's size (sphere radius, torus
@@ -149,6 +151,22 @@ def print_table(name: str, rows: Dict[str, list], levels: List[int]) -> None:
         print(f"| {scheme} | " + " | ".join(f"{r['max']:.2e}" for r in row) + " |")
 
 
+def same_curves(rows: Dict[str, list]) -> Dict[str, List[str]]:
+    """Schemes grouped by equal results (PN-AEN and ST equal PN, up to float32 rounding, on a
+    smooth mesh without tags), keyed by the first of each group: one curve per distinct surface."""
+
+    def same(a: list, b: list) -> bool:
+        return len(a) == len(b) and all(
+            abs(x[k] - y[k]) <= 1e-4 * max(abs(x[k]), abs(y[k])) for x, y in zip(a, b)
+            for k in ("max", "rms"))
+
+    groups: Dict[str, List[str]] = {}
+    for scheme, row in rows.items():
+        first = next((g for g in groups if same(rows[g], row)), None)
+        groups.setdefault(first or scheme, []).append(scheme)
+    return groups
+
+
 def plot(results: Dict[str, Dict[str, list]], levels: List[int], path: str, normals: str) -> None:
     import matplotlib
 
@@ -156,22 +174,25 @@ def plot(results: Dict[str, Dict[str, list]], levels: List[int], path: str, norm
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, len(results), figsize=(6 * len(results), 4.6), squeeze=False)
-    style = {"flat": ("k", "--"), "phong": ("tab:blue", "-"), "pn": ("tab:red", "-")}
+    style = {"flat": ("k", "--"), "phong": ("tab:blue", "-"), "pn": ("tab:red", "-"),
+             "png1": ("tab:green", "-"), "pn-aen": ("tab:purple", "-"), "st": ("tab:brown", "-")}
     for ax, (name, rows) in zip(axes[0], results.items()):
-        for scheme, row in rows.items():
+        for scheme, names in same_curves(rows).items():
+            row = rows[scheme]
             colour, line = style.get(scheme, (None, "-"))
             lv = levels[: len(row)]
+            label = " = ".join(names)  # schemes that give this very surface here share a curve
             ax.loglog(lv, [r["max"] for r in row], line, marker="o", color=colour,
-                      label=f"{scheme} (max)")
+                      label=f"{label} (max)")
             ax.loglog(lv, [r["rms"] for r in row], line, marker=".", color=colour, alpha=0.45,
-                      label=f"{scheme} (rms)")
+                      label=f"{label} (rms)")
         ax.set_title(f"{name}: coarse gmsh boundary refined ({normals} normals)")
         ax.set_xlabel("level (segments per coarse edge)")
         ax.set_ylabel("distance to true surface / size")
         ax.set_xticks(levels)
         ax.set_xticklabels([str(l) for l in levels])
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8, ncol=2)
+        ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     print(f"\nplot: {path}")

@@ -3,7 +3,8 @@
 //! | Rust error | Python exception |
 //! |---|---|
 //! | `MeshError`, `RefineError` (bad mesh, level, alpha, too large) | `ValueError` |
-//! | `IoError::Read`/`Write` (the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
+//! | `TagError` (bad tags: unknown vertex, not an edge, out of range, malformed JSON) | `ValueError` |
+//! | `IoError::Read`/`Write`, an unreadable tags file (the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
 //! | other `IoError`s (unknown extension, malformed file, no triangles, bad arrays) | `ValueError` |
 //! | wrong array dtype or object type | `TypeError` |
 //! | a backend this build does not have | `NotImplementedError` |
@@ -14,7 +15,7 @@ use pyo3::exceptions::{
 };
 use pyo3::PyErr;
 use std::io::ErrorKind;
-use tessella_core::{MeshError, RefineError};
+use tessella_core::{MeshError, RefineError, TagError};
 use tessella_io::IoError;
 
 /// A bad mesh is a bad value.
@@ -27,18 +28,30 @@ pub fn refine_error(e: RefineError) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
+/// Bad tags, with where they came from (`"in tags.json"`, `"in the tags dict"`).
+pub fn tag_error(origin: &str, e: TagError) -> PyErr {
+    PyValueError::new_err(format!("bad tags {origin}: {e}"))
+}
+
 /// A file error: the OS's refusals keep their `OSError` subclass, bad content is a bad value.
 pub fn io_error(e: IoError) -> PyErr {
     let message = e.to_string();
     match &e {
-        IoError::Read { source, .. } | IoError::Write { source, .. } => match source.kind() {
-            ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
-            ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
-            ErrorKind::AlreadyExists => PyFileExistsError::new_err(message),
-            ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
-            ErrorKind::NotADirectory => PyNotADirectoryError::new_err(message),
-            _ => PyOSError::new_err(message),
-        },
+        IoError::Read { source, .. } | IoError::Write { source, .. } => {
+            os_error(source.kind(), message)
+        }
         _ => PyValueError::new_err(message),
+    }
+}
+
+/// The `OSError` subclass Python itself raises for `kind`.
+pub fn os_error(kind: ErrorKind, message: String) -> PyErr {
+    match kind {
+        ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+        ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+        ErrorKind::AlreadyExists => PyFileExistsError::new_err(message),
+        ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
+        ErrorKind::NotADirectory => PyNotADirectoryError::new_err(message),
+        _ => PyOSError::new_err(message),
     }
 }

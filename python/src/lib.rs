@@ -7,6 +7,7 @@
 mod arrays;
 mod errors;
 mod options;
+mod tags;
 
 use numpy::PyArray2;
 use pyo3::exceptions::PyValueError;
@@ -41,7 +42,7 @@ fn mesh_from(
 /// Refines a mesh; see `tessella.refine` (the Python wrapper) for the full documentation.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,
-                    normals_mode=None, tags=None, backend="auto", weld=true))]
+                    normals_mode=None, tags=None, crease_angle=None, backend="auto", weld=true))]
 #[allow(clippy::too_many_arguments)]
 fn refine<'py>(
     py: Python<'py>,
@@ -53,24 +54,24 @@ fn refine<'py>(
     alpha: f64,
     normals_mode: Option<&str>,
     tags: Option<&Bound<'py, PyAny>>,
+    crease_angle: Option<f64>,
     backend: &str,
     weld: bool,
 ) -> PyResult<Arrays<'py>> {
     let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
     let normal_mode = options::normal_mode(normals_mode)?;
     let options::Backend::Cpu = options::backend(backend)?;
-    if tags.is_some_and(|t| !t.is_none()) {
-        return Err(PyValueError::new_err(format!(
-            "tags are not used by the schemes in this build ({:?}); pass tags=None",
-            options::SCHEMES
-        )));
-    }
+    let source = tags::source(tags)?;
     let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
     opts.normals = normal_mode;
     let mesh = mesh_from(py, vertices, faces, normals)?;
-    let out = py
-        .detach(|| Refiner::new(&mesh, &opts).map(|r| r.refine()))
-        .map_err(errors::refine_error)?;
+    let out = py.detach(|| -> PyResult<_> {
+        if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
+            opts = opts.with_tags(t);
+        }
+        let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
+        Ok(refiner.refine())
+    })?;
     Ok((
         arrays::to_numpy(py, out.positions),
         arrays::to_numpy(py, out.triangles),
@@ -149,6 +150,50 @@ fn info<'py>(
     Ok(d)
 }
 
+/// Measures a scheme's surface on a mesh; see `tessella.quality` (the Python wrapper) for the
+/// full documentation. Returns the core's `QualityReport` as a dict.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,
+                    tags=None, crease_angle=None))]
+#[allow(clippy::too_many_arguments)]
+fn quality<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    normals: Option<&Bound<'py, PyAny>>,
+    scheme: &str,
+    level: i64,
+    alpha: f64,
+    tags: Option<&Bound<'py, PyAny>>,
+    crease_angle: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
+    let level = options::quality_level(level)?;
+    let source = tags::source(tags)?;
+    let mesh = mesh_from(py, vertices, faces, normals)?;
+    let r = py.detach(|| -> PyResult<_> {
+        let mut opts = RefineOptions::new(scheme, level);
+        if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
+            opts = opts.with_tags(t);
+        }
+        tessella_core::quality::report(&mesh, &opts).map_err(errors::refine_error)
+    })?;
+    // Field by field, in the report's order (tests check the keys against the docs).
+    let d = PyDict::new(py);
+    d.set_item("scheme", r.scheme)?;
+    d.set_item("level", r.level)?;
+    d.set_item("edges_checked", r.edges_checked)?;
+    d.set_item("samples_per_edge", r.samples_per_edge)?;
+    d.set_item("normal_jump_max_deg", r.normal_jump_max_deg)?;
+    d.set_item("normal_jump_mean_deg", r.normal_jump_mean_deg)?;
+    d.set_item("gap_max", r.gap_max)?;
+    d.set_item("gap_max_relative", r.gap_max_relative)?;
+    d.set_item("distance_max", r.distance_max)?;
+    d.set_item("distance_max_relative", r.distance_max_relative)?;
+    d.set_item("diagonal", r.diagonal)?;
+    Ok(d)
+}
+
 /// Reads a mesh file: ``.obj``, ``.ply`` (ascii or binary), ``.gltf``/``.glb`` or ``.stl``.
 ///
 /// Returns ``(vertices, faces, normals)``: float32 ``(n, 3)``, uint32 ``(m, 3)`` and float32
@@ -209,7 +254,7 @@ fn save(
         .map_err(errors::io_error)
 }
 
-/// Names of the schemes this build has, e.g. ``["flat", "phong", "pn"]``.
+/// Names of the schemes this build has: ``["flat", "phong", "pn", "png1", "pn-aen", "st"]``.
 #[pyfunction]
 fn schemes() -> Vec<&'static str> {
     options::SCHEMES.to_vec()
@@ -226,6 +271,7 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine, m)?)?;
     m.add_function(wrap_pyfunction!(pattern, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;
+    m.add_function(wrap_pyfunction!(quality, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
     m.add_function(wrap_pyfunction!(schemes, m)?)?;

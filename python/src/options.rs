@@ -7,7 +7,7 @@ use pyo3::PyResult;
 use tessella_core::{NormalMode, Scheme};
 
 /// Scheme names, in the order `tessella.schemes()` lists them.
-pub const SCHEMES: &[&str] = &["flat", "phong", "pn"];
+pub const SCHEMES: &[&str] = &["flat", "phong", "pn", "png1", "pn-aen", "st"];
 
 /// Backends this build can run.
 pub const BACKENDS: &[&str] = &["cpu"];
@@ -18,7 +18,8 @@ const PLANNED_BACKENDS: &[&str] = &["gpu"];
 /// Normal mode names.
 pub const NORMAL_MODES: &[&str] = &["linear", "quadratic", "real"];
 
-/// The scheme called `name`; `alpha` is Phong's shape factor (ignored by other schemes).
+/// The scheme called `name` (the core's [`Scheme::name`]s, case-insensitive); `alpha` is
+/// Phong's shape factor (ignored by other schemes).
 pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
     match name.to_ascii_lowercase().as_str() {
         "flat" => Ok(Scheme::Flat),
@@ -26,6 +27,10 @@ pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
             alpha: alpha as f32,
         }),
         "pn" => Ok(Scheme::Pn),
+        "png1" => Ok(Scheme::Png1),
+        // "pn_aen" too: Python keyword-style spelling of the CLI's name.
+        "pn-aen" | "pn_aen" => Ok(Scheme::PnAen),
+        "st" => Ok(Scheme::ScalarTagged),
         _ => Err(PyValueError::new_err(format!(
             "unknown scheme {name:?}; this build has {SCHEMES:?} (see tessella.schemes())"
         ))),
@@ -73,6 +78,22 @@ pub fn level(level: i64) -> PyResult<u32> {
         )));
     }
     Ok(level as u32)
+}
+
+/// The largest level [`quality_level`] accepts: its pattern samples the distance from the coarse
+/// mesh, and a finer one adds time and memory (about 500 B a point) but no insight.
+pub const MAX_QUALITY_LEVEL: u32 = 256;
+
+/// A level for the quality report: 1 to [`MAX_QUALITY_LEVEL`].
+pub fn quality_level(value: i64) -> PyResult<u32> {
+    let l = level(value)?;
+    if l > MAX_QUALITY_LEVEL {
+        return Err(PyValueError::new_err(format!(
+            "level {l} is too fine for the quality report (it samples every pattern point of every \
+             triangle); use a level of {MAX_QUALITY_LEVEL} or less"
+        )));
+    }
+    Ok(l)
 }
 
 /// Phong's shape factor must be finite.

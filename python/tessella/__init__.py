@@ -21,11 +21,14 @@ Errors
 ------
 - ``ValueError``: bad shapes (not ``(n, 3)``), bad values (NaN positions, indices out of range
   or negative, degenerate triangles, zero normals), bad options (unknown scheme, level < 1,
-  non-finite alpha, output over the 8 GiB size limit), ``tags`` given to a build without tagged
-  schemes. Invalid files passed to :func:`load` also raise ``ValueError``.
-- ``TypeError``: arrays of an unsupported dtype (e.g. complex, strings, float16).
+  non-finite alpha, output over the 8 GiB size limit), bad tags (a vertex or edge the mesh
+  lacks, values out of range, malformed JSON, more creases than the scalar-tagged scheme
+  allows; the message says which) or a crease angle outside 0..180. Invalid files passed to
+  :func:`load` also raise ``ValueError``.
+- ``TypeError``: arrays of an unsupported dtype (e.g. complex, strings, float16); ``tags`` of
+  another type than dict, str or path.
 - ``NotImplementedError``: ``backend="gpu"`` while :func:`backends` does not list it.
-- ``OSError``: a file that cannot be read or written (:func:`load`, :func:`save`).
+- ``OSError``: a file that cannot be read or written (:func:`load`, :func:`save`, a tags file).
 - ``ImportError``: an interop helper whose optional package (trimesh, meshio) is missing.
 
 What this build has: :func:`schemes` and :func:`backends`.
@@ -33,12 +36,17 @@ What this build has: :func:`schemes` and :func:`backends`.
 
 from __future__ import annotations
 
-from typing import Any, Optional, Tuple
+import os
+from typing import Any, Dict, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _tessella
 from ._tessella import __version__, backends, info, load, pattern, save, schemes
+
+#: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the
+#: path of a JSON file (see :func:`refine`).
+TagsLike = Union[Dict[str, Any], str, "os.PathLike[str]", None]
 
 __all__ = [
     "__version__",
@@ -46,6 +54,7 @@ __all__ = [
     "info",
     "load",
     "pattern",
+    "quality",
     "refine",
     "refine_trimesh",
     "save",
@@ -66,7 +75,8 @@ def refine(
     level: int = 8,
     alpha: float = 0.75,
     normals_mode: Optional[str] = None,
-    tags: Any = None,
+    tags: TagsLike = None,
+    crease_angle: Optional[float] = None,
     backend: str = "auto",
     weld: bool = True,
 ) -> Any:
@@ -85,7 +95,11 @@ def refine(
     scheme : str
         One of :func:`schemes`: ``"flat"`` (the input triangles), ``"phong"`` (Phong
         tessellation, Boubekeur & Alexa 2008), ``"pn"`` (curved PN triangles, Vlachos et al.
-        2001). Names are case-insensitive.
+        2001), ``"png1"`` (PNG1 triangles, Fünfzig et al. 2008: tangent-plane continuous
+        across edges, built from each triangle and its edge neighbours), ``"pn-aen"`` (PN with
+        adjacent edge normals, McDonald & Kilgard 2010: no cracks where normals are split) or
+        ``"st"`` (scalar-tagged PN, GMR Appendix B: creases and per-vertex shape tags; no tags
+        gives PN). Names are case-insensitive.
     level : int
         Segments per coarse edge, 1 or more: each coarse triangle becomes ``level**2``
         triangles.
@@ -96,9 +110,24 @@ def refine(
         How output normals are made: interpolated linearly, Vlachos' quadratic normals, or the
         patch's own surface normal. ``None`` is the scheme's default (linear for flat/Phong,
         quadratic for PN).
-    tags : None
-        Reserved for tagged schemes; must be ``None`` in a build whose :func:`schemes` has
-        none (``ValueError`` otherwise).
+    tags : dict, str, os.PathLike or None
+        Shape tags for ``"st"`` (all of them) and ``"png1"`` (edges with ``sharpness > 0`` are
+        sharp, displaced by ``kappa``); other schemes check and ignore them. A dict in the
+        sidecar-JSON structure (vertex indices of this mesh; every field but ``vertices`` /
+        ``index`` optional, missing numbers are 0)::
+
+            {"edges": [{"vertices": [a, b], "sharpness": 1.0, "kappa": 0.0}],
+             "vertices": [{"index": i, "tension": 0.0, "sharpness": 0.5, "bias": 0.0,
+                           "crease": [x, y, z]}]}
+
+        or that JSON as a string (first non-blank character ``{``), or the path of such a
+        file (any other string, or an ``os.PathLike``). Numpy numbers and arrays in the dict
+        are fine. Layering, as the CLI's: for ``"st"`` the edges where the normals are split
+        (the same position with different normals) become creases first, then
+        ``crease_angle``, then ``tags``; a later source overrides an earlier one on the same
+        edge or vertex.
+    crease_angle : float or None
+        Also crease every edge whose two faces bend by more than this many degrees (0..180).
     backend : str
         ``"auto"`` (the fastest in :func:`backends`) or ``"cpu"``. ``"gpu"`` raises
         ``NotImplementedError`` while :func:`backends` does not list it.
@@ -117,8 +146,8 @@ def refine(
 
     Raises
     ------
-    ValueError, TypeError, NotImplementedError
-        See the module's "Errors" section.
+    ValueError, TypeError, NotImplementedError, OSError
+        See the module's "Errors" section (``OSError``: a tags file that cannot be read).
 
     Examples
     --------
@@ -138,6 +167,7 @@ def refine(
             alpha=alpha,
             normals_mode=normals_mode,
             tags=tags,
+            crease_angle=crease_angle,
             backend=backend,
             weld=weld,
         )
@@ -152,8 +182,65 @@ def refine(
         alpha=alpha,
         normals_mode=normals_mode,
         tags=tags,
+        crease_angle=crease_angle,
         backend=backend,
         weld=weld,
+    )
+
+
+def quality(
+    vertices: Any,
+    faces: Any,
+    normals: Any = None,
+    *,
+    scheme: str = "pn",
+    level: int = 8,
+    alpha: float = 0.75,
+    tags: TagsLike = None,
+    crease_angle: Optional[float] = None,
+) -> Dict[str, Any]:
+    """Measure a scheme's curved surface on a mesh (float64 evaluation of its patches).
+
+    Parameters are :func:`refine`'s. ``level`` (1..256) only sets the pattern that samples the
+    distance from the coarse mesh; the edge measurements do not depend on it.
+
+    Returns
+    -------
+    dict
+        - ``scheme`` (str), ``level`` (int)
+        - ``edges_checked``: coarse edges with two faces (by position) that were compared;
+          ``samples_per_edge``: points compared along each (ends excluded).
+        - ``normal_jump_max_deg``, ``normal_jump_mean_deg``: angle between the two sides'
+          surface normals across coarse edges, the G1 defect (PNG1 ~0, PN degrees).
+        - ``gap_max``, ``gap_max_relative``: largest distance between the two sides' points
+          along a coarse edge (cracks; PN opens them where normals are split, PN-AEN does not).
+        - ``distance_max``, ``distance_max_relative``: largest distance of a refined point from
+          the flat triangle's point at the same barycentric coordinates.
+        - ``diagonal``: the coarse mesh's bounding-box diagonal (the ``*_relative`` values are
+          divided by it).
+
+    Raises
+    ------
+    ValueError, TypeError, OSError
+        As :func:`refine`; ``ValueError`` also for ``level > 256``.
+
+    Examples
+    --------
+    >>> import numpy as np, tessella
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=np.float64)
+    >>> q = tessella.quality(v, [[0, 1, 2], [0, 2, 3]], scheme="pn", level=4)
+    >>> q["edges_checked"], q["normal_jump_max_deg"], q["distance_max"] < 1e-6  # flat stays flat
+    (1, 0.0, True)
+    """
+    return _tessella.quality(
+        vertices,
+        faces,
+        normals,
+        scheme=scheme,
+        level=level,
+        alpha=alpha,
+        tags=tags,
+        crease_angle=crease_angle,
     )
 
 

@@ -41,6 +41,7 @@ def refine_trimesh(
     alpha: float = 0.75,
     normals_mode: Optional[str] = None,
     tags: Any = None,
+    crease_angle: Optional[float] = None,
     backend: str = "auto",
     weld: bool = True,
 ) -> Any:
@@ -68,6 +69,7 @@ def refine_trimesh(
         alpha=alpha,
         normals_mode=normals_mode,
         tags=tags,
+        crease_angle=crease_angle,
         backend=backend,
         weld=weld,
     )

@@ -11,6 +11,8 @@ __version__: str
 _F32 = npt.NDArray[np.float32]
 _U32 = npt.NDArray[np.uint32]
 _Path = Union[str, "os.PathLike[str]"]
+# A dict in the sidecar-JSON structure, that JSON as a string, or the path of a JSON file.
+_Tags = Union[Dict[str, Any], str, "os.PathLike[str]", None]
 
 def refine(
     vertices: npt.ArrayLike,
@@ -21,10 +23,22 @@ def refine(
     level: int = 8,
     alpha: float = 0.75,
     normals_mode: Optional[str] = None,
-    tags: Any = None,
+    tags: _Tags = None,
+    crease_angle: Optional[float] = None,
     backend: str = "auto",
     weld: bool = True,
 ) -> Tuple[_F32, _U32, _F32]: ...
+def quality(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    normals: Optional[npt.ArrayLike] = None,
+    *,
+    scheme: str = "pn",
+    level: int = 8,
+    alpha: float = 0.75,
+    tags: _Tags = None,
+    crease_angle: Optional[float] = None,
+) -> Dict[str, Any]: ...
 def pattern(level: int) -> Tuple[npt.NDArray[np.float64], _U32]: ...
 def info(
     vertices: npt.ArrayLike, faces: npt.ArrayLike, normals: Optional[npt.ArrayLike] = None

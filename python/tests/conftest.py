@@ -2,6 +2,12 @@
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import meshio
 import numpy as np
 import pytest
 
@@ -67,6 +73,44 @@ def bumpy_mesh(seed: int = 7):
     return v, np.array(f, dtype=np.int64), nrm
 
 
+def grid(n: int, z=None):
+    """An n x n vertex grid over the unit square, two CCW triangles per cell; heights z(x, y)."""
+    xs, ys = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="xy")
+    zs = np.zeros_like(xs) if z is None else z(xs, ys)
+    v = np.stack([xs.ravel(), ys.ravel(), zs.ravel()], axis=1).astype(np.float32)
+    f = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a, b, c, d = j * n + i, j * n + i + 1, (j + 1) * n + i, (j + 1) * n + i + 1
+            f += [[a, b, d], [a, d, c]]
+    return v, np.array(f, dtype=np.int64)
+
+
+def ridge_mesh(n: int = 6, column: int = 2):
+    """A curved open grid with a hard edge: the vertices of one interior grid column are
+    doubled, the cells left of it use the originals, the cells right of it the copies, and the
+    two copies get normals tilted apart by about 30 degrees (split normals, as a file stores a
+    crease). Returns (v, f, n, crease_edges) with crease_edges the column's edges (originals)."""
+    v, f = grid(n, lambda x, y: 0.25 * np.sin(2.0 * x) * np.cos(1.5 * y))
+    col = [j * n + column for j in range(n)]
+    copy = {c: n * n + k for k, c in enumerate(col)}
+    v = np.vstack([v, v[col]])
+    x = v[:, 0].astype(np.float64)
+    f = f.copy()
+    for t in f:
+        if min(x[t]) >= x[col[0]] - 1e-6:  # a cell right of the column (inclusive)
+            t[:] = [copy.get(int(i), int(i)) for i in t]
+    y = v[:, 1].astype(np.float64)
+    # The height field's normal (-dz/dx, -dz/dy, 1), then the crease's tilt on top.
+    nrm = np.stack([-0.5 * np.cos(2.0 * x) * np.cos(1.5 * y),
+                    0.375 * np.sin(2.0 * x) * np.sin(1.5 * y), np.ones_like(x)], axis=1)
+    nrm[col, 0] -= 0.3  # left side of the crease leans left ...
+    nrm[list(copy.values()), 0] += 0.3  # ... right side leans right
+    nrm = (nrm / np.linalg.norm(nrm, axis=1, keepdims=True)).astype(np.float32)
+    edges = [[col[j], col[j + 1]] for j in range(n - 1)]
+    return v, f, nrm, edges
+
+
 def uniform_barycentrics(level: int) -> np.ndarray:
     """Points of the uniform pattern, in its documented order (j outer, i inner):
     (l1, l2, l3) = ((N-i-j)/N, i/N, j/N)."""
@@ -113,3 +157,61 @@ def phong_points(p: np.ndarray, nrm: np.ndarray, bary: np.ndarray, alpha: float)
         d = (flat - p[i]) @ nrm[i]
         proj += bary[:, i : i + 1] * (flat - d[:, None] * nrm[i])
     return (1 - alpha) * flat + alpha * proj
+
+
+# --- the `tessella` CLI, which the Python results are compared with --------------------------
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """The `tessella` binary: $TESSELLA_CLI, else built with cargo from the repository root
+    (a no-op when it is up to date)."""
+    if os.environ.get("TESSELLA_CLI"):
+        return os.environ["TESSELLA_CLI"]
+    out = subprocess.run(
+        ["cargo", "build", "-p", "tessella-cli", "--message-format=json-render-diagnostics"],
+        cwd=REPO,
+        check=True,
+        stdout=subprocess.PIPE,
+        text=True,
+    ).stdout
+    for line in out.splitlines():
+        msg = json.loads(line)
+        if msg.get("reason") == "compiler-artifact" and msg.get("executable"):
+            if msg["target"]["name"] == "tessella":
+                return msg["executable"]
+    raise AssertionError("cargo built tessella-cli but reported no `tessella` executable")
+
+
+def write_ascii_ply(path, v, f, n=None):
+    """An ascii PLY written here, independently of tessella-io; %.9g round-trips float32."""
+    lines = ["ply", "format ascii 1.0", f"element vertex {len(v)}"]
+    lines += [f"property float {c}" for c in "xyz"]
+    if n is not None:
+        lines += [f"property float n{c}" for c in "xyz"]
+    lines += [f"element face {len(f)}", "property list uchar int vertex_indices", "end_header"]
+    for i, p in enumerate(v):
+        row = list(p) + (list(n[i]) if n is not None else [])
+        lines.append(" ".join(f"{float(x):.9g}" for x in row))
+    lines += [f"3 {a} {b} {c}" for a, b, c in f]
+    Path(path).write_text("\n".join(lines) + "\n")
+
+
+def read_ply_with_meshio(path):
+    m = meshio.read(path)
+    n = np.stack([m.point_data[k] for k in ("nx", "ny", "nz")], axis=1)
+    return m.points, m.cells_dict["triangle"], n
+
+
+def cli_refine(cli, tmp_path, v, f, n, args):
+    """`tessella refine` on (v, f, n) written as ascii PLY here; its result read with meshio."""
+    src, dst = tmp_path / "in.ply", tmp_path / "out.ply"
+    write_ascii_ply(src, v, f, n)
+    subprocess.run(
+        [cli, "refine", str(src), "-o", str(dst), "--backend", "cpu", *args],
+        check=True,
+        capture_output=True,
+    )
+    return read_ply_with_meshio(dst)

@@ -23,11 +23,17 @@ def test_fem_example_curved_schemes_beat_flat(tmp_path, capsys):
         flat = rows["flat"]
         # Level 1 is the coarse mesh itself for every scheme.
         assert all(abs(row[0]["max"] - flat[0]["max"]) < 1e-6 for row in rows.values())
-        for scheme in ("phong", "pn"):
+        for scheme in ("phong", "pn", "png1"):
             assert rows[scheme][-1]["max"] < flat[-1]["max"] / 2, (part, scheme)
-        # PN's error shrinks as the level grows.
-        assert rows["pn"][2]["max"] < rows["pn"][1]["max"] < rows["pn"][0]["max"]
+        # PN's and PNG1's errors shrink as the level grows.
+        for scheme in ("pn", "png1"):
+            assert rows[scheme][2]["max"] < rows[scheme][1]["max"] < rows[scheme][0]["max"]
+        # PNG1 is at least as close as PN (measured: about half PN's distance at level 8).
+        assert rows["png1"][-1]["max"] <= rows["pn"][-1]["max"], part
+        # Without tags or split normals, PN-AEN and the scalar-tagged scheme are PN.
+        assert example.same_curves(rows)["pn"] == ["pn", "pn-aen", "st"]
     png = tmp_path / "fem_distance.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert (tmp_path / "sphere-pn8.vtu").exists() and (tmp_path / "torus.msh").exists()
-    assert "| pn |" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "| pn |" in out and "| png1 |" in out

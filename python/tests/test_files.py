@@ -1,60 +1,12 @@
 """load/save, and Python results equal the CLI's (`tessella refine`) for the same input."""
 
-import json
-import os
 import subprocess
-from pathlib import Path
 
-import meshio
 import numpy as np
 import pytest
 
 import tessella
-from conftest import bumpy_mesh, icosphere
-
-REPO = Path(__file__).resolve().parents[2]
-
-
-@pytest.fixture(scope="session")
-def cli():
-    """The `tessella` binary: $TESSELLA_CLI, else built with cargo from the repository root
-    (a no-op when it is up to date)."""
-    if os.environ.get("TESSELLA_CLI"):
-        return os.environ["TESSELLA_CLI"]
-    out = subprocess.run(
-        ["cargo", "build", "-p", "tessella-cli", "--message-format=json-render-diagnostics"],
-        cwd=REPO,
-        check=True,
-        stdout=subprocess.PIPE,
-        text=True,
-    ).stdout
-    for line in out.splitlines():
-        msg = json.loads(line)
-        if msg.get("reason") == "compiler-artifact" and msg.get("executable"):
-            if msg["target"]["name"] == "tessella":
-                return msg["executable"]
-    raise AssertionError("cargo built tessella-cli but reported no `tessella` executable")
-
-
-def write_ascii_ply(path, v, f, n=None):
-    """An ascii PLY written here, independently of tessella-io; %.9g round-trips float32."""
-    lines = ["ply", "format ascii 1.0", f"element vertex {len(v)}"]
-    lines += [f"property float {c}" for c in "xyz"]
-    if n is not None:
-        lines += [f"property float n{c}" for c in "xyz"]
-    lines += [f"element face {len(f)}", "property list uchar int vertex_indices", "end_header"]
-    for i, p in enumerate(v):
-        row = list(p) + (list(n[i]) if n is not None else [])
-        lines.append(" ".join(f"{float(x):.9g}" for x in row))
-    lines += [f"3 {a} {b} {c}" for a, b, c in f]
-    Path(path).write_text("\n".join(lines) + "\n")
-
-
-def read_ply_with_meshio(path):
-    m = meshio.read(path)
-    n = np.stack([m.point_data[k] for k in ("nx", "ny", "nz")], axis=1)
-    return m.points, m.cells_dict["triangle"], n
-
+from conftest import bumpy_mesh, icosphere, read_ply_with_meshio, write_ascii_ply
 
 CASES = [
     dict(scheme="flat", level=1, normals=True, args=[]),

@@ -4,11 +4,20 @@ import sys
 import threading
 import time
 
+import pytest
+
 import tessella
 from conftest import icosphere
 
+WORK = {
+    "refine": lambda v, f: tessella.refine(v, f, v, scheme="pn", level=48),
+    "refine-png1": lambda v, f: tessella.refine(v, f, v, scheme="png1", level=48),
+    "quality": lambda v, f: tessella.quality(v, f, v, scheme="png1", level=96),
+}
 
-def test_another_thread_runs_python_code_during_refine():
+
+@pytest.mark.parametrize("work", WORK)
+def test_another_thread_runs_python_code_during_the_work(work):
     v, f = icosphere(2)
     stamps = {}
     started = threading.Event()
@@ -16,7 +25,7 @@ def test_another_thread_runs_python_code_during_refine():
     def worker():
         started.set()
         stamps["start"] = time.perf_counter()
-        tessella.refine(v, f, v, scheme="pn", level=48)
+        WORK[work](v, f)
         stamps["end"] = time.perf_counter()
 
     old = sys.getswitchinterval()
@@ -33,4 +42,4 @@ def test_another_thread_runs_python_code_during_refine():
     finally:
         sys.setswitchinterval(old)
     assert stamps["start"] < ours[0]
-    assert ours[-1] < stamps["end"], "the main thread could not run while refine was working"
+    assert ours[-1] < stamps["end"], f"the main thread could not run while {work} was working"

@@ -96,7 +96,8 @@ def test_bad_arrays_raise_clear_errors(change, exc, message):
         (dict(normals_mode="smooth"), ValueError, r"unknown normals_mode"),
         (dict(backend="gpu"), NotImplementedError, r"not in this build"),
         (dict(backend="tpu"), ValueError, r"unknown backend"),
-        (dict(tags={"edge_sharpness": [1.0]}), ValueError, r"pass tags=None"),
+        (dict(tags={"edge_sharpness": [1.0]}), ValueError, r"bad tags in the tags dict: tags JSON: unknown field `edge_sharpness`"),
+        (dict(tags=3), TypeError, r"tags must be None, a dict"),
     ],
 )
 def test_bad_options_raise_clear_errors(kwargs, exc, message):

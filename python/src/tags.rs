@@ -1,0 +1,127 @@
+//! The `tags=` and `crease_angle=` arguments: what Python may pass, and how the tags are layered,
+//! exactly as the CLI does (`tessella-cli/src/commands/tags.rs`): for the scalar-tagged scheme
+//! the mesh's split normals first, then the crease angle, then the given tags, later ones
+//! overriding earlier ones ([`Tags::merge`]).
+//!
+//! `tags` is `None`, a dict in the sidecar-JSON structure (`tessella_core::tags` docs), that JSON
+//! as a string, or the path of such a file (`str` or `os.PathLike`). A string whose first
+//! non-blank character is `{` is JSON text; any other string is a path.
+
+use crate::errors;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyCFunction, PyDict, PyString, PyTuple};
+use std::path::PathBuf;
+use tessella_core::{Mesh, Scheme, Tags};
+
+/// Where the given tags come from, read while the GIL is held.
+pub enum TagSource {
+    None,
+    /// JSON text, and how messages name it (`"in the tags dict"`).
+    Json {
+        text: String,
+        origin: String,
+    },
+    /// A sidecar JSON file, read without the GIL.
+    File(PathBuf),
+}
+
+/// Classifies the `tags` argument.
+pub fn source(tags: Option<&Bound<'_, PyAny>>) -> PyResult<TagSource> {
+    let Some(obj) = tags.filter(|t| !t.is_none()) else {
+        return Ok(TagSource::None);
+    };
+    if let Ok(s) = obj.cast::<PyString>() {
+        let s: String = s.extract()?;
+        if s.trim_start().starts_with('{') {
+            return Ok(TagSource::Json {
+                text: s,
+                origin: "in the tags string".into(),
+            });
+        }
+        return Ok(TagSource::File(PathBuf::from(s)));
+    }
+    if let Ok(d) = obj.cast::<PyDict>() {
+        return Ok(TagSource::Json {
+            text: dict_to_json(d)?,
+            origin: "in the tags dict".into(),
+        });
+    }
+    if obj.hasattr("__fspath__")? {
+        return Ok(TagSource::File(obj.extract::<PathBuf>()?));
+    }
+    Err(PyTypeError::new_err(format!(
+        "tags must be None, a dict like {{\"edges\": [...], \"vertices\": [...]}}, a JSON string \
+         or the path of a JSON file, got {}",
+        obj.get_type().name()?
+    )))
+}
+
+/// `json.dumps(d)`, with numpy scalars and arrays turned into numbers and lists.
+fn dict_to_json(d: &Bound<'_, PyDict>) -> PyResult<String> {
+    let py = d.py();
+    let default = PyCFunction::new_closure(
+        py,
+        Some(c"tags_json_default"),
+        None,
+        |args: &Bound<'_, PyTuple>, _kwargs: Option<&Bound<'_, PyDict>>| -> PyResult<Py<PyAny>> {
+            let obj = args.get_item(0)?;
+            if obj.hasattr("tolist")? {
+                return Ok(obj.call_method0("tolist")?.unbind());
+            }
+            Err(PyTypeError::new_err(format!(
+                "tags hold {} of type {}; use numbers, lists and dicts",
+                obj.repr()?,
+                obj.get_type().name()?
+            )))
+        },
+    )?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("default", default)?;
+    kwargs.set_item("allow_nan", false)?;
+    let json = py.import("json")?;
+    match json.call_method("dumps", (d,), Some(&kwargs)) {
+        Ok(text) => text.extract(),
+        // allow_nan=False: NaN or infinity somewhere; JSON cannot carry it.
+        Err(e) if e.is_instance_of::<PyValueError>(py) => Err(PyValueError::new_err(format!(
+            "bad tags in the tags dict: {e}; tags must be finite numbers"
+        ))),
+        Err(e) => Err(e),
+    }
+}
+
+/// The tags `scheme` gets on `mesh` (layered as the module docs say), or `None` when nothing is
+/// tagged. Runs without the GIL.
+pub fn gather(
+    mesh: &Mesh,
+    scheme: Scheme,
+    source: &TagSource,
+    crease_angle: Option<f64>,
+) -> PyResult<Option<Tags>> {
+    let mut tags = Tags::new();
+    if scheme == Scheme::ScalarTagged {
+        tags.merge(Tags::from_split_normals(mesh));
+    }
+    if let Some(degrees) = crease_angle {
+        let angle = Tags::from_crease_angle(mesh, degrees as f32)
+            .map_err(|e| PyValueError::new_err(format!("crease_angle={degrees}: {e}")))?;
+        tags.merge(angle);
+    }
+    match source {
+        TagSource::None => {}
+        TagSource::Json { text, origin } => {
+            tags.merge(Tags::from_json(mesh, text).map_err(|e| errors::tag_error(origin, e))?);
+        }
+        TagSource::File(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| {
+                errors::os_error(
+                    e.kind(),
+                    format!("cannot read tags from {}: {e}", path.display()),
+                )
+            })?;
+            let origin = format!("in {}", path.display());
+            tags.merge(Tags::from_json(mesh, &text).map_err(|e| errors::tag_error(&origin, e))?);
+        }
+    }
+    Ok((!tags.is_empty()).then_some(tags))
+}
