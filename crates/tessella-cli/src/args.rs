@@ -33,6 +33,13 @@ pub enum Command {
     /// Refine every bundled sample with every scheme and print a table of counts, time and
     /// distance to the coarse input.
     Demo(DemoArgs),
+    /// Render a picture of the refined surface (GPU; a software adapter when there is none).
+    ///
+    /// Example: tessella render samples/creature.obj -o creature.png --compare flat,pn,png1
+    Render(RenderArgs),
+    /// Render frames of a coarse mesh twisting over time, re-uploading only the coarse control
+    /// nets per frame, and report the bytes uploaded against a full refined vertex buffer.
+    Animate(AnimateArgs),
     /// Measure refinement throughput and print a Markdown table.
     Bench(BenchArgs),
 }
@@ -136,6 +143,76 @@ pub struct RefineArgs {
     /// coarse mesh).
     #[arg(long)]
     pub report: bool,
+    /// Move refined vertices along their normals: `sine:AMP,FREQ` (a·sin(f‖P‖), GMR section 4),
+    /// `perlin:AMP,FREQ[,SEED]`, or `heightmap:IMAGE,AMP` (needs UVs).
+    #[arg(long, value_name = "SPEC")]
+    pub displace: Option<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Input mesh (.obj, .ply, .gltf, .glb, .stl).
+    pub input: PathBuf,
+    /// Output picture (.png).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Surface built over each coarse triangle.
+    #[arg(long, value_enum, default_value = "pn")]
+    pub scheme: SchemeArg,
+    /// Segments per coarse edge (the refinement pattern drawn for every triangle).
+    #[arg(short, long, default_value_t = 16)]
+    pub level: u32,
+    /// Phong shape factor.
+    #[arg(long, default_value_t = 0.75)]
+    pub alpha: f32,
+    /// How normals are made (default: the scheme's own).
+    #[arg(long, value_enum)]
+    pub normals: Option<NormalsArg>,
+    /// Picture size, WIDTHxHEIGHT (per panel with --compare).
+    #[arg(long, default_value = "800x800", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Orbit the camera about the vertical axis, degrees.
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    pub yaw: f32,
+    /// Camera elevation, degrees.
+    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+    pub pitch: f32,
+    /// 1 frames the whole mesh; larger values move closer.
+    #[arg(long, default_value_t = 1.0)]
+    pub zoom: f32,
+    /// Overlay the refinement pattern's edges.
+    #[arg(long)]
+    pub wireframe: bool,
+    /// Side-by-side labelled panels, one per scheme, e.g. `flat,pn,png1` (overrides --scheme).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub compare: Vec<SchemeArg>,
+    /// Displacement, as for `refine --displace`.
+    #[arg(long, value_name = "SPEC")]
+    pub displace: Option<String>,
+    #[command(flatten)]
+    pub tags: TagArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct AnimateArgs {
+    /// Input mesh.
+    pub input: PathBuf,
+    /// Folder for the frames (frame_000.png, ...).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[arg(long, value_enum, default_value = "pn")]
+    pub scheme: SchemeArg,
+    #[arg(short, long, default_value_t = 16)]
+    pub level: u32,
+    /// Number of frames.
+    #[arg(long, default_value_t = 8)]
+    pub frames: u32,
+    /// Largest twist, degrees.
+    #[arg(long, default_value_t = 60.0)]
+    pub twist: f32,
+    /// Frame size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "400x400", value_parser = parse_size)]
+    pub size: (u32, u32),
 }
 
 /// Creases and shape tags, for `--scheme st` (all tags) and `--scheme png1` (sharp edges).
@@ -208,6 +285,24 @@ pub struct BenchArgs {
     /// Repetitions per measurement (the median is reported).
     #[arg(long, default_value_t = 15)]
     pub repeat: usize,
+    /// Also measure the GPU: compute refinement against the CPU, the GMR Figure 7 experiment
+    /// (static refined vertex buffer vs instanced pattern), and PN vs PNG1 frame time.
+    #[arg(long)]
+    pub gpu: bool,
+}
+
+/// Parses `800x600`.
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("'{text}' is not a size like 800x600");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
+    if w == 0 || h == 0 {
+        return Err(format!("'{text}': width and height must be at least 1"));
+    }
+    Ok((w, h))
 }
 
 /// Parses `512MiB`, `8GiB`, `1.5G`, `1000000` into bytes.
@@ -246,6 +341,9 @@ mod tests {
         assert_eq!(parse_bytes("1000"), Ok(1000));
         assert!(parse_bytes("lots").is_err());
         assert!(parse_bytes("3 parsecs").is_err());
+        assert_eq!(parse_size("640x480"), Ok((640, 480)));
+        assert!(parse_size("640").is_err());
+        assert!(parse_size("0x10").is_err());
     }
 
     #[test]

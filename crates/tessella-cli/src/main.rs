@@ -9,6 +9,12 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // Vulkan loaders probe for a Wayland display and libwayland prints an error when
+    // XDG_RUNTIME_DIR is unset (headless machines, CI). There is no display to find either way;
+    // point it at the temporary folder so the probe fails quietly. Done first, single-threaded.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
     let cli = args::Cli::parse();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -181,24 +181,25 @@ pub fn hard_cube() -> Mesh {
 /// computed normals. Closed, genus 0, 320 triangles.
 pub fn creature() -> Mesh {
     let sphere = icosphere(2);
+    // Standing along +Y (the usual "up" of viewers), facing +Z.
     let bumps: [([f32; 3], f32, f32); 5] = [
-        ([0.0, 0.0, 1.0], 0.9, 0.35), // head
-        ([1.0, 0.0, 0.2], 0.7, 0.25), // arms
-        ([-1.0, 0.0, 0.2], 0.7, 0.25),
-        ([0.45, 0.0, -1.0], 0.6, 0.3), // legs
-        ([-0.45, 0.0, -1.0], 0.6, 0.3),
+        ([0.0, 1.0, 0.0], 0.9, 0.35), // head
+        ([1.0, 0.2, 0.0], 0.7, 0.25), // arms
+        ([-1.0, 0.2, 0.0], 0.7, 0.25),
+        ([0.45, -1.0, 0.0], 0.6, 0.3), // legs
+        ([-0.45, -1.0, 0.0], 0.6, 0.3),
     ];
     let positions: Vec<[f32; 3]> = sphere
         .positions()
         .iter()
         .map(|&p| {
-            let mut r = 0.8 - 0.15 * p[1] * p[1];
+            let mut r = 0.8 - 0.15 * p[2] * p[2];
             for (dir, height, width) in bumps {
                 let d = normalize(dir);
                 let cos = p[0] * d[0] + p[1] * d[1] + p[2] * d[2];
                 r += height * (-(1.0 - cos) / (width * width)).exp();
             }
-            [p[0] * r, p[1] * r * 0.7, p[2] * r]
+            [p[0] * r, p[1] * r, p[2] * r * 0.7]
         })
         .collect();
     Mesh::new(positions, None, None, sphere.triangles().to_vec()).expect("creature is valid")

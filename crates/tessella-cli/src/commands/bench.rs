@@ -92,5 +92,40 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             rate / pn
         );
     }
+    if args.gpu {
+        gpu_tables(&mesh, args)?;
+    }
+    Ok(())
+}
+
+/// The GPU measurements, labelled with the adapter (a software adapter's numbers say so).
+fn gpu_tables(mesh: &Mesh, args: &BenchArgs) -> anyhow::Result<()> {
+    use tessella_gpu::bench;
+    let ctx = super::gpu::render_context()?;
+    let label = ctx.adapter_label();
+    let repeat = args.repeat.clamp(1, 5) as u32;
+    println!();
+    println!("GPU compute refinement against the CPU, PN, adapter: {label}");
+    println!();
+    let rows = bench::refine_throughput(&ctx, mesh, Scheme::Pn, &args.levels, repeat)?;
+    print!("{}", bench::refine_table(&rows));
+    println!();
+    println!("GMR Figure 7: static refined vertex buffer against the instanced pattern, adapter: {label}");
+    println!();
+    let rows = bench::figure7(&ctx, &bench::Figure7Config::default())?;
+    print!("{}", bench::figure7_table(&rows));
+    println!();
+    println!("Frame time by scheme, instanced pattern level 64, adapter: {label}");
+    println!();
+    let creature = samples::creature();
+    let rows = bench::scheme_frame_times(
+        &ctx,
+        &creature,
+        &[Scheme::Pn, Scheme::Png1],
+        64,
+        10,
+        (512, 512),
+    )?;
+    print!("{}", bench::scheme_table(&rows));
     Ok(())
 }

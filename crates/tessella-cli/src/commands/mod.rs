@@ -1,10 +1,13 @@
 //! One module per subcommand.
 
+mod animate;
 mod bench;
 mod demo;
+mod gpu;
 mod info;
 mod pattern;
 mod refine;
+mod render;
 mod samples;
 mod tags;
 
@@ -18,6 +21,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Pattern(args) => pattern::run(&args),
         Command::Samples(args) => samples::run(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Render(args) => render::run(&args),
+        Command::Animate(args) => animate::run(&args),
         Command::Bench(args) => bench::run(&args),
     }
 }

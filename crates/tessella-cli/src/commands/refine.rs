@@ -1,11 +1,12 @@
 //! `tessella refine`: file in, refined file out.
 
-use super::tags;
+use super::{gpu, tags};
 use crate::args::{BackendArg, RefineArgs};
 use crate::progress;
-use anyhow::{bail, Context};
+use anyhow::Context;
 use std::time::Instant;
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
+use tessella_gpu::{gpu_refine_with, Displacement, GpuRefineOptions};
 use tessella_io::{write_mesh, Format, MeshView, WriteOptions};
 
 pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
@@ -21,12 +22,28 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     }
     drop(raw);
 
+    let displacement = gpu::parse_displacement(args.displace.as_deref())?;
+    displacement.validate(mesh.uvs().is_some())?;
+    let ctx = gpu::context_for(args.backend)?;
+
     let start = Instant::now();
     let refiner = Refiner::new(&mesh, &options)
         .with_context(|| format!("cannot refine {}", args.input.display()))?;
-    let refined = match args.backend {
-        BackendArg::Auto | BackendArg::Cpu => refine_cpu(&refiner),
-        BackendArg::Gpu => bail!("the GPU backend is not part of this build; use --backend cpu"),
+    let on_gpu = ctx.as_ref().map(|ctx| {
+        let gpu_options = GpuRefineOptions {
+            displacement: displacement.clone(),
+            max_chunk_items: None,
+        };
+        gpu_refine_with(ctx, &refiner, &gpu_options)
+    });
+    let refined = match on_gpu {
+        Some(Ok(refined)) => refined,
+        Some(Err(e)) if args.backend == BackendArg::Auto => {
+            eprintln!("note: the GPU failed ({e}); refining on the CPU");
+            refine_cpu(&refiner, &displacement)?
+        }
+        Some(Err(e)) => return Err(e).context("GPU refinement failed"),
+        None => refine_cpu(&refiner, &displacement)?,
     };
     let elapsed = start.elapsed();
 
@@ -55,10 +72,11 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn refine_cpu(refiner: &Refiner) -> RefinedMesh {
+fn refine_cpu(refiner: &Refiner, displacement: &Displacement) -> anyhow::Result<RefinedMesh> {
     let bar = progress::bar(refiner.progress_total(), "refining");
     let mut out = RefinedMesh::default();
     refiner.refine_into(&mut out, &|done| bar.inc(done));
     bar.finish_and_clear();
-    out
+    displacement.apply(&mut out)?;
+    Ok(out)
 }
