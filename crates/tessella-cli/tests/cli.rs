@@ -297,3 +297,95 @@ fn quality_report_shows_png1_closing_the_g1_gap() {
     assert!(jump("png1") < 0.01, "png1 {}", jump("png1"));
     assert!(jump("pn") > 1.0, "pn {}", jump("pn"));
 }
+
+#[test]
+fn render_writes_a_picture_of_the_requested_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = write_sample(dir.path(), "icosphere");
+    let picture = dir.path().join("sphere.png");
+    let o = tessella(&[
+        "render",
+        s(&sphere),
+        "-o",
+        s(&picture),
+        "--size",
+        "96x64",
+        "--level",
+        "4",
+        "--compare",
+        "flat,pn",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bytes = std::fs::read(&picture).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    // Width and height in the IHDR chunk: two panels of 96 plus a separator, 64 high.
+    let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+    assert!((192..=200).contains(&width), "width {width}");
+    assert_eq!(height, 64);
+    assert!(!stderr(&o).contains("XDG_RUNTIME_DIR"), "{}", stderr(&o));
+
+    let bad = dir.path().join("bad.png");
+    for extra in [
+        ["--displace", "wobble:1"],
+        ["--size", "0x10"],
+        ["--level", "0"],
+    ] {
+        let mut args = vec!["render", s(&sphere), "-o", s(&bad)];
+        args.extend(extra);
+        let o = tessella(&args);
+        assert!(!o.status.success(), "{extra:?}");
+        assert!(!bad.exists(), "{extra:?} left a file");
+    }
+}
+
+#[test]
+fn gpu_refinement_matches_the_cpu_and_displacement_moves_vertices() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = write_sample(dir.path(), "icosphere");
+    let cpu = dir.path().join("cpu.ply");
+    let gpu = dir.path().join("gpu.ply");
+    let bumpy = dir.path().join("bumpy.ply");
+    for (out, backend, extra) in [
+        (&cpu, "cpu", None),
+        (&gpu, "gpu", None),
+        (&bumpy, "cpu", Some("sine:0.05,20")),
+    ] {
+        let mut args = vec![
+            "refine",
+            s(&sphere),
+            "-o",
+            s(out),
+            "--level",
+            "6",
+            "--backend",
+            backend,
+        ];
+        if let Some(spec) = extra {
+            args.extend(["--displace", spec]);
+        }
+        let o = tessella(&args);
+        assert!(o.status.success(), "{backend}: {}", stderr(&o));
+    }
+    let (a, b, c) = (
+        tessella_io::read_mesh(&cpu).unwrap(),
+        tessella_io::read_mesh(&gpu).unwrap(),
+        tessella_io::read_mesh(&bumpy).unwrap(),
+    );
+    assert_eq!(a.triangles(), b.triangles());
+    for (p, q) in a.positions().iter().zip(b.positions()) {
+        for k in 0..3 {
+            assert!((p[k] - q[k]).abs() < 2e-5, "{p:?} vs {q:?}");
+        }
+    }
+    // Sine displacement a·sin(f|P|) along the normal: the points move off the PN surface, by at
+    // most the amplitude, and the welded layout is kept.
+    assert_eq!(a.triangles(), c.triangles());
+    let moved = a
+        .positions()
+        .iter()
+        .zip(c.positions())
+        .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f32>().sqrt());
+    let largest = moved.fold(0.0, f32::max);
+    assert!(largest > 0.01 && largest <= 0.05 + 1e-5, "{largest}");
+}
