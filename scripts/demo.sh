@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The main job on a fresh machine: build tessella, refine the bundled samples with every scheme
-# (table of counts, time and distance to the coarse input), and write the refined meshes and
-# pictures into out/.
+# on the CPU (table of counts, time and distance to the coarse input), and write the refined
+# meshes and side-by-side pictures (rendered by wgpu: the GPU, or Mesa's software Vulkan driver
+# when there is none) into out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+bash scripts/setup-vulkan.sh
 cargo build --release --quiet -p tessella-cli
 mkdir -p out
 ./target/release/tessella demo --level 8 --output out
-echo "refined meshes written to out/"
+echo "refined meshes and pictures written to out/"

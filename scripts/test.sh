@@ -6,14 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-if ! ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || ! ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
-  if [ "$(id -u)" = 0 ]; then
-    echo "== installing Mesa's lavapipe (software Vulkan) for the GPU tests"
-    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq mesa-vulkan-drivers libvulkan1 >/dev/null
-  else
-    echo "== warning: no Vulkan driver found and not root; GPU tests need mesa-vulkan-drivers" >&2
-  fi
-fi
+bash scripts/setup-vulkan.sh
 
 echo "== cargo fmt"
 cargo fmt --all -- --check

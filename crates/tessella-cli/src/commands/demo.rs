@@ -2,8 +2,10 @@
 
 use crate::args::DemoArgs;
 use anyhow::Context;
+use std::path::Path;
 use std::time::Instant;
 use tessella_core::{refine, samples, Mesh, RefineOptions, RefinedMesh, Scheme};
+use tessella_gpu::{render_compare, save_png, RenderOptions};
 use tessella_io::{write_mesh, MeshView, WriteOptions};
 
 /// The schemes the demo compares.
@@ -48,6 +50,39 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
                 write_mesh(&path, MeshView::from(&out), &WriteOptions::default())?;
             }
         }
+    }
+    if let Some(dir) = &args.output {
+        pictures(dir, args.level)?;
+    }
+    Ok(())
+}
+
+/// Side-by-side pictures of the samples whose silhouettes show the difference best.
+fn pictures(dir: &Path, level: u32) -> anyhow::Result<()> {
+    let ctx = match super::gpu::render_context() {
+        Ok(ctx) => ctx,
+        Err(e) => {
+            eprintln!("note: no pictures: {e:#}");
+            return Ok(());
+        }
+    };
+    let view = RenderOptions {
+        size: (360, 360),
+        yaw: 20.0,
+        pitch: 10.0,
+        ..RenderOptions::default()
+    };
+    let schemes = [Scheme::Flat, Scheme::PHONG, Scheme::Pn, Scheme::Png1];
+    for name in ["creature", "tetrahedron", "torus"] {
+        let mesh = samples::by_name(name).expect("listed sample");
+        let panels: Vec<_> = schemes
+            .iter()
+            .map(|&s| (s.name().to_string(), RefineOptions::new(s, level)))
+            .collect();
+        let picture = render_compare(&ctx, &mesh, &panels, &view)?;
+        let path = dir.join(format!("compare-{name}.png"));
+        save_png(&picture, &path)?;
+        println!("{} ({})", path.display(), ctx.adapter_label());
     }
     Ok(())
 }
