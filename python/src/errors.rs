@@ -7,15 +7,17 @@
 //! | `IoError::Read`/`Write`, an unreadable tags file (the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
 //! | other `IoError`s (unknown extension, malformed file, no triangles, bad arrays) | `ValueError` |
 //! | wrong array dtype or object type | `TypeError` |
-//! | a backend this build does not have | `NotImplementedError` |
+//! | `GpuError::BadOption`/`Refine` (bad displacement, bad mesh) | `ValueError` |
+//! | other `GpuError`s (no adapter for `backend="gpu"`, device lost, GPU limits) | `RuntimeError` |
 
 use pyo3::exceptions::{
     PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyNotADirectoryError, PyOSError,
-    PyPermissionError, PyValueError,
+    PyPermissionError, PyRuntimeError, PyValueError,
 };
 use pyo3::PyErr;
 use std::io::ErrorKind;
 use tessella_core::{MeshError, RefineError, TagError};
+use tessella_gpu::GpuError;
 use tessella_io::IoError;
 
 /// A bad mesh is a bad value.
@@ -31,6 +33,15 @@ pub fn refine_error(e: RefineError) -> PyErr {
 /// Bad tags, with where they came from (`"in tags.json"`, `"in the tags dict"`).
 pub fn tag_error(origin: &str, e: TagError) -> PyErr {
     PyValueError::new_err(format!("bad tags {origin}: {e}"))
+}
+
+/// A GPU error: bad options are bad values; the GPU failing (or missing) is a runtime error,
+/// whose message says what to install or to use the CPU backend.
+pub fn gpu_error(e: GpuError) -> PyErr {
+    match e {
+        GpuError::BadOption(_) | GpuError::Refine(_) => PyValueError::new_err(e.to_string()),
+        _ => PyRuntimeError::new_err(e.to_string()),
+    }
 }
 
 /// A file error: the OS's refusals keep their `OSError` subclass, bad content is a bad value.

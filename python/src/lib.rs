@@ -2,15 +2,18 @@
 //! half (`tessella/__init__.py`) re-exports these functions and adds trimesh/meshio interop.
 //!
 //! Every function converts its arrays while holding the GIL, then releases it
-//! (`Python::detach`) for the work itself, so other Python threads run meanwhile.
+//! (`Python::detach`) for the work itself, so other Python threads run meanwhile; that includes
+//! opening a GPU device and waiting for the GPU (`gpu.rs`).
 
 mod arrays;
+mod displace;
 mod errors;
+mod gpu;
 mod options;
 mod tags;
 
 use numpy::PyArray2;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -42,7 +45,8 @@ fn mesh_from(
 /// Refines a mesh; see `tessella.refine` (the Python wrapper) for the full documentation.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,
-                    normals_mode=None, tags=None, crease_angle=None, backend="auto", weld=true))]
+                    normals_mode=None, tags=None, crease_angle=None, backend="auto", weld=true,
+                    displace=None))]
 #[allow(clippy::too_many_arguments)]
 fn refine<'py>(
     py: Python<'py>,
@@ -57,10 +61,12 @@ fn refine<'py>(
     crease_angle: Option<f64>,
     backend: &str,
     weld: bool,
+    displace: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Arrays<'py>> {
     let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
     let normal_mode = options::normal_mode(normals_mode)?;
-    let options::Backend::Cpu = options::backend(backend)?;
+    let backend = options::backend(backend)?;
+    let displacement = displace::parse(displace)?;
     let source = tags::source(tags)?;
     let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
     opts.normals = normal_mode;
@@ -70,8 +76,13 @@ fn refine<'py>(
             opts = opts.with_tags(t);
         }
         let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
-        Ok(refiner.refine())
+        gpu::refine(&refiner, backend, &displacement)
     })?;
+    if let Some(note) = out.fallback {
+        let note = std::ffi::CString::new(note.replace('\0', " "))?;
+        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 1)?;
+    }
+    let out = out.mesh;
     Ok((
         arrays::to_numpy(py, out.positions),
         arrays::to_numpy(py, out.triangles),
@@ -260,10 +271,42 @@ fn schemes() -> Vec<&'static str> {
     options::SCHEMES.to_vec()
 }
 
-/// Names of the backends this build can run, e.g. ``["cpu"]`` (``"auto"`` picks among them).
+/// Names of the backends that work on this machine: ``["cpu", "gpu"]`` when a GPU adapter
+/// (hardware, or a software one such as Mesa's lavapipe) opens, else ``["cpu"]``.
+///
+/// The first call opens the GPU device (kept for the process, so ``refine`` reuses it).
+/// ``refine(backend="auto")`` picks the GPU only when it is a hardware one; see
+/// :func:`gpu_info`.
 #[pyfunction]
-fn backends() -> Vec<&'static str> {
-    options::BACKENDS.to_vec()
+fn backends(py: Python<'_>) -> Vec<&'static str> {
+    let gpu = py.detach(|| gpu::any().is_ok());
+    let mut names = vec!["cpu"];
+    if gpu {
+        names.push("gpu");
+    }
+    names
+}
+
+/// The GPU adapter ``backend="gpu"`` uses, as a dict, or ``None`` when there is none.
+///
+/// Keys: ``name`` (the adapter's), ``backend`` (graphics API: ``"Vulkan"``, ``"Metal"``,
+/// ``"Dx12"``), ``device_type`` (``"DiscreteGpu"``, ``"IntegratedGpu"``, ``"VirtualGpu"``,
+/// ``"Cpu"``, ``"Other"``), ``driver`` and ``driver_info`` (strings, possibly empty) and
+/// ``software`` (``True`` for a CPU adapter such as lavapipe: correct but slower than the CPU
+/// backend, so ``backend="auto"`` does not use it).
+#[pyfunction]
+fn gpu_info(py: Python<'_>) -> PyResult<Option<Bound<'_, PyDict>>> {
+    let Ok(ctx) = py.detach(gpu::any) else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    d.set_item("name", &ctx.info.name)?;
+    d.set_item("backend", format!("{:?}", ctx.info.backend))?;
+    d.set_item("device_type", format!("{:?}", ctx.info.device_type))?;
+    d.set_item("driver", &ctx.info.driver)?;
+    d.set_item("driver_info", &ctx.info.driver_info)?;
+    d.set_item("software", ctx.is_software())?;
+    Ok(Some(d))
 }
 
 #[pymodule]
@@ -276,6 +319,7 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(save, m)?)?;
     m.add_function(wrap_pyfunction!(schemes, m)?)?;
     m.add_function(wrap_pyfunction!(backends, m)?)?;
+    m.add_function(wrap_pyfunction!(gpu_info, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -2,18 +2,15 @@
 //! that lands in the Rust crates is added here and nowhere else; `schemes()` and `backends()`
 //! report what this build has, so scripts can adapt.
 
-use pyo3::exceptions::{PyNotImplementedError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::PyResult;
 use tessella_core::{NormalMode, Scheme};
 
 /// Scheme names, in the order `tessella.schemes()` lists them.
 pub const SCHEMES: &[&str] = &["flat", "phong", "pn", "png1", "pn-aen", "st"];
 
-/// Backends this build can run.
-pub const BACKENDS: &[&str] = &["cpu"];
-
-/// Backends the project plans but this build lacks (a clear error instead of "unknown").
-const PLANNED_BACKENDS: &[&str] = &["gpu"];
+/// Backend names `refine` accepts (`tessella.backends()` lists those that work on this machine).
+pub const BACKEND_NAMES: &[&str] = &["auto", "cpu", "gpu"];
 
 /// Normal mode names.
 pub const NORMAL_MODES: &[&str] = &["linear", "quadratic", "real"];
@@ -50,22 +47,26 @@ pub fn normal_mode(name: Option<&str>) -> PyResult<Option<NormalMode>> {
     }
 }
 
-/// Which backend runs the work. `"auto"` picks the fastest this build has.
+/// Which backend runs the work.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Backend {
+    /// A hardware GPU when there is one (a software adapter is slower than the CPU path),
+    /// otherwise the CPU; the CPU also when the GPU fails.
+    Auto,
     Cpu,
+    /// Any GPU adapter, software (lavapipe) included; an error when there is none.
+    Gpu,
 }
 
-/// The backend called `name`.
+/// The backend called `name` (case-insensitive).
 pub fn backend(name: &str) -> PyResult<Backend> {
     match name.to_ascii_lowercase().as_str() {
-        "auto" | "cpu" => Ok(Backend::Cpu),
-        other if PLANNED_BACKENDS.contains(&other) => Err(PyNotImplementedError::new_err(format!(
-            "backend {name:?} is not in this build of tessella (it has {BACKENDS:?}); \
-             use backend=\"auto\" or \"cpu\""
-        ))),
+        "auto" => Ok(Backend::Auto),
+        "cpu" => Ok(Backend::Cpu),
+        "gpu" => Ok(Backend::Gpu),
         _ => Err(PyValueError::new_err(format!(
-            "unknown backend {name:?}; use \"auto\" or one of {BACKENDS:?}"
+            "unknown backend {name:?}; use one of {BACKEND_NAMES:?} (tessella.backends() lists \
+             those that work here)"
         ))),
     }
 }

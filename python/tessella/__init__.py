@@ -23,34 +23,43 @@ Errors
   or negative, degenerate triangles, zero normals), bad options (unknown scheme, level < 1,
   non-finite alpha, output over the 8 GiB size limit), bad tags (a vertex or edge the mesh
   lacks, values out of range, malformed JSON, more creases than the scalar-tagged scheme
-  allows; the message says which) or a crease angle outside 0..180. Invalid files passed to
-  :func:`load` also raise ``ValueError``.
+  allows; the message says which), a crease angle outside 0..180 or a bad ``displace`` (unknown
+  kind or key, missing or non-finite numbers, a seed that is not a whole number in
+  0..2**32-1). Invalid files passed to :func:`load` also raise ``ValueError``.
 - ``TypeError``: arrays of an unsupported dtype (e.g. complex, strings, float16); ``tags`` of
-  another type than dict, str or path.
-- ``NotImplementedError``: ``backend="gpu"`` while :func:`backends` does not list it.
+  another type than dict, str or path; ``displace`` of another type than dict, tuple or list.
+- ``RuntimeError``: ``backend="gpu"`` when no GPU adapter opens (the message says what to
+  install), or the GPU failing while it works.
 - ``OSError``: a file that cannot be read or written (:func:`load`, :func:`save`, a tags file).
 - ``ImportError``: an interop helper whose optional package (trimesh, meshio) is missing.
 
-What this build has: :func:`schemes` and :func:`backends`.
+What this build has: :func:`schemes`; what works on this machine: :func:`backends` and
+:func:`gpu_info`.
 """
 
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Optional, Tuple, Union
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _tessella
-from ._tessella import __version__, backends, info, load, pattern, save, schemes
+from ._tessella import __version__, backends, gpu_info, info, load, pattern, save, schemes
 
 #: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the
 #: path of a JSON file (see :func:`refine`).
 TagsLike = Union[Dict[str, Any], str, "os.PathLike[str]", None]
 
+#: What ``displace=`` accepts: ``None``, ``{"kind": "sine", "amplitude": a, "frequency": f}``,
+#: ``{"kind": "perlin", "amplitude": a, "frequency": f, "seed": s}`` or a tuple
+#: ``(kind, amplitude, frequency[, seed])`` (see :func:`refine`).
+DisplaceLike = Union[Dict[str, Any], Tuple[Any, ...], List[Any], None]
+
 __all__ = [
     "__version__",
     "backends",
+    "gpu_info",
     "info",
     "load",
     "pattern",
@@ -79,6 +88,7 @@ def refine(
     crease_angle: Optional[float] = None,
     backend: str = "auto",
     weld: bool = True,
+    displace: DisplaceLike = None,
 ) -> Any:
     """Refine a triangle mesh into a curved one.
 
@@ -128,13 +138,34 @@ def refine(
         edge or vertex.
     crease_angle : float or None
         Also crease every edge whose two faces bend by more than this many degrees (0..180).
-    backend : str
-        ``"auto"`` (the fastest in :func:`backends`) or ``"cpu"``. ``"gpu"`` raises
-        ``NotImplementedError`` while :func:`backends` does not list it.
+    backend : {"auto", "cpu", "gpu"}
+        Where the refinement runs. ``"cpu"``: the CPU, on all cores. ``"gpu"``: the GPU
+        through wgpu (Vulkan, Metal or DX12), on any adapter, software ones such as Mesa's
+        lavapipe included; ``RuntimeError`` when there is none (see :func:`backends` and
+        :func:`gpu_info`). ``"auto"``: a hardware GPU when there is one, else the CPU (a
+        software adapter is slower than the CPU path); if the GPU fails it refines on the CPU
+        and emits a ``RuntimeWarning``. The GPU gives the same faces as the CPU and the same
+        vertices and normals to float rounding (about 1e-7 relative), so ``"auto"`` equals
+        ``"cpu"`` bit for bit only where it runs on the CPU. The GPU device is opened once
+        per process and reused; the GIL is released while it works.
     weld : bool
         ``True``: refined patches share the vertices on shared coarse corners and edges (a
         watertight mesh where the input is). ``False``: each coarse triangle gets its own
         ``(level+1)(level+2)/2`` vertices.
+    displace : dict, tuple or None
+        Moves every refined vertex along its unit normal ``n``, after evaluation (GMR section
+        4), on the chosen backend: ``P + d(P) n``. The dict forms::
+
+            {"kind": "sine", "amplitude": a, "frequency": f}                 # d = a sin(f |P|)
+            {"kind": "perlin", "amplitude": a, "frequency": f, "seed": s}    # d = a noise(f P)
+
+        where ``noise`` is Perlin's improved noise (2002, values in about -1..1) with a
+        permutation shuffled by the whole number ``s`` (0..2**32-1, optional, default 0), or
+        the tuples (or lists) ``("sine", a, f)`` and ``("perlin", a, f[, s])``. Numbers must be
+        finite.
+        Normals are returned as evaluated (the undisplaced surface's). In welded output a
+        vertex shared by coarse triangles moves once, so the surface stays closed. Height maps
+        (the CLI's ``--displace heightmap:``) need texture coordinates and are not offered here.
 
     Returns
     -------
@@ -146,8 +177,9 @@ def refine(
 
     Raises
     ------
-    ValueError, TypeError, NotImplementedError, OSError
-        See the module's "Errors" section (``OSError``: a tags file that cannot be read).
+    ValueError, TypeError, RuntimeError, OSError
+        See the module's "Errors" section (``OSError``: a tags file that cannot be read;
+        ``RuntimeError``: ``backend="gpu"`` without a GPU adapter, or the GPU failing).
 
     Examples
     --------
@@ -157,6 +189,10 @@ def refine(
     >>> rv, rf, rn = tessella.refine(v, f, scheme="flat", level=2)
     >>> rv.shape, rf.shape, rf.dtype.name
     ((6, 3), (4, 3), 'uint32')
+    >>> wave = {"kind": "sine", "amplitude": 0.1, "frequency": np.pi / 2}
+    >>> rv, rf, rn = tessella.refine(v, f, scheme="flat", level=1, displace=wave, backend="cpu")
+    >>> rv[1]  # (1, 0, 0) moved by 0.1 sin(pi/2 * 1) along its normal (0, 0, 1)
+    array([1. , 0. , 0.1], dtype=float32)
     """
     if faces is None and _is_trimesh(vertices):
         return refine_trimesh(
@@ -170,6 +206,7 @@ def refine(
             crease_angle=crease_angle,
             backend=backend,
             weld=weld,
+            displace=displace,
         )
     if faces is None:
         raise ValueError("refine(vertices, faces, ...) needs faces, an (m, 3) integer array")
@@ -185,6 +222,7 @@ def refine(
         crease_angle=crease_angle,
         backend=backend,
         weld=weld,
+        displace=displace,
     )
 
 

@@ -44,6 +44,7 @@ def refine_trimesh(
     crease_angle: Optional[float] = None,
     backend: str = "auto",
     weld: bool = True,
+    displace: Any = None,
 ) -> Any:
     """Refine a ``trimesh.Trimesh`` and return a new ``Trimesh`` with refined normals.
 
@@ -72,5 +73,6 @@ def refine_trimesh(
         crease_angle=crease_angle,
         backend=backend,
         weld=weld,
+        displace=displace,
     )
     return to_trimesh(v, f, n)

@@ -13,6 +13,8 @@ _U32 = npt.NDArray[np.uint32]
 _Path = Union[str, "os.PathLike[str]"]
 # A dict in the sidecar-JSON structure, that JSON as a string, or the path of a JSON file.
 _Tags = Union[Dict[str, Any], str, "os.PathLike[str]", None]
+# {"kind": "sine"|"perlin", "amplitude": a, "frequency": f[, "seed": s]} or (kind, a, f[, s]).
+_Displace = Union[Dict[str, Any], Tuple[Any, ...], List[Any], None]
 
 def refine(
     vertices: npt.ArrayLike,
@@ -27,6 +29,7 @@ def refine(
     crease_angle: Optional[float] = None,
     backend: str = "auto",
     weld: bool = True,
+    displace: _Displace = None,
 ) -> Tuple[_F32, _U32, _F32]: ...
 def quality(
     vertices: npt.ArrayLike,
@@ -54,3 +57,4 @@ def save(
 ) -> None: ...
 def schemes() -> List[str]: ...
 def backends() -> List[str]: ...
+def gpu_info() -> Optional[Dict[str, Any]]: ...

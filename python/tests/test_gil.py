@@ -12,6 +12,8 @@ from conftest import icosphere
 WORK = {
     "refine": lambda v, f: tessella.refine(v, f, v, scheme="pn", level=48),
     "refine-png1": lambda v, f: tessella.refine(v, f, v, scheme="png1", level=48),
+    # Opening the device, the GPU work and the wait for it (lavapipe where there is no GPU).
+    "refine-gpu": lambda v, f: tessella.refine(v, f, v, scheme="pn", level=48, backend="gpu"),
     "quality": lambda v, f: tessella.quality(v, f, v, scheme="png1", level=96),
 }
 
