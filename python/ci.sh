@@ -4,14 +4,23 @@
 #   bash python/ci.sh [VENV]        (VENV defaults to $TESSELLA_VENV, else /tmp/tessella-venv)
 #
 # Needs: python3 with venv, a Rust toolchain (cargo, for the extension and the CLI the tests
-# compare against), PyPI. The FEM example's gmsh wheel needs X11/OpenGL client libraries; when
-# they are missing and this runs as root with apt-get, they are installed (Debian names below).
+# compare against), PyPI, and a GPU adapter for tests/test_gpu.py: without a GPU, Mesa's
+# software Vulkan driver (lavapipe). The FEM example's gmsh wheel needs X11/OpenGL client
+# libraries. When the libraries or the Vulkan driver are missing and this runs as root with
+# apt-get, they are installed (Debian names below).
 set -euo pipefail
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 VENV="${1:-${TESSELLA_VENV:-/tmp/tessella-venv}}"
 PYTHON="${PYTHON:-python3}"
 GMSH_DEBS="libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1"
+VULKAN_DEBS="mesa-vulkan-drivers libvulkan1"
+
+# A Vulkan loader and at least one driver (lavapipe is one); the GPU tests fail without them.
+have_vulkan() {
+    { ldconfig -p 2>/dev/null || /sbin/ldconfig -p 2>/dev/null; } | grep -q 'libvulkan\.so\.1' &&
+        { compgen -G "/usr/share/vulkan/icd.d/*.json" || compgen -G "/etc/vulkan/icd.d/*.json"; } >/dev/null
+}
 
 echo "== python: fresh venv in $VENV"
 rm -rf "$VENV"
@@ -30,6 +39,16 @@ if ! "$VENV/bin/python" -c "import gmsh" 2>/dev/null; then
         DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $GMSH_DEBS >/dev/null
     else
         echo "gmsh cannot be imported; install: apt-get install $GMSH_DEBS" >&2
+    fi
+fi
+
+if ! have_vulkan; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "== python: installing a software Vulkan driver for the GPU tests: $VULKAN_DEBS"
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $VULKAN_DEBS >/dev/null
+    else
+        echo "no Vulkan driver found, the GPU tests will fail; install: apt-get install $VULKAN_DEBS" >&2
     fi
 fi
 
