@@ -31,7 +31,9 @@ def test_python_equals_cli(tmp_path, cli, case):
         capture_output=True,
     )
     cv, cf, cn = read_ply_with_meshio(dst)
-    pv, pf, pn = tessella.refine(v, f, n, scheme=case["scheme"], level=case["level"], **case.get("kw", {}))
+    # backend="cpu" like the CLI's: "auto" would take a hardware GPU where there is one.
+    pv, pf, pn = tessella.refine(v, f, n, scheme=case["scheme"], level=case["level"], backend="cpu",
+                                 **case.get("kw", {}))
     np.testing.assert_array_equal(cv, pv)
     np.testing.assert_array_equal(cf, pf)
     np.testing.assert_array_equal(cn, pn)

@@ -68,7 +68,8 @@ def test_python_equals_cli(tmp_path, cli, case):
         args += ["--tags", str(tags_file)]
         kw["tags"] = case["tags"]
     cv, cf, cn = cli_refine(cli, tmp_path, v, f, n, args)
-    pv, pf, pn = tessella.refine(v, f, n, scheme=case["scheme"], level=case["level"], **kw)
+    # backend="cpu" like the CLI's: "auto" would take a hardware GPU where there is one.
+    pv, pf, pn = tessella.refine(v, f, n, scheme=case["scheme"], level=case["level"], backend="cpu", **kw)
     np.testing.assert_array_equal(cv, pv)
     np.testing.assert_array_equal(cf, pf)
     np.testing.assert_array_equal(cn, pn)
