@@ -80,7 +80,8 @@ fn refine<'py>(
     })?;
     if let Some(note) = out.fallback {
         let note = std::ffi::CString::new(note.replace('\0', " "))?;
-        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 1)?;
+        // stacklevel 2: the caller of the tessella.refine wrapper.
+        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 2)?;
     }
     let out = out.mesh;
     Ok((
