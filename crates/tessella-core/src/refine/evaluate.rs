@@ -14,6 +14,10 @@ use rayon::prelude::*;
 
 /// Faces per parallel task: large enough to amortise scheduling, small enough to balance.
 const FACES_PER_TASK: usize = 32;
+/// Corner vertices per parallel task (each is one point evaluation).
+const CORNERS_PER_TASK: usize = 1024;
+/// Coarse edges per parallel task.
+const EDGES_PER_TASK: usize = 64;
 
 /// Evaluates one point of one patch from its stencil row: `(position, unit normal)`.
 ///
@@ -302,6 +306,7 @@ impl Job<'_> {
             .par_iter_mut()
             .zip(corner_n.par_iter_mut())
             .enumerate()
+            .with_min_len(CORNERS_PER_TASK)
             .for_each(|(v, (p, nrm))| {
                 match topo.vertex_owner[v] {
                     Some((f, c)) => {
@@ -334,9 +339,7 @@ impl Job<'_> {
                 let along = |s: usize| {
                     self.stencil.edge_points[k][if forward { s } else { m - 1 - s }] as usize
                 };
-                for s in 0..m {
-                    self.eval_into::<K>(f, along(s), &mut ps[s], &mut ns[s]);
-                }
+                self.eval_block_into::<K>(&self.stencil.blocks.edges[k], f, ps, ns, !forward);
                 if let (Some(uvs), Some(face_uv)) = (uvs, self.face_uvs(f)) {
                     for (s, uv) in uvs.iter_mut().enumerate() {
                         *uv = interpolate_uv(self.stencil.row(along(s)), &face_uv);
@@ -349,11 +352,13 @@ impl Job<'_> {
                     .zip(edge_n.par_chunks_mut(m))
                     .zip(edge_uv.par_chunks_mut(m))
                     .enumerate()
+                    .with_min_len(EDGES_PER_TASK)
                     .for_each(|(e, ((ps, ns), uv))| eval_edge(e, ps, ns, Some(uv))),
                 None => edge_p
                     .par_chunks_mut(m)
                     .zip(edge_n.par_chunks_mut(m))
                     .enumerate()
+                    .with_min_len(EDGES_PER_TASK)
                     .for_each(|(e, (ps, ns))| eval_edge(e, ps, ns, None)),
             }
         }
