@@ -196,11 +196,16 @@ fn bench_refine(c: &mut Criterion) {
 
     let mut group = c.benchmark_group("refine-level16-schemes");
     group.sample_size(20);
-    for (name, scheme) in [
-        ("flat", Scheme::Flat),
-        ("phong", Scheme::PHONG),
-        ("pn", Scheme::Pn),
+    // PNG1, PN-AEN and ST relative to PN, measured in the same run.
+    for scheme in [
+        Scheme::Pn,
+        Scheme::Flat,
+        Scheme::PHONG,
+        Scheme::PnAen,
+        Scheme::ScalarTagged,
+        Scheme::Png1,
     ] {
+        let name = scheme.name();
         let refiner = Refiner::new(&mesh, &RefineOptions::new(scheme, 16)).unwrap();
         group.throughput(Throughput::Elements(refiner.layout().vertex_count));
         let mut out = RefinedMesh::default();
