@@ -389,3 +389,23 @@ fn gpu_refinement_matches_the_cpu_and_displacement_moves_vertices() {
     let largest = moved.fold(0.0, f32::max);
     assert!(largest > 0.01 && largest <= 0.05 + 1e-5, "{largest}");
 }
+
+#[test]
+fn demo_tables_every_sample_and_scheme() {
+    let o = tessella(&["demo", "--level", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    for name in ["icosphere", "torus", "tetrahedron", "hard-cube", "creature"] {
+        for scheme in ["flat", "phong", "pn", "pn-aen", "st", "png1"] {
+            assert!(
+                table.contains(&format!("| {name} | {scheme} |")),
+                "{name} {scheme} missing:\n{table}"
+            );
+        }
+    }
+    // The flat rows sit on the coarse mesh; the curved ones bulge away from it.
+    assert!(
+        table.contains("| icosphere | flat | 80 | 162 | 320 |"),
+        "{table}"
+    );
+}

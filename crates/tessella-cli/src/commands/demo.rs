@@ -4,12 +4,19 @@ use crate::args::DemoArgs;
 use anyhow::Context;
 use std::path::Path;
 use std::time::Instant;
-use tessella_core::{refine, samples, Mesh, RefineOptions, RefinedMesh, Scheme};
+use tessella_core::{refine, samples, Mesh, RefineOptions, RefinedMesh, Scheme, Tags};
 use tessella_gpu::{render_compare, save_png, RenderOptions};
 use tessella_io::{write_mesh, MeshView, WriteOptions};
 
 /// The schemes the demo compares.
-pub const SCHEMES: [Scheme; 3] = [Scheme::Flat, Scheme::PHONG, Scheme::Pn];
+pub const SCHEMES: [Scheme; 6] = [
+    Scheme::Flat,
+    Scheme::PHONG,
+    Scheme::Pn,
+    Scheme::PnAen,
+    Scheme::ScalarTagged,
+    Scheme::Png1,
+];
 
 /// Largest distance between matching vertices of two refinements with the same layout.
 fn max_offset(a: &RefinedMesh, b: &RefinedMesh) -> f32 {
@@ -35,7 +42,22 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
         let flat = refine(&mesh, &RefineOptions::new(Scheme::Flat, args.level))?;
         for scheme in SCHEMES {
             let start = Instant::now();
-            let out = refine(&mesh, &RefineOptions::new(scheme, args.level))?;
+            let mut options = RefineOptions::new(scheme, args.level);
+            if scheme == Scheme::ScalarTagged {
+                // Hard edges in the sample become creases, as `tessella refine` does.
+                options = options.with_tags(Tags::from_split_normals(&mesh));
+            }
+            let out = match refine(&mesh, &options) {
+                Ok(out) => out,
+                Err(e) => {
+                    println!(
+                        "| {name} | {} | {} | refused: {e} | | | |",
+                        scheme.name(),
+                        mesh.face_count()
+                    );
+                    continue;
+                }
+            };
             let ms = start.elapsed().as_secs_f64() * 1e3;
             let offset = 100.0 * max_offset(&out, &flat) / mesh.diagonal();
             println!(
