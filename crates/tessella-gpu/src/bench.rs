@@ -9,7 +9,6 @@ use crate::error::GpuError;
 use crate::render::{render_group, scene_uniforms, PatternScene, RenderOptions, Target};
 use std::time::Instant;
 use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
-use wgpu::util::DeviceExt;
 
 /// One row of [`refine_throughput`].
 #[derive(Debug, Clone, PartialEq)]
@@ -314,14 +313,7 @@ impl StaticScene {
             .zip(&refined.normals)
             .map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]])
             .collect();
-        let init = |label, contents: &[u8], usage| {
-            ctx.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents,
-                    usage,
-                })
-        };
+        let init = |label, contents: &[u8], usage| ctx.buffer_init(label, contents, usage);
         let vertices = init(
             "static vertices",
             bytemuck::cast_slice(&interleaved),

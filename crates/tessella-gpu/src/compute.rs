@@ -10,7 +10,6 @@ use crate::error::GpuError;
 use crate::gpu_types::RefineParams;
 use crate::patch::{self, PatchBuffers};
 use tessella_core::{Pattern, RefinedMesh, Refiner};
-use wgpu::util::DeviceExt;
 
 /// Threads per workgroup of both kernels (`@workgroup_size(64)` in `refine.wgsl`).
 const WORKGROUP: u64 = 64;
@@ -238,13 +237,11 @@ pub fn gpu_refine_with(
                 count: count as u32,
                 ..tables.params
             };
-            let params_buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("refine params"),
-                    contents: bytemuck::bytes_of(&params),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
+            let params_buffer = ctx.buffer_init(
+                "refine params",
+                bytemuck::bytes_of(&params),
+                wgpu::BufferUsages::UNIFORM,
+            );
             let refine_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("refine"),
                 layout: &pipelines.refine_layout,

@@ -212,6 +212,22 @@ impl GpuContext {
         Ok(bytes)
     }
 
+    /// A buffer initialised from `contents`: the one place buffers with data are made.
+    pub(crate) fn buffer_init(
+        &self,
+        label: &str,
+        contents: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        use wgpu::util::DeviceExt;
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+    }
+
     /// A storage buffer initialised from `data` (at least 4 bytes: empty bindings are invalid).
     pub(crate) fn storage_buffer(
         &self,
@@ -219,7 +235,6 @@ impl GpuContext {
         data: &[u8],
         extra: wgpu::BufferUsages,
     ) -> wgpu::Buffer {
-        use wgpu::util::DeviceExt;
         let padded;
         let contents = if data.len() < 4 {
             padded = [0u8; 4];
@@ -227,11 +242,6 @@ impl GpuContext {
         } else {
             data
         };
-        self.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage: wgpu::BufferUsages::STORAGE | extra,
-            })
+        self.buffer_init(label, contents, wgpu::BufferUsages::STORAGE | extra)
     }
 }

@@ -7,7 +7,6 @@ use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::EvalParams;
 use tessella_core::{NormalMode, PatchNets, Stencil};
-use wgpu::util::DeviceExt;
 
 /// `NormalMode` as `eval.wgsl` numbers it.
 pub(crate) fn normal_mode_code(mode: NormalMode) -> u32 {
@@ -90,14 +89,8 @@ impl PatchBuffers {
         };
         let (dparams, ddata) = displacement.gpu_data();
         let copy = wgpu::BufferUsages::COPY_DST;
-        let uniform = |label, bytes: &[u8]| {
-            ctx.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents: bytes,
-                    usage: wgpu::BufferUsages::UNIFORM | copy,
-                })
-        };
+        let uniform =
+            |label, bytes: &[u8]| ctx.buffer_init(label, bytes, wgpu::BufferUsages::UNIFORM | copy);
         Ok(PatchBuffers {
             stencil: ctx.storage_buffer("stencil", bytemuck::cast_slice(&stencil.weights), copy),
             points: ctx.storage_buffer("net points", bytemuck::cast_slice(&nets.points), copy),

@@ -12,7 +12,6 @@ use crate::patch::{self, PatchBuffers};
 use image::RgbaImage;
 use tessella_core::scheme::build_nets;
 use tessella_core::{Mesh, PatchNets, Pattern, RefineError, RefineOptions, Stencil};
-use wgpu::util::DeviceExt;
 
 pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -338,14 +337,7 @@ impl PatternScene {
         let pattern = Pattern::uniform(refine.level);
         let rows: Vec<u32> = (0..pattern.points.len() as u32).collect();
         let indices: Vec<u32> = pattern.triangles.iter().flatten().copied().collect();
-        let init = |label, contents: &[u8], usage| {
-            ctx.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents,
-                    usage,
-                })
-        };
+        let init = |label, contents: &[u8], usage| ctx.buffer_init(label, contents, usage);
         let pattern_vertices = init(
             "pattern vertices",
             bytemuck::cast_slice(&rows),
