@@ -360,31 +360,13 @@ impl Tags {
     /// different normals at either end gets sharpness 1; vertices on exactly one crease get a
     /// crease direction reproducing the two sides' normals (see [`Tags::from_crease_angle`]).
     pub fn from_split_normals(mesh: &Mesh) -> Tags {
-        let topo = mesh.topology();
-        let mut tags = Tags::new();
         let normal = |v: u32| mesh.normals()[v as usize];
-        for f in 0..mesh.face_count() {
+        Tags::creases_where(mesh, |topo, f, k| {
             let t = mesh.triangles()[f];
-            for k in 0..3 {
-                if let Some(x) = crate::scheme::across_edge(mesh, &topo, f, k) {
-                    if normal(x.at_a) != normal(t[k]) || normal(x.at_b) != normal(t[(k + 1) % 3]) {
-                        let (a, b) = (
-                            topo.position_ids[t[k] as usize],
-                            topo.position_ids[t[(k + 1) % 3] as usize],
-                        );
-                        tags.edges.insert(
-                            [a.min(b), a.max(b)],
-                            EdgeTag {
-                                sharpness: 1.0,
-                                kappa: 0.0,
-                            },
-                        );
-                    }
-                }
-            }
-        }
-        tags.add_crease_directions(mesh, &topo);
-        tags
+            crate::scheme::across_edge(mesh, topo, f, k).is_some_and(|x| {
+                normal(x.at_a) != normal(t[k]) || normal(x.at_b) != normal(t[(k + 1) % 3])
+            })
+        })
     }
 
     /// Creases where adjacent faces bend by more than `degrees` (their unit normals differ by
@@ -393,33 +375,36 @@ impl Tags {
         if !degrees.is_finite() || !(0.0..=180.0).contains(&degrees) {
             return Err(TagError::BadAngle(degrees));
         }
-        let topo = mesh.topology();
         let cos = degrees.to_radians().cos();
+        Ok(Tags::creases_where(mesh, |topo, f, k| {
+            let g = topo.neighbors[f][k];
+            g != NO_NEIGHBOR
+                && (g as usize) > f
+                && face_normal(mesh, f).dot(face_normal(mesh, g as usize)) < cos
+        }))
+    }
+
+    /// Full creases (sharpness 1) on every edge `k` of face `f` for which `is_crease` holds,
+    /// keyed by position, plus the crease directions at their vertices.
+    fn creases_where(mesh: &Mesh, is_crease: impl Fn(&Topology, usize, usize) -> bool) -> Tags {
+        let topo = mesh.topology();
         let mut tags = Tags::new();
         for f in 0..mesh.face_count() {
             let t = mesh.triangles()[f];
             for k in 0..3 {
-                let g = topo.neighbors[f][k];
-                if g == NO_NEIGHBOR || (g as usize) < f {
-                    continue;
-                }
-                if face_normal(mesh, f).dot(face_normal(mesh, g as usize)) < cos {
-                    let (a, b) = (
-                        topo.position_ids[t[k] as usize],
-                        topo.position_ids[t[(k + 1) % 3] as usize],
-                    );
-                    tags.edges.insert(
-                        [a.min(b), a.max(b)],
-                        EdgeTag {
-                            sharpness: 1.0,
-                            kappa: 0.0,
-                        },
-                    );
+                if is_crease(&topo, f, k) {
+                    let a = topo.position_ids[t[k] as usize];
+                    let b = topo.position_ids[t[(k + 1) % 3] as usize];
+                    let tag = EdgeTag {
+                        sharpness: 1.0,
+                        kappa: 0.0,
+                    };
+                    tags.edges.insert([a.min(b), a.max(b)], tag);
                 }
             }
         }
         tags.add_crease_directions(mesh, &topo);
-        Ok(tags)
+        tags
     }
 
     /// For positions with exactly two creased edges: `Δ` across the crease in the tangent plane
