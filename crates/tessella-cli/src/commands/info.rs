@@ -1,29 +1,10 @@
 //! `tessella info`: what a mesh file holds and what is wrong with it.
 
 use crate::args::InfoArgs;
-use glam_free::*;
 use serde::Serialize;
+use tessella_core::mesh::has_zero_area;
 use tessella_core::{quality, Mesh, QualityReport, RefineOptions, Scheme, TopologyReport};
 use tessella_io::read_raw;
-
-/// Small vector helpers; the CLI does not need a math crate for a report.
-mod glam_free {
-    pub fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
-        [
-            (a[0] - b[0]) as f64,
-            (a[1] - b[1]) as f64,
-            (a[2] - b[2]) as f64,
-        ]
-    }
-    pub fn cross_len2(a: [f64; 3], b: [f64; 3]) -> f64 {
-        let c = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
-    }
-}
 
 #[derive(Serialize)]
 struct Info {
@@ -59,9 +40,8 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
             out_of_range += 1;
             continue;
         }
-        let [a, b, c] = t.map(|i| raw.positions[i as usize]);
         let repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-        if repeated || cross_len2(sub(b, a), sub(c, a)) == 0.0 {
+        if repeated || has_zero_area(&raw.positions, *t) {
             degenerate += 1;
             continue;
         }

@@ -85,8 +85,7 @@ impl Mesh {
                     indices: *t,
                 });
             }
-            let [a, b, c] = t.map(|i| Vec3::from(positions[i as usize]).as_dvec3());
-            if (b - a).cross(c - a).length_squared() == 0.0 {
+            if has_zero_area(&positions, *t) {
                 return Err(MeshError::ZeroArea { face });
             }
         }
@@ -175,6 +174,13 @@ impl Mesh {
     pub fn topology(&self) -> Topology {
         Topology::new(self)
     }
+}
+
+/// True when triangle `t`'s corners are collinear or coincide (its cross product is exactly zero
+/// in f64). Indices must be in range.
+pub fn has_zero_area(positions: &[[f32; 3]], t: [u32; 3]) -> bool {
+    let [a, b, c] = t.map(|i| Vec3::from(positions[i as usize]).as_dvec3());
+    (b - a).cross(c - a).length_squared() == 0.0
 }
 
 /// Axis-aligned bounds of a point set; `([0;3],[0;3])` when it is empty.
