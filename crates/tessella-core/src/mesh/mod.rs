@@ -62,11 +62,7 @@ impl Mesh {
         if triangles.is_empty() {
             return Err(MeshError::NoTriangles);
         }
-        for (vertex, p) in positions.iter().enumerate() {
-            if !p.iter().all(|c| c.is_finite()) {
-                return Err(MeshError::NonFinitePosition { vertex, value: *p });
-            }
-        }
+        check_finite(&positions)?;
         for (face, t) in triangles.iter().enumerate() {
             for &index in t {
                 if index as usize >= count {
@@ -173,6 +169,80 @@ impl Mesh {
     /// Edge adjacency, boundary and non-manifold edges, split normals (computed on demand).
     pub fn topology(&self) -> Topology {
         Topology::new(self)
+    }
+
+    /// Moves the vertices of this mesh: the same triangles (and UVs) with new `positions` and,
+    /// optionally, new `normals` — one frame of a deforming mesh.
+    ///
+    /// The new data is checked as [`Mesh::new`] checks it (one position per vertex, finite,
+    /// no triangle of zero area; given normals finite and non-zero, then normalised). Without
+    /// `normals`, they are recomputed angle-weighted, as [`Mesh::new`] does (smooth across
+    /// split vertices: pass normals to keep hard edges). On error `self` is left unchanged.
+    ///
+    /// ```
+    /// use tessella_core::{samples, MeshError};
+    /// let mut mesh = samples::icosphere(1);
+    /// let bigger: Vec<[f32; 3]> = mesh.positions().iter().map(|p| p.map(|c| 2.0 * c)).collect();
+    /// mesh.update(&bigger, None)?;
+    /// assert_eq!(mesh.positions()[0], bigger[0]);
+    /// let mut bad = bigger.clone();
+    /// bad[3][1] = f32::NAN;
+    /// assert!(matches!(mesh.update(&bad, None), Err(MeshError::NonFinitePosition { vertex: 3, .. })));
+    /// assert_eq!(mesh.positions()[3], bigger[3]); // untouched
+    /// # Ok::<(), MeshError>(())
+    /// ```
+    pub fn update(
+        &mut self,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<(), MeshError> {
+        let count = self.positions.len();
+        if positions.len() != count {
+            return Err(MeshError::AttributeCount {
+                what: "positions",
+                got: positions.len(),
+                expected: count,
+            });
+        }
+        check_finite(positions)?;
+        if let Some(face) = self
+            .triangles
+            .iter()
+            .position(|&t| has_zero_area(positions, t))
+        {
+            return Err(MeshError::ZeroArea { face });
+        }
+        let new_normals = match normals {
+            Some(given) => {
+                if given.len() != count {
+                    return Err(MeshError::AttributeCount {
+                        what: "normals",
+                        got: given.len(),
+                        expected: count,
+                    });
+                }
+                normals::normalized(given.to_vec())?
+            }
+            None => normals::angle_weighted(positions, &self.triangles),
+        };
+        self.positions.copy_from_slice(positions);
+        self.normals = new_normals;
+        self.normals_computed = normals.is_none();
+        Ok(())
+    }
+}
+
+/// The first non-finite position, as an error.
+fn check_finite(positions: &[[f32; 3]]) -> Result<(), MeshError> {
+    match positions
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        Some(vertex) => Err(MeshError::NonFinitePosition {
+            vertex,
+            value: positions[vertex],
+        }),
+        None => Ok(()),
     }
 }
 

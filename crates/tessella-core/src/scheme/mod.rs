@@ -125,6 +125,15 @@ pub struct PatchNets {
 }
 
 impl PatchNets {
+    /// Nets of no patches, ready to be filled by [`build_nets_into`].
+    pub fn empty(basis: Basis, normal_mode: NormalMode) -> PatchNets {
+        PatchNets {
+            basis,
+            normal_mode,
+            points: Vec::new(),
+            normals: Vec::new(),
+        }
+    }
     /// Number of patches.
     pub fn len(&self) -> usize {
         self.normals.len() / NORMAL_NET_LEN
@@ -172,6 +181,22 @@ pub fn build_nets_tagged(
     normal_mode: NormalMode,
     tags: Option<&Tags>,
 ) -> Result<PatchNets, RefineError> {
+    let mut nets = PatchNets::empty(scheme.basis(), normal_mode);
+    build_nets_into(mesh, topology, scheme, normal_mode, tags, &mut nets)?;
+    Ok(nets)
+}
+
+/// [`build_nets_tagged`] into existing nets, reusing their memory: the per-frame update of a
+/// deforming mesh (O(coarse triangles), no allocation once `nets` has the mesh's size). Every
+/// check runs before the first write, so on error `nets` is unchanged.
+pub fn build_nets_into(
+    mesh: &Mesh,
+    topology: Option<&Topology>,
+    scheme: &Scheme,
+    normal_mode: NormalMode,
+    tags: Option<&Tags>,
+    nets: &mut PatchNets,
+) -> Result<(), RefineError> {
     scheme.validate()?;
     let owned;
     let topology = match topology {
@@ -195,11 +220,14 @@ pub fn build_nets_tagged(
     let basis = scheme.basis();
     let k = basis.len();
     let faces = mesh.face_count();
-    let mut points = vec![[0.0f32; 3]; faces * k];
-    let mut normals = vec![[0.0f32; 3]; faces * NORMAL_NET_LEN];
-    points
+    nets.basis = basis;
+    nets.normal_mode = normal_mode;
+    // Reuses the allocations of a previous frame (same face count: no allocation).
+    nets.points.resize(faces * k, [0.0; 3]);
+    nets.normals.resize(faces * NORMAL_NET_LEN, [0.0; 3]);
+    nets.points
         .par_chunks_mut(k)
-        .zip(normals.par_chunks_mut(NORMAL_NET_LEN))
+        .zip(nets.normals.par_chunks_mut(NORMAL_NET_LEN))
         .enumerate()
         .for_each(|(f, (pts, nrm))| {
             let c = Corners {
@@ -243,12 +271,7 @@ pub fn build_nets_tagged(
                 *dst = src.into();
             }
         });
-    Ok(PatchNets {
-        basis,
-        normal_mode,
-        points,
-        normals,
-    })
+    Ok(())
 }
 
 /// The face across local edge `k` of face `f` (by position), with the vertex indices it uses at
