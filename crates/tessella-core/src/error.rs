@@ -65,10 +65,59 @@ pub enum RefineError {
     IndexOverflow { level: u32, vertices: u64 },
     #[error("Phong shape factor alpha must be finite (usually within 0..=1), got {0}")]
     BadAlpha(f32),
+    #[error("bad vertex format: {0}")]
+    BadVertexFormat(String),
+    #[error("the output's {what} hold {got} entries, the refined mesh needs {need}")]
+    OutputTooSmall {
+        what: String,
+        got: usize,
+        need: usize,
+    },
+    #[error("texture coordinates were asked for, but the mesh has none")]
+    NoUvs,
+    #[error("this frame was made by another plan; make frames with the plan that evaluates them")]
+    ForeignFrame,
+    #[error("the mesh does not have the plan's topology ({reason}); make a new plan for it")]
+    TopologyMismatch { reason: String },
+    #[error("the refined mesh has {vertices} vertices, more than {index_bits}-bit indices can address; use 32-bit indices")]
+    IndicesTooNarrow { vertices: u64, index_bits: u32 },
     #[error(transparent)]
     Mesh(#[from] MeshError),
     #[error(transparent)]
-    Tags(#[from] crate::tags::TagError),
+    Tags(#[from] TagError),
+}
+
+/// Bad tags: what is wrong and how to fix it.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TagError {
+    #[error("{what} names vertex {vertex}, but the mesh has only {count} vertices; use indices of the mesh the tags were made for")]
+    UnknownVertex {
+        what: String,
+        vertex: u32,
+        count: usize,
+    },
+    #[error("{what} is {value} ; tags must be finite numbers")]
+    NotFinite { what: String, value: f32 },
+    #[error("{what} is {value}, outside {range}")]
+    OutOfRange {
+        what: String,
+        value: f32,
+        range: &'static str,
+    },
+    #[error(
+        "edge tag on vertices {a} and {b}, but no triangle has that edge; tag edges of the mesh"
+    )]
+    NotAnEdge { a: u32, b: u32 },
+    #[error("edge tag on vertices {a} and {b}, a boundary or non-manifold edge: a crease needs exactly two faces; remove the tag")]
+    BoundaryEdge { a: u32, b: u32 },
+    #[error("vertex {vertex} has {count} creased edges: the scalar-tagged scheme allows one crease (two creased edges) through a vertex; remove some edge tags or use PNG1 / PN-AEN")]
+    TooManyCreases { vertex: u32, count: usize },
+    #[error("triangle {face} has {count} vertices with a crease direction; the scalar-tagged scheme allows at most 2 per triangle")]
+    TooManyCreasedVertices { face: usize, count: usize },
+    #[error("crease angle must be a finite number of degrees in 0..=180, got {0}")]
+    BadAngle(f32),
+    #[error("tags JSON: {0}")]
+    Json(String),
 }
 
 /// Formats a byte count for messages: `1.5 GiB`.

@@ -3,7 +3,7 @@
 //! blocks (corners, edges, interiors, triangles) so threads never share a slot.
 
 use super::layout::OutputLayout;
-use super::RefinedMesh;
+use super::output::Sink;
 use crate::basis::NORMAL_NET_LEN;
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
@@ -118,37 +118,46 @@ fn accumulate(
     }
 }
 
-/// Evaluates a run of pattern points of one patch ([`Block`]) into `positions`/`normals`
-/// (reversed when `reverse`, for edges stored against the owner's direction). Equal, bit for
-/// bit, to [`eval_point`] on each point.
+/// Evaluates a run of pattern points of one patch ([`Block`]) into `sink` slots
+/// `base..base + len` (reversed when `reverse`, for edges stored against the owner's
+/// direction). Normals are computed only when the sink takes them. Equal, bit for bit, to
+/// [`eval_point`] on each point.
 #[allow(clippy::too_many_arguments)]
-pub fn eval_block<const K: usize>(
+pub(crate) fn eval_block<const K: usize>(
     block: &Block,
     stencil: &Stencil,
     points: &[[f32; 3]],
     normals: &[[f32; 3]],
     mode: NormalMode,
-    positions_out: &mut [[f32; 3]],
-    normals_out: &mut [[f32; 3]],
+    sink: &mut Sink,
+    base: usize,
     reverse: bool,
 ) {
     let points: &[[f32; 3]; K] = points.try_into().expect("patch has K control points");
     let len = block.len();
-    let slot = |i: usize| if reverse { len - 1 - i } else { i };
+    let want_normals = sink.wants_normals();
+    let slot = |i: usize| base + if reverse { len - 1 - i } else { i };
     let mut pos = [[0.0f32; TILE]; 3];
     let mut d1 = [[0.0f32; TILE]; 3];
     let mut d2 = [[0.0f32; TILE]; 3];
     for start in (0..len).step_by(TILE) {
         let n = TILE.min(len - start);
         accumulate(&block.value, len, start, n, points, &mut pos);
-        if mode == NormalMode::Real {
-            accumulate(&block.du, len, start, n, points, &mut d1);
-            accumulate(&block.dv, len, start, n, points, &mut d2);
-        } else {
-            accumulate(&block.normal, len, start, n, normals, &mut d1);
+        if want_normals {
+            if mode == NormalMode::Real {
+                accumulate(&block.du, len, start, n, points, &mut d1);
+                accumulate(&block.dv, len, start, n, points, &mut d2);
+            } else {
+                accumulate(&block.normal, len, start, n, normals, &mut d1);
+            }
         }
         for i in 0..n {
             let at = |a: &[[f32; TILE]; 3]| Vec3::new(a[0][i], a[1][i], a[2][i]);
+            let s = slot(start + i);
+            sink.set_position(s, at(&pos).into());
+            if !want_normals {
+                continue;
+            }
             let p = block.points[start + i] as usize;
             let normal = if mode == NormalMode::Real {
                 finish_normal::<K>(mode, at(&d1), at(&d2), stencil.row(p), points, normals)
@@ -168,9 +177,7 @@ pub fn eval_block<const K: usize>(
                     unit
                 }
             };
-            let s = slot(start + i);
-            positions_out[s] = at(&pos).into();
-            normals_out[s] = normal.into();
+            sink.set_normal(s, normal.into());
         }
     }
 }
@@ -185,34 +192,33 @@ fn interpolate_uv(row: &[f32], uv: &[[f32; 2]; 3]) -> [f32; 2] {
     ]
 }
 
-/// Resizes `v` to `n` slots, keeping the allocation when it already fits. Slots are overwritten.
-fn prepare<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
-    if v.len() != n {
-        if v.capacity() >= n {
-            v.resize(n, T::default());
-            v.truncate(n);
-        } else {
-            *v = vec![T::default(); n];
-        }
-    }
-}
-
-/// One refinement: inputs borrowed from a [`super::Refiner`].
+/// One frame's vertices: the frame's mesh and nets with the plan's tables.
 pub(crate) struct Job<'a> {
+    /// The frame's mesh (positions and normals of this frame; the plan's triangles).
     pub mesh: &'a Mesh,
-    pub topology: Option<&'a Topology>,
+    pub topology: &'a Topology,
     pub layout: &'a OutputLayout,
-    pub pattern: &'a Pattern,
     pub stencil: &'a Stencil,
     pub nets: &'a PatchNets,
 }
 
 impl Job<'_> {
-    pub fn run(&self, out: &mut RefinedMesh, progress: &(dyn Fn(u64) + Sync)) {
+    /// Writes every vertex of the layout into `sink` (exactly `layout.vertex_count` slots).
+    /// `progress` receives the number of faces done, adding up to the face count.
+    pub fn vertices(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
+        debug_assert_eq!(sink.len() as u64, self.layout.vertex_count);
         match self.nets.basis.len() {
-            10 => self.run_k::<10>(out, progress),
-            21 => self.run_k::<21>(out, progress),
+            10 => self.vertices_k::<10>(sink, progress),
+            21 => self.vertices_k::<21>(sink, progress),
             k => unreachable!("no evaluator for a basis of {k} points"),
+        }
+    }
+
+    fn vertices_k<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
+        if self.layout.weld {
+            self.welded::<K>(sink, progress);
+        } else {
+            self.soup::<K>(sink, progress);
         }
     }
 
@@ -222,32 +228,14 @@ impl Job<'_> {
             .map(|uv| self.mesh.triangles()[f].map(|v| uv[v as usize]))
     }
 
-    /// Evaluates pattern point `p` of face `f` into the given slots.
+    /// Runs a block of patch `f` into `sink` at `base`, see [`eval_block`].
     #[inline(always)]
-    fn eval_into<const K: usize>(
-        &self,
-        f: usize,
-        p: usize,
-        pos: &mut [f32; 3],
-        nrm: &mut [f32; 3],
-    ) {
-        let row = self.stencil.row(p);
-        (*pos, *nrm) = eval_point::<K>(
-            row,
-            self.nets.patch_points(f),
-            self.nets.patch_normals(f),
-            self.nets.normal_mode,
-        );
-    }
-
-    /// Evaluates a run of pattern points of face `f`, see [`eval_block`].
-    #[inline(always)]
-    fn eval_block_into<const K: usize>(
+    fn block<const K: usize>(
         &self,
         block: &Block,
         f: usize,
-        ps: &mut [[f32; 3]],
-        ns: &mut [[f32; 3]],
+        sink: &mut Sink,
+        base: usize,
         reverse: bool,
     ) {
         eval_block::<K>(
@@ -256,111 +244,89 @@ impl Job<'_> {
             self.nets.patch_points(f),
             self.nets.patch_normals(f),
             self.nets.normal_mode,
-            ps,
-            ns,
+            sink,
+            base,
             reverse,
         );
     }
 
-    fn run_k<const K: usize>(&self, out: &mut RefinedMesh, progress: &(dyn Fn(u64) + Sync)) {
-        let nv = self.layout.vertex_count as usize;
-        prepare(&mut out.positions, nv);
-        prepare(&mut out.normals, nv);
-        match self.mesh.uvs() {
-            Some(_) => prepare(out.uvs.get_or_insert_with(Vec::new), nv),
-            None => out.uvs = None,
-        }
-        prepare(&mut out.triangles, self.layout.triangle_count as usize);
-        if self.layout.weld {
-            self.welded_vertices::<K>(out, progress);
-            self.welded_triangles(out, progress);
-        } else {
-            self.soup::<K>(out, progress);
-        }
-    }
-
-    fn welded_vertices<const K: usize>(
-        &self,
-        out: &mut RefinedMesh,
-        progress: &(dyn Fn(u64) + Sync),
-    ) {
-        let topo = self.topology.expect("welded output needs the topology");
+    fn welded<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
+        let topo = self.topology;
         let mesh = self.mesh;
-        let n = self.layout.level as usize;
-        let m = n - 1;
+        let m = self.layout.level as usize - 1;
         let ni = Pattern::interior_count(self.layout.level) as usize;
         let nv = mesh.vertex_count();
         let ne = topo.edges.len();
-        let (corner_p, rest_p) = out.positions.split_at_mut(nv);
-        let (edge_p, inner_p) = rest_p.split_at_mut(ne * m);
-        let (corner_n, rest_n) = out.normals.split_at_mut(nv);
-        let (edge_n, inner_n) = rest_n.split_at_mut(ne * m);
-        let mut uv_blocks = out.uvs.as_mut().map(|uv| {
-            let (c, rest) = uv.split_at_mut(nv);
-            let (e, i) = rest.split_at_mut(ne * m);
-            (c, e, i)
-        });
+        let (corners, rest) = sink.split_at(nv);
+        let (edges, interiors) = rest.split_at(ne * m);
+        let want_normals = corners.wants_normals();
+        let want_uvs = corners.wants_uvs();
 
         // Corners: the input position exactly; the normal of the owning patch.
-        corner_p
-            .par_iter_mut()
-            .zip(corner_n.par_iter_mut())
+        corners
+            .chunks(CORNERS_PER_TASK)
+            .into_par_iter()
             .enumerate()
-            .with_min_len(CORNERS_PER_TASK)
-            .for_each(|(v, (p, nrm))| {
-                match topo.vertex_owner[v] {
-                    Some((f, c)) => {
-                        let mut ignored = [0.0; 3];
-                        self.eval_into::<K>(
-                            f as usize,
-                            self.stencil.corner_point(c as usize) as usize,
-                            &mut ignored,
-                            nrm,
-                        );
+            .for_each(|(task, mut sink)| {
+                let first = task * CORNERS_PER_TASK;
+                for i in 0..sink.len() {
+                    let v = first + i;
+                    sink.set_position(i, mesh.positions()[v]);
+                    if want_normals {
+                        let normal = match topo.vertex_owner[v] {
+                            Some((f, c)) => {
+                                let row = self
+                                    .stencil
+                                    .row(self.stencil.corner_point(c as usize) as usize);
+                                eval_point::<K>(
+                                    row,
+                                    self.nets.patch_points(f as usize),
+                                    self.nets.patch_normals(f as usize),
+                                    self.nets.normal_mode,
+                                )
+                                .1
+                            }
+                            None => mesh.normals()[v],
+                        };
+                        sink.set_normal(i, normal);
                     }
-                    None => *nrm = mesh.normals()[v],
+                    if want_uvs {
+                        sink.set_uv(i, mesh.uvs().expect("checked: the mesh has uvs")[v]);
+                    }
                 }
-                *p = mesh.positions()[v];
             });
-        if let Some((corner_uv, _, _)) = uv_blocks.as_mut() {
-            corner_uv.copy_from_slice(mesh.uvs().unwrap());
-        }
 
         // Edges: evaluated on the owning face, stored from the lower vertex index to the higher.
         if m > 0 {
-            let edge_uv = uv_blocks.as_mut().map(|(_, e, _)| &mut **e);
-            let eval_edge = |e: usize,
-                             ps: &mut [[f32; 3]],
-                             ns: &mut [[f32; 3]],
-                             uvs: Option<&mut [[f32; 2]]>| {
-                let (f, k) = topo.edge_owner[e];
-                let (f, k) = (f as usize, k as usize);
-                let forward = mesh.triangles()[f][k] == topo.edges[e][0];
-                let along = |s: usize| {
-                    self.stencil.edge_points[k][if forward { s } else { m - 1 - s }] as usize
-                };
-                self.eval_block_into::<K>(&self.stencil.blocks.edges[k], f, ps, ns, !forward);
-                if let (Some(uvs), Some(face_uv)) = (uvs, self.face_uvs(f)) {
-                    for (s, uv) in uvs.iter_mut().enumerate() {
-                        *uv = interpolate_uv(self.stencil.row(along(s)), &face_uv);
+            edges
+                .chunks(m * EDGES_PER_TASK)
+                .into_par_iter()
+                .enumerate()
+                .for_each(|(task, mut sink)| {
+                    for le in 0..sink.len() / m {
+                        let e = task * EDGES_PER_TASK + le;
+                        let (f, k) = topo.edge_owner[e];
+                        let (f, k) = (f as usize, k as usize);
+                        let forward = mesh.triangles()[f][k] == topo.edges[e][0];
+                        self.block::<K>(
+                            &self.stencil.blocks.edges[k],
+                            f,
+                            &mut sink,
+                            le * m,
+                            !forward,
+                        );
+                        if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
+                            for s in 0..m {
+                                let p = self.stencil.edge_points[k]
+                                    [if forward { s } else { m - 1 - s }];
+                                sink.set_uv(
+                                    le * m + s,
+                                    interpolate_uv(self.stencil.row(p as usize), &face_uv),
+                                );
+                            }
+                        }
                     }
-                }
-            };
-            match edge_uv {
-                Some(edge_uv) => edge_p
-                    .par_chunks_mut(m)
-                    .zip(edge_n.par_chunks_mut(m))
-                    .zip(edge_uv.par_chunks_mut(m))
-                    .enumerate()
-                    .with_min_len(EDGES_PER_TASK)
-                    .for_each(|(e, ((ps, ns), uv))| eval_edge(e, ps, ns, Some(uv))),
-                None => edge_p
-                    .par_chunks_mut(m)
-                    .zip(edge_n.par_chunks_mut(m))
-                    .enumerate()
-                    .with_min_len(EDGES_PER_TASK)
-                    .for_each(|(e, (ps, ns))| eval_edge(e, ps, ns, None)),
-            }
+                });
         }
 
         // Interiors: per face, in pattern order.
@@ -368,149 +334,52 @@ impl Job<'_> {
             progress(mesh.face_count() as u64);
             return;
         }
-        let inner_uv = uv_blocks.map(|(_, _, i)| i);
-        let eval_faces = |task: usize,
-                          ps: &mut [[f32; 3]],
-                          ns: &mut [[f32; 3]],
-                          uvs: Option<&mut [[f32; 2]]>| {
-            let first = task * FACES_PER_TASK;
-            let faces = ps.len() / ni;
-            for lf in 0..faces {
-                let range = lf * ni..(lf + 1) * ni;
-                self.eval_block_into::<K>(
-                    &self.stencil.blocks.interior,
-                    first + lf,
-                    &mut ps[range.clone()],
-                    &mut ns[range],
-                    false,
-                );
-            }
-            if let Some(uvs) = uvs {
-                for lf in 0..faces {
-                    let face_uv = self.face_uvs(first + lf).unwrap();
-                    for (i, &p) in self.stencil.interior_points.iter().enumerate() {
-                        uvs[lf * ni + i] = interpolate_uv(self.stencil.row(p as usize), &face_uv);
-                    }
-                }
-            }
-            progress(faces as u64);
-        };
-        let chunk = ni * FACES_PER_TASK;
-        match inner_uv {
-            Some(inner_uv) => inner_p
-                .par_chunks_mut(chunk)
-                .zip(inner_n.par_chunks_mut(chunk))
-                .zip(inner_uv.par_chunks_mut(chunk))
-                .enumerate()
-                .for_each(|(t, ((ps, ns), uv))| eval_faces(t, ps, ns, Some(uv))),
-            None => inner_p
-                .par_chunks_mut(chunk)
-                .zip(inner_n.par_chunks_mut(chunk))
-                .enumerate()
-                .for_each(|(t, (ps, ns))| eval_faces(t, ps, ns, None)),
-        }
-    }
-
-    fn welded_triangles(&self, out: &mut RefinedMesh, progress: &(dyn Fn(u64) + Sync)) {
-        let topo = self.topology.expect("welded output needs the topology");
-        let n = self.layout.level as usize;
-        let m = n - 1;
-        let ni = Pattern::interior_count(self.layout.level) as usize;
-        let per_face = n * n;
-        let points = self.pattern.points.len();
-        out.triangles
-            .par_chunks_mut(per_face * FACES_PER_TASK)
+        interiors
+            .chunks(ni * FACES_PER_TASK)
+            .into_par_iter()
             .enumerate()
-            .for_each(|(task, tris)| {
-                // Pattern point -> output vertex, rebuilt for each face.
-                let mut map = vec![0u32; points];
-                for (lf, face_tris) in tris.chunks_mut(per_face).enumerate() {
+            .for_each(|(task, mut sink)| {
+                let faces = sink.len() / ni;
+                for lf in 0..faces {
                     let f = task * FACES_PER_TASK + lf;
-                    let t = self.mesh.triangles()[f];
-                    for (c, &v) in t.iter().enumerate() {
-                        map[self.stencil.corner_point(c) as usize] = v;
-                    }
-                    #[allow(clippy::needless_range_loop)] // k indexes four tables
-                    for k in 0..3 {
-                        let e = topo.face_edges[f][k] as usize;
-                        let forward = t[k] == topo.edges[e][0];
-                        let base = self.layout.edge_base as usize + e * m;
-                        for (s, &p) in self.stencil.edge_points[k].iter().enumerate() {
-                            map[p as usize] = (base + if forward { s } else { m - 1 - s }) as u32;
+                    self.block::<K>(&self.stencil.blocks.interior, f, &mut sink, lf * ni, false);
+                    if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
+                        for (i, &p) in self.stencil.interior_points.iter().enumerate() {
+                            sink.set_uv(
+                                lf * ni + i,
+                                interpolate_uv(self.stencil.row(p as usize), &face_uv),
+                            );
                         }
                     }
-                    let base = self.layout.interior_base as usize + f * ni;
-                    for (i, &p) in self.stencil.interior_points.iter().enumerate() {
-                        map[p as usize] = (base + i) as u32;
-                    }
-                    for (dst, src) in face_tris.iter_mut().zip(&self.pattern.triangles) {
-                        *dst = src.map(|p| map[p as usize]);
-                    }
                 }
-                progress((tris.len() / per_face) as u64);
+                progress(faces as u64);
             });
     }
 
-    fn soup<const K: usize>(&self, out: &mut RefinedMesh, progress: &(dyn Fn(u64) + Sync)) {
+    fn soup<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
         let mesh = self.mesh;
-        let np = self.pattern.points.len();
-        let chunk = np * FACES_PER_TASK;
-        let eval_faces = |task: usize,
-                          ps: &mut [[f32; 3]],
-                          ns: &mut [[f32; 3]],
-                          uvs: Option<&mut [[f32; 2]]>| {
-            let first = task * FACES_PER_TASK;
-            let faces = ps.len() / np;
-            for lf in 0..faces {
-                let f = first + lf;
-                let (ps, ns) = (
-                    &mut ps[lf * np..(lf + 1) * np],
-                    &mut ns[lf * np..(lf + 1) * np],
-                );
-                for p in 0..np {
-                    self.eval_into::<K>(f, p, &mut ps[p], &mut ns[p]);
-                }
-                for (c, &v) in mesh.triangles()[f].iter().enumerate() {
-                    ps[self.stencil.corner_point(c) as usize] = mesh.positions()[v as usize];
-                }
-            }
-            if let Some(uvs) = uvs {
-                for lf in 0..faces {
-                    let face_uv = self.face_uvs(first + lf).unwrap();
-                    for p in 0..np {
-                        uvs[lf * np + p] = interpolate_uv(self.stencil.row(p), &face_uv);
-                    }
-                }
-            }
-            progress(faces as u64);
-        };
-        match out.uvs.as_mut() {
-            Some(uv) => out
-                .positions
-                .par_chunks_mut(chunk)
-                .zip(out.normals.par_chunks_mut(chunk))
-                .zip(uv.par_chunks_mut(chunk))
-                .enumerate()
-                .for_each(|(t, ((ps, ns), uv))| eval_faces(t, ps, ns, Some(uv))),
-            None => out
-                .positions
-                .par_chunks_mut(chunk)
-                .zip(out.normals.par_chunks_mut(chunk))
-                .enumerate()
-                .for_each(|(t, (ps, ns))| eval_faces(t, ps, ns, None)),
-        }
-        let per_face = self.pattern.triangles.len();
-        out.triangles
-            .par_chunks_mut(per_face * FACES_PER_TASK)
+        let np = self.stencil.len();
+        let want_uvs = sink.wants_uvs();
+        sink.chunks(np * FACES_PER_TASK)
+            .into_par_iter()
             .enumerate()
-            .for_each(|(task, tris)| {
-                for (lf, face_tris) in tris.chunks_mut(per_face).enumerate() {
-                    let base = ((task * FACES_PER_TASK + lf) * np) as u32;
-                    for (dst, src) in face_tris.iter_mut().zip(&self.pattern.triangles) {
-                        *dst = src.map(|p| base + p);
+            .for_each(|(task, mut sink)| {
+                let faces = sink.len() / np;
+                for lf in 0..faces {
+                    let f = task * FACES_PER_TASK + lf;
+                    let base = lf * np;
+                    self.block::<K>(&self.stencil.blocks.all, f, &mut sink, base, false);
+                    for (c, &v) in mesh.triangles()[f].iter().enumerate() {
+                        let p = self.stencil.corner_point(c) as usize;
+                        sink.set_position(base + p, mesh.positions()[v as usize]);
+                    }
+                    if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
+                        for p in 0..np {
+                            sink.set_uv(base + p, interpolate_uv(self.stencil.row(p), &face_uv));
+                        }
                     }
                 }
-                progress((tris.len() / per_face) as u64);
+                progress(faces as u64);
             });
     }
 }

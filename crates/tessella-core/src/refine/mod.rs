@@ -9,15 +9,23 @@
 //! ```
 
 mod evaluate;
+mod evaluator;
+mod indices;
 mod layout;
+mod output;
+mod plan;
 
-pub use evaluate::{eval_block, eval_point};
+pub use evaluate::eval_point;
+pub use evaluator::{CpuEvaluator, Evaluator};
+pub use indices::IndexInt;
 pub use layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE};
+pub use output::{VertexFormat, VertexOutput};
+pub use plan::{Frame, Plan};
 
-use crate::error::{human_bytes, RefineError};
+use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
-use crate::scheme::{build_nets_tagged, NormalMode, PatchNets, Scheme};
+use crate::scheme::{NormalMode, PatchNets, Scheme};
 use crate::stencil::Stencil;
 
 /// Default cap on the output's size: 8 GiB.
@@ -93,109 +101,71 @@ impl RefinedMesh {
     }
 }
 
-/// Everything prepared for refining one mesh at one level: topology, pattern weights and control
-/// nets. Reuse it to refine again (into the same buffers) without redoing that work.
+/// A plan and its first frame, for one-shot refinement of one mesh: [`Plan`] + [`Frame`] in
+/// one value. Reuse it to refine again into the same buffers; for a deforming mesh use the
+/// plan and frames directly.
 pub struct Refiner<'m> {
     mesh: &'m Mesh,
-    options: RefineOptions,
-    layout: OutputLayout,
-    topology: Option<Topology>,
-    pattern: Pattern,
-    stencil: Stencil,
-    nets: PatchNets,
+    plan: Plan,
+    frame: Frame,
 }
 
 impl<'m> Refiner<'m> {
     /// Validates the options, checks the output's size and prepares the work.
     pub fn new(mesh: &'m Mesh, options: &RefineOptions) -> Result<Refiner<'m>, RefineError> {
-        options.scheme.validate()?;
-        let topology = options.weld.then(|| mesh.topology());
-        let layout = OutputLayout::new(mesh, topology.as_ref(), options.level, options.weld)?;
-        let bytes = layout.output_bytes(mesh.uvs().is_some());
-        if bytes > options.max_output_bytes {
-            return Err(RefineError::TooLarge {
-                level: options.level,
-                faces: mesh.face_count(),
-                vertices: layout.vertex_count,
-                triangles: layout.triangle_count,
-                bytes,
-                bytes_human: human_bytes(bytes),
-                limit: options.max_output_bytes,
-                limit_human: human_bytes(options.max_output_bytes),
-            });
-        }
-        if layout.vertex_count > u32::MAX as u64 {
-            return Err(RefineError::IndexOverflow {
-                level: options.level,
-                vertices: layout.vertex_count,
-            });
-        }
-        let pattern = Pattern::uniform(options.level);
-        let stencil = Stencil::new(&pattern, options.scheme.basis());
-        let nets = build_nets_tagged(
-            mesh,
-            topology.as_ref(),
-            &options.scheme,
-            options.normal_mode(),
-            options.tags.as_deref(),
-        )?;
-        Ok(Refiner {
-            mesh,
-            options: options.clone(),
-            layout,
-            topology,
-            pattern,
-            stencil,
-            nets,
-        })
+        let plan = Plan::new(mesh, options)?;
+        let frame = plan.frame(mesh)?;
+        Ok(Refiner { mesh, plan, frame })
     }
 
     /// Total that [`Refiner::refine_into`]'s progress calls add up to.
     pub fn progress_total(&self) -> u64 {
-        2 * self.mesh.face_count() as u64
+        self.plan.progress_total()
+    }
+    /// The plan (everything that does not depend on positions).
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+    /// The frame (the mesh's control nets).
+    pub fn frame(&self) -> &Frame {
+        &self.frame
     }
     /// The pattern.
     pub fn pattern(&self) -> &Pattern {
-        &self.pattern
+        self.plan.pattern()
     }
     /// The output's vertex and triangle counts.
     pub fn layout(&self) -> &OutputLayout {
-        &self.layout
+        self.plan.layout()
     }
     /// The control nets (what a GPU backend uploads).
     pub fn nets(&self) -> &PatchNets {
-        &self.nets
+        self.frame.nets()
     }
     /// The pattern's weights.
     pub fn stencil(&self) -> &Stencil {
-        &self.stencil
+        self.plan.stencil()
     }
     /// The options.
     pub fn options(&self) -> &RefineOptions {
-        &self.options
+        self.plan.options()
     }
     /// The mesh being refined.
     pub fn mesh(&self) -> &'m Mesh {
         self.mesh
     }
-    /// The topology (edges and their owners); `Some` for welded output.
-    pub fn topology(&self) -> Option<&Topology> {
-        self.topology.as_ref()
+    /// The topology (edges, owners, neighbours).
+    pub fn topology(&self) -> &Topology {
+        self.plan.topology()
     }
 
     /// Refines into `out`, reusing its allocations when they are large enough.
     /// `progress` is called from worker threads with amounts of work just finished; they add up
     /// to [`Refiner::progress_total`].
     pub fn refine_into(&self, out: &mut RefinedMesh, progress: &(dyn Fn(u64) + Sync)) {
-        let job = evaluate::Job {
-            mesh: self.mesh,
-            topology: self.topology.as_ref(),
-            layout: &self.layout,
-            pattern: &self.pattern,
-            stencil: &self.stencil,
-            nets: &self.nets,
-        };
-        job.run(out, progress);
+        self.plan
+            .refine_into(&self.frame, out, progress)
+            .expect("a refiner's own frame fits its plan");
     }
 
     /// Refines into a new mesh.

@@ -24,6 +24,7 @@ mod scalar_tagged;
 
 use crate::basis::{Basis, NORMAL_NET_LEN};
 use crate::error::RefineError;
+use crate::mesh::topology::across_edge;
 use crate::mesh::{Mesh, Topology};
 use crate::tags::Tags;
 use glam::Vec3;
@@ -197,7 +198,6 @@ pub fn build_nets_into(
     tags: Option<&Tags>,
     nets: &mut PatchNets,
 ) -> Result<(), RefineError> {
-    scheme.validate()?;
     let owned;
     let topology = match topology {
         Some(t) => Some(t),
@@ -207,12 +207,42 @@ pub fn build_nets_into(
         }
         None => None,
     };
+    validate_nets(mesh, topology, scheme, tags)?;
+    fill_nets(mesh, topology, scheme, normal_mode, tags, nets);
+    Ok(())
+}
+
+/// The checks of [`build_nets_into`]: they depend on the scheme, the tags and the topology only,
+/// so a deforming mesh passes them once. `topology` is required for schemes that need it.
+pub(crate) fn validate_nets(
+    mesh: &Mesh,
+    topology: Option<&Topology>,
+    scheme: &Scheme,
+    tags: Option<&Tags>,
+) -> Result<(), RefineError> {
+    scheme.validate()?;
+    if let (Scheme::ScalarTagged, Some(tags)) = (scheme, tags) {
+        let topo = topology.expect("the scalar-tagged scheme needs the topology");
+        tags.validate_scalar_tagged(mesh, topo)?;
+    }
+    Ok(())
+}
+
+/// Fills `nets` for `mesh`, which passed [`validate_nets`] (with the same topology and tags);
+/// `topology` is required for schemes that need it.
+pub(crate) fn fill_nets(
+    mesh: &Mesh,
+    topology: Option<&Topology>,
+    scheme: &Scheme,
+    normal_mode: NormalMode,
+    tags: Option<&Tags>,
+    nets: &mut PatchNets,
+) {
     let empty = Tags::new();
     let tags = tags.unwrap_or(&empty);
     let mean_normals = match scheme {
         Scheme::ScalarTagged => {
-            let topo = topology.expect("computed above");
-            tags.validate_scalar_tagged(mesh, topo)?;
+            let topo = topology.expect("the scalar-tagged scheme needs the topology");
             scalar_tagged::position_normals(mesh, topo)
         }
         _ => Vec::new(),
@@ -271,45 +301,6 @@ pub fn build_nets_into(
                 *dst = src.into();
             }
         });
-    Ok(())
-}
-
-/// The face across local edge `k` of face `f` (by position), with the vertex indices it uses at
-/// the edge's start and end positions and its corner opposite the edge. `None` on boundary and
-/// non-manifold edges.
-pub(crate) fn across_edge(mesh: &Mesh, topo: &Topology, f: usize, k: usize) -> Option<Across> {
-    let g = topo.neighbors[f][k];
-    if g == crate::mesh::topology::NO_NEIGHBOR {
-        return None;
-    }
-    let t = mesh.triangles()[f];
-    let pid = |v: u32| topo.position_ids[v as usize];
-    let (a, b) = (pid(t[k]), pid(t[(k + 1) % 3]));
-    let tg = mesh.triangles()[g as usize];
-    let (mut at_a, mut at_b, mut opposite) = (None, None, None);
-    for &v in &tg {
-        match pid(v) {
-            x if x == a => at_a = Some(v),
-            x if x == b => at_b = Some(v),
-            _ => opposite = Some(v),
-        }
-    }
-    Some(Across {
-        face: g as usize,
-        at_a: at_a?,
-        at_b: at_b?,
-        opposite: opposite?,
-    })
-}
-
-/// See [`across_edge`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Across {
-    #[allow(dead_code)]
-    pub face: usize,
-    pub at_a: u32,
-    pub at_b: u32,
-    pub opposite: u32,
 }
 
 /// What PNG1 sees of the edges of face `f`: neighbours' opposite corners, sharp edges from

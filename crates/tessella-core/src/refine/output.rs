@@ -1,0 +1,297 @@
+//! Where refined vertices are written: memory the caller owns, as separate arrays or as one
+//! interleaved vertex buffer with a stride (what engines upload). OpenSubdiv's
+//! `BufferDescriptor` (offset, length, stride) is the same idea.
+
+use crate::error::RefineError;
+
+/// The layout of one interleaved vertex, in `f32`s: `stride` floats per vertex, the position
+/// (3 floats) at `position`, the normal (3 floats) at `normal`, texture coordinates (2 floats)
+/// at `uv`. Attributes left `None` are not written, and neither are the floats no attribute
+/// covers (an engine's own attributes can live there).
+///
+/// ```
+/// use tessella_core::refine::VertexFormat;
+/// // position, normal, uv: 8 floats (32 bytes) per vertex
+/// let f = VertexFormat { stride: 8, position: 0, normal: Some(3), uv: Some(6) };
+/// assert!(f.validate().is_ok());
+/// assert!(VertexFormat { stride: 5, ..f }.validate().is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VertexFormat {
+    pub stride: usize,
+    pub position: usize,
+    pub normal: Option<usize>,
+    pub uv: Option<usize>,
+}
+
+impl VertexFormat {
+    /// Positions and normals, 6 floats per vertex.
+    pub const POSITION_NORMAL: VertexFormat = VertexFormat {
+        stride: 6,
+        position: 0,
+        normal: Some(3),
+        uv: None,
+    };
+    /// Positions, normals and texture coordinates, 8 floats per vertex.
+    pub const POSITION_NORMAL_UV: VertexFormat = VertexFormat {
+        stride: 8,
+        position: 0,
+        normal: Some(3),
+        uv: Some(6),
+    };
+
+    /// Checks that every attribute fits in the stride and that no two overlap.
+    pub fn validate(&self) -> Result<(), RefineError> {
+        let mut spans: Vec<(&str, usize, usize)> = vec![("position", self.position, 3)];
+        spans.extend(self.normal.map(|o| ("normal", o, 3)));
+        spans.extend(self.uv.map(|o| ("uv", o, 2)));
+        for &(name, offset, width) in &spans {
+            if offset + width > self.stride {
+                return Err(RefineError::BadVertexFormat(format!(
+                    "the {name} at float {offset} needs {width} floats, past the stride of {}",
+                    self.stride
+                )));
+            }
+        }
+        for (i, a) in spans.iter().enumerate() {
+            for b in &spans[i + 1..] {
+                if a.1 < b.1 + b.2 && b.1 < a.1 + a.2 {
+                    return Err(RefineError::BadVertexFormat(format!(
+                        "the {} (floats {}..{}) and the {} (floats {}..{}) overlap",
+                        a.0,
+                        a.1,
+                        a.1 + a.2,
+                        b.0,
+                        b.1,
+                        b.1 + b.2
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Caller-owned memory for one frame's refined vertices (see [`crate::refine::Plan`] for the
+/// order). Slices must hold at least the plan's vertex count (interleaved: that many strides);
+/// anything past it is left alone.
+#[derive(Debug)]
+pub enum VertexOutput<'a> {
+    /// One array per attribute; `None` attributes are not computed.
+    Separate {
+        positions: &'a mut [[f32; 3]],
+        normals: Option<&'a mut [[f32; 3]]>,
+        uvs: Option<&'a mut [[f32; 2]]>,
+    },
+    /// One interleaved buffer (for bytes, `bytemuck::cast_slice_mut` gives the `f32`s).
+    Interleaved {
+        data: &'a mut [f32],
+        format: VertexFormat,
+    },
+}
+
+impl<'a> VertexOutput<'a> {
+    /// Checks sizes and the format, and turns the output into a sink of exactly `vertices`
+    /// slots. `has_uvs`: whether the mesh has texture coordinates to write.
+    pub(crate) fn sink(self, vertices: usize, has_uvs: bool) -> Result<Sink<'a>, RefineError> {
+        let short = |what: &str, got: usize, need: usize| {
+            Err(RefineError::OutputTooSmall {
+                what: what.to_string(),
+                got,
+                need,
+            })
+        };
+        let wants_uvs = match &self {
+            VertexOutput::Separate { uvs, .. } => uvs.is_some(),
+            VertexOutput::Interleaved { format, .. } => format.uv.is_some(),
+        };
+        if wants_uvs && !has_uvs {
+            return Err(RefineError::NoUvs);
+        }
+        match self {
+            VertexOutput::Separate {
+                positions,
+                normals,
+                uvs,
+            } => {
+                if positions.len() < vertices {
+                    return short("positions", positions.len(), vertices);
+                }
+                if let Some(n) = &normals {
+                    if n.len() < vertices {
+                        return short("normals", n.len(), vertices);
+                    }
+                }
+                if let Some(u) = &uvs {
+                    if u.len() < vertices {
+                        return short("uvs", u.len(), vertices);
+                    }
+                }
+                Ok(Sink::Separate {
+                    positions: &mut positions[..vertices],
+                    normals: normals.map(|n| &mut n[..vertices]),
+                    uvs: uvs.map(|u| &mut u[..vertices]),
+                })
+            }
+            VertexOutput::Interleaved { data, format } => {
+                format.validate()?;
+                let need = vertices.saturating_mul(format.stride);
+                if data.len() < need {
+                    return short("the interleaved buffer (floats)", data.len(), need);
+                }
+                Ok(Sink::Interleaved {
+                    data: &mut data[..need],
+                    format,
+                })
+            }
+        }
+    }
+}
+
+/// A run of output slots the evaluator writes into; split into disjoint runs for threads.
+#[derive(Debug)]
+pub(crate) enum Sink<'a> {
+    Separate {
+        positions: &'a mut [[f32; 3]],
+        normals: Option<&'a mut [[f32; 3]]>,
+        uvs: Option<&'a mut [[f32; 2]]>,
+    },
+    Interleaved {
+        data: &'a mut [f32],
+        format: VertexFormat,
+    },
+}
+
+impl<'a> Sink<'a> {
+    /// Number of vertex slots.
+    pub fn len(&self) -> usize {
+        match self {
+            Sink::Separate { positions, .. } => positions.len(),
+            Sink::Interleaved { data, format } => data.len() / format.stride,
+        }
+    }
+    pub fn wants_normals(&self) -> bool {
+        match self {
+            Sink::Separate { normals, .. } => normals.is_some(),
+            Sink::Interleaved { format, .. } => format.normal.is_some(),
+        }
+    }
+    pub fn wants_uvs(&self) -> bool {
+        match self {
+            Sink::Separate { uvs, .. } => uvs.is_some(),
+            Sink::Interleaved { format, .. } => format.uv.is_some(),
+        }
+    }
+
+    /// Slots `..mid` and `mid..`.
+    pub fn split_at(self, mid: usize) -> (Sink<'a>, Sink<'a>) {
+        match self {
+            Sink::Separate {
+                positions,
+                normals,
+                uvs,
+            } => {
+                let (p0, p1) = positions.split_at_mut(mid);
+                let (n0, n1) = split_option(normals, mid);
+                let (u0, u1) = split_option(uvs, mid);
+                (
+                    Sink::Separate {
+                        positions: p0,
+                        normals: n0,
+                        uvs: u0,
+                    },
+                    Sink::Separate {
+                        positions: p1,
+                        normals: n1,
+                        uvs: u1,
+                    },
+                )
+            }
+            Sink::Interleaved { data, format } => {
+                let (d0, d1) = data.split_at_mut(mid * format.stride);
+                (
+                    Sink::Interleaved { data: d0, format },
+                    Sink::Interleaved { data: d1, format },
+                )
+            }
+        }
+    }
+
+    /// Consecutive runs of `size` slots (the last may be shorter), for parallel work.
+    pub fn chunks(self, size: usize) -> Vec<Sink<'a>> {
+        let size = size.max(1);
+        let mut out = Vec::with_capacity(self.len().div_ceil(size));
+        let mut rest = self;
+        while rest.len() > size {
+            let (head, tail) = rest.split_at(size);
+            out.push(head);
+            rest = tail;
+        }
+        if rest.len() > 0 {
+            out.push(rest);
+        }
+        out
+    }
+
+    #[inline(always)]
+    pub fn set_position(&mut self, i: usize, p: [f32; 3]) {
+        match self {
+            Sink::Separate { positions, .. } => positions[i] = p,
+            Sink::Interleaved { data, format } => {
+                let at = i * format.stride + format.position;
+                data[at..at + 3].copy_from_slice(&p);
+            }
+        }
+    }
+    #[inline(always)]
+    pub fn set_normal(&mut self, i: usize, n: [f32; 3]) {
+        match self {
+            Sink::Separate {
+                normals: Some(normals),
+                ..
+            } => normals[i] = n,
+            Sink::Interleaved {
+                data,
+                format:
+                    VertexFormat {
+                        stride,
+                        normal: Some(offset),
+                        ..
+                    },
+            } => {
+                let at = i * *stride + *offset;
+                data[at..at + 3].copy_from_slice(&n);
+            }
+            _ => {}
+        }
+    }
+    #[inline(always)]
+    pub fn set_uv(&mut self, i: usize, uv: [f32; 2]) {
+        match self {
+            Sink::Separate { uvs: Some(uvs), .. } => uvs[i] = uv,
+            Sink::Interleaved {
+                data,
+                format:
+                    VertexFormat {
+                        stride,
+                        uv: Some(offset),
+                        ..
+                    },
+            } => {
+                let at = i * *stride + *offset;
+                data[at..at + 2].copy_from_slice(&uv);
+            }
+            _ => {}
+        }
+    }
+}
+
+fn split_option<T>(s: Option<&mut [T]>, mid: usize) -> (Option<&mut [T]>, Option<&mut [T]>) {
+    match s {
+        Some(s) => {
+            let (a, b) = s.split_at_mut(mid);
+            (Some(a), Some(b))
+        }
+        None => (None, None),
+    }
+}

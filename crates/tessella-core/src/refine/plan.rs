@@ -1,0 +1,404 @@
+//! What is built once per topology ([`Plan`]) kept apart from what changes every frame
+//! ([`Frame`]): the papers' real-time loop, where the coarse mesh deforms and only coarse data
+//! is recomputed.
+//!
+//! ```
+//! use tessella_core::refine::{Plan, VertexOutput};
+//! use tessella_core::{samples, RefineOptions, Scheme};
+//!
+//! let mesh = samples::icosphere(1);
+//! let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 8))?;
+//! let mut frame = plan.frame(&mesh)?;
+//! let n = plan.vertex_count();
+//! let (mut positions, mut normals) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+//! let indices = plan.indices(); // computed once, valid for every frame
+//! for t in 0..3 {
+//!     let s = 1.0 + 0.1 * t as f32;
+//!     let moved: Vec<[f32; 3]> = mesh.positions().iter().map(|p| p.map(|c| s * c)).collect();
+//!     plan.update(&mut frame, &moved, None)?; // O(coarse triangles)
+//!     plan.evaluate(&frame, VertexOutput::Separate {
+//!         positions: &mut positions,
+//!         normals: Some(&mut normals),
+//!         uvs: None,
+//!     })?; // writes vertices only, into the caller's memory
+//! }
+//! assert_eq!(indices.len(), mesh.face_count() * 64);
+//! # Ok::<(), tessella_core::RefineError>(())
+//! ```
+
+use super::evaluate::Job;
+use super::indices::{IndexInt, IndexJob};
+use super::layout::OutputLayout;
+use super::output::VertexOutput;
+use super::{RefineOptions, RefinedMesh};
+use crate::error::{human_bytes, RefineError};
+use crate::mesh::{Mesh, Topology};
+use crate::pattern::Pattern;
+use crate::scheme::{fill_nets, validate_nets, PatchNets};
+use crate::stencil::Stencil;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::OnceLock;
+
+/// Tells plans apart, so a frame is never evaluated by a plan that did not make it.
+static NEXT_PLAN_ID: AtomicU64 = AtomicU64::new(1);
+
+/// Everything that does not change while a mesh deforms: the options, the topology, the output
+/// layout, the pattern and its stencil, and the refined triangles' indices (built on first
+/// use, then kept).
+///
+/// A plan is made from one mesh and serves every mesh with the same triangles and vertex count
+/// (the same topology); which vertices share a position (for the schemes that look across
+/// edges) is fixed by the mesh the plan was made from.
+///
+/// Output order, for [`Plan::evaluate`] and [`Plan::indices`]: welded, the mesh's `V` vertices
+/// (exact input positions), then `N−1` vertices per unique edge (by vertex index, from the lower
+/// index to the higher), then each face's interior points in pattern order; soup, every face's
+/// `(N+1)(N+2)/2` pattern points.
+#[derive(Debug)]
+pub struct Plan {
+    id: u64,
+    options: RefineOptions,
+    triangles: Vec<[u32; 3]>,
+    vertex_count: usize,
+    has_uvs: bool,
+    topology: Topology,
+    layout: OutputLayout,
+    pattern: Pattern,
+    stencil: Stencil,
+    indices: OnceLock<Vec<[u32; 3]>>,
+}
+
+/// One frame of a deforming mesh: its positions and normals and the control nets built from
+/// them. Made by [`Plan::frame`], moved by [`Plan::update`], read by every evaluator.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    plan_id: u64,
+    mesh: Mesh,
+    nets: PatchNets,
+}
+
+impl Frame {
+    /// The coarse mesh of this frame.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+    /// The control nets of this frame (what a GPU backend uploads each frame).
+    pub fn nets(&self) -> &PatchNets {
+        &self.nets
+    }
+}
+
+impl Plan {
+    /// Validates the options and the output's size against `mesh` and builds the tables.
+    pub fn new(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
+        options.scheme.validate()?;
+        if options.level == 0 {
+            return Err(RefineError::LevelZero);
+        }
+        let topology = mesh.topology();
+        let layout = OutputLayout::new(mesh, Some(&topology), options.level, options.weld)?;
+        let bytes = layout.output_bytes(mesh.uvs().is_some());
+        let limit = options.max_output_bytes;
+        if bytes > limit {
+            return Err(RefineError::TooLarge {
+                level: options.level,
+                faces: mesh.face_count(),
+                vertices: layout.vertex_count,
+                triangles: layout.triangle_count,
+                bytes,
+                bytes_human: human_bytes(bytes),
+                limit,
+                limit_human: human_bytes(limit),
+            });
+        }
+        if layout.vertex_count > u32::MAX as u64 {
+            return Err(RefineError::IndexOverflow {
+                level: options.level,
+                vertices: layout.vertex_count,
+            });
+        }
+        validate_nets(
+            mesh,
+            Some(&topology),
+            &options.scheme,
+            options.tags.as_deref(),
+        )?;
+        let pattern = Pattern::uniform(options.level);
+        let stencil = Stencil::new(&pattern, options.scheme.basis());
+        Ok(Plan {
+            id: NEXT_PLAN_ID.fetch_add(1, Ordering::Relaxed),
+            options: options.clone(),
+            triangles: mesh.triangles().to_vec(),
+            vertex_count: mesh.vertex_count(),
+            has_uvs: mesh.uvs().is_some(),
+            topology,
+            layout,
+            pattern,
+            stencil,
+            indices: OnceLock::new(),
+        })
+    }
+
+    /// The first frame: a copy of `mesh` (which must have the plan's topology) and its nets.
+    pub fn frame(&self, mesh: &Mesh) -> Result<Frame, RefineError> {
+        self.check_topology(mesh)?;
+        let mut nets = PatchNets::empty(self.options.scheme.basis(), self.normal_mode());
+        self.fill(mesh, &mut nets);
+        Ok(Frame {
+            plan_id: self.id,
+            mesh: mesh.clone(),
+            nets,
+        })
+    }
+
+    /// Moves `frame` to new `positions` (and `normals`; `None` recomputes them, see
+    /// [`Mesh::update`]) and rebuilds its nets: O(coarse triangles), no allocation but the
+    /// recomputed normals. On error (wrong vertex count, non-finite positions, zero or
+    /// non-finite normals, a degenerate triangle, a frame of another plan) `frame` is unchanged.
+    pub fn update(
+        &self,
+        frame: &mut Frame,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<(), RefineError> {
+        self.check_frame(frame)?;
+        frame.mesh.update(positions, normals)?;
+        self.fill(&frame.mesh, &mut frame.nets);
+        Ok(())
+    }
+
+    /// Like [`Plan::update`] from a whole mesh of the plan's topology (its UVs are ignored:
+    /// they belong to the plan's first mesh).
+    pub fn update_from_mesh(&self, frame: &mut Frame, mesh: &Mesh) -> Result<(), RefineError> {
+        self.check_topology(mesh)?;
+        self.update(frame, mesh.positions(), Some(mesh.normals()))
+    }
+
+    /// Writes every refined vertex of `frame` into `out` on the CPU (all cores): positions,
+    /// and normals and UVs where `out` takes them. Indices are not written: they are the same
+    /// for every frame ([`Plan::indices`]). On error nothing is written.
+    pub fn evaluate(&self, frame: &Frame, out: VertexOutput<'_>) -> Result<(), RefineError> {
+        self.evaluate_with_progress(frame, out, &|_| {})
+    }
+
+    /// [`Plan::evaluate`], calling `progress` from worker threads with numbers of coarse faces
+    /// done (they add up to the face count).
+    pub fn evaluate_with_progress(
+        &self,
+        frame: &Frame,
+        out: VertexOutput<'_>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<(), RefineError> {
+        self.check_frame(frame)?;
+        let sink = out.sink(self.vertex_count(), self.has_uvs)?;
+        self.job(frame).vertices(sink, progress);
+        Ok(())
+    }
+
+    /// The refined triangles (counter-clockwise, as the coarse ones), computed on first use
+    /// and kept: they do not depend on positions.
+    pub fn indices(&self) -> &[[u32; 3]] {
+        self.indices.get_or_init(|| {
+            let mut out = vec![[0u32; 3]; self.triangle_count()];
+            self.index_job().write(&mut out, &|_| {});
+            out
+        })
+    }
+
+    /// Writes the refined triangles into `out` (at least [`Plan::triangle_count`] long) as
+    /// `u32` or, when [`Plan::fits_u16`], `u16` indices.
+    pub fn write_indices<I: IndexInt>(&self, out: &mut [[I; 3]]) -> Result<(), RefineError> {
+        if self.layout.vertex_count > I::MAX_VERTICES {
+            return Err(RefineError::IndicesTooNarrow {
+                vertices: self.layout.vertex_count,
+                index_bits: (I::MAX_VERTICES - 1).count_ones(),
+            });
+        }
+        let need = self.triangle_count();
+        if out.len() < need {
+            return Err(RefineError::OutputTooSmall {
+                what: "triangles".into(),
+                got: out.len(),
+                need,
+            });
+        }
+        self.index_job().write(&mut out[..need], &|_| {});
+        Ok(())
+    }
+
+    /// True when every refined vertex index fits in a `u16`.
+    pub fn fits_u16(&self) -> bool {
+        self.layout.vertex_count <= <u16 as IndexInt>::MAX_VERTICES
+    }
+
+    /// Refines `frame` into `out` (vertices, normals, UVs when the mesh has them, and indices),
+    /// reusing its allocations when they fit. `progress` counts two units per coarse face (its
+    /// vertices, its triangles): see [`Plan::progress_total`].
+    pub fn refine_into(
+        &self,
+        frame: &Frame,
+        out: &mut RefinedMesh,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<(), RefineError> {
+        self.check_frame(frame)?;
+        let nv = self.vertex_count();
+        resize(&mut out.positions, nv);
+        resize(&mut out.normals, nv);
+        match self.has_uvs {
+            true => resize(out.uvs.get_or_insert_with(Vec::new), nv),
+            false => out.uvs = None,
+        }
+        resize(&mut out.triangles, self.triangle_count());
+        let sink = VertexOutput::Separate {
+            positions: &mut out.positions,
+            normals: Some(&mut out.normals),
+            uvs: out.uvs.as_deref_mut(),
+        }
+        .sink(nv, self.has_uvs)?;
+        self.job(frame).vertices(sink, progress);
+        match self.indices.get() {
+            Some(cached) => {
+                out.triangles.copy_from_slice(cached);
+                progress(self.face_count() as u64);
+            }
+            None => self.index_job().write(&mut out.triangles, progress),
+        }
+        Ok(())
+    }
+
+    /// What [`Plan::refine_into`]'s progress calls add up to.
+    pub fn progress_total(&self) -> u64 {
+        2 * self.face_count() as u64
+    }
+
+    /// Number of refined vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.layout.vertex_count as usize
+    }
+    /// Number of refined triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.layout.triangle_count as usize
+    }
+    /// Number of coarse triangles.
+    pub fn face_count(&self) -> usize {
+        self.triangles.len()
+    }
+    /// The coarse triangles this plan serves.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+    /// Number of coarse vertices a frame has.
+    pub fn coarse_vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+    /// The options.
+    pub fn options(&self) -> &RefineOptions {
+        &self.options
+    }
+    /// The normal mode in effect.
+    pub fn normal_mode(&self) -> crate::scheme::NormalMode {
+        self.options.normal_mode()
+    }
+    /// Sizes and block offsets of the output.
+    pub fn layout(&self) -> &OutputLayout {
+        &self.layout
+    }
+    /// The refinement pattern.
+    pub fn pattern(&self) -> &Pattern {
+        &self.pattern
+    }
+    /// The pattern's weights for this scheme's basis.
+    pub fn stencil(&self) -> &Stencil {
+        &self.stencil
+    }
+    /// Edges, owners and neighbours of the coarse mesh.
+    pub fn topology(&self) -> &Topology {
+        &self.topology
+    }
+    /// True when frames carry texture coordinates.
+    pub fn has_uvs(&self) -> bool {
+        self.has_uvs
+    }
+
+    /// Refuses a frame another plan made.
+    pub fn check_frame(&self, frame: &Frame) -> Result<(), RefineError> {
+        if frame.plan_id != self.id {
+            return Err(RefineError::ForeignFrame);
+        }
+        Ok(())
+    }
+
+    /// Refuses a mesh whose topology is not the plan's.
+    fn check_topology(&self, mesh: &Mesh) -> Result<(), RefineError> {
+        let reason = if mesh.vertex_count() != self.vertex_count {
+            format!(
+                "{} vertices, the plan has {}",
+                mesh.vertex_count(),
+                self.vertex_count
+            )
+        } else if mesh.face_count() != self.triangles.len() {
+            format!(
+                "{} triangles, the plan has {}",
+                mesh.face_count(),
+                self.triangles.len()
+            )
+        } else if let Some(f) =
+            (0..self.triangles.len()).find(|&f| mesh.triangles()[f] != self.triangles[f])
+        {
+            format!(
+                "triangle {f} is {:?}, the plan's is {:?}",
+                mesh.triangles()[f],
+                self.triangles[f]
+            )
+        } else if mesh.uvs().is_some() != self.has_uvs {
+            "texture coordinates differ in presence".to_string()
+        } else {
+            return Ok(());
+        };
+        Err(RefineError::TopologyMismatch { reason })
+    }
+
+    fn fill(&self, mesh: &Mesh, nets: &mut PatchNets) {
+        fill_nets(
+            mesh,
+            Some(&self.topology),
+            &self.options.scheme,
+            self.normal_mode(),
+            self.options.tags.as_deref(),
+            nets,
+        );
+    }
+
+    fn job<'a>(&'a self, frame: &'a Frame) -> Job<'a> {
+        Job {
+            mesh: &frame.mesh,
+            topology: &self.topology,
+            layout: &self.layout,
+            stencil: &self.stencil,
+            nets: &frame.nets,
+        }
+    }
+
+    fn index_job(&self) -> IndexJob<'_> {
+        IndexJob {
+            triangles: &self.triangles,
+            topology: &self.topology,
+            layout: &self.layout,
+            pattern: &self.pattern,
+            stencil: &self.stencil,
+        }
+    }
+}
+
+/// Resizes `v` to `n` slots, keeping the allocation when it already fits. Slots are
+/// overwritten by the caller, so their contents do not matter.
+fn resize<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
+    if v.len() != n {
+        if v.capacity() >= n {
+            v.resize(n, T::default());
+            v.truncate(n);
+        } else {
+            *v = vec![T::default(); n];
+        }
+    }
+}
