@@ -19,7 +19,7 @@
 //!
 //! ## Conventions
 //! - Barycentric `(l1, l2, l3)` weigh the corners `(P1, P2, P3)` of a triangle in index order;
-//!   control point `b_ijk` has `i` for P1 (see `shared/papers/ERRATA.md`).
+//!   control point `b_ijk` has `i` for P1 (see docs/formulas.md).
 //! - Triangles are counter-clockwise seen from the side their normals face; refined triangles
 //!   keep the winding.
 //! - "Level" is the number of segments per coarse edge: level `N` makes `N²` triangles per

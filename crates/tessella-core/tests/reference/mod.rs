@@ -1,5 +1,5 @@
 //! An independent f64 evaluation of the surfaces, written from the papers' formulas (as corrected
-//! in `shared/papers/ERRATA.md`), plus the helpers the acceptance tests share.
+//! in docs/formulas.md), plus the helpers the acceptance tests share.
 //!
 //! Nothing here uses the crate's `Basis`, `Stencil`, `PatchNets` or `eval_point`: the point of
 //! this module is to catch a mistake in any of them. From the crate it takes only plain data:
