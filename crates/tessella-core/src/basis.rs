@@ -9,6 +9,8 @@
 //! barycentric `(l1, l2, l3) = (1-u-v, u, v)`; `Du × Dv` points to the side a
 //! counter-clockwise triangle faces.
 
+pub mod png1;
+
 use serde::Serialize;
 
 /// Cubic control points in storage order: corners, then two points per edge walking
@@ -36,7 +38,7 @@ pub enum Basis {
     /// The cubic Bernstein basis of a Bézier triangle, 10 control points ([`CUBIC_ORDER`]).
     /// Flat and Phong patches are degree-elevated into it.
     Cubic,
-    /// PNG1's 21 control points ([`crate::scheme::png1::PNG1_ORDER`]): cubic Bernstein
+    /// PNG1's 21 control points ([`png1::PNG1_ORDER`]): cubic Bernstein
     /// polynomials times the paper's rational blends of two versions of each edge slot and six
     /// centre candidates (Fünfzig et al. 2008, equation (6)).
     Png1,
@@ -56,7 +58,7 @@ impl Basis {
     pub const fn len(self) -> usize {
         match self {
             Basis::Cubic => 10,
-            Basis::Png1 => crate::scheme::png1::PNG1_LEN,
+            Basis::Png1 => png1::PNG1_LEN,
         }
     }
 
@@ -64,7 +66,7 @@ impl Basis {
     pub fn weights(self, l: [f64; 3]) -> BasisWeights {
         match self {
             Basis::Cubic => cubic_weights(l),
-            Basis::Png1 => crate::scheme::png1::weights(l),
+            Basis::Png1 => png1::weights(l),
         }
     }
 }

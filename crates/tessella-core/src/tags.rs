@@ -48,45 +48,13 @@
 //! # Ok::<(), tessella_core::tags::TagError>(())
 //! ```
 
-use crate::mesh::topology::{position_ids, NO_NEIGHBOR};
+pub use crate::error::TagError;
+
+use crate::mesh::topology::{across_edge, position_ids, NO_NEIGHBOR};
 use crate::mesh::{Mesh, Topology};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
-use thiserror::Error;
-
-/// Bad tags: what is wrong and how to fix it.
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum TagError {
-    #[error("{what} names vertex {vertex}, but the mesh has only {count} vertices; use indices of the mesh the tags were made for")]
-    UnknownVertex {
-        what: String,
-        vertex: u32,
-        count: usize,
-    },
-    #[error("{what} is {value} ; tags must be finite numbers")]
-    NotFinite { what: String, value: f32 },
-    #[error("{what} is {value}, outside {range}")]
-    OutOfRange {
-        what: String,
-        value: f32,
-        range: &'static str,
-    },
-    #[error(
-        "edge tag on vertices {a} and {b}, but no triangle has that edge; tag edges of the mesh"
-    )]
-    NotAnEdge { a: u32, b: u32 },
-    #[error("edge tag on vertices {a} and {b}, a boundary or non-manifold edge: a crease needs exactly two faces; remove the tag")]
-    BoundaryEdge { a: u32, b: u32 },
-    #[error("vertex {vertex} has {count} creased edges: the scalar-tagged scheme allows one crease (two creased edges) through a vertex; remove some edge tags or use PNG1 / PN-AEN")]
-    TooManyCreases { vertex: u32, count: usize },
-    #[error("triangle {face} has {count} vertices with a crease direction; the scalar-tagged scheme allows at most 2 per triangle")]
-    TooManyCreasedVertices { face: usize, count: usize },
-    #[error("crease angle must be a finite number of degrees in 0..=180, got {0}")]
-    BadAngle(f32),
-    #[error("tags JSON: {0}")]
-    Json(String),
-}
 
 /// Per-vertex shape parameters (GMR Appendix B); all zero is plain PN.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -363,7 +331,7 @@ impl Tags {
         let normal = |v: u32| mesh.normals()[v as usize];
         Tags::creases_where(mesh, |topo, f, k| {
             let t = mesh.triangles()[f];
-            crate::scheme::across_edge(mesh, topo, f, k).is_some_and(|x| {
+            across_edge(mesh, topo, f, k).is_some_and(|x| {
                 normal(x.at_a) != normal(t[k]) || normal(x.at_b) != normal(t[(k + 1) % 3])
             })
         })

@@ -192,6 +192,44 @@ impl Topology {
     }
 }
 
+/// The face across local edge `k` of face `f` (by position), with the vertex indices it uses at
+/// the edge's start and end positions and its corner opposite the edge. `None` on boundary and
+/// non-manifold edges.
+pub(crate) fn across_edge(mesh: &Mesh, topo: &Topology, f: usize, k: usize) -> Option<Across> {
+    let g = topo.neighbors[f][k];
+    if g == NO_NEIGHBOR {
+        return None;
+    }
+    let t = mesh.triangles()[f];
+    let pid = |v: u32| topo.position_ids[v as usize];
+    let (a, b) = (pid(t[k]), pid(t[(k + 1) % 3]));
+    let tg = mesh.triangles()[g as usize];
+    let (mut at_a, mut at_b, mut opposite) = (None, None, None);
+    for &v in &tg {
+        match pid(v) {
+            x if x == a => at_a = Some(v),
+            x if x == b => at_b = Some(v),
+            _ => opposite = Some(v),
+        }
+    }
+    Some(Across {
+        face: g as usize,
+        at_a: at_a?,
+        at_b: at_b?,
+        opposite: opposite?,
+    })
+}
+
+/// See [`across_edge`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Across {
+    #[allow(dead_code)]
+    pub face: usize,
+    pub at_a: u32,
+    pub at_b: u32,
+    pub opposite: u32,
+}
+
 fn local_edge(t: [u32; 3], k: u8) -> [u32; 2] {
     [t[k as usize], t[(k as usize + 1) % 3]]
 }

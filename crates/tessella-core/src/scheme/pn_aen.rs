@@ -9,7 +9,8 @@
 //! from the (averaged) edge points as in PN; shading keeps each side's own normals. With shared
 //! normals the mean of two equal points is that point, bit for bit: PN exactly.
 
-use super::{across_edge, pn, Corners};
+use super::{pn, Corners};
+use crate::mesh::topology::across_edge;
 use crate::mesh::{Mesh, Topology};
 use glam::Vec3;
 

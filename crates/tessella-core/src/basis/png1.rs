@@ -1,0 +1,306 @@
+//! PNG1's basis (Fünfzig, Müller, Hansford & Farin 2008, equation (6)): the 21 control points'
+//! storage order and their weights at a barycentric point, cubic Bernstein polynomials times the
+//! paper's rational blends. The scheme that builds the 21 points is `scheme::png1`; this
+//! module only knows how they are combined, so the basis needs nothing from the scheme.
+
+use super::BasisWeights;
+use glam::DVec3;
+use std::ops::{Add, Div, Mul, Sub};
+
+/// Number of PNG1 control points per patch.
+pub const PNG1_LEN: usize = 21;
+
+/// PNG1 control points in storage order:
+///
+/// - `0..3`: corners `b300 = P1, b030 = P2, b003 = P3`;
+/// - `3..15`: the six edge-adjacent slots of [`crate::basis::CUBIC_ORDER`]
+///   (`b210, b120, b021, b012, b102, b201`), each as *own* (built from the edge the slot lies
+///   on, in the slot corner's tangent plane; shared with the neighbour) then *cross* (from the
+///   other edge through that corner: the far corner's triangle carried into this corner's
+///   plane). In the paper's names: `b_{P1:210}, b_{P3:210}, b_{P2:120}, b_{P3:120},
+///   b_{P2:021}, b_{P1:021}, b_{P3:012}, b_{P1:012}, b_{P3:102}, b_{P2:102}, b_{P1:201},
+///   b_{P2:201}`;
+/// - `15..21`: centre candidates `b_{12:P1:111}, b_{12:P2:111}, b_{23:P2:111}, b_{23:P3:111},
+///   b_{31:P3:111}, b_{31:P1:111}`.
+pub const PNG1_ORDER: [&str; PNG1_LEN] = [
+    "b300",
+    "b030",
+    "b003",
+    "b210:P1",
+    "b210:P3",
+    "b120:P2",
+    "b120:P3",
+    "b021:P2",
+    "b021:P1",
+    "b012:P3",
+    "b012:P1",
+    "b102:P3",
+    "b102:P2",
+    "b201:P1",
+    "b201:P2",
+    "b111:12:P1",
+    "b111:12:P2",
+    "b111:23:P2",
+    "b111:23:P3",
+    "b111:31:P3",
+    "b111:31:P1",
+];
+
+/// Own slot of edge `k` near its start corner, in `3..15` (the cross version is `+ 1`).
+pub(crate) fn own_slot(k: usize, offset: usize) -> usize {
+    3 + (4 * k + offset) % 12
+}
+
+// ---------------------------------------------------------------------------------------------
+// Weights: cubic Bernstein × the paper's rational blends, with exact derivatives.
+
+/// A number with its two partial derivatives along `u` (P1 → P2) and `v` (P1 → P3): forward-mode
+/// differentiation, so the weights' `Du`, `Dv` are exact to rounding.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Dual {
+    v: f64,
+    du: f64,
+    dv: f64,
+}
+
+impl Dual {
+    const ZERO: Dual = Dual::c(0.0);
+    const fn c(v: f64) -> Dual {
+        Dual {
+            v,
+            du: 0.0,
+            dv: 0.0,
+        }
+    }
+}
+
+impl Add for Dual {
+    type Output = Dual;
+    fn add(self, o: Dual) -> Dual {
+        Dual {
+            v: self.v + o.v,
+            du: self.du + o.du,
+            dv: self.dv + o.dv,
+        }
+    }
+}
+impl Sub for Dual {
+    type Output = Dual;
+    fn sub(self, o: Dual) -> Dual {
+        Dual {
+            v: self.v - o.v,
+            du: self.du - o.du,
+            dv: self.dv - o.dv,
+        }
+    }
+}
+impl Mul for Dual {
+    type Output = Dual;
+    fn mul(self, o: Dual) -> Dual {
+        Dual {
+            v: self.v * o.v,
+            du: self.du * o.v + self.v * o.du,
+            dv: self.dv * o.v + self.v * o.dv,
+        }
+    }
+}
+impl Div for Dual {
+    type Output = Dual;
+    fn div(self, o: Dual) -> Dual {
+        let q = self.v / o.v;
+        Dual {
+            v: q,
+            du: (self.du - q * o.du) / o.v,
+            dv: (self.dv - q * o.dv) / o.v,
+        }
+    }
+}
+impl Mul<Dual> for f64 {
+    type Output = Dual;
+    fn mul(self, o: Dual) -> Dual {
+        Dual {
+            v: self * o.v,
+            du: self * o.du,
+            dv: self * o.dv,
+        }
+    }
+}
+
+/// Weights of the 21 PNG1 control points at barycentric `l` (value, `Du`, `Dv`), in f64.
+///
+/// `S(l) = Σ B_ijk(l) b_ijk(l)` (equation (6)) with the edge slots blended by
+/// `((1-x)² own + x² cross) / ((1-x)² + x²)`, `x` the barycentric coordinate of the corner
+/// opposite the slot's edge (never singular), and the centre by Nielson's side-vertex blend.
+/// The centre blend's denominators vanish only at the corners, where `B111 = 6 l1 l2 l3` and its
+/// gradient vanish while the blend stays bounded (a convex combination): there the centre
+/// weights are exactly zero, the limit. No NaN anywhere on the closed triangle.
+///
+/// ```
+/// let w = tessella_core::basis::png1::weights([0.2, 0.3, 0.5]);
+/// assert!((w.value.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+/// ```
+pub fn weights(l: [f64; 3]) -> BasisWeights {
+    let w = weights_dual(l);
+    BasisWeights {
+        value: w.iter().map(|d| d.v).collect(),
+        du: w.iter().map(|d| d.du).collect(),
+        dv: w.iter().map(|d| d.dv).collect(),
+    }
+}
+
+fn weights_dual(l: [f64; 3]) -> [Dual; PNG1_LEN] {
+    // l1 = 1 - u - v, l2 = u, l3 = v; keep the given values (exact zeros stay exact).
+    let l = [
+        Dual {
+            v: l[0],
+            du: -1.0,
+            dv: -1.0,
+        },
+        Dual {
+            v: l[1],
+            du: 1.0,
+            dv: 0.0,
+        },
+        Dual {
+            v: l[2],
+            du: 0.0,
+            dv: 1.0,
+        },
+    ];
+    let one = Dual::c(1.0);
+    let mut w = [Dual::ZERO; PNG1_LEN];
+    for i in 0..3 {
+        w[i] = l[i] * l[i] * l[i];
+    }
+    for k in 0..3 {
+        let (a, b, c) = (l[k], l[(k + 1) % 3], l[(k + 2) % 3]);
+        // Blend of the two versions of the slots on edge k, by the opposite coordinate.
+        let own = (one - c) * (one - c);
+        let cross = c * c;
+        let den = own + cross;
+        let (own, cross) = (own / den, cross / den);
+        let near_a = 3.0 * (a * a * b);
+        let near_b = 3.0 * (a * b * b);
+        let (sa, sb) = (own_slot(k, 0), own_slot(k, 2));
+        w[sa] = near_a * own;
+        w[sa + 1] = near_a * cross;
+        w[sb] = near_b * own;
+        w[sb + 1] = near_b * cross;
+    }
+    let sigma = l[0] * l[1] + l[1] * l[2] + l[2] * l[0];
+    if sigma.v != 0.0 {
+        let b111 = 6.0 * (l[0] * l[1] * l[2]);
+        for k in 0..3 {
+            let (a, b) = (l[k], l[(k + 1) % 3]);
+            let den = a + b - 2.0 * (a * b);
+            if den.v == 0.0 {
+                // Only where a = b = 0, i.e. at a corner, excluded above.
+                continue;
+            }
+            let t = b111 * (a * b) / sigma / den;
+            w[15 + 2 * k] = t * ((one - b) * a);
+            w[16 + 2 * k] = t * ((one - a) * b);
+        }
+    }
+    w
+}
+
+/// Evaluates a PNG1 net in f64 at `l`: `(position, Du, Dv)`.
+pub fn eval_f64(net: &[DVec3; PNG1_LEN], l: [f64; 3]) -> (DVec3, DVec3, DVec3) {
+    let w = weights_dual(l);
+    let (mut p, mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for (wk, c) in w.iter().zip(net) {
+        p += wk.v * *c;
+        du += wk.du * *c;
+        dv += wk.dv * *c;
+    }
+    (p, du, dv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::basis::Basis;
+
+    #[test]
+    fn weights_sum_to_one_and_match_finite_differences() {
+        for l in [
+            [0.2, 0.3, 0.5],
+            [0.6, 0.3, 0.1],
+            [0.01, 0.98, 0.01],
+            [0.5, 0.5, 0.0],
+        ] {
+            let w = weights(l);
+            assert!((w.value.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+            assert!(w.du.iter().sum::<f64>().abs() < 1e-12);
+            assert!(w.dv.iter().sum::<f64>().abs() < 1e-12);
+            let h = 1e-6;
+            // Central differences along u (l2 up, l1 down) and v (l3 up, l1 down).
+            let fu = weights([l[0] - h, l[1] + h, l[2]]);
+            let bu = weights([l[0] + h, l[1] - h, l[2]]);
+            let fv = weights([l[0] - h, l[1], l[2] + h]);
+            let bv = weights([l[0] + h, l[1], l[2] - h]);
+            for k in 0..PNG1_LEN {
+                let du = (fu.value[k] - bu.value[k]) / (2.0 * h);
+                let dv = (fv.value[k] - bv.value[k]) / (2.0 * h);
+                assert!(
+                    (du - w.du[k]).abs() < 1e-7,
+                    "{l:?} k={k}: {du} vs {}",
+                    w.du[k]
+                );
+                assert!(
+                    (dv - w.dv[k]).abs() < 1e-7,
+                    "{l:?} k={k}: {dv} vs {}",
+                    w.dv[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn collapsed_versions_give_the_cubic_bernstein_weights() {
+        // When both versions of every slot coincide, PNG1 is the cubic patch.
+        let map = [
+            0, 1, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 9, 9, 9, 9,
+        ];
+        for l in [
+            [1.0, 0.0, 0.0],
+            [0.2, 0.3, 0.5],
+            [0.0, 0.25, 0.75],
+            [0.5, 0.5, 0.0],
+        ] {
+            let p = weights(l);
+            let c = Basis::Cubic.weights(l);
+            let mut sum = [[0.0; 3]; 10];
+            for k in 0..PNG1_LEN {
+                sum[map[k]][0] += p.value[k];
+                sum[map[k]][1] += p.du[k];
+                sum[map[k]][2] += p.dv[k];
+            }
+            for (j, s) in sum.iter().enumerate() {
+                assert!((s[0] - c.value[j]).abs() < 1e-14, "{l:?} {j}");
+                assert!((s[1] - c.du[j]).abs() < 1e-13, "{l:?} {j}");
+                assert!((s[2] - c.dv[j]).abs() < 1e-13, "{l:?} {j}");
+            }
+        }
+    }
+
+    #[test]
+    fn corner_limits_are_exact() {
+        for c in 0..3 {
+            let mut l = [0.0; 3];
+            l[c] = 1.0;
+            let w = weights(l);
+            assert!(w
+                .value
+                .iter()
+                .chain(&w.du)
+                .chain(&w.dv)
+                .all(|x| x.is_finite()));
+            assert_eq!(w.value[c], 1.0);
+            for k in 15..21 {
+                assert_eq!((w.value[k], w.du[k], w.dv[k]), (0.0, 0.0, 0.0));
+            }
+        }
+    }
+}
