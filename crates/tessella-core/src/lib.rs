@@ -27,6 +27,7 @@
 //! - Normals are unit length on input (normalised when read) and output.
 
 pub mod basis;
+pub mod displace;
 pub mod error;
 pub mod mesh;
 pub mod pattern;
@@ -38,6 +39,7 @@ pub mod stencil;
 pub mod tags;
 
 pub use basis::Basis;
+pub use displace::{DisplaceError, DisplaceFrame, Displacement, HeightMap};
 pub use error::{MeshError, RefineError};
 pub use mesh::{Mesh, Topology, TopologyReport};
 pub use pattern::Pattern;

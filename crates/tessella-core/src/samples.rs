@@ -177,6 +177,53 @@ pub fn hard_cube() -> Mesh {
     Mesh::new(positions, Some(normals), None, triangles).expect("cube is valid")
 }
 
+/// An icosphere with hard edges on its upper half: faces whose centre lies above `z = 0` get
+/// their own three vertices with the face's normal (split normals, like [`hard_cube`]); the
+/// others share vertices with the sphere's normals. Along the border a position carries a
+/// smooth vertex and several faceted ones.
+pub fn half_faceted_icosphere(subdivisions: u32) -> Mesh {
+    let sphere = icosphere(subdivisions);
+    let mut positions = sphere.positions().to_vec();
+    let mut normals = sphere.normals().to_vec();
+    let mut triangles = Vec::with_capacity(sphere.face_count());
+    for &t in sphere.triangles() {
+        let p = t.map(|v| positions[v as usize]);
+        if p[0][2] + p[1][2] + p[2][2] <= 0.0 {
+            triangles.push(t);
+            continue;
+        }
+        let (a, b) = (sub(p[1], p[0]), sub(p[2], p[0]));
+        let n = normalize([
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]);
+        let base = positions.len() as u32;
+        positions.extend(p);
+        normals.extend([n; 3]);
+        triangles.push([base, base + 1, base + 2]);
+    }
+    // Drop the smooth vertices only faceted faces used.
+    let mut index = vec![u32::MAX; positions.len()];
+    let (mut kept_positions, mut kept_normals) = (Vec::new(), Vec::new());
+    for t in &mut triangles {
+        for v in t.iter_mut() {
+            if index[*v as usize] == u32::MAX {
+                index[*v as usize] = kept_positions.len() as u32;
+                kept_positions.push(positions[*v as usize]);
+                kept_normals.push(normals[*v as usize]);
+            }
+            *v = index[*v as usize];
+        }
+    }
+    Mesh::new(kept_positions, Some(kept_normals), None, triangles)
+        .expect("half-faceted icosphere is valid")
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
 /// Something character-like: an icosphere pushed out into a head, two arms and two legs, with
 /// computed normals. Closed, genus 0, 320 triangles.
 pub fn creature() -> Mesh {
@@ -240,4 +287,48 @@ mod tests {
         assert_eq!(hard_cube().topology().report.split_normal_positions, 8);
         assert_eq!(icosphere_4k().face_count(), 5120);
     }
+}
+
+/// One frame of a twisting deformation, for demos, animations and benchmarks: `mesh`'s
+/// positions and normals turned about the vertical (Y) axis through the bounding box's centre,
+/// by an angle growing linearly with height from `-degrees/2` at the bottom to `+degrees/2` at
+/// the top. Normals turn with their points (exact for a rigid turn, close under the twist's
+/// shear; pass them to [`crate::refine::Plan::update`] to keep hard edges).
+///
+/// ```
+/// let mesh = tessella_core::samples::creature();
+/// let (p, n) = tessella_core::samples::twist(&mesh, 30.0);
+/// assert_eq!((p.len(), n.len()), (mesh.vertex_count(), mesh.vertex_count()));
+/// let (p0, _) = tessella_core::samples::twist(&mesh, 0.0);
+/// assert_eq!(p0, mesh.positions());
+/// ```
+pub fn twist(mesh: &Mesh, degrees: f32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    let (lo, hi) = mesh.bounds();
+    let height = (hi[1] - lo[1]).max(f32::MIN_POSITIVE);
+    let centre = [
+        0.5 * (lo[0] + hi[0]),
+        0.5 * (lo[1] + hi[1]),
+        0.5 * (lo[2] + hi[2]),
+    ];
+    let turn = |v: [f32; 3], y: f32, about: [f32; 3]| {
+        if degrees == 0.0 {
+            return v;
+        }
+        let a = degrees.to_radians() * (y - centre[1]) / height;
+        let (s, c) = a.sin_cos();
+        let (x, z) = (v[0] - about[0], v[2] - about[2]);
+        [c * x + s * z + about[0], v[1], -s * x + c * z + about[2]]
+    };
+    let positions = mesh
+        .positions()
+        .iter()
+        .map(|&p| turn(p, p[1], centre))
+        .collect();
+    let normals = mesh
+        .normals()
+        .iter()
+        .zip(mesh.positions())
+        .map(|(&n, p)| turn(n, p[1], [0.0; 3]))
+        .collect();
+    (positions, normals)
 }
