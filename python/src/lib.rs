@@ -10,6 +10,7 @@ mod displace;
 mod errors;
 mod gpu;
 mod options;
+mod refiner;
 mod tags;
 
 use numpy::PyArray2;
@@ -321,6 +322,7 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(schemes, m)?)?;
     m.add_function(wrap_pyfunction!(backends, m)?)?;
     m.add_function(wrap_pyfunction!(gpu_info, m)?)?;
+    m.add_class::<refiner::Refiner>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

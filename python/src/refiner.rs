@@ -1,0 +1,345 @@
+//! `tessella.Refiner`: one mesh topology refined frame after frame (a deforming mesh), on the
+//! core's [`Plan`] (built once) and [`Frame`] (moved every frame).
+//!
+//! - The plan is built on the first `refine(vertices, ...)` call, because which vertices share
+//!   a position (what PNG1, PN-AEN and the scalar-tagged scheme look across) and the tags
+//!   (split-normal creases, `crease_angle`, vertex indices) are decided from a mesh. Every later
+//!   call only moves the frame ([`Plan::update`], O(coarse)) and evaluates into memory.
+//! - `out=(v, n)` writes into the caller's float32 C-contiguous writable `(N, 3)` arrays with
+//!   the GIL released; without it, fresh arrays are returned.
+//! - A bad frame (wrong vertex count, NaN positions, zero normals, a degenerate triangle) raises
+//!   `ValueError` and changes nothing: the frame stays where it was and `out` is not written.
+//! - The refined faces are computed once ([`Plan::indices`]) into one read-only uint32 array,
+//!   returned by every call and by the `faces` property.
+//!
+//! The same error mapping as `tessella.refine` (`errors.rs`).
+
+use crate::arrays;
+use crate::errors;
+use crate::options::{self, Backend};
+use crate::tags::{self, TagSource};
+use numpy::{PyArray2, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::IntoPyDict;
+use tessella_core::refine::{Frame, Plan, VertexOutput};
+use tessella_core::{Mesh, RefineOptions, Scheme};
+
+type F32Array<'py> = Bound<'py, PyArray2<f32>>;
+type U32Array<'py> = Bound<'py, PyArray2<u32>>;
+
+/// What the first frame builds: the plan, the current frame and the faces array.
+struct Built {
+    plan: Plan,
+    frame: Frame,
+    /// `plan.indices()` as a read-only numpy array, made once.
+    faces: Py<PyArray2<u32>>,
+}
+
+/// Refines one mesh topology frame after frame; see `tessella.Refiner` (the Python docs).
+#[pyclass(module = "tessella._tessella", name = "Refiner")]
+pub struct Refiner {
+    /// The coarse triangles, fixed at construction.
+    triangles: Vec<[u32; 3]>,
+    scheme: Scheme,
+    /// Options without tags (they are gathered from the first mesh).
+    options: RefineOptions,
+    tag_source: TagSource,
+    crease_angle: Option<f64>,
+    built: Option<Built>,
+}
+
+/// An array `out=` names, checked: float32, `(vertices, 3)`, C-contiguous (writable is checked
+/// when it is borrowed for writing, [`borrow_error`]).
+fn check_out<'py>(
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+    vertices: usize,
+) -> PyResult<F32Array<'py>> {
+    let a = obj.cast::<PyArray2<f32>>().map_err(|_| {
+        let got = match obj.cast::<numpy::PyUntypedArray>() {
+            Ok(u) => format!(
+                "a {}-dimensional array of dtype {}",
+                u.ndim(),
+                u.dtype()
+                    .str()
+                    .map(|s| s.to_string())
+                    .unwrap_or_else(|_| "?".into())
+            ),
+            Err(_) => format!(
+                "{}",
+                obj.get_type()
+                    .name()
+                    .map(|n| n.to_string())
+                    .unwrap_or_else(|_| "?".into())
+            ),
+        };
+        PyValueError::new_err(format!(
+            "out {what} must be a float32 numpy array of shape ({vertices}, 3), got {got}; \
+             make it with numpy.empty(({vertices}, 3), dtype=numpy.float32)"
+        ))
+    })?;
+    let shape = a.shape();
+    if shape != [vertices, 3] {
+        return Err(PyValueError::new_err(format!(
+            "out {what} must have shape ({vertices}, 3) (the refined vertex count), got ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    if !a.is_c_contiguous() {
+        return Err(PyValueError::new_err(format!(
+            "out {what} must be C-contiguous (a view with strides cannot be written in place); \
+             use numpy.ascontiguousarray or numpy.empty(({vertices}, 3), dtype=numpy.float32)"
+        )));
+    }
+    Ok(a.clone())
+}
+
+/// Why an `out` array cannot be written: read-only, or sharing memory with the other one (or
+/// borrowed elsewhere).
+fn borrow_error(what: &str, e: numpy::BorrowError) -> PyErr {
+    match e {
+        numpy::BorrowError::NotWriteable => PyValueError::new_err(format!(
+            "out {what} is read-only (its WRITEABLE flag is off); pass a writable array"
+        )),
+        _ => PyValueError::new_err(format!(
+            "out {what} cannot be written: it shares memory with the other out array (out[0] \
+             and out[1] must be two separate arrays) or is being written elsewhere"
+        )),
+    }
+}
+
+/// `&mut [f32]` of `3k` floats as `k` rows.
+fn as_rows(flat: &mut [f32]) -> &mut [[f32; 3]] {
+    let rows = flat.len() / 3;
+    // SAFETY: `[f32; 3]` has the size of three `f32`s and their alignment, and `rows * 3`
+    // floats lie inside `flat`, which stays mutably borrowed for the result's lifetime.
+    unsafe { std::slice::from_raw_parts_mut(flat.as_mut_ptr().cast::<[f32; 3]>(), rows) }
+}
+
+impl Refiner {
+    /// Builds the plan and the first frame from `mesh` (the first call).
+    fn build(&self, py: Python<'_>, mesh: &Mesh) -> PyResult<Built> {
+        let (plan, frame) = py.detach(|| -> PyResult<_> {
+            let mut opts = self.options.clone();
+            if let Some(t) = tags::gather(mesh, self.scheme, &self.tag_source, self.crease_angle)? {
+                opts = opts.with_tags(t);
+            }
+            let plan = Plan::new(mesh, &opts).map_err(errors::refine_error)?;
+            let frame = plan.frame(mesh).map_err(errors::refine_error)?;
+            plan.indices();
+            Ok((plan, frame))
+        })?;
+        let faces = arrays::to_numpy(py, plan.indices().to_vec());
+        faces.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
+        Ok(Built {
+            plan,
+            frame,
+            faces: faces.unbind(),
+        })
+    }
+}
+
+#[pymethods]
+impl Refiner {
+    #[new]
+    #[pyo3(signature = (faces, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
+                        tags=None, crease_angle=None, backend="auto", weld=true))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        faces: &Bound<'_, PyAny>,
+        scheme: &str,
+        level: i64,
+        alpha: f64,
+        normals_mode: Option<&str>,
+        tags: Option<&Bound<'_, PyAny>>,
+        crease_angle: Option<f64>,
+        backend: &str,
+        weld: bool,
+    ) -> PyResult<Self> {
+        let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
+        scheme.validate().map_err(errors::refine_error)?;
+        let normal_mode = options::normal_mode(normals_mode)?;
+        match options::backend(backend)? {
+            Backend::Auto | Backend::Cpu => {}
+            Backend::Gpu => {
+                return Err(PyValueError::new_err(
+                    "Refiner runs on the CPU only for now (backend=\"gpu\" is not supported by \
+                     Refiner yet); use backend=\"cpu\" or \"auto\", or tessella.refine(..., \
+                     backend=\"gpu\") for one-off GPU refinement",
+                ))
+            }
+        }
+        if let Some(degrees) = crease_angle {
+            if !(0.0..=180.0).contains(&degrees) {
+                return Err(PyValueError::new_err(format!(
+                    "crease_angle={degrees}: the angle must lie in 0..180 degrees"
+                )));
+            }
+        }
+        let tag_source = tags::source(tags)?;
+        let triangles = arrays::triangles(faces, "faces")?;
+        if triangles.is_empty() {
+            return Err(PyValueError::new_err("faces holds no triangles"));
+        }
+        let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
+        opts.normals = normal_mode;
+        Ok(Refiner {
+            triangles,
+            scheme,
+            options: opts,
+            tag_source,
+            crease_angle,
+            built: None,
+        })
+    }
+
+    /// Refines one frame; see `tessella.Refiner.refine` (the Python docs).
+    #[pyo3(signature = (vertices, normals=None, *, out=None))]
+    fn refine<'py>(
+        &mut self,
+        py: Python<'py>,
+        vertices: &Bound<'py, PyAny>,
+        normals: Option<&Bound<'py, PyAny>>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<(F32Array<'py>, U32Array<'py>, F32Array<'py>)> {
+        let positions = arrays::points(vertices, "vertices")?;
+        let normals = match normals {
+            Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
+            _ => None,
+        };
+        // `out` is read before the frame moves, so a bad `out` changes nothing either.
+        let out_pair = match out.filter(|o| !o.is_none()) {
+            None => None,
+            Some(o) => {
+                let pair: (Bound<'py, PyAny>, Bound<'py, PyAny>) = o.extract().map_err(|_| {
+                    PyValueError::new_err(
+                        "out must be a tuple (vertices, normals) of two float32 (N, 3) arrays",
+                    )
+                })?;
+                Some(pair)
+            }
+        };
+        // The first frame builds the plan from its mesh (already at this frame's positions);
+        // later frames move it. `update` is `Some` for those.
+        let update = match self.built {
+            Some(_) => Some((positions, normals)),
+            None => {
+                let triangles = self.triangles.clone();
+                let mesh = py
+                    .detach(|| Mesh::new(positions, normals, None, triangles))
+                    .map_err(errors::mesh_error)?;
+                self.built = Some(self.build(py, &mesh)?);
+                None
+            }
+        };
+        let built = self.built.as_mut().expect("built above");
+        let count = built.plan.vertex_count();
+        let faces = built.faces.bind(py).clone();
+        match out_pair {
+            Some((v_obj, n_obj)) => {
+                let v = check_out(&v_obj, "vertices (out[0])", count)?;
+                let n = check_out(&n_obj, "normals (out[1])", count)?;
+                let mut v_rw = v
+                    .try_readwrite()
+                    .map_err(|e| borrow_error("vertices (out[0])", e))?;
+                let mut n_rw = n
+                    .try_readwrite()
+                    .map_err(|e| borrow_error("normals (out[1])", e))?;
+                let v_flat = v_rw.as_slice_mut().map_err(|e| PyValueError::new_err(e.to_string()))?;
+                let n_flat = n_rw.as_slice_mut().map_err(|e| PyValueError::new_err(e.to_string()))?;
+                let (plan, frame) = (&built.plan, &mut built.frame);
+                py.detach(|| -> PyResult<()> {
+                    if let Some((positions, normals)) = &update {
+                        plan.update(frame, positions, normals.as_deref())
+                            .map_err(errors::refine_error)?;
+                    }
+                    plan.evaluate(
+                        frame,
+                        VertexOutput::Separate {
+                            positions: as_rows(v_flat),
+                            normals: Some(as_rows(n_flat)),
+                            uvs: None,
+                        },
+                    )
+                    .map_err(errors::refine_error)
+                })?;
+                drop((v_rw, n_rw));
+                Ok((v, faces, n))
+            }
+            None => {
+                let (plan, frame) = (&built.plan, &mut built.frame);
+                let (p, n) = py.detach(|| -> PyResult<_> {
+                    if let Some((positions, normals)) = &update {
+                        plan.update(frame, positions, normals.as_deref())
+                            .map_err(errors::refine_error)?;
+                    }
+                    let mut p = vec![[0f32; 3]; count];
+                    let mut n = vec![[0f32; 3]; count];
+                    plan.evaluate(
+                        frame,
+                        VertexOutput::Separate {
+                            positions: &mut p,
+                            normals: Some(&mut n),
+                            uvs: None,
+                        },
+                    )
+                    .map_err(errors::refine_error)?;
+                    Ok((p, n))
+                })?;
+                Ok((arrays::to_numpy(py, p), faces, arrays::to_numpy(py, n)))
+            }
+        }
+    }
+
+    /// Refined vertices per frame, or `None` before the first `refine`.
+    #[getter]
+    fn vertex_count(&self) -> Option<usize> {
+        self.built.as_ref().map(|b| b.plan.vertex_count())
+    }
+
+    /// Refined triangles per frame: coarse faces × level².
+    #[getter]
+    fn triangle_count(&self) -> usize {
+        self.triangles.len() * (self.options.level as usize).pow(2)
+    }
+
+    /// The refined triangles (the read-only array `refine` returns), or `None` before the
+    /// first `refine`.
+    #[getter]
+    fn faces<'py>(&self, py: Python<'py>) -> Option<U32Array<'py>> {
+        self.built.as_ref().map(|b| b.faces.bind(py).clone())
+    }
+
+    /// Segments per coarse edge.
+    #[getter]
+    fn level(&self) -> u32 {
+        self.options.level
+    }
+
+    /// The scheme's name (`tessella.schemes()` spelling).
+    #[getter]
+    fn scheme(&self) -> &'static str {
+        self.scheme.name()
+    }
+
+    /// Whether output is welded.
+    #[getter]
+    fn weld(&self) -> bool {
+        self.options.weld
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "tessella.Refiner(scheme={:?}, level={}, faces={}, weld={}, vertex_count={})",
+            self.scheme.name(),
+            self.options.level,
+            self.triangles.len(),
+            if self.options.weld { "True" } else { "False" },
+            match self.vertex_count() {
+                Some(n) => n.to_string(),
+                None => "None".into(),
+            }
+        )
+    }
+}
