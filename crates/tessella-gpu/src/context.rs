@@ -1,7 +1,7 @@
 //! Device setup, kept apart from the GPU work so callers and tests open one device and reuse it.
 
 use crate::error::GpuError;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, Mutex};
 
 /// Which adapter [`GpuContext::new`] asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -16,6 +16,10 @@ pub enum AdapterChoice {
 }
 
 /// An open device and queue, plus what the work needs to know about the adapter.
+///
+/// Cheap to clone (wgpu's device and queue are handles); clones share the error slot. It knows
+/// nothing of the work done with it: the evaluator and the renderer own their pipelines.
+#[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
@@ -24,8 +28,6 @@ pub struct GpuContext {
     /// First uncaptured error or loss reported by the device, turned into a `GpuError` by
     /// [`GpuContext::check`] (wgpu's default handler would panic).
     fault: Arc<Mutex<Option<GpuError>>>,
-    refine_pipelines: OnceLock<crate::compute::Pipelines>,
-    render_pipelines: OnceLock<crate::render::Pipelines>,
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -103,6 +105,16 @@ impl GpuContext {
                 adapter: info.name.clone(),
                 reason: e.to_string(),
             })?;
+        Ok(GpuContext::from_device(device, queue))
+    }
+
+    /// Wraps a device and queue the caller opened (an engine's own), so tessella's evaluator
+    /// and renderer work on the caller's resources. Installs an uncaptured-error handler and a
+    /// device-lost callback that record into this context (see [`GpuContext::check`]):
+    /// replace them afterwards if the caller wants its own.
+    ///
+    /// The work sizes its chunks from `device.limits()`; tessella needs no optional features.
+    pub fn from_device(device: wgpu::Device, queue: wgpu::Queue) -> GpuContext {
         let fault = Arc::new(Mutex::new(None));
         let sink = fault.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
@@ -116,15 +128,13 @@ impl GpuContext {
                 reason: format!("{reason:?}: {message}"),
             });
         });
-        Ok(GpuContext {
+        GpuContext {
+            info: device.adapter_info(),
+            limits: device.limits(),
             device,
             queue,
-            info,
-            limits,
             fault,
-            refine_pipelines: OnceLock::new(),
-            render_pipelines: OnceLock::new(),
-        })
+        }
     }
 
     /// `true` for software adapters (lavapipe, WARP, SwiftShader): correct but slow.
@@ -149,18 +159,6 @@ impl GpuContext {
             .min(self.limits.max_buffer_size)
     }
 
-    /// The compute kernels, compiled on first use.
-    pub(crate) fn refine_pipelines(&self) -> &crate::compute::Pipelines {
-        self.refine_pipelines
-            .get_or_init(|| crate::compute::Pipelines::new(self))
-    }
-
-    /// The render pipelines, compiled on first use.
-    pub(crate) fn render_pipelines(&self) -> &crate::render::Pipelines {
-        self.render_pipelines
-            .get_or_init(|| crate::render::Pipelines::new(self))
-    }
-
     /// Returns the first error the device reported since the last call, if any.
     pub fn check(&self) -> Result<(), GpuError> {
         let mut slot = self.fault.lock().unwrap_or_else(|p| p.into_inner());
@@ -170,11 +168,31 @@ impl GpuContext {
         }
     }
 
-    /// Submits `encoder` and blocks until the GPU has finished it.
-    pub(crate) fn submit_and_wait(&self, encoder: wgpu::CommandEncoder) -> Result<(), GpuError> {
-        let index = self.queue.submit([encoder.finish()]);
-        // A rejected submission shows up as a recorded error; report that, not the wait.
+    /// Runs `f` (which creates resources, records or submits work) inside validation and
+    /// out-of-memory error scopes, and returns the first error either caught, or one the
+    /// device recorded meanwhile. Does not wait for the GPU: on native backends validation is
+    /// done when the call returns.
+    pub fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        let invalid = pollster::block_on(validation.pop());
+        let out_of_memory = pollster::block_on(memory.pop());
+        if let Some(e) = invalid {
+            return Err(GpuError::Validation(e.to_string()));
+        }
+        if let Some(e) = out_of_memory {
+            return Err(GpuError::OutOfMemory(e.to_string()));
+        }
         self.check()?;
+        Ok(value)
+    }
+
+    /// Finishes and submits `encoder`, then blocks until the GPU has finished it. Any error
+    /// wgpu reports for the commands (or reported earlier and not yet taken by
+    /// [`GpuContext::check`]) is returned: a rejected frame is an `Err`, never a blank `Ok`.
+    pub fn submit_and_wait(&self, encoder: wgpu::CommandEncoder) -> Result<(), GpuError> {
+        let index = self.scoped(|| self.queue.submit([encoder.finish()]))?;
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: Some(index),
@@ -186,8 +204,8 @@ impl GpuContext {
         self.check()
     }
 
-    /// Maps a MAP_READ buffer and copies it out.
-    pub(crate) fn map_and_copy(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    /// Maps a `MAP_READ` buffer (after its copy was submitted) and copies it out.
+    pub fn map_and_copy(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);
@@ -212,8 +230,30 @@ impl GpuContext {
         Ok(bytes)
     }
 
+    /// Copies `len` bytes of `buffer` (which needs `COPY_SRC`) from byte `offset` back to the
+    /// CPU; waits for the GPU. `offset` and `len` must be multiples of 4.
+    pub fn read_buffer(
+        &self,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        len: u64,
+    ) -> Result<Vec<u8>, GpuError> {
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: len.max(4),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, len);
+        self.submit_and_wait(encoder)?;
+        let mut bytes = self.map_and_copy(&staging)?;
+        bytes.truncate(len as usize);
+        Ok(bytes)
+    }
+
     /// A buffer initialised from `contents`: the one place buffers with data are made.
-    pub(crate) fn buffer_init(
+    pub fn buffer_init(
         &self,
         label: &str,
         contents: &[u8],
@@ -229,7 +269,7 @@ impl GpuContext {
     }
 
     /// A storage buffer initialised from `data` (at least 4 bytes: empty bindings are invalid).
-    pub(crate) fn storage_buffer(
+    pub fn storage_buffer(
         &self,
         label: &str,
         data: &[u8],

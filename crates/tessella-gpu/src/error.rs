@@ -14,8 +14,17 @@ pub enum GpuError {
     RequestDevice { adapter: String, reason: String },
     #[error("the GPU device was lost ({reason}); retry, or use the CPU backend")]
     DeviceLost { reason: String },
-    #[error("the GPU reported an error: {0}; this is a bug in tessella-gpu, please report it")]
+    #[error(
+        "the GPU rejected the work: {0}; if no buffer of yours was involved, this is a bug in \
+         tessella-gpu, please report it"
+    )]
     Validation(String),
+    #[error(
+        "the GPU ran out of memory: {0}; use a lower level, fewer triangles or the CPU backend"
+    )]
+    OutOfMemory(String),
+    #[error("the output buffer cannot take this frame: {0}")]
+    BadOutput(String),
     #[error("reading GPU results back failed: {0}")]
     Readback(String),
     #[error(

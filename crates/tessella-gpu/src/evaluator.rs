@@ -1,15 +1,23 @@
-//! The compute path: refine on the GPU into the same vertex order and indices as the CPU
-//! (tessella-core's `OutputLayout`), then read the result back.
+//! The GPU evaluator: the compute path behind [`tessella_core::refine::Evaluator`]. Made once
+//! per [`Plan`] (it uploads the stencil, the pattern and the topology tables then), it writes
+//! each [`Frame`]'s refined vertices into a `wgpu` buffer, its own or the caller's, uploading
+//! only the frame's coarse data (control nets, coarse positions, normals and UVs).
 //!
-//! Outputs are produced in chunks, each no larger than one storage-buffer binding and one
-//! dispatch's workgroup count, so any output that fits in CPU memory can be refined.
+//! Output order is the plan's (the CPU's `OutputLayout`); the vertex format is interleaved
+//! `f32`: position (3), normal (3), and texture coordinates (2) when the mesh has them, i.e.
+//! [`tessella_core::refine::VertexFormat::POSITION_NORMAL`] (24 bytes per vertex) or
+//! [`tessella_core::refine::VertexFormat::POSITION_NORMAL_UV`] (32 bytes).
+//!
+//! Work is split into chunks that fit one storage-buffer binding and one dispatch, so an
+//! output that fits in one buffer can be refined whatever the binding limit.
 
 use crate::context::GpuContext;
 use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::RefineParams;
 use crate::patch::{self, PatchBuffers};
-use tessella_core::{Pattern, RefinedMesh, Refiner};
+use tessella_core::refine::{Evaluator, Frame, Plan};
+use tessella_core::{PatchNets, Pattern, RefinedMesh, Refiner};
 
 /// Threads per workgroup of both kernels (`@workgroup_size(64)` in `refine.wgsl`).
 const WORKGROUP: u64 = 64;
@@ -17,13 +25,7 @@ const WORKGROUP: u64 = 64;
 /// Largest staging buffer for one batch of chunks read back together.
 const STAGING_BYTES: u64 = 256 << 20;
 
-#[derive(Debug, Clone, Copy)]
-enum Job {
-    Vertices,
-    Indices,
-}
-
-/// Options of [`gpu_refine_with`].
+/// Options of [`GpuEvaluator::with_options`] and [`gpu_refine_with`].
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct GpuRefineOptions {
     /// Applied to every output vertex after evaluation.
@@ -33,8 +35,46 @@ pub struct GpuRefineOptions {
     pub max_chunk_items: Option<u32>,
 }
 
-/// The compiled refinement kernels, built once per [`GpuContext`].
-pub(crate) struct Pipelines {
+/// Where [`GpuEvaluator::evaluate`] writes one frame's vertices (format: see the module docs,
+/// [`GpuEvaluator::vertex_stride`]).
+#[derive(Debug)]
+pub enum GpuOutput<'a> {
+    /// The evaluator's own vertex buffer (`VERTEX | STORAGE | COPY_SRC`), made on first use and
+    /// kept: [`GpuEvaluator::vertex_buffer`], [`GpuEvaluator::read_back`].
+    Own,
+    /// The caller's buffer, from byte `offset` (a multiple of 4). It needs `STORAGE` usage and
+    /// room for [`GpuEvaluator::vertex_bytes`] bytes after `offset`; add `VERTEX` to draw it.
+    Buffer {
+        buffer: &'a wgpu::Buffer,
+        offset: u64,
+    },
+}
+
+/// The refined triangles' index width of [`GpuEvaluator::write_indices`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IndexWidth {
+    U16,
+    U32,
+}
+
+impl IndexWidth {
+    /// The `wgpu` index format.
+    pub fn format(self) -> wgpu::IndexFormat {
+        match self {
+            IndexWidth::U16 => wgpu::IndexFormat::Uint16,
+            IndexWidth::U32 => wgpu::IndexFormat::Uint32,
+        }
+    }
+    fn bytes(self) -> u64 {
+        match self {
+            IndexWidth::U16 => 2,
+            IndexWidth::U32 => 4,
+        }
+    }
+}
+
+/// The compiled refinement kernels, owned by one evaluator.
+struct Pipelines {
     patch_layout: wgpu::BindGroupLayout,
     refine_layout: wgpu::BindGroupLayout,
     vertices: wgpu::ComputePipeline,
@@ -42,7 +82,7 @@ pub(crate) struct Pipelines {
 }
 
 impl Pipelines {
-    pub fn new(ctx: &GpuContext) -> Pipelines {
+    fn new(ctx: &GpuContext) -> Pipelines {
         let patch_layout = patch::layout(ctx, wgpu::ShaderStages::COMPUTE);
         let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
@@ -103,8 +143,454 @@ impl Pipelines {
     }
 }
 
+/// One dispatch: `count` items from output item `first`, written into `window` (a bound byte
+/// range of a buffer) from `f32`/`u32` index `base`.
+struct Chunk<'b> {
+    buffer: &'b wgpu::Buffer,
+    window: (u64, u64),
+    base: u32,
+    first: u64,
+    count: u64,
+}
+
+/// The GPU implementation of [`Evaluator`]: made once per [`Plan`], evaluates its frames.
+///
+/// ```no_run
+/// use tessella_core::refine::{Evaluator, Plan};
+/// use tessella_core::{samples, RefineOptions, Scheme};
+/// use tessella_gpu::{AdapterChoice, GpuContext, GpuEvaluator, GpuOutput};
+/// let ctx = GpuContext::new(AdapterChoice::Auto)?;
+/// let mesh = samples::icosphere(1);
+/// let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 8))?;
+/// let mut frame = plan.frame(&mesh)?;
+/// let mut gpu = GpuEvaluator::new(&ctx, &plan)?;
+/// let (indices, format) = gpu.index_buffer(&plan)?; // once per topology
+/// for t in 0..3 {
+///     let s = 1.0 + 0.1 * t as f32;
+///     let moved: Vec<[f32; 3]> = mesh.positions().iter().map(|p| p.map(|c| s * c)).collect();
+///     plan.update(&mut frame, &moved, None)?;
+///     gpu.evaluate(&plan, &frame, GpuOutput::Own)?; // uploads nets only, then one dispatch
+///     // draw gpu.vertex_buffer() with `indices` (format `format`) ...
+/// }
+/// # Ok::<(), tessella_gpu::GpuError>(())
+/// ```
+pub struct GpuEvaluator {
+    ctx: GpuContext,
+    pipelines: Pipelines,
+    /// Identifies the plan: vertex, triangle and face counts, level, weld, basis size.
+    plan_key: (usize, usize, usize, u32, bool, usize),
+    patches: PatchBuffers,
+    patch_group: wgpu::BindGroup,
+    mesh_u32: wgpu::Buffer,
+    mesh_f32: wgpu::Buffer,
+    /// Scratch for the binding a kernel does not write.
+    spare_vertices: wgpu::Buffer,
+    spare_indices: wgpu::Buffer,
+    params: RefineParams,
+    has_uv: bool,
+    max_chunk_items: Option<u32>,
+    own: Option<wgpu::Buffer>,
+    own_indices: Option<(wgpu::Buffer, IndexWidth)>,
+}
+
+impl std::fmt::Debug for GpuEvaluator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GpuEvaluator")
+            .field("vertices", &self.plan_key.0)
+            .field("triangles", &self.plan_key.1)
+            .finish()
+    }
+}
+
+impl GpuEvaluator {
+    /// Compiles the kernels and uploads the plan's stencil and tables (once).
+    pub fn new(ctx: &GpuContext, plan: &Plan) -> Result<GpuEvaluator, GpuError> {
+        GpuEvaluator::with_options(ctx, plan, &GpuRefineOptions::default())
+    }
+
+    /// [`GpuEvaluator::new`] with displacement and a chunk-size cap.
+    pub fn with_options(
+        ctx: &GpuContext,
+        plan: &Plan,
+        options: &GpuRefineOptions,
+    ) -> Result<GpuEvaluator, GpuError> {
+        let has_uv = plan.has_uvs();
+        options.displacement.validate(has_uv)?;
+        let layout = plan.layout();
+        if layout.triangle_count > u32::MAX as u64 {
+            return Err(GpuError::TooLarge {
+                what: "the refined triangle count",
+                bytes: layout.triangle_count * 12,
+                limit: u32::MAX as u64 * 12,
+            });
+        }
+        let (u32s, params) = index_tables(plan);
+        let f32_len = coarse_f32_len(plan);
+        let limit = ctx.max_binding();
+        for (what, bytes) in [
+            ("the mesh's index tables", u32s.len() as u64 * 4),
+            ("the mesh's vertex data", f32_len as u64 * 4),
+        ] {
+            if bytes > limit {
+                return Err(GpuError::TooLarge { what, bytes, limit });
+            }
+        }
+        let basis = plan.options().scheme.basis();
+        let faces = plan.face_count();
+        let blank = PatchNets {
+            basis,
+            normal_mode: plan.normal_mode(),
+            points: vec![[0.0; 3]; faces * basis.len()],
+            normals: vec![[0.0; 3]; faces * 6],
+        };
+        ctx.scoped(|| {
+            let pipelines = Pipelines::new(ctx);
+            let patches = PatchBuffers::new(ctx, plan.stencil(), &blank, &options.displacement)?;
+            let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
+            let copy = wgpu::BufferUsages::COPY_DST;
+            let none = wgpu::BufferUsages::empty();
+            let mesh_u32 = ctx.storage_buffer("mesh u32", bytemuck::cast_slice(&u32s), none);
+            let zeros = vec![0.0f32; f32_len];
+            let mesh_f32 = ctx.storage_buffer("mesh f32", bytemuck::cast_slice(&zeros), copy);
+            Ok(GpuEvaluator {
+                spare_vertices: ctx.storage_buffer("spare vertices", &[0; 32], none),
+                spare_indices: ctx.storage_buffer("spare indices", &[0; 12], none),
+                ctx: ctx.clone(),
+                pipelines,
+                plan_key: plan_key(plan),
+                patches,
+                patch_group,
+                mesh_u32,
+                mesh_f32,
+                params,
+                has_uv,
+                max_chunk_items: options.max_chunk_items,
+                own: None,
+                own_indices: None,
+            })
+        })?
+    }
+
+    /// Floats per output vertex: 6 (position, normal) or 8 (and UV, when the mesh has them).
+    pub fn vertex_stride(&self) -> usize {
+        if self.has_uv {
+            8
+        } else {
+            6
+        }
+    }
+
+    /// Bytes one frame's vertices take.
+    pub fn vertex_bytes(&self) -> u64 {
+        self.plan_key.0 as u64 * self.vertex_stride() as u64 * 4
+    }
+
+    /// The evaluator's own vertex buffer, once [`GpuOutput::Own`] was evaluated into.
+    pub fn vertex_buffer(&self) -> Option<&wgpu::Buffer> {
+        self.own.as_ref()
+    }
+
+    /// Copies the evaluator's own vertex buffer back (waits for the GPU): `vertex_stride()`
+    /// floats per vertex.
+    pub fn read_back(&self) -> Result<Vec<f32>, GpuError> {
+        let own = self.own.as_ref().ok_or_else(|| {
+            GpuError::BadOutput("nothing evaluated into the evaluator's own buffer yet".into())
+        })?;
+        let bytes = self.ctx.read_buffer(own, 0, own.size())?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// An index buffer (`INDEX | COPY_SRC`) holding the plan's refined triangles, `u16` when
+    /// [`Plan::fits_u16`], else `u32`; made on first call and kept (indices do not change
+    /// between frames).
+    pub fn index_buffer(
+        &mut self,
+        plan: &Plan,
+    ) -> Result<(&wgpu::Buffer, wgpu::IndexFormat), GpuError> {
+        self.check_plan(plan)?;
+        if self.own_indices.is_none() {
+            let width = if plan.fits_u16() {
+                IndexWidth::U16
+            } else {
+                IndexWidth::U32
+            };
+            let size = (plan.triangle_count() as u64 * 3 * width.bytes()).next_multiple_of(4);
+            let buffer = self.ctx.scoped(|| {
+                self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("refined indices"),
+                    size: size.max(4),
+                    usage: wgpu::BufferUsages::INDEX
+                        | wgpu::BufferUsages::COPY_DST
+                        | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                })
+            })?;
+            self.write_indices(plan, &buffer, 0, width)?;
+            self.own_indices = Some((buffer, width));
+        }
+        let (buffer, width) = self.own_indices.as_ref().expect("made above");
+        Ok((buffer, width.format()))
+    }
+
+    /// Writes the plan's refined triangles into the caller's `buffer` from byte `offset` (a
+    /// multiple of 4) as `width` integers. Needs `COPY_DST` usage and room for
+    /// `triangles × 3 × width` bytes (rounded up to 4). Call once per topology.
+    pub fn write_indices(
+        &self,
+        plan: &Plan,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        width: IndexWidth,
+    ) -> Result<(), GpuError> {
+        self.check_plan(plan)?;
+        let bytes: Vec<u8> = match width {
+            IndexWidth::U32 => bytemuck::cast_slice(plan.indices()).to_vec(),
+            IndexWidth::U16 => {
+                let mut out = vec![[0u16; 3]; plan.triangle_count()];
+                plan.write_indices(&mut out)?;
+                let mut bytes = bytemuck::cast_slice::<_, u8>(&out).to_vec();
+                bytes.resize(bytes.len().next_multiple_of(4), 0);
+                bytes
+            }
+        };
+        check_buffer(
+            buffer,
+            offset,
+            bytes.len() as u64,
+            wgpu::BufferUsages::COPY_DST,
+        )?;
+        self.ctx
+            .scoped(|| self.ctx.queue.write_buffer(buffer, offset, &bytes))
+    }
+
+    fn check_plan(&self, plan: &Plan) -> Result<(), GpuError> {
+        if plan_key(plan) != self.plan_key {
+            return Err(GpuError::BadOption(
+                "this GPU evaluator was made for another plan".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Uploads the frame's coarse data: nets, positions, normals, UVs. O(coarse triangles).
+    /// Returns the bytes written.
+    fn upload(&self, plan: &Plan, frame: &Frame) -> Result<u64, GpuError> {
+        self.check_plan(plan)?;
+        plan.check_frame(frame)?;
+        let mesh = frame.mesh();
+        let mut coarse: Vec<f32> = Vec::with_capacity(coarse_f32_len(plan));
+        coarse.extend(mesh.positions().iter().flatten());
+        coarse.extend(mesh.normals().iter().flatten());
+        if let Some(uvs) = mesh.uvs() {
+            coarse.extend(uvs.iter().flatten());
+        }
+        self.ctx
+            .queue
+            .write_buffer(&self.mesh_f32, 0, bytemuck::cast_slice(&coarse));
+        Ok(self.patches.update_nets(&self.ctx, frame.nets()) + coarse.len() as u64 * 4)
+    }
+
+    /// Items one chunk may hold, from the dispatch limit and the caller's cap.
+    fn item_cap(&self) -> u64 {
+        let dispatch = self.ctx.limits.max_compute_workgroups_per_dimension as u64 * WORKGROUP;
+        let cap = self.max_chunk_items.map_or(u64::MAX, |c| c.max(1) as u64);
+        dispatch.min(cap)
+    }
+
+    /// Splits `total` vertices written into `buffer` from byte `offset` into chunks, each
+    /// with a binding window within the device's binding limit and offset alignment.
+    fn vertex_chunks<'b>(
+        &self,
+        buffer: &'b wgpu::Buffer,
+        offset: u64,
+        total: u64,
+    ) -> Result<Vec<Chunk<'b>>, GpuError> {
+        let stride = self.vertex_stride() as u64 * 4;
+        let align = self.ctx.limits.min_storage_buffer_offset_alignment.max(4) as u64;
+        let max_binding = self.ctx.max_binding() / 4 * 4;
+        let mut chunks = Vec::new();
+        let mut first = 0;
+        while first < total {
+            let start = offset + first * stride;
+            let window_start = start / align * align;
+            let window_len = max_binding.min(buffer.size() - window_start) / 4 * 4;
+            let fit = window_len.saturating_sub(start - window_start) / stride;
+            let count = fit.min(self.item_cap()).min(total - first);
+            if count == 0 {
+                return Err(GpuError::TooLarge {
+                    what: "one refined vertex",
+                    bytes: stride + align,
+                    limit: max_binding,
+                });
+            }
+            chunks.push(Chunk {
+                buffer,
+                window: (window_start, window_len),
+                base: ((start - window_start) / 4) as u32,
+                first,
+                count,
+            });
+            first += count;
+        }
+        Ok(chunks)
+    }
+
+    /// Records one dispatch of `pipeline` over `chunk`.
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, chunk: &Chunk, vertices: bool) {
+        let params = RefineParams {
+            first: chunk.first as u32,
+            count: chunk.count as u32,
+            out_base: chunk.base,
+            ..self.params
+        };
+        let params_buffer = self.ctx.buffer_init(
+            "refine params",
+            bytemuck::bytes_of(&params),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let window = wgpu::BufferBinding {
+            buffer: chunk.buffer,
+            offset: chunk.window.0,
+            size: wgpu::BufferSize::new(chunk.window.1),
+        };
+        let (out_vertices, out_indices) = if vertices {
+            (window, self.spare_indices.as_entire_buffer_binding())
+        } else {
+            (self.spare_vertices.as_entire_buffer_binding(), window)
+        };
+        let group = self
+            .ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("refine"),
+                layout: &self.pipelines.refine_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: params_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: self.mesh_u32.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: self.mesh_f32.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::Buffer(out_vertices),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::Buffer(out_indices),
+                    },
+                ],
+            });
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(if vertices {
+            &self.pipelines.vertices
+        } else {
+            &self.pipelines.indices
+        });
+        pass.set_bind_group(0, &self.patch_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        pass.dispatch_workgroups(chunk.count.div_ceil(WORKGROUP) as u32, 1, 1);
+    }
+
+    fn own_buffer(&mut self) -> Result<&wgpu::Buffer, GpuError> {
+        if self.own.is_none() {
+            let size = self.vertex_bytes().max(4);
+            let limit = self.ctx.limits.max_buffer_size;
+            if size > limit {
+                return Err(GpuError::TooLarge {
+                    what: "the refined vertices",
+                    bytes: size,
+                    limit,
+                });
+            }
+            let buffer = self.ctx.scoped(|| {
+                self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("refined vertices"),
+                    size,
+                    usage: wgpu::BufferUsages::VERTEX
+                        | wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                })
+            })?;
+            self.own = Some(buffer);
+        }
+        Ok(self.own.as_ref().expect("made above"))
+    }
+}
+
+impl Evaluator for GpuEvaluator {
+    type Output<'a> = GpuOutput<'a>;
+    type Error = GpuError;
+
+    /// Uploads the frame's coarse data and submits the dispatches that write its vertices into
+    /// `out`. Returns once the work is submitted and validated, without waiting for the GPU:
+    /// commands the caller submits afterwards (a draw reading the buffer) run after it. An
+    /// unusable output buffer, or work wgpu rejects, is an `Err`.
+    fn evaluate(&mut self, plan: &Plan, frame: &Frame, out: GpuOutput<'_>) -> Result<(), GpuError> {
+        self.check_plan(plan)?;
+        plan.check_frame(frame)?;
+        let total = plan.vertex_count() as u64;
+        let (buffer, offset) = match out {
+            GpuOutput::Own => (self.own_buffer()?.clone(), 0),
+            GpuOutput::Buffer { buffer, offset } => {
+                check_buffer(
+                    buffer,
+                    offset,
+                    self.vertex_bytes(),
+                    wgpu::BufferUsages::STORAGE,
+                )?;
+                (buffer.clone(), offset)
+            }
+        };
+        let chunks = self.vertex_chunks(&buffer, offset, total)?;
+        self.upload(plan, frame)?;
+        self.ctx.scoped(|| {
+            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+            for chunk in &chunks {
+                self.encode(&mut encoder, chunk, true);
+            }
+            self.ctx.queue.submit([encoder.finish()]);
+        })
+    }
+}
+
+/// Refuses a caller buffer without `usage`, with a misaligned offset, or too small.
+fn check_buffer(
+    buffer: &wgpu::Buffer,
+    offset: u64,
+    bytes: u64,
+    usage: wgpu::BufferUsages,
+) -> Result<(), GpuError> {
+    if !buffer.usage().contains(usage) {
+        return Err(GpuError::BadOutput(format!(
+            "the buffer's usage {:?} lacks {usage:?}",
+            buffer.usage()
+        )));
+    }
+    if offset % 4 != 0 {
+        return Err(GpuError::BadOutput(format!(
+            "offset {offset} is not a multiple of 4"
+        )));
+    }
+    if offset.saturating_add(bytes) > buffer.size() {
+        return Err(GpuError::BadOutput(format!(
+            "{bytes} bytes from offset {offset} do not fit a buffer of {} bytes",
+            buffer.size()
+        )));
+    }
+    Ok(())
+}
+
 /// Refines on the GPU: the same vertices (to float rounding) and the same indices as
-/// [`Refiner::refine`].
+/// [`Refiner::refine`]. A thin wrapper over [`GpuEvaluator`] that also computes the indices on
+/// the GPU and reads everything back.
 ///
 /// ```no_run
 /// use tessella_core::{samples, RefineOptions, Refiner, Scheme};
@@ -120,94 +606,59 @@ pub fn gpu_refine(ctx: &GpuContext, refiner: &Refiner) -> Result<RefinedMesh, Gp
     gpu_refine_with(ctx, refiner, &GpuRefineOptions::default())
 }
 
-/// [`gpu_refine`] with displacement and chunk-size options.
+/// [`gpu_refine`] with displacement and chunk-size options. Outputs larger than one GPU buffer
+/// are refined chunk by chunk through a scratch buffer.
 pub fn gpu_refine_with(
     ctx: &GpuContext,
     refiner: &Refiner,
     options: &GpuRefineOptions,
 ) -> Result<RefinedMesh, GpuError> {
-    let mesh = refiner.mesh();
-    let layout = *refiner.layout();
-    let has_uv = mesh.uvs().is_some();
-    options.displacement.validate(has_uv)?;
-    if layout.triangle_count > u32::MAX as u64 {
-        return Err(GpuError::TooLarge {
-            what: "the refined triangle count",
-            bytes: layout.triangle_count * 12,
-            limit: u32::MAX as u64 * 12,
-        });
-    }
-    let tables = Tables::new(refiner);
-    let limit = ctx.max_binding();
-    for (what, bytes) in [
-        ("the mesh's index tables", tables.u32s.len() as u64 * 4),
-        ("the mesh's vertex data", tables.f32s.len() as u64 * 4),
-    ] {
-        if bytes > limit {
-            return Err(GpuError::TooLarge { what, bytes, limit });
-        }
-    }
-    let pipelines = ctx.refine_pipelines();
-    let patches = PatchBuffers::new(
-        ctx,
-        refiner.stencil(),
-        refiner.nets(),
-        &options.displacement,
-    )?;
-    let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
-    let none = wgpu::BufferUsages::empty();
-    let mesh_u32 = ctx.storage_buffer("mesh u32", bytemuck::cast_slice(&tables.u32s), none);
-    let mesh_f32 = ctx.storage_buffer("mesh f32", bytemuck::cast_slice(&tables.f32s), none);
-
-    // Chunk sizes: one binding, one dispatch, and the caller's cap.
-    let floats_per_vertex: u64 = if has_uv { 8 } else { 6 };
-    let dispatch_cap = ctx.limits.max_compute_workgroups_per_dimension as u64 * WORKGROUP;
-    let cap = |bytes_per_item: u64| {
-        let mut n = (limit / bytes_per_item).min(dispatch_cap);
-        if let Some(c) = options.max_chunk_items {
-            n = n.min(c.max(1) as u64);
-        }
-        n.max(1)
-    };
-    let vertex_chunk = cap(floats_per_vertex * 4).min(layout.vertex_count.max(1));
-    let triangle_chunk = cap(12).min(layout.triangle_count.max(1));
+    let plan = refiner.plan();
+    let gpu = GpuEvaluator::with_options(ctx, plan, options)?;
+    gpu.upload(plan, refiner.frame())?;
+    let layout = *plan.layout();
+    let floats = gpu.vertex_stride() as u64;
+    let item_cap = gpu.item_cap();
+    let limit = ctx.max_binding().min(ctx.limits.max_buffer_size);
+    let vertex_chunk = (limit / (floats * 4))
+        .min(item_cap)
+        .min(layout.vertex_count)
+        .max(1);
+    let triangle_chunk = (limit / 12).min(item_cap).min(layout.triangle_count).max(1);
     let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
-    let out_vertices = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("out vertices"),
-        size: vertex_chunk * floats_per_vertex * 4,
-        usage,
-        mapped_at_creation: false,
-    });
-    let out_indices = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("out indices"),
-        size: triangle_chunk * 12,
-        usage,
-        mapped_at_creation: false,
-    });
+    let scratch = |label, size| {
+        ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let (out_vertices, out_indices) = ctx.scoped(|| {
+        (
+            scratch("out vertices", vertex_chunk * floats * 4),
+            scratch("out indices", triangle_chunk * 12),
+        )
+    })?;
     let nv = layout.vertex_count as usize;
     let mut out = RefinedMesh {
         positions: Vec::with_capacity(nv),
         normals: Vec::with_capacity(nv),
-        uvs: has_uv.then(|| Vec::with_capacity(nv)),
+        uvs: gpu.has_uv.then(|| Vec::with_capacity(nv)),
         triangles: Vec::with_capacity(layout.triangle_count as usize),
     };
 
     // Every chunk is one dispatch plus a copy into a staging buffer; dispatches are batched
     // into as few submissions as the staging size cap allows (each submission costs a wait).
     let mut jobs = Vec::new();
-    for (kind, total, chunk, item_bytes) in [
-        (
-            Job::Vertices,
-            layout.vertex_count,
-            vertex_chunk,
-            floats_per_vertex * 4,
-        ),
-        (Job::Indices, layout.triangle_count, triangle_chunk, 12),
+    for (vertices, total, chunk, item_bytes) in [
+        (true, layout.vertex_count, vertex_chunk, floats * 4),
+        (false, layout.triangle_count, triangle_chunk, 12),
     ] {
         let mut first = 0;
         while first < total {
             let count = chunk.min(total - first);
-            jobs.push((kind, first, count, count * item_bytes));
+            jobs.push((vertices, first, count, count * item_bytes));
             first += count;
         }
     }
@@ -231,43 +682,20 @@ pub fn gpu_refine_with(
         });
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         let mut offset = 0;
-        for &(kind, first, count, size) in batch {
-            let params = RefineParams {
-                first: first as u32,
-                count: count as u32,
-                ..tables.params
+        for &(vertices, first, count, size) in batch {
+            let output = if vertices {
+                &out_vertices
+            } else {
+                &out_indices
             };
-            let params_buffer = ctx.buffer_init(
-                "refine params",
-                bytemuck::bytes_of(&params),
-                wgpu::BufferUsages::UNIFORM,
-            );
-            let refine_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("refine"),
-                layout: &pipelines.refine_layout,
-                entries: &[
-                    (0, &params_buffer),
-                    (1, &mesh_u32),
-                    (2, &mesh_f32),
-                    (3, &out_vertices),
-                    (4, &out_indices),
-                ]
-                .map(|(binding, b)| wgpu::BindGroupEntry {
-                    binding,
-                    resource: b.as_entire_binding(),
-                }),
-            });
-            let (pipeline, output) = match kind {
-                Job::Vertices => (&pipelines.vertices, &out_vertices),
-                Job::Indices => (&pipelines.indices, &out_indices),
+            let chunk = Chunk {
+                buffer: output,
+                window: (0, output.size()),
+                base: 0,
+                first,
+                count,
             };
-            {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &patch_group, &[]);
-                pass.set_bind_group(1, &refine_group, &[]);
-                pass.dispatch_workgroups(count.div_ceil(WORKGROUP) as u32, 1, 1);
-            }
+            gpu.encode(&mut encoder, &chunk, vertices);
             encoder.copy_buffer_to_buffer(output, 0, &staging, offset, size);
             offset += size;
         }
@@ -275,29 +703,21 @@ pub fn gpu_refine_with(
         // Copied into u32s so the casts below are aligned.
         let words: Vec<u32> = bytemuck::pod_collect_to_vec(&ctx.map_and_copy(&staging)?);
         let mut offset = 0;
-        for &(kind, _, count, size) in batch {
-            let bytes = &words[(offset / 4) as usize..((offset + size) / 4) as usize];
+        for &(vertices, _, _, size) in batch {
+            let part = &words[(offset / 4) as usize..((offset + size) / 4) as usize];
             offset += size;
-            let c = count as usize;
-            match kind {
-                Job::Vertices => {
-                    let floats: &[f32] = bytemuck::cast_slice(bytes);
-                    out.positions
-                        .extend(floats[..3 * c].chunks_exact(3).map(|v| [v[0], v[1], v[2]]));
-                    out.normals.extend(
-                        floats[3 * c..6 * c]
-                            .chunks_exact(3)
-                            .map(|v| [v[0], v[1], v[2]]),
-                    );
+            if vertices {
+                let floats: &[f32] = bytemuck::cast_slice(part);
+                for v in floats.chunks_exact(gpu.vertex_stride()) {
+                    out.positions.push([v[0], v[1], v[2]]);
+                    out.normals.push([v[3], v[4], v[5]]);
                     if let Some(uvs) = out.uvs.as_mut() {
-                        uvs.extend(floats[6 * c..8 * c].chunks_exact(2).map(|v| [v[0], v[1]]));
+                        uvs.push([v[6], v[7]]);
                     }
                 }
-                Job::Indices => {
-                    let ints: &[u32] = bytemuck::cast_slice(bytes);
-                    out.triangles
-                        .extend(ints.chunks_exact(3).map(|t| [t[0], t[1], t[2]]));
-                }
+            } else {
+                out.triangles
+                    .extend(part.chunks_exact(3).map(|t| [t[0], t[1], t[2]]));
             }
         }
         batch_start = batch_end;
@@ -305,80 +725,80 @@ pub fn gpu_refine_with(
     Ok(out)
 }
 
-/// Everything `refine.wgsl` reads besides group 0, packed into one `u32` and one `f32` array.
-struct Tables {
-    u32s: Vec<u32>,
-    f32s: Vec<f32>,
-    params: RefineParams,
+fn plan_key(plan: &Plan) -> (usize, usize, usize, u32, bool, usize) {
+    let layout = plan.layout();
+    (
+        plan.vertex_count(),
+        plan.triangle_count(),
+        plan.face_count(),
+        layout.level,
+        layout.weld,
+        plan.options().scheme.basis().len(),
+    )
+}
+
+/// Floats of a frame's coarse data in `mesh_f32`: positions, normals, UVs.
+fn coarse_f32_len(plan: &Plan) -> usize {
+    plan.coarse_vertex_count() * if plan.has_uvs() { 8 } else { 6 }
 }
 
 const NONE: u32 = u32::MAX;
 
-impl Tables {
-    fn new(refiner: &Refiner) -> Tables {
-        let mesh = refiner.mesh();
-        let layout = refiner.layout();
-        let stencil = refiner.stencil();
-        let pattern = refiner.pattern();
-        let level = layout.level;
-        let mut u32s: Vec<u32> = Vec::new();
-        let at = |data: &mut dyn Iterator<Item = u32>, u32s: &mut Vec<u32>| {
-            let start = u32s.len() as u32;
-            u32s.extend(data);
-            start
-        };
-        let mut p = RefineParams {
-            level,
-            weld: layout.weld as u32,
-            input_vertices: mesh.vertex_count() as u32,
-            edge_base: layout.edge_base as u32,
-            interior_base: layout.interior_base as u32,
-            interior_per_face: Pattern::interior_count(level) as u32,
-            points_per_face: Pattern::point_count(level) as u32,
-            has_uv: mesh.uvs().is_some() as u32,
-            ..Default::default()
-        };
-        p.triangles_at = at(&mut mesh.triangles().iter().flatten().copied(), &mut u32s);
-        if let Some(topo) = refiner.topology() {
-            p.vertex_owner_at = at(
-                &mut topo
-                    .vertex_owner
-                    .iter()
-                    .map(|o| o.map_or(NONE, |(f, c)| f * 4 + c as u32)),
-                &mut u32s,
-            );
-            p.edge_owner_at = at(
-                &mut topo.edge_owner.iter().map(|&(f, k)| f * 4 + k as u32),
-                &mut u32s,
-            );
-            p.edges_at = at(&mut topo.edges.iter().flatten().copied(), &mut u32s);
-            p.face_edges_at = at(&mut topo.face_edges.iter().flatten().copied(), &mut u32s);
-        }
-        p.corner_points_at = at(&mut (0..3).map(|c| stencil.corner_point(c)), &mut u32s);
-        p.edge_points_at = at(
-            &mut stencil.edge_points.iter().flatten().copied(),
-            &mut u32s,
-        );
-        p.interior_points_at = at(&mut stencil.interior_points.iter().copied(), &mut u32s);
-        p.point_codes_at = at(
-            &mut point_codes(stencil, pattern.points.len()).into_iter(),
-            &mut u32s,
-        );
-        p.pattern_triangles_at = at(&mut pattern.triangles.iter().flatten().copied(), &mut u32s);
-
-        let mut f32s: Vec<f32> = mesh.positions().iter().flatten().copied().collect();
-        p.normals_at = f32s.len() as u32;
-        f32s.extend(mesh.normals().iter().flatten());
-        p.uvs_at = f32s.len() as u32;
-        if let Some(uvs) = mesh.uvs() {
-            f32s.extend(uvs.iter().flatten());
-        }
-        Tables {
-            u32s,
-            f32s,
-            params: p,
-        }
-    }
+/// Everything `refine.wgsl` reads from `mesh_u32` (fixed per plan), and the offsets of both
+/// tables.
+fn index_tables(plan: &Plan) -> (Vec<u32>, RefineParams) {
+    let layout = plan.layout();
+    let stencil = plan.stencil();
+    let pattern = plan.pattern();
+    let topo = plan.topology();
+    let level = layout.level;
+    let mut u32s: Vec<u32> = Vec::new();
+    let at = |data: &mut dyn Iterator<Item = u32>, u32s: &mut Vec<u32>| {
+        let start = u32s.len() as u32;
+        u32s.extend(data);
+        start
+    };
+    let nv = plan.coarse_vertex_count();
+    let mut p = RefineParams {
+        level,
+        weld: layout.weld as u32,
+        input_vertices: nv as u32,
+        edge_base: layout.edge_base as u32,
+        interior_base: layout.interior_base as u32,
+        interior_per_face: Pattern::interior_count(level) as u32,
+        points_per_face: Pattern::point_count(level) as u32,
+        has_uv: plan.has_uvs() as u32,
+        ..Default::default()
+    };
+    p.triangles_at = at(&mut plan.triangles().iter().flatten().copied(), &mut u32s);
+    p.vertex_owner_at = at(
+        &mut topo
+            .vertex_owner
+            .iter()
+            .map(|o| o.map_or(NONE, |(f, c)| f * 4 + c as u32)),
+        &mut u32s,
+    );
+    p.edge_owner_at = at(
+        &mut topo.edge_owner.iter().map(|&(f, k)| f * 4 + k as u32),
+        &mut u32s,
+    );
+    p.edges_at = at(&mut topo.edges.iter().flatten().copied(), &mut u32s);
+    p.face_edges_at = at(&mut topo.face_edges.iter().flatten().copied(), &mut u32s);
+    p.corner_points_at = at(&mut (0..3).map(|c| stencil.corner_point(c)), &mut u32s);
+    p.edge_points_at = at(
+        &mut stencil.edge_points.iter().flatten().copied(),
+        &mut u32s,
+    );
+    p.interior_points_at = at(&mut stencil.interior_points.iter().copied(), &mut u32s);
+    p.point_codes_at = at(
+        &mut point_codes(stencil, pattern.points.len()).into_iter(),
+        &mut u32s,
+    );
+    p.pattern_triangles_at = at(&mut pattern.triangles.iter().flatten().copied(), &mut u32s);
+    p.positions_at = 0;
+    p.normals_at = (nv * 3) as u32;
+    p.uvs_at = (nv * 6) as u32;
+    (u32s, p)
 }
 
 /// Per pattern point, its class as `refine.wgsl` decodes it: `class << 30 | edge << 28 | index`

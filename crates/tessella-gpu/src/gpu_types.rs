@@ -57,17 +57,19 @@ pub(crate) struct RefineParams {
     pub positions_at: u32,
     pub normals_at: u32,
     pub uvs_at: u32,
-    pub _pad: u32,
+    /// `f32` index of the chunk's first vertex in the bound output window.
+    pub out_base: u32,
 }
 const _: () = assert!(size_of::<RefineParams>() == 96);
 const _: () = assert!(offset_of!(RefineParams, has_uv) == 36);
 const _: () = assert!(offset_of!(RefineParams, pattern_triangles_at) == 76);
 const _: () = assert!(offset_of!(RefineParams, uvs_at) == 88);
 
-/// `RenderUniforms` in `shaders/render.wgsl`.
+/// The camera, light and colours of [`crate::PatternRenderer`]: `RenderUniforms` in
+/// `shaders/render.wgsl`. Colours are linear RGB(A).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub(crate) struct RenderUniforms {
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct RenderUniforms {
     pub view_proj: [[f32; 4]; 4],
     /// xyz: camera position.
     pub eye: [f32; 4],
@@ -76,7 +78,8 @@ pub(crate) struct RenderUniforms {
     pub base_color: [f32; 4],
     /// rgb: line colour, a: line width in pixels.
     pub wire_color: [f32; 4],
-    /// x: wireframe on, y: pattern level, z: facet normals from screen derivatives, w: unused.
+    /// x: wireframe on, y: pattern level (set by the renderer), z: facet normals from screen
+    /// derivatives (for displaced surfaces), w: unused.
     pub flags: [u32; 4],
 }
 const _: () = assert!(size_of::<RenderUniforms>() == 144);

@@ -29,7 +29,7 @@ struct RefineParams {
     positions_at: u32,
     normals_at: u32,
     uvs_at: u32,
-    _pad: u32,
+    out_base: u32,          // f32 index of this chunk's first vertex in `out_vertices`
 }
 
 const NONE: u32 = 0xffffffffu;
@@ -70,18 +70,18 @@ fn forward(face: u32, k: u32, e: u32) -> bool {
 fn write_vertex(local: u32, p: vec3<f32>, n: vec3<f32>, uv: vec2<f32>) {
     // Displace after evaluation, once per output slot: shared vertices stay shared.
     let q = p + displacement(p, uv) * n;
-    let pi = local * 3u;
-    out_vertices[pi] = q.x;
-    out_vertices[pi + 1u] = q.y;
-    out_vertices[pi + 2u] = q.z;
-    let ni = params.count * 3u + local * 3u;
-    out_vertices[ni] = n.x;
-    out_vertices[ni + 1u] = n.y;
-    out_vertices[ni + 2u] = n.z;
+    // Interleaved: position, normal, then uv when the mesh has them (6 or 8 floats).
+    let stride = select(6u, 8u, params.has_uv != 0u);
+    let i = params.out_base + local * stride;
+    out_vertices[i] = q.x;
+    out_vertices[i + 1u] = q.y;
+    out_vertices[i + 2u] = q.z;
+    out_vertices[i + 3u] = n.x;
+    out_vertices[i + 4u] = n.y;
+    out_vertices[i + 5u] = n.z;
     if (params.has_uv != 0u) {
-        let ui = params.count * 6u + local * 2u;
-        out_vertices[ui] = uv.x;
-        out_vertices[ui + 1u] = uv.y;
+        out_vertices[i + 6u] = uv.x;
+        out_vertices[i + 7u] = uv.y;
     }
 }
 
