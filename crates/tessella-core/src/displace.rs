@@ -313,9 +313,12 @@ impl FaceFrame {
 /// triangulated (a hard cube's corner gets `(±1, ±1, ±1)/√3` however its quads are split). When
 /// the normals cancel, the angle-weighted mean of the faces' geometric normals is used, and
 /// failing that the vertex's own normal. Vertices no face uses get their own normal.
-pub fn position_means(mesh: &Mesh, topology: &Topology) -> Vec<[f32; 3]> {
+///
+/// `position_ids` gives each vertex's position as the lowest vertex index there
+/// ([`Topology::position_ids`]).
+pub fn position_means(mesh: &Mesh, position_ids: &[u32]) -> Vec<[f32; 3]> {
     let nv = mesh.vertex_count();
-    let pid = &topology.position_ids;
+    let pid = position_ids;
     // Per position id: (Σ θ n, Σ θ face normal).
     let mut sums = vec![(DVec3::ZERO, DVec3::ZERO); nv];
     for t in mesh.triangles() {
@@ -349,9 +352,13 @@ pub fn position_means(mesh: &Mesh, topology: &Topology) -> Vec<[f32; 3]> {
 /// seams). A face's edge is **split** when the faces along that edge (by position) do not all
 /// use the same two vertices for it; a boundary edge is never split. Both are properties of the
 /// coarse mesh alone, so welded and soup output, CPU and GPU agree on them.
-pub fn face_frames(mesh: &Mesh, topology: &Topology) -> Vec<FaceFrame> {
-    let means = position_means(mesh, topology);
-    let pid = &topology.position_ids;
+///
+/// `position_ids` as for [`position_means`]. A deforming mesh keeps its masks (they depend on
+/// the triangles and the position ids only); its means follow the frame's positions and
+/// normals, so call this again per frame.
+pub fn face_frames(mesh: &Mesh, position_ids: &[u32]) -> Vec<FaceFrame> {
+    let means = position_means(mesh, position_ids);
+    let pid = position_ids;
     let triangles = mesh.triangles();
     // Per position: the first vertex used there, and whether another one is.
     let mut first_vertex: HashMap<u32, (u32, bool)> = HashMap::new();
@@ -400,6 +407,7 @@ pub fn face_frames(mesh: &Mesh, topology: &Topology) -> Vec<FaceFrame> {
 pub struct DisplaceFrame {
     /// One per coarse face (what the GPU uploads).
     pub faces: Vec<FaceFrame>,
+    position_ids: Vec<u32>,
     level: u32,
     weld: bool,
     vertex_count: u64,
@@ -415,7 +423,7 @@ impl DisplaceFrame {
     /// The frame for output of `layout` (welded or soup) refined from `mesh`; `topology` is the
     /// mesh's (the one the layout was built with).
     pub fn new(mesh: &Mesh, topology: &Topology, layout: &OutputLayout) -> DisplaceFrame {
-        let faces = face_frames(mesh, topology);
+        let faces = face_frames(mesh, &topology.position_ids);
         let (mut corners, mut edges) = (Vec::new(), Vec::new());
         if layout.weld {
             for (v, owner) in topology.vertex_owner.iter().enumerate() {
@@ -434,12 +442,28 @@ impl DisplaceFrame {
         }
         DisplaceFrame {
             faces,
+            position_ids: topology.position_ids.clone(),
             level: layout.level,
             weld: layout.weld,
             vertex_count: layout.vertex_count,
             edge_base: layout.edge_base,
             corners,
             edges,
+        }
+    }
+
+    /// Follows a deformed `mesh` (the same triangles and vertex count, new positions and
+    /// normals): recomputes the position means, in `O(coarse)`. Which corners and edges are
+    /// split stays as built.
+    pub fn update(&mut self, mesh: &Mesh) {
+        assert_eq!(
+            (mesh.vertex_count(), mesh.face_count()),
+            (self.position_ids.len(), self.faces.len()),
+            "DisplaceFrame::update needs a mesh with the same vertices and triangles"
+        );
+        let means = position_means(mesh, &self.position_ids);
+        for (face, t) in self.faces.iter_mut().zip(mesh.triangles()) {
+            face.means = t.map(|v| means[v as usize]);
         }
     }
 
@@ -660,7 +684,7 @@ mod tests {
     fn hard_cube_means_are_corner_diagonals_and_every_edge_between_faces_is_split() {
         let mesh = samples::hard_cube();
         let topo = mesh.topology();
-        let means = position_means(&mesh, &topo);
+        let means = position_means(&mesh, &topo.position_ids);
         for (v, p) in mesh.positions().iter().enumerate() {
             // Every cube corner carries three face normals with equal angle sums (90° each).
             let expected = p.map(|x| x / 3f32.sqrt());
@@ -672,7 +696,7 @@ mod tests {
                 );
             }
         }
-        let frames = face_frames(&mesh, &topo);
+        let frames = face_frames(&mesh, &topo.position_ids);
         for (f, (frame, t)) in frames.iter().zip(mesh.triangles()).enumerate() {
             for k in 0..3 {
                 // An edge of the cube joins two faces' own vertices: split. The quad's
@@ -700,9 +724,14 @@ mod tests {
     fn a_mesh_with_shared_vertices_has_no_splits() {
         let mesh = samples::icosphere(1);
         let topo = mesh.topology();
-        assert!(face_frames(&mesh, &topo).iter().all(|f| f.mask == 0));
+        assert!(face_frames(&mesh, &topo.position_ids)
+            .iter()
+            .all(|f| f.mask == 0));
         // With one normal per position, the mean is that normal.
-        for (m, n) in position_means(&mesh, &topo).iter().zip(mesh.normals()) {
+        for (m, n) in position_means(&mesh, &topo.position_ids)
+            .iter()
+            .zip(mesh.normals())
+        {
             for i in 0..3 {
                 assert!((m[i] - n[i]).abs() < 1e-6);
             }

@@ -263,32 +263,6 @@ fn unit(axis: usize, sign: f32) -> [f32; 3] {
     n
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn samples_are_closed_with_expected_euler_characteristic() {
-        for name in NAMES {
-            let mesh = by_name(name).unwrap();
-            let report = mesh.topology().report;
-            assert!(report.is_closed_manifold(), "{name}: {report:?}");
-            let expected = if name == "torus" { 0 } else { 2 };
-            assert_eq!(report.euler_characteristic, expected, "{name}");
-            // Outward orientation: the normals agree with the face normals on average.
-            let mut agree = 0.0;
-            for f in 0..mesh.face_count() {
-                let [a, b, c] = mesh.corner_positions(f);
-                let n = (b - a).cross(c - a);
-                agree += mesh.corner_normals(f).iter().map(|m| m.dot(n)).sum::<f32>();
-            }
-            assert!(agree > 0.0, "{name} is inside out");
-        }
-        assert_eq!(hard_cube().topology().report.split_normal_positions, 8);
-        assert_eq!(icosphere_4k().face_count(), 5120);
-    }
-}
-
 /// One frame of a twisting deformation, for demos, animations and benchmarks: `mesh`'s
 /// positions and normals turned about the vertical (Y) axis through the bounding box's centre,
 /// by an angle growing linearly with height from `-degrees/2` at the bottom to `+degrees/2` at
@@ -331,4 +305,30 @@ pub fn twist(mesh: &Mesh, degrees: f32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
         .map(|(&n, p)| turn(n, p[1], [0.0; 3]))
         .collect();
     (positions, normals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_are_closed_with_expected_euler_characteristic() {
+        for name in NAMES {
+            let mesh = by_name(name).unwrap();
+            let report = mesh.topology().report;
+            assert!(report.is_closed_manifold(), "{name}: {report:?}");
+            let expected = if name == "torus" { 0 } else { 2 };
+            assert_eq!(report.euler_characteristic, expected, "{name}");
+            // Outward orientation: the normals agree with the face normals on average.
+            let mut agree = 0.0;
+            for f in 0..mesh.face_count() {
+                let [a, b, c] = mesh.corner_positions(f);
+                let n = (b - a).cross(c - a);
+                agree += mesh.corner_normals(f).iter().map(|m| m.dot(n)).sum::<f32>();
+            }
+            assert!(agree > 0.0, "{name} is inside out");
+        }
+        assert_eq!(hard_cube().topology().report.split_normal_positions, 8);
+        assert_eq!(icosphere_4k().face_count(), 5120);
+    }
 }
