@@ -3,21 +3,25 @@
 //! | Rust error | Python exception |
 //! |---|---|
 //! | `MeshError`, `RefineError` (bad mesh, level, alpha, too large) | `ValueError` |
-//! | `TagError` (bad tags: unknown vertex, not an edge, out of range, malformed JSON) | `ValueError` |
-//! | `IoError::Read`/`Write`, an unreadable tags file (the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
+//! | `TagSourceError` (bad tags: unknown vertex, not an edge, out of range, malformed JSON, bad crease angle) | `ValueError` |
+//! | `IoError::Read`/`Write`, `TagSourceError::Read` (an unreadable tags file: the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
 //! | other `IoError`s (unknown extension, malformed file, no triangles, bad arrays) | `ValueError` |
 //! | wrong array dtype or object type | `TypeError` |
 //! | `GpuError::BadOption`/`Refine` (bad displacement, bad mesh) | `ValueError` |
 //! | other `GpuError`s (no adapter for `backend="gpu"`, device lost, GPU limits) | `RuntimeError` |
 
+#[cfg(feature = "gpu")]
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::exceptions::{
     PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyNotADirectoryError, PyOSError,
-    PyPermissionError, PyRuntimeError, PyValueError,
+    PyPermissionError, PyValueError,
 };
 use pyo3::PyErr;
 use std::io::ErrorKind;
-use tessella_core::{MeshError, RefineError, TagError};
+use tessella_core::{MeshError, RefineError};
+#[cfg(feature = "gpu")]
 use tessella_gpu::GpuError;
+use tessella_io::tags::TagSourceError;
 use tessella_io::IoError;
 
 /// A bad mesh is a bad value.
@@ -30,13 +34,23 @@ pub fn refine_error(e: RefineError) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
-/// Bad tags, with where they came from (`"in tags.json"`, `"in the tags dict"`).
-pub fn tag_error(origin: &str, e: TagError) -> PyErr {
-    PyValueError::new_err(format!("bad tags {origin}: {e}"))
+/// Tags that could not be gathered: an unreadable tags file is the OS's refusal, anything else
+/// (bad JSON, tags that do not fit the mesh, a bad crease angle) a bad value. Messages say where
+/// the tags came from (`"in tags.json"`, `"in the tags dict"`, `crease_angle=...`).
+pub fn tag_source_error(e: TagSourceError, crease_angle: Option<f64>) -> PyErr {
+    match &e {
+        TagSourceError::Read { error, .. } => os_error(error.kind(), e.to_string()),
+        TagSourceError::CreaseAngle(_) => match crease_angle {
+            Some(degrees) => PyValueError::new_err(format!("crease_angle={degrees}: {e}")),
+            None => PyValueError::new_err(e.to_string()),
+        },
+        _ => PyValueError::new_err(e.to_string()),
+    }
 }
 
-/// A GPU error: bad options are bad values; the GPU failing (or missing) is a runtime error,
-/// whose message says what to install or to use the CPU backend.
+/// A GPU error (builds with the `gpu` feature): bad options are bad values; the GPU failing (or
+/// missing) is a runtime error, whose message says what to install or to use the CPU backend.
+#[cfg(feature = "gpu")]
 pub fn gpu_error(e: GpuError) -> PyErr {
     match e {
         GpuError::BadOption(_) | GpuError::Refine(_) => PyValueError::new_err(e.to_string()),

@@ -8,6 +8,11 @@
 mod arrays;
 mod displace;
 mod errors;
+#[cfg(feature = "gpu")]
+mod gpu;
+// Without the `gpu` feature: the same interface, CPU only (`backend="gpu"` is a ValueError).
+#[cfg(not(feature = "gpu"))]
+#[path = "cpu_only.rs"]
 mod gpu;
 mod options;
 mod refiner;
@@ -274,14 +279,21 @@ fn schemes() -> Vec<&'static str> {
 }
 
 /// Names of the backends that work on this machine: ``["cpu", "gpu"]`` when a GPU adapter
-/// (hardware, or a software one such as Mesa's lavapipe) opens, else ``["cpu"]``.
+/// (hardware, or a software one such as Mesa's lavapipe) opens, else ``["cpu"]``; always
+/// ``["cpu"]`` in a package built without the ``gpu`` cargo feature.
 ///
 /// The first call opens the GPU device (kept for the process, so ``refine`` reuses it).
 /// ``refine(backend="auto")`` picks the GPU only when it is a hardware one; see
 /// :func:`gpu_info`.
 #[pyfunction]
 fn backends(py: Python<'_>) -> Vec<&'static str> {
+    #[cfg(feature = "gpu")]
     let gpu = py.detach(|| gpu::any().is_ok());
+    #[cfg(not(feature = "gpu"))]
+    let gpu = {
+        let _ = py;
+        false
+    };
     let mut names = vec!["cpu"];
     if gpu {
         names.push("gpu");
@@ -296,6 +308,21 @@ fn backends(py: Python<'_>) -> Vec<&'static str> {
 /// ``"Cpu"``, ``"Other"``), ``driver`` and ``driver_info`` (strings, possibly empty) and
 /// ``software`` (``True`` for a CPU adapter such as lavapipe: correct but slower than the CPU
 /// backend, so ``backend="auto"`` does not use it).
+/// Always ``None`` in a package built without the ``gpu`` cargo feature.
+#[cfg(not(feature = "gpu"))]
+#[pyfunction]
+fn gpu_info(_py: Python<'_>) -> PyResult<Option<Bound<'_, PyDict>>> {
+    Ok(None)
+}
+
+/// The GPU adapter ``backend="gpu"`` uses, as a dict, or ``None`` when there is none.
+///
+/// Keys: ``name`` (the adapter's), ``backend`` (graphics API: ``"Vulkan"``, ``"Metal"``,
+/// ``"Dx12"``), ``device_type`` (``"DiscreteGpu"``, ``"IntegratedGpu"``, ``"VirtualGpu"``,
+/// ``"Cpu"``, ``"Other"``), ``driver`` and ``driver_info`` (strings, possibly empty) and
+/// ``software`` (``True`` for a CPU adapter such as lavapipe: correct but slower than the CPU
+/// backend, so ``backend="auto"`` does not use it).
+#[cfg(feature = "gpu")]
 #[pyfunction]
 fn gpu_info(py: Python<'_>) -> PyResult<Option<Bound<'_, PyDict>>> {
     let Ok(ctx) = py.detach(gpu::any) else {

@@ -37,7 +37,7 @@ struct Built {
 }
 
 /// Refines one mesh topology frame after frame; see `tessella.Refiner` (the Python docs).
-#[pyclass(module = "tessella._tessella", name = "Refiner")]
+#[pyclass(module = "tessella._tessella", name = "Refiner", subclass)]
 pub struct Refiner {
     /// The coarse triangles, fixed at construction.
     triangles: Vec<[u32; 3]>,
@@ -162,6 +162,9 @@ impl Refiner {
         let normal_mode = options::normal_mode(normals_mode)?;
         match options::backend(backend)? {
             Backend::Auto | Backend::Cpu => {}
+            #[cfg(not(feature = "gpu"))]
+            Backend::Gpu => return Err(PyValueError::new_err(crate::gpu::NO_GPU)),
+            #[cfg(feature = "gpu")]
             Backend::Gpu => {
                 return Err(PyValueError::new_err(
                     "Refiner runs on the CPU only for now (backend=\"gpu\" is not supported by \
@@ -236,60 +239,49 @@ impl Refiner {
         let built = self.built.as_mut().expect("built above");
         let count = built.plan.vertex_count();
         let faces = built.faces.bind(py).clone();
-        match out_pair {
-            Some((v_obj, n_obj)) => {
-                let v = check_out(&v_obj, "vertices (out[0])", count)?;
-                let n = check_out(&n_obj, "normals (out[1])", count)?;
-                let mut v_rw = v
-                    .try_readwrite()
-                    .map_err(|e| borrow_error("vertices (out[0])", e))?;
-                let mut n_rw = n
-                    .try_readwrite()
-                    .map_err(|e| borrow_error("normals (out[1])", e))?;
-                let v_flat = v_rw.as_slice_mut().map_err(|e| PyValueError::new_err(e.to_string()))?;
-                let n_flat = n_rw.as_slice_mut().map_err(|e| PyValueError::new_err(e.to_string()))?;
-                let (plan, frame) = (&built.plan, &mut built.frame);
-                py.detach(|| -> PyResult<()> {
-                    if let Some((positions, normals)) = &update {
-                        plan.update(frame, positions, normals.as_deref())
-                            .map_err(errors::refine_error)?;
-                    }
-                    plan.evaluate(
-                        frame,
-                        VertexOutput::Separate {
-                            positions: as_rows(v_flat),
-                            normals: Some(as_rows(n_flat)),
-                            uvs: None,
-                        },
-                    )
-                    .map_err(errors::refine_error)
-                })?;
-                drop((v_rw, n_rw));
-                Ok((v, faces, n))
-            }
-            None => {
-                let (plan, frame) = (&built.plan, &mut built.frame);
-                let (p, n) = py.detach(|| -> PyResult<_> {
-                    if let Some((positions, normals)) = &update {
-                        plan.update(frame, positions, normals.as_deref())
-                            .map_err(errors::refine_error)?;
-                    }
-                    let mut p = vec![[0f32; 3]; count];
-                    let mut n = vec![[0f32; 3]; count];
-                    plan.evaluate(
-                        frame,
-                        VertexOutput::Separate {
-                            positions: &mut p,
-                            normals: Some(&mut n),
-                            uvs: None,
-                        },
-                    )
+        // Both paths write into numpy arrays: the caller's, or fresh ones (numpy's allocator, so
+        // tracemalloc and numpy's memory accounting see them).
+        let (v, n) = match out_pair {
+            Some((v_obj, n_obj)) => (
+                check_out(&v_obj, "vertices (out[0])", count)?,
+                check_out(&n_obj, "normals (out[1])", count)?,
+            ),
+            None => (
+                PyArray2::<f32>::zeros(py, [count, 3], false),
+                PyArray2::<f32>::zeros(py, [count, 3], false),
+            ),
+        };
+        let mut v_rw = v
+            .try_readwrite()
+            .map_err(|e| borrow_error("vertices (out[0])", e))?;
+        let mut n_rw = n
+            .try_readwrite()
+            .map_err(|e| borrow_error("normals (out[1])", e))?;
+        let v_flat = v_rw
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let n_flat = n_rw
+            .as_slice_mut()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let (plan, frame) = (&built.plan, &mut built.frame);
+        py.detach(|| -> PyResult<()> {
+            // On error the frame is unchanged and nothing below runs: `out` is not written.
+            if let Some((positions, normals)) = &update {
+                plan.update(frame, positions, normals.as_deref())
                     .map_err(errors::refine_error)?;
-                    Ok((p, n))
-                })?;
-                Ok((arrays::to_numpy(py, p), faces, arrays::to_numpy(py, n)))
             }
-        }
+            plan.evaluate(
+                frame,
+                VertexOutput::Separate {
+                    positions: as_rows(v_flat),
+                    normals: Some(as_rows(n_flat)),
+                    uvs: None,
+                },
+            )
+            .map_err(errors::refine_error)
+        })?;
+        drop((v_rw, n_rw));
+        Ok((v, faces, n))
     }
 
     /// Refined vertices per frame, or `None` before the first `refine`.

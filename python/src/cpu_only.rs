@@ -1,0 +1,40 @@
+//! The backends of a build without the `gpu` feature (`cargo build --no-default-features`):
+//! the same interface as `gpu.rs`, CPU only. `backend="auto"` is the CPU; `backend="gpu"` is a
+//! `ValueError` saying the package was built without GPU support.
+
+use crate::options::Backend;
+use pyo3::exceptions::PyValueError;
+use pyo3::PyResult;
+use tessella_core::{DisplaceFrame, Displacement, RefinedMesh, Refiner};
+
+/// What `backend="gpu"` raises in this build.
+pub const NO_GPU: &str = "this tessella package was built without GPU support (the \"gpu\" cargo \
+     feature is off); use backend=\"cpu\" or \"auto\", or rebuild with the default features";
+
+/// A refined mesh (the GPU build also carries a fallback note; here there is none).
+pub struct Outcome {
+    pub mesh: RefinedMesh,
+    pub fallback: Option<String>,
+}
+
+/// Refines and displaces on the CPU; `"gpu"` is refused.
+pub fn refine(
+    refiner: &Refiner,
+    backend: Backend,
+    displacement: &Displacement,
+) -> PyResult<Outcome> {
+    if backend == Backend::Gpu {
+        return Err(PyValueError::new_err(NO_GPU));
+    }
+    let mut mesh = refiner.refine();
+    if displacement.is_some() {
+        let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
+        displacement
+            .apply(&mut mesh, &frame)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    }
+    Ok(Outcome {
+        mesh,
+        fallback: None,
+    })
+}
