@@ -5,15 +5,24 @@
 //!   as an engine refines every frame; `tessella-cold/*` includes preparation and fresh output.
 //! - `naive/*`: single-threaded, evaluating PN's formulas per output vertex straight from the
 //!   corners (as the GMR paper's vertex shader does) and welding shared vertices by a position
-//!   hash map afterwards: what a straightforward implementation does.
+//!   hash map afterwards: what a straightforward implementation does. `tessella-1thread/*` is
+//!   tessella on one thread, so each ratio compares one thing: naive vs tessella-1thread is
+//!   the algorithm, tessella-1thread vs tessella the threads.
+//! - `frame-*/*`: a mesh twisting frame after frame (the 5120-triangle icosphere and the
+//!   320-triangle creature): `update+evaluate` moves a plan's frame and writes vertices into
+//!   reused buffers (indices are not rewritten), `rebuild` makes mesh, topology, nets, stencil
+//!   and a fresh output every frame, and `fill` writes the same number of bytes with `fill`
+//!   (the memory's write rate, measured in the same run; throughputs are in bytes).
 //!
 //! Also prints the peak heap growth of one cold refine against the output's own size.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use rayon::prelude::*;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::collections::HashMap;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use tessella_core::refine::{Plan, VertexOutput};
 use tessella_core::{samples, Mesh, Pattern, RefineOptions, RefinedMesh, Refiner, Scheme};
 
 /// Counts live and peak heap bytes.
@@ -185,6 +194,15 @@ fn bench_refine(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("tessella-cold", level), &level, |b, _| {
             b.iter(|| black_box(Refiner::new(&mesh, &options).unwrap().refine()))
         });
+        let single = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        group.bench_with_input(
+            BenchmarkId::new("tessella-1thread", level),
+            &level,
+            |b, _| b.iter(|| single.install(|| refiner.refine_into(black_box(&mut out), &|_| {}))),
+        );
         if level <= 16 {
             let pattern = Pattern::uniform(level);
             group.bench_with_input(BenchmarkId::new("naive", level), &level, |b, _| {
@@ -216,5 +234,71 @@ fn bench_refine(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_refine);
+fn bench_frames(c: &mut Criterion) {
+    for (name, mesh) in [
+        ("icosphere-4k", samples::icosphere_4k()),
+        ("creature", samples::creature()),
+    ] {
+        let frames: Vec<_> = (0..8)
+            .map(|i| samples::twist(&mesh, 10.0 * i as f32))
+            .collect();
+        let mut group = c.benchmark_group(format!("frame-{name}"));
+        group.sample_size(15);
+        for level in [8u32, 16, 32] {
+            let options = RefineOptions::new(Scheme::Pn, level);
+            let plan = Plan::new(&mesh, &options).unwrap();
+            let mut frame = plan.frame(&mesh).unwrap();
+            let n = plan.vertex_count();
+            let (mut p, mut nr) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+            group.throughput(Throughput::Bytes(n as u64 * 24));
+            let mut at = 0;
+            group.bench_with_input(
+                BenchmarkId::new("update+evaluate", level),
+                &level,
+                |b, _| {
+                    b.iter(|| {
+                        let (fp, fnr) = &frames[at % frames.len()];
+                        at += 1;
+                        plan.update(&mut frame, fp, Some(fnr)).unwrap();
+                        plan.evaluate(
+                            &frame,
+                            VertexOutput::Separate {
+                                positions: black_box(&mut p),
+                                normals: Some(black_box(&mut nr)),
+                                uvs: None,
+                            },
+                        )
+                        .unwrap();
+                    })
+                },
+            );
+            group.bench_with_input(BenchmarkId::new("rebuild", level), &level, |b, _| {
+                b.iter(|| {
+                    let (fp, fnr) = &frames[at % frames.len()];
+                    at += 1;
+                    let m = Mesh::new(
+                        fp.clone(),
+                        Some(fnr.clone()),
+                        None,
+                        mesh.triangles().to_vec(),
+                    )
+                    .unwrap();
+                    black_box(Refiner::new(&m, &options).unwrap().refine())
+                })
+            });
+            let mut bytes = vec![0.0f32; n * 6];
+            let chunk = bytes.len().div_ceil(rayon::current_num_threads());
+            group.bench_with_input(BenchmarkId::new("fill", level), &level, |b, _| {
+                b.iter(|| {
+                    black_box(&mut bytes)
+                        .par_chunks_mut(chunk)
+                        .for_each(|c| c.fill(black_box(1.0)))
+                })
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, bench_refine, bench_frames);
 criterion_main!(benches);

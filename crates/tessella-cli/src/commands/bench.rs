@@ -92,15 +92,28 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             rate / pn
         );
     }
+    let fill = super::bench_frames::fill_rate(repeat);
+    let name = match &args.mesh {
+        Some(path) => path.display().to_string(),
+        None => "icosphere-4k".to_string(),
+    };
+    super::bench_frames::table(&name, &mesh, &args.levels, repeat, fill)?;
+    if args.mesh.is_none() {
+        super::bench_frames::table("creature", &samples::creature(), &args.levels, repeat, fill)?;
+    }
     if args.gpu {
+        #[cfg(feature = "gpu")]
         gpu_tables(&mesh, args)?;
+        #[cfg(not(feature = "gpu"))]
+        return Err(super::no_gpu("bench --gpu"));
     }
     Ok(())
 }
 
 /// The GPU measurements, labelled with the adapter (a software adapter's numbers say so).
+#[cfg(feature = "gpu")]
 fn gpu_tables(mesh: &Mesh, args: &BenchArgs) -> anyhow::Result<()> {
-    use tessella_gpu::bench;
+    use tessella_view::bench;
     let ctx = super::gpu::render_context()?;
     let label = ctx.adapter_label();
     let repeat = args.repeat.clamp(1, 5) as u32;

@@ -1,12 +1,16 @@
 //! One module per subcommand.
 
+#[cfg(feature = "gpu")]
 mod animate;
 mod bench;
+mod bench_frames;
 mod demo;
+#[cfg(feature = "gpu")]
 mod gpu;
 mod info;
 mod pattern;
 mod refine;
+#[cfg(feature = "gpu")]
 mod render;
 mod samples;
 mod tags;
@@ -21,8 +25,23 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Pattern(args) => pattern::run(&args),
         Command::Samples(args) => samples::run(&args),
         Command::Demo(args) => demo::run(&args),
+        #[cfg(feature = "gpu")]
         Command::Render(args) => render::run(&args),
+        #[cfg(feature = "gpu")]
         Command::Animate(args) => animate::run(&args),
+        #[cfg(not(feature = "gpu"))]
+        Command::Render(_) => Err(no_gpu("render")),
+        #[cfg(not(feature = "gpu"))]
+        Command::Animate(_) => Err(no_gpu("animate")),
         Command::Bench(args) => bench::run(&args),
     }
+}
+
+/// The error of a GPU command in a build without the `gpu` feature.
+#[cfg(not(feature = "gpu"))]
+pub(crate) fn no_gpu(what: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{what} needs the GPU, and this tessella was built without GPU support; rebuild with \
+         the `gpu` feature (cargo build -p tessella-cli --features gpu)"
+    )
 }
