@@ -26,8 +26,9 @@ use crate::mesh::{Mesh, Topology};
 use crate::tags::Tags;
 use glam::Vec3;
 
-/// Mean unit normal per position id (indexed like [`Topology::position_ids`]; a position used
-/// by one normal keeps it bit for bit).
+/// Mean unit normal per position id (indexed like [`Topology::position_ids`]): the normalised
+/// sum of the normals of every vertex at the position, each vertex once; a position whose
+/// vertices all have one normal keeps it bit for bit.
 pub(crate) fn position_normals(mesh: &Mesh, topo: &Topology) -> Vec<Vec3> {
     let n = mesh.vertex_count();
     let mut sum = vec![Vec3::ZERO; n];
@@ -39,7 +40,7 @@ pub(crate) fn position_normals(mesh: &Mesh, topo: &Topology) -> Vec<Vec3> {
         match first[p] {
             None => first[p] = Some(nv),
             Some(f) if f != nv => split[p] = true,
-            _ => continue,
+            Some(_) => {}
         }
         sum[p] += nv;
     }
@@ -115,4 +116,37 @@ pub(crate) fn control_points(
         ],
         shading,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four vertices at one position, normals A, A, B, B: every copy counts once, so the mean
+    /// is along A + B (it was along A + 2B when copies of the first normal were skipped).
+    #[test]
+    fn position_normal_weighs_every_copy_once() {
+        let p = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let mut positions = p.clone();
+        let mut normals = vec![[0.0, 0.0, 1.0]; 3];
+        let mut triangles = vec![[0, 1, 2]];
+        let a = [0.0, 0.0, 1.0];
+        let b = [1.0, 0.0, 0.0];
+        for (k, n) in [a, b, b].into_iter().enumerate() {
+            positions.extend(p.iter().copied());
+            normals.extend([n, [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
+            let base = 3 * (k as u32 + 1);
+            triangles.push([base, base + 1, base + 2]);
+        }
+        let mesh = Mesh::new(positions, Some(normals), None, triangles).unwrap();
+        let topo = mesh.topology();
+        let mean = position_normals(&mesh, &topo)[0];
+        let expected = (Vec3::from(a) + Vec3::from(b)).normalize();
+        assert!(
+            (mean - expected).length() < 1e-6,
+            "{mean:?} vs {expected:?}"
+        );
+        // A position with one normal keeps it exactly.
+        assert_eq!(position_normals(&mesh, &topo)[1], Vec3::Z);
+    }
 }
