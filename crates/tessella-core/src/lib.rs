@@ -48,3 +48,8 @@ pub use refine::{refine, OutputLayout, RefineOptions, RefinedMesh, Refiner};
 pub use scheme::{NormalMode, PatchNets, Scheme};
 pub use stencil::Stencil;
 pub use tags::{TagError, Tags};
+
+/// The README's Rust examples, compiled and run as doc tests so they stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeExamples;
