@@ -1,8 +1,9 @@
 //! Writes a labelled flat / Phong / PN / PNG1 comparison of the tetrahedron:
-//! `cargo run -p tessella-gpu --example compare -- OUT.png [level]`.
+//! `cargo run -p tessella-view --example compare -- OUT.png [level]`.
 
 use tessella_core::{samples, RefineOptions, Scheme};
-use tessella_gpu::{render_compare, save_png, AdapterChoice, GpuContext, RenderOptions};
+use tessella_gpu::{AdapterChoice, GpuContext};
+use tessella_view::{render_compare, save_png, RenderOptions};
 
 fn main() {
     let mut args = std::env::args().skip(1);

@@ -1,12 +1,13 @@
-//! A deforming coarse mesh rendered with the pattern: per frame only the control nets are
-//! re-uploaded (GMR section 3.1), never a refined vertex buffer.
+//! A deforming coarse mesh rendered with the pattern: one [`Plan`] for the whole animation;
+//! per frame [`Plan::update`] rebuilds the control nets (O(coarse triangles)) and
+//! [`PatternRenderer::update`] uploads them (GMR section 3.1), never a refined vertex buffer.
 
-use crate::context::GpuContext;
-use crate::error::GpuError;
-use crate::render::{nets_for, scene_uniforms, PatternScene, RenderOptions, Target};
+use crate::render::{scene_uniforms, RenderOptions, Target};
 use crate::save_png;
 use std::path::{Path, PathBuf};
+use tessella_core::refine::Plan;
 use tessella_core::{Mesh, OutputLayout, RefineOptions};
+use tessella_gpu::{GpuContext, GpuError, PatternRenderer};
 
 /// What an animation cost on the bus.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,9 +21,9 @@ pub struct AnimationStats {
     pub paths: Vec<PathBuf>,
 }
 
-/// `mesh` twisted about the vertical (Y) axis: a point at height `y` turns by
-/// `angle_degrees × (y - centre) / height`, normals turn with it.
-pub fn twist(mesh: &Mesh, angle_degrees: f32) -> Result<Mesh, GpuError> {
+/// Positions and normals of `mesh` twisted about the vertical (Y) axis: a point at height `y`
+/// turns by `angle_degrees × (y - centre) / height`, normals turn with it.
+pub fn twist_points(mesh: &Mesh, angle_degrees: f32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
     let (lo, hi) = mesh.bounds();
     let height = (hi[1] - lo[1]).max(1e-12);
     let mid = 0.5 * (lo[1] + hi[1]);
@@ -33,13 +34,19 @@ pub fn twist(mesh: &Mesh, angle_degrees: f32) -> Result<Mesh, GpuError> {
     };
     let positions = mesh.positions().iter().map(|&p| turn(p, p[1])).collect();
     // Rotating a normal with its point is exact for a rigid turn, approximate under the
-    // twist's shear; good enough for shading a demo, and renormalised by Mesh::new.
+    // twist's shear; good enough for shading a demo.
     let normals = mesh
         .normals()
         .iter()
         .zip(mesh.positions())
         .map(|(&n, p)| turn(n, p[1]))
         .collect();
+    (positions, normals)
+}
+
+/// `mesh` twisted by `angle_degrees` ([`twist_points`]) as a new mesh.
+pub fn twist(mesh: &Mesh, angle_degrees: f32) -> Result<Mesh, GpuError> {
+    let (positions, normals) = twist_points(mesh, angle_degrees);
     Mesh::new(
         positions,
         Some(normals),
@@ -49,8 +56,9 @@ pub fn twist(mesh: &Mesh, angle_degrees: f32) -> Result<Mesh, GpuError> {
     .map_err(|e| GpuError::Refine(e.into()))
 }
 
-/// Renders `frames` pictures of `mesh` twisting back and forth by up to `max_angle_degrees`,
-/// into `out_dir/frame_000.png`, ... Only the nets change between frames.
+/// Renders `frames` pictures of `mesh` twisting back and forth by up to `max_angle_degrees`
+/// (frame `k` turns by `max_angle × sin(2πk / frames)`), into `out_dir/frame_000.png`, ...
+/// The camera is framed on the rest pose; only the nets change between frames.
 pub fn render_twist(
     ctx: &GpuContext,
     mesh: &Mesh,
@@ -65,27 +73,32 @@ pub fn render_twist(
             "an animation needs at least one frame".into(),
         ));
     }
-    let scene = PatternScene::new(ctx, mesh, refine, &options.displacement)?;
-    let target = Target::new(ctx, options.size);
-    // Framed on the rest pose so the camera stays put.
-    let uniforms = scene_uniforms(mesh, options, refine.level, &scene.displacement_reach);
-    let topology = mesh.topology();
-    let layout = OutputLayout::new(mesh, Some(&topology), refine.level, true)?;
+    options.validate()?;
+    let plan = Plan::new(mesh, refine)?;
+    let mut frame = plan.frame(mesh)?;
+    let renderer =
+        PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &options.displacement)?;
+    let target = Target::new(ctx, options.size)?;
+    renderer.set_uniforms(&scene_uniforms(
+        mesh,
+        options,
+        renderer.displacement_reach(),
+    ));
+    let welded = OutputLayout::new(mesh, Some(plan.topology()), refine.level, true)?;
     let mut stats = AnimationStats {
         frames,
         bytes_per_frame: 0,
-        refined_bytes_per_frame: layout.output_bytes(false),
+        refined_bytes_per_frame: welded.output_bytes(false),
         paths: Vec::new(),
     };
-    for frame in 0..frames {
-        let phase = frame as f32 / frames as f32 * std::f32::consts::TAU;
-        let deformed = twist(mesh, max_angle_degrees * phase.sin())?;
-        let (_, nets) = nets_for(&deformed, refine)?;
-        stats.bytes_per_frame = scene.patches.update_nets(ctx, &nets);
-        scene.draw(ctx, &target, &uniforms, options.background);
-        ctx.check()?;
+    for k in 0..frames {
+        let phase = k as f32 / frames as f32 * std::f32::consts::TAU;
+        let (positions, normals) = twist_points(mesh, max_angle_degrees * phase.sin());
+        plan.update(&mut frame, &positions, Some(&normals))?;
+        stats.bytes_per_frame = renderer.update(&frame)?;
+        target.draw(ctx, options.background, |pass| renderer.draw(pass))?;
         let picture = target.read(ctx)?;
-        let path = out_dir.join(format!("frame_{frame:03}.png"));
+        let path = out_dir.join(format!("frame_{k:03}.png"));
         save_png(&picture, &path)?;
         stats.paths.push(path);
     }

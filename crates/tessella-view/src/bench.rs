@@ -2,13 +2,14 @@
 //! experiment (a static fully refined vertex buffer vs the instanced pattern). Rows carry the
 //! adapter's label; software adapters are marked as such, their numbers say nothing about GPUs.
 
-use crate::compute::gpu_refine;
-use crate::context::GpuContext;
-use crate::displace::Displacement;
-use crate::error::GpuError;
-use crate::render::{render_group, scene_uniforms, PatternScene, RenderOptions, Target};
+use crate::render::{scene_uniforms, RenderOptions, Target};
+use image::RgbaImage;
 use std::time::Instant;
+use tessella_core::refine::{Evaluator, Plan};
 use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
+use tessella_gpu::{
+    gpu_refine, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput, PatternRenderer,
+};
 
 /// One row of [`refine_throughput`].
 #[derive(Debug, Clone, PartialEq)]
@@ -122,6 +123,9 @@ pub struct Figure7Row {
     pub pattern_ms: f64,
     pub pattern_vertices: u64,
     pub pattern_bytes: u64,
+    /// Fraction of pixels where the two pictures differ by more than 12 levels in a channel:
+    /// both draw the same surface, so this stays near 0 (edges may round differently).
+    pub pictures_differ: f64,
 }
 
 /// The first `faces` triangles of a subdivided icosphere, vertices compacted: a closed-ish
@@ -147,58 +151,87 @@ pub fn mesh_with_faces(faces: usize) -> Result<Mesh, GpuError> {
     Mesh::new(positions, Some(normals), None, triangles).map_err(|e| GpuError::Refine(e.into()))
 }
 
-/// GMR Figure 7 redone: frame time and GPU footprint of (a) a static refined vertex buffer and
-/// (b) the instanced pattern, for each coarse triangle count and level.
+/// GMR Figure 7 redone: frame time and GPU footprint of (a) a static refined vertex buffer
+/// (written by [`GpuEvaluator`]) and (b) the instanced pattern, for each coarse triangle count
+/// and level. Both pictures are compared, so a row also says that both drew the same surface.
 pub fn figure7(ctx: &GpuContext, config: &Figure7Config) -> Result<Vec<Figure7Row>, GpuError> {
     let mut rows = Vec::new();
     let options = RenderOptions {
         size: config.size,
         ..Default::default()
     };
-    let target = Target::new(ctx, config.size);
+    let target = Target::new(ctx, config.size)?;
     for &faces in &config.faces {
         let mesh = mesh_with_faces(faces)?;
         for &level in &config.levels {
-            let refine = RefineOptions::new(config.scheme, level);
-            let uniforms = scene_uniforms(&mesh, &options, level, &0.0);
+            let plan = Plan::new(&mesh, &RefineOptions::new(config.scheme, level))?;
+            let frame = plan.frame(&mesh)?;
+            let renderer =
+                PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
+            renderer.set_uniforms(&scene_uniforms(&mesh, &options, 0.0));
+            let bg = options.background;
             // (b) pattern.
-            let scene = PatternScene::new(ctx, &mesh, &refine, &Displacement::None)?;
             let pattern_ms = time_frames(config.frames, || {
-                scene.draw(ctx, &target, &uniforms, options.background);
-                ctx.check()
+                target.draw(ctx, bg, |pass| renderer.draw(pass))
             })?;
-            // (a) static buffer of the refined mesh.
-            let refined = Refiner::new(&mesh, &refine)?.refine();
-            let fixed = StaticScene::new(ctx, &refined);
+            let pattern_picture = target.read(ctx)?;
+            // (a) static buffer of the refined mesh, evaluated once.
+            let mut gpu = GpuEvaluator::new(ctx, &plan)?;
+            gpu.evaluate(&plan, &frame, GpuOutput::Own)?;
+            let (indices, format) = gpu.index_buffer(&plan)?;
+            let indices = indices.clone();
+            let vertices = gpu
+                .vertex_buffer()
+                .ok_or_else(|| GpuError::Readback("no vertex buffer".into()))?;
+            let count = plan.triangle_count() as u32 * 3;
             let static_ms = time_frames(config.frames, || {
-                fixed.draw(ctx, &target, &uniforms, options.background);
-                ctx.check()
+                target.draw(ctx, bg, |pass| {
+                    renderer.draw_refined(
+                        pass,
+                        vertices.slice(..),
+                        indices.slice(..),
+                        format,
+                        count,
+                    )
+                })
             })?;
+            let static_picture = target.read(ctx)?;
             rows.push(Figure7Row {
                 adapter: ctx.adapter_label(),
                 faces: mesh.face_count(),
                 level,
                 static_ms,
-                static_vertices: refined.positions.len() as u64,
-                static_bytes: fixed.byte_size(),
+                static_vertices: plan.vertex_count() as u64,
+                static_bytes: vertices.size() + indices.size(),
                 pattern_ms,
-                pattern_vertices: scene.pattern_vertex_count(),
-                pattern_bytes: scene.byte_size(),
+                pattern_vertices: renderer.pattern_vertex_count(),
+                pattern_bytes: renderer.byte_size(),
+                pictures_differ: differing(&pattern_picture, &static_picture),
             });
         }
     }
     Ok(rows)
 }
 
+/// Fraction of pixels of `a` and `b` with a channel more than 12 levels apart.
+fn differing(a: &RgbaImage, b: &RgbaImage) -> f64 {
+    let bad = a
+        .pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 12))
+        .count();
+    bad as f64 / (a.width() * a.height()).max(1) as f64
+}
+
 /// Markdown table of [`figure7`] rows.
 pub fn figure7_table(rows: &[Figure7Row]) -> String {
     let mut s = String::from(
-        "| adapter | coarse triangles | level | static VBO ms | static VBO vertices | static VBO bytes | pattern ms | pattern vertices | pattern bytes |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| adapter | coarse triangles | level | static VBO ms | static VBO vertices | static VBO bytes | pattern ms | pattern vertices | pattern bytes | pixels differing |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         s += &format!(
-            "| {} | {} | {} | {:.2} | {} | {} | {:.2} | {} | {} |\n",
+            "| {} | {} | {} | {:.2} | {} | {} | {:.2} | {} | {} | {:.1}% |\n",
             r.adapter,
             r.faces,
             r.level,
@@ -207,7 +240,8 @@ pub fn figure7_table(rows: &[Figure7Row]) -> String {
             r.static_bytes,
             r.pattern_ms,
             r.pattern_vertices,
-            r.pattern_bytes
+            r.pattern_bytes,
+            100.0 * r.pictures_differ
         );
     }
     s
@@ -238,19 +272,17 @@ pub fn scheme_frame_times(
         size,
         ..Default::default()
     };
-    let target = Target::new(ctx, size);
-    let uniforms = scene_uniforms(mesh, &options, level, &0.0);
+    let target = Target::new(ctx, size)?;
+    let uniforms = scene_uniforms(mesh, &options, 0.0);
     let mut rows = Vec::new();
     for &scheme in schemes {
-        let scene = PatternScene::new(
-            ctx,
-            mesh,
-            &RefineOptions::new(scheme, level),
-            &Displacement::None,
-        )?;
+        let plan = Plan::new(mesh, &RefineOptions::new(scheme, level))?;
+        let frame = plan.frame(mesh)?;
+        let renderer =
+            PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
+        renderer.set_uniforms(&uniforms);
         let frame_ms = time_frames(frames, || {
-            scene.draw(ctx, &target, &uniforms, options.background);
-            ctx.check()
+            target.draw(ctx, options.background, |pass| renderer.draw(pass))
         })?;
         rows.push(SchemeRow {
             adapter: ctx.adapter_label(),
@@ -294,80 +326,4 @@ fn time_frames(
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
-}
-
-/// The baseline of Figure 7: the refined mesh stored whole in GPU memory.
-struct StaticScene {
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
-    index_count: u32,
-    uniforms: wgpu::Buffer,
-    group: wgpu::BindGroup,
-}
-
-impl StaticScene {
-    fn new(ctx: &GpuContext, refined: &tessella_core::RefinedMesh) -> StaticScene {
-        let interleaved: Vec<[f32; 6]> = refined
-            .positions
-            .iter()
-            .zip(&refined.normals)
-            .map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]])
-            .collect();
-        let init = |label, contents: &[u8], usage| ctx.buffer_init(label, contents, usage);
-        let vertices = init(
-            "static vertices",
-            bytemuck::cast_slice(&interleaved),
-            wgpu::BufferUsages::VERTEX,
-        );
-        let indices = init(
-            "static indices",
-            bytemuck::cast_slice(&refined.triangles),
-            wgpu::BufferUsages::INDEX,
-        );
-        let uniforms = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("static uniforms"),
-            size: std::mem::size_of::<crate::gpu_types::RenderUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let dummy = ctx.storage_buffer("no uvs", &[0; 4], wgpu::BufferUsages::empty());
-        let group = render_group(
-            ctx,
-            &ctx.render_pipelines().render_layout,
-            &uniforms,
-            &dummy,
-        );
-        StaticScene {
-            vertices,
-            indices,
-            index_count: refined.triangles.len() as u32 * 3,
-            uniforms,
-            group,
-        }
-    }
-
-    fn byte_size(&self) -> u64 {
-        self.vertices.size() + self.indices.size()
-    }
-
-    fn draw(
-        &self,
-        ctx: &GpuContext,
-        target: &Target,
-        uniforms: &crate::gpu_types::RenderUniforms,
-        background: [u8; 4],
-    ) {
-        ctx.queue
-            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = target.begin(&mut encoder, background);
-            pass.set_pipeline(&ctx.render_pipelines().fixed);
-            pass.set_bind_group(1, &self.group, &[]);
-            pass.set_vertex_buffer(0, self.vertices.slice(..));
-            pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..self.index_count, 0, 0..1);
-        }
-        let _ = ctx.submit_and_wait(encoder);
-    }
 }

@@ -8,8 +8,9 @@ use common::ctx;
 use image::RgbaImage;
 use std::path::PathBuf;
 use tessella_core::{samples, Mesh, RefineOptions, Scheme};
-use tessella_gpu::animate::{render_twist, twist};
-use tessella_gpu::{render, render_compare, save_png, Displacement, RenderOptions};
+use tessella_gpu::Displacement;
+use tessella_view::animate::{render_twist, twist};
+use tessella_view::{render, render_compare, save_png, RenderOptions};
 
 const SIZE: (u32, u32) = (128, 128);
 
@@ -37,7 +38,7 @@ fn assert_matches_reference(image: &RgbaImage, name: &str) {
         Ok(r) => r.to_rgba8(),
         Err(e) => panic!(
             "reference picture {} is missing or unreadable ({e}); look at the output, then create \
-             it with: TESSELLA_BLESS=1 cargo test -p tessella-gpu --test render",
+             it with: TESSELLA_BLESS=1 cargo test -p tessella-view --test render",
             path.display()
         ),
     };
@@ -54,8 +55,11 @@ fn assert_matches_reference(image: &RgbaImage, name: &str) {
     let allowed = (image.width() * image.height()) as usize / 100;
     if bad > allowed {
         let out = std::env::temp_dir().join(format!("tessella-{name}-actual.png"));
-        let _ = save_png(image, &out);
-        panic!("{name}: {bad} pixels differ from the reference (allowed {allowed}); actual picture: {}", out.display());
+        let saved = match save_png(image, &out) {
+            Ok(()) => format!("actual picture: {}", out.display()),
+            Err(e) => format!("the actual picture could not be saved: {e}"),
+        };
+        panic!("{name}: {bad} pixels differ from the reference (allowed {allowed}); {saved}");
     }
 }
 
@@ -239,7 +243,7 @@ fn bad_render_options_are_errors_not_panics() {
 }
 
 #[test]
-fn twist_animation_uploads_only_the_nets() {
+fn twist_animation_moves_the_surface_and_comes_back() {
     let mesh: Mesh = samples::creature();
     let refine = RefineOptions::new(Scheme::Pn, 16);
     let dir = tempfile::tempdir().unwrap();
@@ -247,17 +251,38 @@ fn twist_animation_uploads_only_the_nets() {
         size: (64, 64),
         ..Default::default()
     };
-    let stats = render_twist(ctx(), &mesh, &refine, &small, 3, 60.0, dir.path()).unwrap();
-    assert_eq!(stats.paths.len(), 3);
-    // Nets: K = 10 points + 6 normal-net entries per coarse triangle, 12 bytes each.
-    assert_eq!(stats.bytes_per_frame, mesh.face_count() as u64 * 16 * 12);
-    assert!(stats.bytes_per_frame * 20 < stats.refined_bytes_per_frame);
+    // Angles 60·sin(2πk/4): 0, 60, ~0, -60 degrees.
+    let stats = render_twist(ctx(), &mesh, &refine, &small, 4, 60.0, dir.path()).unwrap();
+    assert_eq!(stats.paths.len(), 4);
     let frames: Vec<RgbaImage> = stats
         .paths
         .iter()
         .map(|p| image::open(p).unwrap().to_rgba8())
         .collect();
-    assert_ne!(frames[0], frames[1], "the mesh did not move between frames");
+    // Frame 0 is the rest pose: the same picture as rendering the mesh from scratch (a new
+    // plan, nets built once), so the per-frame path draws the right surface.
+    let rest = render(ctx(), &mesh, &refine, &small).unwrap();
+    let differ = |a: &RgbaImage, b: &RgbaImage| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 12))
+            .count()
+    };
+    assert_eq!(differ(&frames[0], &rest), 0, "frame 0 is not the rest pose");
+    // The surface moves, both ways, and frame 2 (angle ~0) is back at rest: each update
+    // replaces the nets rather than adding to them.
+    assert!(differ(&frames[0], &frames[1]) > 20, "frame 1 did not move");
+    assert!(
+        differ(&frames[1], &frames[3]) > 20,
+        "+60 and -60 degrees look alike"
+    );
+    assert!(
+        differ(&frames[0], &frames[2]) <= 2,
+        "frame 2 did not come back to rest"
+    );
+    // Nets are far smaller than the refined mesh they replace on the bus.
+    assert!(stats.bytes_per_frame > 0);
+    assert!(stats.bytes_per_frame * 20 < stats.refined_bytes_per_frame);
     // The twist itself: zero angle is the identity, and points keep their height.
     let same = twist(&mesh, 0.0).unwrap();
     assert_eq!(same.positions(), mesh.positions());
@@ -267,4 +292,40 @@ fn twist_animation_uploads_only_the_nets() {
         let (ra, rb) = (a[0].hypot(a[2]), b[0].hypot(b[2]));
         assert!((ra - rb).abs() < 1e-5);
     }
+}
+
+#[test]
+fn a_frame_wgpu_rejects_is_an_error_not_a_blank_picture() {
+    let mesh = samples::icosphere(0);
+    let plan = tessella_core::refine::Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4)).unwrap();
+    let frame = plan.frame(&mesh).unwrap();
+    // Pipelines for another colour format than the target's: wgpu refuses the draw.
+    let wrong = tessella_gpu::TargetFormats {
+        color: wgpu::TextureFormat::Bgra8UnormSrgb,
+        ..tessella_view::Target::FORMATS
+    };
+    let renderer =
+        tessella_gpu::PatternRenderer::new(ctx(), &plan, &frame, &wrong, &Displacement::None)
+            .unwrap();
+    let target = tessella_view::Target::new(ctx(), (16, 16)).unwrap();
+    let err = target
+        .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+        .unwrap_err();
+    assert!(
+        matches!(err, tessella_gpu::GpuError::Validation(_)),
+        "{err:?}"
+    );
+    // Reported once, to this caller; the next good frame is fine.
+    ctx().check().unwrap();
+    let right = tessella_gpu::PatternRenderer::new(
+        ctx(),
+        &plan,
+        &frame,
+        &tessella_view::Target::FORMATS,
+        &Displacement::None,
+    )
+    .unwrap();
+    target
+        .draw(ctx(), [255; 4], |pass| right.draw(pass))
+        .unwrap();
 }

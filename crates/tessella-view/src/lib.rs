@@ -1,0 +1,52 @@
+//! # tessella-view
+//!
+//! Pictures of refined surfaces, on top of tessella-gpu's [`PatternRenderer`]: an offscreen
+//! target with readback ([`render`], [`render_compare`] with labelled panels, [`save_png`]),
+//! a camera that frames the mesh, a deforming-mesh animation ([`animate::render_twist`]: one
+//! [`tessella_core::refine::Plan`], per frame `Plan::update` + `PatternRenderer::update`, so
+//! only the control nets are uploaded) and the GPU benchmarks behind `tessella bench`
+//! ([`mod@bench`]). Everything here is for the CLI, examples and tests; an engine uses
+//! tessella-gpu directly.
+//!
+//! ```no_run
+//! use tessella_core::{samples, RefineOptions, Scheme};
+//! use tessella_gpu::{AdapterChoice, GpuContext};
+//! use tessella_view::{render, save_png, RenderOptions};
+//! let ctx = GpuContext::new(AdapterChoice::Auto)?;
+//! let picture = render(&ctx, &samples::icosphere(1), &RefineOptions::new(Scheme::Pn, 8),
+//!                      &RenderOptions::default())?;
+//! save_png(&picture, std::path::Path::new("pn.png"))?;
+//! # Ok::<(), tessella_gpu::GpuError>(())
+//! ```
+
+pub mod animate;
+pub mod bench;
+mod camera;
+pub mod font;
+mod render;
+
+pub use image::RgbaImage;
+pub use render::{render, render_compare, scene_uniforms, RenderOptions, Target};
+pub use tessella_gpu::{GpuError, PatternRenderer};
+
+/// Writes `image` as a PNG to a temporary file beside `path`, then renames it into place, so
+/// a failure never leaves a partial file.
+pub fn save_png(image: &RgbaImage, path: &std::path::Path) -> Result<(), GpuError> {
+    let fail = |reason: String| GpuError::Write {
+        path: path.display().to_string(),
+        reason,
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| fail("the path has no file name".into()))?;
+    let tmp = path.with_file_name(format!(".{}.tmp", name.to_string_lossy()));
+    let result = image
+        .save_with_format(&tmp, image::ImageFormat::Png)
+        .map_err(|e| fail(e.to_string()))
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| fail(e.to_string())));
+    if result.is_err() {
+        // Best effort: the temporary file may not exist; the error reported is `result`'s.
+        std::fs::remove_file(&tmp).ok();
+    }
+    result
+}

@@ -1,0 +1,79 @@
+//! Shared test setup: one software (lavapipe) device per test binary.
+#![allow(dead_code)]
+
+use std::sync::OnceLock;
+use tessella_core::{Mesh, RefinedMesh};
+use tessella_gpu::{AdapterChoice, GpuContext, GpuError};
+
+/// The software adapter every test runs on (CI installs mesa-vulkan-drivers). A missing
+/// adapter fails the tests with the install hint rather than skipping them.
+pub fn ctx() -> &'static GpuContext {
+    static CTX: OnceLock<Result<GpuContext, GpuError>> = OnceLock::new();
+    match CTX.get_or_init(|| GpuContext::new(AdapterChoice::Software)) {
+        Ok(ctx) => ctx,
+        Err(e) => panic!("no software GPU adapter for the tests: {e}"),
+    }
+}
+
+/// Asserts GPU output equals CPU output: positions within `1e-5 × diagonal` (plus `extra`),
+/// unit normals within 1e-4, UVs within 1e-6, identical indices.
+pub fn assert_same(cpu: &RefinedMesh, gpu: &RefinedMesh, mesh: &Mesh, extra: f32, what: &str) {
+    assert_eq!(cpu.triangles, gpu.triangles, "{what}: indices differ");
+    assert_eq!(
+        cpu.positions.len(),
+        gpu.positions.len(),
+        "{what}: vertex count"
+    );
+    let tol = 1e-5 * mesh.diagonal() + extra;
+    for (i, (a, b)) in cpu.positions.iter().zip(&gpu.positions).enumerate() {
+        let d = dist(*a, *b);
+        assert!(
+            d <= tol,
+            "{what}: vertex {i} position {a:?} (cpu) vs {b:?} (gpu), |d| = {d} > {tol}"
+        );
+    }
+    for (i, (a, b)) in cpu.normals.iter().zip(&gpu.normals).enumerate() {
+        let d = dist(*a, *b);
+        assert!(
+            d <= 1e-4,
+            "{what}: vertex {i} normal {a:?} (cpu) vs {b:?} (gpu), |d| = {d}"
+        );
+    }
+    match (&cpu.uvs, &gpu.uvs) {
+        (None, None) => {}
+        (Some(a), Some(b)) => {
+            for (i, (a, b)) in a.iter().zip(b).enumerate() {
+                let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+                assert!(d <= 1e-6, "{what}: vertex {i} uv {a:?} vs {b:?}");
+            }
+        }
+        _ => panic!("{what}: one side has UVs, the other not"),
+    }
+}
+
+pub fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// The torus sample with texture coordinates (the sample itself has none).
+pub fn torus_with_uvs() -> Mesh {
+    let m = tessella_core::samples::torus(1.0, 0.35, 12, 8);
+    // Angle-based UVs from the positions: u around the axis, v around the tube.
+    let uvs = m
+        .positions()
+        .iter()
+        .map(|p| {
+            let u = (p[1].atan2(p[0]) / std::f32::consts::TAU).rem_euclid(1.0);
+            let r = (p[0] * p[0] + p[1] * p[1]).sqrt() - 1.0;
+            let v = (p[2].atan2(r) / std::f32::consts::TAU).rem_euclid(1.0);
+            [u, v]
+        })
+        .collect();
+    Mesh::new(
+        m.positions().to_vec(),
+        Some(m.normals().to_vec()),
+        Some(uvs),
+        m.triangles().to_vec(),
+    )
+    .expect("torus with uvs is valid")
+}
