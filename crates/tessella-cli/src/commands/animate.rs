@@ -4,7 +4,7 @@ use super::{gpu, tags};
 use crate::args::AnimateArgs;
 use anyhow::Context;
 use tessella_core::RefineOptions;
-use tessella_gpu::{animate, RenderOptions};
+use tessella_view::{animate, RenderOptions};
 
 pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
     let (_, mesh) = tags::read(&args.input)?;

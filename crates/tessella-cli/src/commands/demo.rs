@@ -5,7 +5,6 @@ use anyhow::Context;
 use std::path::Path;
 use std::time::Instant;
 use tessella_core::{refine, samples, Mesh, RefineOptions, RefinedMesh, Scheme, Tags};
-use tessella_gpu::{render_compare, save_png, RenderOptions};
 use tessella_io::{write_mesh, MeshView, WriteOptions};
 
 /// The schemes the demo compares.
@@ -79,8 +78,16 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+#[cfg(not(feature = "gpu"))]
+fn pictures(_dir: &Path, _level: u32) -> anyhow::Result<()> {
+    eprintln!("note: no pictures: {}", super::no_gpu("drawing pictures"));
+    Ok(())
+}
+
 /// Side-by-side pictures of the samples whose silhouettes show the difference best.
+#[cfg(feature = "gpu")]
 fn pictures(dir: &Path, level: u32) -> anyhow::Result<()> {
+    use tessella_view::{render_compare, save_png, RenderOptions};
     let ctx = match super::gpu::render_context() {
         Ok(ctx) => ctx,
         Err(e) => {

@@ -1,12 +1,11 @@
 //! `tessella refine`: file in, refined file out.
 
-use super::{gpu, tags};
-use crate::args::{BackendArg, RefineArgs};
+use super::tags;
+use crate::args::RefineArgs;
 use crate::progress;
 use anyhow::Context;
 use std::time::Instant;
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
-use tessella_gpu::{gpu_refine_with, Displacement, GpuRefineOptions};
 use tessella_io::{write_mesh, Format, MeshView, WriteOptions};
 
 pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
@@ -22,29 +21,12 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     }
     drop(raw);
 
-    let displacement = gpu::parse_displacement(args.displace.as_deref())?;
-    displacement.validate(mesh.uvs().is_some())?;
-    let ctx = gpu::context_for(args.backend)?;
+    let backend = backend::choose(args, &mesh)?;
 
     let start = Instant::now();
     let refiner = Refiner::new(&mesh, &options)
         .with_context(|| format!("cannot refine {}", args.input.display()))?;
-    let on_gpu = ctx.as_ref().map(|ctx| {
-        let gpu_options = GpuRefineOptions {
-            displacement: displacement.clone(),
-            max_chunk_items: None,
-        };
-        gpu_refine_with(ctx, &refiner, &gpu_options)
-    });
-    let refined = match on_gpu {
-        Some(Ok(refined)) => refined,
-        Some(Err(e)) if args.backend == BackendArg::Auto => {
-            eprintln!("note: the GPU failed ({e}); refining on the CPU");
-            refine_cpu(&refiner, &displacement)?
-        }
-        Some(Err(e)) => return Err(e).context("GPU refinement failed"),
-        None => refine_cpu(&refiner, &displacement)?,
-    };
+    let refined = backend::refine(&backend, args, &refiner)?;
     let elapsed = start.elapsed();
 
     write_mesh(
@@ -72,11 +54,95 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn refine_cpu(refiner: &Refiner, displacement: &Displacement) -> anyhow::Result<RefinedMesh> {
+/// The CPU refinement, with a progress bar.
+fn refine_cpu(refiner: &Refiner) -> RefinedMesh {
     let bar = progress::bar(refiner.progress_total(), "refining");
     let mut out = RefinedMesh::default();
     refiner.refine_into(&mut out, &|done| bar.inc(done));
     bar.finish_and_clear();
-    displacement.apply(&mut out)?;
-    Ok(out)
+    out
+}
+
+/// Where refinement runs: the GPU when built with the `gpu` feature and asked for (or found,
+/// for `auto`), the CPU otherwise.
+#[cfg(feature = "gpu")]
+mod backend {
+    use super::super::gpu;
+    use crate::args::{BackendArg, RefineArgs};
+    use anyhow::Context;
+    use tessella_core::{Mesh, RefinedMesh, Refiner};
+    use tessella_gpu::{gpu_refine_with, Displacement, GpuContext, GpuRefineOptions};
+
+    pub struct Backend {
+        ctx: Option<GpuContext>,
+        displacement: Displacement,
+    }
+
+    pub fn choose(args: &RefineArgs, mesh: &Mesh) -> anyhow::Result<Backend> {
+        let displacement = gpu::parse_displacement(args.displace.as_deref())?;
+        displacement.validate(mesh.uvs().is_some())?;
+        let ctx = gpu::context_for(args.backend)?;
+        Ok(Backend { ctx, displacement })
+    }
+
+    pub fn refine(
+        backend: &Backend,
+        args: &RefineArgs,
+        refiner: &Refiner,
+    ) -> anyhow::Result<RefinedMesh> {
+        let displacement = &backend.displacement;
+        let on_gpu = backend.ctx.as_ref().map(|ctx| {
+            let gpu_options = GpuRefineOptions {
+                displacement: displacement.clone(),
+                max_chunk_items: None,
+            };
+            gpu_refine_with(ctx, refiner, &gpu_options)
+        });
+        let cpu = || -> anyhow::Result<RefinedMesh> {
+            let mut out = super::refine_cpu(refiner);
+            let frame = tessella_core::displace::DisplaceFrame::new(
+                refiner.mesh(),
+                refiner.topology(),
+                refiner.layout(),
+            );
+            displacement.apply(&mut out, &frame)?;
+            Ok(out)
+        };
+        match on_gpu {
+            Some(Ok(refined)) => Ok(refined),
+            Some(Err(e)) if args.backend == BackendArg::Auto => {
+                eprintln!("note: the GPU failed ({e}); refining on the CPU");
+                cpu()
+            }
+            Some(Err(e)) => Err(e).context("GPU refinement failed"),
+            None => cpu(),
+        }
+    }
+}
+
+/// Without the `gpu` feature: the CPU, and a clear error for what needs the GPU.
+#[cfg(not(feature = "gpu"))]
+mod backend {
+    use crate::args::{BackendArg, RefineArgs};
+    use tessella_core::{Mesh, RefinedMesh, Refiner};
+
+    pub struct Backend;
+
+    pub fn choose(args: &RefineArgs, _mesh: &Mesh) -> anyhow::Result<Backend> {
+        if args.backend == BackendArg::Gpu {
+            return Err(super::super::no_gpu("--backend gpu"));
+        }
+        if args.displace.is_some() {
+            return Err(super::super::no_gpu("--displace"));
+        }
+        Ok(Backend)
+    }
+
+    pub fn refine(
+        _backend: &Backend,
+        _args: &RefineArgs,
+        refiner: &Refiner,
+    ) -> anyhow::Result<RefinedMesh> {
+        Ok(super::refine_cpu(refiner))
+    }
 }

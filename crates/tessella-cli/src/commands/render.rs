@@ -5,7 +5,7 @@ use super::{gpu, tags};
 use crate::args::RenderArgs;
 use anyhow::Context;
 use tessella_core::RefineOptions;
-use tessella_gpu::{render, render_compare, save_png, RenderOptions};
+use tessella_view::{render, render_compare, save_png, RenderOptions};
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (raw, mesh) = tags::read(&args.input)?;
