@@ -40,6 +40,8 @@ pub enum GpuError {
     BadOption(String),
     #[error(transparent)]
     Refine(#[from] tessella_core::RefineError),
+    #[error(transparent)]
+    Displace(#[from] tessella_core::DisplaceError),
     #[error("writing '{path}' failed: {reason}")]
     Write { path: String, reason: String },
 }

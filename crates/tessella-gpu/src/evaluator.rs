@@ -16,6 +16,7 @@ use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::RefineParams;
 use crate::patch::{self, PatchBuffers};
+use tessella_core::displace::face_frames;
 use tessella_core::refine::{Evaluator, Frame, Plan};
 use tessella_core::{PatchNets, Pattern, RefinedMesh, Refiner};
 
@@ -387,7 +388,12 @@ impl GpuEvaluator {
         self.ctx
             .queue
             .write_buffer(&self.mesh_f32, 0, bytemuck::cast_slice(&coarse));
-        Ok(self.patches.update_nets(&self.ctx, frame.nets()) + coarse.len() as u64 * 4)
+        let mut bytes = coarse.len() as u64 * 4;
+        if self.patches.displaced() {
+            let faces = face_frames(mesh, &plan.topology().position_ids);
+            bytes += self.patches.update_displace_faces(&self.ctx, &faces);
+        }
+        Ok(bytes + self.patches.update_nets(&self.ctx, frame.nets()))
     }
 
     /// Items one chunk may hold, from the dispatch limit and the caller's cap.

@@ -25,10 +25,13 @@ pub(crate) struct DisplaceParams {
     pub frequency: f32,
     pub map_width: u32,
     pub map_height: u32,
-    pub _pad: [u32; 3],
+    /// Index in `displace_data` of the first face record, or `u32::MAX` for none.
+    pub faces_at: u32,
+    pub _pad: [u32; 2],
 }
 const _: () = assert!(size_of::<DisplaceParams>() == 32);
 const _: () = assert!(offset_of!(DisplaceParams, map_height) == 16);
+const _: () = assert!(offset_of!(DisplaceParams, faces_at) == 20);
 
 /// `RefineParams` in `shaders/refine.wgsl`.
 #[repr(C)]

@@ -22,8 +22,11 @@
 //!   [`tessella_core::Refiner::refine`].
 //! - **Renderer:** [`PatternRenderer`] draws one instanced pattern per coarse triangle (GMR
 //!   section 3.2) into the caller's render pass; per frame only the nets are uploaded.
-//! - **Displacement:** [`Displacement`] (sine, Perlin, height map) along the normal, on the CPU
-//!   ([`Displacement::apply`]) and in both GPU paths (`shaders/displace.wgsl`).
+//! - **Displacement:** [`tessella_core::displace`]'s [`Displacement`] (sine, Perlin, height
+//!   map; re-exported here because [`GpuRefineOptions`] and [`PatternRenderer`] take it) in
+//!   both GPU paths (`shaders/displace.wgsl`), with the core's direction rule: hard edges and
+//!   split corners move along one shared direction and stay closed. The per-face records that
+//!   rule needs are uploaded with each frame.
 //!
 //! Errors reach the caller: work tessella submits runs inside wgpu error scopes
 //! ([`GpuContext::scoped`], [`GpuContext::submit_and_wait`]), so a rejected frame is an `Err`.
@@ -47,8 +50,8 @@
 //! `shaders/eval.wgsl` (patch evaluation) and `shaders/displace.wgsl` (displacement) are
 //! prepended to `shaders/refine.wgsl` (compute) and `shaders/render.wgsl` (vertex/fragment).
 //! Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
-//! `displace.wgsl`'s Rust twin is `displace.rs`. The tests tie each pair together by comparing
-//! GPU and CPU outputs.
+//! `displace.wgsl`'s Rust twin is `tessella_core::displace`. The tests tie each pair together by
+//! comparing GPU and CPU outputs.
 //!
 //! Linux without a GPU: `apt-get install mesa-vulkan-drivers libvulkan1` gives lavapipe, a
 //! software Vulkan adapter ([`AdapterChoice::Software`]); the tests run on it and fail (not
@@ -63,10 +66,10 @@ mod patch;
 mod renderer;
 
 pub use context::{AdapterChoice, GpuContext};
-pub use displace::{perlin, permutation, Displacement, HeightMap};
 pub use error::GpuError;
 pub use evaluator::{
     gpu_refine, gpu_refine_with, GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth,
 };
 pub use gpu_types::RenderUniforms;
 pub use renderer::{PatternRenderer, TargetFormats};
+pub use tessella_core::displace::Displacement;

@@ -3,9 +3,10 @@
 //! tessella-core's `Stencil` and `PatchNets`.
 
 use crate::context::GpuContext;
-use crate::displace::Displacement;
+use crate::displace::{self, Displacement};
 use crate::error::GpuError;
 use crate::gpu_types::EvalParams;
+use tessella_core::displace::FaceFrame;
 use tessella_core::{NormalMode, PatchNets, Stencil};
 
 /// `NormalMode` as `eval.wgsl` numbers it.
@@ -61,6 +62,8 @@ pub(crate) struct PatchBuffers {
     pub eval: wgpu::Buffer,
     pub displace: wgpu::Buffer,
     pub displace_data: wgpu::Buffer,
+    /// Byte offset of the face records in `displace_data`; `None` without displacement.
+    displace_faces_at: Option<u64>,
     pub face_count: u32,
 }
 
@@ -87,7 +90,15 @@ impl PatchBuffers {
             normal_mode: normal_mode_code(nets.normal_mode),
             face_count: nets.len() as u32,
         };
-        let (dparams, ddata) = displacement.gpu_data();
+        let (dparams, ddata) = displace::gpu_data(displacement, nets.len());
+        let data_bytes = ddata.len() as u64 * 4;
+        if data_bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "the displacement data",
+                bytes: data_bytes,
+                limit,
+            });
+        }
         let copy = wgpu::BufferUsages::COPY_DST;
         let uniform =
             |label, bytes: &[u8]| ctx.buffer_init(label, bytes, wgpu::BufferUsages::UNIFORM | copy);
@@ -98,6 +109,8 @@ impl PatchBuffers {
             eval: uniform("eval params", bytemuck::bytes_of(&eval)),
             displace: uniform("displace params", bytemuck::bytes_of(&dparams)),
             displace_data: ctx.storage_buffer("displace data", bytemuck::cast_slice(&ddata), copy),
+            displace_faces_at: (dparams.faces_at != displace::NO_FACES)
+                .then_some(dparams.faces_at as u64 * 4),
             face_count: nets.len() as u32,
         })
     }
@@ -110,6 +123,27 @@ impl PatchBuffers {
         ctx.queue.write_buffer(&self.points, 0, points);
         ctx.queue.write_buffer(&self.normals, 0, normals);
         (points.len() + normals.len()) as u64
+    }
+
+    /// `true` when a displacement is bound (its face records need writing per frame).
+    pub fn displaced(&self) -> bool {
+        self.displace_faces_at.is_some()
+    }
+
+    /// Writes the displacement's per-face records (position means and split masks, from
+    /// `tessella_core::displace::face_frames` of the frame's mesh): once per frame of a
+    /// deforming mesh that is displaced, like the nets. Without it every vertex moves along its
+    /// own normal, and hard edges open. Does nothing without displacement; returns the bytes
+    /// written.
+    pub fn update_displace_faces(&self, ctx: &GpuContext, faces: &[FaceFrame]) -> u64 {
+        let Some(at) = self.displace_faces_at else {
+            return 0;
+        };
+        assert_eq!(faces.len(), self.face_count as usize, "one record per face");
+        let records = displace::face_records(faces);
+        ctx.queue
+            .write_buffer(&self.displace_data, at, bytemuck::cast_slice(&records));
+        records.len() as u64 * 4
     }
 
     /// Bytes held on the GPU.

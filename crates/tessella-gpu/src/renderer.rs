@@ -10,6 +10,7 @@ use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::RenderUniforms;
 use crate::patch::{self, PatchBuffers};
+use tessella_core::displace::face_frames;
 use tessella_core::refine::{Frame, Plan};
 
 /// The attachments the caller's render pass has: what [`PatternRenderer`] compiles its
@@ -201,6 +202,9 @@ pub struct PatternRenderer {
     pattern_index_count: u32,
     face_uvs: wgpu::Buffer,
     displacement_reach: f32,
+    /// The plan's position ids, for the displacement's per-frame face records; `None` without
+    /// displacement.
+    position_ids: Option<Vec<u32>>,
 }
 
 impl std::fmt::Debug for PatternRenderer {
@@ -240,6 +244,12 @@ impl PatternRenderer {
         ctx.scoped(|| {
             let pipelines = Pipelines::new(ctx, formats);
             let patches = PatchBuffers::new(ctx, plan.stencil(), frame.nets(), displacement)?;
+            let position_ids = patches
+                .displaced()
+                .then(|| plan.topology().position_ids.clone());
+            if let Some(ids) = &position_ids {
+                patches.update_displace_faces(ctx, &face_frames(mesh, ids));
+            }
             let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
             let pattern_vertices = ctx.buffer_init(
                 "pattern vertices",
@@ -277,11 +287,13 @@ impl PatternRenderer {
                 pattern_index_count: indices.len() as u32,
                 face_uvs,
                 displacement_reach: displacement_reach(displacement),
+                position_ids,
             })
         })?
     }
 
-    /// Uploads `frame`'s control nets (the only per-frame upload of a deforming mesh) and
+    /// Uploads `frame`'s control nets (the only per-frame upload of a deforming mesh; with
+    /// displacement also its per-face records, see `tessella_core::displace::face_frames`) and
     /// returns the bytes written. The frame must be of a plan with the renderer's triangle
     /// count and basis.
     pub fn update(&self, frame: &Frame) -> Result<u64, GpuError> {
@@ -295,7 +307,21 @@ impl PatternRenderer {
                 self.shape.1
             )));
         }
-        Ok(self.patches.update_nets(&self.ctx, nets))
+        let mut bytes = 0;
+        if let Some(ids) = &self.position_ids {
+            let mesh = frame.mesh();
+            if mesh.vertex_count() != ids.len() {
+                return Err(GpuError::BadOption(format!(
+                    "a frame of {} vertices, the renderer was made for {}",
+                    mesh.vertex_count(),
+                    ids.len()
+                )));
+            }
+            bytes += self
+                .patches
+                .update_displace_faces(&self.ctx, &face_frames(mesh, ids));
+        }
+        Ok(bytes + self.patches.update_nets(&self.ctx, nets))
     }
 
     /// Sets the camera, light and colours for the next draws (`flags.y`, the level, is set

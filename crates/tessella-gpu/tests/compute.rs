@@ -3,9 +3,11 @@
 
 mod common;
 
-use common::{assert_same, ctx, torus_with_uvs};
-use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Refiner, Scheme};
-use tessella_gpu::{gpu_refine, gpu_refine_with, Displacement, GpuRefineOptions, HeightMap};
+use common::{assert_same, ctx, open_edges, torus_with_uvs};
+use tessella_core::displace::{DisplaceFrame, Displacement, HeightMap};
+use tessella_core::refine::{Evaluator, Plan, Refiner};
+use tessella_core::{samples, Mesh, NormalMode, RefineOptions, RefinedMesh, Scheme};
+use tessella_gpu::{gpu_refine, gpu_refine_with, GpuEvaluator, GpuOutput, GpuRefineOptions};
 
 const SCHEMES: [Scheme; 4] = [Scheme::Flat, Scheme::PHONG, Scheme::Pn, Scheme::Png1];
 const MODES: [NormalMode; 3] = [NormalMode::Linear, NormalMode::Quadratic, NormalMode::Real];
@@ -144,7 +146,7 @@ fn displacement_on_gpu_matches_cpu_and_keeps_shared_vertices_shared() {
         let refiner = Refiner::new(&mesh, &opts).unwrap();
         let mut cpu = refiner.refine();
         let undisplaced = cpu.clone();
-        d.apply(&mut cpu).unwrap();
+        d.apply(&mut cpu, &displace_frame(&refiner)).unwrap();
         let gpu = gpu_refine_with(
             ctx(),
             &refiner,
@@ -214,4 +216,117 @@ fn height_map_without_uvs_is_a_clear_error() {
     )
     .unwrap_err();
     assert!(err.to_string().contains("texture coordinates"), "{err}");
+}
+
+fn displace_frame(refiner: &Refiner) -> DisplaceFrame {
+    DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout())
+}
+
+/// Refines and displaces on the CPU: (undisplaced, displaced).
+fn cpu_displaced(refiner: &Refiner, d: &Displacement) -> (RefinedMesh, RefinedMesh) {
+    let plain = refiner.refine();
+    let mut out = plain.clone();
+    d.apply(&mut out, &displace_frame(refiner)).unwrap();
+    (plain, out)
+}
+
+#[test]
+fn displaced_hard_edges_stay_closed_on_the_gpu_as_on_the_cpu() {
+    // Split normals: each copy of a hard-edge vertex used to move along its own side's normal
+    // and every displaced hard edge opened (192 open edges on the cube at level 8). The shared
+    // direction (displace.wgsl's displace_direction, core's FaceFrame::direction) closes them.
+    let meshes = [
+        ("hard cube", samples::hard_cube()),
+        ("half-faceted icosphere", samples::half_faceted_icosphere(1)),
+    ];
+    let displacements = [
+        Displacement::Sine {
+            amplitude: 0.08,
+            frequency: 7.0,
+        },
+        Displacement::Perlin {
+            amplitude: 0.1,
+            frequency: 3.0,
+            seed: 5,
+        },
+    ];
+    for (name, mesh) in &meshes {
+        let tol = 1e-5 * mesh.diagonal();
+        for scheme in [Scheme::Flat, Scheme::PnAen, Scheme::Png1] {
+            for weld in [true, false] {
+                let opts = RefineOptions::new(scheme, 8).with_weld(weld);
+                let refiner = Refiner::new(mesh, &opts).unwrap();
+                for d in &displacements {
+                    let what = format!("{name} {scheme:?} weld {weld} {d:?}");
+                    let (plain, cpu) = cpu_displaced(&refiner, d);
+                    let gpu = gpu_refine_with(
+                        ctx(),
+                        &refiner,
+                        &GpuRefineOptions {
+                            displacement: d.clone(),
+                            max_chunk_items: None,
+                        },
+                    )
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    assert_same(&cpu, &gpu, mesh, 1e-5, &what);
+                    // PNG1 builds each side's edge curve from that side's normals, so a curved
+                    // hard edge is open before displacement; displacement must open no more.
+                    let before = open_edges(&plain.positions, &plain.triangles, tol);
+                    let scheme_cracks = scheme == Scheme::Png1 && *name != "hard cube";
+                    assert_eq!(before == 0, !scheme_cracks, "{what}: {before} open before");
+                    let after = open_edges(&gpu.positions, &gpu.triangles, tol);
+                    assert_eq!(
+                        after, before,
+                        "{what}: {after} open on the GPU, {before} before"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_deforming_displaced_hard_cube_follows_the_cpu_frame_by_frame() {
+    // The evaluator uploads the face records (position means) with every frame: a twisted
+    // cube's means turn with it, and stale ones would move the hard edges elsewhere.
+    let mesh = samples::hard_cube();
+    let d = Displacement::Sine {
+        amplitude: 0.1,
+        frequency: 5.0,
+    };
+    let opts = RefineOptions::new(Scheme::PnAen, 6);
+    let plan = Plan::new(&mesh, &opts).unwrap();
+    let mut frame = plan.frame(&mesh).unwrap();
+    let mut gpu = GpuEvaluator::with_options(
+        ctx(),
+        &plan,
+        &GpuRefineOptions {
+            displacement: d.clone(),
+            max_chunk_items: None,
+        },
+    )
+    .unwrap();
+    let mut displace = DisplaceFrame::new(&mesh, plan.topology(), plan.layout());
+    let tol = 1e-5 * mesh.diagonal();
+    for t in 0..3 {
+        let (positions, normals) = samples::twist(&mesh, 40.0 * t as f32);
+        plan.update(&mut frame, &positions, Some(&normals)).unwrap();
+        gpu.evaluate(&plan, &frame, GpuOutput::Own).unwrap();
+        let got: Vec<[f32; 3]> = gpu
+            .read_back()
+            .unwrap()
+            .chunks(gpu.vertex_stride())
+            .map(|v| [v[0], v[1], v[2]])
+            .collect();
+        let mut cpu = Refiner::new(frame.mesh(), &opts).unwrap().refine();
+        displace.update(frame.mesh());
+        d.apply(&mut cpu, &displace).unwrap();
+        assert_eq!(got.len(), cpu.positions.len());
+        for (i, (a, b)) in cpu.positions.iter().zip(&got).enumerate() {
+            let e = common::dist(*a, *b);
+            assert!(e <= tol + 1e-5, "frame {t} vertex {i}: cpu {a:?} gpu {b:?}");
+        }
+        let open = open_edges(&got, plan.indices(), tol);
+        assert_eq!(open, 0, "frame {t}: {open} open edges");
+    }
 }

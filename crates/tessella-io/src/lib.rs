@@ -29,6 +29,10 @@
 //! image's bottom-left (OBJ/PLY), so glTF's `v` is flipped on read and write (see [`gltf`]).
 //! Details per format are in the module docs ([`obj`], [`ply`], [`gltf`], [`stl`]).
 //!
+//! ## Height maps
+//! [`read_height_map`] reads an image (PNG) as a [`tessella_core::displace::HeightMap`] for
+//! displacement.
+//!
 //! ## Errors
 //! Every failure is an [`IoError`] naming the file: unknown extensions, malformed or truncated
 //! files, files without triangles, indices out of range, and (for [`read_mesh`]) the core's
@@ -42,6 +46,7 @@ mod atomic;
 mod error;
 mod format;
 pub mod gltf;
+mod height_map;
 pub mod obj;
 pub mod ply;
 mod raw;
@@ -50,6 +55,7 @@ pub mod stl;
 pub use atomic::write_atomic;
 pub use error::IoError;
 pub use format::Format;
+pub use height_map::read_height_map;
 pub use raw::{MeshView, RawEdge, RawMesh};
 
 use std::io::BufReader;

@@ -2,7 +2,8 @@
 
 use crate::args::BackendArg;
 use anyhow::{bail, Context};
-use tessella_gpu::{AdapterChoice, Displacement, GpuContext, HeightMap};
+use tessella_core::displace::Displacement;
+use tessella_gpu::{AdapterChoice, GpuContext};
 
 /// The GPU context `backend` asks for, or `None` to use the CPU.
 ///
@@ -59,7 +60,7 @@ pub fn parse_displacement(spec: Option<&str>) -> anyhow::Result<Displacement> {
         },
         "heightmap" => {
             let path = parts.first().with_context(|| format!("--displace {spec}: missing the image path"))?;
-            Displacement::HeightMap { amplitude: number(1, "amplitude")?, map: HeightMap::load(path.as_ref())? }
+            Displacement::HeightMap { amplitude: number(1, "amplitude")?, map: tessella_io::read_height_map(path.as_ref())? }
         }
         _ => bail!("--displace {spec}: unknown kind '{kind}'; use sine:AMP,FREQ, perlin:AMP,FREQ[,SEED] or heightmap:IMAGE,AMP"),
     };

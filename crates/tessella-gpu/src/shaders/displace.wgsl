@@ -1,5 +1,6 @@
-// Displacement along the normal, applied to evaluated surface points (GMR section 4).
-// Mirrors src/displace.rs (the Rust twin): change both together; tests compare them.
+// Displacement of evaluated surface points (GMR section 4): an offset along a direction.
+// Mirrors tessella-core's src/displace.rs (the Rust twin: offsets, FaceFrame::direction):
+// change both together; the GPU-vs-CPU tests compare them.
 
 struct DisplaceParams {
     kind: u32, // 0 none, 1 sine a*sin(f*|P|), 2 Perlin a*noise(f*P), 3 height map a*h(uv)
@@ -7,13 +8,14 @@ struct DisplaceParams {
     frequency: f32,
     map_width: u32,
     map_height: u32,
-    _pad0: u32,
+    faces_at: u32, // first face record in displace_data, or 0xffffffff for none
     _pad1: u32,
     _pad2: u32,
 }
 
 @group(0) @binding(4) var<uniform> displace_params: DisplaceParams;
 // Kind 2: Perlin's permutation, 512 entries (as f32). Kind 3: heights, row 0 at the image top.
+// Then, from faces_at, per coarse face: mask, M1, M2, M3 (10 floats; core's FaceFrame).
 @group(0) @binding(5) var<storage, read> displace_data: array<f32>;
 
 fn perm(i: i32) -> i32 {
@@ -101,4 +103,47 @@ fn displacement(p: vec3<f32>, uv: vec2<f32>) -> f32 {
         case 3u: { return a * height_map(uv); }
         default: { return 0.0; }
     }
+}
+
+// The direction a refined point moves along: FaceFrame::direction. `l` is the point's
+// barycentric coordinates on coarse triangle `face`, exactly as the stencil stores them (corner
+// c: l_c == 1; inside edge k, from corner k to k+1: the opposite coordinate is 0), `n` its
+// refined normal. Split corners and points inside split edges (mask bits 3+c and k) move along
+// normalize(l1 M1 + l2 M2 + l3 M3), the same on both sides of a hard edge, so it stays closed;
+// every other point (and a vanishing sum) along n.
+fn displace_direction(face: u32, l: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    if (displace_params.kind == 0u || displace_params.faces_at == 0xffffffffu) {
+        return n;
+    }
+    let at = displace_params.faces_at + face * 10u;
+    let mask = u32(displace_data[at]);
+    if (mask == 0u) {
+        return n;
+    }
+    var bit = 0u;
+    if (l.x == 1.0) {
+        bit = 8u;
+    } else if (l.y == 1.0) {
+        bit = 16u;
+    } else if (l.z == 1.0) {
+        bit = 32u;
+    } else if (l.z == 0.0) {
+        bit = 1u;
+    } else if (l.x == 0.0) {
+        bit = 2u;
+    } else if (l.y == 0.0) {
+        bit = 4u;
+    }
+    if ((mask & bit) == 0u) {
+        return n;
+    }
+    let m1 = vec3<f32>(displace_data[at + 1u], displace_data[at + 2u], displace_data[at + 3u]);
+    let m2 = vec3<f32>(displace_data[at + 4u], displace_data[at + 5u], displace_data[at + 6u]);
+    let m3 = vec3<f32>(displace_data[at + 7u], displace_data[at + 8u], displace_data[at + 9u]);
+    let s = l.x * m1 + l.y * m2 + l.z * m3;
+    let len2 = dot(s, s);
+    if (!(len2 > 1e-12)) {
+        return n;
+    }
+    return s / sqrt(len2);
 }

@@ -67,9 +67,11 @@ fn forward(face: u32, k: u32, e: u32) -> bool {
     return corner(face, k) == mesh_u32[params.edges_at + e * 2u];
 }
 
-fn write_vertex(local: u32, p: vec3<f32>, n: vec3<f32>, uv: vec2<f32>) {
+// Writes a vertex displaced along `dir` (displace_direction: the normal, or the shared
+// direction on hard edges and split corners).
+fn write_vertex(local: u32, p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, uv: vec2<f32>) {
     // Displace after evaluation, once per output slot: shared vertices stay shared.
-    let q = p + displacement(p, uv) * n;
+    let q = p + displacement(p, uv) * dir;
     // Interleaved: position, normal, then uv when the mesh has them (6 or 8 floats).
     let stride = select(6u, 8u, params.has_uv != 0u);
     let i = params.out_base + local * stride;
@@ -100,15 +102,18 @@ fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
             // Corners: the input position exactly; the normal of the owning patch.
             let owner = mesh_u32[params.vertex_owner_at + g];
             var n = input_vec3(params.normals_at, g);
+            var dir = n;
             if (owner != NONE) {
                 let c = mesh_u32[params.corner_points_at + (owner & 3u)];
-                n = eval_patch(owner >> 2u, c).normal;
+                let corner_point = eval_patch(owner >> 2u, c);
+                n = corner_point.normal;
+                dir = displace_direction(owner >> 2u, corner_point.l, n);
             }
             var uv = vec2<f32>(0.0);
             if (params.has_uv != 0u) {
                 uv = input_uv(g);
             }
-            write_vertex(local, input_vec3(params.positions_at, g), n, uv);
+            write_vertex(local, input_vec3(params.positions_at, g), n, dir, uv);
             return;
         } else if (g < params.interior_base) {
             // Edges: evaluated on the owning face, stored from the lower vertex index up.
@@ -139,7 +144,7 @@ fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (params.has_uv != 0u) {
         uv = face_uv(face, sp.l);
     }
-    write_vertex(local, p, sp.normal, uv);
+    write_vertex(local, p, sp.normal, displace_direction(face, sp.l, sp.normal), uv);
 }
 
 // Output vertex of pattern point `p` on `face` (the CPU's welded_triangles map).

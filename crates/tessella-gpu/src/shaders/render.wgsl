@@ -34,7 +34,7 @@ fn vs_pattern(@location(0) row: u32, @builtin(instance_index) face: u32) -> VsOu
             l.x * face_uvs[i] + l.y * face_uvs[i + 2u] + l.z * face_uvs[i + 4u],
             l.x * face_uvs[i + 1u] + l.y * face_uvs[i + 3u] + l.z * face_uvs[i + 5u],
         );
-        p += displacement(p, uv) * sp.normal;
+        p += displacement(p, uv) * displace_direction(face, l, sp.normal);
     }
     var out: VsOut;
     out.clip = u.view_proj * vec4<f32>(p, 1.0);

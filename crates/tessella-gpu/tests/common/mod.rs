@@ -77,3 +77,47 @@ pub fn torus_with_uvs() -> Mesh {
     )
     .expect("torus with uvs is valid")
 }
+
+/// Refined edges without a twin, by position: vertices closer than `tol` are one point (found
+/// through a grid of `tol`-sized cells), and on a closed surface every undirected edge between
+/// two points is used by exactly two triangles. (tessella-core's tests/displace.rs counts the
+/// same way on the CPU.)
+pub fn open_edges(positions: &[[f32; 3]], triangles: &[[u32; 3]], tol: f32) -> usize {
+    use std::collections::HashMap;
+    let cell = |p: [f32; 3]| p.map(|x| (x / tol).floor() as i64);
+    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut point = vec![0u32; positions.len()];
+    for (i, &p) in positions.iter().enumerate() {
+        let c = cell(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    for &j in grid
+                        .get(&[c[0] + dx, c[1] + dy, c[2] + dz])
+                        .into_iter()
+                        .flatten()
+                    {
+                        if dist(p, positions[j as usize]) <= tol {
+                            found = Some(point[j as usize]);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        point[i] = found.unwrap_or(i as u32);
+        if found.is_none() {
+            grid.entry(c).or_default().push(i as u32);
+        }
+    }
+    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (point[t[k] as usize], point[t[(k + 1) % 3] as usize]);
+            assert_ne!(a, b, "a refined edge collapsed to one point");
+            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    uses.values().filter(|&&n| n != 2).count()
+}
