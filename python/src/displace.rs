@@ -1,5 +1,6 @@
 //! The `displace=` argument of `refine`: moves refined vertices along their normals
-//! (tessella-gpu's [`Displacement`], GMR section 4), on the CPU or the GPU like the refinement.
+//! (tessella-core's [`Displacement`], GMR section 4; hard edges along one shared direction so
+//! they stay closed), on the CPU or the GPU like the refinement.
 //!
 //! Accepted, read while the GIL is held:
 //! - `None`: no displacement;
@@ -13,7 +14,7 @@
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
-use tessella_gpu::Displacement;
+use tessella_core::displace::Displacement;
 
 const KINDS: &str = "\"sine\" or \"perlin\"";
 const DICT_KEYS: &[&str] = &["kind", "amplitude", "frequency", "seed"];
@@ -160,9 +161,9 @@ fn build(fields: Fields<'_>) -> PyResult<Displacement> {
             )))
         }
     };
-    // The GPU crate's own checks, so both backends refuse the same values.
+    // The core's own checks, so both backends refuse the same values.
     displacement
         .validate(false)
-        .map_err(crate::errors::gpu_error)?;
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(displacement)
 }

@@ -7,7 +7,7 @@
 //! | `IoError::Read`/`Write`, `TagSourceError::Read` (an unreadable tags file: the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
 //! | other `IoError`s (unknown extension, malformed file, no triangles, bad arrays) | `ValueError` |
 //! | wrong array dtype or object type | `TypeError` |
-//! | `GpuError::BadOption`/`Refine` (bad displacement, bad mesh) | `ValueError` |
+//! | `DisplaceError`, `GpuError::BadOption`/`Refine`/`Displace` (bad displacement, bad mesh) | `ValueError` |
 //! | other `GpuError`s (no adapter for `backend="gpu"`, device lost, GPU limits) | `RuntimeError` |
 
 #[cfg(feature = "gpu")]
@@ -53,7 +53,9 @@ pub fn tag_source_error(e: TagSourceError, crease_angle: Option<f64>) -> PyErr {
 #[cfg(feature = "gpu")]
 pub fn gpu_error(e: GpuError) -> PyErr {
     match e {
-        GpuError::BadOption(_) | GpuError::Refine(_) => PyValueError::new_err(e.to_string()),
+        GpuError::BadOption(_) | GpuError::Refine(_) | GpuError::Displace(_) => {
+            PyValueError::new_err(e.to_string())
+        }
         _ => PyRuntimeError::new_err(e.to_string()),
     }
 }
