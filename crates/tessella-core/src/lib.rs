@@ -37,6 +37,7 @@ pub mod samples;
 pub mod scheme;
 pub mod stencil;
 pub mod tags;
+pub mod tessellator;
 
 pub use basis::Basis;
 pub use displace::{DisplaceError, DisplaceFrame, Displacement, HeightMap};
