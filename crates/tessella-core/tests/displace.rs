@@ -189,3 +189,21 @@ fn a_frame_for_another_layout_is_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn an_updated_frame_equals_one_built_for_the_deformed_mesh() {
+    // Per frame only the position means change; `update` recomputes them from the new
+    // positions and normals and keeps the split masks and slots.
+    let mesh = samples::half_faceted_icosphere(1);
+    for weld in [true, false] {
+        let refiner =
+            Refiner::new(&mesh, &RefineOptions::new(Scheme::PnAen, 5).with_weld(weld)).unwrap();
+        let mut frame = DisplaceFrame::new(&mesh, refiner.topology(), refiner.layout());
+        let (positions, normals) = samples::twist(&mesh, 50.0);
+        let moved = Mesh::new(positions, Some(normals), None, mesh.triangles().to_vec()).unwrap();
+        let fresh = DisplaceFrame::new(&moved, &moved.topology(), refiner.layout());
+        assert_ne!(frame, fresh, "the twist turns the means");
+        frame.update(&moved);
+        assert_eq!(frame, fresh);
+    }
+}
