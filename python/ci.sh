@@ -22,6 +22,13 @@ have_vulkan() {
         { compgen -G "/usr/share/vulkan/icd.d/*.json" || compgen -G "/etc/vulkan/icd.d/*.json"; } >/dev/null
 }
 
+echo "== python: the CPU-only build (no gpu feature) compiles and links no wgpu"
+(cd "$HERE" && cargo check -q --no-default-features)
+if (cd "$HERE" && cargo tree -q --no-default-features -e normal) | grep -q wgpu; then
+    echo "cargo tree --no-default-features still pulls in wgpu" >&2
+    exit 1
+fi
+
 echo "== python: fresh venv in $VENV"
 rm -rf "$VENV"
 "$PYTHON" -m venv "$VENV"

@@ -65,6 +65,7 @@ __all__ = [
     "pattern",
     "quality",
     "refine",
+    "Refiner",
     "refine_trimesh",
     "save",
     "schemes",
@@ -224,6 +225,90 @@ def refine(
         weld=weld,
         displace=displace,
     )
+
+
+class Refiner(_tessella.Refiner):
+    """Refine one mesh topology frame after frame: a deforming mesh, without re-planning.
+
+    ``Refiner(faces, ...)`` fixes the coarse triangles and the options; each
+    ``refine(vertices, normals=None)`` then refines one frame of vertex positions. The work that
+    depends only on the topology (the output layout, the pattern's stencil, the refined faces) is
+    done once, on the **first** ``refine`` call; later calls recompute only the coarse control
+    nets (proportional to the coarse mesh) and evaluate the refined vertices, optionally into
+    arrays you own (``out=``), with the GIL released. Every frame's result is bit for bit what
+    :func:`refine` gives for that frame's vertices (the same code).
+
+    Parameters
+    ----------
+    faces : array_like, (m, 3) integers
+        Counter-clockwise triangles (vertex indices), as for :func:`refine`.
+    scheme, level, alpha, normals_mode, tags, crease_angle, weld
+        As for :func:`refine`.
+    backend : {"auto", "cpu"}
+        Where frames are refined: the CPU for now (``"auto"`` means ``"cpu"``); ``"gpu"``
+        raises ``ValueError`` (use ``tessella.refine(..., backend="gpu")`` for one-off GPU
+        refinement). ``displace`` is not offered.
+
+    Decided by the first frame
+    --------------------------
+    The first ``refine`` call builds the plan from its mesh: the number of coarse vertices
+    (later frames must have as many), which vertices share a position (what ``"png1"``,
+    ``"pn-aen"`` and ``"st"`` look across; keep coincident vertices coincident) and the tags
+    (for ``"st"`` the edges where that first frame splits normals, ``crease_angle``'s creases
+    and ``tags``). Option errors that need a mesh (bad tags, a crease angle the scheme cannot
+    build, an output over the size limit) are raised by that first call, which then builds
+    nothing, so the next call is a first call again.
+
+    Attributes
+    ----------
+    vertex_count : int or None
+        Refined vertices per frame; ``None`` until the first ``refine``.
+    triangle_count : int
+        Refined triangles per frame, ``m * level**2``.
+    faces : numpy.ndarray, uint32 (triangle_count, 3), read-only, or None
+        The refined triangles, computed once: the **same** read-only array object is returned
+        by every ``refine`` call (``faces.copy()`` for a writable one); ``None`` until the
+        first ``refine``.
+    level : int
+    scheme : str
+        The scheme's name as :func:`schemes` spells it.
+    weld : bool
+
+    Methods
+    -------
+    refine(vertices, normals=None, *, out=None) -> (vertices, faces, normals)
+        ``vertices``: ``(n, 3)`` positions of this frame (any float or integer array-like, as
+        for :func:`refine`); ``normals``: ``(n, 3)`` or ``None`` to compute them from this
+        frame. Without ``out``, returns fresh float32 ``(vertex_count, 3)`` vertices and
+        normals. With ``out=(v, n)``, writes into ``v`` and ``n`` (float32, shape
+        ``(vertex_count, 3)``, C-contiguous, writable, two separate arrays; else
+        ``ValueError`` naming the problem) and returns ``(v, faces, n)``: the same objects, no
+        new arrays. A bad frame (another vertex count, NaN or infinite positions, zero
+        normals, a degenerate triangle) raises ``ValueError`` as :func:`refine` does and
+        changes nothing: the refiner keeps its previous frame and ``out`` is not written.
+
+    One ``Refiner`` refines one frame at a time: a second thread calling ``refine`` on the same
+    object while one runs gets ``RuntimeError`` (already borrowed); use one refiner per thread.
+
+    Examples
+    --------
+    >>> import numpy as np, tessella
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float32)
+    >>> f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    >>> r = tessella.Refiner(f, scheme="pn", level=4)
+    >>> rv, rf, rn = r.refine(v)                      # the first frame builds the plan
+    >>> r.vertex_count, r.triangle_count, rf is r.faces
+    (34, 64, True)
+    >>> out = (np.empty_like(rv), np.empty_like(rn))
+    >>> for t in range(3):                            # a deforming mesh, no new arrays
+    ...     pv, pf, pn = r.refine(v * (1 + 0.1 * t), out=out)
+    >>> pv is out[0], pn is out[1]
+    (True, True)
+    >>> bool(np.array_equal(pv, tessella.refine(v * (1 + 0.1 * 2), f, scheme="pn", level=4)[0]))
+    True
+    """
+
+    __slots__ = ()
 
 
 def quality(

@@ -58,3 +58,37 @@ def save(
 def schemes() -> List[str]: ...
 def backends() -> List[str]: ...
 def gpu_info() -> Optional[Dict[str, Any]]: ...
+
+class Refiner:
+    def __init__(
+        self,
+        faces: npt.ArrayLike,
+        *,
+        scheme: str = "pn",
+        level: int = 8,
+        alpha: float = 0.75,
+        normals_mode: Optional[str] = None,
+        tags: _Tags = None,
+        crease_angle: Optional[float] = None,
+        backend: str = "auto",
+        weld: bool = True,
+    ) -> None: ...
+    def refine(
+        self,
+        vertices: npt.ArrayLike,
+        normals: Optional[npt.ArrayLike] = None,
+        *,
+        out: Optional[Tuple[_F32, _F32]] = None,
+    ) -> Tuple[_F32, _U32, _F32]: ...
+    @property
+    def vertex_count(self) -> Optional[int]: ...
+    @property
+    def triangle_count(self) -> int: ...
+    @property
+    def faces(self) -> Optional[_U32]: ...
+    @property
+    def level(self) -> int: ...
+    @property
+    def scheme(self) -> str: ...
+    @property
+    def weld(self) -> bool: ...

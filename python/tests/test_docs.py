@@ -1,4 +1,5 @@
-"""Docstring examples run, and the type stubs cover exactly the compiled module's functions."""
+"""Docstring examples run, and the type stubs cover exactly the compiled module's functions and
+classes."""
 
 import ast
 import doctest
@@ -17,7 +18,7 @@ def test_docstring_examples_run():
 def test_stubs_match_the_compiled_module():
     stub = Path(inspect.getfile(tessella)).with_name("_tessella.pyi")
     tree = ast.parse(stub.read_text())
-    stubbed = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
+    stubbed = {n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
     compiled = {name for name, obj in vars(_tessella).items() if callable(obj) and not name.startswith("_")}
     assert stubbed == compiled
     assert Path(inspect.getfile(tessella)).with_name("py.typed").exists()
