@@ -1,9 +1,8 @@
-//! The `tags=` and `crease_angle=` arguments: what Python may pass, and how the tags are layered,
-//! exactly as the CLI does (`tessella-cli/src/commands/tags.rs`): for the scalar-tagged scheme
-//! the mesh's split normals first, then the crease angle, then the given tags, later ones
-//! overriding earlier ones ([`Tags::merge`]).
+//! The `tags=` and `crease_angle=` arguments: what Python may pass. The layering is
+//! `tessella_io::tags::gather`'s, the CLI's too: for the scalar-tagged scheme the mesh's split
+//! normals first, then the crease angle, then the given tags, later ones overriding earlier ones.
 //!
-//! `tags` is `None`, a dict in the sidecar-JSON structure (`tessella_core::tags` docs), that JSON
+//! `tags` is `None`, a dict in the sidecar-JSON structure (`tessella_io::tags` docs), that JSON
 //! as a string, or the path of such a file (`str` or `os.PathLike`). A string whose first
 //! non-blank character is `{` is JSON text; any other string is a path.
 
@@ -13,6 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyCFunction, PyDict, PyString, PyTuple};
 use std::path::PathBuf;
 use tessella_core::{Mesh, Scheme, Tags};
+use tessella_io::tags::{JsonSource, TagSources};
 
 /// Where the given tags come from, read while the GIL is held.
 pub enum TagSource {
@@ -90,38 +90,24 @@ fn dict_to_json(d: &Bound<'_, PyDict>) -> PyResult<String> {
     }
 }
 
-/// The tags `scheme` gets on `mesh` (layered as the module docs say), or `None` when nothing is
-/// tagged. Runs without the GIL.
+/// The tags `scheme` gets on `mesh` (layered by [`tessella_io::tags::gather`], as the CLI does),
+/// or `None` when nothing is tagged. Runs without the GIL.
 pub fn gather(
     mesh: &Mesh,
     scheme: Scheme,
     source: &TagSource,
     crease_angle: Option<f64>,
 ) -> PyResult<Option<Tags>> {
-    let mut tags = Tags::new();
-    if scheme == Scheme::ScalarTagged {
-        tags.merge(Tags::from_split_normals(mesh));
-    }
-    if let Some(degrees) = crease_angle {
-        let angle = Tags::from_crease_angle(mesh, degrees as f32)
-            .map_err(|e| PyValueError::new_err(format!("crease_angle={degrees}: {e}")))?;
-        tags.merge(angle);
-    }
-    match source {
-        TagSource::None => {}
-        TagSource::Json { text, origin } => {
-            tags.merge(Tags::from_json(mesh, text).map_err(|e| errors::tag_error(origin, e))?);
-        }
-        TagSource::File(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| {
-                errors::os_error(
-                    e.kind(),
-                    format!("cannot read tags from {}: {e}", path.display()),
-                )
-            })?;
-            let origin = format!("in {}", path.display());
-            tags.merge(Tags::from_json(mesh, &text).map_err(|e| errors::tag_error(&origin, e))?);
-        }
-    }
-    Ok((!tags.is_empty()).then_some(tags))
+    let json = match source {
+        TagSource::None => None,
+        TagSource::Json { text, origin } => Some(JsonSource::Text { text, origin }),
+        TagSource::File(path) => Some(JsonSource::File(path)),
+    };
+    let sources = TagSources {
+        crease_angle: crease_angle.map(|d| d as f32),
+        file: None,
+        json,
+    };
+    tessella_io::tags::gather(mesh, scheme, &sources)
+        .map_err(|e| errors::tag_source_error(e, crease_angle))
 }

@@ -116,8 +116,6 @@ pub enum TagError {
     TooManyCreasedVertices { face: usize, count: usize },
     #[error("crease angle must be a finite number of degrees in 0..=180, got {0}")]
     BadAngle(f32),
-    #[error("tags JSON: {0}")]
-    Json(String),
 }
 
 /// Formats a byte count for messages: `1.5 GiB`.

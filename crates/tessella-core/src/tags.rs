@@ -12,24 +12,12 @@
 //!   the file) become creases (sharpness 1), and vertices on exactly one crease get a crease
 //!   direction `Δ` and sharpness that reproduce the file's two normals.
 //! - [`Tags::from_crease_angle`]: the same for edges whose two faces bend by more than an angle.
-//! - [`Tags::from_json`]: a sidecar file, format below.
-//! - [`Tags::from_ply`]: PLY properties as plain data (vertex `tension`, `sharpness`, `bias`,
-//!   optional `crease_x/y/z`; `edge` elements with `vertex1`, `vertex2`, `sharpness`, optional
-//!   `kappa`).
+//! - [`Tags::set_vertex`], [`Tags::set_edge`] for one tag, [`TagBuilder`] for many: tags by
+//!   vertex index, checked against the mesh. Files (a sidecar JSON, PLY properties) are read by
+//!   `tessella_io::tags`, which also layers all these sources the way the CLI and the Python
+//!   package use them.
 //!
-//! # Sidecar JSON
-//!
-//! ```json
-//! {
-//!   "edges": [ { "vertices": [0, 1], "sharpness": 1.0, "kappa": 0.0 } ],
-//!   "vertices": [
-//!     { "index": 1, "tension": 0.0, "sharpness": 0.5, "bias": 0.0, "crease": [0.0, 1.0, 0.0] }
-//!   ]
-//! }
-//! ```
-//!
-//! Both lists are optional, and so is every field but `vertices` / `index` (missing numbers are
-//! 0). Indices are vertex indices of the mesh the tags go with.
+//! # What the numbers mean
 //!
 //! - Edge `sharpness` `δ ∈ [0, 1]`: how much of a crease the edge is (GMR Appendix B); for PNG1
 //!   any `δ > 0` makes the edge sharp. `kappa`: PNG1's crease displacement `κ` (along the
@@ -40,11 +28,13 @@
 //!   in the tangent plane, pointing into the side whose normal tilts towards it.
 //!
 //! ```
-//! use tessella_core::{samples, tags::Tags};
+//! use tessella_core::{samples, tags::{EdgeTag, TagBuilder}};
 //! let mesh = samples::tetrahedron();
-//! let tags = Tags::from_json(&mesh, r#"{"edges": [{"vertices": [0, 1], "sharpness": 1}]}"#)?;
+//! let mut tags = TagBuilder::new(&mesh);
+//! tags.set_edge([0, 1], EdgeTag { sharpness: 1.0, kappa: 0.0 })?;
+//! assert!(tags.set_edge([0, 9], EdgeTag::default()).is_err());
+//! let tags = tags.finish();
 //! assert_eq!(tags.edge_count(), 1);
-//! assert!(Tags::from_json(&mesh, r#"{"edges": [{"vertices": [0, 9]}]}"#).is_err());
 //! # Ok::<(), tessella_core::tags::TagError>(())
 //! ```
 
@@ -92,33 +82,6 @@ pub struct EdgeTag {
 pub struct Tags {
     vertices: BTreeMap<u32, VertexTag>,
     edges: BTreeMap<[u32; 2], EdgeTag>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct JsonFile {
-    #[serde(default)]
-    edges: Vec<JsonEdge>,
-    #[serde(default)]
-    vertices: Vec<JsonVertex>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct JsonEdge {
-    vertices: [u32; 2],
-    #[serde(default)]
-    sharpness: f32,
-    #[serde(default)]
-    kappa: f32,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct JsonVertex {
-    index: u32,
-    #[serde(flatten)]
-    tag: VertexTag,
 }
 
 fn finite(what: impl Fn() -> String, value: f32) -> Result<(), TagError> {
@@ -170,158 +133,22 @@ impl Tags {
             .unwrap_or_default()
     }
 
-    /// Tags vertex `v` of `mesh` (replacing an earlier tag at its position).
+    /// Tags vertex `v` of `mesh` (replacing an earlier tag at its position). Finding the
+    /// position costs a pass over the vertices; [`TagBuilder`] sets many tags in linear time.
     pub fn set_vertex(&mut self, mesh: &Mesh, v: u32, tag: VertexTag) -> Result<(), TagError> {
-        let count = mesh.vertex_count();
-        if v as usize >= count {
-            return Err(TagError::UnknownVertex {
-                what: "vertex tag".into(),
-                vertex: v,
-                count,
-            });
-        }
-        let name = |field: &'static str| move || format!("vertex {v} {field}");
-        finite(name("tension"), tag.tension)?;
-        finite(name("sharpness"), tag.sharpness)?;
-        finite(name("bias"), tag.bias)?;
-        for c in tag.crease {
-            finite(name("crease"), c)?;
-        }
-        if !(-1.0..=1.0).contains(&tag.sharpness) {
-            return Err(TagError::OutOfRange {
-                what: format!("vertex {v} sharpness"),
-                value: tag.sharpness,
-                range: "-1..=1",
-            });
-        }
-        let pid = position_ids(mesh.positions())[v as usize];
-        self.vertices.insert(pid, tag);
+        check_vertex(mesh, v, &tag)?;
+        self.vertices.insert(position_id(mesh.positions(), v), tag);
         Ok(())
     }
 
     /// Tags the edge between vertices `a` and `b` of `mesh`; it must be an edge with exactly two
-    /// faces (by position).
-    pub fn set_edge(
-        &mut self,
-        mesh: &Mesh,
-        [a, b]: [u32; 2],
-        tag: EdgeTag,
-    ) -> Result<(), TagError> {
-        let topo = mesh.topology();
-        self.set_edge_in(mesh, &topo, [a, b], tag)
-    }
-
-    fn set_edge_in(
-        &mut self,
-        mesh: &Mesh,
-        topo: &Topology,
-        [a, b]: [u32; 2],
-        tag: EdgeTag,
-    ) -> Result<(), TagError> {
-        let count = mesh.vertex_count();
-        for v in [a, b] {
-            if v as usize >= count {
-                return Err(TagError::UnknownVertex {
-                    what: "edge tag".into(),
-                    vertex: v,
-                    count,
-                });
-            }
-        }
-        finite(|| format!("edge {a}-{b} sharpness"), tag.sharpness)?;
-        finite(|| format!("edge {a}-{b} kappa"), tag.kappa)?;
-        if !(0.0..=1.0).contains(&tag.sharpness) {
-            return Err(TagError::OutOfRange {
-                what: format!("edge {a}-{b} sharpness"),
-                value: tag.sharpness,
-                range: "0..=1",
-            });
-        }
-        let (pa, pb) = (topo.position_ids[a as usize], topo.position_ids[b as usize]);
-        let faces = edge_faces(mesh, topo, pa, pb);
-        match faces {
-            0 => return Err(TagError::NotAnEdge { a, b }),
-            2 => {}
-            _ => return Err(TagError::BoundaryEdge { a, b }),
-        }
-        self.edges.insert([pa.min(pb), pa.max(pb)], tag);
+    /// faces (by position). Finding its faces costs a pass over the mesh; [`TagBuilder`] sets
+    /// many tags in linear time.
+    pub fn set_edge(&mut self, mesh: &Mesh, ends: [u32; 2], tag: EdgeTag) -> Result<(), TagError> {
+        let mut one = TagBuilder::new(mesh);
+        one.set_edge(ends, tag)?;
+        self.merge(one.finish());
         Ok(())
-    }
-
-    /// Tags from a sidecar JSON file's text (format in the module docs).
-    pub fn from_json(mesh: &Mesh, text: &str) -> Result<Tags, TagError> {
-        let file: JsonFile =
-            serde_json::from_str(text).map_err(|e| TagError::Json(e.to_string()))?;
-        let topo = mesh.topology();
-        let mut tags = Tags::new();
-        for e in file.edges {
-            let tag = EdgeTag {
-                sharpness: e.sharpness,
-                kappa: e.kappa,
-            };
-            tags.set_edge_in(mesh, &topo, e.vertices, tag)?;
-        }
-        for v in file.vertices {
-            tags.set_vertex(mesh, v.index, v.tag)?;
-        }
-        Ok(tags)
-    }
-
-    /// Tags from PLY properties given as plain data: per-vertex scalar columns by name
-    /// (`tension`, `sharpness`, `bias`, `crease_x`, `crease_y`, `crease_z`; others are ignored)
-    /// and `edge` elements as `([vertex1, vertex2], properties)` with `sharpness` and optional
-    /// `kappa`. A vertex column must have one value per vertex.
-    pub fn from_ply(
-        mesh: &Mesh,
-        vertex: &BTreeMap<String, Vec<f32>>,
-        edges: &[([u32; 2], BTreeMap<String, f32>)],
-    ) -> Result<Tags, TagError> {
-        let n = mesh.vertex_count();
-        let column = |name: &str| -> Result<Option<&Vec<f32>>, TagError> {
-            match vertex.get(name) {
-                Some(c) if c.len() != n => Err(TagError::OutOfRange {
-                    what: format!("PLY vertex property '{name}' count"),
-                    value: c.len() as f32,
-                    range: "exactly one value per vertex",
-                }),
-                other => Ok(other),
-            }
-        };
-        let cols = [
-            "tension",
-            "sharpness",
-            "bias",
-            "crease_x",
-            "crease_y",
-            "crease_z",
-        ]
-        .map(column);
-        let mut c: [Option<&Vec<f32>>; 6] = [None; 6];
-        for (slot, col) in c.iter_mut().zip(cols) {
-            *slot = col?;
-        }
-        let mut tags = Tags::new();
-        let get = |col: Option<&Vec<f32>>, v: usize| col.map_or(0.0, |c| c[v]);
-        for v in 0..n {
-            let tag = VertexTag {
-                tension: get(c[0], v),
-                sharpness: get(c[1], v),
-                bias: get(c[2], v),
-                crease: [get(c[3], v), get(c[4], v), get(c[5], v)],
-            };
-            if tag != VertexTag::default() {
-                tags.set_vertex(mesh, v as u32, tag)?;
-            }
-        }
-        let topo = mesh.topology();
-        for (ends, props) in edges {
-            let tag = EdgeTag {
-                sharpness: props.get("sharpness").copied().unwrap_or(0.0),
-                kappa: props.get("kappa").copied().unwrap_or(0.0),
-            };
-            tags.set_edge_in(mesh, &topo, *ends, tag)?;
-        }
-        Ok(tags)
     }
 
     /// Creases where the file splits normals: every edge (by position) whose two faces use
@@ -468,20 +295,170 @@ impl Tags {
     }
 }
 
-/// Number of faces on the edge between positions `a` and `b` (0: not an edge).
-fn edge_faces(mesh: &Mesh, topo: &Topology, a: u32, b: u32) -> usize {
-    mesh.triangles()
+/// Checks a vertex tag's index and numbers.
+fn check_vertex(mesh: &Mesh, v: u32, tag: &VertexTag) -> Result<(), TagError> {
+    let count = mesh.vertex_count();
+    if v as usize >= count {
+        return Err(TagError::UnknownVertex {
+            what: "vertex tag".into(),
+            vertex: v,
+            count,
+        });
+    }
+    let name = |field: &'static str| move || format!("vertex {v} {field}");
+    finite(name("tension"), tag.tension)?;
+    finite(name("sharpness"), tag.sharpness)?;
+    finite(name("bias"), tag.bias)?;
+    for c in tag.crease {
+        finite(name("crease"), c)?;
+    }
+    if !(-1.0..=1.0).contains(&tag.sharpness) {
+        return Err(TagError::OutOfRange {
+            what: format!("vertex {v} sharpness"),
+            value: tag.sharpness,
+            range: "-1..=1",
+        });
+    }
+    Ok(())
+}
+
+/// Checks an edge tag's indices and numbers (not yet that it is an edge).
+fn check_edge(mesh: &Mesh, [a, b]: [u32; 2], tag: &EdgeTag) -> Result<(), TagError> {
+    let count = mesh.vertex_count();
+    for v in [a, b] {
+        if v as usize >= count {
+            return Err(TagError::UnknownVertex {
+                what: "edge tag".into(),
+                vertex: v,
+                count,
+            });
+        }
+    }
+    finite(|| format!("edge {a}-{b} sharpness"), tag.sharpness)?;
+    finite(|| format!("edge {a}-{b} kappa"), tag.kappa)?;
+    if !(0.0..=1.0).contains(&tag.sharpness) {
+        return Err(TagError::OutOfRange {
+            what: format!("edge {a}-{b} sharpness"),
+            value: tag.sharpness,
+            range: "0..=1",
+        });
+    }
+    Ok(())
+}
+
+/// The position id of vertex `v` (the lowest index with its position, as [`position_ids`]),
+/// found by one scan.
+fn position_id(positions: &[[f32; 3]], v: u32) -> u32 {
+    let key = |p: &[f32; 3]| p.map(|c| (c + 0.0).to_bits());
+    let own = key(&positions[v as usize]);
+    positions[..v as usize]
         .iter()
-        .filter(|t| {
-            (0..3).any(|k| {
-                let (x, y) = (
-                    topo.position_ids[t[k] as usize],
-                    topo.position_ids[t[(k + 1) % 3] as usize],
-                );
-                (x, y) == (a, b) || (x, y) == (b, a)
+        .position(|p| key(p) == own)
+        .map_or(v, |i| i as u32)
+}
+
+/// Sets many tags on one mesh with the checks of [`Tags::set_vertex`] and [`Tags::set_edge`],
+/// each in constant time (for meshes of bounded valence): the position ids are found once, and
+/// the faces around each position once, on the first edge tag. Tags for a mesh of `V` vertices
+/// and `F` faces cost `O(V + F)` plus `O(1)` a tag.
+///
+/// ```
+/// use tessella_core::{samples, tags::{TagBuilder, TagError, VertexTag}};
+/// let mesh = samples::tetrahedron();
+/// let mut tags = TagBuilder::new(&mesh);
+/// tags.set_vertex(2, VertexTag { tension: 0.5, ..Default::default() })?;
+/// let bad = VertexTag { sharpness: 2.0, ..Default::default() };
+/// assert!(matches!(tags.set_vertex(1, bad), Err(TagError::OutOfRange { .. })));
+/// assert_eq!(tags.finish().vertex_count(), 1);
+/// # Ok::<(), TagError>(())
+/// ```
+#[derive(Debug)]
+pub struct TagBuilder<'m> {
+    mesh: &'m Mesh,
+    position_ids: Vec<u32>,
+    /// Faces around each position id, compressed rows: the faces at position `p` are
+    /// `faces[start[p]..start[p + 1]]`. Built on the first edge tag.
+    faces_at: Option<(Vec<u32>, Vec<u32>)>,
+    tags: Tags,
+}
+
+impl<'m> TagBuilder<'m> {
+    /// No tags yet, for `mesh`.
+    pub fn new(mesh: &'m Mesh) -> TagBuilder<'m> {
+        TagBuilder {
+            mesh,
+            position_ids: position_ids(mesh.positions()),
+            faces_at: None,
+            tags: Tags::new(),
+        }
+    }
+
+    /// Tags vertex `v` (replacing an earlier tag at its position); see [`Tags::set_vertex`].
+    pub fn set_vertex(&mut self, v: u32, tag: VertexTag) -> Result<(), TagError> {
+        check_vertex(self.mesh, v, &tag)?;
+        self.tags
+            .vertices
+            .insert(self.position_ids[v as usize], tag);
+        Ok(())
+    }
+
+    /// Tags the edge between vertices `a` and `b`; see [`Tags::set_edge`].
+    pub fn set_edge(&mut self, [a, b]: [u32; 2], tag: EdgeTag) -> Result<(), TagError> {
+        check_edge(self.mesh, [a, b], &tag)?;
+        let (pa, pb) = (self.position_ids[a as usize], self.position_ids[b as usize]);
+        match self.edge_faces(pa, pb) {
+            0 => return Err(TagError::NotAnEdge { a, b }),
+            2 => {}
+            _ => return Err(TagError::BoundaryEdge { a, b }),
+        }
+        self.tags.edges.insert([pa.min(pb), pa.max(pb)], tag);
+        Ok(())
+    }
+
+    /// The tags set so far.
+    pub fn finish(self) -> Tags {
+        self.tags
+    }
+
+    /// Number of faces on the edge between positions `pa` and `pb` (0: not an edge).
+    fn edge_faces(&mut self, pa: u32, pb: u32) -> usize {
+        if pa == pb {
+            return 0;
+        }
+        let (mesh, ids) = (self.mesh, &self.position_ids);
+        let (start, faces) = self.faces_at.get_or_insert_with(|| {
+            let mut start = vec![0u32; ids.len() + 1];
+            for t in mesh.triangles() {
+                for &v in t {
+                    start[ids[v as usize] as usize + 1] += 1;
+                }
+            }
+            for p in 0..ids.len() {
+                start[p + 1] += start[p];
+            }
+            let mut next = start.clone();
+            let mut faces = vec![0u32; start[ids.len()] as usize];
+            for (f, t) in mesh.triangles().iter().enumerate() {
+                for &v in t {
+                    let slot = &mut next[ids[v as usize] as usize];
+                    faces[*slot as usize] = f as u32;
+                    *slot += 1;
+                }
+            }
+            (start, faces)
+        });
+        let around = &faces[start[pa as usize] as usize..start[pa as usize + 1] as usize];
+        // Corners of a triangle are distinct positions (Mesh::new refuses zero area), so a face
+        // at `pa` that has `pb` has the edge.
+        around
+            .iter()
+            .filter(|&&f| {
+                mesh.triangles()[f as usize]
+                    .iter()
+                    .any(|&v| ids[v as usize] == pb)
             })
-        })
-        .count()
+            .count()
+    }
 }
 
 fn face_normal(mesh: &Mesh, f: usize) -> Vec3 {

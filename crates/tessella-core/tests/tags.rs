@@ -1,9 +1,8 @@
-//! Where tags come from (split normals, crease angle, JSON sidecar, PLY properties) and how bad
-//! tags are refused.
+//! Where tags come from (split normals, crease angle, the validated setters) and how bad tags
+//! are refused. Tags from files are tested in `tessella-io`.
 
-use std::collections::BTreeMap;
 use tessella_core::mesh::topology::position_ids;
-use tessella_core::tags::{EdgeTag, TagError, Tags, VertexTag};
+use tessella_core::tags::{EdgeTag, TagBuilder, TagError, Tags, VertexTag};
 use tessella_core::{samples, Mesh};
 
 #[test]
@@ -113,55 +112,84 @@ fn split_normals_give_a_crease_that_reproduces_both_normals() {
 }
 
 #[test]
-fn json_sidecar_round_trip_and_errors() {
+fn builder_checks_values_and_keys_tags_by_position() {
     let mesh = samples::tetrahedron();
-    let tags = Tags::from_json(
-        &mesh,
-        r#"{"edges": [{"vertices": [0, 1], "sharpness": 0.5, "kappa": -0.1}],
-            "vertices": [{"index": 2, "tension": 0.25, "sharpness": 1, "crease": [0, 1, 0]}]}"#,
-    )
-    .unwrap();
-    assert_eq!(
-        tags.edge(1, 0),
-        EdgeTag {
-            sharpness: 0.5,
-            kappa: -0.1
-        }
-    );
-    assert_eq!(tags.vertex(2).tension, 0.25);
-    assert_eq!(tags.vertex(2).crease, [0.0, 1.0, 0.0]);
-    assert_eq!(tags.vertex(3), VertexTag::default());
-
-    let err = |text: &str| Tags::from_json(&mesh, text).unwrap_err();
+    let mut tags = TagBuilder::new(&mesh);
+    let edge = EdgeTag {
+        sharpness: 0.5,
+        kappa: -0.1,
+    };
+    tags.set_edge([0, 1], edge).unwrap();
+    let vertex = VertexTag {
+        tension: 0.25,
+        sharpness: 1.0,
+        crease: [0.0, 1.0, 0.0],
+        ..Default::default()
+    };
+    tags.set_vertex(2, vertex).unwrap();
     assert!(matches!(
-        err(r#"{"vertices": [{"index": 9}]}"#),
-        TagError::UnknownVertex {
+        tags.set_vertex(9, VertexTag::default()),
+        Err(TagError::UnknownVertex {
             vertex: 9,
             count: 4,
             ..
-        }
+        })
     ));
     assert!(matches!(
-        err(r#"{"edges": [{"vertices": [0, 7]}]}"#),
-        TagError::UnknownVertex { vertex: 7, .. }
+        tags.set_edge([0, 7], EdgeTag::default()),
+        Err(TagError::UnknownVertex { vertex: 7, .. })
     ));
+    let too_sharp = EdgeTag {
+        sharpness: 2.0,
+        kappa: 0.0,
+    };
     assert!(matches!(
-        err(r#"{"edges": [{"vertices": [0, 1], "sharpness": 2}]}"#),
-        TagError::OutOfRange { .. }
+        tags.set_edge([0, 1], too_sharp),
+        Err(TagError::OutOfRange { .. })
     ));
+    let valley = VertexTag {
+        sharpness: -3.0,
+        ..Default::default()
+    };
     assert!(matches!(
-        err(r#"{"vertices": [{"index": 0, "sharpness": -3}]}"#),
-        TagError::OutOfRange { .. }
+        tags.set_vertex(0, valley),
+        Err(TagError::OutOfRange { .. })
     ));
+    let nan = VertexTag {
+        bias: f32::NAN,
+        ..Default::default()
+    };
+    let err = tags.set_vertex(1, nan).unwrap_err();
+    assert!(matches!(err, TagError::NotFinite { .. }));
+    assert!(err.to_string().contains("vertex 1 bias"), "{err}");
     assert!(matches!(
-        err(r#"{"edges": [{"vertices": [0, 1], "bogus": 1}]}"#),
-        TagError::Json(_)
+        tags.set_edge([3, 3], EdgeTag::default()),
+        Err(TagError::NotAnEdge { a: 3, b: 3 })
     ));
-    assert!(matches!(err("not json"), TagError::Json(_)));
-    // Every message names the problem.
-    assert!(err(r#"{"vertices": [{"index": 9}]}"#)
-        .to_string()
-        .contains("vertex 9"));
+
+    // Refused tags leave nothing behind; the builder and the one-at-a-time setters agree.
+    let built = tags.finish();
+    assert_eq!(built.edge(1, 0), edge);
+    assert_eq!(built.vertex(2), vertex);
+    assert_eq!((built.edge_count(), built.vertex_count()), (1, 1));
+    let mut one_by_one = Tags::new();
+    one_by_one.set_edge(&mesh, [1, 0], edge).unwrap();
+    one_by_one.set_vertex(&mesh, 2, vertex).unwrap();
+    assert_eq!(one_by_one, built);
+
+    // On a split vertex, every copy reaches the tag of its position.
+    let cube = samples::hard_cube();
+    let ids = position_ids(cube.positions());
+    let copy = (0..cube.vertex_count())
+        .find(|&v| ids[v] != v as u32)
+        .expect("the hard cube splits its corners");
+    let mut tags = TagBuilder::new(&cube);
+    tags.set_vertex(copy as u32, vertex).unwrap();
+    let tags = tags.finish();
+    assert_eq!(tags.vertex(ids[copy]), vertex);
+    let mut single = Tags::new();
+    single.set_vertex(&cube, copy as u32, vertex).unwrap();
+    assert_eq!(single, tags);
 }
 
 #[test]
@@ -193,39 +221,4 @@ fn boundary_and_non_edges_are_refused() {
         tags.set_edge(&mesh, [0, 3], sharp),
         Err(TagError::NotAnEdge { a: 0, b: 3 })
     );
-}
-
-#[test]
-fn ply_properties_become_tags_and_nan_is_refused() {
-    let mesh = samples::tetrahedron();
-    let mut vertex = BTreeMap::new();
-    vertex.insert("tension".to_string(), vec![0.0, 0.5, 0.0, 0.0]);
-    vertex.insert("red".to_string(), vec![1.0; 4]); // unrelated properties are ignored
-    let mut edge_props = BTreeMap::new();
-    edge_props.insert("sharpness".to_string(), 1.0);
-    let tags = Tags::from_ply(&mesh, &vertex, &[([2, 3], edge_props.clone())]).unwrap();
-    assert_eq!(tags.vertex(1).tension, 0.5);
-    assert_eq!(tags.vertex_count(), 1);
-    assert_eq!(tags.edge(2, 3).sharpness, 1.0);
-
-    vertex.insert("bias".to_string(), vec![0.0, f32::NAN, 0.0, 0.0]);
-    assert!(matches!(
-        Tags::from_ply(&mesh, &vertex, &[]),
-        Err(TagError::NotFinite { .. })
-    ));
-    vertex.insert("bias".to_string(), vec![0.0; 3]);
-    assert!(matches!(
-        Tags::from_ply(&mesh, &vertex, &[]),
-        Err(TagError::OutOfRange { .. })
-    ));
-    vertex.remove("bias");
-    edge_props.insert("sharpness".to_string(), f32::NAN);
-    assert!(matches!(
-        Tags::from_ply(&mesh, &vertex, &[([2, 3], edge_props)]),
-        Err(TagError::NotFinite { .. })
-    ));
-    assert!(matches!(
-        Tags::from_ply(&mesh, &BTreeMap::new(), &[([2, 40], BTreeMap::new())]),
-        Err(TagError::UnknownVertex { vertex: 40, .. })
-    ));
 }

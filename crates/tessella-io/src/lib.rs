@@ -29,6 +29,10 @@
 //! image's bottom-left (OBJ/PLY), so glTF's `v` is flipped on read and write (see [`gltf`]).
 //! Details per format are in the module docs ([`obj`], [`ply`], [`gltf`], [`stl`]).
 //!
+//! ## Tags
+//! [`tags`] reads shape tags from a sidecar JSON and from PLY properties, and layers every tag
+//! source (split normals, crease angle, PLY, JSON) in one place for the CLI and Python.
+//!
 //! ## Height maps
 //! [`read_height_map`] reads an image (PNG) as a [`tessella_core::displace::HeightMap`] for
 //! displacement.
@@ -51,6 +55,7 @@ pub mod obj;
 pub mod ply;
 mod raw;
 pub mod stl;
+pub mod tags;
 
 pub use atomic::write_atomic;
 pub use error::IoError;
