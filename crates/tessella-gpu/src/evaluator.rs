@@ -580,7 +580,7 @@ fn check_buffer(
             buffer.usage()
         )));
     }
-    if offset % 4 != 0 {
+    if !offset.is_multiple_of(4) {
         return Err(GpuError::BadOutput(format!(
             "offset {offset} is not a multiple of 4"
         )));
