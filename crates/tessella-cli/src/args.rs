@@ -25,7 +25,8 @@ pub enum Command {
     /// Report a mesh file's counts, bounds, boundary and non-manifold edges, split normals and
     /// degenerate triangles.
     Info(InfoArgs),
-    /// Print a refinement pattern (barycentric points and small triangles) as JSON.
+    /// Print a refinement pattern (barycentric points and small triangles) as JSON, or draw it
+    /// as SVG: the uniform grid, or the GPU tessellator's pattern for given levels.
     Pattern(PatternArgs),
     /// Write the bundled sample meshes (icosphere, torus, tetrahedron, hard-cube, creature) as
     /// OBJ files.
@@ -247,14 +248,42 @@ pub struct InfoArgs {
     pub tags: TagArgs,
 }
 
+/// How `tessella pattern` divides the edges.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SpacingArg {
+    /// The uniform refinement pattern: LEVEL equal segments per edge, LEVEL² triangles.
+    Grid,
+    /// Hardware tessellator, equal spacing (levels rounded up to integers, 1 to 64).
+    Equal,
+    /// Hardware tessellator, fractional-odd spacing (levels 1 to 63).
+    FractionalOdd,
+    /// Hardware tessellator, fractional-even spacing (levels 2 to 64).
+    FractionalEven,
+}
+
 #[derive(Debug, Args)]
 pub struct PatternArgs {
-    /// Segments per edge.
-    #[arg(short, long)]
-    pub level: u32,
-    /// Write to this file instead of standard output.
+    /// Segments per edge (grid: a whole number); with a tessellator spacing, the inner and all
+    /// three outer levels.
+    #[arg(short, long, allow_negative_numbers = true)]
+    pub level: Option<f64>,
+    /// grid, or the GPU tessellator's equal / fractional-odd / fractional-even spacing.
+    #[arg(long, value_enum, default_value = "grid")]
+    pub spacing: SpacingArg,
+    /// Tessellator inner level (overrides --level).
+    #[arg(long, allow_negative_numbers = true)]
+    pub inner: Option<f32>,
+    /// Tessellator outer levels A,B,C in GL order: the edges l1 = 0, l2 = 0, l3 = 0 (overrides
+    /// --level). An outer level <= 0 or NaN culls the patch: the pattern is empty.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_name = "A,B,C")]
+    pub outer: Vec<f32>,
+    /// Write to this file instead of standard output; a `.svg` name writes a drawing instead
+    /// of JSON.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Also draw the pattern into this SVG file.
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

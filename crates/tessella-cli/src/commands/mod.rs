@@ -9,6 +9,7 @@ mod demo;
 mod gpu;
 mod info;
 mod pattern;
+mod pattern_svg;
 mod refine;
 #[cfg(feature = "gpu")]
 mod render;
