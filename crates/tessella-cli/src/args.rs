@@ -275,7 +275,12 @@ pub struct PatternArgs {
     pub inner: Option<f32>,
     /// Tessellator outer levels A,B,C in GL order: the edges l1 = 0, l2 = 0, l3 = 0 (overrides
     /// --level). An outer level <= 0 or NaN culls the patch: the pattern is empty.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_name = "A,B,C")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "A,B,C"
+    )]
     pub outer: Vec<f32>,
     /// Write to this file instead of standard output; a `.svg` name writes a drawing instead
     /// of JSON.
