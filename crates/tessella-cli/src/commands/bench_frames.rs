@@ -9,6 +9,9 @@ use std::time::{Duration, Instant};
 use tessella_core::refine::{Plan, VertexOutput};
 use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
 
+/// One frame's coarse positions and normals.
+type FrameData = (Vec<[f32; 3]>, Vec<[f32; 3]>);
+
 /// Bytes of the buffer the fill rate is measured on: far larger than any cache.
 const FILL_BYTES: usize = 512 << 20;
 
@@ -51,7 +54,7 @@ pub fn table(
     repeat: usize,
     fill: f64,
 ) -> anyhow::Result<()> {
-    let frames: Vec<(Vec<[f32; 3]>, Vec<[f32; 3]>)> = (0..8)
+    let frames: Vec<FrameData> = (0..8)
         .map(|i| samples::twist(mesh, 10.0 * i as f32))
         .collect();
     println!();
