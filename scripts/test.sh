@@ -14,12 +14,24 @@ echo "== cargo clippy"
 cargo clippy --workspace --all-targets --quiet -- -D warnings
 echo "== cargo test"
 cargo test --workspace
-echo "== CPU-only CLI: builds without the gpu feature, and no wgpu in its tree"
-cargo check -p tessella-cli --no-default-features
+echo "== CPU-only CLI: builds without the gpu feature, no wgpu in its tree, refines and displaces"
 if cargo tree -p tessella-cli --no-default-features -e normal | grep -q wgpu; then
   echo "wgpu is in the dependency tree of the CPU-only CLI" >&2
   exit 1
 fi
+# Its own target folder, so the GPU-enabled binary the tests use is not replaced.
+cargo build --quiet -p tessella-cli --no-default-features --target-dir target/cpu-only
+cpu_only=$(mktemp -d)
+target/cpu-only/debug/tessella refine samples/hard-cube.obj -o "$cpu_only/cube.ply" \
+  --scheme pn-aen --level 4 --displace sine:0.05,10 --backend auto
+test -s "$cpu_only/cube.ply" || { echo "CPU-only refine wrote nothing" >&2; exit 1; }
+if target/cpu-only/debug/tessella render samples/icosphere.obj -o "$cpu_only/x.png" 2>"$cpu_only/err"; then
+  echo "the CPU-only binary rendered a picture" >&2
+  exit 1
+fi
+grep -q "built without GPU support" "$cpu_only/err" || { cat "$cpu_only/err" >&2; exit 1; }
+test ! -e "$cpu_only/x.png" || { echo "the CPU-only render left a file" >&2; exit 1; }
+rm -rf "$cpu_only"
 echo "== example: an application's own device, buffers and pipeline (tessella-gpu/examples/deform.rs)"
 frames=$(mktemp -d)
 cargo run --quiet -p tessella-gpu --example deform -- "$frames" --frames 3 --size 64

@@ -5,6 +5,7 @@ mod animate;
 mod bench;
 mod bench_frames;
 mod demo;
+mod displace;
 #[cfg(feature = "gpu")]
 mod gpu;
 mod info;

@@ -5,6 +5,7 @@ use crate::args::RefineArgs;
 use crate::progress;
 use anyhow::Context;
 use std::time::Instant;
+use tessella_core::displace::{DisplaceFrame, Displacement};
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
 use tessella_io::{write_mesh, Format, MeshView, WriteOptions};
 
@@ -54,13 +55,18 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The CPU refinement, with a progress bar.
-fn refine_cpu(refiner: &Refiner) -> RefinedMesh {
+/// The CPU refinement, with a progress bar, then the displacement (shared directions on hard
+/// edges, so they stay closed).
+fn refine_cpu(refiner: &Refiner, displacement: &Displacement) -> anyhow::Result<RefinedMesh> {
     let bar = progress::bar(refiner.progress_total(), "refining");
     let mut out = RefinedMesh::default();
     refiner.refine_into(&mut out, &|done| bar.inc(done));
     bar.finish_and_clear();
-    out
+    if displacement.is_some() {
+        let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
+        displacement.apply(&mut out, &frame)?;
+    }
+    Ok(out)
 }
 
 /// Where refinement runs: the GPU when built with the `gpu` feature and asked for (or found,
@@ -79,7 +85,7 @@ mod backend {
     }
 
     pub fn choose(args: &RefineArgs, mesh: &Mesh) -> anyhow::Result<Backend> {
-        let displacement = gpu::parse_displacement(args.displace.as_deref())?;
+        let displacement = super::super::displace::parse(args.displace.as_deref())?;
         displacement.validate(mesh.uvs().is_some())?;
         let ctx = gpu::context_for(args.backend)?;
         Ok(Backend { ctx, displacement })
@@ -98,16 +104,7 @@ mod backend {
             };
             gpu_refine_with(ctx, refiner, &gpu_options)
         });
-        let cpu = || -> anyhow::Result<RefinedMesh> {
-            let mut out = super::refine_cpu(refiner);
-            let frame = tessella_core::displace::DisplaceFrame::new(
-                refiner.mesh(),
-                refiner.topology(),
-                refiner.layout(),
-            );
-            displacement.apply(&mut out, &frame)?;
-            Ok(out)
-        };
+        let cpu = || super::refine_cpu(refiner, displacement);
         match on_gpu {
             Some(Ok(refined)) => Ok(refined),
             Some(Err(e)) if args.backend == BackendArg::Auto => {
@@ -124,25 +121,27 @@ mod backend {
 #[cfg(not(feature = "gpu"))]
 mod backend {
     use crate::args::{BackendArg, RefineArgs};
+    use tessella_core::displace::Displacement;
     use tessella_core::{Mesh, RefinedMesh, Refiner};
 
-    pub struct Backend;
+    pub struct Backend {
+        displacement: Displacement,
+    }
 
-    pub fn choose(args: &RefineArgs, _mesh: &Mesh) -> anyhow::Result<Backend> {
+    pub fn choose(args: &RefineArgs, mesh: &Mesh) -> anyhow::Result<Backend> {
         if args.backend == BackendArg::Gpu {
             return Err(super::super::no_gpu("--backend gpu"));
         }
-        if args.displace.is_some() {
-            return Err(super::super::no_gpu("--displace"));
-        }
-        Ok(Backend)
+        let displacement = super::super::displace::parse(args.displace.as_deref())?;
+        displacement.validate(mesh.uvs().is_some())?;
+        Ok(Backend { displacement })
     }
 
     pub fn refine(
-        _backend: &Backend,
+        backend: &Backend,
         _args: &RefineArgs,
         refiner: &Refiner,
     ) -> anyhow::Result<RefinedMesh> {
-        Ok(super::refine_cpu(refiner))
+        super::refine_cpu(refiner, &backend.displacement)
     }
 }

@@ -9,7 +9,7 @@ use tessella_view::{render, render_compare, save_png, RenderOptions};
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (raw, mesh) = tags::read(&args.input)?;
-    let displacement = gpu::parse_displacement(args.displace.as_deref())?;
+    let displacement = super::displace::parse(args.displace.as_deref())?;
     let options_for = |scheme: crate::args::SchemeArg| -> anyhow::Result<RefineOptions> {
         let scheme = scheme.scheme(args.alpha);
         let mut options = RefineOptions::new(scheme, args.level);
