@@ -1,35 +1,23 @@
-//! Names the Python API accepts, mapped to core types in this one place. A scheme or backend
-//! that lands in the Rust crates is added here and nowhere else; `schemes()` and `backends()`
-//! report what this build has, so scripts can adapt.
+//! Names the Python API accepts, mapped to core types in this one place. The names themselves,
+//! their spellings (ASCII case ignored, `_` for `-`) and the lists of valid ones are the core's
+//! (`tessella_core::names`), shared with the CLI; this module only turns a bad name into a
+//! `ValueError` that says which Python argument was wrong. `schemes()` and `backends()` report
+//! what this build has, so scripts can adapt.
 
 use pyo3::exceptions::PyValueError;
 use pyo3::PyResult;
-use tessella_core::{NormalMode, Scheme};
+pub use tessella_core::Backend;
+use tessella_core::{Named, NormalMode, Scheme};
 
-/// Scheme names, in the order `tessella.schemes()` lists them.
-pub const SCHEMES: &[&str] = &["flat", "phong", "pn", "png1", "pn-aen", "st"];
+/// Scheme names, in the order `tessella.schemes()` lists them (the core's list).
+pub const SCHEMES: &[&str] = Scheme::NAMES;
 
-/// Backend names `refine` accepts (`tessella.backends()` lists those that work on this machine).
-pub const BACKEND_NAMES: &[&str] = &["auto", "cpu", "gpu"];
-
-/// Normal mode names.
-pub const NORMAL_MODES: &[&str] = &["linear", "quadratic", "real"];
-
-/// The scheme called `name` (the core's [`Scheme::name`]s, case-insensitive); `alpha` is
-/// Phong's shape factor (ignored by other schemes).
+/// The scheme called `name`; `alpha` is Phong's shape factor (ignored by other schemes).
 pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
-    match name.to_ascii_lowercase().as_str() {
-        "flat" => Ok(Scheme::Flat),
-        "phong" => Ok(Scheme::Phong {
-            alpha: alpha as f32,
-        }),
-        "pn" => Ok(Scheme::Pn),
-        "png1" => Ok(Scheme::Png1),
-        // "pn_aen" too: Python keyword-style spelling of the CLI's name.
-        "pn-aen" | "pn_aen" => Ok(Scheme::PnAen),
-        "st" => Ok(Scheme::ScalarTagged),
-        _ => Err(PyValueError::new_err(format!(
-            "unknown scheme {name:?}; this build has {SCHEMES:?} (see tessella.schemes())"
+    match name.parse::<Scheme>() {
+        Ok(s) => Ok(s.with_alpha(alpha as f32)),
+        Err(e) => Err(PyValueError::new_err(format!(
+            "{e} (see tessella.schemes())"
         ))),
     }
 }
@@ -37,38 +25,22 @@ pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
 /// The normal mode called `name`; `None` means the scheme's default.
 pub fn normal_mode(name: Option<&str>) -> PyResult<Option<NormalMode>> {
     let Some(name) = name else { return Ok(None) };
-    match name.to_ascii_lowercase().as_str() {
-        "linear" => Ok(Some(NormalMode::Linear)),
-        "quadratic" => Ok(Some(NormalMode::Quadratic)),
-        "real" => Ok(Some(NormalMode::Real)),
-        _ => Err(PyValueError::new_err(format!(
-            "unknown normals_mode {name:?}; use one of {NORMAL_MODES:?} or None for the scheme's default"
+    match name.parse::<NormalMode>() {
+        Ok(mode) => Ok(Some(mode)),
+        Err(e) => Err(PyValueError::new_err(format!(
+            "unknown normals_mode {name:?}; use one of {:?} or None for the scheme's default",
+            e.valid
         ))),
     }
 }
 
-/// Which backend runs the work.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Backend {
-    /// A hardware GPU when there is one (a software adapter is slower than the CPU path),
-    /// otherwise the CPU; the CPU also when the GPU fails.
-    Auto,
-    Cpu,
-    /// Any GPU adapter, software (lavapipe) included; an error when there is none.
-    Gpu,
-}
-
-/// The backend called `name` (case-insensitive).
+/// The backend called `name`.
 pub fn backend(name: &str) -> PyResult<Backend> {
-    match name.to_ascii_lowercase().as_str() {
-        "auto" => Ok(Backend::Auto),
-        "cpu" => Ok(Backend::Cpu),
-        "gpu" => Ok(Backend::Gpu),
-        _ => Err(PyValueError::new_err(format!(
-            "unknown backend {name:?}; use one of {BACKEND_NAMES:?} (tessella.backends() lists \
-             those that work here)"
-        ))),
-    }
+    name.parse::<Backend>().map_err(|e| {
+        PyValueError::new_err(format!(
+            "{e} (tessella.backends() lists those that work here)"
+        ))
+    })
 }
 
 /// A refinement level from a Python int: 1 or more.

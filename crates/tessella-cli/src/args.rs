@@ -1,8 +1,12 @@
 //! Command-line arguments.
 
+use clap::builder::{PossibleValue, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::ffi::OsStr;
+use std::marker::PhantomData;
 use std::path::PathBuf;
-use tessella_core::{NormalMode, Scheme};
+use std::str::FromStr;
+use tessella_core::{Backend, Named, NormalMode, Scheme, UnknownName};
 
 /// Turn coarse triangle meshes into smooth curved surfaces.
 ///
@@ -45,66 +49,89 @@ pub enum Command {
     Bench(BenchArgs),
 }
 
-/// Surface schemes on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum SchemeArg {
-    /// The coarse triangles themselves (normals interpolated).
-    Flat,
-    /// Phong tessellation (quadratic; shape factor --alpha).
-    Phong,
-    /// Curved PN triangles (cubic).
-    Pn,
-    /// PNG1: tangent-plane continuous (G1) patches from each triangle and its edge neighbours.
-    Png1,
-    /// PN with adjacent edge normals: crack-free PN across hard edges (split normals).
-    PnAen,
-    /// Scalar-tagged PN: creases and per-vertex tension, sharpness, bias (see --tags).
-    St,
-}
+/// A scheme named on the command line (parsed by the core, [`tessella_core::names`]); Phong's
+/// shape factor comes from `--alpha`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SchemeArg(pub Scheme);
 
 impl SchemeArg {
+    /// The scheme, with Phong's shape factor `alpha`.
     pub fn scheme(self, alpha: f32) -> Scheme {
-        match self {
-            SchemeArg::Flat => Scheme::Flat,
-            SchemeArg::Phong => Scheme::Phong { alpha },
-            SchemeArg::Pn => Scheme::Pn,
-            SchemeArg::Png1 => Scheme::Png1,
-            SchemeArg::PnAen => Scheme::PnAen,
-            SchemeArg::St => Scheme::ScalarTagged,
-        }
+        self.0.with_alpha(alpha)
     }
 }
 
-/// Normal modes on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum NormalsArg {
-    /// Vertex normals interpolated linearly (default for flat and phong).
-    Linear,
-    /// Vlachos' quadratic normals (default for pn).
-    Quadratic,
-    /// The surface's own normal, from its derivatives.
-    Real,
-}
+/// A normal mode named on the command line (parsed by the core).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalsArg(pub NormalMode);
 
 impl From<NormalsArg> for NormalMode {
     fn from(n: NormalsArg) -> NormalMode {
-        match n {
-            NormalsArg::Linear => NormalMode::Linear,
-            NormalsArg::Quadratic => NormalMode::Quadratic,
-            NormalsArg::Real => NormalMode::Real,
-        }
+        n.0
     }
 }
 
-/// Where refinement runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum BackendArg {
-    /// A hardware GPU when there is one, else the CPU.
-    Auto,
-    /// The CPU, all cores.
-    Cpu,
-    /// The GPU (a software adapter is used when there is no hardware one).
-    Gpu,
+/// Where refinement runs (the core's [`Backend`], under the name the commands use).
+pub type BackendArg = Backend;
+
+/// Parses a name the core defines ([`tessella_core::names`]): help lists the core's names with
+/// their descriptions, and a bad name gets the core's message, which lists the valid ones.
+#[derive(Debug)]
+pub struct CoreName<T>(PhantomData<fn() -> T>);
+
+impl<T> CoreName<T> {
+    pub fn new() -> CoreName<T> {
+        CoreName(PhantomData)
+    }
+}
+
+impl<T> Default for CoreName<T> {
+    fn default() -> Self {
+        CoreName::new()
+    }
+}
+
+impl<T> Clone for CoreName<T> {
+    fn clone(&self) -> Self {
+        CoreName::new()
+    }
+}
+
+impl<T> TypedValueParser for CoreName<T>
+where
+    T: Named + FromStr<Err = UnknownName> + Clone + Send + Sync + 'static,
+{
+    type Value = T;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &OsStr,
+    ) -> Result<T, clap::Error> {
+        let text = value.to_string_lossy();
+        text.parse::<T>().map_err(|e| {
+            let arg = arg.map_or_else(String::new, |a| format!(" for '{a}'"));
+            clap::Error::raw(
+                clap::error::ErrorKind::InvalidValue,
+                format!("invalid value '{text}'{arg}: {e}\n"),
+            )
+            .with_cmd(cmd)
+        })
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(
+            T::ALL
+                .iter()
+                .map(|v| PossibleValue::new(v.name()).help(v.description())),
+        ))
+    }
+}
+
+/// `--scheme` values.
+fn scheme_parser() -> impl TypedValueParser<Value = SchemeArg> {
+    CoreName::<Scheme>::new().map(SchemeArg)
 }
 
 #[derive(Debug, Args)]
@@ -115,7 +142,7 @@ pub struct RefineArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Surface built over each coarse triangle.
-    #[arg(long, value_enum, default_value = "pn")]
+    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
     pub scheme: SchemeArg,
     /// Segments per coarse edge: each triangle becomes LEVEL² triangles.
     #[arg(short, long, default_value_t = 8)]
@@ -124,7 +151,7 @@ pub struct RefineArgs {
     #[arg(long, default_value_t = 0.75)]
     pub alpha: f32,
     /// How refined normals are made (default: the scheme's own).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
     pub normals: Option<NormalsArg>,
     /// Give every coarse triangle its own vertices instead of sharing them along coarse edges.
     #[arg(long)]
@@ -136,8 +163,8 @@ pub struct RefineArgs {
     #[arg(long, default_value = "8GiB", value_parser = parse_bytes)]
     pub max_memory: u64,
     /// Where to refine.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub backend: BackendArg,
+    #[arg(long, value_parser = CoreName::<Backend>::new(), default_value = "auto")]
+    pub backend: Backend,
     #[command(flatten)]
     pub tags: TagArgs,
     /// Also print the surface-quality report (G1 defect, watertightness, distance from the
@@ -158,7 +185,7 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Surface built over each coarse triangle.
-    #[arg(long, value_enum, default_value = "pn")]
+    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
     pub scheme: SchemeArg,
     /// Segments per coarse edge (the refinement pattern drawn for every triangle).
     #[arg(short, long, default_value_t = 16)]
@@ -167,7 +194,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0.75)]
     pub alpha: f32,
     /// How normals are made (default: the scheme's own).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
     pub normals: Option<NormalsArg>,
     /// Picture size, WIDTHxHEIGHT (per panel with --compare).
     #[arg(long, default_value = "800x800", value_parser = parse_size)]
@@ -185,7 +212,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub wireframe: bool,
     /// Side-by-side labelled panels, one per scheme, e.g. `flat,pn,png1` (overrides --scheme).
-    #[arg(long, value_enum, value_delimiter = ',')]
+    #[arg(long, value_parser = scheme_parser(), value_delimiter = ',')]
     pub compare: Vec<SchemeArg>,
     /// Displacement, as for `refine --displace`.
     #[arg(long, value_name = "SPEC")]
@@ -201,7 +228,7 @@ pub struct AnimateArgs {
     /// Folder for the frames (frame_000.png, ...).
     #[arg(short, long)]
     pub output: PathBuf,
-    #[arg(long, value_enum, default_value = "pn")]
+    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
     pub scheme: SchemeArg,
     #[arg(short, long, default_value_t = 16)]
     pub level: u32,
@@ -378,6 +405,87 @@ mod tests {
         assert_eq!(parse_size("640x480"), Ok((640, 480)));
         assert!(parse_size("640").is_err());
         assert!(parse_size("0x10").is_err());
+    }
+
+    #[test]
+    fn core_names_parse_and_bad_names_list_the_valid_ones() {
+        let refine = |extra: &[&str]| {
+            let mut argv = vec!["tessella", "refine", "in.obj", "-o", "out.ply"];
+            argv.extend_from_slice(extra);
+            Cli::try_parse_from(argv)
+        };
+        let Command::Refine(args) = refine(&[
+            "--scheme",
+            "pn_aen",
+            "--normals",
+            "real",
+            "--backend",
+            "cpu",
+        ])
+        .unwrap()
+        .command
+        else {
+            panic!("not a refine command")
+        };
+        assert_eq!(args.scheme, SchemeArg(Scheme::PnAen));
+        assert_eq!(args.normals, Some(NormalsArg(NormalMode::Real)));
+        assert_eq!(args.backend, Backend::Cpu);
+        let Command::Refine(args) = refine(&["--scheme", "phong", "--alpha", "0.5"])
+            .unwrap()
+            .command
+        else {
+            panic!("not a refine command")
+        };
+        assert_eq!(args.scheme.scheme(args.alpha), Scheme::Phong { alpha: 0.5 });
+        assert_eq!(args.backend, Backend::Auto);
+
+        let err = refine(&["--scheme", "loop"]).unwrap_err().to_string();
+        assert!(
+            err.contains(r#"unknown scheme "loop"; use one of ["flat", "phong", "pn", "png1", "pn-aen", "st"]"#),
+            "{err}"
+        );
+        assert!(err.contains("--scheme"), "{err}");
+        let err = refine(&["--backend", "tpu"]).unwrap_err().to_string();
+        assert!(err.contains(r#"unknown backend "tpu""#), "{err}");
+        let err = refine(&["--normals", "smooth"]).unwrap_err().to_string();
+        assert!(err.contains(r#"unknown normal mode "smooth""#), "{err}");
+
+        let Command::Render(args) = Cli::try_parse_from([
+            "tessella",
+            "render",
+            "in.obj",
+            "-o",
+            "out.png",
+            "--compare",
+            "flat,png1,st",
+        ])
+        .unwrap()
+        .command
+        else {
+            panic!("not a render command")
+        };
+        assert_eq!(
+            args.compare,
+            [Scheme::Flat, Scheme::Png1, Scheme::ScalarTagged].map(SchemeArg)
+        );
+    }
+
+    #[test]
+    fn help_lists_the_core_names() {
+        use clap::CommandFactory;
+        let mut cli = Cli::command();
+        let help = cli
+            .find_subcommand_mut("refine")
+            .expect("refine")
+            .render_long_help()
+            .to_string();
+        for value in Scheme::ALL {
+            assert!(help.contains(value.name()), "{help}");
+            assert!(help.contains(value.description()), "{help}");
+        }
+        for name in NormalMode::NAMES.iter().chain(Backend::NAMES) {
+            assert!(help.contains(name), "{help}");
+        }
     }
 
     #[test]
