@@ -436,3 +436,30 @@ fn a_plan_refuses_frames_and_meshes_of_another_topology() {
     assert!(plan_a.update_from_mesh(&mut frame_a, &flipped).is_err());
     assert!(plan_a.update_from_mesh(&mut frame_a, &a).is_ok());
 }
+
+#[test]
+fn origin_names_a_face_and_barycentrics_that_evaluate_to_the_vertex() {
+    let mesh = samples::creature();
+    for weld in [true, false] {
+        let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 6).with_weld(weld)).unwrap();
+        let out = refine(&mesh, plan.options()).unwrap();
+        let (faces, bary) = plan.origin();
+        let tol = 1e-5 * diagonal(&mesh);
+        for v in 0..plan.vertex_count() {
+            let f = faces[v] as usize;
+            assert!(f < mesh.face_count(), "vertex {v}: face {f}");
+            let l = bary[v].map(f64::from);
+            assert!((l.iter().sum::<f64>() - 1.0).abs() < 1e-6 && l.iter().all(|&x| x >= 0.0));
+            let patch = RefPatch::new(Tri::of(&mesh, f), RefScheme::Pn, RefNormals::Quadratic);
+            let err = (d3(out.positions[v]) - patch.position(l)).length();
+            assert!(
+                err <= tol,
+                "vertex {v} (face {f}, {l:?}) is {err} from its origin"
+            );
+        }
+    }
+    let mut short = vec![0u32; 3];
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 2)).unwrap();
+    let mut bary = vec![[0.0f32; 3]; plan.vertex_count()];
+    assert!(plan.write_origin(&mut short, &mut bary).is_err());
+}

@@ -20,7 +20,7 @@ pub use evaluator::{CpuEvaluator, Evaluator};
 pub use indices::IndexInt;
 pub use layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE};
 pub use output::{VertexFormat, VertexOutput};
-pub use plan::{Frame, Plan};
+pub use plan::{Frame, Plan, NO_FACE};
 
 use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};

@@ -39,6 +39,9 @@ use crate::stencil::Stencil;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
 
+/// The origin face of a coarse vertex no triangle uses ([`Plan::origin`]).
+pub const NO_FACE: u32 = u32::MAX;
+
 /// Tells plans apart, so a frame is never evaluated by a plan that did not make it.
 static NEXT_PLAN_ID: AtomicU64 = AtomicU64::new(1);
 
@@ -229,6 +232,84 @@ impl Plan {
     /// True when every refined vertex index fits in a `u16`.
     pub fn fits_u16(&self) -> bool {
         self.layout.vertex_count <= <u16 as IndexInt>::MAX_VERTICES
+    }
+
+    /// Where each refined vertex comes from: the coarse face it was evaluated on and its
+    /// barycentric coordinates `(l1, l2, l3)` in that face's corner order. A vertex shared by
+    /// several faces (welded output) names the face that owns it; a coarse vertex no face uses
+    /// gets [`NO_FACE`] and `(1, 0, 0)`. Depends on the plan only, like the indices.
+    ///
+    /// ```
+    /// use tessella_core::refine::Plan;
+    /// use tessella_core::{samples, RefineOptions, Scheme};
+    /// let mesh = samples::icosphere(0);
+    /// let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4))?;
+    /// let (faces, bary) = plan.origin();
+    /// assert_eq!((faces.len(), bary.len()), (plan.vertex_count(), plan.vertex_count()));
+    /// // the first V vertices are the coarse corners
+    /// let (f, c) = (faces[0] as usize, mesh.triangles()[faces[0] as usize].iter().position(|&v| v == 0).unwrap());
+    /// assert_eq!(bary[0][c], 1.0);
+    /// # Ok::<(), tessella_core::RefineError>(())
+    /// ```
+    pub fn origin(&self) -> (Vec<u32>, Vec<[f32; 3]>) {
+        let n = self.vertex_count();
+        let (mut faces, mut bary) = (vec![NO_FACE; n], vec![[1.0, 0.0, 0.0]; n]);
+        self.write_origin(&mut faces, &mut bary)
+            .expect("arrays of the plan's size");
+        (faces, bary)
+    }
+
+    /// [`Plan::origin`] into caller memory (each at least [`Plan::vertex_count`] long).
+    pub fn write_origin(
+        &self,
+        faces: &mut [u32],
+        bary: &mut [[f32; 3]],
+    ) -> Result<(), RefineError> {
+        let n = self.vertex_count();
+        for (what, got) in [("origin faces", faces.len()), ("barycentrics", bary.len())] {
+            if got < n {
+                return Err(RefineError::OutputTooSmall {
+                    what: what.into(),
+                    got,
+                    need: n,
+                });
+            }
+        }
+        let l = |p: u32| self.pattern.points[p as usize].map(|x| x as f32);
+        let stencil = &self.stencil;
+        if !self.layout.weld {
+            let np = self.pattern.points.len();
+            for (i, (f, b)) in faces[..n].iter_mut().zip(&mut bary[..n]).enumerate() {
+                *f = (i / np) as u32;
+                *b = l((i % np) as u32);
+            }
+            return Ok(());
+        }
+        let topo = &self.topology;
+        let nv = self.vertex_count;
+        for v in 0..nv {
+            (faces[v], bary[v]) = match topo.vertex_owner[v] {
+                Some((f, c)) => (f, l(stencil.corner_point(c as usize))),
+                None => (NO_FACE, [1.0, 0.0, 0.0]),
+            };
+        }
+        let m = self.options.level as usize - 1;
+        for (e, &(f, k)) in topo.edge_owner.iter().enumerate() {
+            let forward = self.triangles[f as usize][k as usize] == topo.edges[e][0];
+            for s in 0..m {
+                let at = nv + e * m + s;
+                let p = stencil.edge_points[k as usize][if forward { s } else { m - 1 - s }];
+                (faces[at], bary[at]) = (f, l(p));
+            }
+        }
+        let ni = stencil.interior_points.len();
+        let base = self.layout.interior_base as usize;
+        for f in 0..self.face_count() {
+            for (i, &p) in stencil.interior_points.iter().enumerate() {
+                (faces[base + f * ni + i], bary[base + f * ni + i]) = (f as u32, l(p));
+            }
+        }
+        Ok(())
     }
 
     /// Refines `frame` into `out` (vertices, normals, UVs when the mesh has them, and indices),
