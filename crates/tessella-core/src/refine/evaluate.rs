@@ -2,6 +2,7 @@
 //! with the weights read from the pattern's [`Stencil`] row. Work is split into disjoint output
 //! blocks (corners, edges, interiors, triangles) so threads never share a slot.
 
+use super::canonical::{self, EdgeWeights};
 use super::layout::OutputLayout;
 use super::output::Sink;
 use crate::basis::NORMAL_NET_LEN;
@@ -356,10 +357,43 @@ impl Job<'_> {
             });
     }
 
+    /// Overwrites the edge points of face `f`'s soup block at `base` with their canonical
+    /// evaluation (see [`super::canonical`]): `weights[s - 1]` are the weights of step `s` from
+    /// the canonical start.
+    fn canonical_edges(&self, f: usize, weights: &[EdgeWeights], sink: &mut Sink, base: usize) {
+        let t = self.mesh.triangles()[f];
+        let basis = self.nets.basis;
+        let points = self.nets.patch_points(f);
+        let normals = self.nets.patch_normals(f);
+        let want_normals = sink.wants_normals() && self.nets.normal_mode != NormalMode::Real;
+        let m = weights.len();
+        for k in 0..3 {
+            let fwd = canonical::forward(t, k, &self.topology.position_ids);
+            let c = canonical::canonical_points(basis, points, k, fwd);
+            let cn = canonical::canonical_normals(normals, k, fwd);
+            for (s, &p) in self.stencil.edge_points[k].iter().enumerate() {
+                // Step s + 1 from corner k is step m - s from corner k + 1.
+                let w = &weights[if fwd { s } else { m - 1 - s }];
+                let slot = base + p as usize;
+                sink.set_position(slot, canonical::position(w, &c));
+                if want_normals {
+                    if let Some(normal) = canonical::net_normal(w, &cn) {
+                        sink.set_normal(slot, normal);
+                    }
+                }
+            }
+        }
+    }
+
     fn soup<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
         let mesh = self.mesh;
         let np = self.stencil.len();
         let want_uvs = sink.wants_uvs();
+        // Edge points from the edge's own data, in canonical order (bitwise watertight soup).
+        let n = self.layout.level as usize;
+        let edge_weights: Vec<EdgeWeights> = (1..n)
+            .map(|s| EdgeWeights::new((n - s) as f64 / n as f64, s as f64 / n as f64))
+            .collect();
         sink.chunks(np * FACES_PER_TASK)
             .into_par_iter()
             .enumerate()
@@ -373,6 +407,7 @@ impl Job<'_> {
                         let p = self.stencil.corner_point(c) as usize;
                         sink.set_position(base + p, mesh.positions()[v as usize]);
                     }
+                    self.canonical_edges(f, &edge_weights, &mut sink, base);
                     if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
                         for p in 0..np {
                             sink.set_uv(base + p, interpolate_uv(self.stencil.row(p), &face_uv));

@@ -8,6 +8,7 @@
 //! # Ok::<(), tessella_core::RefineError>(())
 //! ```
 
+pub mod canonical;
 mod evaluate;
 mod evaluator;
 mod indices;

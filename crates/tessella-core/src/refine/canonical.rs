@@ -1,0 +1,123 @@
+//! Canonical evaluation of points on a coarse edge, so that the two faces sharing the edge
+//! compute them bit for bit alike (docs/formulas.md, "Canonical edges").
+//!
+//! On its boundary every patch reduces to a cubic Bézier curve of four of its control points:
+//! the edge's two corners and the edge's two *own* control points (cubic basis: `b210, b120`
+//! for edge 0 and so on; PNG1: the own versions, whose cross versions and the centre have zero
+//! weight there). Neighbouring faces hold these four points bit for bit alike (every scheme
+//! builds them from the edge's own data; PN where the two sides share the normals). Evaluating
+//! them in one canonical order — from the corner with the lower position id to the higher — at
+//! the same parameter, with the same f64 weights rounded to f32 and summed in the same order,
+//! therefore gives identical bits on both faces, which summing a face's whole stencil row does
+//! not (its order and its weights' rounding follow the face's corner order).
+//!
+//! Normals from the normal net use its edge restriction `(N_a, n_ab, N_b)` with weights
+//! `(a², a b, b²)` the same way; "real" normals (`Du × Dv`) look across the edge and stay the
+//! face's own.
+
+use crate::basis::png1::own_slot;
+use crate::basis::Basis;
+use glam::Vec3;
+
+/// Control point indices of edge `k`'s boundary curve: start corner, its own control point
+/// near the start, near the end, end corner (edge `k` runs from corner `k` to `k + 1 mod 3`).
+pub fn edge_controls(basis: Basis, k: usize) -> [usize; 4] {
+    let (c0, c1) = (k, (k + 1) % 3);
+    match basis {
+        Basis::Cubic => [c0, 3 + 2 * k, 4 + 2 * k, c1],
+        Basis::Png1 => [c0, own_slot(k, 0), own_slot(k, 2), c1],
+    }
+}
+
+/// Normal-net indices of edge `k`: start corner normal, edge normal, end corner normal.
+pub fn edge_normal_controls(k: usize) -> [usize; 3] {
+    [k, 3 + k, (k + 1) % 3]
+}
+
+/// Weights of a point of a canonical edge: `a` the barycentric weight of the canonical start
+/// corner, `b` of the end corner (both exact pattern coordinates, `a + b = 1` up to rounding).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeWeights {
+    /// Cubic Bernstein weights `a³, 3a²b, 3ab², b³`, computed in f64, rounded to f32.
+    pub value: [f32; 4],
+    /// Quadratic normal-net weights `a², a b, b²`.
+    pub normal: [f32; 3],
+}
+
+impl EdgeWeights {
+    /// The weights at `(a, b)`.
+    pub fn new(a: f64, b: f64) -> EdgeWeights {
+        EdgeWeights {
+            value: [
+                (a * a * a) as f32,
+                (3.0 * a * a * b) as f32,
+                (3.0 * a * b * b) as f32,
+                (b * b * b) as f32,
+            ],
+            normal: [(a * a) as f32, (a * b) as f32, (b * b) as f32],
+        }
+    }
+}
+
+/// Which way edge `k` of triangle `t` runs canonically: `true` when its start corner has the
+/// lower position id (ties: the lower vertex index), so the canonical start is corner `k`.
+#[inline]
+pub fn forward(t: [u32; 3], k: usize, position_ids: &[u32]) -> bool {
+    let (v0, v1) = (t[k], t[(k + 1) % 3]);
+    let (p0, p1) = (position_ids[v0 as usize], position_ids[v1 as usize]);
+    (p0, v0) < (p1, v1)
+}
+
+/// The four control points of edge `k` of a patch, in canonical order.
+#[inline]
+pub fn canonical_points(
+    basis: Basis,
+    points: &[[f32; 3]],
+    k: usize,
+    forward: bool,
+) -> [[f32; 3]; 4] {
+    let mut c = edge_controls(basis, k).map(|i| points[i]);
+    if !forward {
+        c.reverse();
+    }
+    c
+}
+
+/// The three normal-net entries of edge `k`, in canonical order.
+#[inline]
+pub fn canonical_normals(normals: &[[f32; 3]], k: usize, forward: bool) -> [[f32; 3]; 3] {
+    let mut c = edge_normal_controls(k).map(|i| normals[i]);
+    if !forward {
+        c.reverse();
+    }
+    c
+}
+
+/// `Σ w_i c_i` in index order, in f32, the same on every face.
+#[inline]
+pub fn position(w: &EdgeWeights, c: &[[f32; 3]; 4]) -> [f32; 3] {
+    let mut out = [0.0f32; 3];
+    for (x, o) in out.iter_mut().enumerate() {
+        let mut s = 0.0f32;
+        for i in 0..4 {
+            s += w.value[i] * c[i][x];
+        }
+        *o = s;
+    }
+    out
+}
+
+/// The unit normal of the normal net's edge restriction, or `None` when it vanishes.
+#[inline]
+pub fn net_normal(w: &EdgeWeights, c: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
+    let mut n = [0.0f32; 3];
+    for (x, o) in n.iter_mut().enumerate() {
+        let mut s = 0.0f32;
+        for i in 0..3 {
+            s += w.normal[i] * c[i][x];
+        }
+        *o = s;
+    }
+    let unit = Vec3::from(n).normalize_or_zero();
+    (unit != Vec3::ZERO).then(|| unit.into())
+}
