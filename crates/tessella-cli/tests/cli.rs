@@ -318,19 +318,27 @@ fn render_writes_a_picture_of_the_requested_size() {
     assert!(o.status.success(), "{}", stderr(&o));
     let bytes = std::fs::read(&picture).unwrap();
     assert_eq!(&bytes[1..4], b"PNG");
-    // Width and height in the IHDR chunk: two panels of 96 plus a separator, 64 high.
+    // Width and height in the IHDR chunk: --size is the whole picture, both panels included.
     let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
     let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
-    assert!((192..=200).contains(&width), "width {width}");
-    assert_eq!(height, 64);
+    assert_eq!((width, height), (96, 64));
     assert!(!stderr(&o).contains("XDG_RUNTIME_DIR"), "{}", stderr(&o));
 
     let bad = dir.path().join("bad.png");
-    for extra in [
-        ["--displace", "wobble:1"],
-        ["--size", "0x10"],
-        ["--level", "0"],
-    ] {
+    let extras: [&[&str]; 5] = [
+        &["--displace", "wobble:1"],
+        &["--size", "0x10"],
+        &["--size", "0x0"],
+        &["--level", "0"],
+        // Ten panels do not fit 12 pixels.
+        &[
+            "--size",
+            "12x12",
+            "--compare",
+            "flat,pn,png1,phong,pn,flat,pn,png1,phong,pn",
+        ],
+    ];
+    for extra in extras {
         let mut args = vec!["render", s(&sphere), "-o", s(&bad)];
         args.extend(extra);
         let o = tessella(&args);

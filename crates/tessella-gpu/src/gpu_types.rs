@@ -79,7 +79,8 @@ pub struct RenderUniforms {
     /// xyz: unit direction towards the light.
     pub light_dir: [f32; 4],
     pub base_color: [f32; 4],
-    /// rgb: line colour, a: line width in pixels.
+    /// rgb: colour of the coarse edges in the wireframe, a: their largest half-width in pixels
+    /// (thinner on small triangles; the pattern's own edges are thin shades of the surface).
     pub wire_color: [f32; 4],
     /// x: wireframe on, y: pattern level (set by the renderer), z: facet normals from screen
     /// derivatives (for displaced surfaces), w: unused.

@@ -200,6 +200,10 @@ pub struct PatternRenderer {
     pattern_vertices: wgpu::Buffer,
     pattern_indices: wgpu::Buffer,
     pattern_index_count: u32,
+    /// The pattern's triangles unrolled for the wireframe: three `row | corner << 30` each.
+    wire_vertices: wgpu::Buffer,
+    /// Set by [`PatternRenderer::set_uniforms`]: draw the unrolled triangles.
+    wireframe: std::sync::atomic::AtomicBool,
     face_uvs: wgpu::Buffer,
     displacement_reach: f32,
     /// The plan's position ids, for the displacement's per-frame face records; `None` without
@@ -232,6 +236,11 @@ impl PatternRenderer {
         let pattern = plan.pattern();
         let rows: Vec<u32> = (0..pattern.points.len() as u32).collect();
         let indices: Vec<u32> = pattern.triangles.iter().flatten().copied().collect();
+        let wire: Vec<u32> = pattern
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |c| t[c as usize] | c << 30))
+            .collect();
         let face_uvs: Vec<f32> = match mesh.uvs() {
             Some(uv) => mesh
                 .triangles()
@@ -261,6 +270,11 @@ impl PatternRenderer {
                 bytemuck::cast_slice(&indices),
                 wgpu::BufferUsages::INDEX,
             );
+            let wire_vertices = ctx.buffer_init(
+                "pattern wireframe vertices",
+                bytemuck::cast_slice(&wire),
+                wgpu::BufferUsages::VERTEX,
+            );
             let face_uvs = ctx.storage_buffer(
                 "face uvs",
                 bytemuck::cast_slice(&face_uvs),
@@ -285,6 +299,8 @@ impl PatternRenderer {
                 pattern_vertices,
                 pattern_indices,
                 pattern_index_count: indices.len() as u32,
+                wire_vertices,
+                wireframe: Default::default(),
                 face_uvs,
                 displacement_reach: displacement_reach(displacement),
                 position_ids,
@@ -325,10 +341,14 @@ impl PatternRenderer {
     }
 
     /// Sets the camera, light and colours for the next draws (`flags.y`, the level, is set
-    /// here).
+    /// here). With `flags.x` (wireframe) set, [`PatternRenderer::draw`] draws the pattern's
+    /// triangles unrolled, three vertices each, so the fragment shader knows its distance to
+    /// every pattern edge whatever the pattern.
     pub fn set_uniforms(&self, uniforms: &RenderUniforms) {
         let mut u = *uniforms;
         u.flags[1] = self.level;
+        self.wireframe
+            .store(u.flags[0] != 0, std::sync::atomic::Ordering::Relaxed);
         self.ctx
             .queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
@@ -340,6 +360,11 @@ impl PatternRenderer {
         pass.set_pipeline(&self.pipelines.pattern);
         pass.set_bind_group(0, &self.patch_group, &[]);
         pass.set_bind_group(1, &self.render_group, &[]);
+        if self.wireframe.load(std::sync::atomic::Ordering::Relaxed) {
+            pass.set_vertex_buffer(0, self.wire_vertices.slice(..));
+            pass.draw(0..self.pattern_index_count, 0..self.patches.face_count);
+            return;
+        }
         pass.set_vertex_buffer(0, self.pattern_vertices.slice(..));
         pass.set_index_buffer(self.pattern_indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.pattern_index_count, 0, 0..self.patches.face_count);
@@ -368,6 +393,7 @@ impl PatternRenderer {
         self.patches.byte_size()
             + self.pattern_vertices.size()
             + self.pattern_indices.size()
+            + self.wire_vertices.size()
             + self.face_uvs.size()
             + self.uniforms.size()
     }

@@ -16,7 +16,7 @@ fn main() {
                 .map(|s| (s.name().to_string(), RefineOptions::new(s, level)))
                 .to_vec();
         let options = RenderOptions {
-            size: (256, 256),
+            size: (4 * 256 + 3 * 2, 256),
             wireframe: true,
             ..Default::default()
         };

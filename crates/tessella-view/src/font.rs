@@ -4,7 +4,8 @@
 use image::{Rgba, RgbaImage};
 
 /// Separator width between panels, pixels.
-const GAP: u32 = 2;
+/// Pixels between panels.
+pub const GAP: u32 = 2;
 
 fn glyph(c: char) -> [u8; 5] {
     match c.to_ascii_uppercase() {
@@ -91,20 +92,19 @@ pub fn draw_label(image: &mut RgbaImage, text: &str, x: u32, y: u32, scale: u32)
     }
 }
 
-/// Puts same-sized pictures in a row, separated by dark lines, each labelled at its top left.
+/// Puts pictures in a row, separated by dark lines, each labelled at its top left (widths may
+/// differ; the row is as tall as the tallest).
 pub fn side_by_side(pictures: &[RgbaImage], labels: &[&str]) -> RgbaImage {
-    let (w, h) = pictures.first().map_or((0, 0), |p| p.dimensions());
+    let h = pictures.iter().map(|p| p.height()).max().unwrap_or(0);
     let n = pictures.len() as u32;
-    let mut out = RgbaImage::from_pixel(
-        n * w + n.saturating_sub(1) * GAP,
-        h,
-        Rgba([40, 40, 48, 255]),
-    );
-    let scale = (w / 128).clamp(1, 4);
-    for (i, (picture, label)) in pictures.iter().zip(labels).enumerate() {
-        let x0 = i as u32 * (w + GAP);
+    let width = pictures.iter().map(|p| p.width()).sum::<u32>() + n.saturating_sub(1) * GAP;
+    let mut out = RgbaImage::from_pixel(width, h, Rgba([40, 40, 48, 255]));
+    let scale = (pictures.first().map_or(0, |p| p.width()) / 128).clamp(1, 4);
+    let mut x0 = 0;
+    for (picture, label) in pictures.iter().zip(labels) {
         image::imageops::replace(&mut out, picture, x0 as i64, 0);
         draw_label(&mut out, label, x0 + 2 * scale, 2 * scale, scale);
+        x0 += picture.width() + GAP;
     }
     out
 }

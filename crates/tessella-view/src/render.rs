@@ -107,6 +107,9 @@ pub fn render(
 }
 
 /// Renders one panel per `(label, options)` side by side, with the labels drawn on top.
+/// `options.size` is the size of the whole picture: the panels share its width (less the
+/// separators), the first ones one pixel wider when it does not divide evenly. A width too
+/// small for one pixel per panel is an error.
 pub fn render_compare(
     ctx: &GpuContext,
     mesh: &Mesh,
@@ -118,12 +121,36 @@ pub fn render_compare(
             "nothing to compare: give at least one panel".into(),
         ));
     }
+    options.validate()?;
+    let widths = panel_widths(options.size.0, panels.len()).ok_or_else(|| {
+        GpuError::BadOption(format!(
+            "a picture {} pixels wide has no room for {} panels",
+            options.size.0,
+            panels.len()
+        ))
+    })?;
     let pictures = panels
         .iter()
-        .map(|(_, refine)| render(ctx, mesh, refine, options))
+        .zip(&widths)
+        .map(|((_, refine), &w)| {
+            let panel = RenderOptions {
+                size: (w, options.size.1),
+                ..options.clone()
+            };
+            render(ctx, mesh, refine, &panel)
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let labels: Vec<&str> = panels.iter().map(|(l, _)| l.as_str()).collect();
     Ok(crate::font::side_by_side(&pictures, &labels))
+}
+
+/// Widths of `n` panels filling `total` pixels with [`crate::font::GAP`]-pixel separators;
+/// `None` when a panel would be narrower than one pixel.
+pub fn panel_widths(total: u32, n: usize) -> Option<Vec<u32>> {
+    let n = u32::try_from(n).ok().filter(|&n| n > 0)?;
+    let room = total.checked_sub((n - 1).checked_mul(crate::font::GAP)?)?;
+    let (base, extra) = (room / n, room % n);
+    (base > 0).then(|| (0..n).map(|i| base + u32::from(i < extra)).collect())
 }
 
 /// Uniforms for a view of `mesh` framed by its bounding sphere grown by `reach` (how far
@@ -147,7 +174,7 @@ pub fn scene_uniforms(mesh: &Mesh, options: &RenderOptions, reach: f32) -> Rende
         eye: cam.eye.extend(1.0).into(),
         light_dir: cam.light_dir.extend(0.0).into(),
         base_color: [c[0], c[1], c[2], 1.0],
-        wire_color: [0.0, 0.0, 0.004, 0.75],
+        wire_color: [0.004, 0.006, 0.015, 1.0],
         flags: [
             options.wireframe as u32,
             0,

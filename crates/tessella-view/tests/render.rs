@@ -201,12 +201,17 @@ fn compare_panels_sit_side_by_side() {
     let panels: Vec<(String, RefineOptions)> = [Scheme::Flat, Scheme::Pn, Scheme::Png1]
         .map(|s| (s.name().to_string(), RefineOptions::new(s, 8)))
         .to_vec();
+    // `size` is the whole picture: three 64-pixel panels and two 2-pixel separators.
+    let whole = RenderOptions {
+        size: (3 * 64 + 2 * 2, 64),
+        ..Default::default()
+    };
+    let out = render_compare(ctx(), &mesh, &panels, &whole).unwrap();
+    assert_eq!(out.dimensions(), (3 * 64 + 2 * 2, 64));
     let small = RenderOptions {
         size: (64, 64),
         ..Default::default()
     };
-    let out = render_compare(ctx(), &mesh, &panels, &small).unwrap();
-    assert_eq!(out.dimensions(), (3 * 64 + 2 * 2, 64));
     // Each panel equals the single render (outside its label box at the top).
     for (i, (_, refine)) in panels.iter().enumerate() {
         let single = render(ctx(), &mesh, refine, &small).unwrap();
@@ -216,7 +221,34 @@ fn compare_panels_sit_side_by_side() {
             }
         }
     }
+    // Sizes that do not divide evenly still come out exactly as asked.
+    for size in [(1200, 400), (121, 40), (7, 5)] {
+        let out = render_compare(
+            ctx(),
+            &mesh,
+            &panels,
+            &RenderOptions {
+                size,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(out.dimensions(), size);
+    }
+    // No room for three panels, or no panels: errors.
+    for size in [(6, 40), (0, 40), (100, 0)] {
+        let narrow = RenderOptions {
+            size,
+            ..Default::default()
+        };
+        assert!(render_compare(ctx(), &mesh, &panels, &narrow).is_err());
+    }
     assert!(render_compare(ctx(), &mesh, &[], &small).is_err());
+    assert_eq!(
+        tessella_view::panel_widths(1200, 3),
+        Some(vec![399, 399, 398])
+    );
+    assert_eq!(tessella_view::panel_widths(5, 3), None);
 }
 
 #[test]

@@ -96,7 +96,8 @@ fn pictures(dir: &Path, level: u32) -> anyhow::Result<()> {
         }
     };
     let view = RenderOptions {
-        size: (360, 360),
+        // Four 360-pixel panels and their separators.
+        size: (4 * 360 + 3 * 2, 360),
         yaw: 20.0,
         pitch: 10.0,
         ..RenderOptions::default()

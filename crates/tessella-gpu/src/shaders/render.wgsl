@@ -1,14 +1,15 @@
 // Instanced rendering with a refinement pattern (GMR section 3.2): the pattern's points are one
 // vertex buffer (a stencil row index per point), drawn once per coarse triangle (instance); the
 // vertex shader evaluates the instance's patch at the row. Blinn-Phong shading, optional
-// wireframe of the pattern. Prepended: eval.wgsl, displace.wgsl.
+// wireframe of the pattern: coarse edges bold and dark, the pattern's own edges thin and light,
+// fading out where they would be denser than a few pixels. Prepended: eval.wgsl, displace.wgsl.
 
 struct RenderUniforms {
     view_proj: mat4x4<f32>,
     eye: vec4<f32>,
     light_dir: vec4<f32>,
     base_color: vec4<f32>,
-    wire_color: vec4<f32>, // a: line width in pixels
+    wire_color: vec4<f32>, // coarse edges; a: their largest half-width in pixels
     flags: vec4<u32>,      // x: wireframe, y: pattern level, z: facet normals
 }
 
@@ -21,10 +22,16 @@ struct VsOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) l: vec3<f32>,
+    // Barycentric coordinates inside the pattern triangle (wireframe draws only).
+    @location(3) tri: vec3<f32>,
 }
 
+// A pattern vertex: its stencil row, and in the top two bits its corner in the pattern triangle
+// (the wireframe draw lists every triangle's three corners; the indexed draw leaves them 0).
 @vertex
-fn vs_pattern(@location(0) row: u32, @builtin(instance_index) face: u32) -> VsOut {
+fn vs_pattern(@location(0) code: u32, @builtin(instance_index) face: u32) -> VsOut {
+    let row = code & 0x3fffffffu;
+    let corner = code >> 30u;
     let sp = eval_patch(face, row);
     var p = sp.position;
     if (displace_params.kind != 0u) {
@@ -41,6 +48,7 @@ fn vs_pattern(@location(0) row: u32, @builtin(instance_index) face: u32) -> VsOu
     out.world = p;
     out.normal = sp.normal;
     out.l = sp.l;
+    out.tri = vec3<f32>(f32(corner == 0u), f32(corner == 1u), f32(corner == 2u));
     return out;
 }
 
@@ -52,6 +60,7 @@ fn vs_static(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -
     out.world = position;
     out.normal = normal;
     out.l = vec3<f32>(0.5);
+    out.tri = vec3<f32>(0.5);
     return out;
 }
 
@@ -59,8 +68,8 @@ fn vs_static(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -
 fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     // Derivatives first, in uniform control flow.
     let facet = cross(dpdx(in.world), dpdy(in.world));
-    let grid = in.l * f32(u.flags.y);
-    let grid_width = fwidth(grid);
+    let coarse_width = fwidth(in.l);
+    let tri_width = fwidth(in.tri);
 
     let view = normalize(u.eye.xyz - in.world);
     var n = normalize(in.normal);
@@ -79,10 +88,20 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     var color = u.base_color.rgb * (0.12 + 0.88 * diffuse) + vec3<f32>(0.35 * specular);
 
     if (u.flags.x != 0u) {
-        // Pattern edges are where some l_i * N is an integer; distance to them in pixels.
-        let d = abs(grid - round(grid)) / max(grid_width, vec3<f32>(1e-6));
-        let dist = min(d.x, min(d.y, d.z));
-        let line = 1.0 - smoothstep(u.wire_color.a - 0.5, u.wire_color.a + 0.5, dist);
+        // Distances in pixels to the pattern triangle's edges and to the coarse edges.
+        let tri_d = in.tri / max(tri_width, vec3<f32>(1e-6));
+        let coarse_d = in.l / max(coarse_width, vec3<f32>(1e-6));
+        // Sizes in pixels (across one barycentric unit) of the pattern and coarse triangles.
+        let tri_px = 1.0 / max(max(tri_width.x, tri_width.y), max(tri_width.z, 1e-6));
+        let coarse_px = 1.0 / max(max(coarse_width.x, coarse_width.y), max(coarse_width.z, 1e-6));
+        // Pattern edges: thin, a darker shade of the surface, fading out below 3-8 pixels.
+        let fine = 1.0 - smoothstep(0.0, 0.9, min(tri_d.x, min(tri_d.y, tri_d.z)));
+        let fine_alpha = 0.45 * smoothstep(3.0, 8.0, tri_px);
+        color = mix(color, color * 0.45, fine * fine_alpha);
+        // Coarse edges: bold and dark, thinner (never below a hairline) on small triangles.
+        let half = clamp(0.06 * coarse_px, 0.35, u.wire_color.a);
+        let dist = min(coarse_d.x, min(coarse_d.y, coarse_d.z));
+        let line = 1.0 - smoothstep(half - 0.5, half + 0.5, dist);
         color = mix(color, u.wire_color.rgb, line);
     }
     return vec4<f32>(color, 1.0);
