@@ -46,6 +46,8 @@ pub enum MeshError {
 pub enum RefineError {
     #[error("level 0 is not a refinement; the level is the number of segments per coarse edge, 1 or more")]
     LevelZero,
+    #[error("bad levels: {0}")]
+    BadLevels(String),
     #[error(
         "level {level} on {faces} triangles would make {vertices} vertices and {triangles} triangles, \
          about {bytes_human} of memory, over the limit of {limit_human}; choose a lower level \

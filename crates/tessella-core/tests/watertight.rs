@@ -15,7 +15,8 @@ use tessella_core::{samples, Mesh, NormalMode, RefineOptions, RefinedMesh, Schem
 
 /// Edge rows keyed by the bits of the edge's two corner positions (sorted): per face, the
 /// points on the edge as (parameter from the lower corner, position bits).
-type Rows = HashMap<[[u32; 3]; 2], Vec<Vec<(f32, [u32; 3])>>>;
+type Row = Vec<(f32, [u32; 3])>;
+type Rows = HashMap<[[u32; 3]; 2], Vec<Row>>;
 
 fn bits(p: [f32; 3]) -> [u32; 3] {
     p.map(|x| x.to_bits())
@@ -25,7 +26,7 @@ fn bits(p: [f32; 3]) -> [u32; 3] {
 pub fn differing_segments(mesh: &Mesh, plan: &Plan, positions: &[[f32; 3]]) -> (usize, usize) {
     let (faces, bary) = plan.origin();
     // (face, edge k) -> points on it
-    let mut per_face_edge: HashMap<(u32, usize), Vec<(f32, [u32; 3])>> = HashMap::new();
+    let mut per_face_edge: HashMap<(u32, usize), Row> = HashMap::new();
     for (v, (&f, l)) in faces.iter().zip(&bary).enumerate() {
         if f == u32::MAX {
             continue;
@@ -190,5 +191,39 @@ fn soup_normals_from_the_net_agree_along_edges() {
             0,
             "{mode:?}"
         );
+    }
+}
+
+#[test]
+fn adaptive_levels_are_bitwise_watertight_in_soup_for_every_spacing_and_scheme() {
+    use tessella_core::refine::{Levels, Spacing};
+    let mesh = samples::creature();
+    let ne = mesh.topology().edges.len();
+    let mut rng = reference::corpus::Lcg::new(21);
+    let edges: Vec<f32> = (0..ne).map(|_| rng.range(1.0, 11.0) as f32).collect();
+    let levels = Levels::PerEdge {
+        edges: edges.into(),
+        faces: None,
+    };
+    let schemes = [
+        Scheme::Flat,
+        Scheme::PHONG,
+        Scheme::Pn,
+        Scheme::Png1,
+        Scheme::PnAen,
+        Scheme::ScalarTagged,
+    ];
+    for spacing in Spacing::ALL {
+        for scheme in schemes {
+            for lv in [levels.clone(), Levels::Uniform(5.5)] {
+                let o = RefineOptions::new(scheme, 1)
+                    .with_spacing(spacing)
+                    .with_levels(lv);
+                let (plan, out) = soup(&mesh, &o);
+                let (differ, compared) = differing_segments(&mesh, &plan, &out.positions);
+                assert!(compared > 0);
+                assert_eq!(differ, 0, "{spacing} {scheme:?}");
+            }
+        }
     }
 }

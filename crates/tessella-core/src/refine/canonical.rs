@@ -15,6 +15,8 @@
 //! `(a², a b, b²)` the same way; "real" normals (`Du × Dv`) look across the edge and stay the
 //! face's own.
 
+#![allow(clippy::needless_range_loop)] // corners, edges and axes index several tables
+
 use crate::basis::png1::own_slot;
 use crate::basis::Basis;
 use glam::Vec3;

@@ -8,14 +8,17 @@
 //! # Ok::<(), tessella_core::RefineError>(())
 //! ```
 
+pub mod adaptive;
 pub mod canonical;
 mod evaluate;
 mod evaluator;
 mod indices;
 mod layout;
+pub mod lod;
 mod output;
 mod plan;
 
+pub use adaptive::{Camera, Levels, Lod, Spacing, Tile, Tiling};
 pub use evaluate::eval_point;
 pub use evaluator::{CpuEvaluator, Evaluator};
 pub use indices::IndexInt;
@@ -47,6 +50,12 @@ pub struct RefineOptions {
     pub max_output_bytes: u64,
     /// Shape tags (creases, scalar tags) for the schemes that read them; `None`: no tags.
     pub tags: Option<std::sync::Arc<crate::tags::Tags>>,
+    /// How levels divide edges: the grid (default) or a hardware tessellator spacing.
+    pub spacing: Spacing,
+    /// `None` (default): `level` on every edge. `Some`: fractional, per-edge or LOD levels
+    /// (an adaptive plan, see [`Tiling`]; `level` is then ignored). `Uniform` of an integer
+    /// with [`Spacing::Grid`] is the same as setting `level`.
+    pub levels: Option<Levels>,
 }
 
 impl RefineOptions {
@@ -59,6 +68,37 @@ impl RefineOptions {
             weld: true,
             max_output_bytes: DEFAULT_MAX_OUTPUT_BYTES,
             tags: None,
+            spacing: Spacing::Grid,
+            levels: None,
+        }
+    }
+    /// Sets the spacing ([`Spacing::Grid`] by default).
+    pub fn with_spacing(mut self, spacing: Spacing) -> Self {
+        self.spacing = spacing;
+        self
+    }
+    /// Sets fractional, per-edge or LOD levels (overriding `level`).
+    pub fn with_levels(mut self, levels: Levels) -> Self {
+        self.levels = Some(levels);
+        self
+    }
+    /// Sets the size cap in bytes.
+    pub fn with_max_output_bytes(mut self, bytes: u64) -> Self {
+        self.max_output_bytes = bytes;
+        self
+    }
+    /// The uniform integer grid level these options amount to, if they do (the classic,
+    /// fastest path): grid spacing and no levels, or `Levels::Uniform` of an integer.
+    pub fn uniform_grid_level(&self) -> Option<u32> {
+        if self.spacing != Spacing::Grid {
+            return None;
+        }
+        match &self.levels {
+            None => Some(self.level),
+            Some(Levels::Uniform(x)) if x.fract() == 0.0 && *x >= 1.0 && *x <= u32::MAX as f32 => {
+                Some(*x as u32)
+            }
+            _ => None,
         }
     }
     /// Sets the shape tags.

@@ -26,9 +26,13 @@
 //! # Ok::<(), tessella_core::RefineError>(())
 //! ```
 
+use super::adaptive::{
+    build_tiling, resolve_levels, AdaptiveIndex, AdaptiveJob, Levels, Lod, Tiling,
+};
 use super::evaluate::Job;
 use super::indices::{IndexInt, IndexJob};
 use super::layout::OutputLayout;
+use super::lod;
 use super::output::VertexOutput;
 use super::{RefineOptions, RefinedMesh};
 use crate::error::{human_bytes, RefineError};
@@ -69,6 +73,7 @@ pub struct Plan {
     pattern: Pattern,
     stencil: Stencil,
     indices: OnceLock<Vec<[u32; 3]>>,
+    tiling: Option<Tiling>,
 }
 
 /// One frame of a deforming mesh: its positions and normals and the control nets built from
@@ -95,6 +100,113 @@ impl Plan {
     /// Validates the options and the output's size against `mesh` and builds the tables.
     pub fn new(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
         options.scheme.validate()?;
+        match options.uniform_grid_level() {
+            Some(level) if level == options.level && options.levels.is_none() => {
+                Self::uniform(mesh, options)
+            }
+            Some(level) => {
+                let mut uniform = options.clone();
+                uniform.level = level;
+                uniform.levels = None;
+                let mut plan = Self::uniform(mesh, &uniform)?;
+                plan.options = options.clone();
+                Ok(plan)
+            }
+            None => Self::adaptive(mesh, options),
+        }
+    }
+
+    /// A plan of per-face patterns from per-edge levels (see [`Tiling`]).
+    fn adaptive(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
+        let topology = mesh.topology();
+        validate_nets(
+            mesh,
+            Some(&topology),
+            &options.scheme,
+            options.tags.as_deref(),
+        )?;
+        let levels = options
+            .levels
+            .clone()
+            .unwrap_or(Levels::Uniform(options.level as f32));
+        let mut nets = PatchNets::empty(options.scheme.basis(), options.normal_mode());
+        fill_nets(
+            mesh,
+            Some(&topology),
+            &options.scheme,
+            options.normal_mode(),
+            options.tags.as_deref(),
+            &mut nets,
+        );
+        let (mut edges, mut faces) = resolve_levels(mesh, &topology, &nets, &levels)?;
+        if let (Levels::Lod(Lod::Tolerance { .. }), Some(_)) =
+            (&levels, options.spacing.tessellator())
+        {
+            let parity = |x: &mut f32| *x = lod::with_parity(options.spacing, *x as f64) as f32;
+            edges.iter_mut().for_each(parity);
+            faces.iter_mut().flatten().for_each(parity);
+        }
+        let tiling = build_tiling(
+            mesh,
+            &topology,
+            options.spacing,
+            edges,
+            faces,
+            options.scheme.basis(),
+            options.weld,
+            mesh.uvs().is_some(),
+            options.max_output_bytes,
+        )?;
+        let vertex_count = tiling.vertex_count();
+        let triangle_count = tiling.triangle_count();
+        let max_level = tiling.max_level();
+        if vertex_count > u32::MAX as u64 {
+            return Err(RefineError::IndexOverflow {
+                level: max_level,
+                vertices: vertex_count,
+            });
+        }
+        let layout = OutputLayout {
+            level: max_level,
+            weld: options.weld,
+            vertex_count,
+            triangle_count,
+            edge_base: if options.weld {
+                mesh.vertex_count() as u64
+            } else {
+                0
+            },
+            interior_base: if options.weld {
+                tiling.face_offset[0]
+            } else {
+                0
+            },
+        };
+        let (pattern, stencil) = match tiling.tiles.first() {
+            Some(t) => (t.pattern.clone(), t.stencil.clone()),
+            None => {
+                let p = Pattern::uniform(1);
+                let s = Stencil::new(&p, options.scheme.basis());
+                (p, s)
+            }
+        };
+        Ok(Plan {
+            id: NEXT_PLAN_ID.fetch_add(1, Ordering::Relaxed),
+            options: options.clone(),
+            triangles: mesh.triangles().to_vec(),
+            vertex_count: mesh.vertex_count(),
+            has_uvs: mesh.uvs().is_some(),
+            topology,
+            layout,
+            pattern,
+            stencil,
+            indices: OnceLock::new(),
+            tiling: Some(tiling),
+        })
+    }
+
+    /// The classic plan: one uniform grid pattern for every face.
+    fn uniform(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
         if options.level == 0 {
             return Err(RefineError::LevelZero);
         }
@@ -139,6 +251,7 @@ impl Plan {
             pattern,
             stencil,
             indices: OnceLock::new(),
+            tiling: None,
         })
     }
 
@@ -194,8 +307,47 @@ impl Plan {
     ) -> Result<(), RefineError> {
         self.check_frame(frame)?;
         let sink = out.sink(self.vertex_count(), self.has_uvs)?;
-        self.job(frame).vertices(sink, progress);
+        self.vertices(frame, sink, progress);
         Ok(())
+    }
+
+    fn vertices(&self, frame: &Frame, sink: super::output::Sink, progress: &(dyn Fn(u64) + Sync)) {
+        match self.adaptive_job(frame) {
+            Some(job) => job.vertices(sink, progress),
+            None => self.job(frame).vertices(sink, progress),
+        }
+    }
+
+    fn adaptive_job<'a>(&'a self, frame: &'a Frame) -> Option<AdaptiveJob<'a>> {
+        Some(AdaptiveJob {
+            mesh: &frame.mesh,
+            topology: &self.topology,
+            tiling: self.tiling.as_ref()?,
+            nets: &frame.nets,
+            weld: self.layout.weld,
+        })
+    }
+
+    fn write_triangles<I: IndexInt>(&self, out: &mut [[I; 3]], progress: &(dyn Fn(u64) + Sync)) {
+        match &self.tiling {
+            Some(tiling) => self.adaptive_index(tiling).indices(out, progress),
+            None => self.index_job().write(out, progress),
+        }
+    }
+
+    fn adaptive_index<'a>(&'a self, tiling: &'a Tiling) -> AdaptiveIndex<'a> {
+        AdaptiveIndex {
+            triangles: &self.triangles,
+            topology: &self.topology,
+            tiling,
+            weld: self.layout.weld,
+        }
+    }
+
+    /// The adaptive tiling: per-face patterns and where their points go; `None` for a uniform
+    /// plan (one [`Plan::pattern`] for every face).
+    pub fn tiling(&self) -> Option<&Tiling> {
+        self.tiling.as_ref()
     }
 
     /// The refined triangles (counter-clockwise, as the coarse ones), computed on first use
@@ -203,7 +355,7 @@ impl Plan {
     pub fn indices(&self) -> &[[u32; 3]] {
         self.indices.get_or_init(|| {
             let mut out = vec![[0u32; 3]; self.triangle_count()];
-            self.index_job().write(&mut out, &|_| {});
+            self.write_triangles(&mut out, &|_| {});
             out
         })
     }
@@ -225,7 +377,7 @@ impl Plan {
                 need,
             });
         }
-        self.index_job().write(&mut out[..need], &|_| {});
+        self.write_triangles(&mut out[..need], &|_| {});
         Ok(())
     }
 
@@ -274,6 +426,12 @@ impl Plan {
                     need: n,
                 });
             }
+        }
+        if let Some(tiling) = &self.tiling {
+            faces[..n].fill(NO_FACE);
+            bary[..n].fill([1.0, 0.0, 0.0]);
+            self.adaptive_index(tiling).origin(faces, bary);
+            return Ok(());
         }
         let l = |p: u32| self.pattern.points[p as usize].map(|x| x as f32);
         let stencil = &self.stencil;
@@ -336,13 +494,13 @@ impl Plan {
             uvs: out.uvs.as_deref_mut(),
         }
         .sink(nv, self.has_uvs)?;
-        self.job(frame).vertices(sink, progress);
+        self.vertices(frame, sink, progress);
         match self.indices.get() {
             Some(cached) => {
                 out.triangles.copy_from_slice(cached);
                 progress(self.face_count() as u64);
             }
-            None => self.index_job().write(&mut out.triangles, progress),
+            None => self.write_triangles(&mut out.triangles, progress),
         }
         Ok(())
     }

@@ -1,0 +1,838 @@
+//! Adaptive refinement: a pattern per coarse face from per-edge levels (docs/formulas.md,
+//! "Adaptive layout").
+//!
+//! Every unique coarse edge gets a level from its own data only ([`Levels`], [`Lod`]), so the
+//! two faces sharing it agree on its points. A face's pattern is made from its three edge
+//! levels and an inner level (the largest of the three, raised by a per-face minimum when one
+//! is given):
+//!
+//! - [`Spacing::Grid`]: the uniform grid of the inner level `N`, each edge's boundary points
+//!   moved to the nearest point of that edge's own `n_e`-segment layout (step `s` of `N` goes to
+//!   `round(s n_e / N)`, monotone), and the triangles that became degenerate dropped;
+//! - [`Spacing::Equal`], [`Spacing::FractionalOdd`], [`Spacing::FractionalEven`]: the hardware
+//!   tessellator's pattern ([`crate::tessellator`]) with the edge levels as outer levels.
+//!
+//! Edge points are evaluated canonically ([`super::canonical`]), so a vertex on a shared edge
+//! has the same bits from both faces, welded or soup.
+
+#![allow(clippy::needless_range_loop)] // corners, edges and axes index several tables
+
+use super::canonical::{self, EdgeWeights};
+use super::output::Sink;
+use crate::error::RefineError;
+use crate::mesh::{Mesh, Topology};
+use crate::pattern::{Pattern, PointClass};
+use crate::scheme::{NormalMode, PatchNets};
+use crate::stencil::Stencil;
+use crate::tessellator::{self, TessLevels};
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// How a level divides a coarse edge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Spacing {
+    /// The uniform grid pattern ([`Pattern::uniform`]); fractional levels round up. With one
+    /// integer level everywhere this is the classic refinement, bit for bit.
+    #[default]
+    Grid,
+    /// The tessellator's integer spacing: levels rounded up, clamped to `[1, 64]`.
+    Equal,
+    /// Fractional-odd spacing, levels clamped to `[1, 63]`: points move continuously.
+    FractionalOdd,
+    /// Fractional-even spacing, levels clamped to `[2, 64]`.
+    FractionalEven,
+}
+
+impl Spacing {
+    /// Every spacing, in the CLI's order.
+    pub const ALL: [Spacing; 4] = [
+        Spacing::Grid,
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ];
+    /// The tessellator's spacing, `None` for the grid.
+    pub fn tessellator(self) -> Option<tessellator::Spacing> {
+        match self {
+            Spacing::Grid => None,
+            Spacing::Equal => Some(tessellator::Spacing::Equal),
+            Spacing::FractionalOdd => Some(tessellator::Spacing::FractionalOdd),
+            Spacing::FractionalEven => Some(tessellator::Spacing::FractionalEven),
+        }
+    }
+    /// The name on the command line: `grid`, `equal`, `fractional-odd`, `fractional-even`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Spacing::Grid => "grid",
+            Spacing::Equal => "equal",
+            Spacing::FractionalOdd => "fractional-odd",
+            Spacing::FractionalEven => "fractional-even",
+        }
+    }
+    /// `(minimum, maximum)` level: the tessellator's clamping range; the grid has `[1, ∞)`.
+    pub fn range(self) -> (f32, f32) {
+        match self.tessellator() {
+            Some(s) => s.range(),
+            None => (1.0, f32::INFINITY),
+        }
+    }
+}
+
+impl std::str::FromStr for Spacing {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Spacing, String> {
+        Spacing::ALL
+            .into_iter()
+            .find(|x| x.name() == s)
+            .ok_or_else(|| {
+                format!("unknown spacing {s:?}; expected grid, equal, fractional-odd or fractional-even")
+            })
+    }
+}
+
+impl std::fmt::Display for Spacing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A camera for the view-dependent LOD functions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub eye: [f32; 3],
+    pub target: [f32; 3],
+    /// Vertical field of view in degrees, in `(0, 180)`.
+    pub fov_y_deg: f32,
+}
+
+/// A level-of-detail function: each edge's level from that edge's data alone.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Lod {
+    /// The smallest levels such that the flat refined triangles stay within `max_deviation`
+    /// of the curved surface (chordal deviation, "linear deflection"): per edge from its
+    /// boundary cubic's second differences, `n_e = ⌈√(3 M_e / (4 D))⌉`; per face an interior
+    /// minimum from its net's second differences folded into the inner level.
+    Tolerance { max_deviation: f32 },
+    /// `pixels` per refined edge on a `width × height` image seen by `camera`: an edge of
+    /// length `L` (its control polygon) at distance `d` from the eye covers about
+    /// `L · (height / 2) / (d tan(fov / 2))` pixels.
+    Screen {
+        pixels: f32,
+        camera: Camera,
+        size: [u32; 2],
+    },
+    /// `max` segments up to distance `near` from the eye, falling linearly to 1 at `far`.
+    Distance {
+        near: f32,
+        far: f32,
+        max: f32,
+        eye: [f32; 3],
+    },
+}
+
+/// Levels of a refinement.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Levels {
+    /// One level for every edge (fractional for the tessellator spacings).
+    Uniform(f32),
+    /// One level per unique edge, in [`Topology::edges`] order, and optionally a minimum inner
+    /// level per face.
+    PerEdge {
+        edges: Arc<[f32]>,
+        faces: Option<Arc<[f32]>>,
+    },
+    /// Levels computed from the plan's mesh by a LOD function when the plan is made.
+    Lod(Lod),
+}
+
+/// Biggest grid level the tolerance LOD asks for (it then meets `--max-memory`).
+pub const MAX_LOD_GRID_LEVEL: f32 = 1024.0;
+
+/// One distinct pattern of an adaptive plan, with its weights and its points by role.
+#[derive(Debug, Clone)]
+pub struct Tile {
+    /// Per-edge levels as used (after rounding / clamping) and the inner level.
+    pub outer: [f32; 3],
+    pub inner: f32,
+    pub pattern: Pattern,
+    pub stencil: Stencil,
+    /// Pattern point of corner `c`.
+    pub corners: [u32; 3],
+    /// Pattern points inside edge `k`, by step from corner `k` (`edges[k][s - 1]` is step `s`).
+    pub edges: [Vec<u32>; 3],
+    /// Interior pattern points, in interior order.
+    pub interior: Vec<u32>,
+}
+
+/// The per-face patterns of an adaptive plan and where their points go. Offsets are vertex
+/// slots of the plan's output.
+#[derive(Debug, Clone)]
+pub struct Tiling {
+    pub spacing: Spacing,
+    /// Level of each unique edge after clamping ([`Topology::edges`] order).
+    pub edge_levels: Vec<f32>,
+    /// Segments of each unique edge.
+    pub edge_segments: Vec<u32>,
+    /// Welded: first slot of edge `e`'s `segments − 1` vertices, from the lower vertex index.
+    pub edge_offset: Vec<u64>,
+    /// Tile index of each face.
+    pub face_tile: Vec<u32>,
+    /// Welded: first slot of each face's interior points; soup: of each face's points.
+    pub face_offset: Vec<u64>,
+    /// First refined triangle of each face (one more entry: the total).
+    pub triangle_offset: Vec<u64>,
+    pub tiles: Vec<Tile>,
+}
+
+impl Tiling {
+    /// The tile of face `f`.
+    pub fn tile(&self, f: usize) -> &Tile {
+        &self.tiles[self.face_tile[f] as usize]
+    }
+    /// Largest segment count of any edge or inner level.
+    pub fn max_level(&self) -> u32 {
+        self.tiles
+            .iter()
+            .map(|t| t.pattern.level)
+            .max()
+            .unwrap_or(1)
+    }
+}
+
+fn bad(msg: String) -> RefineError {
+    RefineError::BadLevels(msg)
+}
+
+/// Checks one level: a finite number above 0.
+pub fn check_level(what: &str, x: f32) -> Result<(), RefineError> {
+    if !x.is_finite() || x <= 0.0 {
+        return Err(bad(format!(
+            "{what} is {x}; levels must be finite numbers above 0"
+        )));
+    }
+    Ok(())
+}
+
+/// The per-edge and per-face levels `levels` gives on `mesh` (`nets`: the mesh's control
+/// nets, for the tolerance LOD).
+pub fn resolve_levels(
+    mesh: &Mesh,
+    topology: &Topology,
+    nets: &PatchNets,
+    levels: &Levels,
+) -> Result<(Vec<f32>, Option<Vec<f32>>), RefineError> {
+    let ne = topology.edges.len();
+    match levels {
+        Levels::Uniform(x) => {
+            check_level("the level", *x)?;
+            Ok((vec![*x; ne], None))
+        }
+        Levels::PerEdge { edges, faces } => {
+            if edges.len() != ne {
+                return Err(bad(format!(
+                    "{} edge levels for a mesh of {ne} unique edges",
+                    edges.len()
+                )));
+            }
+            for (e, &x) in edges.iter().enumerate() {
+                check_level(&format!("the level of edge {e}"), x)?;
+            }
+            if let Some(f) = faces {
+                if f.len() != mesh.face_count() {
+                    return Err(bad(format!(
+                        "{} face levels for a mesh of {} triangles",
+                        f.len(),
+                        mesh.face_count()
+                    )));
+                }
+                for (i, &x) in f.iter().enumerate() {
+                    check_level(&format!("the inner level of face {i}"), x)?;
+                }
+            }
+            Ok((edges.to_vec(), faces.as_ref().map(|f| f.to_vec())))
+        }
+        Levels::Lod(lod) => super::lod::levels(mesh, topology, nets, lod),
+    }
+}
+
+/// Segments of an edge level for `spacing` (grid: rounded up, at least 1).
+fn grid_segments(x: f32) -> u32 {
+    (x.ceil() as f64).clamp(1.0, u32::MAX as f64 / 4.0) as u32
+}
+
+/// Upper bounds of `(points, triangles)` of one face's pattern, before building it.
+fn bound(spacing: Spacing, outer: [f32; 3], inner: f32) -> (u64, u64) {
+    match spacing.tessellator() {
+        None => {
+            let n = grid_segments(inner.max(outer[0]).max(outer[1]).max(outer[2]));
+            (Pattern::point_count(n), n as u64 * n as u64)
+        }
+        Some(s) => {
+            let (_, hi) = s.range();
+            let m = inner
+                .max(outer[0])
+                .max(outer[1])
+                .max(outer[2])
+                .min(hi)
+                .ceil() as u64
+                + 1;
+            ((m + 1) * (m + 2), 2 * m * m)
+        }
+    }
+}
+
+/// Builds the pattern of one face.
+fn build_tile(spacing: Spacing, outer: [f32; 3], inner: f32, basis: crate::Basis) -> Tile {
+    let pattern = match spacing.tessellator() {
+        None => grid_pattern(outer.map(grid_segments), grid_segments(inner)),
+        Some(s) => tessellator::tessellate(
+            s,
+            TessLevels {
+                inner,
+                // outer[k] of GL is the edge opposite corner k: our edges 1, 2, 0.
+                outer: [outer[1], outer[2], outer[0]],
+            },
+        ),
+    };
+    let mut corners = [0u32; 3];
+    let mut edges: [Vec<(u32, u32)>; 3] = Default::default();
+    let mut interior = Vec::new();
+    for (p, class) in pattern.classes.iter().enumerate() {
+        match *class {
+            PointClass::Corner { corner } => corners[corner as usize] = p as u32,
+            PointClass::Edge { edge, step } => edges[edge as usize].push((step, p as u32)),
+            PointClass::Interior { .. } => interior.push(p as u32),
+        }
+    }
+    let edges = edges.map(|mut e| {
+        e.sort_unstable();
+        e.into_iter().map(|(_, p)| p).collect()
+    });
+    let stencil = Stencil::new(&pattern, basis);
+    Tile {
+        outer,
+        inner,
+        pattern,
+        stencil,
+        corners,
+        edges,
+        interior,
+    }
+}
+
+/// The grid pattern of level `n_inner` (at least the largest edge level) with edge `k`'s
+/// boundary points snapped to its own `n[k]`-segment layout; degenerate triangles dropped.
+pub fn grid_pattern(n: [u32; 3], n_inner: u32) -> Pattern {
+    let big = n_inner.max(n[0]).max(n[1]).max(n[2]).max(1);
+    let uniform = Pattern::uniform(big);
+    if n == [big; 3] {
+        return uniform;
+    }
+    let mut points = Vec::new();
+    let mut classes = Vec::new();
+    let mut map = vec![0u32; uniform.points.len()];
+    let mut corner_at = [0u32; 3];
+    let mut interior = 0;
+    // Corners and interior points keep their place.
+    for (p, class) in uniform.classes.iter().enumerate() {
+        match *class {
+            PointClass::Corner { corner } => {
+                corner_at[corner as usize] = points.len() as u32;
+                map[p] = points.len() as u32;
+                points.push(uniform.points[p]);
+                classes.push(*class);
+            }
+            PointClass::Interior { .. } => {
+                map[p] = points.len() as u32;
+                points.push(uniform.points[p]);
+                classes.push(PointClass::Interior { index: interior });
+                interior += 1;
+            }
+            PointClass::Edge { .. } => {}
+        }
+    }
+    // Each edge's own layout.
+    let mut edge_first = [0u32; 3];
+    for k in 0..3 {
+        edge_first[k] = points.len() as u32;
+        let (c0, c1) = (k, (k + 1) % 3);
+        let ne = n[k];
+        for s in 1..ne {
+            let mut l = [0.0f64; 3];
+            l[c0] = (ne - s) as f64 / ne as f64;
+            l[c1] = s as f64 / ne as f64;
+            points.push(l);
+            classes.push(PointClass::Edge {
+                edge: k as u8,
+                step: s,
+            });
+        }
+    }
+    for (p, class) in uniform.classes.iter().enumerate() {
+        if let PointClass::Edge { edge, step } = *class {
+            let k = edge as usize;
+            let ne = n[k] as u64;
+            // Nearest step of the edge's own layout, ties up: monotone in `step`.
+            let s = ((2 * step as u64 * ne + big as u64) / (2 * big as u64)) as u32;
+            map[p] = if s == 0 {
+                corner_at[k]
+            } else if s as u64 == ne {
+                corner_at[(k + 1) % 3]
+            } else {
+                edge_first[k] + s - 1
+            };
+        }
+    }
+    let triangles = uniform
+        .triangles
+        .iter()
+        .map(|t| t.map(|p| map[p as usize]))
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+        .collect();
+    Pattern {
+        level: big,
+        points,
+        triangles,
+        classes,
+    }
+}
+
+/// Face `f`'s edge levels in its own edge order and its inner level.
+fn face_levels(
+    topology: &Topology,
+    f: usize,
+    edge_levels: &[f32],
+    faces: Option<&[f32]>,
+) -> ([f32; 3], f32) {
+    let outer = topology.face_edges[f].map(|e| edge_levels[e as usize]);
+    let mut inner = outer[0].max(outer[1]).max(outer[2]);
+    if let Some(fl) = faces {
+        inner = inner.max(fl[f]);
+    }
+    (outer, inner)
+}
+
+/// Everything an adaptive plan needs, after the size check.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn build_tiling(
+    mesh: &Mesh,
+    topology: &Topology,
+    spacing: Spacing,
+    edge_levels: Vec<f32>,
+    faces: Option<Vec<f32>>,
+    basis: crate::Basis,
+    weld: bool,
+    uvs: bool,
+    max_bytes: u64,
+) -> Result<Tiling, RefineError> {
+    // Clamp as the hardware does (tessellator spacings); the grid rounds up.
+    let edge_levels: Vec<f32> = match spacing.tessellator() {
+        Some(s) => {
+            let (lo, hi) = s.range();
+            let round = |x: f32| {
+                if spacing == Spacing::Equal {
+                    x.ceil()
+                } else {
+                    x
+                }
+            };
+            edge_levels
+                .iter()
+                .map(|&x| round(x.clamp(lo, hi)))
+                .collect()
+        }
+        None => edge_levels
+            .iter()
+            .map(|&x| grid_segments(x) as f32)
+            .collect(),
+    };
+    let nf = mesh.face_count();
+    // Size check from upper bounds, before building any pattern.
+    let mut bound_points = 0u64;
+    let mut bound_tris = 0u64;
+    for f in 0..nf {
+        let (outer, inner) = face_levels(topology, f, &edge_levels, faces.as_deref());
+        let (p, t) = bound(spacing, outer, inner);
+        bound_points = bound_points.saturating_add(p);
+        bound_tris = bound_tris.saturating_add(t);
+    }
+    let per_vertex = 24 + if uvs { 8 } else { 0 };
+    let bytes = bound_points
+        .saturating_mul(per_vertex)
+        .saturating_add(bound_tris.saturating_mul(12));
+    if bytes > max_bytes {
+        return Err(RefineError::TooLarge {
+            level: edge_levels.iter().fold(1.0f32, |a, &b| a.max(b)).ceil() as u32,
+            faces: nf,
+            vertices: bound_points,
+            triangles: bound_tris,
+            bytes,
+            bytes_human: crate::error::human_bytes(bytes),
+            limit: max_bytes,
+            limit_human: crate::error::human_bytes(max_bytes),
+        });
+    }
+    // Distinct patterns, keyed by their levels' bits.
+    let mut keys: HashMap<([u32; 3], u32), u32> = HashMap::new();
+    let mut tiles = Vec::new();
+    let mut face_tile = Vec::with_capacity(nf);
+    for f in 0..nf {
+        let (outer, inner) = face_levels(topology, f, &edge_levels, faces.as_deref());
+        let inner = match spacing.tessellator() {
+            None => grid_segments(inner) as f32,
+            Some(_) => inner,
+        };
+        let key = (outer.map(f32::to_bits), inner.to_bits());
+        let id = *keys.entry(key).or_insert_with(|| {
+            tiles.push(build_tile(spacing, outer, inner, basis));
+            tiles.len() as u32 - 1
+        });
+        face_tile.push(id);
+    }
+    // Every edge's segment count, from any face using it (both agree by construction).
+    let mut edge_segments = vec![0u32; topology.edges.len()];
+    for f in 0..nf {
+        let tile = &tiles[face_tile[f] as usize];
+        for k in 0..3 {
+            let e = topology.face_edges[f][k] as usize;
+            let seg = tile.edges[k].len() as u32 + 1;
+            debug_assert!(edge_segments[e] == 0 || edge_segments[e] == seg);
+            edge_segments[e] = seg;
+        }
+    }
+    let mut edge_offset = Vec::with_capacity(edge_segments.len());
+    let mut face_offset = Vec::with_capacity(nf);
+    let mut at = if weld { mesh.vertex_count() as u64 } else { 0 };
+    if weld {
+        for &s in &edge_segments {
+            edge_offset.push(at);
+            at += s.max(1) as u64 - 1;
+        }
+    }
+    for &t in &face_tile {
+        face_offset.push(at);
+        let tile = &tiles[t as usize];
+        at += if weld {
+            tile.interior.len()
+        } else {
+            tile.pattern.points.len()
+        } as u64;
+    }
+    face_offset.push(at);
+    let mut triangle_offset = Vec::with_capacity(nf + 1);
+    let mut tris = 0u64;
+    for &t in &face_tile {
+        triangle_offset.push(tris);
+        tris += tiles[t as usize].pattern.triangles.len() as u64;
+    }
+    triangle_offset.push(tris);
+    Ok(Tiling {
+        spacing,
+        edge_levels,
+        edge_segments,
+        edge_offset,
+        face_tile,
+        face_offset,
+        triangle_offset,
+        tiles,
+    })
+}
+
+impl Tiling {
+    /// Output vertex count (the last face offset).
+    pub fn vertex_count(&self) -> u64 {
+        *self.face_offset.last().unwrap_or(&0)
+    }
+    /// Output triangle count.
+    pub fn triangle_count(&self) -> u64 {
+        *self.triangle_offset.last().unwrap_or(&0)
+    }
+}
+
+/// One frame's vertices on an adaptive tiling.
+pub(crate) struct AdaptiveJob<'a> {
+    pub mesh: &'a Mesh,
+    pub topology: &'a Topology,
+    pub tiling: &'a Tiling,
+    pub nets: &'a PatchNets,
+    pub weld: bool,
+}
+
+/// Splits `sink` into consecutive runs of the given lengths.
+fn runs<'a>(mut sink: Sink<'a>, lens: impl Iterator<Item = usize>) -> Vec<Sink<'a>> {
+    let mut out = Vec::new();
+    for len in lens {
+        let (head, tail) = sink.split_at(len);
+        out.push(head);
+        sink = tail;
+    }
+    out
+}
+
+impl AdaptiveJob<'_> {
+    pub fn vertices(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
+        match self.nets.basis.len() {
+            10 => self.vertices_k::<10>(sink, progress),
+            21 => self.vertices_k::<21>(sink, progress),
+            k => unreachable!("no evaluator for a basis of {k} points"),
+        }
+    }
+
+    fn point<const K: usize>(&self, tile: &Tile, f: usize, p: u32) -> ([f32; 3], [f32; 3]) {
+        super::eval_point::<K>(
+            tile.stencil.row(p as usize),
+            self.nets.patch_points(f),
+            self.nets.patch_normals(f),
+            self.nets.normal_mode,
+        )
+    }
+
+    fn uv(&self, tile: &Tile, f: usize, p: u32) -> Option<[f32; 2]> {
+        let uv = self.mesh.uvs()?;
+        let t = self.mesh.triangles()[f];
+        let l = tile.pattern.points[p as usize].map(|x| x as f32);
+        let c = t.map(|v| uv[v as usize]);
+        Some([
+            l[0] * c[0][0] + l[1] * c[1][0] + l[2] * c[2][0],
+            l[0] * c[0][1] + l[1] * c[1][1] + l[2] * c[2][1],
+        ])
+    }
+
+    /// Writes pattern point `p` (inside edge `k`) of face `f` canonically into `slot`.
+    #[allow(clippy::too_many_arguments)]
+    fn edge_point<const K: usize>(
+        &self,
+        tile: &Tile,
+        f: usize,
+        k: usize,
+        fwd: bool,
+        p: u32,
+        sink: &mut Sink,
+        slot: usize,
+    ) {
+        let l = tile.pattern.points[p as usize];
+        let (c0, c1) = (k, (k + 1) % 3);
+        let (a, b) = if fwd { (l[c0], l[c1]) } else { (l[c1], l[c0]) };
+        let w = EdgeWeights::new(a, b);
+        let points = self.nets.patch_points(f);
+        let c = canonical::canonical_points(self.nets.basis, points, k, fwd);
+        sink.set_position(slot, canonical::position(&w, &c));
+        if sink.wants_normals() {
+            let net = (self.nets.normal_mode != NormalMode::Real)
+                .then(|| {
+                    let cn = canonical::canonical_normals(self.nets.patch_normals(f), k, fwd);
+                    canonical::net_normal(&w, &cn)
+                })
+                .flatten();
+            sink.set_normal(slot, net.unwrap_or_else(|| self.point::<K>(tile, f, p).1));
+        }
+        if sink.wants_uvs() {
+            if let Some(uv) = self.uv(tile, f, p) {
+                sink.set_uv(slot, uv);
+            }
+        }
+    }
+
+    fn full_point<const K: usize>(
+        &self,
+        tile: &Tile,
+        f: usize,
+        p: u32,
+        sink: &mut Sink,
+        slot: usize,
+    ) {
+        let (pos, n) = self.point::<K>(tile, f, p);
+        sink.set_position(slot, pos);
+        if sink.wants_normals() {
+            sink.set_normal(slot, n);
+        }
+        if sink.wants_uvs() {
+            if let Some(uv) = self.uv(tile, f, p) {
+                sink.set_uv(slot, uv);
+            }
+        }
+    }
+
+    fn vertices_k<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
+        let tiling = self.tiling;
+        let mesh = self.mesh;
+        let topo = self.topology;
+        let pid = &topo.position_ids;
+        let nf = mesh.face_count();
+        if !self.weld {
+            let lens = (0..nf).map(|f| tiling.tile(f).pattern.points.len());
+            runs(sink, lens)
+                .into_par_iter()
+                .enumerate()
+                .for_each(|(f, mut sink)| {
+                    let tile = tiling.tile(f);
+                    let t = mesh.triangles()[f];
+                    for p in 0..tile.pattern.points.len() as u32 {
+                        self.full_point::<K>(tile, f, p, &mut sink, p as usize);
+                    }
+                    for c in 0..3 {
+                        sink.set_position(
+                            tile.corners[c] as usize,
+                            mesh.positions()[t[c] as usize],
+                        );
+                    }
+                    for k in 0..3 {
+                        let fwd = canonical::forward(t, k, pid);
+                        for &p in &tile.edges[k] {
+                            self.edge_point::<K>(tile, f, k, fwd, p, &mut sink, p as usize);
+                        }
+                    }
+                    progress(1);
+                });
+            return;
+        }
+        let nv = mesh.vertex_count();
+        let (mut corners, rest) = sink.split_at(nv);
+        let edge_total = (tiling.face_offset[0] - nv as u64) as usize;
+        let (edges, interiors) = rest.split_at(edge_total);
+        for v in 0..nv {
+            match topo.vertex_owner[v] {
+                Some((f, c)) => {
+                    let tile = tiling.tile(f as usize);
+                    self.full_point::<K>(
+                        tile,
+                        f as usize,
+                        tile.corners[c as usize],
+                        &mut corners,
+                        v,
+                    );
+                }
+                None => {
+                    if corners.wants_normals() {
+                        corners.set_normal(v, mesh.normals()[v]);
+                    }
+                    if let (true, Some(uv)) = (corners.wants_uvs(), mesh.uvs()) {
+                        corners.set_uv(v, uv[v]);
+                    }
+                }
+            }
+            corners.set_position(v, mesh.positions()[v]);
+        }
+        let lens = tiling.edge_segments.iter().map(|&s| s as usize - 1);
+        runs(edges, lens)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(e, mut sink)| {
+                let (f, k) = topo.edge_owner[e];
+                let (f, k) = (f as usize, k as usize);
+                let tile = tiling.tile(f);
+                let t = mesh.triangles()[f];
+                let fwd = canonical::forward(t, k, pid);
+                let by_index = t[k] == topo.edges[e][0];
+                let m = tile.edges[k].len();
+                for (s, &p) in tile.edges[k].iter().enumerate() {
+                    let slot = if by_index { s } else { m - 1 - s };
+                    self.edge_point::<K>(tile, f, k, fwd, p, &mut sink, slot);
+                }
+            });
+        let lens = (0..nf).map(|f| tiling.tile(f).interior.len());
+        runs(interiors, lens)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(f, mut sink)| {
+                let tile = tiling.tile(f);
+                for (i, &p) in tile.interior.iter().enumerate() {
+                    self.full_point::<K>(tile, f, p, &mut sink, i);
+                }
+                progress(1);
+            });
+    }
+}
+
+/// The triangles of an adaptive tiling (they depend on the plan only).
+pub(crate) struct AdaptiveIndex<'a> {
+    pub triangles: &'a [[u32; 3]],
+    pub topology: &'a Topology,
+    pub tiling: &'a Tiling,
+    pub weld: bool,
+}
+
+impl AdaptiveIndex<'_> {
+    /// Output slot of each pattern point of face `f`.
+    pub fn slots(&self, f: usize, out: &mut Vec<u32>) {
+        let tile = self.tiling.tile(f);
+        out.clear();
+        out.resize(tile.pattern.points.len(), 0);
+        let base = self.tiling.face_offset[f] as u32;
+        if !self.weld {
+            for (p, o) in out.iter_mut().enumerate() {
+                *o = base + p as u32;
+            }
+            return;
+        }
+        let t = self.triangles[f];
+        for c in 0..3 {
+            out[tile.corners[c] as usize] = t[c];
+        }
+        for k in 0..3 {
+            let e = self.topology.face_edges[f][k] as usize;
+            let by_index = t[k] == self.topology.edges[e][0];
+            let m = tile.edges[k].len();
+            let eb = self.tiling.edge_offset[e] as u32;
+            for (s, &p) in tile.edges[k].iter().enumerate() {
+                out[p as usize] = eb + if by_index { s } else { m - 1 - s } as u32;
+            }
+        }
+        for (i, &p) in tile.interior.iter().enumerate() {
+            out[p as usize] = base + i as u32;
+        }
+    }
+
+    /// Writes every refined triangle.
+    pub fn indices<I: super::IndexInt>(&self, out: &mut [[I; 3]], progress: &(dyn Fn(u64) + Sync)) {
+        let tiling = self.tiling;
+        let mut chunks = Vec::with_capacity(self.triangles.len());
+        let mut rest = out;
+        for f in 0..self.triangles.len() {
+            let n = tiling.tile(f).pattern.triangles.len();
+            let (head, tail) = rest.split_at_mut(n);
+            chunks.push(head);
+            rest = tail;
+        }
+        chunks
+            .into_par_iter()
+            .enumerate()
+            .for_each_init(Vec::new, |map, (f, tris)| {
+                self.slots(f, map);
+                for (dst, src) in tris.iter_mut().zip(&tiling.tile(f).pattern.triangles) {
+                    *dst = src.map(|p| I::from_index(map[p as usize]));
+                }
+                progress(1);
+            });
+    }
+
+    /// Each output vertex's face and barycentrics (see `Plan::origin`).
+    pub fn origin(&self, faces: &mut [u32], bary: &mut [[f32; 3]]) {
+        let mut map = Vec::new();
+        // A shared (welded) vertex is named by its owner face, as the uniform layout does.
+        for f in 0..self.triangles.len() {
+            self.slots(f, &mut map);
+            let tile = self.tiling.tile(f);
+            for (p, &slot) in map.iter().enumerate() {
+                let l = tile.pattern.points[p].map(|x| x as f32);
+                let owner = match tile.pattern.classes[p] {
+                    PointClass::Interior { .. } => true,
+                    _ if !self.weld => true,
+                    PointClass::Corner { corner } => {
+                        let v = self.triangles[f][corner as usize] as usize;
+                        self.topology.vertex_owner[v].map(|(o, _)| o as usize) == Some(f)
+                    }
+                    PointClass::Edge { edge, .. } => {
+                        let e = self.topology.face_edges[f][edge as usize] as usize;
+                        self.topology.edge_owner[e].0 as usize == f
+                    }
+                };
+                if owner {
+                    faces[slot as usize] = f as u32;
+                    bary[slot as usize] = l;
+                }
+            }
+        }
+    }
+}
