@@ -301,8 +301,50 @@ fn read_edges(path: &Path, element: &ElementDef, rows: &[Row]) -> Result<Vec<Raw
         .collect()
 }
 
+/// Where each vertex comes from: its coarse face and barycentric coordinates in that face's
+/// corner order (`tessella_core::refine::Plan::origin`), written as the vertex properties
+/// `int face` and `float bary1, bary2, bary3`.
+#[derive(Debug, Clone, Copy)]
+pub struct Origin<'a> {
+    pub faces: &'a [u32],
+    pub bary: &'a [[f32; 3]],
+}
+
+/// Writes `mesh` with its vertices' [`Origin`] to a `.ply` file, atomically, after the same
+/// checks as [`crate::write_mesh`] (and one origin per vertex). A face of `u32::MAX` (a vertex
+/// no face uses) is written as -1.
+pub fn write_file_with_origin(
+    path: &std::path::Path,
+    mesh: MeshView,
+    origin: Origin,
+    ascii: bool,
+) -> Result<(), crate::IoError> {
+    mesh.check(path)?;
+    let n = mesh.positions.len();
+    if origin.faces.len() != n || origin.bary.len() != n {
+        return Err(crate::IoError::BadMesh {
+            path: path.to_path_buf(),
+            message: format!(
+                "{} origin faces and {} barycentrics for {n} vertices",
+                origin.faces.len(),
+                origin.bary.len()
+            ),
+        });
+    }
+    crate::write_atomic(path, |out| write_with(out, &mesh, ascii, Some(origin)))
+}
+
 /// Writes a PLY file, binary little-endian or ascii.
 pub fn write(out: &mut dyn Write, mesh: &MeshView, ascii: bool) -> std::io::Result<()> {
+    write_with(out, mesh, ascii, None)
+}
+
+fn write_with(
+    out: &mut dyn Write,
+    mesh: &MeshView,
+    ascii: bool,
+    origin: Option<Origin>,
+) -> std::io::Result<()> {
     let encoding = if ascii {
         "ascii"
     } else {
@@ -323,6 +365,12 @@ pub fn write(out: &mut dyn Write, mesh: &MeshView, ascii: bool) -> std::io::Resu
     for name in &names {
         writeln!(out, "property float {name}")?;
     }
+    if origin.is_some() {
+        writeln!(
+            out,
+            "property int face\nproperty float bary1\nproperty float bary2\nproperty float bary3"
+        )?;
+    }
     writeln!(out, "element face {}", mesh.triangles.len())?;
     writeln!(out, "property list uchar uint vertex_indices\nend_header")?;
     let mut values = Vec::with_capacity(names.len());
@@ -331,13 +379,24 @@ pub fn write(out: &mut dyn Write, mesh: &MeshView, ascii: bool) -> std::io::Resu
         values.extend(mesh.positions[v]);
         values.extend(mesh.normals.map(|n| n[v]).into_iter().flatten());
         values.extend(mesh.uvs.map(|t| t[v]).into_iter().flatten());
+        let from = origin.map(|o| (o.faces[v] as i32, o.bary[v]));
         if ascii {
             // `{}` prints the shortest text that parses back to the same f32.
-            let line: Vec<String> = values.iter().map(f32::to_string).collect();
+            let mut line: Vec<String> = values.iter().map(f32::to_string).collect();
+            if let Some((f, b)) = from {
+                line.push(f.to_string());
+                line.extend(b.iter().map(f32::to_string));
+            }
             writeln!(out, "{}", line.join(" "))?;
         } else {
             for x in &values {
                 out.write_all(&x.to_le_bytes())?;
+            }
+            if let Some((f, b)) = from {
+                out.write_all(&f.to_le_bytes())?;
+                for x in b {
+                    out.write_all(&x.to_le_bytes())?;
+                }
             }
         }
     }
