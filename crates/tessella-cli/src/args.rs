@@ -144,9 +144,29 @@ pub struct RefineArgs {
     /// Surface built over each coarse triangle.
     #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
     pub scheme: SchemeArg,
-    /// Segments per coarse edge: each triangle becomes LEVEL² triangles.
-    #[arg(short, long, default_value_t = 8)]
-    pub level: u32,
+    /// Segments per coarse edge: each triangle becomes LEVEL² triangles (grid). With a
+    /// tessellator --spacing a fractional level (e.g. 5.5), clamped to the spacing's range.
+    #[arg(short, long, default_value_t = 8.0, allow_negative_numbers = true)]
+    pub level: f64,
+    /// How levels divide each edge: grid, or the GPU tessellator's equal / fractional-odd /
+    /// fractional-even spacing.
+    #[arg(long, value_enum, default_value = "grid")]
+    pub spacing: SpacingArg,
+    /// Per-edge adaptive levels (crack-free): `tolerance:D` (flat triangles within D of the
+    /// curved surface), `screen:PX` (PX pixels per refined edge; needs --camera, --size) or
+    /// `distance:NEAR,FAR,MAX` (MAX segments near the camera, 1 beyond FAR; needs --camera).
+    #[arg(long, value_name = "SPEC")]
+    pub lod: Option<String>,
+    /// Camera for --lod screen/distance: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEG.
+    #[arg(long, value_name = "EYE,TARGET,FOV", allow_hyphen_values = true)]
+    pub camera: Option<String>,
+    /// Image size for --lod screen, WIDTHxHEIGHT.
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Add PLY vertex properties `face` (the coarse triangle) and `bary1..3` (barycentric
+    /// coordinates in its corner order) saying where each refined vertex comes from.
+    #[arg(long)]
+    pub write_origin: bool,
     /// Phong shape factor: 0 is flat, 1 the full projection.
     #[arg(long, default_value_t = 0.75)]
     pub alpha: f32,

@@ -1,11 +1,12 @@
 //! `tessella refine`: file in, refined file out.
 
 use super::tags;
-use crate::args::RefineArgs;
+use crate::args::{RefineArgs, SpacingArg};
 use crate::progress;
 use anyhow::Context;
 use std::time::Instant;
 use tessella_core::displace::{DisplaceFrame, Displacement};
+use tessella_core::refine::{Camera, Levels, Lod, Spacing};
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
 use tessella_io::{write_mesh, Format, MeshView, WriteOptions};
 
@@ -14,7 +15,17 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     Format::from_path(&args.output)?;
     let (raw, mesh) = tags::read(&args.input)?;
     let scheme = args.scheme.scheme(args.alpha);
-    let mut options = RefineOptions::new(scheme, args.level).with_weld(!args.soup);
+    let mut options = levels(args, scheme)?.with_weld(!args.soup);
+    if args.write_origin && !matches!(Format::from_path(&args.output)?, Format::Ply) {
+        anyhow::bail!(
+            "--write-origin writes PLY vertex properties; give an output ending in .ply, not {}",
+            args.output.display()
+        );
+    }
+    let adaptive = options.uniform_grid_level().is_none();
+    if adaptive && args.displace.is_some() {
+        anyhow::bail!("--displace works with uniform grid levels; drop --lod, --spacing or the fractional --level");
+    }
     options.normals = args.normals.map(Into::into);
     options.max_output_bytes = args.max_memory;
     if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
@@ -27,25 +38,53 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let refiner = Refiner::new(&mesh, &options)
         .with_context(|| format!("cannot refine {}", args.input.display()))?;
-    let refined = backend::refine(&backend, args, &refiner)?;
+    let refined = if adaptive {
+        if args.backend == tessella_core::Backend::Gpu {
+            anyhow::bail!("adaptive and tessellator levels refine on the CPU for now; use --backend cpu or auto");
+        }
+        refine_cpu(&refiner, &Displacement::None)?
+    } else {
+        backend::refine(&backend, args, &refiner)?
+    };
     let elapsed = start.elapsed();
 
-    write_mesh(
-        &args.output,
-        MeshView::from(&refined),
-        &WriteOptions {
-            ply_ascii: args.ply_ascii,
-        },
-    )?;
+    if args.write_origin {
+        let (faces, bary) = refiner.plan().origin();
+        tessella_io::ply::write_file_with_origin(
+            &args.output,
+            MeshView::from(&refined),
+            tessella_io::ply::Origin {
+                faces: &faces,
+                bary: &bary,
+            },
+            args.ply_ascii,
+        )?;
+    } else {
+        write_mesh(
+            &args.output,
+            MeshView::from(&refined),
+            &WriteOptions {
+                ply_ascii: args.ply_ascii,
+            },
+        )?;
+    }
+    let level = match options.uniform_grid_level() {
+        Some(n) => format!("level {n}"),
+        None => format!(
+            "{} spacing, levels up to {}",
+            options.spacing,
+            refiner.plan().layout().level
+        ),
+    };
     eprintln!(
-        "{} -> {}: {} triangles -> {} vertices, {} triangles ({}, level {}) in {:.1} ms",
+        "{} -> {}: {} triangles -> {} vertices, {} triangles ({}, {}) in {:.1} ms",
         args.input.display(),
         args.output.display(),
         mesh.face_count(),
         refined.positions.len(),
         refined.triangles.len(),
         options.scheme.name(),
-        options.level,
+        level,
         elapsed.as_secs_f64() * 1e3
     );
     if args.report {
@@ -53,6 +92,41 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
         super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
     }
     Ok(())
+}
+
+/// The options' levels from `--level`, `--spacing`, `--lod`, `--camera` and `--size`.
+fn levels(args: &RefineArgs, scheme: tessella_core::Scheme) -> anyhow::Result<RefineOptions> {
+    let spacing = match args.spacing {
+        SpacingArg::Grid => Spacing::Grid,
+        SpacingArg::Equal => Spacing::Equal,
+        SpacingArg::FractionalOdd => Spacing::FractionalOdd,
+        SpacingArg::FractionalEven => Spacing::FractionalEven,
+    };
+    let level = args.level;
+    let whole =
+        level.is_finite() && level >= 0.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
+    let options =
+        RefineOptions::new(scheme, if whole { level as u32 } else { 1 }).with_spacing(spacing);
+    if let Some(spec) = &args.lod {
+        let camera = args.camera.as_deref().map(Camera::parse).transpose()?;
+        let lod = Lod::parse(spec, camera, args.size.map(|(w, h)| [w, h]))?;
+        return Ok(options.with_levels(Levels::Lod(lod)));
+    }
+    if args.camera.is_some() || args.size.is_some() {
+        anyhow::bail!(
+            "--camera and --size serve --lod screen:PX and distance:NEAR,FAR,MAX; add --lod"
+        );
+    }
+    if !level.is_finite() || level < 0.0 {
+        anyhow::bail!("--level {level}: levels must be finite numbers above 0");
+    }
+    match (spacing, whole) {
+        (Spacing::Grid, true) => Ok(options),
+        (Spacing::Grid, false) => anyhow::bail!(
+            "--level {level} is fractional: the grid takes whole numbers; use --spacing fractional-odd or fractional-even for fractional levels, or --lod"
+        ),
+        _ => Ok(options.with_levels(Levels::Uniform(level as f32))),
+    }
 }
 
 /// The CPU refinement, with a progress bar, then the displacement (shared directions on hard

@@ -255,3 +255,95 @@ pub fn levels(
         }
     }
 }
+
+fn numbers(what: &str, text: &str) -> Result<Vec<f32>, RefineError> {
+    text.split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<f32>()
+                .map_err(|_| bad(format!("{what}: {x:?} is not a number")))
+        })
+        .collect()
+}
+
+impl Camera {
+    /// Parses `EX,EY,EZ,TX,TY,TZ,FOV_DEG` (eye, target, vertical field of view in degrees),
+    /// as the CLI's `--camera` and Python's `camera=` take it, and validates it.
+    ///
+    /// ```
+    /// use tessella_core::refine::Camera;
+    /// let c: Camera = Camera::parse("0,0,5,0,0,0,45").unwrap();
+    /// assert_eq!((c.eye, c.fov_y_deg), ([0.0, 0.0, 5.0], 45.0));
+    /// assert!(Camera::parse("0,0,5,0,0,0,0").is_err());
+    /// ```
+    pub fn parse(text: &str) -> Result<Camera, RefineError> {
+        let v = numbers("camera", text)?;
+        if v.len() != 7 {
+            return Err(bad(format!(
+                "camera {text:?}: expected 7 numbers EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEG"
+            )));
+        }
+        let c = Camera {
+            eye: [v[0], v[1], v[2]],
+            target: [v[3], v[4], v[5]],
+            fov_y_deg: v[6],
+        };
+        validate_camera(&c)?;
+        Ok(c)
+    }
+}
+
+impl Lod {
+    /// Parses a LOD function as the CLI's `--lod` and Python's `lod=` take it:
+    /// `tolerance:D`, `screen:PX` (needs `camera` and `size`), `distance:NEAR,FAR,MAX` (needs
+    /// `camera`, whose eye it uses), and validates it.
+    ///
+    /// ```
+    /// use tessella_core::refine::{Camera, Lod};
+    /// assert_eq!(Lod::parse("tolerance:0.01", None, None).unwrap(),
+    ///            Lod::Tolerance { max_deviation: 0.01 });
+    /// assert!(Lod::parse("tolerance:0", None, None).is_err());
+    /// assert!(Lod::parse("screen:4", None, None).is_err()); // needs a camera
+    /// ```
+    pub fn parse(
+        text: &str,
+        camera: Option<Camera>,
+        size: Option<[u32; 2]>,
+    ) -> Result<Lod, RefineError> {
+        let (kind, args) = text.split_once(':').ok_or_else(|| {
+            bad(format!(
+                "LOD {text:?}: expected tolerance:D, screen:PX or distance:NEAR,FAR,MAX"
+            ))
+        })?;
+        let v = numbers(kind, args)?;
+        let need_camera = || {
+            camera.ok_or_else(|| {
+                bad(format!(
+                    "{kind}: needs a camera (--camera EX,EY,EZ,TX,TY,TZ,FOV_DEG)"
+                ))
+            })
+        };
+        let lod = match (kind, v.as_slice()) {
+            ("tolerance", &[d]) => Lod::Tolerance { max_deviation: d },
+            ("screen", &[pixels]) => Lod::Screen {
+                pixels,
+                camera: need_camera()?,
+                size: size
+                    .ok_or_else(|| bad("screen: needs the image size (--size WxH)".into()))?,
+            },
+            ("distance", &[near, far, max]) => Lod::Distance {
+                near,
+                far,
+                max,
+                eye: need_camera()?.eye,
+            },
+            _ => {
+                return Err(bad(format!(
+                    "LOD {text:?}: expected tolerance:D, screen:PX or distance:NEAR,FAR,MAX"
+                )))
+            }
+        };
+        validate(&lod)?;
+        Ok(lod)
+    }
+}
