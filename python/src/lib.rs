@@ -97,6 +97,93 @@ fn refine<'py>(
     ))
 }
 
+/// What `refine_adaptive` returns: vertices, faces, normals, and the origin (face, bary) when
+/// asked for.
+type AdaptiveArrays<'py> = (
+    F32Array<'py>,
+    U32Array<'py>,
+    F32Array<'py>,
+    Option<Bound<'py, numpy::PyArray1<i64>>>,
+    Option<F32Array<'py>>,
+);
+
+/// Refines with a tessellator spacing, fractional or LOD levels, and/or returns each vertex's
+/// origin; see `tessella.refine` (the Python wrapper). Runs on the CPU.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8.0, alpha=0.75,
+                    normals_mode=None, spacing="grid", lod=None, camera=None, size=None,
+                    weld=true, origin=false))]
+#[allow(clippy::too_many_arguments)]
+fn refine_adaptive<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    normals: Option<&Bound<'py, PyAny>>,
+    scheme: &str,
+    level: f64,
+    alpha: f64,
+    normals_mode: Option<&str>,
+    spacing: &str,
+    lod: Option<&str>,
+    camera: Option<&str>,
+    size: Option<(u32, u32)>,
+    weld: bool,
+    origin: bool,
+) -> PyResult<AdaptiveArrays<'py>> {
+    use tessella_core::refine::{Camera, Levels, Lod, Spacing};
+    let value = |e: tessella_core::RefineError| PyValueError::new_err(e.to_string());
+    let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
+    let spacing: Spacing = spacing.parse().map_err(PyValueError::new_err)?;
+    let whole =
+        level.is_finite() && level >= 1.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
+    let mut opts = RefineOptions::new(scheme, if whole { level as u32 } else { 1 })
+        .with_weld(weld)
+        .with_spacing(spacing);
+    opts.normals = options::normal_mode(normals_mode)?;
+    if let Some(spec) = lod {
+        let camera = camera.map(Camera::parse).transpose().map_err(value)?;
+        let lod = Lod::parse(spec, camera, size.map(|(w, h)| [w, h])).map_err(value)?;
+        opts = opts.with_levels(Levels::Lod(lod));
+    } else if camera.is_some() || size.is_some() {
+        return Err(PyValueError::new_err(
+            "camera= and size= serve lod='screen:PX' and lod='distance:NEAR,FAR,MAX'",
+        ));
+    } else if spacing == Spacing::Grid && !whole && level.is_finite() && level > 0.0 {
+        return Err(PyValueError::new_err(format!(
+            "level {level} is fractional: the grid takes whole numbers; use spacing='fractional-odd' or 'fractional-even', or lod="
+        )));
+    } else if !whole || spacing != Spacing::Grid {
+        opts = opts.with_levels(Levels::Uniform(level as f32));
+    }
+    let mesh = mesh_from(py, vertices, faces, normals)?;
+    let (out, from) = py.detach(|| -> PyResult<_> {
+        let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
+        let out = refiner.refine();
+        let from = origin.then(|| refiner.plan().origin());
+        Ok((out, from))
+    })?;
+    let (face, bary) = match from {
+        Some((f, b)) => (
+            // -1 for a coarse vertex no face uses
+            Some(numpy::PyArray1::from_vec(
+                py,
+                f.into_iter()
+                    .map(|x| if x == u32::MAX { -1 } else { x as i64 })
+                    .collect(),
+            )),
+            Some(arrays::to_numpy(py, b)),
+        ),
+        None => (None, None),
+    };
+    Ok((
+        arrays::to_numpy(py, out.positions),
+        arrays::to_numpy(py, out.triangles),
+        arrays::to_numpy(py, out.normals),
+        face,
+        bary,
+    ))
+}
+
 /// The uniform refinement pattern of ``level`` segments per edge.
 ///
 /// Returns ``(barycentric, triangles)``: ``barycentric`` is float64 ``((level+1)(level+2)/2, 3)``,
@@ -341,6 +428,7 @@ fn gpu_info(py: Python<'_>) -> PyResult<Option<Bound<'_, PyDict>>> {
 #[pymodule]
 fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine, m)?)?;
+    m.add_function(wrap_pyfunction!(refine_adaptive, m)?)?;
     m.add_function(wrap_pyfunction!(pattern, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;
     m.add_function(wrap_pyfunction!(quality, m)?)?;

@@ -65,6 +65,7 @@ __all__ = [
     "pattern",
     "quality",
     "refine",
+    "RefineResult",
     "Refiner",
     "refine_trimesh",
     "save",
@@ -82,7 +83,7 @@ def refine(
     normals: Any = None,
     *,
     scheme: str = "pn",
-    level: int = 8,
+    level: Union[int, float] = 8,
     alpha: float = 0.75,
     normals_mode: Optional[str] = None,
     tags: TagsLike = None,
@@ -90,6 +91,11 @@ def refine(
     backend: str = "auto",
     weld: bool = True,
     displace: DisplaceLike = None,
+    spacing: str = "grid",
+    lod: Union[str, Dict[str, Any], None] = None,
+    camera: Union[str, Tuple[float, ...], List[float], None] = None,
+    size: Optional[Tuple[int, int]] = None,
+    origin: bool = False,
 ) -> Any:
     """Refine a triangle mesh into a curved one.
 
@@ -168,6 +174,27 @@ def refine(
         vertex shared by coarse triangles moves once, so the surface stays closed. Height maps
         (the CLI's ``--displace heightmap:``) need texture coordinates and are not offered here.
 
+    spacing : {"grid", "equal", "fractional-odd", "fractional-even"}
+        How a level divides each coarse edge: the uniform grid, or the GPU tessellator's
+        spacings (``level`` may then be a float such as 5.5, clamped to the spacing's range
+        as the hardware does: equal 1..64, fractional-odd 1..63, fractional-even 2..64).
+    lod : str, dict or None
+        Per-edge adaptive levels, crack-free (each coarse edge's level from that edge alone):
+        ``"tolerance:D"`` / ``{"kind": "tolerance", "max_deviation": D}`` (flat triangles
+        within D of the curved surface), ``"screen:PX"`` / ``{"kind": "screen", "pixels": PX}``
+        (needs ``camera`` and ``size``), ``"distance:NEAR,FAR,MAX"`` /
+        ``{"kind": "distance", "near": .., "far": .., "max": ..}`` (needs ``camera``).
+        Overrides ``level``.
+    camera : str or sequence of 7 numbers
+        ``(eye_x, eye_y, eye_z, target_x, target_y, target_z, fov_deg)`` for ``lod``.
+    size : (int, int)
+        Image width and height in pixels for ``lod="screen:PX"``.
+    origin : bool
+        Return a :class:`RefineResult` with ``vertices, faces, normals, face, bary``: each
+        refined vertex's coarse triangle and barycentric coordinates in its corner order (for
+        mapping finite-element fields). ``spacing``, fractional levels, ``lod`` and ``origin``
+        refine on the CPU; ``tags``, ``crease_angle`` and ``displace`` are not taken with them.
+
     Returns
     -------
     vertices : numpy.ndarray, float32 (N, 3)
@@ -211,6 +238,32 @@ def refine(
         )
     if faces is None:
         raise ValueError("refine(vertices, faces, ...) needs faces, an (m, 3) integer array")
+    fractional = isinstance(level, float) and not float(level).is_integer()
+    if spacing != "grid" or lod is not None or origin or fractional or camera is not None or size is not None:
+        if tags is not None or crease_angle is not None or displace is not None:
+            raise ValueError(
+                "spacing=, fractional levels, lod= and origin= do not take tags=, crease_angle= or displace="
+            )
+        if backend not in ("auto", "cpu"):
+            raise ValueError("spacing=, fractional levels, lod= and origin= refine on the CPU: use backend='cpu'")
+        v, f, n, face, bary = _tessella.refine_adaptive(
+            vertices,
+            faces,
+            normals,
+            scheme=scheme,
+            level=float(level),
+            alpha=alpha,
+            normals_mode=normals_mode,
+            spacing=spacing,
+            lod=_lod_spec(lod),
+            camera=_camera_spec(camera),
+            size=None if size is None else (int(size[0]), int(size[1])),
+            weld=weld,
+            origin=origin,
+        )
+        if origin:
+            return RefineResult(v, f, n, face, bary)
+        return v, f, n
     return _tessella.refine(
         vertices,
         faces,
@@ -225,6 +278,55 @@ def refine(
         weld=weld,
         displace=displace,
     )
+
+
+class RefineResult:
+    """What :func:`refine` returns with ``origin=True``.
+
+    Attributes
+    ----------
+    vertices : numpy.ndarray, float32 (N, 3)
+    faces : numpy.ndarray, uint32 (M, 3)
+    normals : numpy.ndarray, float32 (N, 3)
+    face : numpy.ndarray, int64 (N,)
+        The coarse triangle each vertex was evaluated on (-1: a coarse vertex no triangle uses).
+    bary : numpy.ndarray, float32 (N, 3)
+        Its barycentric coordinates in that triangle's corner order.
+    """
+
+    __slots__ = ("vertices", "faces", "normals", "face", "bary")
+
+    def __init__(self, vertices: Any, faces: Any, normals: Any, face: Any, bary: Any) -> None:
+        self.vertices, self.faces, self.normals = vertices, faces, normals
+        self.face, self.bary = face, bary
+
+    def __iter__(self) -> Any:
+        return iter((self.vertices, self.faces, self.normals))
+
+    def __repr__(self) -> str:
+        return f"RefineResult({len(self.vertices)} vertices, {len(self.faces)} faces)"
+
+
+def _lod_spec(lod: Any) -> Optional[str]:
+    if lod is None or isinstance(lod, str):
+        return lod
+    if isinstance(lod, dict):
+        kind = lod.get("kind")
+        keys = {"tolerance": ["max_deviation"], "screen": ["pixels"], "distance": ["near", "far", "max"]}
+        if kind not in keys:
+            raise ValueError(f"lod kind {kind!r}: expected 'tolerance', 'screen' or 'distance'")
+        missing = [k for k in keys[kind] if k not in lod]
+        if missing:
+            raise ValueError(f"lod {kind!r} needs {', '.join(missing)}")
+        return kind + ":" + ",".join(repr(float(lod[k])) for k in keys[kind])
+    raise TypeError(f"lod must be a string or a dict, not {type(lod).__name__}")
+
+
+def _camera_spec(camera: Any) -> Optional[str]:
+    if camera is None or isinstance(camera, str):
+        return camera
+    values = [float(x) for x in camera]
+    return ",".join(repr(x) for x in values)
 
 
 class Refiner(_tessella.Refiner):

@@ -31,6 +31,22 @@ def refine(
     weld: bool = True,
     displace: _Displace = None,
 ) -> Tuple[_F32, _U32, _F32]: ...
+def refine_adaptive(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    normals: Optional[npt.ArrayLike] = None,
+    *,
+    scheme: str = "pn",
+    level: float = 8.0,
+    alpha: float = 0.75,
+    normals_mode: Optional[str] = None,
+    spacing: str = "grid",
+    lod: Optional[str] = None,
+    camera: Optional[str] = None,
+    size: Optional[Tuple[int, int]] = None,
+    weld: bool = True,
+    origin: bool = False,
+) -> Tuple[_F32, _U32, _F32, Optional[npt.NDArray[np.int64]], Optional[_F32]]: ...
 def quality(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,

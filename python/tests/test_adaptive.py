@@ -1,0 +1,74 @@
+"""Tessellator spacings, fractional and LOD levels, and origins from Python: counts against the
+tessellator's own pattern, origins against the coarse corners, bad levels refused."""
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import tessella
+
+
+def icosphere():
+    here = pathlib.Path(__file__).resolve().parents[2]
+    return tessella.load(str(here / "samples" / "icosphere.obj"))
+
+
+def test_fractional_level_gives_the_tessellators_triangles_on_every_face():
+    v, f, n = icosphere()
+    rv, rf, rn = tessella.refine(v, f, n, spacing="fractional-odd", level=5.5, backend="cpu")
+    # Every face gets the same pattern: the level-5.5 fractional-odd triangles.
+    assert rf.shape[1] == 3 and rf.dtype == np.uint32
+    assert len(rf) % len(f) == 0
+    per_face = len(rf) // len(f)
+    assert per_face > 25  # more than the grid's 5**2, fewer than 7**2 * 3 / 2
+    assert per_face < 74
+    assert np.allclose(np.linalg.norm(rn, axis=1), 1, atol=1e-5)
+
+
+def test_origin_returns_a_result_object_whose_corners_are_the_coarse_vertices():
+    v, f, n = icosphere()
+    for weld in (True, False):
+        r = tessella.refine(v, f, n, level=4, origin=True, weld=weld)
+        assert isinstance(r, tessella.RefineResult)
+        assert r.face.shape == (len(r.vertices),) and r.bary.shape == (len(r.vertices), 3)
+        rv, rf, rn = tessella.refine(v, f, n, level=4, weld=weld)
+        assert np.array_equal(r.faces, rf)
+        assert np.array_equal(r.vertices, rv)
+        corners = np.isclose(r.bary.max(axis=1), 1.0)
+        idx = f[r.face[corners], np.argmax(r.bary[corners], axis=1)]
+        assert np.array_equal(r.vertices[corners], v[idx].astype(np.float32))
+        # A flat refinement is exactly its barycentric interpolation.
+        flat = tessella.refine(v, f, n, scheme="flat", level=3, origin=True, weld=weld)
+        expect = np.einsum("ij,ijk->ik", flat.bary, v[f[flat.face]].astype(np.float64))
+        assert np.allclose(flat.vertices, expect, atol=1e-6)
+
+
+def test_lod_strings_and_dicts_agree():
+    v, f, n = icosphere()
+    a = tessella.refine(v, f, n, lod="tolerance:0.001")
+    b = tessella.refine(v, f, n, lod={"kind": "tolerance", "max_deviation": 0.001})
+    assert np.array_equal(a[1], b[1])
+    cam = (0, 0, 3, 0, 0, 0, 45)
+    s = tessella.refine(v, f, n, lod="screen:10", camera=cam, size=(640, 480), spacing="fractional-even")
+    d = tessella.refine(v, f, n, lod={"kind": "distance", "near": 2, "far": 4, "max": 12}, camera=cam)
+    assert len(s[1]) > 0 and len(d[1]) > 0
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(level=-1.0, spacing="equal"), "finite numbers above 0"),
+        (dict(level=float("nan"), spacing="fractional-odd"), "finite numbers above 0"),
+        (dict(level=2.5), "fractional"),
+        (dict(lod="tolerance:0"), "above 0"),
+        (dict(lod="screen:4", size=(10, 10)), "camera"),
+        (dict(lod="screen:4", camera=(0, 0, 3, 0, 0, 0, 0), size=(10, 10)), "field of view"),
+        (dict(lod={"kind": "wobbly"}), "lod kind"),
+        (dict(spacing="hexagonal", level=3.0), "unknown spacing"),
+    ],
+)
+def test_bad_levels_are_value_errors(kwargs, match):
+    v, f, n = icosphere()
+    with pytest.raises(ValueError, match=match):
+        tessella.refine(v, f, n, **kwargs)
