@@ -246,7 +246,18 @@ impl GpuEvaluator {
         };
         ctx.scoped(|| {
             let pipelines = Pipelines::new(ctx);
-            let patches = PatchBuffers::new(ctx, plan.stencil(), &blank, &options.displacement)?;
+            let patches = PatchBuffers::new(
+                ctx,
+                plan.stencil(),
+                &blank,
+                &options.displacement,
+                &crate::canonical::edge_table(
+                    basis,
+                    plan.pattern(),
+                    plan.triangles(),
+                    &plan.topology().position_ids,
+                ),
+            )?;
             let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
             let copy = wgpu::BufferUsages::COPY_DST;
             let none = wgpu::BufferUsages::empty();

@@ -83,7 +83,9 @@ pub struct RenderUniforms {
     /// (thinner on small triangles; the pattern's own edges are thin shades of the surface).
     pub wire_color: [f32; 4],
     /// x: wireframe on, y: pattern level (set by the renderer), z: facet normals from screen
-    /// derivatives (for displaced surfaces), w: unused.
+    /// derivatives (for displaced surfaces), w: `1 << 24 | r | g << 8 | b << 16` paints back
+    /// faces in that sRGB colour (the inside of a closed surface seen through a crack), 0
+    /// shades them like front faces.
     pub flags: [u32; 4],
 }
 const _: () = assert!(size_of::<RenderUniforms>() == 144);

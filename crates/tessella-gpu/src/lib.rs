@@ -57,6 +57,7 @@
 //! software Vulkan adapter ([`AdapterChoice::Software`]); the tests run on it and fail (not
 //! skip) without it.
 
+mod canonical;
 mod context;
 mod displace;
 mod error;

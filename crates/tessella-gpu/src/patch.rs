@@ -50,6 +50,7 @@ pub(crate) fn layout(ctx: &GpuContext, visibility: wgpu::ShaderStages) -> wgpu::
                 uniform(3),
                 uniform(4),
                 storage(5),
+                storage(6),
             ],
         })
 }
@@ -62,6 +63,8 @@ pub(crate) struct PatchBuffers {
     pub eval: wgpu::Buffer,
     pub displace: wgpu::Buffer,
     pub displace_data: wgpu::Buffer,
+    /// The canonical edge table (`crate::canonical`), fixed per plan.
+    pub edges: wgpu::Buffer,
     /// Byte offset of the face records in `displace_data`; `None` without displacement.
     displace_faces_at: Option<u64>,
     pub face_count: u32,
@@ -73,11 +76,13 @@ impl PatchBuffers {
         stencil: &Stencil,
         nets: &PatchNets,
         displacement: &Displacement,
+        edges: &[u32],
     ) -> Result<PatchBuffers, GpuError> {
         let limit = ctx.max_binding();
         for (what, bytes) in [
             ("the pattern's stencil", stencil.weights.len() as u64 * 4),
             ("the control nets", nets.points.len() as u64 * 12),
+            ("the canonical edge table", edges.len() as u64 * 4),
         ] {
             if bytes > limit {
                 return Err(GpuError::TooLarge { what, bytes, limit });
@@ -109,6 +114,11 @@ impl PatchBuffers {
             eval: uniform("eval params", bytemuck::bytes_of(&eval)),
             displace: uniform("displace params", bytemuck::bytes_of(&dparams)),
             displace_data: ctx.storage_buffer("displace data", bytemuck::cast_slice(&ddata), copy),
+            edges: ctx.storage_buffer(
+                "canonical edges",
+                bytemuck::cast_slice(edges),
+                wgpu::BufferUsages::empty(),
+            ),
             displace_faces_at: (dparams.faces_at != displace::NO_FACES)
                 .then_some(dparams.faces_at as u64 * 4),
             face_count: nets.len() as u32,
@@ -155,6 +165,7 @@ impl PatchBuffers {
             &self.eval,
             &self.displace,
             &self.displace_data,
+            &self.edges,
         ]
         .iter()
         .map(|b| b.size())
@@ -169,6 +180,7 @@ impl PatchBuffers {
             &self.eval,
             &self.displace,
             &self.displace_data,
+            &self.edges,
         ];
         let entries: Vec<_> = buffers
             .iter()

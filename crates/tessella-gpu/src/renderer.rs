@@ -252,7 +252,14 @@ impl PatternRenderer {
         };
         ctx.scoped(|| {
             let pipelines = Pipelines::new(ctx, formats);
-            let patches = PatchBuffers::new(ctx, plan.stencil(), frame.nets(), displacement)?;
+            let edges = crate::canonical::edge_table(
+                plan.options().scheme.basis(),
+                pattern,
+                plan.triangles(),
+                &plan.topology().position_ids,
+            );
+            let patches =
+                PatchBuffers::new(ctx, plan.stencil(), frame.nets(), displacement, &edges)?;
             let position_ids = patches
                 .displaced()
                 .then(|| plan.topology().position_ids.clone());

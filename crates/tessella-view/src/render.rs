@@ -35,6 +35,9 @@ pub struct RenderOptions {
     pub color: [u8; 3],
     /// Displacement applied in the vertex shader.
     pub displacement: Displacement,
+    /// Paint back faces in this sRGB colour instead of shading them: on a closed surface they
+    /// show only through cracks (a crack finder).
+    pub back_color: Option<[u8; 3]>,
 }
 
 impl Default for RenderOptions {
@@ -48,6 +51,7 @@ impl Default for RenderOptions {
             background: [255, 255, 255, 255],
             color: [120, 160, 215],
             displacement: Displacement::None,
+            back_color: None,
         }
     }
 }
@@ -179,7 +183,9 @@ pub fn scene_uniforms(mesh: &Mesh, options: &RenderOptions, reach: f32) -> Rende
             options.wireframe as u32,
             0,
             options.displacement.is_some() as u32,
-            0,
+            options.back_color.map_or(0, |[r, g, b]| {
+                1 << 24 | r as u32 | (g as u32) << 8 | (b as u32) << 16
+            }),
         ],
     }
 }

@@ -15,8 +15,13 @@ struct EvalParams {
 @group(0) @binding(1) var<storage, read> net_points: array<f32>;
 @group(0) @binding(2) var<storage, read> net_normals: array<f32>;
 @group(0) @binding(3) var<uniform> eval_params: EvalParams;
+// Canonical edges (crate::canonical): boundary control points per edge, per pattern row its
+// edge and both directions' weights, per face which edges run canonically.
+@group(0) @binding(6) var<storage, read> edge_table: array<u32>;
 
 const NORMAL_NET_LEN: u32 = 6u;
+const EDGE_ROWS_AT: u32 = 22u;
+const EDGE_ROW_LEN: u32 = 15u;
 const MODE_REAL: u32 = 2u;
 
 struct SurfacePoint {
@@ -74,5 +79,37 @@ fn eval_patch(face: u32, row: u32) -> SurfacePoint {
     }
     let l0 = base + 3u * k + NORMAL_NET_LEN;
     out.l = vec3<f32>(stencil[l0], stencil[l0 + 1u], stencil[l0 + 2u]);
+    canonical_edge(face, row, &out);
     return out;
+}
+
+// A point on coarse edge k is evaluated from the edge's own four control points (and three
+// normal-net entries) in canonical order, from the corner with the lower position id, with
+// weights made on the CPU: the two faces sharing the edge compute the same floats in the same
+// order, so its vertices are bit-identical. "Real" normals stay the face's own.
+fn canonical_edge(face: u32, row: u32, out: ptr<function, SurfacePoint>) {
+    let r = EDGE_ROWS_AT + row * EDGE_ROW_LEN;
+    let code = edge_table[r];
+    if (code == 0u) {
+        return;
+    }
+    let k = code - 1u;
+    let forward = ((edge_table[edge_table[0] + face] >> k) & 1u) != 0u;
+    let w = r + 1u + select(7u, 0u, forward);
+    var p = vec3<f32>(0.0);
+    for (var i = 0u; i < 4u; i++) {
+        let c = edge_table[1u + k * 4u + select(3u - i, i, forward)];
+        p += bitcast<f32>(edge_table[w + i]) * net_point(face, c);
+    }
+    (*out).position = p;
+    if (eval_params.normal_mode != MODE_REAL) {
+        var n = vec3<f32>(0.0);
+        for (var i = 0u; i < 3u; i++) {
+            let c = edge_table[13u + k * 3u + select(2u - i, i, forward)];
+            n += bitcast<f32>(edge_table[w + 4u + i]) * net_normal(face, c);
+        }
+        if (dot(n, n) > 0.0) {
+            (*out).normal = normalize(n);
+        }
+    }
 }

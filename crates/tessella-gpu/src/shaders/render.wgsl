@@ -10,7 +10,9 @@ struct RenderUniforms {
     light_dir: vec4<f32>,
     base_color: vec4<f32>,
     wire_color: vec4<f32>, // coarse edges; a: their largest half-width in pixels
-    flags: vec4<u32>,      // x: wireframe, y: pattern level, z: facet normals
+    flags: vec4<u32>,      // x: wireframe, y: pattern level, z: facet normals,
+                           // w: 1 << 24 | sRGB8 colour of back faces (the inside seen through
+                           //    a crack), 0: back faces shaded like front ones
 }
 
 @group(1) @binding(0) var<uniform> u: RenderUniforms;
@@ -103,6 +105,11 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
         let dist = min(coarse_d.x, min(coarse_d.y, coarse_d.z));
         let line = 1.0 - smoothstep(half - 0.5, half + 0.5, dist);
         color = mix(color, u.wire_color.rgb, line);
+    }
+    if (!front && u.flags.w != 0u) {
+        let c = vec3<f32>(f32(u.flags.w & 255u), f32((u.flags.w >> 8u) & 255u), f32((u.flags.w >> 16u) & 255u)) / 255.0;
+        // sRGB to linear (the target re-encodes).
+        color = select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
     }
     return vec4<f32>(color, 1.0);
 }
