@@ -268,7 +268,7 @@ pub struct AnimateArgs {
 #[derive(Debug, Args)]
 pub struct TagArgs {
     /// Sidecar JSON with per-edge sharpness and per-vertex tension/sharpness/bias/crease
-    /// (format: `tessella_core::tags` docs and the README). PLY inputs may carry the same as
+    /// (format: `tessella_io::tags` docs and the README). PLY inputs may carry the same as
     /// vertex properties and an `edge` element.
     #[arg(long = "tags", value_name = "FILE")]
     pub file: Option<PathBuf>,
