@@ -49,6 +49,8 @@
 mod atomic;
 mod error;
 mod format;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod gltf;
 mod height_map;
 pub mod obj;

@@ -32,6 +32,7 @@ pub fn read(path: &Path, bytes: &[u8], format: &'static str) -> Result<RawMesh, 
         format,
         message,
     };
+    check_glb_header(bytes).map_err(parse)?;
     let Gltf { document, blob } = Gltf::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
     let buffers = load_buffers(path, &document, blob, format)?;
     let mut raw = RawMesh::default();
@@ -136,6 +137,28 @@ fn merge_attribute<T>(all: &mut Option<Vec<T>>, primitive: Option<Vec<T>>) {
         (Some(all), Some(values)) => all.extend(values),
         _ => *all = None,
     }
+}
+
+/// Checks the 12-byte GLB header's total length before the `gltf` crate reads it: that crate
+/// subtracts the header size from the declared length unchecked (an overflow panic in debug
+/// builds for a declared length under 12; found by `fuzz/fuzz_targets/gltf.rs`).
+fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let Some(length) = bytes.get(8..12) else {
+        return Err(format!(
+            "the GLB header is cut short ({} of 12 bytes)",
+            bytes.len()
+        ));
+    };
+    let length = u32::from_le_bytes([length[0], length[1], length[2], length[3]]);
+    if length < 12 {
+        return Err(format!(
+            "the GLB header declares a total length of {length} bytes, less than the header itself"
+        ));
+    }
+    Ok(())
 }
 
 /// Meshes to read with their world transforms.
@@ -338,11 +361,31 @@ fn load_uri(path: &Path, uri: &str, format: &'static str) -> Result<Vec<u8>, IoE
             message: format!("buffer URI {uri:?} is not a data: URI or a relative file path"),
         });
     }
-    let file = path
-        .parent()
-        .unwrap_or(Path::new(""))
-        .join(percent_decode(uri));
-    std::fs::read(&file).map_err(|source| IoError::Read { path: file, source })
+    let relative = percent_decode(uri);
+    let unsupported = |message: String| IoError::Unsupported {
+        path: path.to_path_buf(),
+        format,
+        message,
+    };
+    if Path::new(&relative).has_root() || relative.starts_with('\\') || relative.contains(':') {
+        return Err(unsupported(format!(
+            "buffer URI {uri:?} is not a data: URI or a relative file path"
+        )));
+    }
+    let file = path.parent().unwrap_or(Path::new("")).join(relative);
+    let cannot_read = |source| IoError::Read {
+        path: file.clone(),
+        source,
+    };
+    // Only regular files: a device or a pipe could block or never end.
+    let metadata = std::fs::metadata(&file).map_err(cannot_read)?;
+    if !metadata.is_file() {
+        return Err(unsupported(format!(
+            "buffer file {} is not a regular file",
+            file.display()
+        )));
+    }
+    std::fs::read(&file).map_err(cannot_read)
 }
 
 /// Decodes `%XX` escapes of a relative URI (glTF 2.0 spec, section 3.1 "URIs").
