@@ -204,14 +204,23 @@ pub fn levels(
     match lod {
         Lod::Tolerance { max_deviation } => {
             let d = *max_deviation as f64;
+            let faces: Vec<f32> = (0..mesh.face_count())
+                .map(|f| cap(interior_level(nets, f, d)))
+                .collect();
+            // An edge also takes the smaller interior level of the faces beside it: triangles
+            // along it span its segments, so the edge curve alone does not bound them.
+            let mut beside = vec![f32::INFINITY; ne];
+            for (f, fe) in topology.face_edges.iter().enumerate() {
+                for &e in fe {
+                    beside[e as usize] = beside[e as usize].min(faces[f]);
+                }
+            }
             let edges = (0..ne)
                 .map(|e| {
                     let c = edge_curve(mesh, topology, nets, e);
                     cap(edge_level_for(curve_second_difference(&c), d))
+                        .max(beside[e].min(MAX_LOD_GRID_LEVEL))
                 })
-                .collect();
-            let faces = (0..mesh.face_count())
-                .map(|f| cap(interior_level(nets, f, d)))
                 .collect();
             Ok((edges, Some(faces)))
         }
