@@ -168,7 +168,7 @@ pub struct RefineArgs {
     #[arg(long)]
     pub write_origin: bool,
     /// Phong shape factor: 0 is flat, 1 the full projection.
-    #[arg(long, default_value_t = 0.75)]
+    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_negative_numbers = true)]
     pub alpha: f32,
     /// How refined normals are made (default: the scheme's own).
     #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
@@ -211,7 +211,7 @@ pub struct RenderArgs {
     #[arg(short, long, default_value_t = 16)]
     pub level: u32,
     /// Phong shape factor.
-    #[arg(long, default_value_t = 0.75)]
+    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_negative_numbers = true)]
     pub alpha: f32,
     /// How normals are made (default: the scheme's own).
     #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
@@ -373,6 +373,21 @@ pub struct BenchArgs {
 }
 
 /// Parses `800x600`.
+/// Phong's shape factor: any finite number (NaN and infinities are refused here, whatever the
+/// scheme, as the Python package refuses them).
+pub fn parse_alpha(text: &str) -> Result<f32, String> {
+    let alpha: f32 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if !alpha.is_finite() {
+        return Err(format!(
+            "alpha must be finite (usually within 0..=1), got {text}"
+        ));
+    }
+    Ok(alpha)
+}
+
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let bad = || format!("'{text}' is not a size like 800x600");
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
