@@ -51,11 +51,7 @@ pub struct Refiner {
 
 /// An array `out=` names, checked: float32, `(vertices, 3)`, C-contiguous (writable is checked
 /// when it is borrowed for writing, [`borrow_error`]).
-fn check_out<'py>(
-    obj: &Bound<'py, PyAny>,
-    what: &str,
-    vertices: usize,
-) -> PyResult<F32Array<'py>> {
+fn check_out<'py>(obj: &Bound<'py, PyAny>, what: &str, vertices: usize) -> PyResult<F32Array<'py>> {
     let a = obj.cast::<PyArray2<f32>>().map_err(|_| {
         let got = match obj.cast::<numpy::PyUntypedArray>() {
             Ok(u) => format!(
@@ -66,13 +62,11 @@ fn check_out<'py>(
                     .map(|s| s.to_string())
                     .unwrap_or_else(|_| "?".into())
             ),
-            Err(_) => format!(
-                "{}",
-                obj.get_type()
-                    .name()
-                    .map(|n| n.to_string())
-                    .unwrap_or_else(|_| "?".into())
-            ),
+            Err(_) => obj
+                .get_type()
+                .name()
+                .map(|n| n.to_string())
+                .unwrap_or_else(|_| "?".into()),
         };
         PyValueError::new_err(format!(
             "out {what} must be a float32 numpy array of shape ({vertices}, 3), got {got}; \

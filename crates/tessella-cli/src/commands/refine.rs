@@ -11,8 +11,15 @@ use tessella_core::{RefineOptions, RefinedMesh, Refiner};
 use tessella_io::{write_mesh, Format, MeshView, WriteOptions};
 
 pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
-    // Refuse an unknown output format before doing any work.
+    // Refuse an unknown output format, or an output that is the input, before doing any work.
     Format::from_path(&args.output)?;
+    if same_file(&args.input, &args.output) {
+        anyhow::bail!(
+            "the output {} is the input file {}; refusing to replace it, give another output path",
+            args.output.display(),
+            args.input.display()
+        );
+    }
     let (raw, mesh) = tags::read(&args.input)?;
     let scheme = args.scheme.scheme(args.alpha);
     let mut options = levels(args, scheme)?.with_weld(!args.soup);
@@ -92,6 +99,36 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
         super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
     }
     Ok(())
+}
+
+/// Whether writing `output` would replace `input`, however the two are spelled: `./`, `..`,
+/// symbolic links (to the file or to a folder on its path) and, on Unix, hard links. The output
+/// need not exist yet: then its folder is resolved and its name compared.
+pub fn same_file(input: &std::path::Path, output: &std::path::Path) -> bool {
+    let Ok(input) = std::fs::canonicalize(input) else {
+        // An input that cannot be resolved cannot be read either; reading says why.
+        return false;
+    };
+    if let (Ok(a), Ok(b)) = (std::fs::metadata(&input), std::fs::metadata(output)) {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            if (a.dev(), a.ino()) == (b.dev(), b.ino()) {
+                return true;
+            }
+        }
+        #[cfg(not(unix))]
+        let _ = (a, b);
+    }
+    let resolved = std::fs::canonicalize(output).or_else(|_| {
+        let folder = match output.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => std::path::Path::new("."),
+        };
+        let name = output.file_name().ok_or(std::io::ErrorKind::NotFound)?;
+        std::fs::canonicalize(folder).map(|f| f.join(name))
+    });
+    resolved.is_ok_and(|output| output == input)
 }
 
 /// The options' levels from `--level`, `--spacing`, `--lod`, `--camera` and `--size`.
