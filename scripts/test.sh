@@ -43,6 +43,8 @@ if cmp -s "$frames/frame_000.png" "$frames/frame_001.png"; then
   exit 1
 fi
 rm -rf "$frames"
+echo "== python extension crate: fmt and clippy (its own cargo workspace)"
+(cd python && cargo fmt -- --check && cargo clippy --quiet -- -D warnings)
 if [ -f python/ci.sh ]; then
   echo "== python"
   bash python/ci.sh
