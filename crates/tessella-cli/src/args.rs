@@ -168,7 +168,7 @@ pub struct RefineArgs {
     #[arg(long)]
     pub write_origin: bool,
     /// Phong shape factor: 0 is flat, 1 the full projection.
-    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
     pub alpha: f32,
     /// How refined normals are made (default: the scheme's own).
     #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
@@ -207,16 +207,30 @@ pub struct RenderArgs {
     /// Surface built over each coarse triangle.
     #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
     pub scheme: SchemeArg,
-    /// Segments per coarse edge (the refinement pattern drawn for every triangle).
-    #[arg(short, long, default_value_t = 16)]
-    pub level: u32,
+    /// Segments per coarse edge (the refinement pattern drawn for every triangle). With a
+    /// tessellator --spacing a fractional level (e.g. 5.5), clamped to the spacing's range.
+    #[arg(short, long, default_value_t = 16.0, allow_negative_numbers = true)]
+    pub level: f64,
+    /// How levels divide each edge: grid, or the GPU tessellator's equal / fractional-odd /
+    /// fractional-even spacing.
+    #[arg(long, value_enum, default_value = "grid")]
+    pub spacing: SpacingArg,
+    /// Per-edge adaptive levels, as for `refine --lod`: `tolerance:D`, `screen:PX` (PX pixels
+    /// per refined edge in this picture) or `distance:NEAR,FAR,MAX`; screen and distance use
+    /// the picture's own camera unless --camera is given.
+    #[arg(long, value_name = "SPEC")]
+    pub lod: Option<String>,
+    /// Camera for --lod: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEG (default: the
+    /// picture's camera from --yaw, --pitch, --zoom).
+    #[arg(long, value_name = "EYE,TARGET,FOV", allow_hyphen_values = true)]
+    pub camera: Option<String>,
     /// Phong shape factor.
-    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
     pub alpha: f32,
     /// How normals are made (default: the scheme's own).
     #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
     pub normals: Option<NormalsArg>,
-    /// Picture size, WIDTHxHEIGHT (per panel with --compare).
+    /// Picture size, WIDTHxHEIGHT (of the whole picture with --compare: the panels share it).
     #[arg(long, default_value = "800x800", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Orbit the camera about the vertical axis, degrees.

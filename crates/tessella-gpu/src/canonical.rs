@@ -25,15 +25,16 @@ pub(crate) const ROWS_AT: usize = 22;
 /// `u32`s per pattern row.
 pub(crate) const ROW_LEN: usize = 15;
 
-/// The table for `pattern` on the faces `triangles` (vertex indices) whose vertices have
-/// `position_ids`.
+/// The table for `patterns` (their points numbered one after the other, as the stencil rows
+/// are) on the faces `triangles` (vertex indices) whose vertices have `position_ids`.
 pub(crate) fn edge_table(
     basis: Basis,
-    pattern: &Pattern,
+    patterns: &[&Pattern],
     triangles: &[[u32; 3]],
     position_ids: &[u32],
 ) -> Vec<u32> {
-    let faces_at = ROWS_AT + ROW_LEN * pattern.points.len();
+    let rows: usize = patterns.iter().map(|p| p.points.len()).sum();
+    let faces_at = ROWS_AT + ROW_LEN * rows;
     let mut table = Vec::with_capacity(faces_at + triangles.len());
     table.push(faces_at as u32);
     for k in 0..3 {
@@ -46,7 +47,10 @@ pub(crate) fn edge_table(
     let push = |table: &mut Vec<u32>, w: EdgeWeights| {
         table.extend(w.value.iter().chain(&w.normal).map(|x| x.to_bits()));
     };
-    for (l, class) in pattern.points.iter().zip(&pattern.classes) {
+    let points = patterns
+        .iter()
+        .flat_map(|p| p.points.iter().zip(&p.classes));
+    for (l, class) in points {
         match *class {
             PointClass::Edge { edge, .. } => {
                 let k = edge as usize;

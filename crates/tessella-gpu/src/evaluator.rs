@@ -215,6 +215,13 @@ impl GpuEvaluator {
         plan: &Plan,
         options: &GpuRefineOptions,
     ) -> Result<GpuEvaluator, GpuError> {
+        if plan.tiling().is_some() {
+            return Err(GpuError::BadOption(
+                "the GPU compute path refines uniform grid plans; adaptive and tessellator \
+                 levels refine on the CPU (PatternRenderer draws them)"
+                    .into(),
+            ));
+        }
         let has_uv = plan.has_uvs();
         options.displacement.validate(has_uv)?;
         let layout = plan.layout();
@@ -248,12 +255,12 @@ impl GpuEvaluator {
             let pipelines = Pipelines::new(ctx);
             let patches = PatchBuffers::new(
                 ctx,
-                plan.stencil(),
+                &plan.stencil().weights,
                 &blank,
                 &options.displacement,
                 &crate::canonical::edge_table(
                     basis,
-                    plan.pattern(),
+                    &[plan.pattern()],
                     plan.triangles(),
                     &plan.topology().position_ids,
                 ),

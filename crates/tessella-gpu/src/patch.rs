@@ -71,16 +71,18 @@ pub(crate) struct PatchBuffers {
 }
 
 impl PatchBuffers {
+    /// `stencil`: the weights rows of every pattern point drawn (`Stencil::weights`, or several
+    /// patterns' rows one after the other), `Stencil::stride_for(K)` floats each.
     pub fn new(
         ctx: &GpuContext,
-        stencil: &Stencil,
+        stencil: &[f32],
         nets: &PatchNets,
         displacement: &Displacement,
         edges: &[u32],
     ) -> Result<PatchBuffers, GpuError> {
         let limit = ctx.max_binding();
         for (what, bytes) in [
-            ("the pattern's stencil", stencil.weights.len() as u64 * 4),
+            ("the pattern's stencil", stencil.len() as u64 * 4),
             ("the control nets", nets.points.len() as u64 * 12),
             ("the canonical edge table", edges.len() as u64 * 4),
         ] {
@@ -91,7 +93,7 @@ impl PatchBuffers {
         let k = nets.basis.len() as u32;
         let eval = EvalParams {
             k,
-            stride: stencil.stride() as u32,
+            stride: Stencil::stride_for(nets.basis.len()) as u32,
             normal_mode: normal_mode_code(nets.normal_mode),
             face_count: nets.len() as u32,
         };
@@ -108,7 +110,7 @@ impl PatchBuffers {
         let uniform =
             |label, bytes: &[u8]| ctx.buffer_init(label, bytes, wgpu::BufferUsages::UNIFORM | copy);
         Ok(PatchBuffers {
-            stencil: ctx.storage_buffer("stencil", bytemuck::cast_slice(&stencil.weights), copy),
+            stencil: ctx.storage_buffer("stencil", bytemuck::cast_slice(stencil), copy),
             points: ctx.storage_buffer("net points", bytemuck::cast_slice(&nets.points), copy),
             normals: ctx.storage_buffer("net normals", bytemuck::cast_slice(&nets.normals), copy),
             eval: uniform("eval params", bytemuck::bytes_of(&eval)),

@@ -60,6 +60,11 @@ impl Pipelines {
                         wgpu::ShaderStages::VERTEX,
                         wgpu::BufferBindingType::Storage { read_only: true },
                     ),
+                    entry(
+                        2,
+                        wgpu::ShaderStages::VERTEX,
+                        wgpu::BufferBindingType::Storage { read_only: true },
+                    ),
                 ],
             });
         let module = ctx
@@ -196,10 +201,14 @@ pub struct PatternRenderer {
     patch_group: wgpu::BindGroup,
     uniforms: wgpu::Buffer,
     render_group: wgpu::BindGroup,
-    /// The pattern: one `u32` stencil row per point, and its triangles.
+    /// The patterns: one `u32` stencil row per point, and their triangles, one pattern after
+    /// the other (one for a uniform plan, one per distinct tile of an adaptive one).
     pattern_vertices: wgpu::Buffer,
     pattern_indices: wgpu::Buffer,
-    pattern_index_count: u32,
+    /// Per pattern: its index range and the instances (coarse faces) drawn with it.
+    draws: Vec<TileDraw>,
+    /// Instance → coarse face (faces grouped by pattern).
+    instance_faces: wgpu::Buffer,
     /// The pattern's triangles unrolled for the wireframe: three `row | corner << 30` each.
     wire_vertices: wgpu::Buffer,
     /// Set by [`PatternRenderer::set_uniforms`]: draw the unrolled triangles.
@@ -233,14 +242,7 @@ impl PatternRenderer {
         plan.check_frame(frame)?;
         let mesh = frame.mesh();
         displacement.validate(mesh.uvs().is_some())?;
-        let pattern = plan.pattern();
-        let rows: Vec<u32> = (0..pattern.points.len() as u32).collect();
-        let indices: Vec<u32> = pattern.triangles.iter().flatten().copied().collect();
-        let wire: Vec<u32> = pattern
-            .triangles
-            .iter()
-            .flat_map(|t| (0..3).map(move |c| t[c as usize] | c << 30))
-            .collect();
+        let tiles = Tiles::new(plan)?;
         let face_uvs: Vec<f32> = match mesh.uvs() {
             Some(uv) => mesh
                 .triangles()
@@ -254,12 +256,12 @@ impl PatternRenderer {
             let pipelines = Pipelines::new(ctx, formats);
             let edges = crate::canonical::edge_table(
                 plan.options().scheme.basis(),
-                pattern,
+                &tiles.patterns,
                 plan.triangles(),
                 &plan.topology().position_ids,
             );
             let patches =
-                PatchBuffers::new(ctx, plan.stencil(), frame.nets(), displacement, &edges)?;
+                PatchBuffers::new(ctx, &tiles.weights, frame.nets(), displacement, &edges)?;
             let position_ids = patches
                 .displaced()
                 .then(|| plan.topology().position_ids.clone());
@@ -269,17 +271,22 @@ impl PatternRenderer {
             let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
             let pattern_vertices = ctx.buffer_init(
                 "pattern vertices",
-                bytemuck::cast_slice(&rows),
+                bytemuck::cast_slice(&tiles.rows),
                 wgpu::BufferUsages::VERTEX,
             );
             let pattern_indices = ctx.buffer_init(
                 "pattern indices",
-                bytemuck::cast_slice(&indices),
+                bytemuck::cast_slice(&tiles.indices),
                 wgpu::BufferUsages::INDEX,
+            );
+            let instance_faces = ctx.storage_buffer(
+                "instance faces",
+                bytemuck::cast_slice(&tiles.instance_faces),
+                wgpu::BufferUsages::empty(),
             );
             let wire_vertices = ctx.buffer_init(
                 "pattern wireframe vertices",
-                bytemuck::cast_slice(&wire),
+                bytemuck::cast_slice(&tiles.wire),
                 wgpu::BufferUsages::VERTEX,
             );
             let face_uvs = ctx.storage_buffer(
@@ -293,19 +300,24 @@ impl PatternRenderer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let render_group = render_group(ctx, &pipelines.render_layout, &uniforms, &face_uvs);
+            let render_group = render_group(
+                ctx,
+                &pipelines.render_layout,
+                [&uniforms, &face_uvs, &instance_faces],
+            );
             Ok(PatternRenderer {
                 ctx: ctx.clone(),
                 pipelines,
                 shape: (plan.face_count(), plan.options().scheme.basis().len()),
-                level: plan.layout().level,
+                level: tiles.level,
                 patches,
                 patch_group,
                 uniforms,
                 render_group,
                 pattern_vertices,
                 pattern_indices,
-                pattern_index_count: indices.len() as u32,
+                draws: tiles.draws,
+                instance_faces,
                 wire_vertices,
                 wireframe: Default::default(),
                 face_uvs,
@@ -369,12 +381,16 @@ impl PatternRenderer {
         pass.set_bind_group(1, &self.render_group, &[]);
         if self.wireframe.load(std::sync::atomic::Ordering::Relaxed) {
             pass.set_vertex_buffer(0, self.wire_vertices.slice(..));
-            pass.draw(0..self.pattern_index_count, 0..self.patches.face_count);
+            for d in &self.draws {
+                pass.draw(d.indices.clone(), d.instances.clone());
+            }
             return;
         }
         pass.set_vertex_buffer(0, self.pattern_vertices.slice(..));
         pass.set_index_buffer(self.pattern_indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.pattern_index_count, 0, 0..self.patches.face_count);
+        for d in &self.draws {
+            pass.draw_indexed(d.indices.clone(), 0, d.instances.clone());
+        }
     }
 
     /// Records a draw of an already refined, indexed mesh with the same shading: `vertices`
@@ -401,11 +417,18 @@ impl PatternRenderer {
             + self.pattern_vertices.size()
             + self.pattern_indices.size()
             + self.wire_vertices.size()
+            + self.instance_faces.size()
             + self.face_uvs.size()
             + self.uniforms.size()
     }
 
-    /// Pattern vertices stored on the GPU: `(N+1)(N+2)/2` whatever the mesh.
+    /// Draw calls per frame: one per distinct pattern.
+    pub fn draw_count(&self) -> usize {
+        self.draws.len()
+    }
+
+    /// Pattern vertices stored on the GPU: `(N+1)(N+2)/2` whatever the mesh for a uniform plan,
+    /// the sum over the distinct tiles for an adaptive one.
     pub fn pattern_vertex_count(&self) -> u64 {
         self.pattern_vertices.size() / 4
     }
@@ -428,21 +451,118 @@ fn displacement_reach(displacement: &Displacement) -> f32 {
 fn render_group(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
-    uniforms: &wgpu::Buffer,
-    face_uvs: &wgpu::Buffer,
+    buffers: [&wgpu::Buffer; 3],
 ) -> wgpu::BindGroup {
+    let entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
     ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("render"),
         layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniforms.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: face_uvs.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     })
+}
+
+/// One instanced draw: a pattern's index range (or unrolled vertex range, the same numbers)
+/// and the instances (positions in `instance_faces`) that use it.
+#[derive(Debug, Clone)]
+struct TileDraw {
+    indices: std::ops::Range<u32>,
+    instances: std::ops::Range<u32>,
+}
+
+/// A plan's patterns laid out for drawing: a uniform plan's one pattern, or an adaptive plan's
+/// distinct tiles one after the other, with the faces grouped by tile.
+struct Tiles<'p> {
+    patterns: Vec<&'p tessella_core::Pattern>,
+    /// Stencil rows of every pattern, concatenated.
+    weights: Vec<f32>,
+    /// `0..rows`: the vertex buffer of the indexed draw.
+    rows: Vec<u32>,
+    /// Triangles as global rows.
+    indices: Vec<u32>,
+    /// Triangles unrolled, `row | corner << 30`.
+    wire: Vec<u32>,
+    instance_faces: Vec<u32>,
+    draws: Vec<TileDraw>,
+    /// Largest segment count.
+    level: u32,
+}
+
+impl<'p> Tiles<'p> {
+    fn new(plan: &'p Plan) -> Result<Tiles<'p>, GpuError> {
+        let faces = plan.face_count() as u32;
+        let (patterns, stencils, face_tile): (Vec<_>, Vec<_>, Vec<u32>) = match plan.tiling() {
+            None => (
+                vec![plan.pattern()],
+                vec![plan.stencil()],
+                vec![0; faces as usize],
+            ),
+            Some(t) => (
+                t.tiles.iter().map(|t| &t.pattern).collect(),
+                t.tiles.iter().map(|t| &t.stencil).collect(),
+                t.face_tile.clone(),
+            ),
+        };
+        // Faces grouped by tile, in face order within a tile.
+        let mut counts = vec![0u32; patterns.len()];
+        for &t in &face_tile {
+            counts[t as usize] += 1;
+        }
+        let mut starts: Vec<u32> = counts
+            .iter()
+            .scan(0, |acc, &c| {
+                let s = *acc;
+                *acc += c;
+                Some(s)
+            })
+            .collect();
+        let first_instance = starts.clone();
+        let mut instance_faces = vec![0u32; faces as usize];
+        for (f, &t) in face_tile.iter().enumerate() {
+            instance_faces[starts[t as usize] as usize] = f as u32;
+            starts[t as usize] += 1;
+        }
+        let rows_total: usize = patterns.iter().map(|p| p.points.len()).sum();
+        if rows_total >= 1 << 30 {
+            return Err(GpuError::TooLarge {
+                what: "the patterns' points",
+                bytes: rows_total as u64 * 4,
+                limit: (1u64 << 30) * 4,
+            });
+        }
+        let mut weights = Vec::new();
+        let (mut indices, mut wire, mut draws) = (Vec::new(), Vec::new(), Vec::new());
+        let mut row0 = 0u32;
+        for (t, (pattern, stencil)) in patterns.iter().zip(&stencils).enumerate() {
+            weights.extend_from_slice(&stencil.weights);
+            let start = indices.len() as u32;
+            for tri in &pattern.triangles {
+                indices.extend(tri.map(|p| p + row0));
+                wire.extend((0..3u32).map(|c| (tri[c as usize] + row0) | c << 30));
+            }
+            if counts[t] > 0 && !pattern.triangles.is_empty() {
+                draws.push(TileDraw {
+                    indices: start..indices.len() as u32,
+                    instances: first_instance[t]..first_instance[t] + counts[t],
+                });
+            }
+            row0 += pattern.points.len() as u32;
+        }
+        Ok(Tiles {
+            level: patterns.iter().map(|p| p.level).max().unwrap_or(1),
+            rows: (0..row0).collect(),
+            patterns,
+            weights,
+            indices,
+            wire,
+            instance_faces,
+            draws,
+        })
+    }
 }

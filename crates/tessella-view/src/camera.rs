@@ -3,7 +3,7 @@
 use glam::{Mat4, Vec3, Vec4};
 
 /// Vertical field of view.
-const FOV_Y_DEGREES: f32 = 30.0;
+pub(crate) const FOV_Y_DEGREES: f32 = 30.0;
 
 /// Where the camera is and how it projects.
 #[derive(Debug, Clone, Copy)]

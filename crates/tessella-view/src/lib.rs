@@ -26,7 +26,9 @@ pub mod font;
 mod render;
 
 pub use image::RgbaImage;
-pub use render::{panel_widths, render, render_compare, scene_uniforms, RenderOptions, Target};
+pub use render::{
+    lod_camera, panel_widths, render, render_compare, scene_uniforms, RenderOptions, Target,
+};
 pub use tessella_gpu::{GpuError, PatternRenderer};
 
 /// Writes `image` as a PNG to a temporary file beside `path`, then renames it into place, so

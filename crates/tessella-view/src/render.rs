@@ -157,6 +157,26 @@ pub fn panel_widths(total: u32, n: usize) -> Option<Vec<u32>> {
     (base > 0).then(|| (0..n).map(|i| base + u32::from(i < extra)).collect())
 }
 
+/// The camera [`render`] views `mesh` with, for the view-dependent LOD functions
+/// (`Lod::Screen`, `Lod::Distance`): levels then follow what this very picture shows.
+pub fn lod_camera(mesh: &Mesh, options: &RenderOptions) -> tessella_core::refine::Camera {
+    let (center, radius) = bounding_sphere(mesh.positions());
+    let (w, h) = options.size;
+    let cam = Camera::framing(
+        center,
+        radius * 1.2,
+        options.yaw,
+        options.pitch,
+        options.zoom,
+        w.max(1) as f32 / h.max(1) as f32,
+    );
+    tessella_core::refine::Camera {
+        eye: cam.eye.into(),
+        target: center.into(),
+        fov_y_deg: crate::camera::FOV_Y_DEGREES,
+    }
+}
+
 /// Uniforms for a view of `mesh` framed by its bounding sphere grown by `reach` (how far
 /// displacement can move a point).
 pub fn scene_uniforms(mesh: &Mesh, options: &RenderOptions, reach: f32) -> RenderUniforms {

@@ -2,31 +2,39 @@
 //! instanced refinement pattern per coarse triangle, evaluated in the vertex shader).
 
 use super::{gpu, tags};
-use crate::args::RenderArgs;
+use crate::args::{RenderArgs, SpacingArg};
 use anyhow::Context;
-use tessella_core::RefineOptions;
-use tessella_view::{render, render_compare, save_png, RenderOptions};
+use tessella_core::refine::{Camera, Levels, Lod, Spacing};
+use tessella_core::{Mesh, RefineOptions};
+use tessella_view::{lod_camera, render, render_compare, save_png, RenderOptions};
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (raw, mesh) = tags::read(&args.input)?;
     let displacement = super::displace::parse(args.displace.as_deref())?;
-    let options_for = |scheme: crate::args::SchemeArg| -> anyhow::Result<RefineOptions> {
-        let scheme = scheme.scheme(args.alpha);
-        let mut options = RefineOptions::new(scheme, args.level);
-        options.normals = args.normals.map(Into::into);
-        if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
-            options = options.with_tags(tags);
-        }
-        Ok(options)
-    };
     let view = RenderOptions {
         size: args.size,
         yaw: args.yaw,
         pitch: args.pitch,
         zoom: args.zoom,
         wireframe: args.wireframe,
-        displacement,
+        displacement: displacement.clone(),
         ..RenderOptions::default()
+    };
+    let levels = levels(args, &mesh, &view)?;
+    if displacement.is_some() && levels.levels.is_some() {
+        anyhow::bail!("--displace works with uniform grid levels; drop --lod, --spacing or the fractional --level");
+    }
+    let options_for = |scheme: crate::args::SchemeArg| -> anyhow::Result<RefineOptions> {
+        let scheme = scheme.scheme(args.alpha);
+        let mut options = RefineOptions {
+            scheme,
+            ..levels.clone()
+        };
+        options.normals = args.normals.map(Into::into);
+        if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
+            options = options.with_tags(tags);
+        }
+        Ok(options)
     };
     let ctx = gpu::render_context()?;
     let picture = if args.compare.is_empty() {
@@ -42,13 +50,59 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     save_png(&picture, &args.output)
         .with_context(|| format!("cannot write {}", args.output.display()))?;
     eprintln!(
-        "{} -> {} ({}x{}, level {}, {})",
+        "{} -> {} ({}x{}, {} level {}{}, {})",
         args.input.display(),
         args.output.display(),
         picture.width(),
         picture.height(),
+        levels.spacing,
         args.level,
+        args.lod
+            .as_deref()
+            .map_or(String::new(), |l| format!(", lod {l}")),
         ctx.adapter_label()
     );
     Ok(())
+}
+
+/// The options' spacing and levels from `--level`, `--spacing`, `--lod` and `--camera`; the
+/// view-dependent LODs see the picture's own camera and size unless `--camera` is given.
+fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Result<RefineOptions> {
+    let spacing = match args.spacing {
+        SpacingArg::Grid => Spacing::Grid,
+        SpacingArg::Equal => Spacing::Equal,
+        SpacingArg::FractionalOdd => Spacing::FractionalOdd,
+        SpacingArg::FractionalEven => Spacing::FractionalEven,
+    };
+    let level = args.level;
+    let whole =
+        level.is_finite() && level >= 0.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
+    let options = RefineOptions::new(
+        tessella_core::Scheme::Pn,
+        if whole { level as u32 } else { 1 },
+    )
+    .with_spacing(spacing);
+    if let Some(spec) = &args.lod {
+        let camera = match args.camera.as_deref() {
+            Some(text) => Camera::parse(text)?,
+            None => lod_camera(mesh, view),
+        };
+        let (w, h) = view.size;
+        let lod = Lod::parse(spec, Some(camera), Some([w, h]))?;
+        return Ok(options.with_levels(Levels::Lod(lod)));
+    }
+    if args.camera.is_some() {
+        anyhow::bail!("--camera serves --lod screen:PX and distance:NEAR,FAR,MAX; add --lod");
+    }
+    if !level.is_finite() || level <= 0.0 {
+        anyhow::bail!("--level {level}: levels must be finite numbers above 0");
+    }
+    match (spacing, whole) {
+        (Spacing::Grid, true) => Ok(options),
+        (Spacing::Grid, false) => anyhow::bail!(
+            "--level {level} is fractional: the grid takes whole numbers; use --spacing fractional-odd or fractional-even for fractional levels, or --lod"
+        ),
+        // Above the tessellator's maximum (64; 63 for fractional-odd) levels are clamped.
+        _ => Ok(options.with_levels(Levels::Uniform(level as f32))),
+    }
 }

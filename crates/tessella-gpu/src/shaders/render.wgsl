@@ -18,6 +18,8 @@ struct RenderUniforms {
 @group(1) @binding(0) var<uniform> u: RenderUniforms;
 // Per coarse triangle: its three corners' texture coordinates (6 floats), for height maps.
 @group(1) @binding(1) var<storage, read> face_uvs: array<f32>;
+// Instance -> coarse triangle (faces grouped by pattern, one draw per pattern).
+@group(1) @binding(2) var<storage, read> instance_faces: array<u32>;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -31,7 +33,8 @@ struct VsOut {
 // A pattern vertex: its stencil row, and in the top two bits its corner in the pattern triangle
 // (the wireframe draw lists every triangle's three corners; the indexed draw leaves them 0).
 @vertex
-fn vs_pattern(@location(0) code: u32, @builtin(instance_index) face: u32) -> VsOut {
+fn vs_pattern(@location(0) code: u32, @builtin(instance_index) instance: u32) -> VsOut {
+    let face = instance_faces[instance];
     let row = code & 0x3fffffffu;
     let corner = code >> 30u;
     let sp = eval_patch(face, row);

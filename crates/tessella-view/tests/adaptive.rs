@@ -1,0 +1,156 @@
+//! Tessellator spacings and adaptive levels in the instanced renderer: one draw per distinct
+//! pattern, the faces of each as instances. The picture is compared with the CPU's refinement of
+//! the same plan drawn as a plain vertex buffer (`PatternRenderer::draw_refined`, no stencil on
+//! the GPU): the two must cover the same pixels with the same colours, up to rasterisation.
+
+mod common;
+
+use common::ctx;
+use image::RgbaImage;
+use std::sync::Arc;
+use tessella_core::refine::{Levels, Plan, Spacing};
+use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
+use tessella_gpu::{Displacement, GpuEvaluator, PatternRenderer};
+use tessella_view::{scene_uniforms, RenderOptions, Target};
+use wgpu::util::DeviceExt;
+
+fn view() -> RenderOptions {
+    RenderOptions {
+        size: (160, 160),
+        ..Default::default()
+    }
+}
+
+/// The instanced picture and the CPU-refined picture of `options`, and the renderer's draws.
+fn both(mesh: &Mesh, options: &RefineOptions) -> (RgbaImage, RgbaImage, usize) {
+    let plan = Plan::new(mesh, options).unwrap();
+    let frame = plan.frame(mesh).unwrap();
+    let renderer =
+        PatternRenderer::new(ctx(), &plan, &frame, &Target::FORMATS, &Displacement::None).unwrap();
+    renderer.set_uniforms(&scene_uniforms(mesh, &view(), 0.0));
+    let target = Target::new(ctx(), view().size).unwrap();
+    target
+        .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+        .unwrap();
+    let instanced = target.read(ctx()).unwrap();
+
+    let cpu = refine(mesh, options).unwrap();
+    let vertices: Vec<f32> = cpu
+        .positions
+        .iter()
+        .zip(&cpu.normals)
+        .flat_map(|(p, n)| p.iter().chain(n).copied())
+        .collect();
+    let indices: Vec<u32> = cpu.triangles.iter().flatten().copied().collect();
+    let init = |contents: &[u8], usage| {
+        ctx()
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents,
+                usage,
+            })
+    };
+    let vb = init(bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX);
+    let ib = init(bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
+    target
+        .draw(ctx(), [255; 4], |pass| {
+            renderer.draw_refined(
+                pass,
+                vb.slice(..),
+                ib.slice(..),
+                wgpu::IndexFormat::Uint32,
+                indices.len() as u32,
+            )
+        })
+        .unwrap();
+    let reference = target.read(ctx()).unwrap();
+    (instanced, reference, renderer.draw_count())
+}
+
+fn differing(a: &RgbaImage, b: &RgbaImage) -> usize {
+    a.pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 12))
+        .count()
+}
+
+fn covered(a: &RgbaImage) -> usize {
+    a.pixels().filter(|p| p.0[..3] != [255; 3]).count()
+}
+
+#[test]
+fn tessellator_spacings_draw_the_cpu_surface() {
+    let mesh = samples::icosphere(1);
+    // The tolerance tells patterns apart: levels 2.5 and 3.5 differ in far more pixels.
+    let at = |level| {
+        let options = RefineOptions::new(Scheme::Pn, 1)
+            .with_spacing(Spacing::FractionalOdd)
+            .with_levels(Levels::Uniform(level));
+        both(&mesh, &options).0
+    };
+    let apart = differing(&at(2.5), &at(3.5));
+    assert!(
+        apart > 200,
+        "levels 2.5 and 3.5 differ in only {apart} pixels"
+    );
+    for spacing in [
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ] {
+        for level in [1.0, 2.5, 5.5, 63.9, 500.0] {
+            let options = RefineOptions::new(Scheme::Pn, 1)
+                .with_spacing(spacing)
+                .with_levels(Levels::Uniform(level));
+            let (instanced, reference, draws) = both(&mesh, &options);
+            let what = format!("{spacing:?} level {level}");
+            // Uniform levels: one pattern, one draw.
+            assert_eq!(draws, 1, "{what}");
+            assert!(covered(&reference) > 5000, "{what}: blank reference");
+            let d = differing(&instanced, &reference);
+            assert!(d <= 40, "{what}: {d} pixels differ from the CPU's surface");
+        }
+    }
+}
+
+#[test]
+fn per_edge_levels_draw_one_pattern_per_tile() {
+    let mesh = samples::icosphere(1);
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1)).unwrap();
+    let edges = plan.topology().edges.len();
+    // Levels varying edge by edge (1..8), fractional.
+    let levels: Arc<[f32]> = (0..edges)
+        .map(|e| 1.0 + (e * 37 % 71) as f32 / 10.0)
+        .collect();
+    for spacing in [
+        Spacing::Grid,
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ] {
+        let options = RefineOptions::new(Scheme::Pn, 1)
+            .with_spacing(spacing)
+            .with_levels(Levels::PerEdge {
+                edges: levels.clone(),
+                faces: None,
+            });
+        let (instanced, reference, draws) = both(&mesh, &options);
+        let what = format!("{spacing:?}");
+        assert!(draws > 1, "{what}: {draws} draws");
+        assert!(covered(&reference) > 5000, "{what}: blank reference");
+        let d = differing(&instanced, &reference);
+        assert!(d <= 40, "{what}: {d} pixels differ from the CPU's surface");
+    }
+}
+
+#[test]
+fn the_compute_path_refuses_adaptive_plans() {
+    let mesh = samples::icosphere(0);
+    let options = RefineOptions::new(Scheme::Pn, 1)
+        .with_spacing(Spacing::FractionalOdd)
+        .with_levels(Levels::Uniform(3.5));
+    let plan = Plan::new(&mesh, &options).unwrap();
+    let err = GpuEvaluator::new(ctx(), &plan).unwrap_err();
+    assert!(err.to_string().contains("CPU"), "{err}");
+}
