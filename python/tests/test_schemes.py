@@ -250,7 +250,7 @@ def test_bad_tag_files_and_crease_angles(tmp_path):
 
 
 def test_new_schemes_are_listed_and_named_as_on_the_command_line():
-    assert tessella.schemes() == ["flat", "phong", "pn", "png1", "pn-aen", "st"]
+    assert tessella.schemes() == ["flat", "phong", "pn", "png1", "pn-aen", "st", "quadratic"]
     v, f = icosphere(0)
     a = tessella.refine(v, f, v, scheme="PN-AEN", level=2)
     b = tessella.refine(v, f, v, scheme="pn_aen", level=2)

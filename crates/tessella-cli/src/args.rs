@@ -490,7 +490,7 @@ mod tests {
 
         let err = refine(&["--scheme", "loop"]).unwrap_err().to_string();
         assert!(
-            err.contains(r#"unknown scheme "loop"; use one of ["flat", "phong", "pn", "png1", "pn-aen", "st"]"#),
+            err.contains(r#"unknown scheme "loop"; use one of ["flat", "phong", "pn", "png1", "pn-aen", "st", "quadratic"]"#),
             "{err}"
         );
         assert!(err.contains("--scheme"), "{err}");

@@ -39,6 +39,20 @@ pub enum MeshError {
     NonFiniteUv { vertex: usize, value: [f32; 2] },
     #[error("the mesh has {count} vertices; at most {max} fit 32-bit indices")]
     TooManyVertices { count: usize, max: usize },
+    #[error(
+        "{got} faces have mid-edge nodes but the mesh has {expected} faces; give one row per face"
+    )]
+    MidNodeCount { got: usize, expected: usize },
+    #[error("second-order face {face}: {reason}")]
+    BadMidNode { face: usize, reason: String },
+    #[error("faces {} and {} share the edge {}-{} but not its mid-edge node: {detail}", faces[0], faces[1], edge[0], edge[1])]
+    MidNodeMismatch {
+        faces: [usize; 2],
+        edge: [u32; 2],
+        detail: String,
+    },
+    #[error("second-order face {face} is inverted or folded: its Jacobian does not point along its corner triangle's normal at barycentric {at:?}; check the mid-edge nodes' order (edges 0-1, 1-2, 2-0) and positions")]
+    InvertedElement { face: usize, at: [f32; 3] },
 }
 
 /// Refinement options or sizes that cannot be honoured.

@@ -29,6 +29,7 @@
 pub mod basis;
 pub mod displace;
 pub mod error;
+pub mod fields;
 pub mod mesh;
 pub mod names;
 pub mod pattern;

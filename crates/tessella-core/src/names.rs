@@ -24,7 +24,7 @@
 //! let err = "loop".parse::<Scheme>().unwrap_err();
 //! assert_eq!(
 //!     err.to_string(),
-//!     r#"unknown scheme "loop"; use one of ["flat", "phong", "pn", "png1", "pn-aen", "st"]"#
+//!     r#"unknown scheme "loop"; use one of ["flat", "phong", "pn", "png1", "pn-aen", "st", "quadratic"]"#
 //! );
 //! # Ok::<(), tessella_core::UnknownName>(())
 //! ```
@@ -95,8 +95,10 @@ impl Named for Scheme {
         Scheme::Png1,
         Scheme::PnAen,
         Scheme::ScalarTagged,
+        Scheme::Quadratic,
     ];
-    const NAMES: &'static [&'static str] = &["flat", "phong", "pn", "png1", "pn-aen", "st"];
+    const NAMES: &'static [&'static str] =
+        &["flat", "phong", "pn", "png1", "pn-aen", "st", "quadratic"];
     fn name(&self) -> &'static str {
         Scheme::name(self)
     }
@@ -114,6 +116,9 @@ impl Named for Scheme {
             }
             Scheme::ScalarTagged => {
                 "Scalar-tagged PN: creases and per-vertex tension, sharpness, bias (see tags)"
+            }
+            Scheme::Quadratic => {
+                "Second-order finite elements (6-node triangles): the element's own P2 map"
             }
         }
     }

@@ -9,11 +9,13 @@
 //! shares: two triangles that use the same vertex index share their refined edge.
 
 pub mod normals;
+pub mod quadratic;
 pub mod topology;
 
 use crate::error::MeshError;
 use glam::Vec3;
 
+pub use quadratic::NO_MID;
 pub use topology::{Topology, TopologyReport};
 
 /// A validated triangle mesh. Build it with [`Mesh::new`]; fields are read-only afterwards.
@@ -24,6 +26,9 @@ pub struct Mesh {
     uvs: Option<Vec<[f32; 2]>>,
     triangles: Vec<[u32; 3]>,
     normals_computed: bool,
+    /// Second-order faces: per face, the mid-edge nodes of edges 0-1, 1-2, 2-0 (indices into
+    /// the positions), or [`NO_MID`] for a linear face ([`Mesh::with_mid_nodes`]).
+    mid_nodes: Option<Vec<[u32; 3]>>,
 }
 
 impl Mesh {
@@ -118,6 +123,7 @@ impl Mesh {
             uvs,
             triangles,
             normals_computed,
+            mid_nodes: None,
         })
     }
 
@@ -211,6 +217,9 @@ impl Mesh {
             .position(|&t| has_zero_area(positions, t))
         {
             return Err(MeshError::ZeroArea { face });
+        }
+        if let Some(mids) = &self.mid_nodes {
+            quadratic::check_inverted(positions, &self.triangles, mids)?;
         }
         let new_normals = match normals {
             Some(given) => {

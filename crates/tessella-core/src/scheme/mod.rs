@@ -10,6 +10,7 @@
 //! | [`Scheme::Png1`] | Fünfzig et al. 2008 | [`Basis::Png1`] (21 points, rational blends) | section 3.3 smoothed |
 //! | [`Scheme::PnAen`] | McDonald & Kilgard 2010 | cubic | quadratic |
 //! | [`Scheme::ScalarTagged`] | GMR Appendix B | cubic | quadratic (side normals) |
+//! | [`Scheme::Quadratic`] | isoparametric P2 finite elements | cubic (degree-elevated quadratic) | real |
 //!
 //! PNG1 and PN-AEN look across edges (neighbours by position, [`Topology::neighbors`]); the
 //! scalar-tagged scheme reads [`Tags`] by position. The others see one triangle at a time.
@@ -20,6 +21,7 @@ mod phong;
 mod pn;
 mod pn_aen;
 pub mod png1;
+mod quadratic;
 mod scalar_tagged;
 
 use crate::basis::{Basis, NORMAL_NET_LEN};
@@ -51,6 +53,9 @@ pub enum Scheme {
     /// Scalar-tagged PN (GMR Appendix B): PN shaped by per-vertex tension, sharpness, bias and
     /// crease direction and per-edge crease sharpness from [`Tags`]; zero tags give PN.
     ScalarTagged,
+    /// Second-order finite elements: the isoparametric P2 map of faces with mid-edge nodes
+    /// ([`Mesh::with_mid_nodes`]), exactly; linear faces stay flat.
+    Quadratic,
 }
 
 impl Scheme {
@@ -74,6 +79,7 @@ impl Scheme {
     pub fn default_normals(&self) -> NormalMode {
         match self {
             Scheme::Flat | Scheme::Phong { .. } => NormalMode::Linear,
+            Scheme::Quadratic => NormalMode::Real,
             Scheme::Pn | Scheme::Png1 | Scheme::PnAen | Scheme::ScalarTagged => {
                 NormalMode::Quadratic
             }
@@ -89,6 +95,7 @@ impl Scheme {
             Scheme::Png1 => "png1",
             Scheme::PnAen => "pn-aen",
             Scheme::ScalarTagged => "st",
+            Scheme::Quadratic => "quadratic",
         }
     }
 
@@ -287,6 +294,7 @@ pub(crate) fn fill_nets(
                     let topo = topology.expect("computed above");
                     scalar_tagged::control_points(mesh, topo, tags, &mean_normals, f, &c)
                 }
+                Scheme::Quadratic => (quadratic::control_points(mesh, f, &c), c),
                 Scheme::Png1 => unreachable!("handled above"),
             };
             for (dst, src) in pts.iter_mut().zip(net) {
