@@ -7,6 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup-vulkan.sh
+bash scripts/setup-gl.sh
 
 echo "== cargo fmt"
 cargo fmt --all -- --check

@@ -1,0 +1,29 @@
+//! # tessella-gl
+//!
+//! PN triangles (and every other tessella scheme) on the OpenGL 4 tessellation stages, after
+//! van Veen: a tessellation control shader sets the levels, the fixed-function tessellator makes
+//! the pattern (equal, fractional-odd or fractional-even spacing), a tessellation evaluation
+//! shader evaluates the patch and its normals (the normal net — linear or Vlachos' quadratic,
+//! "fake" — or `Du × Dv`, "real"). Runs headless through EGL (Mesa's llvmpipe in software).
+//!
+//! ## One copy of each scheme's formulas
+//!
+//! The control nets are built on the CPU by tessella-core ([`tessella_core::scheme`], the nets
+//! the WGSL backend uploads too) and uploaded as storage buffers indexed by `gl_PrimitiveID`;
+//! the TCS only sets levels (uniform, or per face from the levels the CPU plan resolved: each
+//! edge's level from that edge alone, so the output is crack-free); the TES sums `Σ w_k(l) C_k`.
+//! The cubic Bernstein weights are generated from [`tessella_core::basis::CUBIC_ORDER`]; PNG1's
+//! rational weights are GLSL written after `basis/png1.rs` and tied to it by the tests, which
+//! compare every GL vertex with the CPU refinement of the same scheme, spacing and levels.
+
+mod context;
+mod error;
+mod refine;
+mod shaders;
+
+pub use context::{DriverInfo, GlContext};
+pub use error::{GlError, DRIVER_PACKAGES};
+pub use refine::{
+    compare, hardware_spacing, Comparison, GlRefined, GlTessellator, LevelSource, Prepared,
+};
+pub use shaders::{glsl_sources, ShaderSources};

@@ -1,0 +1,534 @@
+//! Refinement on the GL tessellation stages, read back by transform feedback, and the
+//! comparison with the CPU refinement of the same options.
+
+use crate::context::GlContext;
+use crate::error::GlError;
+use crate::shaders::glsl_sources;
+use glow::HasContext;
+use std::collections::HashMap;
+use tessella_core::refine::{Frame, Plan, Spacing};
+use tessella_core::tessellator;
+use tessella_core::{Mesh, NormalMode, RefineOptions, RefinedMesh};
+
+/// Floats per captured vertex: position, normal, tessellation coordinate, face (an `int`).
+const TF_FLOATS: usize = 10;
+
+/// How the TCS gets its levels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LevelSource {
+    /// One uniform for all four levels of every patch (van Veen's setting).
+    Uniform,
+    /// Four levels per patch from a buffer: each edge's level from that edge alone, as the CPU
+    /// plan resolved them (per-edge levels, LOD functions).
+    PerFace,
+}
+
+/// What the GL tessellator wrote: an unwelded triangle soup (vertex `3t + i` is corner `i` of
+/// triangle `t`), with each vertex's coarse face and tessellation coordinate.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GlRefined {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    /// `gl_TessCoord` = barycentric `(l1, l2, l3)` on the coarse face.
+    pub coords: Vec<[f32; 3]>,
+    /// Coarse face (`gl_PrimitiveID`) of each vertex.
+    pub faces: Vec<u32>,
+    /// Messages about levels changed to fit the driver (above `GL_MAX_TESS_GEN_LEVEL`).
+    pub notes: Vec<String>,
+    /// Seconds from the draw call to the read-back being complete (`glFinish`).
+    pub draw_seconds: f64,
+}
+
+impl GlRefined {
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.positions.len() / 3
+    }
+    /// As a [`RefinedMesh`]: unwelded, triangle `t` is `(3t, 3t+1, 3t+2)`.
+    pub fn to_mesh(&self) -> RefinedMesh {
+        RefinedMesh {
+            positions: self.positions.clone(),
+            normals: self.normals.clone(),
+            uvs: None,
+            triangles: (0..self.triangle_count() as u32)
+                .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+                .collect(),
+        }
+    }
+}
+
+/// Programs (one per spacing, made on first use) on one context.
+pub struct GlTessellator<'c> {
+    ctx: &'c GlContext,
+    programs: [Option<glow::Program>; 3],
+    vao: glow::VertexArray,
+    /// A 1×1 framebuffer: a surfaceless context has no default one, and drawing needs one
+    /// even with rasterisation discarded.
+    fbo: glow::Framebuffer,
+    rbo: glow::Renderbuffer,
+}
+
+fn spacing_index(s: tessellator::Spacing) -> usize {
+    match s {
+        tessellator::Spacing::Equal => 0,
+        tessellator::Spacing::FractionalOdd => 1,
+        tessellator::Spacing::FractionalEven => 2,
+    }
+}
+
+/// The hardware spacing of `options`, or why the GL backend cannot run them.
+pub fn hardware_spacing(options: &RefineOptions) -> Result<tessellator::Spacing, GlError> {
+    options.spacing.tessellator().ok_or_else(|| {
+        GlError::Unsupported(format!(
+            "the GL backend runs the hardware tessellator, whose patterns are not the {} \
+             pattern: use spacing equal, fractional-odd or fractional-even",
+            Spacing::Grid
+        ))
+    })
+}
+
+impl<'c> GlTessellator<'c> {
+    /// Prepares a vertex array (patches carry no attributes: the TES reads the nets).
+    pub fn new(ctx: &'c GlContext) -> Result<GlTessellator<'c>, GlError> {
+        // SAFETY: GL calls on the context current on this thread.
+        let gl = ctx.gl();
+        let (vao, fbo, rbo) = unsafe {
+            let vao = gl.create_vertex_array().map_err(GlError::Unsupported)?;
+            let fbo = gl.create_framebuffer().map_err(GlError::Unsupported)?;
+            let rbo = gl.create_renderbuffer().map_err(GlError::Unsupported)?;
+            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(rbo));
+            gl.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, 1, 1);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+            gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                glow::RENDERBUFFER,
+                Some(rbo),
+            );
+            (vao, fbo, rbo)
+        };
+        ctx.check("making the vertex array and framebuffer")?;
+        Ok(GlTessellator {
+            ctx,
+            programs: [None; 3],
+            vao,
+            fbo,
+            rbo,
+        })
+    }
+
+    /// The context.
+    pub fn context(&self) -> &'c GlContext {
+        self.ctx
+    }
+
+    /// The program for `spacing`, compiled and linked on first use.
+    pub fn program(&mut self, spacing: tessellator::Spacing) -> Result<glow::Program, GlError> {
+        let i = spacing_index(spacing);
+        if let Some(p) = self.programs[i] {
+            return Ok(p);
+        }
+        let p = link(self.ctx, spacing)?;
+        self.programs[i] = Some(p);
+        Ok(p)
+    }
+
+    /// Refines `mesh` with `options` on the GL tessellator and reads the triangles back by
+    /// transform feedback. The nets and levels come from the same [`Plan`] the CPU uses.
+    pub fn refine(
+        &mut self,
+        mesh: &Mesh,
+        options: &RefineOptions,
+        source: Option<LevelSource>,
+    ) -> Result<GlRefined, GlError> {
+        let prepared = self.prepare(mesh, options, source)?;
+        self.run(&prepared)
+    }
+
+    /// Everything that does not depend on the GL draw: the plan, its nets and the levels.
+    pub fn prepare(
+        &mut self,
+        mesh: &Mesh,
+        options: &RefineOptions,
+        source: Option<LevelSource>,
+    ) -> Result<Prepared, GlError> {
+        let spacing = hardware_spacing(options)?;
+        let plan = Plan::new(mesh, &options.clone().with_weld(false))?;
+        let frame = plan.frame(mesh)?;
+        let tiling = plan
+            .tiling()
+            .ok_or_else(|| GlError::Unsupported("the plan has no per-face patterns".into()))?;
+        let faces = plan.face_count();
+        let max = self.ctx.info().max_tess_level as f32;
+        let mut notes = Vec::new();
+        let mut levels = Vec::with_capacity(faces * 4);
+        let mut clamped = 0usize;
+        for f in 0..faces {
+            let t = tiling.tile(f);
+            // GL's outer[k] is the edge opposite corner k: our edges 1, 2, 0.
+            for x in [t.outer[1], t.outer[2], t.outer[0], t.inner] {
+                if x > max {
+                    clamped += 1;
+                }
+                levels.push(x.min(max));
+            }
+        }
+        if clamped > 0 {
+            notes.push(format!(
+                "{clamped} tessellation levels above the driver's GL_MAX_TESS_GEN_LEVEL = {max} \
+                 were clamped to it"
+            ));
+        }
+        let uniform = levels.chunks(4).all(|c| c == [levels[0]; 4]);
+        let source = match source {
+            Some(LevelSource::Uniform) if !uniform => {
+                return Err(GlError::Unsupported(
+                    "uniform levels were asked for, but these options give each face its own \
+                     levels"
+                        .into(),
+                ))
+            }
+            Some(s) => s,
+            None if uniform => LevelSource::Uniform,
+            None => LevelSource::PerFace,
+        };
+        // The CPU's triangle count, unless levels were clamped (then the hardware decides).
+        let expected = if clamped == 0 {
+            Some(plan.triangle_count() as u64)
+        } else {
+            None
+        };
+        let bytes = plan.triangle_count() as u64 * 3 * (TF_FLOATS as u64 * 4);
+        if bytes > options.max_output_bytes {
+            return Err(GlError::Unsupported(format!(
+                "the GL output would need {bytes} bytes, more than the cap of {}",
+                options.max_output_bytes
+            )));
+        }
+        Ok(Prepared {
+            spacing,
+            plan,
+            frame,
+            levels,
+            source,
+            expected,
+            notes,
+        })
+    }
+
+    /// Uploads the nets and levels of `p`, draws the patches with transform feedback and reads
+    /// the triangles back.
+    pub fn run(&mut self, p: &Prepared) -> Result<GlRefined, GlError> {
+        let program = self.program(p.spacing)?;
+        let ctx = self.ctx;
+        let gl = ctx.gl();
+        let nets = p.frame.nets();
+        let faces = p.plan.face_count();
+        let points: Vec<f32> = nets.points.iter().flatten().copied().collect();
+        let normals: Vec<f32> = nets.normals.iter().flatten().copied().collect();
+        // Generous room: the hardware may write more than the CPU expects only when it is wrong,
+        // which the primitive count below reports.
+        let expected_tris = p.expected.unwrap_or_else(|| faces as u64 * 2 * 66 * 66);
+        let tf_bytes = expected_tris * 3 * TF_FLOATS as u64 * 4;
+        let real = nets.normal_mode == NormalMode::Real;
+        // SAFETY: GL calls on the current context; buffer sizes are those of the slices given.
+        unsafe {
+            let buffers: Vec<glow::Buffer> = (0..4)
+                .map(|_| gl.create_buffer())
+                .collect::<Result<_, _>>()
+                .map_err(GlError::Unsupported)?;
+            let result = (|| {
+                for (i, data) in [&points, &normals, &p.levels].into_iter().enumerate() {
+                    gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(buffers[i]));
+                    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_ne_bytes()).collect();
+                    gl.buffer_data_u8_slice(glow::SHADER_STORAGE_BUFFER, &bytes, glow::STATIC_DRAW);
+                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, i as u32, Some(buffers[i]));
+                }
+                ctx.check("uploading the control nets")?;
+                gl.bind_buffer(glow::TRANSFORM_FEEDBACK_BUFFER, Some(buffers[3]));
+                gl.buffer_data_size(
+                    glow::TRANSFORM_FEEDBACK_BUFFER,
+                    i32::try_from(tf_bytes).map_err(|_| {
+                        GlError::Unsupported(format!(
+                            "the GL output needs {tf_bytes} bytes, more than one GL buffer holds"
+                        ))
+                    })?,
+                    glow::STREAM_READ,
+                );
+                ctx.check("allocating the transform feedback buffer")?;
+                gl.use_program(Some(program));
+                set_uniforms(gl, program, nets.basis.len() as i32, real, p)?;
+                gl.bind_vertex_array(Some(self.vao));
+                gl.bind_framebuffer(glow::FRAMEBUFFER, Some(self.fbo));
+                gl.patch_parameter_i32(glow::PATCH_VERTICES, 1);
+                gl.enable(glow::RASTERIZER_DISCARD);
+                let query = gl.create_query().map_err(GlError::Unsupported)?;
+                let start = std::time::Instant::now();
+                gl.bind_buffer_base(glow::TRANSFORM_FEEDBACK_BUFFER, 0, Some(buffers[3]));
+                gl.begin_query(glow::TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, query);
+                gl.begin_transform_feedback(glow::TRIANGLES);
+                gl.draw_arrays(glow::PATCHES, 0, faces as i32);
+                gl.end_transform_feedback();
+                gl.end_query(glow::TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+                gl.disable(glow::RASTERIZER_DISCARD);
+                let written = gl.get_query_parameter_u32(query, glow::QUERY_RESULT) as u64;
+                gl.delete_query(query);
+                ctx.check("drawing the patches with transform feedback")?;
+                if let Some(e) = p.expected {
+                    if written != e {
+                        return Err(GlError::Count {
+                            got: written,
+                            expected: e,
+                        });
+                    }
+                }
+                let mut raw = vec![0u8; (written * 3 * TF_FLOATS as u64 * 4) as usize];
+                gl.get_buffer_sub_data(glow::TRANSFORM_FEEDBACK_BUFFER, 0, &mut raw);
+                let draw_seconds = start.elapsed().as_secs_f64();
+                ctx.check("reading the transform feedback buffer")?;
+                Ok(unpack(&raw, p.notes.clone(), draw_seconds))
+            })();
+            gl.bind_buffer_base(glow::TRANSFORM_FEEDBACK_BUFFER, 0, None);
+            for b in buffers {
+                gl.delete_buffer(b);
+            }
+            result
+        }
+    }
+}
+
+/// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]).
+pub struct Prepared {
+    pub spacing: tessellator::Spacing,
+    pub plan: Plan,
+    pub frame: Frame,
+    /// Four levels per face, GL order: `outer[0..3]`, inner.
+    pub levels: Vec<f32>,
+    pub source: LevelSource,
+    /// Triangles the CPU plan makes (`None` when levels were clamped for the driver).
+    pub expected: Option<u64>,
+    pub notes: Vec<String>,
+}
+
+/// # Safety
+/// `program` is in use on the current context.
+unsafe fn set_uniforms(
+    gl: &glow::Context,
+    program: glow::Program,
+    k: i32,
+    real: bool,
+    p: &Prepared,
+) -> Result<(), GlError> {
+    let loc = |name: &str| gl.get_uniform_location(program, name);
+    gl.uniform_1_i32(loc("u_k").as_ref(), k);
+    gl.uniform_1_i32(loc("u_real").as_ref(), i32::from(real));
+    gl.uniform_1_i32(
+        loc("u_per_face").as_ref(),
+        i32::from(p.source == LevelSource::PerFace),
+    );
+    gl.uniform_1_f32(loc("u_level").as_ref(), p.levels[0]);
+    let identity: [f32; 16] = [
+        1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ];
+    gl.uniform_matrix_4_f32_slice(loc("u_view_proj").as_ref(), false, &identity);
+    Ok(())
+}
+
+fn unpack(raw: &[u8], notes: Vec<String>, draw_seconds: f64) -> GlRefined {
+    let words: Vec<[u8; 4]> = raw
+        .chunks_exact(4)
+        .map(|c| [c[0], c[1], c[2], c[3]])
+        .collect();
+    let n = words.len() / TF_FLOATS;
+    let mut out = GlRefined {
+        positions: Vec::with_capacity(n),
+        normals: Vec::with_capacity(n),
+        coords: Vec::with_capacity(n),
+        faces: Vec::with_capacity(n),
+        notes,
+        draw_seconds,
+    };
+    for v in words.chunks_exact(TF_FLOATS) {
+        let f = |i: usize| f32::from_ne_bytes(v[i]);
+        out.positions.push([f(0), f(1), f(2)]);
+        out.normals.push([f(3), f(4), f(5)]);
+        out.coords.push([f(6), f(7), f(8)]);
+        out.faces.push(i32::from_ne_bytes(v[9]) as u32);
+    }
+    out
+}
+
+fn link(ctx: &GlContext, spacing: tessellator::Spacing) -> Result<glow::Program, GlError> {
+    let gl = ctx.gl();
+    let src = glsl_sources(spacing);
+    // SAFETY: GL calls on the current context.
+    unsafe {
+        let program = gl.create_program().map_err(GlError::Unsupported)?;
+        let mut shaders = Vec::new();
+        let stages = [
+            (glow::VERTEX_SHADER, "vertex", &src.vertex),
+            (
+                glow::TESS_CONTROL_SHADER,
+                "tessellation control",
+                &src.control,
+            ),
+            (
+                glow::TESS_EVALUATION_SHADER,
+                "tessellation evaluation",
+                &src.evaluation,
+            ),
+            (glow::FRAGMENT_SHADER, "fragment", &src.fragment),
+        ];
+        for (kind, stage, text) in stages {
+            let s = gl.create_shader(kind).map_err(GlError::Unsupported)?;
+            gl.shader_source(s, text);
+            gl.compile_shader(s);
+            if !gl.get_shader_compile_status(s) {
+                let log = gl.get_shader_info_log(s);
+                gl.delete_shader(s);
+                for s in shaders {
+                    gl.delete_shader(s);
+                }
+                gl.delete_program(program);
+                return Err(GlError::Compile { stage, log });
+            }
+            gl.attach_shader(program, s);
+            shaders.push(s);
+        }
+        gl.transform_feedback_varyings(
+            program,
+            &["tf_position", "tf_normal", "tf_coord", "tf_face"],
+            glow::INTERLEAVED_ATTRIBS,
+        );
+        gl.link_program(program);
+        for s in shaders {
+            gl.detach_shader(program, s);
+            gl.delete_shader(s);
+        }
+        if !gl.get_program_link_status(program) {
+            let log = gl.get_program_info_log(program);
+            gl.delete_program(program);
+            return Err(GlError::Link { log });
+        }
+        ctx.check("linking the tessellation program")?;
+        Ok(program)
+    }
+}
+
+impl Drop for GlTessellator<'_> {
+    fn drop(&mut self) {
+        let gl = self.ctx.gl();
+        // SAFETY: objects made on this context.
+        unsafe {
+            for p in self.programs.iter().flatten() {
+                gl.delete_program(*p);
+            }
+            gl.delete_vertex_array(self.vao);
+            gl.delete_framebuffer(self.fbo);
+            gl.delete_renderbuffer(self.rbo);
+        }
+    }
+}
+
+/// How GL output compares with the CPU.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Comparison {
+    pub triangles: usize,
+    /// Largest position difference over the mesh's bounding-box diagonal.
+    pub max_position_error: f32,
+    /// Largest difference of unit normals.
+    pub max_normal_error: f32,
+}
+
+fn key(face: u32, l: [f32; 3]) -> (u32, [i64; 3]) {
+    // Tessellator coordinates are multiples of 2^-16, exact in f32.
+    (face, l.map(|x| (x as f64 * 65536.0).round() as i64))
+}
+
+fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Compares GL output with the CPU refinement of the same `mesh` and `options`: every GL vertex
+/// must be a point of the CPU pattern of its face (same barycentric origin), the triangles must
+/// be the CPU's (same corners, same winding, each once), positions within
+/// `tolerance × diagonal` and normals within `normal_tolerance`.
+pub fn compare(
+    mesh: &Mesh,
+    options: &RefineOptions,
+    gl: &GlRefined,
+    tolerance: f32,
+    normal_tolerance: f32,
+) -> Result<Comparison, String> {
+    let plan = Plan::new(mesh, &options.clone().with_weld(false)).map_err(|e| e.to_string())?;
+    let frame = plan.frame(mesh).map_err(|e| e.to_string())?;
+    let mut cpu = RefinedMesh::default();
+    plan.refine_into(&frame, &mut cpu, &|_| {})
+        .map_err(|e| e.to_string())?;
+    let (faces, bary) = plan.origin();
+    let index: HashMap<_, u32> = faces
+        .iter()
+        .zip(&bary)
+        .enumerate()
+        .map(|(i, (&f, &l))| (key(f, l), i as u32))
+        .collect();
+    if gl.triangle_count() != cpu.triangles.len() {
+        return Err(format!(
+            "GL made {} triangles, the CPU {}",
+            gl.triangle_count(),
+            cpu.triangles.len()
+        ));
+    }
+    let diag = mesh.diagonal();
+    let (mut max_p, mut max_n) = (0.0f32, 0.0f32);
+    let mut gl_tris = Vec::with_capacity(gl.triangle_count());
+    for t in 0..gl.triangle_count() {
+        let mut tri = [0u32; 3];
+        for (c, slot) in tri.iter_mut().enumerate() {
+            let v = 3 * t + c;
+            let i = *index.get(&key(gl.faces[v], gl.coords[v])).ok_or_else(|| {
+                format!(
+                    "GL vertex {v} (face {}, l = {:?}) is no point of the CPU pattern",
+                    gl.faces[v], gl.coords[v]
+                )
+            })? as usize;
+            let dp = dist(gl.positions[v], cpu.positions[i]) / diag;
+            if dp.is_nan() || dp > tolerance {
+                return Err(format!(
+                    "GL vertex {v} (face {}, l = {:?}) at {:?}, CPU at {:?}: {dp} diagonals apart",
+                    gl.faces[v], gl.coords[v], gl.positions[v], cpu.positions[i]
+                ));
+            }
+            let dn = dist(gl.normals[v], cpu.normals[i]);
+            if dn.is_nan() || dn > normal_tolerance {
+                return Err(format!(
+                    "GL vertex {v} (face {}, l = {:?}) normal {:?}, CPU {:?}: |d| = {dn}",
+                    gl.faces[v], gl.coords[v], gl.normals[v], cpu.normals[i]
+                ));
+            }
+            max_p = max_p.max(dp);
+            max_n = max_n.max(dn);
+            *slot = i as u32;
+        }
+        gl_tris.push(rotate(tri));
+    }
+    let mut cpu_tris: Vec<[u32; 3]> = cpu.triangles.iter().map(|&t| rotate(t)).collect();
+    gl_tris.sort_unstable();
+    cpu_tris.sort_unstable();
+    if let Some((a, b)) = gl_tris.iter().zip(&cpu_tris).find(|(a, b)| a != b) {
+        return Err(format!(
+            "the triangles differ: GL has {a:?} where the CPU has {b:?} (CPU vertex indices)"
+        ));
+    }
+    Ok(Comparison {
+        triangles: gl_tris.len(),
+        max_position_error: max_p,
+        max_normal_error: max_n,
+    })
+}
+
+/// The rotation of `t` that starts with its smallest index (winding kept).
+fn rotate(t: [u32; 3]) -> [u32; 3] {
+    let m = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
+    [t[m], t[(m + 1) % 3], t[(m + 2) % 3]]
+}

@@ -1,0 +1,224 @@
+//! GL output against the CPU refinement with the same scheme, spacing, levels and normals.
+//! The tests need an EGL driver with OpenGL 4.3 (CI: Mesa's llvmpipe); without one they fail
+//! with the install hint rather than skip.
+
+use tessella_core::refine::{Levels, Lod, Spacing};
+use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Scheme};
+use tessella_gl::{compare, GlContext, GlTessellator, LevelSource};
+
+const TOL: f32 = 1e-5;
+const NORMAL_TOL: f32 = 1e-4;
+
+fn ctx() -> GlContext {
+    GlContext::new().unwrap_or_else(|e| panic!("no GL driver for the tests: {e}"))
+}
+
+fn check(
+    gl: &mut GlTessellator,
+    mesh: &Mesh,
+    options: &RefineOptions,
+    source: Option<LevelSource>,
+    what: &str,
+) {
+    let out = gl
+        .refine(mesh, options, source)
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert!(out.notes.is_empty(), "{what}: {:?}", out.notes);
+    let c = compare(mesh, options, &out, TOL, NORMAL_TOL).unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert!(c.triangles > 0, "{what}");
+    eprintln!("{what}: {c:?}");
+}
+
+fn pn(spacing: Spacing, level: f32) -> RefineOptions {
+    RefineOptions::new(Scheme::Pn, 1)
+        .with_spacing(spacing)
+        .with_levels(Levels::Uniform(level))
+}
+
+#[test]
+fn context_reports_gl4_with_tessellation() {
+    let ctx = ctx();
+    let info = ctx.info();
+    assert!(info.max_tess_level >= 64, "{info:?}");
+    assert!(info.version.starts_with('4'), "{info:?}");
+}
+
+#[test]
+fn pn_uniform_levels_match_the_cpu() {
+    let ctx = ctx();
+    let mut gl = GlTessellator::new(&ctx).unwrap();
+    let mesh = samples::icosphere(1);
+    for level in [1.0, 2.0, 3.0, 5.0, 8.0] {
+        let o = pn(Spacing::Equal, level);
+        check(
+            &mut gl,
+            &mesh,
+            &o,
+            Some(LevelSource::Uniform),
+            &format!("pn {level}"),
+        );
+        // The same levels read per face by the TCS.
+        check(
+            &mut gl,
+            &mesh,
+            &o,
+            Some(LevelSource::PerFace),
+            &format!("pn {level} per face"),
+        );
+    }
+}
+
+#[test]
+fn schemes_and_normal_modes_match_the_cpu() {
+    let ctx = ctx();
+    let mut gl = GlTessellator::new(&ctx).unwrap();
+    let mesh = samples::torus(1.0, 0.35, 10, 7);
+    let cases = [
+        (Scheme::Flat, NormalMode::Linear),
+        (Scheme::PHONG, NormalMode::Linear),
+        (Scheme::PHONG, NormalMode::Real),
+        (Scheme::Pn, NormalMode::Quadratic),
+        (Scheme::Pn, NormalMode::Real),
+        (Scheme::Pn, NormalMode::Linear),
+        (Scheme::Png1, NormalMode::Quadratic),
+        (Scheme::Png1, NormalMode::Real),
+        (Scheme::PnAen, NormalMode::Quadratic),
+    ];
+    for (scheme, normals) in cases {
+        for level in [2.0, 4.0, 7.0] {
+            let o = RefineOptions::new(scheme, 1)
+                .with_normals(normals)
+                .with_spacing(Spacing::Equal)
+                .with_levels(Levels::Uniform(level));
+            check(
+                &mut gl,
+                &mesh,
+                &o,
+                None,
+                &format!("{scheme:?} {normals:?} {level}"),
+            );
+        }
+    }
+}
+
+#[test]
+fn every_spacing_matches_the_cpu() {
+    let ctx = ctx();
+    let mut gl = GlTessellator::new(&ctx).unwrap();
+    let mesh = samples::icosphere(1);
+    for spacing in [
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ] {
+        for level in [1.0, 2.5, 3.7, 6.0, 9.3] {
+            for scheme in [Scheme::Pn, Scheme::Png1] {
+                let o = RefineOptions::new(scheme, 1)
+                    .with_spacing(spacing)
+                    .with_levels(Levels::Uniform(level));
+                check(
+                    &mut gl,
+                    &mesh,
+                    &o,
+                    None,
+                    &format!("{scheme:?} {spacing} {level}"),
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn per_edge_and_lod_levels_match_the_cpu() {
+    let ctx = ctx();
+    let mut gl = GlTessellator::new(&ctx).unwrap();
+    let mesh = samples::icosphere(1);
+    let ne = mesh.topology().edges.len();
+    let edges: Vec<f32> = (0..ne).map(|e| 1.0 + (e * 7 % 11) as f32 * 0.8).collect();
+    for spacing in [
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ] {
+        for scheme in [Scheme::Flat, Scheme::PHONG, Scheme::Pn, Scheme::Png1] {
+            let o = RefineOptions::new(scheme, 1)
+                .with_spacing(spacing)
+                .with_levels(Levels::PerEdge {
+                    edges: edges.clone().into(),
+                    faces: None,
+                });
+            check(
+                &mut gl,
+                &mesh,
+                &o,
+                Some(LevelSource::PerFace),
+                &format!("{scheme:?} {spacing} per edge"),
+            );
+            let o = o.with_levels(Levels::Lod(Lod::Tolerance {
+                max_deviation: 0.002,
+            }));
+            check(
+                &mut gl,
+                &mesh,
+                &o,
+                Some(LevelSource::PerFace),
+                &format!("{scheme:?} {spacing} tolerance"),
+            );
+        }
+    }
+}
+
+#[test]
+fn the_comparison_catches_a_moved_vertex_a_wrong_normal_and_a_flipped_triangle() {
+    let ctx = ctx();
+    let mut gl = GlTessellator::new(&ctx).unwrap();
+    let mesh = samples::icosphere(1);
+    let o = pn(Spacing::FractionalOdd, 4.5);
+    let good = gl.refine(&mesh, &o, None).unwrap();
+    compare(&mesh, &o, &good, TOL, NORMAL_TOL).unwrap();
+    let mut moved = good.clone();
+    moved.positions[7][0] += 1e-3 * mesh.diagonal();
+    assert!(compare(&mesh, &o, &moved, TOL, NORMAL_TOL).is_err());
+    let mut bent = good.clone();
+    bent.normals[5] = [0.0, 0.0, 1.0];
+    assert!(compare(&mesh, &o, &bent, TOL, NORMAL_TOL).is_err());
+    let mut flipped = good.clone();
+    flipped.positions.swap(0, 1);
+    flipped.normals.swap(0, 1);
+    flipped.coords.swap(0, 1);
+    assert!(compare(&mesh, &o, &flipped, TOL, NORMAL_TOL).is_err());
+    // Other options' CPU output is not this output.
+    assert!(compare(
+        &mesh,
+        &pn(Spacing::FractionalEven, 4.5),
+        &good,
+        TOL,
+        NORMAL_TOL
+    )
+    .is_err());
+}
+
+#[test]
+fn grid_spacing_is_refused_with_a_message() {
+    let ctx = ctx();
+    let mut gl = GlTessellator::new(&ctx).unwrap();
+    let err = gl
+        .refine(
+            &samples::icosphere(0),
+            &RefineOptions::new(Scheme::Pn, 3),
+            None,
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("fractional-odd"), "{err}");
+}
+
+#[test]
+fn a_missing_driver_is_a_clear_error() {
+    let err = match GlContext::with_library("libEGL-that-does-not-exist.so.1") {
+        Ok(_) => panic!("a context from a missing library"),
+        Err(e) => e.to_string(),
+    };
+    assert!(err.contains("libEGL-that-does-not-exist.so.1"), "{err}");
+    assert!(err.contains(tessella_gl::DRIVER_PACKAGES), "{err}");
+    assert!(err.contains("--backend cpu"), "{err}");
+}
