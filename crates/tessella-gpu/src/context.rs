@@ -38,6 +38,27 @@ impl std::fmt::Debug for GpuContext {
     }
 }
 
+/// Keeps the adapter probe from printing on machines without a display.
+///
+/// wgpu enables every Vulkan surface extension the loader offers, Wayland's included; Mesa's
+/// implicit device-selection layer (`VK_LAYER_MESA_device_select`) then connects to the Wayland
+/// display to order the adapters, and libwayland prints `error: XDG_RUNTIME_DIR is invalid or
+/// not set in the environment.` twice per probe when there is no session. That layer only
+/// reorders adapters, which [`GpuContext::new`] ranks itself, so when `XDG_RUNTIME_DIR` is unset
+/// (no Wayland session can exist) the layer is switched off with its documented
+/// `NODEVICE_SELECT=1`, once, before the first instance is created. Set `NODEVICE_SELECT`
+/// yourself (to anything) to keep this from happening.
+fn quiet_probe() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        if std::env::var_os("XDG_RUNTIME_DIR").is_none()
+            && std::env::var_os("NODEVICE_SELECT").is_none()
+        {
+            std::env::set_var("NODEVICE_SELECT", "1");
+        }
+    });
+}
+
 impl GpuContext {
     /// Opens a device on the chosen kind of adapter.
     ///
@@ -53,6 +74,7 @@ impl GpuContext {
     }
 
     async fn new_async(choice: AdapterChoice) -> Result<GpuContext, GpuError> {
+        quiet_probe();
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::PRIMARY,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
