@@ -176,10 +176,30 @@ impl Named for Backend {
     }
     fn description(&self) -> &'static str {
         match self {
-            Backend::Auto => "A hardware GPU when there is one, else the CPU",
+            Backend::Auto => "A hardware GPU for large outputs when there is one, else the CPU",
             Backend::Cpu => "The CPU, all cores",
             Backend::Gpu => "The GPU (a software adapter is used when there is no hardware one)",
         }
+    }
+}
+
+impl Backend {
+    /// `auto` refines outputs with fewer refined vertices than this on the CPU without looking
+    /// for a GPU at all: opening a device costs more (tens to hundreds of milliseconds, plus the
+    /// upload and read-back) than the CPU takes for such outputs on all cores.
+    pub const AUTO_GPU_MIN_VERTICES: u64 = 1 << 20;
+
+    /// Whether `auto` looks for a hardware GPU for an output of `vertices` refined vertices
+    /// (see [`Backend::AUTO_GPU_MIN_VERTICES`]); when it does and finds none, or the GPU
+    /// fails, it still refines on the CPU.
+    ///
+    /// ```
+    /// use tessella_core::Backend;
+    /// assert!(!Backend::auto_looks_for_gpu(10_000));
+    /// assert!(Backend::auto_looks_for_gpu(4 << 20));
+    /// ```
+    pub fn auto_looks_for_gpu(vertices: u64) -> bool {
+        vertices >= Self::AUTO_GPU_MIN_VERTICES
     }
 }
 
