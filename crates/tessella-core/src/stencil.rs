@@ -103,13 +103,34 @@ impl Stencil {
 
     /// Computes the table for `pattern` and `basis` (weights in f64, stored as f32).
     pub fn new(pattern: &Pattern, basis: Basis) -> Stencil {
+        Self::from_rows(pattern, basis, |p| Self::row_f64(basis, pattern.points[p]))
+    }
+
+    /// The f64 weights at `l`, `value[K] | du[K] | dv[K] | normal[6]` (a row without its `l`).
+    pub fn row_f64(basis: Basis, l: [f64; 3]) -> Vec<f64> {
+        let w = basis.weights(l);
+        let mut row = Vec::with_capacity(3 * basis.len() + NORMAL_NET_LEN);
+        row.extend(w.value.iter().chain(&w.du).chain(&w.dv));
+        row.extend(normal_weights(l));
+        row
+    }
+
+    /// The table for `pattern` with pattern point `p`'s f64 weights given by `row(p)`
+    /// (`value[K] | du[K] | dv[K] | normal[6]`, as [`Stencil::row_f64`]), stored as f32 with
+    /// the point's `l` appended. [`Stencil::new`] is this with the basis' own weights; the
+    /// geomorphing grid tiles pass blended rows (see `refine::morph`).
+    pub fn from_rows(
+        pattern: &Pattern,
+        basis: Basis,
+        mut row: impl FnMut(usize) -> Vec<f64>,
+    ) -> Stencil {
         let k = basis.len();
         let stride = Self::stride_for(k);
         let mut weights = Vec::with_capacity(pattern.points.len() * stride);
-        for &l in &pattern.points {
-            let w = basis.weights(l);
-            weights.extend(w.value.iter().chain(&w.du).chain(&w.dv).map(|&x| x as f32));
-            weights.extend(normal_weights(l).iter().map(|&x| x as f32));
+        for (p, &l) in pattern.points.iter().enumerate() {
+            let r = row(p);
+            assert_eq!(r.len(), stride - 3, "a stencil row of the basis' length");
+            weights.extend(r.iter().map(|&x| x as f32));
             weights.extend(l.iter().map(|&x| x as f32));
         }
         let n = pattern.level as usize;

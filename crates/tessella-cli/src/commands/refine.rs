@@ -198,7 +198,15 @@ mod backend {
     pub fn choose(args: &RefineArgs, mesh: &Mesh) -> anyhow::Result<Backend> {
         let displacement = super::super::displace::parse(args.displace.as_deref())?;
         displacement.validate(mesh.uvs().is_some())?;
-        let ctx = gpu::context_for(args.backend)?;
+        // `auto` opens no device for small outputs: the CPU will be faster than the probe.
+        let vertices = {
+            let level = args.level.max(1.0).ceil().min(1e9) as u64;
+            (mesh.face_count() as u64).saturating_mul((level + 1) * (level + 2) / 2)
+        };
+        let ctx = match args.backend {
+            BackendArg::Auto if !tessella_core::Backend::auto_looks_for_gpu(vertices) => None,
+            backend => gpu::context_for(backend)?,
+        };
         Ok(Backend { ctx, displacement })
     }
 

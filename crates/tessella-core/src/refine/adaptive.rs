@@ -8,7 +8,9 @@
 //!
 //! - [`Spacing::Grid`]: the uniform grid of the inner level `N`, each edge's boundary points
 //!   moved to the nearest point of that edge's own `n_e`-segment layout (step `s` of `N` goes to
-//!   `round(s n_e / N)`, monotone), and the triangles that became degenerate dropped;
+//!   `round(s n_e / N)`, monotone), and the triangles that became degenerate dropped; fractional
+//!   levels round up and geomorph ([`super::morph`]): points move continuously from the
+//!   coarser level's flat surface as the level grows;
 //! - [`Spacing::Equal`], [`Spacing::FractionalOdd`], [`Spacing::FractionalEven`]: the hardware
 //!   tessellator's pattern ([`crate::tessellator`]) with the edge levels as outer levels.
 //!
@@ -32,8 +34,11 @@ use std::sync::Arc;
 /// How a level divides a coarse edge.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Spacing {
-    /// The uniform grid pattern ([`Pattern::uniform`]); fractional levels round up. With one
-    /// integer level everywhere this is the classic refinement, bit for bit.
+    /// The uniform grid pattern ([`Pattern::uniform`]); fractional levels round up and
+    /// geomorph: level `f` draws the grid of `⌈f⌉` segments with its new points blended towards
+    /// the coarser level's flat surface by `f − (⌈f⌉ − 1)`, so points move continuously with
+    /// the level ([`super::morph`]). With one integer level everywhere this is the classic
+    /// refinement, bit for bit.
     #[default]
     Grid,
     /// The tessellator's integer spacing: levels rounded up, clamped to `[1, 64]`.
@@ -149,14 +154,27 @@ pub enum Levels {
 /// Biggest grid level the tolerance LOD asks for (it then meets `--max-memory`).
 pub const MAX_LOD_GRID_LEVEL: f32 = 1024.0;
 
+/// Morph factors of a geomorphing grid tile, each in `(0, 1]` (1: no morph): per edge and for
+/// the interior ([`super::morph`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Morph {
+    pub outer: [f64; 3],
+    pub inner: f64,
+}
+
 /// One distinct pattern of an adaptive plan, with its weights and its points by role.
 #[derive(Debug, Clone)]
 pub struct Tile {
-    /// Per-edge levels as used (after rounding / clamping) and the inner level.
+    /// Per-edge levels as used (tessellator spacings: after clamping; grid: as given, the
+    /// pattern rounding them up) and the inner level.
     pub outer: [f32; 3],
     pub inner: f32,
     pub pattern: Pattern,
+    /// The pattern's weights (geomorphing grid tiles: the morphed weights).
     pub stencil: Stencil,
+    /// Grid tiles with a fractional level: the morph factors (`None`: integer levels, plain
+    /// weights).
+    pub morph: Option<Morph>,
     /// Pattern point of corner `c`.
     pub corners: [u32; 3],
     /// Pattern points inside edge `k`, by step from corner `k` (`edges[k][s - 1]` is step `s`).
@@ -170,7 +188,8 @@ pub struct Tile {
 #[derive(Debug, Clone)]
 pub struct Tiling {
     pub spacing: Spacing,
-    /// Level of each unique edge after clamping ([`Topology::edges`] order).
+    /// Level of each unique edge after clamping ([`Topology::edges`] order; grid: as given,
+    /// fractional levels geomorph on `⌈level⌉` segments).
     pub edge_levels: Vec<f32>,
     /// Segments of each unique edge.
     pub edge_segments: Vec<u32>,
@@ -284,6 +303,7 @@ fn bound(spacing: Spacing, outer: [f32; 3], inner: f32) -> (u64, u64) {
 
 /// Builds the pattern of one face.
 fn build_tile(spacing: Spacing, outer: [f32; 3], inner: f32, basis: crate::Basis) -> Tile {
+    let mut morph = None;
     let pattern = match spacing.tessellator() {
         None => grid_pattern(outer.map(grid_segments), grid_segments(inner)),
         Some(s) => tessellator::tessellate(
@@ -305,16 +325,36 @@ fn build_tile(spacing: Spacing, outer: [f32; 3], inner: f32, basis: crate::Basis
             PointClass::Interior { .. } => interior.push(p as u32),
         }
     }
-    let edges = edges.map(|mut e| {
+    let edges: [Vec<u32>; 3] = edges.map(|mut e| {
         e.sort_unstable();
         e.into_iter().map(|(_, p)| p).collect()
     });
-    let stencil = Stencil::new(&pattern, basis);
+    if spacing == Spacing::Grid {
+        let segments = edges.each_ref().map(|e| e.len() as u32 + 1);
+        let m = Morph {
+            outer: [0, 1, 2].map(|k| super::morph::factor(outer[k], segments[k])),
+            inner: super::morph::factor(inner, pattern.level),
+        };
+        if m.inner < 1.0 || m.outer.iter().any(|&a| a < 1.0) {
+            morph = Some(m);
+        }
+    }
+    let stencil = match morph {
+        Some(m) => super::morph::grid_stencil(
+            &pattern,
+            basis,
+            edges.each_ref().map(|e| e.len() as u32 + 1),
+            m.outer,
+            m.inner,
+        ),
+        None => Stencil::new(&pattern, basis),
+    };
     Tile {
         outer,
         inner,
         pattern,
         stencil,
+        morph,
         corners,
         edges,
         interior,
@@ -442,10 +482,8 @@ pub(crate) fn build_tiling(
                 .map(|&x| round(x.clamp(lo, hi)))
                 .collect()
         }
-        None => edge_levels
-            .iter()
-            .map(|&x| grid_segments(x) as f32)
-            .collect(),
+        // The grid keeps fractional levels: the pattern rounds them up, the stencil morphs.
+        None => edge_levels,
     };
     let nf = mesh.face_count();
     // Size check from upper bounds, before building any pattern.
@@ -479,10 +517,6 @@ pub(crate) fn build_tiling(
     let mut face_tile = Vec::with_capacity(nf);
     for f in 0..nf {
         let (outer, inner) = face_levels(topology, f, &edge_levels, faces.as_deref());
-        let inner = match spacing.tessellator() {
-            None => grid_segments(inner) as f32,
-            Some(_) => inner,
-        };
         let key = (outer.map(f32::to_bits), inner.to_bits());
         let id = *keys.entry(key).or_insert_with(|| {
             tiles.push(build_tile(spacing, outer, inner, basis));
@@ -599,7 +633,8 @@ impl AdaptiveJob<'_> {
         ])
     }
 
-    /// Writes pattern point `p` (inside edge `k`) of face `f` canonically into `slot`.
+    /// Writes pattern point `p` (step `step` from corner `k` of edge `k`) of face `f`
+    /// canonically into `slot`.
     #[allow(clippy::too_many_arguments)]
     fn edge_point<const K: usize>(
         &self,
@@ -607,14 +642,23 @@ impl AdaptiveJob<'_> {
         f: usize,
         k: usize,
         fwd: bool,
-        p: u32,
+        (step, p): (usize, u32),
         sink: &mut Sink,
         slot: usize,
     ) {
         let l = tile.pattern.points[p as usize];
         let (c0, c1) = (k, (k + 1) % 3);
-        let (a, b) = if fwd { (l[c0], l[c1]) } else { (l[c1], l[c0]) };
-        let w = EdgeWeights::new(a, b);
+        let w = match tile.morph {
+            Some(m) if m.outer[k] < 1.0 => {
+                let n = tile.edges[k].len() as u32 + 1;
+                let s = if fwd { step as u32 } else { n - step as u32 };
+                super::morph::edge_weights(n, s, m.outer[k])
+            }
+            _ => {
+                let (a, b) = if fwd { (l[c0], l[c1]) } else { (l[c1], l[c0]) };
+                EdgeWeights::new(a, b)
+            }
+        };
         let points = self.nets.patch_points(f);
         let c = canonical::canonical_points(self.nets.basis, points, k, fwd);
         sink.set_position(slot, canonical::position(&w, &c));
@@ -679,8 +723,9 @@ impl AdaptiveJob<'_> {
                     }
                     for k in 0..3 {
                         let fwd = canonical::forward(t, k, pid);
-                        for &p in &tile.edges[k] {
-                            self.edge_point::<K>(tile, f, k, fwd, p, &mut sink, p as usize);
+                        for (s, &p) in tile.edges[k].iter().enumerate() {
+                            let at = (s + 1, p);
+                            self.edge_point::<K>(tile, f, k, fwd, at, &mut sink, p as usize);
                         }
                     }
                     progress(1);
@@ -728,7 +773,7 @@ impl AdaptiveJob<'_> {
                 let m = tile.edges[k].len();
                 for (s, &p) in tile.edges[k].iter().enumerate() {
                     let slot = if by_index { s } else { m - 1 - s };
-                    self.edge_point::<K>(tile, f, k, fwd, p, &mut sink, slot);
+                    self.edge_point::<K>(tile, f, k, fwd, (s + 1, p), &mut sink, slot);
                 }
             });
         let lens = (0..nf).map(|f| tiling.tile(f).interior.len());

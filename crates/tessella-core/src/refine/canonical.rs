@@ -49,14 +49,21 @@ pub struct EdgeWeights {
 impl EdgeWeights {
     /// The weights at `(a, b)`.
     pub fn new(a: f64, b: f64) -> EdgeWeights {
+        let (value, normal) = Self::new_f64(a, b);
+        Self::from_f64(value, normal)
+    }
+    /// The same weights in f64, before rounding.
+    pub fn new_f64(a: f64, b: f64) -> ([f64; 4], [f64; 3]) {
+        (
+            [a * a * a, 3.0 * a * a * b, 3.0 * a * b * b, b * b * b],
+            [a * a, a * b, b * b],
+        )
+    }
+    /// Rounds f64 weights to f32.
+    pub fn from_f64(value: [f64; 4], normal: [f64; 3]) -> EdgeWeights {
         EdgeWeights {
-            value: [
-                (a * a * a) as f32,
-                (3.0 * a * a * b) as f32,
-                (3.0 * a * b * b) as f32,
-                (b * b * b) as f32,
-            ],
-            normal: [(a * a) as f32, (a * b) as f32, (b * b) as f32],
+            value: value.map(|x| x as f32),
+            normal: normal.map(|x| x as f32),
         }
     }
 }

@@ -15,10 +15,11 @@ mod evaluator;
 mod indices;
 mod layout;
 pub mod lod;
+pub mod morph;
 mod output;
 mod plan;
 
-pub use adaptive::{Camera, Levels, Lod, Spacing, Tile, Tiling};
+pub use adaptive::{Camera, Levels, Lod, Morph, Spacing, Tile, Tiling};
 pub use evaluate::eval_point;
 pub use evaluator::{CpuEvaluator, Evaluator};
 pub use indices::IndexInt;
