@@ -181,3 +181,40 @@ fn non_finite_alpha_is_refused_for_every_scheme() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+/// `--backend auto` opens no GPU for a small output (the CPU is faster than the probe): with
+/// the Vulkan loader's debug output switched on, nothing of it appears. `--backend gpu` does
+/// open one, and the loader speaks, which shows the check can see a probe.
+#[test]
+fn auto_opens_no_gpu_for_small_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = corpus().join("good/obj-polygons.obj");
+    let out = dir.path().join("out.ply");
+    let run = |backend: &str| {
+        Command::new(env!("CARGO_BIN_EXE_tessella"))
+            .args([
+                "refine",
+                input.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(["--level", "16", "--backend", backend])
+            .env("VK_LOADER_DEBUG", "all")
+            .output()
+            .unwrap()
+    };
+    let auto = run("auto");
+    assert!(auto.status.success(), "{}", stderr(&auto));
+    let err = stderr(&auto);
+    assert_eq!(
+        err.lines().count(),
+        1,
+        "auto printed more than its summary: {err}"
+    );
+    assert!(!err.to_lowercase().contains("loader"), "{err}");
+    let gpu = run("gpu");
+    let err = stderr(&gpu);
+    if gpu.status.success() && std::path::Path::new("/usr/share/vulkan/icd.d").is_dir() {
+        assert!(err.to_lowercase().contains("loader"), "{err}");
+    }
+}
