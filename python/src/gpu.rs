@@ -132,6 +132,7 @@ pub fn refine(
     };
     match backend {
         Backend::Cpu => on_cpu(refiner, displacement).map(done),
+        Backend::Gl => Err(pyo3::exceptions::PyValueError::new_err(crate::options::NO_GL)),
         Backend::Gpu => {
             let ctx = any().map_err(|e| {
                 pyo3::exceptions::PyRuntimeError::new_err(format!(
@@ -143,6 +144,11 @@ pub fn refine(
                 .map_err(errors::gpu_error)
         }
         Backend::Auto => {
+            // Small outputs: the CPU is faster than opening a device, so no probe at all.
+            let vertices = refiner.plan().vertex_count() as u64;
+            if !Backend::auto_looks_for_gpu(vertices) {
+                return on_cpu(refiner, displacement).map(done);
+            }
             // No hardware adapter is the normal case on many machines: the CPU, silently.
             let Ok(ctx) = hardware() else {
                 return on_cpu(refiner, displacement).map(done);
