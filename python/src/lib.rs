@@ -8,6 +8,7 @@
 mod arrays;
 mod displace;
 mod errors;
+mod fem;
 #[cfg(feature = "gpu")]
 mod gpu;
 // Without the `gpu` feature: the same interface, CPU only (`backend="gpu"` is a ValueError).
@@ -429,6 +430,7 @@ fn gpu_info(py: Python<'_>) -> PyResult<Option<Bound<'_, PyDict>>> {
 fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine, m)?)?;
     m.add_function(wrap_pyfunction!(refine_adaptive, m)?)?;
+    m.add_function(wrap_pyfunction!(fem::refine_fem, m)?)?;
     m.add_function(wrap_pyfunction!(pattern, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;
     m.add_function(wrap_pyfunction!(quality, m)?)?;

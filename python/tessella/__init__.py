@@ -44,7 +44,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _tessella
+from . import _fields, _tessella
 from ._tessella import __version__, backends, gpu_info, info, load, pattern, save, schemes
 
 #: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the
@@ -82,7 +82,7 @@ def refine(
     faces: Any = None,
     normals: Any = None,
     *,
-    scheme: str = "pn",
+    scheme: Optional[str] = None,
     level: Union[int, float] = 8,
     alpha: float = 0.75,
     normals_mode: Optional[str] = None,
@@ -96,6 +96,10 @@ def refine(
     camera: Union[str, Tuple[float, ...], List[float], None] = None,
     size: Optional[Tuple[int, int]] = None,
     origin: bool = False,
+    point_data: Optional[Dict[str, Any]] = None,
+    cell_data: Optional[Dict[str, Any]] = None,
+    warp: Optional[str] = None,
+    scale: float = 1.0,
 ) -> Any:
     """Refine a triangle mesh into a curved one.
 
@@ -104,8 +108,12 @@ def refine(
     vertices : array_like, (n, 3) float32/float64, or trimesh.Trimesh
         Coarse vertex positions. A ``trimesh.Trimesh`` here (with ``faces`` left ``None``) is
         refined by :func:`refine_trimesh` and a ``Trimesh`` is returned.
-    faces : array_like, (m, 3) integers
-        Counter-clockwise triangles (vertex indices).
+    faces : array_like, (m, 3) or (m, 6) integers
+        Counter-clockwise triangles (vertex indices). Six columns: second-order (6-node)
+        finite elements, the corners then the mid-edge nodes of edges 0-1, 1-2, 2-0 (gmsh, VTK
+        and meshio order; ``-1`` in all three for a linear face of a mixed mesh); the
+        ``"quadratic"`` scheme (their default) refines each into its exact isoparametric P2
+        surface. Returns a :class:`RefineResult`; mid-edge nodes are dropped from its vertices.
     normals : array_like, (n, 3) float32/float64, optional
         Vertex normals; ``None`` computes angle-weighted normals. Curved schemes bend the
         surface to follow them, so they matter: pass the true normals when you know them.
@@ -116,7 +124,8 @@ def refine(
         across edges, built from each triangle and its edge neighbours), ``"pn-aen"`` (PN with
         adjacent edge normals, McDonald & Kilgard 2010: no cracks where normals are split) or
         ``"st"`` (scalar-tagged PN, GMR Appendix B: creases and per-vertex shape tags; no tags
-        gives PN). Names are case-insensitive.
+        gives PN), ``"quadratic"`` (second-order finite elements: 6-column ``faces``). ``None``:
+        ``"quadratic"`` for 6-column faces, else ``"pn"``. Names are case-insensitive.
     level : int
         Segments per coarse edge, 1 or more: each coarse triangle becomes ``level**2``
         triangles.
@@ -194,6 +203,17 @@ def refine(
         refined vertex's coarse triangle and barycentric coordinates in its corner order (for
         mapping finite-element fields). ``spacing``, fractional levels, ``lod`` and ``origin``
         refine on the CPU; ``tags``, ``crease_angle`` and ``displace`` are not taken with them.
+    point_data : dict of str to array_like (n,) or (n, k), optional
+        Per-vertex fields (temperature, displacement, ...) carried to every refined vertex with
+        its coarse face's own basis: linear on 3-node faces, the 6 quadratic shape functions on
+        6-node faces. Returns a :class:`RefineResult` whose ``point_data`` has the same names.
+    cell_data : dict of str to array_like (m,) or (m, k), optional
+        Per-face fields, copied to each refined triangle of the face (``cell_data`` of the result).
+    warp : str, optional
+        A 3-component ``point_data`` field to move the coarse vertices by before refining
+        (ParaView's "warp by vector"): the curved surface follows the deformed shape.
+    scale : float
+        The factor of ``warp``.
 
     Returns
     -------
@@ -226,7 +246,7 @@ def refine(
         return refine_trimesh(
             vertices,
             normals=normals,
-            scheme=scheme,
+            scheme="pn" if scheme is None else scheme,
             level=level,
             alpha=alpha,
             normals_mode=normals_mode,
@@ -238,6 +258,18 @@ def refine(
         )
     if faces is None:
         raise ValueError("refine(vertices, faces, ...) needs faces, an (m, 3) integer array")
+    if point_data is not None or cell_data is not None or warp is not None or _six_columns(faces):
+        if spacing != "grid" or lod is not None or camera is not None or size is not None:
+            raise ValueError("point_data=, cell_data=, warp= and 6-node faces take a whole level, not spacing= or lod=")
+        if tags is not None or crease_angle is not None or displace is not None:
+            raise ValueError("point_data=, cell_data=, warp= and 6-node faces do not take tags=, crease_angle= or displace=")
+        return _fields.refine_fem(
+            vertices, faces, normals, scheme=scheme, level=level, alpha=alpha,
+            normals_mode=normals_mode, backend=backend, weld=weld, point_data=point_data,
+            cell_data=cell_data, warp=warp, scale=scale,
+        )
+    if scheme is None:
+        scheme = "pn"
     fractional = isinstance(level, float) and not float(level).is_integer()
     if spacing != "grid" or lod is not None or origin or fractional or camera is not None or size is not None:
         if tags is not None or crease_angle is not None or displace is not None:
@@ -292,19 +324,41 @@ class RefineResult:
         The coarse triangle each vertex was evaluated on (-1: a coarse vertex no triangle uses).
     bary : numpy.ndarray, float32 (N, 3)
         Its barycentric coordinates in that triangle's corner order.
+    point_data : dict of str to numpy.ndarray, float32 (N,) or (N, k)
+        The ``point_data`` fields at the refined vertices (empty without ``point_data=``).
+    cell_data : dict of str to numpy.ndarray, float32 (M,) or (M, k)
+        The ``cell_data`` fields of the refined triangles.
     """
 
-    __slots__ = ("vertices", "faces", "normals", "face", "bary")
+    __slots__ = ("vertices", "faces", "normals", "face", "bary", "point_data", "cell_data")
 
-    def __init__(self, vertices: Any, faces: Any, normals: Any, face: Any, bary: Any) -> None:
+    def __init__(
+        self,
+        vertices: Any,
+        faces: Any,
+        normals: Any,
+        face: Any,
+        bary: Any,
+        point_data: Optional[Dict[str, Any]] = None,
+        cell_data: Optional[Dict[str, Any]] = None,
+    ) -> None:
         self.vertices, self.faces, self.normals = vertices, faces, normals
         self.face, self.bary = face, bary
+        self.point_data = {} if point_data is None else point_data
+        self.cell_data = {} if cell_data is None else cell_data
 
     def __iter__(self) -> Any:
         return iter((self.vertices, self.faces, self.normals))
 
     def __repr__(self) -> str:
         return f"RefineResult({len(self.vertices)} vertices, {len(self.faces)} faces)"
+
+
+def _six_columns(faces: Any) -> bool:
+    shape = getattr(faces, "shape", None)
+    if shape is None:
+        shape = np.shape(faces)
+    return len(shape) == 2 and shape[1] == 6
 
 
 def _lod_spec(lod: Any) -> Optional[str]:

@@ -47,6 +47,29 @@ def refine_adaptive(
     weld: bool = True,
     origin: bool = False,
 ) -> Tuple[_F32, _U32, _F32, Optional[npt.NDArray[np.int64]], Optional[_F32]]: ...
+def refine_fem(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    mids: Optional[npt.NDArray[np.int64]] = None,
+    normals: Optional[npt.ArrayLike] = None,
+    *,
+    scheme: str = "quadratic",
+    level: int = 8,
+    alpha: float = 0.75,
+    normals_mode: Optional[str] = None,
+    backend: str = "auto",
+    weld: bool = True,
+    point_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
+    cell_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
+) -> Tuple[
+    _F32,
+    _U32,
+    _F32,
+    npt.NDArray[np.int64],
+    _F32,
+    List[Tuple[str, npt.NDArray[np.float32]]],
+    List[Tuple[str, npt.NDArray[np.float32]]],
+]: ...
 def quality(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,

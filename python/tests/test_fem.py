@@ -72,8 +72,11 @@ def test_read_fem_takes_triangles_and_second_order_cells(tmp_path):
     p10 = np.vstack([np.eye(3), np.zeros((1, 3)), np.random.default_rng(0).random((6, 3))])
     path = tmp_path / "t10.vtu"
     meshio.write(str(path), meshio.Mesh(p10, [("tetra10", np.arange(10)[None])]))
+    v, f = tessella.read_fem(path, order=1)
+    assert len(v) == 4 and f.shape == (4, 3)
+    # By default second-order cells keep their mid-edge nodes: 6-column faces.
     v, f = tessella.read_fem(path)
-    assert len(v) == 4 and len(f) == 4
+    assert len(v) == 10 and f.shape == (4, 6)
 
 
 def test_fem_errors(tmp_path):
