@@ -17,7 +17,8 @@ use crate::error::GpuError;
 use crate::gpu_types::RefineParams;
 use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
-use tessella_core::refine::{Evaluator, Frame, Plan};
+use tessella_core::pattern::PointClass;
+use tessella_core::refine::{Evaluator, Frame, Plan, Tiling};
 use tessella_core::{PatchNets, Pattern, RefinedMesh, Refiner};
 
 /// Threads per workgroup of both kernels (`@workgroup_size(64)` in `refine.wgsl`).
@@ -192,6 +193,8 @@ pub struct GpuEvaluator {
     max_chunk_items: Option<u32>,
     own: Option<wgpu::Buffer>,
     own_indices: Option<(wgpu::Buffer, IndexWidth)>,
+    /// Bytes the last [`Evaluator::evaluate`] wrote to the GPU.
+    uploaded: u64,
 }
 
 impl std::fmt::Debug for GpuEvaluator {
@@ -215,10 +218,10 @@ impl GpuEvaluator {
         plan: &Plan,
         options: &GpuRefineOptions,
     ) -> Result<GpuEvaluator, GpuError> {
-        if plan.tiling().is_some() {
+        if plan.tiling().is_some() && options.displacement != Displacement::None {
             return Err(GpuError::BadOption(
-                "the GPU compute path refines uniform grid plans; adaptive and tessellator \
-                 levels refine on the CPU (PatternRenderer draws them)"
+                "displacement of adaptive and tessellator plans is not supported on the GPU \
+                 compute path"
                     .into(),
             ));
         }
@@ -232,7 +235,10 @@ impl GpuEvaluator {
                 limit: u32::MAX as u64 * 12,
             });
         }
-        let (u32s, params) = index_tables(plan);
+        let (u32s, params) = match plan.tiling() {
+            None => index_tables(plan),
+            Some(tiling) => adaptive_tables(plan, tiling),
+        };
         let f32_len = coarse_f32_len(plan);
         let limit = ctx.max_binding();
         for (what, bytes) in [
@@ -251,16 +257,33 @@ impl GpuEvaluator {
             points: vec![[0.0; 3]; faces * basis.len()],
             normals: vec![[0.0; 3]; faces * 6],
         };
+        // An adaptive plan: every distinct tile's stencil rows and pattern, one after the other
+        // (the lookup table's rows count across them).
+        let (weights, patterns): (std::borrow::Cow<[f32]>, Vec<&Pattern>) = match plan.tiling() {
+            None => (
+                plan.stencil().weights.as_slice().into(),
+                vec![plan.pattern()],
+            ),
+            Some(tiling) => (
+                tiling
+                    .tiles
+                    .iter()
+                    .flat_map(|t| t.stencil.weights.iter().copied())
+                    .collect::<Vec<f32>>()
+                    .into(),
+                tiling.tiles.iter().map(|t| &t.pattern).collect(),
+            ),
+        };
         ctx.scoped(|| {
             let pipelines = Pipelines::new(ctx);
             let patches = PatchBuffers::new(
                 ctx,
-                &plan.stencil().weights,
+                &weights,
                 &blank,
                 &options.displacement,
                 &crate::canonical::edge_table(
                     basis,
-                    &[plan.pattern()],
+                    &patterns,
                     plan.triangles(),
                     &plan.topology().position_ids,
                 ),
@@ -286,8 +309,16 @@ impl GpuEvaluator {
                 max_chunk_items: options.max_chunk_items,
                 own: None,
                 own_indices: None,
+                uploaded: 0,
             })
         })?
+    }
+
+    /// Bytes the last [`Evaluator::evaluate`] uploaded: the frame's control nets and coarse
+    /// vertices (and displacement face records), O(coarse) whatever the plan's levels; the
+    /// stencils, lookup and topology tables were uploaded once, by [`GpuEvaluator::new`].
+    pub fn uploaded_bytes(&self) -> u64 {
+        self.uploaded
     }
 
     /// Floats per output vertex: 6 (position, normal) or 8 (and UV, when the mesh has them).
@@ -574,7 +605,7 @@ impl Evaluator for GpuEvaluator {
             }
         };
         let chunks = self.vertex_chunks(&buffer, offset, total)?;
-        self.upload(plan, frame)?;
+        self.uploaded = self.upload(plan, frame)?;
         self.ctx.scoped(|| {
             let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
             for chunk in &chunks {
@@ -674,10 +705,13 @@ pub fn gpu_refine_with(
 
     // Every chunk is one dispatch plus a copy into a staging buffer; dispatches are batched
     // into as few submissions as the staging size cap allows (each submission costs a wait).
+    // An adaptive plan's triangles are the plan's own (no index kernel for tiles).
+    let adaptive = plan.tiling().is_some();
+    let triangle_total = if adaptive { 0 } else { layout.triangle_count };
     let mut jobs = Vec::new();
     for (vertices, total, chunk, item_bytes) in [
         (true, layout.vertex_count, vertex_chunk, floats * 4),
-        (false, layout.triangle_count, triangle_chunk, 12),
+        (false, triangle_total, triangle_chunk, 12),
     ] {
         let mut first = 0;
         while first < total {
@@ -745,6 +779,9 @@ pub fn gpu_refine_with(
             }
         }
         batch_start = batch_end;
+    }
+    if adaptive {
+        out.triangles.extend_from_slice(plan.indices());
     }
     Ok(out)
 }
@@ -823,6 +860,90 @@ fn index_tables(plan: &Plan) -> (Vec<u32>, RefineParams) {
     p.normals_at = (nv * 3) as u32;
     p.uvs_at = (nv * 6) as u32;
     (u32s, p)
+}
+
+/// What `refine.wgsl` reads from `mesh_u32` for an adaptive plan: the coarse triangles and, per
+/// output vertex, the face that evaluates it and its row in the tiles' concatenated stencil
+/// (`row | (corner + 1) << 30` for a corner, whose position is copied from the input), or
+/// `NONE` and the vertex for a coarse vertex no face uses. Slots and owners are those of
+/// tessella-core's adaptive layout: welded = corners (owner face) | each edge's points from the
+/// lower vertex index (owner face) | each face's interior; soup = each face's points.
+fn adaptive_tables(plan: &Plan, tiling: &Tiling) -> (Vec<u32>, RefineParams) {
+    let topo = plan.topology();
+    let tris = plan.triangles();
+    let weld = plan.layout().weld;
+    let nv = plan.coarse_vertex_count();
+    let mut row0 = Vec::with_capacity(tiling.tiles.len());
+    let mut rows = 0u32;
+    for t in &tiling.tiles {
+        row0.push(rows);
+        rows += t.pattern.points.len() as u32;
+    }
+    let mut u32s: Vec<u32> = tris.iter().flatten().copied().collect();
+    let lookup_at = u32s.len();
+    u32s.resize(lookup_at + plan.vertex_count() * 2, NONE);
+    let mut set = |slot: u64, face: usize, word: u32| {
+        let i = lookup_at + slot as usize * 2;
+        u32s[i] = face as u32;
+        u32s[i + 1] = word;
+    };
+    let corner = |c: usize| (c as u32 + 1) << 30;
+    for f in 0..tris.len() {
+        let tile = tiling.tile(f);
+        let r = row0[tiling.face_tile[f] as usize];
+        let base = tiling.face_offset[f];
+        if !weld {
+            for p in 0..tile.pattern.points.len() {
+                let flag = match tile.pattern.classes[p] {
+                    PointClass::Corner { corner: c } => corner(c as usize),
+                    _ => 0,
+                };
+                set(base + p as u64, f, (r + p as u32) | flag);
+            }
+            continue;
+        }
+        for (i, &p) in tile.interior.iter().enumerate() {
+            set(base + i as u64, f, r + p);
+        }
+    }
+    if weld {
+        for v in 0..nv {
+            match topo.vertex_owner[v] {
+                Some((f, c)) => {
+                    let f = f as usize;
+                    let r = row0[tiling.face_tile[f] as usize];
+                    let p = tiling.tile(f).corners[c as usize];
+                    set(v as u64, f, (r + p) | corner(c as usize));
+                }
+                None => set(v as u64, NONE as usize, v as u32),
+            }
+        }
+        for (e, &(f, k)) in topo.edge_owner.iter().enumerate() {
+            let (f, k) = (f as usize, k as usize);
+            let tile = tiling.tile(f);
+            let r = row0[tiling.face_tile[f] as usize];
+            let by_index = tris[f][k] == topo.edges[e][0];
+            let m = tile.edges[k].len();
+            for (s, &p) in tile.edges[k].iter().enumerate() {
+                let slot = if by_index { s } else { m - 1 - s };
+                set(tiling.edge_offset[e] + slot as u64, f, r + p);
+            }
+        }
+    }
+    let params = RefineParams {
+        level: plan.layout().level,
+        weld: weld as u32,
+        input_vertices: nv as u32,
+        has_uv: plan.has_uvs() as u32,
+        triangles_at: 0,
+        positions_at: 0,
+        normals_at: (nv * 3) as u32,
+        uvs_at: (nv * 6) as u32,
+        adaptive: 1,
+        lookup_at: lookup_at as u32,
+        ..Default::default()
+    };
+    (u32s, params)
 }
 
 /// Per pattern point, its class as `refine.wgsl` decodes it: `class << 30 | edge << 28 | index`

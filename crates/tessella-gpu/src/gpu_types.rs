@@ -62,8 +62,14 @@ pub(crate) struct RefineParams {
     pub uvs_at: u32,
     /// `f32` index of the chunk's first vertex in the bound output window.
     pub out_base: u32,
+    /// 1 for an adaptive plan: every output vertex is read from the lookup table.
+    pub adaptive: u32,
+    /// Offset (in `u32`s) of the adaptive lookup: per output vertex, its face and stencil row.
+    pub lookup_at: u32,
+    pub _pad: [u32; 2],
 }
-const _: () = assert!(size_of::<RefineParams>() == 96);
+const _: () = assert!(size_of::<RefineParams>() == 112);
+const _: () = assert!(offset_of!(RefineParams, lookup_at) == 100);
 const _: () = assert!(offset_of!(RefineParams, has_uv) == 36);
 const _: () = assert!(offset_of!(RefineParams, pattern_triangles_at) == 76);
 const _: () = assert!(offset_of!(RefineParams, uvs_at) == 88);

@@ -110,3 +110,93 @@ fn gpu_soup_edge_vertices_equal_their_twins_bit_for_bit() {
         }
     }
 }
+
+/// The twin pairs of an adaptive plan's soup: each face's block starts at its face offset; a
+/// point at step `s` of a shared edge (from the face's corner `k`) is step `n − s` on the other
+/// face, whose tile has the same `n − 1` points on that edge.
+fn adaptive_twins(mesh: &Mesh, plan: &tessella_core::refine::Plan) -> Vec<(usize, usize)> {
+    let tiling = plan.tiling().expect("an adaptive plan");
+    let tris = mesh.triangles();
+    let mut half_edges = HashMap::new();
+    for (f, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            half_edges.insert((t[k], t[(k + 1) % 3]), (f, k));
+        }
+    }
+    let slot = |f: usize, p: u32| tiling.face_offset[f] as usize + p as usize;
+    let mut pairs = Vec::new();
+    let mut first_copy = HashMap::new();
+    for (f, t) in tris.iter().enumerate() {
+        let tile = tiling.tile(f);
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let here = slot(f, tile.corners[k]);
+            let first = *first_copy.entry(a).or_insert(here);
+            pairs.push((first, here));
+            let Some(&(g, kg)) = half_edges.get(&(b, a)) else {
+                continue;
+            };
+            if g < f {
+                continue;
+            }
+            let (mine, theirs) = (&tile.edges[k], &tiling.tile(g).edges[kg]);
+            assert_eq!(
+                mine.len(),
+                theirs.len(),
+                "faces {f} and {g} disagree on an edge"
+            );
+            let m = mine.len();
+            for s in 0..m {
+                pairs.push((slot(f, mine[s]), slot(g, theirs[m - 1 - s])));
+            }
+        }
+    }
+    pairs
+}
+
+#[test]
+fn gpu_adaptive_soup_edge_vertices_equal_their_twins_bit_for_bit() {
+    use std::sync::Arc;
+    use tessella_core::refine::{Levels, Spacing};
+    let mesh = samples::icosphere(1);
+    let plan = tessella_core::refine::Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1)).unwrap();
+    let edges = plan.topology().edges.len();
+    for spacing in Spacing::ALL {
+        // Per-edge levels from 1 to 9 (integers for the grid, whose fractions geomorph).
+        let levels: Arc<[f32]> = (0..edges)
+            .map(|e| {
+                let x = 1.0 + (e * 37 % 81) as f32 / 10.0;
+                if spacing == Spacing::Grid {
+                    x.round()
+                } else {
+                    x
+                }
+            })
+            .collect();
+        for scheme in [Scheme::Pn, Scheme::Png1] {
+            let options = RefineOptions::new(scheme, 1)
+                .with_weld(false)
+                .with_spacing(spacing)
+                .with_levels(Levels::PerEdge {
+                    edges: levels.clone(),
+                    faces: None,
+                });
+            let refiner = Refiner::new(&mesh, &options).unwrap();
+            let gpu = gpu_refine(ctx(), &refiner).unwrap();
+            let pairs = adaptive_twins(&mesh, refiner.plan());
+            assert!(pairs.len() > 240 + 120, "{spacing}: {} pairs", pairs.len());
+            let (positions, normals) = differing(&gpu, &pairs);
+            let what = format!("{} {spacing}", scheme.name());
+            assert_eq!(positions, 0, "{what}: {positions} twin positions differ");
+            let (_, cpu_normals) = differing(&refiner.refine(), &pairs);
+            if scheme == Scheme::Png1 {
+                assert!(
+                    normals <= cpu_normals,
+                    "{what}: {normals} vs cpu {cpu_normals}"
+                );
+            } else {
+                assert_eq!(normals, 0, "{what}: {normals} twin normals differ");
+            }
+        }
+    }
+}

@@ -10,7 +10,7 @@ use image::RgbaImage;
 use std::sync::Arc;
 use tessella_core::refine::{Levels, Plan, Spacing};
 use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
-use tessella_gpu::{Displacement, GpuEvaluator, PatternRenderer};
+use tessella_gpu::{Displacement, PatternRenderer};
 use tessella_view::{scene_uniforms, RenderOptions, Target};
 use wgpu::util::DeviceExt;
 
@@ -145,12 +145,15 @@ fn per_edge_levels_draw_one_pattern_per_tile() {
 }
 
 #[test]
-fn the_compute_path_refuses_adaptive_plans() {
+fn the_compute_path_refines_adaptive_plans_like_the_cpu() {
+    // Detailed comparisons live in tessella-gpu's tests/adaptive.rs; here the picture's plan.
     let mesh = samples::icosphere(0);
     let options = RefineOptions::new(Scheme::Pn, 1)
         .with_spacing(Spacing::FractionalOdd)
         .with_levels(Levels::Uniform(3.5));
-    let plan = Plan::new(&mesh, &options).unwrap();
-    let err = GpuEvaluator::new(ctx(), &plan).unwrap_err();
-    assert!(err.to_string().contains("CPU"), "{err}");
+    let refiner = tessella_core::Refiner::new(&mesh, &options).unwrap();
+    let gpu = tessella_gpu::gpu_refine(ctx(), &refiner).unwrap();
+    let cpu = refiner.refine();
+    assert_eq!(gpu.triangles, cpu.triangles);
+    assert_eq!(gpu.positions.len(), cpu.positions.len());
 }

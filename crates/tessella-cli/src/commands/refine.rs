@@ -45,14 +45,8 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let refiner = Refiner::new(&mesh, &options)
         .with_context(|| format!("cannot refine {}", args.input.display()))?;
-    let refined = if adaptive {
-        if args.backend == tessella_core::Backend::Gpu {
-            anyhow::bail!("adaptive and tessellator levels refine on the CPU for now; use --backend cpu or auto");
-        }
-        refine_cpu(&refiner, &Displacement::None)?
-    } else {
-        backend::refine(&backend, args, &refiner)?
-    };
+    // Adaptive and tessellator plans too: the GPU compute path writes the CPU's layout.
+    let refined = backend::refine(&backend, args, &refiner)?;
     let elapsed = start.elapsed();
 
     if args.write_origin {

@@ -30,6 +30,10 @@ struct RefineParams {
     normals_at: u32,
     uvs_at: u32,
     out_base: u32,          // f32 index of this chunk's first vertex in `out_vertices`
+    adaptive: u32,          // 1: every vertex from the lookup table (adaptive plans)
+    lookup_at: u32,         // per output vertex: face (or NONE), row | (corner + 1) << 30
+    _pad0: u32,
+    _pad1: u32,
 }
 
 const NONE: u32 = 0xffffffffu;
@@ -94,6 +98,10 @@ fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let g = params.first + local;
+    if (params.adaptive != 0u) {
+        adaptive_vertex(local, g);
+        return;
+    }
     let m = params.level - 1u;
     var face: u32;
     var row: u32;
@@ -139,6 +147,36 @@ fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (params.weld == 0u && (code >> 30u) == 0u) {
         // Soup corners also copy the input position exactly.
         p = input_vec3(params.positions_at, corner(face, code & 3u));
+    }
+    var uv = vec2<f32>(0.0);
+    if (params.has_uv != 0u) {
+        uv = face_uv(face, sp.l);
+    }
+    write_vertex(local, p, sp.normal, displace_direction(face, sp.l, sp.normal), uv);
+}
+
+// One output vertex of an adaptive plan (tessella-core's AdaptiveJob): the lookup names the face
+// that evaluates it and its row in the tiles' concatenated stencil. Corners copy the input
+// position; points on coarse edges are evaluated canonically by eval_patch (the edge table has
+// every tile's rows); a coarse vertex no face uses keeps its input normal.
+fn adaptive_vertex(local: u32, g: u32) {
+    let face = mesh_u32[params.lookup_at + g * 2u];
+    let word = mesh_u32[params.lookup_at + g * 2u + 1u];
+    if (face == NONE) {
+        var uv = vec2<f32>(0.0);
+        if (params.has_uv != 0u) {
+            uv = input_uv(word);
+        }
+        let n = input_vec3(params.normals_at, word);
+        write_vertex(local, input_vec3(params.positions_at, word), n, n, uv);
+        return;
+    }
+    let row = word & 0x3fffffffu;
+    let c = word >> 30u;
+    let sp = eval_patch(face, row);
+    var p = sp.position;
+    if (c != 0u) {
+        p = input_vec3(params.positions_at, corner(face, c - 1u));
     }
     var uv = vec2<f32>(0.0);
     if (params.has_uv != 0u) {
