@@ -149,11 +149,8 @@ fn refine_adaptive<'py>(
         return Err(PyValueError::new_err(
             "camera= and size= serve lod='screen:PX' and lod='distance:NEAR,FAR,MAX'",
         ));
-    } else if spacing == Spacing::Grid && !whole && level.is_finite() && level > 0.0 {
-        return Err(PyValueError::new_err(format!(
-            "level {level} is fractional: the grid takes whole numbers; use spacing='fractional-odd' or 'fractional-even', or lod="
-        )));
     } else if !whole || spacing != Spacing::Grid {
+        // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
         opts = opts.with_levels(Levels::Uniform(level as f32));
     }
     let mesh = mesh_from(py, vertices, faces, normals)?;

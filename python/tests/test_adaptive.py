@@ -26,6 +26,20 @@ def test_fractional_level_gives_the_tessellators_triangles_on_every_face():
     assert np.allclose(np.linalg.norm(rn, axis=1), 1, atol=1e-5)
 
 
+def test_fractional_grid_level_geomorphs_between_the_two_integer_levels():
+    v, f, n = icosphere()
+    five = tessella.refine(v, f, n, level=5, backend="cpu", weld=False)[0]
+    six = tessella.refine(v, f, n, level=6, backend="cpu", weld=False)[0]
+    rv, rf, _ = tessella.refine(v, f, n, level=5.5, backend="cpu", weld=False)
+    # The grid of 6 segments: 36 triangles per face, points off level 6's by a morph.
+    assert len(rf) == 36 * len(f) and rv.shape == six.shape
+    assert np.abs(rv - six).max() > 1e-4
+    # Level 6 - 1e-4 is within 1e-3 of level 6 (no pop).
+    near = tessella.refine(v, f, n, level=6 - 1e-4, backend="cpu", weld=False)[0]
+    assert np.abs(near - six).max() < 1e-3 * np.abs(six - six.mean(axis=0)).max()
+    assert len(five) < len(six)
+
+
 def test_origin_returns_a_result_object_whose_corners_are_the_coarse_vertices():
     v, f, n = icosphere()
     for weld in (True, False):
@@ -60,7 +74,6 @@ def test_lod_strings_and_dicts_agree():
     [
         (dict(level=-1.0, spacing="equal"), "finite numbers above 0"),
         (dict(level=float("nan"), spacing="fractional-odd"), "finite numbers above 0"),
-        (dict(level=2.5), "fractional"),
         (dict(lod="tolerance:0"), "above 0"),
         (dict(lod="screen:4", size=(10, 10)), "camera"),
         (dict(lod="screen:4", camera=(0, 0, 3, 0, 0, 0, 0), size=(10, 10)), "field of view"),

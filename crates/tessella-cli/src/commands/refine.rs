@@ -153,9 +153,8 @@ fn levels(args: &RefineArgs, scheme: tessella_core::Scheme) -> anyhow::Result<Re
     }
     match (spacing, whole) {
         (Spacing::Grid, true) => Ok(options),
-        (Spacing::Grid, false) => anyhow::bail!(
-            "--level {level} is fractional: the grid takes whole numbers; use --spacing fractional-odd or fractional-even for fractional levels, or --lod"
-        ),
+        // A fractional grid level geomorphs: the grid of ⌈level⌉ segments, its new points
+        // blended towards the coarser level (docs/formulas.md, "Geomorphing grid patterns").
         _ => Ok(options.with_levels(Levels::Uniform(level as f32))),
     }
 }

@@ -99,9 +99,7 @@ fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Resul
     }
     match (spacing, whole) {
         (Spacing::Grid, true) => Ok(options),
-        (Spacing::Grid, false) => anyhow::bail!(
-            "--level {level} is fractional: the grid takes whole numbers; use --spacing fractional-odd or fractional-even for fractional levels, or --lod"
-        ),
+        // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
         // Above the tessellator's maximum (64; 63 for fractional-odd) levels are clamped.
         _ => Ok(options.with_levels(Levels::Uniform(level as f32))),
     }

@@ -183,6 +183,32 @@ pub struct Tile {
     pub interior: Vec<u32>,
 }
 
+impl Tile {
+    /// Canonical weights ([`canonical`]) of step `step` (from corner `k`) of edge `k`, whose
+    /// canonical start is corner `k` when `forward`: the plain weights at the point's exact
+    /// barycentrics, or the morphed ones ([`super::morph::edge_weights`]). Every backend that
+    /// evaluates edges canonically takes its weights from here, so shared points keep their bits.
+    pub fn edge_weights(&self, k: usize, step: u32, forward: bool) -> EdgeWeights {
+        let n = self.edges[k].len() as u32 + 1;
+        match self.morph {
+            Some(m) if m.outer[k] < 1.0 => {
+                let s = if forward { step } else { n - step };
+                super::morph::edge_weights(n, s, m.outer[k])
+            }
+            _ => {
+                let l = self.pattern.points[self.edges[k][step as usize - 1] as usize];
+                let (c0, c1) = (k, (k + 1) % 3);
+                let (a, b) = if forward {
+                    (l[c0], l[c1])
+                } else {
+                    (l[c1], l[c0])
+                };
+                EdgeWeights::new(a, b)
+            }
+        }
+    }
+}
+
 /// The per-face patterns of an adaptive plan and where their points go. Offsets are vertex
 /// slots of the plan's output.
 #[derive(Debug, Clone)]
@@ -646,19 +672,7 @@ impl AdaptiveJob<'_> {
         sink: &mut Sink,
         slot: usize,
     ) {
-        let l = tile.pattern.points[p as usize];
-        let (c0, c1) = (k, (k + 1) % 3);
-        let w = match tile.morph {
-            Some(m) if m.outer[k] < 1.0 => {
-                let n = tile.edges[k].len() as u32 + 1;
-                let s = if fwd { step as u32 } else { n - step as u32 };
-                super::morph::edge_weights(n, s, m.outer[k])
-            }
-            _ => {
-                let (a, b) = if fwd { (l[c0], l[c1]) } else { (l[c1], l[c0]) };
-                EdgeWeights::new(a, b)
-            }
-        };
+        let w = tile.edge_weights(k, step as u32, fwd);
         let points = self.nets.patch_points(f);
         let c = canonical::canonical_points(self.nets.basis, points, k, fwd);
         sink.set_position(slot, canonical::position(&w, &c));
