@@ -26,6 +26,9 @@ pub fn refine(
     if backend == Backend::Gpu {
         return Err(PyValueError::new_err(NO_GPU));
     }
+    if backend == Backend::Gl {
+        return Err(PyValueError::new_err(crate::options::NO_GL));
+    }
     let mut mesh = refiner.refine();
     if displacement.is_some() {
         let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());

@@ -132,7 +132,9 @@ pub fn refine(
     };
     match backend {
         Backend::Cpu => on_cpu(refiner, displacement).map(done),
-        Backend::Gl => Err(pyo3::exceptions::PyValueError::new_err(crate::options::NO_GL)),
+        Backend::Gl => Err(pyo3::exceptions::PyValueError::new_err(
+            crate::options::NO_GL,
+        )),
         Backend::Gpu => {
             let ctx = any().map_err(|e| {
                 pyo3::exceptions::PyRuntimeError::new_err(format!(

@@ -156,6 +156,7 @@ impl Refiner {
         let normal_mode = options::normal_mode(normals_mode)?;
         match options::backend(backend)? {
             Backend::Auto | Backend::Cpu => {}
+            Backend::Gl => return Err(PyValueError::new_err(crate::options::NO_GL)),
             #[cfg(not(feature = "gpu"))]
             Backend::Gpu => return Err(PyValueError::new_err(crate::gpu::NO_GPU)),
             #[cfg(feature = "gpu")]

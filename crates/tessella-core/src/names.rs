@@ -5,7 +5,7 @@
 //! |---|---|
 //! | [`Scheme`] | `flat`, `phong`, `pn`, `png1`, `pn-aen`, `st` |
 //! | [`NormalMode`] | `linear`, `quadratic`, `real` |
-//! | [`Backend`] | `auto`, `cpu`, `gpu` |
+//! | [`Backend`] | `auto`, `cpu`, `gpu`, `gl` |
 //!
 //! Parsing ([`FromStr`], through [`parse_name`]) ignores ASCII case and takes `_` for `-`
 //! (`PN_AEN` is `pn-aen`, a spelling that suits Python keywords); printing ([`fmt::Display`])
@@ -161,17 +161,21 @@ pub enum Backend {
     Cpu,
     /// A GPU, a software adapter (lavapipe) included; an error when there is none.
     Gpu,
+    /// The OpenGL 4 tessellation stages (tessella-gl): the hardware tessellator, so a
+    /// tessellator spacing (equal, fractional-odd, fractional-even); unwelded output.
+    Gl,
 }
 
 impl Named for Backend {
     const WHAT: &'static str = "backend";
-    const ALL: &'static [Backend] = &[Backend::Auto, Backend::Cpu, Backend::Gpu];
-    const NAMES: &'static [&'static str] = &["auto", "cpu", "gpu"];
+    const ALL: &'static [Backend] = &[Backend::Auto, Backend::Cpu, Backend::Gpu, Backend::Gl];
+    const NAMES: &'static [&'static str] = &["auto", "cpu", "gpu", "gl"];
     fn name(&self) -> &'static str {
         match self {
             Backend::Auto => "auto",
             Backend::Cpu => "cpu",
             Backend::Gpu => "gpu",
+            Backend::Gl => "gl",
         }
     }
     fn description(&self) -> &'static str {
@@ -179,6 +183,10 @@ impl Named for Backend {
             Backend::Auto => "A hardware GPU for large outputs when there is one, else the CPU",
             Backend::Cpu => "The CPU, all cores",
             Backend::Gpu => "The GPU (a software adapter is used when there is no hardware one)",
+            Backend::Gl => {
+                "OpenGL 4 tessellation shaders (the hardware tessellator; needs a tessellator \
+                 --spacing)"
+            }
         }
     }
 }

@@ -11,7 +11,8 @@ use tessella_gpu::{AdapterChoice, GpuContext};
 /// reason when there is none.
 pub fn context_for(backend: BackendArg) -> anyhow::Result<Option<GpuContext>> {
     match backend {
-        BackendArg::Cpu => Ok(None),
+        // The GL backend has its own context (commands/refine_gl.rs).
+        BackendArg::Cpu | BackendArg::Gl => Ok(None),
         // No hardware GPU is the ordinary case on servers: the CPU is the documented fallback,
         // so it goes quietly.
         BackendArg::Auto => Ok(GpuContext::new(AdapterChoice::Hardware).ok()),

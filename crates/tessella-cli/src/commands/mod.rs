@@ -12,6 +12,7 @@ mod info;
 mod pattern;
 mod pattern_svg;
 mod refine;
+mod refine_gl;
 #[cfg(feature = "gpu")]
 mod render;
 mod samples;

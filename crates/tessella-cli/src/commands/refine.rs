@@ -46,7 +46,11 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     let refiner = Refiner::new(&mesh, &options)
         .with_context(|| format!("cannot refine {}", args.input.display()))?;
     // Adaptive and tessellator plans too: the GPU compute path writes the CPU's layout.
-    let refined = backend::refine(&backend, args, &refiner)?;
+    let refined = if args.backend == tessella_core::Backend::Gl {
+        super::refine_gl::refine(args, &mesh, &options)?
+    } else {
+        backend::refine(&backend, args, &refiner)?
+    };
     let elapsed = start.elapsed();
 
     if args.write_origin {

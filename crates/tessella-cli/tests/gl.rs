@@ -1,0 +1,153 @@
+//! `tessella refine --backend gl` against `--backend cpu` with the same scheme, spacing, levels
+//! and normals: the same triangle count and every GL vertex within 1e-5 of the bounding-box
+//! diagonal of a CPU vertex with a normal within 1e-4 (the GL output is unwelded: compared with
+//! the CPU's `--soup`, as sets). Needs an EGL driver with OpenGL 4.3 (CI: Mesa's llvmpipe).
+#![cfg(feature = "gl")]
+
+use std::path::Path;
+use std::process::{Command, Output};
+use tessella_core::samples;
+
+fn tessella(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tessella"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+#[test]
+fn gl_backend_output_equals_the_cpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ico.ply");
+    let mesh = samples::icosphere(0);
+    tessella_io::write_mesh(&input, (&mesh).into(), &Default::default()).unwrap();
+    let diag = mesh.diagonal();
+    let cases: &[&[&str]] = &[
+        &["--scheme", "flat", "--spacing", "equal", "--level", "3"],
+        &[
+            "--scheme",
+            "phong",
+            "--spacing",
+            "fractional-odd",
+            "--level",
+            "3.5",
+        ],
+        &[
+            "--scheme",
+            "pn",
+            "--spacing",
+            "fractional-even",
+            "--level",
+            "4.2",
+        ],
+        &[
+            "--scheme",
+            "pn",
+            "--normals",
+            "real",
+            "--spacing",
+            "equal",
+            "--level",
+            "4",
+        ],
+        &[
+            "--scheme",
+            "png1",
+            "--spacing",
+            "fractional-odd",
+            "--level",
+            "2.7",
+        ],
+        &[
+            "--scheme",
+            "pn",
+            "--spacing",
+            "fractional-odd",
+            "--lod",
+            "tolerance:0.003",
+        ],
+        &[
+            "--scheme",
+            "png1",
+            "--spacing",
+            "equal",
+            "--lod",
+            "tolerance:0.003",
+        ],
+    ];
+    for case in cases {
+        let run = |backend: &str| {
+            let out = dir.path().join(format!("{backend}.ply"));
+            let mut a = vec![
+                "refine",
+                s(&input),
+                "-o",
+                s(&out),
+                "--backend",
+                backend,
+                "--soup",
+            ];
+            a.extend_from_slice(case);
+            let o = tessella(&a);
+            assert!(
+                o.status.success(),
+                "{backend} {case:?}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            tessella_io::read_mesh(&out).unwrap()
+        };
+        let (cpu, gl) = (run("cpu"), run("gl"));
+        assert_eq!(
+            cpu.face_count(),
+            gl.face_count(),
+            "{case:?}: triangle count"
+        );
+        for (i, (p, n)) in gl.positions().iter().zip(gl.normals()).enumerate() {
+            // Where faces meet, the soup has one copy per face, each with its face's normal
+            // (real normals differ across edges): some copy must match both.
+            let near: Vec<usize> = (0..cpu.positions().len())
+                .filter(|&j| dist(*p, cpu.positions()[j]) <= 1e-5 * diag)
+                .collect();
+            assert!(
+                !near.is_empty(),
+                "{case:?}: GL vertex {i} {p:?} is on no CPU vertex"
+            );
+            assert!(
+                near.iter().any(|&j| dist(*n, cpu.normals()[j]) <= 1e-4),
+                "{case:?}: GL vertex {i} normal {n:?}, CPU normals there {:?}",
+                near.iter().map(|&j| cpu.normals()[j]).collect::<Vec<_>>()
+            );
+        }
+    }
+}
+
+#[test]
+fn gl_backend_refuses_the_grid_with_a_message_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ico.ply");
+    tessella_io::write_mesh(&input, (&samples::icosphere(0)).into(), &Default::default()).unwrap();
+    let out = dir.path().join("x.ply");
+    let o = tessella(&[
+        "refine",
+        s(&input),
+        "-o",
+        s(&out),
+        "--backend",
+        "gl",
+        "--level",
+        "3",
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("fractional-odd"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.exists());
+}
