@@ -24,13 +24,13 @@ fn p(v: [f32; 3]) -> DVec3 {
     DVec3::from(v.map(f64::from))
 }
 
+/// Positions, corner triangles, mid-edge nodes.
+type P2Arrays = (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[u32; 3]>);
+
 /// A P2 mesh: `mesh`'s triangles with one mid node per edge, placed by `place(a, b)` (shared by
 /// both faces of an edge), appended after the mesh's vertices. Returns the positions, corner
 /// triangles and mid nodes.
-fn with_mids(
-    mesh: &Mesh,
-    place: impl Fn(DVec3, DVec3) -> DVec3,
-) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[u32; 3]>) {
+fn with_mids(mesh: &Mesh, place: impl Fn(DVec3, DVec3) -> DVec3) -> P2Arrays {
     let mut pos = mesh.positions().to_vec();
     let mut at: HashMap<(u32, u32), u32> = HashMap::new();
     let mids = mesh
