@@ -272,6 +272,14 @@ pub struct AnimateArgs {
     /// Largest twist, degrees.
     #[arg(long, default_value_t = 60.0)]
     pub twist: f32,
+    /// Instead of the twist: fly the camera towards the mesh (zoom 0.8 to 2.5) with levels from
+    /// the screen (`--lod screen:PX` of each frame's camera) and fractional-odd spacing, so the
+    /// levels grow smoothly frame by frame.
+    #[arg(long)]
+    pub fly_in: bool,
+    /// With --fly-in: pixels per refined edge.
+    #[arg(long, default_value_t = 8.0, requires = "fly_in")]
+    pub pixels: f32,
     /// Frame size, WIDTHxHEIGHT.
     #[arg(long, default_value = "400x400", value_parser = parse_size)]
     pub size: (u32, u32),

@@ -104,3 +104,91 @@ pub fn render_twist(
     }
     Ok(stats)
 }
+
+/// What a fly-in rendered.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlyInStats {
+    /// Per frame: the camera's zoom, the largest segment count of any edge, the refined
+    /// triangle count, and the bytes uploaded for the new plan's tiles (once per plan).
+    pub zooms: Vec<f32>,
+    pub max_levels: Vec<u32>,
+    pub triangles: Vec<u64>,
+    pub plan_bytes: Vec<u64>,
+    /// The frames written, in order.
+    pub paths: Vec<PathBuf>,
+}
+
+/// Renders `frames` pictures of `mesh` with the camera moving towards it, from `zoom.0` to
+/// `zoom.1` (geometrically, the eye's distance shrinking by the same factor every frame),
+/// with view-dependent levels: `refine`'s spacing (fractional-odd or fractional-even make
+/// levels, and so points, move continuously) and `Lod::Screen` at `pixels` per refined edge
+/// seen from each frame's own camera. The levels change every frame, so every frame is a new
+/// plan: its tiles' stencils are uploaded once, then the frame is drawn. Frames go to
+/// `out_dir/frame_000.png`, ...; `options.zoom` is ignored.
+#[allow(clippy::too_many_arguments)]
+pub fn render_fly_in(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    refine: &RefineOptions,
+    options: &RenderOptions,
+    frames: u32,
+    zoom: (f32, f32),
+    pixels: f32,
+    out_dir: &Path,
+) -> Result<FlyInStats, GpuError> {
+    use tessella_core::refine::{Levels, Lod};
+    if frames == 0 {
+        return Err(GpuError::BadOption(
+            "an animation needs at least one frame".into(),
+        ));
+    }
+    if !(zoom.0 > 0.0 && zoom.1 > 0.0 && zoom.0.is_finite() && zoom.1.is_finite()) {
+        return Err(GpuError::BadOption(format!(
+            "fly-in zooms must be positive, got {} and {}",
+            zoom.0, zoom.1
+        )));
+    }
+    options.validate()?;
+    let target = Target::new(ctx, options.size)?;
+    let mut stats = FlyInStats {
+        zooms: Vec::new(),
+        max_levels: Vec::new(),
+        triangles: Vec::new(),
+        plan_bytes: Vec::new(),
+        paths: Vec::new(),
+    };
+    for k in 0..frames {
+        let t = if frames > 1 {
+            k as f32 / (frames - 1) as f32
+        } else {
+            0.0
+        };
+        let view = RenderOptions {
+            zoom: zoom.0 * (zoom.1 / zoom.0).powf(t),
+            ..options.clone()
+        };
+        let (w, h) = view.size;
+        let levels = Levels::Lod(Lod::Screen {
+            pixels,
+            camera: crate::lod_camera(mesh, &view),
+            size: [w, h],
+        });
+        let plan = Plan::new(mesh, &refine.clone().with_levels(levels))?;
+        let frame = plan.frame(mesh)?;
+        let renderer =
+            PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &view.displacement)?;
+        renderer.set_uniforms(&scene_uniforms(mesh, &view, renderer.displacement_reach()));
+        target.draw(ctx, view.background, |pass| renderer.draw(pass))?;
+        let picture = target.read(ctx)?;
+        let path = out_dir.join(format!("frame_{k:03}.png"));
+        save_png(&picture, &path)?;
+        stats.zooms.push(view.zoom);
+        stats
+            .max_levels
+            .push(plan.tiling().map_or(plan.layout().level, |t| t.max_level()));
+        stats.triangles.push(plan.triangle_count() as u64);
+        stats.plan_bytes.push(renderer.byte_size());
+        stats.paths.push(path);
+    }
+    Ok(stats)
+}

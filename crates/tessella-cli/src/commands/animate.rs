@@ -3,6 +3,7 @@
 use super::{gpu, tags};
 use crate::args::AnimateArgs;
 use anyhow::Context;
+use tessella_core::refine::Spacing;
 use tessella_core::RefineOptions;
 use tessella_view::{animate, RenderOptions};
 
@@ -16,6 +17,41 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         size: args.size,
         ..RenderOptions::default()
     };
+    if args.fly_in {
+        let refine =
+            RefineOptions::new(args.scheme.scheme(0.75), 1).with_spacing(Spacing::FractionalOdd);
+        let view = RenderOptions {
+            wireframe: true,
+            pitch: 15.0,
+            ..view
+        };
+        let stats = animate::render_fly_in(
+            &ctx,
+            &mesh,
+            &refine,
+            &view,
+            args.frames,
+            (0.8, 2.5),
+            args.pixels,
+            &args.output,
+        )?;
+        println!(
+            "{} frames in {}: zoom {:.2} -> {:.2}, largest level {} -> {}, triangles {}",
+            args.frames,
+            args.output.display(),
+            stats.zooms[0],
+            stats.zooms.last().copied().unwrap_or_default(),
+            stats.max_levels[0],
+            stats.max_levels.last().copied().unwrap_or_default(),
+            stats
+                .triangles
+                .iter()
+                .map(|t| t.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+        return Ok(());
+    }
     let stats = animate::render_twist(
         &ctx,
         &mesh,
