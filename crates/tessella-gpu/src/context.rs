@@ -281,13 +281,31 @@ impl GpuContext {
         contents: &[u8],
         usage: wgpu::BufferUsages,
     ) -> wgpu::Buffer {
-        use wgpu::util::DeviceExt;
-        self.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
+        // As wgpu's `create_buffer_init`, but a buffer that cannot be mapped (a lost device, a
+        // size over the limits) is recorded as this context's fault, returned by the next
+        // `check`/`scoped`, instead of a panic inside wgpu's helper.
+        let align = wgpu::COPY_BUFFER_ALIGNMENT;
+        let size = (contents.len() as u64).div_ceil(align).max(1) * align;
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage,
+            mapped_at_creation: true,
+        });
+        match buffer.get_mapped_range_mut(..) {
+            Ok(mut range) => {
+                range.slice(..contents.len()).copy_from_slice(contents);
+                drop(range);
+                buffer.unmap();
+            }
+            Err(e) => {
+                let mut slot = self.fault.lock().unwrap_or_else(|p| p.into_inner());
+                slot.get_or_insert(GpuError::Validation(format!(
+                    "buffer '{label}' ({size} bytes) could not be filled (is the device lost?): {e}"
+                )));
+            }
+        }
+        buffer
     }
 
     /// A storage buffer initialised from `data` (at least 4 bytes: empty bindings are invalid).
