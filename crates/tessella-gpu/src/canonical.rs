@@ -18,6 +18,7 @@
 
 use tessella_core::pattern::{Pattern, PointClass};
 use tessella_core::refine::canonical::{self, EdgeWeights};
+use tessella_core::refine::{morph, Morph};
 use tessella_core::Basis;
 
 /// First pattern row of the table.
@@ -27,9 +28,12 @@ pub(crate) const ROW_LEN: usize = 15;
 
 /// The table for `patterns` (their points numbered one after the other, as the stencil rows
 /// are) on the faces `triangles` (vertex indices) whose vertices have `position_ids`.
+/// `morphs[i]`: pattern `i`'s geomorph factors (a fractional grid level's tile; missing or
+/// `None`: plain weights), blended as the CPU does (`tessella_core::refine::morph`).
 pub(crate) fn edge_table(
     basis: Basis,
     patterns: &[&Pattern],
+    morphs: &[Option<Morph>],
     triangles: &[[u32; 3]],
     position_ids: &[u32],
 ) -> Vec<u32> {
@@ -47,19 +51,35 @@ pub(crate) fn edge_table(
     let push = |table: &mut Vec<u32>, w: EdgeWeights| {
         table.extend(w.value.iter().chain(&w.normal).map(|x| x.to_bits()));
     };
-    let points = patterns
-        .iter()
-        .flat_map(|p| p.points.iter().zip(&p.classes));
-    for (l, class) in points {
-        match *class {
-            PointClass::Edge { edge, .. } => {
-                let k = edge as usize;
-                let (start, end) = (l[k], l[(k + 1) % 3]);
-                table.push(1 + k as u32);
-                push(&mut table, EdgeWeights::new(start, end));
-                push(&mut table, EdgeWeights::new(end, start));
+    for (i, p) in patterns.iter().enumerate() {
+        let morph = morphs.get(i).copied().flatten();
+        // Segments of each edge (its points + 1).
+        let mut segments = [1u32; 3];
+        for class in &p.classes {
+            if let PointClass::Edge { edge, .. } = *class {
+                segments[edge as usize] += 1;
             }
-            _ => table.extend([0; ROW_LEN]),
+        }
+        for (l, class) in p.points.iter().zip(&p.classes) {
+            match *class {
+                PointClass::Edge { edge, step } => {
+                    let k = edge as usize;
+                    table.push(1 + k as u32);
+                    match morph {
+                        Some(m) if m.outer[k] < 1.0 => {
+                            let (n, a) = (segments[k], m.outer[k]);
+                            push(&mut table, morph::edge_weights(n, step, a));
+                            push(&mut table, morph::edge_weights(n, n - step, a));
+                        }
+                        _ => {
+                            let (start, end) = (l[k], l[(k + 1) % 3]);
+                            push(&mut table, EdgeWeights::new(start, end));
+                            push(&mut table, EdgeWeights::new(end, start));
+                        }
+                    }
+                }
+                _ => table.extend([0; ROW_LEN]),
+            }
         }
     }
     debug_assert_eq!(table.len(), faces_at);

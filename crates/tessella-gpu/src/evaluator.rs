@@ -284,6 +284,9 @@ impl GpuEvaluator {
                 &crate::canonical::edge_table(
                     basis,
                     &patterns,
+                    &plan
+                        .tiling()
+                        .map_or(vec![], |t| t.tiles.iter().map(|t| t.morph).collect()),
                     plan.triangles(),
                     &plan.topology().position_ids,
                 ),

@@ -257,6 +257,9 @@ impl PatternRenderer {
             let edges = crate::canonical::edge_table(
                 plan.options().scheme.basis(),
                 &tiles.patterns,
+                &plan
+                    .tiling()
+                    .map_or(vec![], |t| t.tiles.iter().map(|t| t.morph).collect()),
                 plan.triangles(),
                 &plan.topology().position_ids,
             );

@@ -59,6 +59,18 @@ fn cases(mesh: &Mesh) -> Vec<(String, RefineOptions)> {
             out.push((format!("{spacing} {name}"), options));
         }
     }
+    // Fractional grid levels geomorph: morphed tile stencils and morphed canonical edge weights.
+    let mut fractional = random_levels(mesh, Spacing::FractionalOdd, 9.0, 5);
+    if let Levels::PerEdge { edges, .. } = &mut fractional {
+        *edges = edges.iter().map(|x| x.max(1.0)).collect();
+    }
+    for (name, levels) in [
+        ("geomorph uniform", Levels::Uniform(3.4)),
+        ("geomorph per-edge", fractional),
+    ] {
+        let options = RefineOptions::new(Scheme::Pn, 1).with_levels(levels);
+        out.push((format!("grid {name}"), options));
+    }
     out
 }
 
