@@ -327,3 +327,51 @@ fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
 }
+
+/// Frame times of the instanced renderer with mixed patterns against one uniform pattern of
+/// about the same triangle count: `(uniform_ms, mixed_ms, uniform_triangles,
+/// mixed_triangles, mixed_draws)`. The mixed plan has per-edge fractional-odd levels spread
+/// over `[1, √3·level]` (one draw per distinct tile); the uniform one is the grid at `level`.
+pub fn mixed_pattern_frame_times(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    level: u32,
+    frames: u32,
+    size: (u32, u32),
+) -> Result<(f64, f64, usize, usize, usize), GpuError> {
+    use tessella_core::refine::{Levels, Spacing};
+    let options = RenderOptions {
+        size,
+        ..Default::default()
+    };
+    let target = Target::new(ctx, size)?;
+    let uniforms = scene_uniforms(mesh, &options, 0.0);
+    let uniform = Plan::new(mesh, &RefineOptions::new(Scheme::Pn, level))?;
+    let edges = uniform.topology().edges.len();
+    // Levels spread evenly over [1, √3·level]: about the uniform plan's triangle count.
+    let top = (level as f32 * 3f32.sqrt()).min(63.0);
+    let levels: std::sync::Arc<[f32]> = (0..edges)
+        .map(|e| 1.0 + (e * 37 % 101) as f32 / 100.0 * (top - 1.0))
+        .collect();
+    let mixed = Plan::new(
+        mesh,
+        &RefineOptions::new(Scheme::Pn, 1)
+            .with_spacing(Spacing::FractionalOdd)
+            .with_levels(Levels::PerEdge {
+                edges: levels,
+                faces: None,
+            }),
+    )?;
+    let mut out = Vec::new();
+    for plan in [&uniform, &mixed] {
+        let frame = plan.frame(mesh)?;
+        let renderer =
+            PatternRenderer::new(ctx, plan, &frame, &Target::FORMATS, &Displacement::None)?;
+        renderer.set_uniforms(&uniforms);
+        let ms = time_frames(frames, || {
+            target.draw(ctx, options.background, |pass| renderer.draw(pass))
+        })?;
+        out.push((ms, plan.triangle_count(), renderer.draw_count()));
+    }
+    Ok((out[0].0, out[1].0, out[0].1, out[1].1, out[1].2))
+}

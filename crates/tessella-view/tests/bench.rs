@@ -57,3 +57,14 @@ fn throughput_rows_report_layout_sizes() {
         assert_eq!(mesh_with_faces(faces).unwrap().face_count(), faces);
     }
 }
+
+#[test]
+fn mixed_patterns_are_timed_against_one_uniform_pattern() {
+    let ctx = tessella_gpu::GpuContext::new(tessella_gpu::AdapterChoice::Software).unwrap();
+    let mesh = tessella_core::samples::icosphere(2);
+    let (u, m, ut, mt, draws) =
+        tessella_view::bench::mixed_pattern_frame_times(&ctx, &mesh, 8, 5, (256, 256)).unwrap();
+    println!("uniform {u:.3} ms ({ut} triangles), mixed {m:.3} ms ({mt} triangles, {draws} draws), ratio {:.2}", m / u);
+    assert!(u > 0.0 && m > 0.0);
+    assert!(draws > 1);
+}
