@@ -297,6 +297,102 @@ impl<'c> GlTessellator<'c> {
     }
 }
 
+impl GlTessellator<'_> {
+    /// Draws `p` (a `width × height` picture, coloured by normal: `0.5 n + 0.5`) seen through
+    /// the column-major `view_proj`, with depth test; `wireframe` draws lines. RGBA rows from
+    /// the bottom up, as GL reads them.
+    pub fn render(
+        &mut self,
+        p: &Prepared,
+        view_proj: &[f32; 16],
+        width: i32,
+        height: i32,
+        wireframe: bool,
+    ) -> Result<Vec<u8>, GlError> {
+        let program = self.program(p.spacing)?;
+        let ctx = self.ctx;
+        let gl = ctx.gl();
+        let nets = p.frame.nets();
+        let points: Vec<f32> = nets.points.iter().flatten().copied().collect();
+        let normals: Vec<f32> = nets.normals.iter().flatten().copied().collect();
+        let real = nets.normal_mode == NormalMode::Real;
+        // SAFETY: GL calls on the current context; the read-back buffer has the picture's size.
+        unsafe {
+            let fbo = gl.create_framebuffer().map_err(GlError::Unsupported)?;
+            let colour = gl.create_renderbuffer().map_err(GlError::Unsupported)?;
+            let depth = gl.create_renderbuffer().map_err(GlError::Unsupported)?;
+            let buffers: Vec<glow::Buffer> = (0..3)
+                .map(|_| gl.create_buffer())
+                .collect::<Result<_, _>>()
+                .map_err(GlError::Unsupported)?;
+            let result = (|| {
+                gl.bind_renderbuffer(glow::RENDERBUFFER, Some(colour));
+                gl.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, width, height);
+                gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth));
+                gl.renderbuffer_storage(glow::RENDERBUFFER, glow::DEPTH_COMPONENT24, width, height);
+                gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
+                gl.framebuffer_renderbuffer(
+                    glow::FRAMEBUFFER,
+                    glow::COLOR_ATTACHMENT0,
+                    glow::RENDERBUFFER,
+                    Some(colour),
+                );
+                gl.framebuffer_renderbuffer(
+                    glow::FRAMEBUFFER,
+                    glow::DEPTH_ATTACHMENT,
+                    glow::RENDERBUFFER,
+                    Some(depth),
+                );
+                ctx.check("making the picture's framebuffer")?;
+                for (i, data) in [&points, &normals, &p.levels].into_iter().enumerate() {
+                    gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(buffers[i]));
+                    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_ne_bytes()).collect();
+                    gl.buffer_data_u8_slice(glow::SHADER_STORAGE_BUFFER, &bytes, glow::STATIC_DRAW);
+                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, i as u32, Some(buffers[i]));
+                }
+                gl.use_program(Some(program));
+                set_uniforms(gl, program, nets.basis.len() as i32, real, p)?;
+                let loc = gl.get_uniform_location(program, "u_view_proj");
+                gl.uniform_matrix_4_f32_slice(loc.as_ref(), false, view_proj);
+                gl.bind_vertex_array(Some(self.vao));
+                gl.viewport(0, 0, width, height);
+                gl.clear_color(1.0, 1.0, 1.0, 1.0);
+                gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+                gl.enable(glow::DEPTH_TEST);
+                gl.polygon_mode(
+                    glow::FRONT_AND_BACK,
+                    if wireframe { glow::LINE } else { glow::FILL },
+                );
+                gl.patch_parameter_i32(glow::PATCH_VERTICES, 1);
+                gl.draw_arrays(glow::PATCHES, 0, p.plan.face_count() as i32);
+                gl.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
+                gl.disable(glow::DEPTH_TEST);
+                ctx.check("drawing the picture")?;
+                let mut pixels = vec![0u8; (width * height * 4) as usize];
+                gl.read_pixels(
+                    0,
+                    0,
+                    width,
+                    height,
+                    glow::RGBA,
+                    glow::UNSIGNED_BYTE,
+                    glow::PixelPackData::Slice(Some(&mut pixels)),
+                );
+                ctx.check("reading the picture")?;
+                Ok(pixels)
+            })();
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(self.fbo));
+            gl.delete_framebuffer(fbo);
+            gl.delete_renderbuffer(colour);
+            gl.delete_renderbuffer(depth);
+            for b in buffers {
+                gl.delete_buffer(b);
+            }
+            result
+        }
+    }
+}
+
 /// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]).
 pub struct Prepared {
     pub spacing: tessellator::Spacing,
