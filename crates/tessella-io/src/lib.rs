@@ -116,6 +116,76 @@ pub fn read_mesh(path: &Path) -> Result<tessella_core::Mesh, IoError> {
     })
 }
 
+/// Whether files of `path`'s format hold extra per-vertex scalars (PLY vertex properties,
+/// glTF `_NAME` attributes) for [`write_mesh_with_scalars`].
+pub fn holds_vertex_scalars(path: &Path) -> bool {
+    matches!(
+        Format::from_path(path),
+        Ok(Format::Ply | Format::PlyAscii | Format::Gltf | Format::Glb)
+    )
+}
+
+/// [`write_mesh`] with extra per-vertex scalars (solution fields): `property float NAME` in
+/// PLY, float `SCALAR` attributes `_NAME` in glTF/GLB. Other formats cannot hold them: an
+/// error, unless `scalars` is empty. Each needs one value per vertex and a distinct name
+/// without whitespace.
+pub fn write_mesh_with_scalars(
+    path: &Path,
+    mesh: MeshView,
+    scalars: &ply::VertexScalars,
+    options: &WriteOptions,
+) -> Result<(), IoError> {
+    if scalars.is_empty() {
+        return write_mesh(path, mesh, options);
+    }
+    let format = Format::from_path(path)?;
+    match format {
+        Format::Ply | Format::PlyAscii => {
+            let ascii = options.ply_ascii || format == Format::PlyAscii;
+            ply::write_file_with(path, mesh, scalars, None, ascii)
+        }
+        Format::Gltf | Format::Glb => {
+            // The same name and length checks as PLY's.
+            mesh.check(path)?;
+            let n = mesh.positions.len();
+            for (i, (name, values)) in scalars.iter().enumerate() {
+                let message = if name.is_empty() || name.chars().any(char::is_whitespace) {
+                    format!("vertex attribute {name:?} is not a name without whitespace")
+                } else if scalars[..i].iter().any(|(other, _)| other == name) {
+                    format!("vertex attribute {name:?} is given twice")
+                } else if values.len() != n {
+                    format!(
+                        "vertex attribute {name:?} has {} values for {n} vertices",
+                        values.len()
+                    )
+                } else {
+                    continue;
+                };
+                return Err(IoError::BadMesh {
+                    path: path.to_path_buf(),
+                    message,
+                });
+            }
+            let binary = format == Format::Glb;
+            write_atomic(path, |out| {
+                gltf::write_with_scalars(out, &mesh, scalars, binary)
+            })
+        }
+        _ => Err(IoError::Unsupported {
+            path: path.to_path_buf(),
+            format: format.name(),
+            message: format!(
+                "it cannot hold per-vertex fields ({}); write .ply, .gltf or .glb",
+                scalars
+                    .iter()
+                    .map(|(n, _)| *n)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }),
+    }
+}
+
 /// Writes `mesh` in the format named by `path`'s extension, atomically (see [`write_atomic`]).
 /// The arrays are checked first (matching lengths, indices in range, finite positions, at least
 /// one triangle).

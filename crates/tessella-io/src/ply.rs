@@ -9,8 +9,9 @@
 //! `vertex1 vertex2` and scalar properties goes to [`RawMesh::edges`]. Other elements are read
 //! and ignored.
 //!
-//! Write: `binary_little_endian` (default) or `ascii`; float `x y z`, `nx ny nz`, `u v`; faces as
-//! `list uchar uint vertex_indices`.
+//! Write: `binary_little_endian` (default) or `ascii`; float `x y z`, `nx ny nz`, `u v`, then
+//! any extra scalar vertex properties ([`write_file_with`]: solution fields carried through
+//! refinement) as `float NAME`; faces as `list uchar uint vertex_indices`.
 
 use crate::{IoError, MeshView, RawEdge, RawMesh};
 use ply_rs_bw::parser::Parser;
@@ -319,30 +320,70 @@ pub fn write_file_with_origin(
     origin: Origin,
     ascii: bool,
 ) -> Result<(), crate::IoError> {
+    write_file_with(path, mesh, &[], Some(origin), ascii)
+}
+
+/// Extra per-vertex scalars to write: `(name, one value per vertex)`.
+pub type VertexScalars<'a> = [(&'a str, &'a [f32])];
+
+/// Writes `mesh` to a `.ply` file, atomically, with extra per-vertex scalar properties
+/// (`property float NAME`, after the positions, normals and uvs) and optionally each vertex's
+/// [`Origin`]. Names must be non-empty PLY words (no whitespace), distinct and not taken by
+/// the standard properties; every array needs one value per vertex.
+pub fn write_file_with(
+    path: &std::path::Path,
+    mesh: MeshView,
+    scalars: &VertexScalars,
+    origin: Option<Origin>,
+    ascii: bool,
+) -> Result<(), crate::IoError> {
     mesh.check(path)?;
     let n = mesh.positions.len();
-    if origin.faces.len() != n || origin.bary.len() != n {
-        return Err(crate::IoError::BadMesh {
-            path: path.to_path_buf(),
-            message: format!(
+    let bad = |message: String| crate::IoError::BadMesh {
+        path: path.to_path_buf(),
+        message,
+    };
+    if let Some(origin) = origin {
+        if origin.faces.len() != n || origin.bary.len() != n {
+            return Err(bad(format!(
                 "{} origin faces and {} barycentrics for {n} vertices",
                 origin.faces.len(),
                 origin.bary.len()
-            ),
-        });
+            )));
+        }
     }
-    crate::write_atomic(path, |out| write_with(out, &mesh, ascii, Some(origin)))
+    let reserved = [
+        "x", "y", "z", "nx", "ny", "nz", "u", "v", "face", "bary1", "bary2", "bary3",
+    ];
+    for (i, (name, values)) in scalars.iter().enumerate() {
+        if name.is_empty() || name.chars().any(|c| c.is_whitespace() || !c.is_ascii()) {
+            return Err(bad(format!(
+                "vertex property {name:?} is not a PLY property name (ascii, no whitespace)"
+            )));
+        }
+        if reserved.contains(name) || scalars[..i].iter().any(|(other, _)| other == name) {
+            return Err(bad(format!("vertex property {name:?} is given twice")));
+        }
+        if values.len() != n {
+            return Err(bad(format!(
+                "vertex property {name:?} has {} values for {n} vertices",
+                values.len()
+            )));
+        }
+    }
+    crate::write_atomic(path, |out| write_with(out, &mesh, ascii, scalars, origin))
 }
 
 /// Writes a PLY file, binary little-endian or ascii.
 pub fn write(out: &mut dyn Write, mesh: &MeshView, ascii: bool) -> std::io::Result<()> {
-    write_with(out, mesh, ascii, None)
+    write_with(out, mesh, ascii, &[], None)
 }
 
 fn write_with(
     out: &mut dyn Write,
     mesh: &MeshView,
     ascii: bool,
+    scalars: &VertexScalars,
     origin: Option<Origin>,
 ) -> std::io::Result<()> {
     let encoding = if ascii {
@@ -362,6 +403,7 @@ fn write_with(
     if mesh.uvs.is_some() {
         names.extend(["u", "v"]);
     }
+    names.extend(scalars.iter().map(|(name, _)| *name));
     for name in &names {
         writeln!(out, "property float {name}")?;
     }
@@ -379,6 +421,7 @@ fn write_with(
         values.extend(mesh.positions[v]);
         values.extend(mesh.normals.map(|n| n[v]).into_iter().flatten());
         values.extend(mesh.uvs.map(|t| t[v]).into_iter().flatten());
+        values.extend(scalars.iter().map(|(_, s)| s[v]));
         let from = origin.map(|o| (o.faces[v] as i32, o.bary[v]));
         if ascii {
             // `{}` prints the shortest text that parses back to the same f32.

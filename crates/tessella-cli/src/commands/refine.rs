@@ -8,7 +8,7 @@ use std::time::Instant;
 use tessella_core::displace::{DisplaceFrame, Displacement};
 use tessella_core::refine::{Camera, Levels, Lod, Spacing};
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
-use tessella_io::{write_mesh, Format, MeshView, WriteOptions};
+use tessella_io::{Format, MeshView, WriteOptions};
 
 pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     // Refuse an unknown output format, or an output that is the input, before doing any work.
@@ -20,7 +20,7 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
             args.input.display()
         );
     }
-    let (raw, mesh) = tags::read(&args.input)?;
+    let (mut raw, mesh) = tags::read(&args.input)?;
     let scheme = args.scheme.scheme(args.alpha);
     let mut options = levels(args, scheme)?.with_weld(!args.soup);
     if args.write_origin && !matches!(Format::from_path(&args.output)?, Format::Ply) {
@@ -38,6 +38,9 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
         options = options.with_tags(tags);
     }
+    // Per-vertex fields (PLY vertex properties, glTF `_NAME` attributes) go through
+    // refinement with the coarse faces' shape functions.
+    let fields = std::mem::take(&mut raw.vertex_scalars);
     drop(raw);
 
     let backend = backend::choose(args, &mesh)?;
@@ -53,21 +56,28 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     };
     let elapsed = start.elapsed();
 
+    let fields = refine_fields(&mesh, refiner.plan(), &fields, &args.output)?;
+    let scalars: Vec<(&str, &[f32])> = fields
+        .iter()
+        .map(|(n, v)| (n.as_str(), v.as_slice()))
+        .collect();
     if args.write_origin {
         let (faces, bary) = refiner.plan().origin();
-        tessella_io::ply::write_file_with_origin(
+        tessella_io::ply::write_file_with(
             &args.output,
             MeshView::from(&refined),
-            tessella_io::ply::Origin {
+            &scalars,
+            Some(tessella_io::ply::Origin {
                 faces: &faces,
                 bary: &bary,
-            },
+            }),
             args.ply_ascii,
         )?;
     } else {
-        write_mesh(
+        tessella_io::write_mesh_with_scalars(
             &args.output,
             MeshView::from(&refined),
+            &scalars,
             &WriteOptions {
                 ply_ascii: args.ply_ascii,
             },
@@ -97,6 +107,36 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
         super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
     }
     Ok(())
+}
+
+/// The input's per-vertex fields at the refined vertices (`fields::interpolate_point_data`:
+/// linear on each coarse face), or none, with a note, when `output`'s format cannot hold them.
+fn refine_fields(
+    mesh: &tessella_core::Mesh,
+    plan: &tessella_core::refine::Plan,
+    fields: &std::collections::BTreeMap<String, Vec<f32>>,
+    output: &std::path::Path,
+) -> anyhow::Result<Vec<(String, Vec<f32>)>> {
+    if fields.is_empty() {
+        return Ok(Vec::new());
+    }
+    if !tessella_io::holds_vertex_scalars(output) {
+        let names: Vec<&str> = fields.keys().map(String::as_str).collect();
+        eprintln!(
+            "note: {} cannot hold per-vertex fields; {} not written (write .ply, .gltf or .glb to keep them)",
+            output.display(),
+            names.join(", ")
+        );
+        return Ok(Vec::new());
+    }
+    fields
+        .iter()
+        .map(|(name, values)| {
+            let refined =
+                tessella_core::fields::interpolate_point_data(mesh, plan, name, values, 1)?;
+            Ok((name.clone(), refined))
+        })
+        .collect()
 }
 
 /// Whether writing `output` would replace `input`, however the two are spelled: `./`, `..`,

@@ -7,11 +7,17 @@
 //! `v` in `[0.5, 1]` and for short binary fractions (0.25, 0.125, ...); elsewhere a round trip
 //! through glTF may move `v` by one unit in the last place.
 
+//!
+//! Extra per-vertex scalars (solution fields such as a temperature) are application-specific
+//! attributes: a float `SCALAR` attribute `_NAME` is read into
+//! [`crate::RawMesh::vertex_scalars`] as `NAME` (kept only when every primitive has it), and
+//! written back as `_NAME`.
+
 mod read;
 mod write;
 
 pub use read::read;
-pub use write::write;
+pub use write::{write, write_with_scalars};
 
 /// Flips a texture coordinate between glTF's and OBJ/PLY's conventions (an involution).
 fn flip_v(uv: [f32; 2]) -> [f32; 2] {

@@ -11,6 +11,8 @@
 //! (u8/u16/u32) or none. If any primitive lacks NORMAL (or TEXCOORD_0), the merged mesh has no
 //! normals (uvs), since they cannot be mixed; the core then computes normals. Sparse accessors,
 //! accessors without a buffer view and buffers behind `http:`-style URIs are refused.
+//! Float `SCALAR` attributes `_NAME` go to [`RawMesh::vertex_scalars`] as `NAME` when every
+//! primitive has them; other application-specific attributes are ignored.
 
 use super::flip_v;
 use crate::{IoError, RawMesh};
@@ -37,6 +39,9 @@ pub fn read(path: &Path, bytes: &[u8], format: &'static str) -> Result<RawMesh, 
     let buffers = load_buffers(path, &document, blob, format)?;
     let mut raw = RawMesh::default();
     let (mut normals, mut uvs) = (Some(Vec::new()), Some(Vec::new()));
+    // Extra scalar attributes `_NAME`: values so far and the primitives that had them.
+    let mut extras: std::collections::BTreeMap<String, (Vec<f32>, usize)> = Default::default();
+    let mut primitives = 0usize;
     for (mesh, transform) in instances(&document).map_err(parse)? {
         for primitive in mesh.primitives() {
             let mode = primitive.mode();
@@ -123,10 +128,41 @@ pub fn read(path: &Path, bytes: &[u8], format: &'static str) -> Result<RawMesh, 
                 .extend(triangles.iter().map(|t| t.map(|i| i + base)));
             merge_attribute(&mut normals, prim_normals);
             merge_attribute(&mut uvs, prim_uvs);
+            for (semantic, accessor) in primitive.attributes() {
+                let gltf::Semantic::Extras(name) = semantic else {
+                    continue;
+                };
+                if accessor.dimensions() != Dimensions::Scalar
+                    || accessor.data_type() != DataType::F32
+                {
+                    continue; // not a scalar field (application data of another kind)
+                }
+                check_accessor(&accessor, Dimensions::Scalar, &float, &buffers)
+                    .map_err(|m| unsupported(format!("{what} _{name}: {m}")))?;
+                let values: Vec<f32> = gltf::accessor::Iter::<f32>::new(accessor, |b| {
+                    buffers.get(b.index()).map(Vec::as_slice)
+                })
+                .map(Iterator::collect)
+                .unwrap_or_default();
+                if values.len() != n {
+                    return Err(count_mismatch(&format!("_{name}"), values.len(), n));
+                }
+                let entry = extras.entry(name).or_default();
+                if entry.1 == primitives {
+                    entry.0.extend(values);
+                    entry.1 += 1;
+                }
+            }
+            primitives += 1;
         }
     }
     raw.normals = normals;
     raw.uvs = uvs;
+    raw.vertex_scalars = extras
+        .into_iter()
+        .filter(|(_, (_, seen))| *seen == primitives)
+        .map(|(name, (values, _))| (name, values))
+        .collect();
     raw.check(path, format)?;
     Ok(raw)
 }

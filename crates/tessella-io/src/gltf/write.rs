@@ -1,6 +1,7 @@
 //! Writes one mesh, one node, one scene; the binary data is streamed, never copied whole.
 
 use super::flip_v;
+use crate::ply::VertexScalars;
 use crate::MeshView;
 use base64::engine::general_purpose::STANDARD;
 use serde_json::{json, Value};
@@ -13,8 +14,14 @@ const UNSIGNED_INT: u32 = 5125;
 /// Stands in for the base64 data in the JSON text until the data is streamed in its place.
 const PLACEHOLDER: &str = "@TESSELLA_BUFFER@";
 
+/// The attribute name of an extra vertex scalar: application-specific glTF attributes start
+/// with an underscore (glTF 2.0 spec, 3.7.2.1), so `T` is written as `_T`.
+pub(crate) fn attribute_name(name: &str) -> String {
+    format!("_{name}")
+}
+
 /// The JSON document for `mesh` and the byte length of its single buffer.
-fn document(mesh: &MeshView, uri: Option<String>) -> (Value, u64) {
+fn document(mesh: &MeshView, scalars: &VertexScalars, uri: Option<String>) -> (Value, u64) {
     let n = mesh.positions.len() as u64;
     let (mut views, mut accessors) = (Vec::new(), Vec::new());
     let mut offset = 0u64;
@@ -52,6 +59,20 @@ fn document(mesh: &MeshView, uri: Option<String>) -> (Value, u64) {
         );
         attributes.insert("TEXCOORD_0".into(), json!(uv));
     }
+    for (name, values) in scalars {
+        let (lo, hi) = values
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &x| {
+                (lo.min(x), hi.max(x))
+            });
+        let mut accessor = json!({"componentType": FLOAT, "count": n, "type": "SCALAR"});
+        if lo <= hi {
+            accessor["min"] = json!([lo]);
+            accessor["max"] = json!([hi]);
+        }
+        let index = push(4 * n, ARRAY_BUFFER, accessor);
+        attributes.insert(attribute_name(name), json!(index));
+    }
     let f = mesh.triangles.len() as u64;
     let indices = push(
         12 * f,
@@ -75,8 +96,13 @@ fn document(mesh: &MeshView, uri: Option<String>) -> (Value, u64) {
     (doc, offset)
 }
 
-/// Streams the buffer: positions, normals, uvs (v flipped), indices, little-endian.
-fn write_buffer(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
+/// Streams the buffer: positions, normals, uvs (v flipped), extra scalars, indices,
+/// little-endian.
+fn write_buffer(
+    out: &mut dyn Write,
+    mesh: &MeshView,
+    scalars: &VertexScalars,
+) -> std::io::Result<()> {
     fn floats(out: &mut dyn Write, values: impl Iterator<Item = f32>) -> std::io::Result<()> {
         values
             .into_iter()
@@ -89,6 +115,9 @@ fn write_buffer(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
     if let Some(uvs) = mesh.uvs {
         floats(out, uvs.iter().flat_map(|&t| flip_v(t)))?;
     }
+    for (_, values) in scalars {
+        floats(out, values.iter().copied())?;
+    }
     mesh.triangles
         .iter()
         .flatten()
@@ -98,8 +127,20 @@ fn write_buffer(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
 /// Writes `.glb` (`binary`) or `.gltf` with the buffer embedded as a base64 `data:` URI.
 /// Errors with `InvalidInput` when a `.glb` would exceed the format's 4 GiB limit.
 pub fn write(out: &mut dyn Write, mesh: &MeshView, binary: bool) -> std::io::Result<()> {
+    write_with_scalars(out, mesh, &[], binary)
+}
+
+/// [`write`] with extra per-vertex scalars as float `SCALAR` attributes named `_NAME` (one
+/// value per vertex; the caller checks the lengths, as [`crate::write_mesh_with_scalars`]
+/// does).
+pub fn write_with_scalars(
+    out: &mut dyn Write,
+    mesh: &MeshView,
+    scalars: &VertexScalars,
+    binary: bool,
+) -> std::io::Result<()> {
     if binary {
-        let (doc, bin_len) = document(mesh, None);
+        let (doc, bin_len) = document(mesh, scalars, None);
         let mut json = serde_json::to_vec(&doc).map_err(std::io::Error::other)?;
         json.resize(json.len().next_multiple_of(4), b' ');
         let bin_padded = bin_len.next_multiple_of(4);
@@ -118,11 +159,11 @@ pub fn write(out: &mut dyn Write, mesh: &MeshView, binary: bool) -> std::io::Res
         out.write_all(&json)?;
         out.write_all(&(bin_padded as u32).to_le_bytes())?;
         out.write_all(b"BIN\0")?;
-        write_buffer(out, mesh)?;
+        write_buffer(out, mesh, scalars)?;
         out.write_all(&vec![0; (bin_padded - bin_len) as usize])
     } else {
         let uri = format!("data:application/octet-stream;base64,{PLACEHOLDER}");
-        let (doc, _) = document(mesh, Some(uri));
+        let (doc, _) = document(mesh, scalars, Some(uri));
         let text = serde_json::to_string_pretty(&doc).map_err(std::io::Error::other)?;
         let (head, tail) = text
             .split_once(PLACEHOLDER)
@@ -130,7 +171,7 @@ pub fn write(out: &mut dyn Write, mesh: &MeshView, binary: bool) -> std::io::Res
         out.write_all(head.as_bytes())?;
         {
             let mut encoder = base64::write::EncoderWriter::new(&mut *out, &STANDARD);
-            write_buffer(&mut encoder, mesh)?;
+            write_buffer(&mut encoder, mesh, scalars)?;
             encoder.finish()?;
         }
         out.write_all(tail.as_bytes())?;
