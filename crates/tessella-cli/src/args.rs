@@ -253,6 +253,21 @@ pub struct RenderArgs {
     pub displace: Option<String>,
     #[command(flatten)]
     pub tags: TagArgs,
+    /// What draws the picture: `gpu` (wgpu, the instanced refinement pattern, Blinn-Phong) or
+    /// `gl` (the OpenGL 4 hardware tessellator, coloured by normal; the grid is drawn with
+    /// equal spacing).
+    #[arg(long, value_enum, default_value = "gpu")]
+    pub backend: RenderBackendArg,
+}
+
+/// Who draws `tessella render`'s picture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RenderBackendArg {
+    /// wgpu: one instanced refinement pattern per coarse triangle (a software adapter when
+    /// there is no GPU).
+    Gpu,
+    /// OpenGL 4 tessellation shaders through EGL (Mesa's llvmpipe without a GPU).
+    Gl,
 }
 
 #[derive(Debug, Args)]

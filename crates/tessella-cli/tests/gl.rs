@@ -151,3 +151,118 @@ fn gl_backend_refuses_the_grid_with_a_message_and_no_file() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(!out.exists());
 }
+
+/// Non-background pixels (the background is white; the surface, shaded or coloured by normal,
+/// is darker in some channel).
+fn mask(path: &Path) -> (Vec<bool>, (u32, u32)) {
+    let img = image::open(path).unwrap().to_rgba8();
+    let m = img
+        .pixels()
+        .map(|p| p.0[..3].iter().any(|&c| c < 200))
+        .collect();
+    (m, img.dimensions())
+}
+
+#[cfg(feature = "gpu")]
+#[test]
+fn gl_render_has_the_wgpu_silhouette_and_compare_panels_fill_the_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("creature.ply");
+    tessella_io::write_mesh(&input, (&samples::creature()).into(), &Default::default()).unwrap();
+    let view = [
+        "--spacing",
+        "equal",
+        "--level",
+        "6",
+        "--size",
+        "320x240",
+        "--yaw",
+        "50",
+        "--pitch",
+        "-15",
+        "--zoom",
+        "1.3",
+    ];
+    let mut masks = Vec::new();
+    for backend in ["gpu", "gl"] {
+        let out = dir.path().join(format!("{backend}.png"));
+        let mut argv = vec!["render", s(&input), "-o", s(&out), "--backend", backend];
+        argv.extend_from_slice(&view);
+        let run = tessella(&argv);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        masks.push(mask(&out));
+    }
+    let ((a, size_a), (b, size_b)) = (&masks[0], &masks[1]);
+    assert_eq!(size_a, &(320, 240));
+    assert_eq!(size_b, &(320, 240));
+    let covered = b.iter().filter(|&&x| x).count();
+    let differ = a.iter().zip(b).filter(|(x, y)| x != y).count();
+    let fraction = differ as f64 / a.len() as f64;
+    // The surface covers a good part of the picture, and the two silhouettes agree but for
+    // the edge pixels (wgpu multisamples, GL does not).
+    eprintln!(
+        "silhouettes: {differ} of {} pixels differ ({covered} covered)",
+        a.len()
+    );
+    assert!(covered > a.len() / 8, "{covered} covered pixels");
+    assert!(fraction < 0.01, "{differ} of {} pixels differ", a.len());
+
+    // Compare panels: the requested total size, three panels with separators.
+    let out = dir.path().join("compare.png");
+    let run = tessella(&[
+        "render",
+        s(&input),
+        "-o",
+        s(&out),
+        "--backend",
+        "gl",
+        "--compare",
+        "flat,pn,png1",
+        "--level",
+        "4",
+        "--wireframe",
+        "--size",
+        "301x120",
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let img = image::open(&out).unwrap().to_rgba8();
+    assert_eq!(img.dimensions(), (301, 120));
+    // The separators (tessella-view's dark gap) after panels of (301 - 4) / 3 = 99 pixels.
+    for x in [99, 100, 200, 201] {
+        assert_eq!(img.get_pixel(x, 119).0, [40, 40, 48, 255], "column {x}");
+    }
+    // Wireframe lines are near-black over the surface.
+    let dark = img
+        .pixels()
+        .filter(|p| p.0[..3].iter().all(|&c| c < 40))
+        .count();
+    assert!(dark > 200, "{dark} near-black pixels");
+}
+
+#[cfg(feature = "gpu")]
+#[test]
+fn gl_render_without_a_driver_is_a_clear_error_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ico.ply");
+    tessella_io::write_mesh(&input, (&samples::icosphere(0)).into(), &Default::default()).unwrap();
+    let out = dir.path().join("x.png");
+    // glvnd finds no vendor library: EGL has no display.
+    let run = Command::new(env!("CARGO_BIN_EXE_tessella"))
+        .args(["render", s(&input), "-o", s(&out), "--backend", "gl"])
+        .env("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/vendor.json")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(err.contains("no OpenGL 4 driver"), "{err}");
+    assert!(err.contains("libegl-mesa0"), "{err}");
+    assert!(!out.exists());
+}

@@ -24,6 +24,7 @@ mod shaders;
 pub use context::{DriverInfo, GlContext};
 pub use error::{GlError, DRIVER_PACKAGES};
 pub use refine::{
-    compare, hardware_spacing, Comparison, GlRefined, GlTessellator, LevelSource, Prepared,
+    compare, gl_clip_from_zero_to_one, hardware_spacing, Comparison, DrawMode, GlRefined,
+    GlTessellator, LevelSource, Prepared,
 };
 pub use shaders::{glsl_sources, ShaderSources};

@@ -309,6 +309,30 @@ impl GlTessellator<'_> {
         height: i32,
         wireframe: bool,
     ) -> Result<Vec<u8>, GlError> {
+        let mode = if wireframe {
+            DrawMode::Lines
+        } else {
+            DrawMode::Fill
+        };
+        self.draw(p, view_proj, width, height, mode)
+    }
+
+    /// [`GlTessellator::render`] with the choice of [`DrawMode`]: `FillAndLines` draws the
+    /// surface coloured by normal, then the pattern's edges in near-black on top (the fill is
+    /// pushed back by a polygon offset so the lines win the depth test).
+    pub fn draw(
+        &mut self,
+        p: &Prepared,
+        view_proj: &[f32; 16],
+        width: i32,
+        height: i32,
+        mode: DrawMode,
+    ) -> Result<Vec<u8>, GlError> {
+        if width <= 0 || height <= 0 {
+            return Err(GlError::Unsupported(format!(
+                "picture size {width}x{height} must be at least 1x1"
+            )));
+        }
         let program = self.program(p.spacing)?;
         let ctx = self.ctx;
         let gl = ctx.gl();
@@ -359,13 +383,26 @@ impl GlTessellator<'_> {
                 gl.clear_color(1.0, 1.0, 1.0, 1.0);
                 gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
                 gl.enable(glow::DEPTH_TEST);
-                gl.polygon_mode(
-                    glow::FRONT_AND_BACK,
-                    if wireframe { glow::LINE } else { glow::FILL },
-                );
+                gl.depth_func(glow::LEQUAL);
                 gl.patch_parameter_i32(glow::PATCH_VERTICES, 1);
-                gl.draw_arrays(glow::PATCHES, 0, p.plan.face_count() as i32);
-                gl.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
+                let wire = gl.get_uniform_location(program, "u_wire");
+                let faces = p.plan.face_count() as i32;
+                if mode != DrawMode::Lines {
+                    gl.uniform_1_i32(wire.as_ref(), 0);
+                    gl.enable(glow::POLYGON_OFFSET_FILL);
+                    gl.polygon_offset(1.0, 1.0);
+                    gl.draw_arrays(glow::PATCHES, 0, faces);
+                    gl.disable(glow::POLYGON_OFFSET_FILL);
+                }
+                if mode != DrawMode::Fill {
+                    // Lines alone keep the normal colours; over the fill they are near-black.
+                    gl.uniform_1_i32(wire.as_ref(), i32::from(mode == DrawMode::FillAndLines));
+                    gl.polygon_mode(glow::FRONT_AND_BACK, glow::LINE);
+                    gl.draw_arrays(glow::PATCHES, 0, faces);
+                    gl.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
+                    gl.uniform_1_i32(wire.as_ref(), 0);
+                }
+                gl.depth_func(glow::LESS);
                 gl.disable(glow::DEPTH_TEST);
                 ctx.check("drawing the picture")?;
                 let mut pixels = vec![0u8; (width * height * 4) as usize];
@@ -391,6 +428,28 @@ impl GlTessellator<'_> {
             result
         }
     }
+}
+
+/// A column-major `view_proj` made for a `0..=1` clip depth (wgpu, Vulkan, tessella-view's
+/// camera) turned into one for GL's `-1..=1`: `z' = 2z - w`, so the same camera frames the same
+/// picture.
+pub fn gl_clip_from_zero_to_one(view_proj: [[f32; 4]; 4]) -> [f32; 16] {
+    let mut out = [0.0; 16];
+    for (c, col) in view_proj.iter().enumerate() {
+        out[4 * c..4 * c + 4].copy_from_slice(&[col[0], col[1], 2.0 * col[2] - col[3], col[3]]);
+    }
+    out
+}
+
+/// What [`GlTessellator::draw`] draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawMode {
+    /// The surface, coloured by normal (`0.5 n + 0.5`).
+    Fill,
+    /// The pattern's edges only, coloured by normal.
+    Lines,
+    /// The surface with its edges drawn in near-black on top (`render --wireframe`).
+    FillAndLines,
 }
 
 /// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]).

@@ -146,8 +146,11 @@ void main() {
 /// Colour by normal (the paper's pictures), for drawing.
 const FRAGMENT: &str = r#"
 in vec3 tf_normal;
+uniform int u_wire;
 out vec4 colour;
-void main() { colour = vec4(0.5 * normalize(tf_normal) + 0.5, 1.0); }
+void main() {
+    colour = u_wire != 0 ? vec4(0.05, 0.06, 0.1, 1.0) : vec4(0.5 * normalize(tf_normal) + 0.5, 1.0);
+}
 "#;
 
 fn power(var: &str, n: u8) -> String {

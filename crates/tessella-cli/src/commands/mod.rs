@@ -15,6 +15,8 @@ mod refine;
 mod refine_gl;
 #[cfg(feature = "gpu")]
 mod render;
+#[cfg(feature = "gpu")]
+mod render_gl;
 mod samples;
 mod tags;
 

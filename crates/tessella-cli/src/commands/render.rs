@@ -2,7 +2,7 @@
 //! instanced refinement pattern per coarse triangle, evaluated in the vertex shader).
 
 use super::{gpu, tags};
-use crate::args::{RenderArgs, SpacingArg};
+use crate::args::{RenderArgs, RenderBackendArg, SpacingArg};
 use anyhow::Context;
 use tessella_core::refine::{Camera, Levels, Lod, Spacing};
 use tessella_core::{Mesh, RefineOptions};
@@ -36,6 +36,28 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
         Ok(options)
     };
+    if args.backend == RenderBackendArg::Gl {
+        let panels = if args.compare.is_empty() {
+            vec![(String::new(), options_for(args.scheme)?)]
+        } else {
+            args.compare
+                .iter()
+                .map(|&s| Ok((options_for(s)?.scheme.name().to_string(), options_for(s)?)))
+                .collect::<anyhow::Result<Vec<_>>>()?
+        };
+        let (picture, device) =
+            super::render_gl::render(&mesh, &panels, !args.compare.is_empty(), &view)?;
+        save_png(&picture, &args.output)
+            .with_context(|| format!("cannot write {}", args.output.display()))?;
+        eprintln!(
+            "{} -> {} ({}x{}, {device})",
+            args.input.display(),
+            args.output.display(),
+            picture.width(),
+            picture.height()
+        );
+        return Ok(());
+    }
     let ctx = gpu::render_context()?;
     let picture = if args.compare.is_empty() {
         render(&ctx, &mesh, &options_for(args.scheme)?, &view)?
