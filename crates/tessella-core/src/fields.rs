@@ -181,3 +181,26 @@ pub fn copy_cell_data(
     }
     Ok(out)
 }
+
+/// Point data of `mesh` (one value per vertex) as six values per face, the face's P2 net:
+/// its corners' values, then its mid-edge nodes' (edges 0-1, 1-2, 2-0) for second-order faces,
+/// the edges' mean values for linear faces (so the P2 shape functions give the P1
+/// interpolation there). `Σ N_k(l) net_k` is then [`interpolate_point_data`]'s value at `l`
+/// for either kind of face: renderers interpolate it per pattern point from coarse data only.
+///
+/// Errors: as [`interpolate_point_data`] with width 1.
+pub fn face_nets(mesh: &Mesh, name: &str, data: &[f32]) -> Result<Vec<f32>, FieldError> {
+    check(name, data, 1, mesh.vertex_count(), "vertex")?;
+    let mut out = Vec::with_capacity(mesh.face_count() * 6);
+    for (f, t) in mesh.triangles().iter().enumerate() {
+        let c = t.map(|v| data[v as usize]);
+        out.extend(c);
+        match mesh.face_mid_nodes(f) {
+            Some(m) => out.extend(m.map(|v| data[v as usize])),
+            None => out.extend(
+                [0, 1, 2].map(|k| ((f64::from(c[k]) + f64::from(c[(k + 1) % 3])) / 2.0) as f32),
+            ),
+        }
+    }
+    Ok(out)
+}

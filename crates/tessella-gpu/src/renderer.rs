@@ -65,6 +65,16 @@ impl Pipelines {
                         wgpu::ShaderStages::VERTEX,
                         wgpu::BufferBindingType::Storage { read_only: true },
                     ),
+                    entry(
+                        3,
+                        wgpu::ShaderStages::VERTEX,
+                        wgpu::BufferBindingType::Storage { read_only: true },
+                    ),
+                    entry(
+                        4,
+                        wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        wgpu::BufferBindingType::Storage { read_only: true },
+                    ),
                 ],
             });
         let module = ctx
@@ -214,6 +224,11 @@ pub struct PatternRenderer {
     /// Set by [`PatternRenderer::set_uniforms`]: draw the unrolled triangles.
     wireframe: std::sync::atomic::AtomicBool,
     face_uvs: wgpu::Buffer,
+    /// Per coarse face the six values of a scalar field's P2 net (see
+    /// [`PatternRenderer::set_field`]); one 0 without a field.
+    face_field: wgpu::Buffer,
+    /// `[low, high, samples, 0]` then the colormap's sRGB samples; `samples` 0: no field.
+    colormap: wgpu::Buffer,
     displacement_reach: f32,
     /// The plan's position ids, for the displacement's per-frame face records; `None` without
     /// displacement.
@@ -303,10 +318,26 @@ impl PatternRenderer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
+            let face_field = ctx.storage_buffer(
+                "face field",
+                bytemuck::cast_slice(&[0f32]),
+                wgpu::BufferUsages::empty(),
+            );
+            let colormap = ctx.storage_buffer(
+                "colormap",
+                bytemuck::cast_slice(&[0f32; 8]),
+                wgpu::BufferUsages::empty(),
+            );
             let render_group = render_group(
                 ctx,
                 &pipelines.render_layout,
-                [&uniforms, &face_uvs, &instance_faces],
+                [
+                    &uniforms,
+                    &face_uvs,
+                    &instance_faces,
+                    &face_field,
+                    &colormap,
+                ],
             );
             Ok(PatternRenderer {
                 ctx: ctx.clone(),
@@ -324,10 +355,76 @@ impl PatternRenderer {
                 wire_vertices,
                 wireframe: Default::default(),
                 face_uvs,
+                face_field,
+                colormap,
                 displacement_reach: displacement_reach(displacement),
                 position_ids,
             })
         })?
+    }
+
+    /// Colours the surface by a scalar field instead of the base colour: `nets` holds six
+    /// values per coarse face (`tessella_core::fields::face_nets`: the corners', then the
+    /// mid-edge values of edges 0-1, 1-2, 2-0), interpolated in the vertex shader at each
+    /// pattern point's barycentric `l` with the P2 shape functions (only coarse data crosses
+    /// the bus, as for the nets); `colormap` holds 2 to 256 sRGB samples (0..=1) spread evenly
+    /// over `range` (low, high), linearly interpolated, values outside clamped to the ends.
+    /// Field colours are lit diffusely, without the white highlight. `None` goes back to the
+    /// base colour. [`PatternRenderer::draw_refined`] draws with the base colour.
+    pub fn set_field(
+        &mut self,
+        field: Option<(&[f32], &[[f32; 3]], [f32; 2])>,
+    ) -> Result<(), GpuError> {
+        let (nets, header): (&[f32], Vec<f32>) = match field {
+            None => (&[0.0], vec![0.0; 8]),
+            Some((nets, colormap, [low, high])) => {
+                if nets.len() != self.shape.0 * 6 {
+                    return Err(GpuError::BadOption(format!(
+                        "a field net of {} values; the renderer's {} faces need 6 each",
+                        nets.len(),
+                        self.shape.0
+                    )));
+                }
+                if !(2..=256).contains(&colormap.len()) {
+                    return Err(GpuError::BadOption(format!(
+                        "a colormap of {} samples; give 2 to 256",
+                        colormap.len()
+                    )));
+                }
+                if !(low.is_finite() && high.is_finite() && low <= high) {
+                    return Err(GpuError::BadOption(format!(
+                        "field range {low}..{high} must be finite and increasing"
+                    )));
+                }
+                let mut header = vec![low, high, colormap.len() as f32, 0.0];
+                header.extend(colormap.iter().flat_map(|c| [c[0], c[1], c[2], 1.0]));
+                (nets, header)
+            }
+        };
+        let ctx = self.ctx.clone();
+        ctx.scoped(|| {
+            self.face_field = ctx.storage_buffer(
+                "face field",
+                bytemuck::cast_slice(nets),
+                wgpu::BufferUsages::empty(),
+            );
+            self.colormap = ctx.storage_buffer(
+                "colormap",
+                bytemuck::cast_slice(&header),
+                wgpu::BufferUsages::empty(),
+            );
+            self.render_group = render_group(
+                &ctx,
+                &self.pipelines.render_layout,
+                [
+                    &self.uniforms,
+                    &self.face_uvs,
+                    &self.instance_faces,
+                    &self.face_field,
+                    &self.colormap,
+                ],
+            );
+        })
     }
 
     /// Uploads `frame`'s control nets (the only per-frame upload of a deforming mesh; with
@@ -422,6 +519,8 @@ impl PatternRenderer {
             + self.wire_vertices.size()
             + self.instance_faces.size()
             + self.face_uvs.size()
+            + self.face_field.size()
+            + self.colormap.size()
             + self.uniforms.size()
     }
 
@@ -454,7 +553,7 @@ fn displacement_reach(displacement: &Displacement) -> f32 {
 fn render_group(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
-    buffers: [&wgpu::Buffer; 3],
+    buffers: [&wgpu::Buffer; 5],
 ) -> wgpu::BindGroup {
     let entries: Vec<_> = buffers
         .iter()

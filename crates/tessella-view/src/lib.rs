@@ -22,9 +22,11 @@
 pub mod animate;
 pub mod bench;
 mod camera;
+pub mod colormap;
 pub mod font;
 mod render;
 
+pub use colormap::{Colormap, FieldColors};
 pub use image::RgbaImage;
 pub use render::{
     lod_camera, panel_widths, render, render_compare, scene_uniforms, RenderOptions, Target,

@@ -2,6 +2,7 @@
 //! [`PatternRenderer`], framed by the camera module.
 
 use crate::camera::{bounding_sphere, Camera};
+use crate::colormap::{self, FieldColors};
 use image::RgbaImage;
 use tessella_core::refine::Plan;
 use tessella_core::{Mesh, RefineOptions};
@@ -38,6 +39,9 @@ pub struct RenderOptions {
     /// Paint back faces in this sRGB colour instead of shading them: on a closed surface they
     /// show only through cracks (a crack finder).
     pub back_color: Option<[u8; 3]>,
+    /// Colour the surface by this per-vertex field (instead of `color`), with a colour bar on
+    /// the right (its width taken from `size`).
+    pub field: Option<FieldColors>,
 }
 
 impl Default for RenderOptions {
@@ -52,6 +56,7 @@ impl Default for RenderOptions {
             color: [120, 160, 215],
             displacement: Displacement::None,
             back_color: None,
+            field: None,
         }
     }
 }
@@ -96,10 +101,53 @@ pub fn render(
     options: &RenderOptions,
 ) -> Result<RgbaImage, GpuError> {
     options.validate()?;
+    let Some(field) = &options.field else {
+        return render_view(ctx, mesh, refine, options);
+    };
+    let bar = colormap::color_bar(field, options.size.1, options.background);
+    let view = RenderOptions {
+        size: (view_width(options, bar.width())?, options.size.1),
+        ..options.clone()
+    };
+    Ok(colormap::with_bar(
+        &render_view(ctx, mesh, refine, &view)?,
+        &bar,
+    ))
+}
+
+/// The width left for the surface beside a colour bar `bar` pixels wide.
+fn view_width(options: &RenderOptions, bar: u32) -> Result<u32, GpuError> {
+    options
+        .size
+        .0
+        .checked_sub(bar)
+        .filter(|&w| w > 0)
+        .ok_or_else(|| {
+            GpuError::BadOption(format!(
+                "a picture {} pixels wide has no room beside a {bar}-pixel colour bar",
+                options.size.0
+            ))
+        })
+}
+
+/// The picture of the surface alone (a field colours it, the bar is drawn by the caller).
+fn render_view(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    refine: &RefineOptions,
+    options: &RenderOptions,
+) -> Result<RgbaImage, GpuError> {
+    options.validate()?;
     let plan = Plan::new(mesh, refine)?;
     let frame = plan.frame(mesh)?;
-    let renderer =
+    let mut renderer =
         PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &options.displacement)?;
+    if let Some(field) = &options.field {
+        let nets = tessella_core::fields::face_nets(mesh, &field.name, &field.values)
+            .map_err(|e| GpuError::BadOption(e.to_string()))?;
+        let colors = field.colormap.samples_f32();
+        renderer.set_field(Some((&nets, &colors, field.resolved_range())))?;
+    }
     let target = Target::new(ctx, options.size)?;
     renderer.set_uniforms(&scene_uniforms(
         mesh,
@@ -126,7 +174,15 @@ pub fn render_compare(
         ));
     }
     options.validate()?;
-    let widths = panel_widths(options.size.0, panels.len()).ok_or_else(|| {
+    let bar = options
+        .field
+        .as_ref()
+        .map(|f| colormap::color_bar(f, options.size.1, options.background));
+    let total = match &bar {
+        Some(bar) => view_width(options, bar.width())?,
+        None => options.size.0,
+    };
+    let widths = panel_widths(total, panels.len()).ok_or_else(|| {
         GpuError::BadOption(format!(
             "a picture {} pixels wide has no room for {} panels",
             options.size.0,
@@ -141,11 +197,15 @@ pub fn render_compare(
                 size: (w, options.size.1),
                 ..options.clone()
             };
-            render(ctx, mesh, refine, &panel)
+            render_view(ctx, mesh, refine, &panel)
         })
         .collect::<Result<Vec<_>, _>>()?;
     let labels: Vec<&str> = panels.iter().map(|(l, _)| l.as_str()).collect();
-    Ok(crate::font::side_by_side(&pictures, &labels))
+    let row = crate::font::side_by_side(&pictures, &labels);
+    Ok(match &bar {
+        Some(bar) => colormap::with_bar(&row, bar),
+        None => row,
+    })
 }
 
 /// Widths of `n` panels filling `total` pixels with [`crate::font::GAP`]-pixel separators;

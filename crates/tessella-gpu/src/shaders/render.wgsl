@@ -20,6 +20,10 @@ struct RenderUniforms {
 @group(1) @binding(1) var<storage, read> face_uvs: array<f32>;
 // Instance -> coarse triangle (faces grouped by pattern, one draw per pattern).
 @group(1) @binding(2) var<storage, read> instance_faces: array<u32>;
+// Per coarse triangle: a scalar field's P2 net (corners, then mid-edges 0-1, 1-2, 2-0).
+@group(1) @binding(3) var<storage, read> face_field: array<f32>;
+// [low, high, samples, 0], then `samples` sRGB colours; samples 0: no field colouring.
+@group(1) @binding(4) var<storage, read> colormap: array<vec4<f32>>;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -28,6 +32,8 @@ struct VsOut {
     @location(2) l: vec3<f32>,
     // Barycentric coordinates inside the pattern triangle (wireframe draws only).
     @location(3) tri: vec3<f32>,
+    // x: the field's value, y: 1 where the vertex has one.
+    @location(4) field: vec2<f32>,
 }
 
 // A pattern vertex: its stencil row, and in the top two bits its corner in the pattern triangle
@@ -54,6 +60,18 @@ fn vs_pattern(@location(0) code: u32, @builtin(instance_index) instance: u32) ->
     out.normal = sp.normal;
     out.l = sp.l;
     out.tri = vec3<f32>(f32(corner == 0u), f32(corner == 1u), f32(corner == 2u));
+    out.field = vec2<f32>(0.0);
+    if (colormap[0].z > 0.0) {
+        // P2 shape functions (tessella_core::mesh::quadratic::shape_functions).
+        let l = sp.l;
+        let i = face * 6u;
+        out.field = vec2<f32>(
+            l.x * (2.0 * l.x - 1.0) * face_field[i] + l.y * (2.0 * l.y - 1.0) * face_field[i + 1u]
+                + l.z * (2.0 * l.z - 1.0) * face_field[i + 2u] + 4.0 * l.x * l.y * face_field[i + 3u]
+                + 4.0 * l.y * l.z * face_field[i + 4u] + 4.0 * l.z * l.x * face_field[i + 5u],
+            1.0,
+        );
+    }
     return out;
 }
 
@@ -66,6 +84,7 @@ fn vs_static(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -
     out.normal = normal;
     out.l = vec3<f32>(0.5);
     out.tri = vec3<f32>(0.5);
+    out.field = vec2<f32>(0.0);
     return out;
 }
 
@@ -91,6 +110,19 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     let diffuse = max(dot(n, light), 0.0);
     let specular = pow(max(dot(n, half_vector), 0.0), 48.0) * select(0.0, 1.0, diffuse > 0.0);
     var color = u.base_color.rgb * (0.12 + 0.88 * diffuse) + vec3<f32>(0.35 * specular);
+    let cm = colormap[0];
+    if (cm.z > 0.0 && in.field.y > 0.5) {
+        // The colormap's samples spread over [low, high], interpolated in sRGB; lit diffusely
+        // only (a white highlight would read as another value).
+        let n_samples = u32(cm.z);
+        let t = clamp((in.field.x - cm.x) / max(cm.y - cm.x, 1e-30), 0.0, 1.0);
+        let s = t * f32(n_samples - 1u);
+        let k = min(u32(floor(s)), n_samples - 1u);
+        let k1 = min(k + 1u, n_samples - 1u);
+        let c = mix(colormap[1u + k].rgb, colormap[1u + k1].rgb, s - f32(k));
+        let lin = select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
+        color = lin * (0.3 + 0.7 * diffuse);
+    }
 
     if (u.flags.x != 0u) {
         // Distances in pixels to the pattern triangle's edges and to the coarse edges.
