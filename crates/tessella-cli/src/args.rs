@@ -245,6 +245,21 @@ pub struct RenderArgs {
     /// Overlay the refinement pattern's edges.
     #[arg(long)]
     pub wireframe: bool,
+    /// Colour the surface by this per-vertex field of the input (a PLY vertex property, a glTF
+    /// `_NAME` attribute), with a colour bar and its range.
+    #[arg(long, value_name = "NAME")]
+    pub color_by: Option<String>,
+    /// Colormap for --color-by: viridis or coolwarm.
+    #[arg(long, default_value = "viridis", requires = "color_by")]
+    pub colormap: String,
+    /// Field values at the colormap's ends, MIN,MAX (default: the field's own range).
+    #[arg(
+        long,
+        value_name = "MIN,MAX",
+        allow_hyphen_values = true,
+        requires = "color_by"
+    )]
+    pub range: Option<String>,
     /// Side-by-side labelled panels, one per scheme, e.g. `flat,pn,png1` (overrides --scheme).
     #[arg(long, value_parser = scheme_parser(), value_delimiter = ',')]
     pub compare: Vec<SchemeArg>,

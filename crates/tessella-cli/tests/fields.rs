@@ -129,3 +129,68 @@ fn formats_without_fields_drop_them_with_a_note() {
     );
     assert!(output.exists());
 }
+
+/// `render --color-by`: the field is read from the file; bad names are refused with the
+/// available fields, bad colormaps and ranges with what to give.
+#[cfg(feature = "gpu")]
+#[test]
+fn render_colors_by_a_field_of_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.ply");
+    write_input(&input);
+    let png = dir.path().join("t.png");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            input.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--size",
+            "360x200",
+            "--level",
+            "4",
+        ];
+        args.extend(extra);
+        tessella(&args)
+    };
+    let ok = run(&[
+        "--color-by",
+        "T",
+        "--colormap",
+        "coolwarm",
+        "--compare",
+        "flat,pn",
+    ]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    assert!(png.exists());
+    let ok = run(&["--color-by", "height", "--range", "-0.5,0.5"]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+
+    let err = |o: Output| {
+        assert!(!o.status.success());
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let e = err(run(&["--color-by", "pressure"]));
+    assert!(
+        e.contains("--color-by \"pressure\"")
+            && e.contains("has no such per-vertex field; it has T, height"),
+        "{e}"
+    );
+    let e = err(run(&["--color-by", "T", "--colormap", "nope"]));
+    assert!(
+        e.contains(r#"unknown colormap "nope"; use one of ["viridis", "coolwarm"]"#),
+        "{e}"
+    );
+    let e = err(run(&["--color-by", "T", "--range", "3,1"]));
+    assert!(e.contains("MIN < MAX"), "{e}");
+    let e = err(run(&["--colormap", "viridis"]));
+    assert!(e.contains("--color-by"), "{e}");
+}

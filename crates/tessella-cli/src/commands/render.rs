@@ -20,6 +20,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         displacement: displacement.clone(),
         ..RenderOptions::default()
     };
+    let view = RenderOptions {
+        field: field_colors(args, &raw)?,
+        ..view
+    };
     let levels = levels(args, &mesh, &view)?;
     if displacement.is_some() && levels.levels.is_some() {
         anyhow::bail!("--displace works with uniform grid levels; drop --lod, --spacing or the fractional --level");
@@ -85,6 +89,50 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         ctx.adapter_label()
     );
     Ok(())
+}
+
+/// The field `--color-by` names, read from the input file, with `--colormap` and `--range`.
+fn field_colors(
+    args: &RenderArgs,
+    raw: &tessella_io::RawMesh,
+) -> anyhow::Result<Option<tessella_view::FieldColors>> {
+    let Some(name) = &args.color_by else {
+        return Ok(None);
+    };
+    let colormap: tessella_view::Colormap = args
+        .colormap
+        .parse()
+        .map_err(|e: String| anyhow::anyhow!("--colormap: {e}"))?;
+    let range = match &args.range {
+        None => None,
+        Some(text) => {
+            let parsed: Option<Vec<f32>> = text.split(',').map(|x| x.trim().parse().ok()).collect();
+            match parsed.as_deref() {
+                Some(&[lo, hi]) if lo.is_finite() && hi.is_finite() && lo < hi => Some([lo, hi]),
+                _ => anyhow::bail!(
+                    "--range {text:?}: give MIN,MAX, two finite numbers with MIN < MAX"
+                ),
+            }
+        }
+    };
+    let Some(values) = raw.vertex_scalars.get(name) else {
+        let have: Vec<&str> = raw.vertex_scalars.keys().map(String::as_str).collect();
+        anyhow::bail!(
+            "--color-by {name:?}: {} has no such per-vertex field; {}",
+            args.input.display(),
+            if have.is_empty() {
+                "it has none (PLY vertex properties or glTF _NAME attributes)".to_string()
+            } else {
+                format!("it has {}", have.join(", "))
+            }
+        );
+    };
+    Ok(Some(tessella_view::FieldColors {
+        name: name.clone(),
+        values: values.clone(),
+        colormap,
+        range,
+    }))
 }
 
 /// The options' spacing and levels from `--level`, `--spacing`, `--lod` and `--camera`; the
