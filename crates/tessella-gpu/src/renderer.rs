@@ -13,6 +13,10 @@ use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::refine::{Frame, Plan};
 
+/// A field for [`PatternRenderer::set_field`]: six net values per coarse face, the colormap's
+/// sRGB samples (0..=1) and the range `[low, high]` they span.
+pub type FieldNets<'a> = (&'a [f32], &'a [[f32; 3]], [f32; 2]);
+
 /// The attachments the caller's render pass has: what [`PatternRenderer`] compiles its
 /// pipelines for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -371,10 +375,7 @@ impl PatternRenderer {
     /// over `range` (low, high), linearly interpolated, values outside clamped to the ends.
     /// Field colours are lit diffusely, without the white highlight. `None` goes back to the
     /// base colour. [`PatternRenderer::draw_refined`] draws with the base colour.
-    pub fn set_field(
-        &mut self,
-        field: Option<(&[f32], &[[f32; 3]], [f32; 2])>,
-    ) -> Result<(), GpuError> {
+    pub fn set_field(&mut self, field: Option<FieldNets<'_>>) -> Result<(), GpuError> {
         let (nets, header): (&[f32], Vec<f32>) = match field {
             None => (&[0.0], vec![0.0; 8]),
             Some((nets, colormap, [low, high])) => {
