@@ -22,10 +22,10 @@ have_vulkan() {
         { compgen -G "/usr/share/vulkan/icd.d/*.json" || compgen -G "/etc/vulkan/icd.d/*.json"; } >/dev/null
 }
 
-echo "== python: the CPU-only build (no gpu feature) compiles and links no wgpu"
+echo "== python: the CPU-only build (no gpu, no gl feature) compiles and links no wgpu, glow or EGL"
 (cd "$HERE" && cargo check -q --no-default-features)
-if (cd "$HERE" && cargo tree -q --no-default-features -e normal) | grep -q wgpu; then
-    echo "cargo tree --no-default-features still pulls in wgpu" >&2
+if (cd "$HERE" && cargo tree -q --no-default-features -e normal) | grep -qE 'wgpu|glow|khronos-egl'; then
+    echo "cargo tree --no-default-features still pulls in wgpu, glow or khronos-egl" >&2
     exit 1
 fi
 
@@ -48,6 +48,9 @@ if ! "$VENV/bin/python" -c "import gmsh" 2>/dev/null; then
         echo "gmsh cannot be imported; install: apt-get install $GMSH_DEBS" >&2
     fi
 fi
+
+# backend="gl" (tests/test_gl.py) needs EGL with OpenGL 4.3: Mesa's llvmpipe.
+bash "$HERE/../scripts/setup-gl.sh"
 
 if ! have_vulkan; then
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then

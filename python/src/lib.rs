@@ -9,6 +9,7 @@ mod arrays;
 mod displace;
 mod errors;
 mod fem;
+mod gl;
 #[cfg(feature = "gpu")]
 mod gpu;
 // Without the `gpu` feature: the same interface, CPU only (`backend="gpu"` is a ValueError).
@@ -113,7 +114,7 @@ type AdaptiveArrays<'py> = (
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8.0, alpha=0.75,
                     normals_mode=None, spacing="grid", lod=None, camera=None, size=None,
-                    weld=true, origin=false))]
+                    weld=true, origin=false, backend="cpu"))]
 #[allow(clippy::too_many_arguments)]
 fn refine_adaptive<'py>(
     py: Python<'py>,
@@ -130,6 +131,7 @@ fn refine_adaptive<'py>(
     size: Option<(u32, u32)>,
     weld: bool,
     origin: bool,
+    backend: &str,
 ) -> PyResult<AdaptiveArrays<'py>> {
     use tessella_core::refine::{Camera, Levels, Lod, Spacing};
     let value = |e: tessella_core::RefineError| PyValueError::new_err(e.to_string());
@@ -153,8 +155,17 @@ fn refine_adaptive<'py>(
         // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
         opts = opts.with_levels(Levels::Uniform(level as f32));
     }
+    let backend = options::backend(backend)?;
+    if backend == options::Backend::Gl && origin {
+        return Err(PyValueError::new_err(
+            "origin=True is not supported with backend=\"gl\"; use backend=\"cpu\"",
+        ));
+    }
     let mesh = mesh_from(py, vertices, faces, normals)?;
     let (out, from) = py.detach(|| -> PyResult<_> {
+        if backend == options::Backend::Gl {
+            return Ok((gl::refine(&mesh, &opts)?, None));
+        }
         let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
         let out = refiner.refine();
         let from = origin.then(|| refiner.plan().origin());

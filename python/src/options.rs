@@ -79,7 +79,5 @@ pub fn alpha(alpha: f64) -> PyResult<f64> {
     Ok(alpha)
 }
 
-/// `backend="gl"`: the OpenGL tessellation-shader backend runs in the CLI only so far.
-pub const NO_GL: &str = "backend=\"gl\" (OpenGL 4 tessellation shaders) is available from the \
-                         tessella command line (tessella refine --backend gl) but not yet from \
-                         Python; use backend=\"cpu\" with the same spacing and levels";
+/// `backend="gl"` where the grid pattern is asked for (see `gl.rs`).
+pub const NO_GL: &str = crate::gl::GL_NEEDS_SPACING;

@@ -156,7 +156,13 @@ impl Refiner {
         let normal_mode = options::normal_mode(normals_mode)?;
         match options::backend(backend)? {
             Backend::Auto | Backend::Cpu => {}
-            Backend::Gl => return Err(PyValueError::new_err(crate::options::NO_GL)),
+            Backend::Gl => {
+                return Err(PyValueError::new_err(
+                    "Refiner runs on the CPU (backend=\"gl\" is not supported by Refiner); use \
+                     tessella.refine(..., backend=\"gl\", spacing=\"equal\") for the GL \
+                     tessellator",
+                ))
+            }
             #[cfg(not(feature = "gpu"))]
             Backend::Gpu => return Err(PyValueError::new_err(crate::gpu::NO_GPU)),
             #[cfg(feature = "gpu")]

@@ -154,8 +154,13 @@ def refine(
         edge or vertex.
     crease_angle : float or None
         Also crease every edge whose two faces bend by more than this many degrees (0..180).
-    backend : {"auto", "cpu", "gpu"}
-        Where the refinement runs. ``"cpu"``: the CPU, on all cores. ``"gpu"``: the GPU
+    backend : {"auto", "cpu", "gpu", "gl"}
+        Where the refinement runs. ``"gl"``: the OpenGL 4 hardware tessellator (tessellation
+        shaders through EGL; Mesa's llvmpipe without a GPU), with ``spacing="equal"``,
+        ``"fractional-odd"`` or ``"fractional-even"`` only (``ValueError`` otherwise, and in a
+        package built without the ``gl`` cargo feature; ``RuntimeError`` without an EGL
+        driver); its output is an unwelded soup (vertex ``3t + i`` is corner ``i`` of triangle
+        ``t``, whatever ``weld``), the CPU's vertices within float rounding. ``"cpu"``: the CPU, on all cores. ``"gpu"``: the GPU
         through wgpu (Vulkan, Metal or DX12), on any adapter, software ones such as Mesa's
         lavapipe included; ``RuntimeError`` when there is none (see :func:`backends` and
         :func:`gpu_info`). ``"auto"``: a hardware GPU when there is one, else the CPU (a
@@ -276,8 +281,11 @@ def refine(
             raise ValueError(
                 "spacing=, fractional levels, lod= and origin= do not take tags=, crease_angle= or displace="
             )
-        if backend not in ("auto", "cpu"):
-            raise ValueError("spacing=, fractional levels, lod= and origin= refine on the CPU: use backend='cpu'")
+        if backend not in ("auto", "cpu", "gl"):
+            raise ValueError(
+                "spacing=, fractional levels, lod= and origin= refine on the CPU or on the GL "
+                "tessellator: use backend='cpu' or 'gl'"
+            )
         v, f, n, face, bary = _tessella.refine_adaptive(
             vertices,
             faces,
@@ -292,6 +300,7 @@ def refine(
             size=None if size is None else (int(size[0]), int(size[1])),
             weld=weld,
             origin=origin,
+            backend="gl" if backend == "gl" else "cpu",
         )
         if origin:
             return RefineResult(v, f, n, face, bary)

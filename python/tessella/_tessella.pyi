@@ -46,6 +46,7 @@ def refine_adaptive(
     size: Optional[Tuple[int, int]] = None,
     weld: bool = True,
     origin: bool = False,
+    backend: str = "cpu",
 ) -> Tuple[_F32, _U32, _F32, Optional[npt.NDArray[np.int64]], Optional[_F32]]: ...
 def refine_fem(
     vertices: npt.ArrayLike,

@@ -1,0 +1,41 @@
+//! `backend="gl"`: the OpenGL 4 tessellation stages through tessella-gl (the CLI's
+//! `refine --backend gl`), with a tessellator spacing; the output is an unwelded soup
+//! (vertex `3t + i` is corner `i` of triangle `t`), as the CLI writes it. A GL context belongs
+//! to one thread, so each call makes its own (tens of milliseconds on llvmpipe).
+
+use pyo3::exceptions::PyValueError;
+use pyo3::PyResult;
+use tessella_core::{Mesh, RefineOptions, RefinedMesh};
+
+/// What `backend="gl"` with the grid spacing (`tessella.refine`'s whole-level path) raises.
+pub const GL_NEEDS_SPACING: &str = "backend=\"gl\" runs the hardware tessellator, whose \
+     patterns are not the grid pattern: give spacing=\"equal\", \"fractional-odd\" or \
+     \"fractional-even\" (and level= or lod=)";
+
+/// Refines `mesh` on the GL tessellator.
+#[cfg(feature = "gl")]
+pub fn refine(mesh: &Mesh, options: &RefineOptions) -> PyResult<RefinedMesh> {
+    use pyo3::exceptions::PyRuntimeError;
+    use tessella_gl::{GlContext, GlError, GlTessellator};
+    let err = |e: GlError| match e {
+        GlError::Unsupported(_) => PyValueError::new_err(e.to_string()),
+        GlError::Refine(e) => crate::errors::refine_error(e),
+        _ => PyRuntimeError::new_err(e.to_string()),
+    };
+    // Refuse the grid before looking for a driver: the message is about the options.
+    tessella_gl::hardware_spacing(options).map_err(|_| PyValueError::new_err(GL_NEEDS_SPACING))?;
+    let ctx = GlContext::new().map_err(err)?;
+    let mut gl = GlTessellator::new(&ctx).map_err(err)?;
+    Ok(gl.refine(mesh, options, None).map_err(err)?.to_mesh())
+}
+
+/// What `backend="gl"` raises in a build without the `gl` feature.
+#[cfg(not(feature = "gl"))]
+pub const NO_GL_FEATURE: &str = "this tessella package was built without OpenGL support (the \
+     \"gl\" cargo feature is off); use backend=\"cpu\", or rebuild with the default features";
+
+/// Without the `gl` feature: a `ValueError`.
+#[cfg(not(feature = "gl"))]
+pub fn refine(_mesh: &Mesh, _options: &RefineOptions) -> PyResult<RefinedMesh> {
+    Err(PyValueError::new_err(NO_GL_FEATURE))
+}
