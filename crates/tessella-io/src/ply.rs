@@ -103,9 +103,30 @@ pub fn read(path: &Path, mut reader: impl BufRead) -> Result<RawMesh, IoError> {
         format: FORMAT,
         message,
     };
-    let ply = Parser::<Row>::new()
-        .read_ply(&mut reader)
+    let parser = Parser::<Row>::new();
+    let mut reader = ply_rs_bw::parser::Reader::new(&mut reader);
+    let header = parser
+        .read_header(&mut reader)
         .map_err(|e| parse(e.to_string()))?;
+    // An element without properties takes no bytes per row, so a huge declared count would be
+    // read (as empty rows) for ever instead of running into the end of the file (found by
+    // `fuzz/fuzz_targets/ply_binary.rs`).
+    if let Some((name, element)) = header
+        .elements
+        .iter()
+        .find(|(_, e)| e.properties.is_empty() && e.count > 0)
+    {
+        return Err(parse(format!(
+            "element {name:?} declares {} rows but no properties",
+            element.count
+        )));
+    }
+    let payload = parser
+        .read_payload(&mut reader, &header)
+        .map_err(|e| parse(e.to_string()))?;
+    let mut ply = ply_rs_bw::ply::Ply::<Row>::new();
+    ply.header = header;
+    ply.payload = payload;
     let rows = |name: &str| ply.payload.get(name).map(Vec::as_slice).unwrap_or(&[]);
     for (name, element) in &ply.header.elements {
         let (scalars, lists) =

@@ -89,3 +89,31 @@ fn glb_with_a_total_length_under_its_header_is_an_error() {
     let err = fuzzing::read_bytes(Format::Glb, &data).unwrap_err();
     assert!(err.to_string().contains("total length of 7 bytes"), "{err}");
 }
+
+/// Found by the gltf target: a POSITION accessor index past the end of `accessors` made the
+/// `gltf` crate's validation index out of bounds (a panic in every build).
+#[test]
+fn gltf_position_accessor_past_the_end_is_an_error() {
+    let data =
+        std::fs::read(fuzz_dir().join("regressions/gltf/position-accessor-out-of-range")).unwrap();
+    let err = fuzzing::read_bytes(Format::Gltf, &data).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("uses accessor 0, but the file has only 0 accessors"),
+        "{err}"
+    );
+}
+
+/// Found by the ply_binary target (a timeout): an element without properties and a count of
+/// billions was read as empty rows for ever.
+#[test]
+fn ply_element_without_properties_is_an_error_at_once() {
+    let data = std::fs::read(
+        fuzz_dir().join("regressions/ply_binary/element-without-properties-huge-count"),
+    )
+    .unwrap();
+    let start = std::time::Instant::now();
+    let err = fuzzing::read_bytes(Format::Ply, &fuzzing::ply_input(true, &data)).unwrap_err();
+    assert!(err.to_string().contains("but no properties"), "{err}");
+    assert!(start.elapsed().as_secs() < 5);
+}

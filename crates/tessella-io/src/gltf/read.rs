@@ -35,7 +35,28 @@ pub fn read(path: &Path, bytes: &[u8], format: &'static str) -> Result<RawMesh, 
         message,
     };
     check_glb_header(bytes).map_err(parse)?;
-    let Gltf { document, blob } = Gltf::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
+    let Gltf { document, blob } =
+        Gltf::from_slice_without_validation(bytes).map_err(|e| parse(e.to_string()))?;
+    // The `gltf` crate's validation indexes the accessors by each primitive's POSITION index
+    // before checking it (a panic for an index past the end; found by
+    // `fuzz/fuzz_targets/gltf.rs`): check attribute indices first, then validate.
+    let root = document.into_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive
+                .attributes
+                .values()
+                .map(|i| i.value())
+                .find(|&i| i >= root.accessors.len())
+            {
+                return Err(parse(format!(
+                    "mesh {m} primitive {p} uses accessor {index}, but the file has only {} accessors",
+                    root.accessors.len()
+                )));
+            }
+        }
+    }
+    let document = gltf::Document::from_json(root).map_err(|e| parse(e.to_string()))?;
     let buffers = load_buffers(path, &document, blob, format)?;
     let mut raw = RawMesh::default();
     let (mut normals, mut uvs) = (Some(Vec::new()), Some(Vec::new()));
