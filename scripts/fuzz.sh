@@ -11,7 +11,8 @@
 # learns in fuzz/corpus/<target> (ignored by git). A crash is saved under fuzz/artifacts/; copy
 # it to fuzz/regressions/<target>/ once fixed: the io tests (tests/fuzz_regressions.rs) replay
 # every file there, and the seeds, through the same harness (tessella_io::fuzzing).
-# The final stats line of each run (stat::number_of_executed_units) goes to fuzz/stats.txt.
+# -timeout=60: on a loaded machine libFuzzer reported 10 s "timeouts" for inputs that replay in
+# milliseconds. The final stats line of each run (stat::number_of_executed_units) goes to fuzz/stats.txt.
 set -euo pipefail
 cd "$(dirname "$0")/../fuzz"
 seconds=${1:-60}
@@ -31,7 +32,7 @@ for target in "${targets[@]}"; do
   echo "== fuzz $target (${limit[*]})"
   status=0
   cargo +nightly fuzz run -O -s none "$target" "corpus/$target" "seeds/$target" "regressions/$target" -- \
-    "${limit[@]}" -max_len=4096 -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
+    "${limit[@]}" -max_len=4096 -rss_limit_mb=2048 -timeout=60 -print_final_stats=1 \
     >"$log" 2>&1 || status=$?
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
   echo "$(date -u +%FT%TZ) $target executions=${runs:-?} exit=$status" | tee -a stats.txt
