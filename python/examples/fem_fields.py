@@ -8,7 +8,9 @@ mesh with flat, PN and PNG1 (exact normals at the nodes) and the P2 mesh with `q
 carries a field with a closed form, T = z², through refinement (`point_data=`): linearly on
 the order-1 mesh, with the 6-node shape functions on the order-2 mesh, and prints its error
 per level. Last, a "heated" torus (a hot spot on the outer equator) is drawn coloured by
-temperature: the faceted order-1 boundary next to the refined order-2 surface.
+temperature by tessella's own renderer (`tessella.render(..., color_by="T")`, on the GPU;
+lavapipe serves): the faceted order-1 boundary next to the refined order-2 surface, with a
+colour bar. matplotlib only draws the distance chart.
 
     pip install ./python gmsh matplotlib meshio
     python python/examples/fem_fields.py --out fem-out [--image docs/images/fem-temperature.png]
@@ -128,55 +130,47 @@ def plot(results: Dict[str, dict], levels: List[int], path: str) -> None:
     print(f"\nplot: {path}")
 
 
-def shaded(colors: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    light = np.array([0.3, -0.5, 0.8])
-    light /= np.linalg.norm(light)
-    k = 0.35 + 0.65 * np.clip(normals @ light, 0, 1)
-    out = colors.copy()
-    out[:, :3] *= k[:, None]
-    return out
-
-
 def picture(out: str, image: str) -> None:
-    """A heated torus coloured by temperature: faceted order-1 boundary vs refined order-2."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib import cm, colors
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-
+    """A heated torus coloured by temperature, drawn by tessella's renderer (`tessella.render`,
+    the field interpolated in the vertex shader): the faceted order-1 boundary (flat triangles,
+    T linear on each) next to the order-2 surface refined with `quadratic` at level 8 (mid-edge
+    nodes on the true torus, T through the 6-node shape functions), one colour bar for both."""
     torus = next(p for p in parts() if p.name == "torus")
     hot = np.array([1.4, 0.0, 0.0])  # a heater on the outer equator
     temp = lambda p: 20 + 80 * np.exp(-np.sum((p - hot) ** 2, axis=1) / 0.3)  # noqa: E731
-    v1, f1 = tessella.read_fem(os.path.join(out, "torus-order1.msh"))
-    v2, f2 = tessella.read_fem(os.path.join(out, "torus-order2.msh"))
-    r = tessella.refine(v2, f2, level=8, point_data={"T": temp(v2)})
-    norm = colors.Normalize(20, 100)
-    cmap = matplotlib.colormaps["viridis"]
-    fig = plt.figure(figsize=(11, 5))
-    panels = [
-        ("faceted: order-1 boundary, linear T", v1, f1[:, :3], temp(v1)),
-        ("tessella quadratic, level 8: P2 surface, P2 T", r.vertices, r.faces, r.point_data["T"]),
-    ]
-    for k, (title, v, f, t) in enumerate(panels):
-        ax = fig.add_subplot(1, 2, k + 1, projection="3d")
-        tri = v[f]
-        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        n /= np.linalg.norm(n, axis=1, keepdims=True)
-        face_colors = shaded(cmap(norm(t[f].mean(axis=1))), n)
-        ax.add_collection3d(Poly3DCollection(tri, facecolors=face_colors, edgecolors="none"))
-        ax.set_xlim(-1.4, 1.4)
-        ax.set_ylim(-1.4, 1.4)
-        ax.set_zlim(-0.9, 0.9)
-        ax.set_box_aspect((2.8, 2.8, 1.8))
-        ax.view_init(elev=35, azim=-60)
-        ax.set_axis_off()
-        ax.set_title(f"{title}\n{len(f)} triangles", fontsize=10)
-    bar = fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=fig.axes, shrink=0.7, pad=0.02)
-    bar.set_label("temperature T (°C), range 20 .. 100")
-    fig.savefig(image, dpi=90, bbox_inches="tight")
-    print(f"picture: {image}")
+    v1, f1 = tessella.read_fem(os.path.join(out, f"{torus.name}-order1.msh"))
+    v2, f2 = tessella.read_fem(os.path.join(out, f"{torus.name}-order2.msh"))
+    # Faceted: every triangle its own three corners, so each takes its face's normal.
+    corners = v1[f1[:, :3]].reshape(-1, 3)
+    facets = np.arange(len(corners)).reshape(-1, 3)
+    w, h = 460, 400
+    view = dict(yaw=55, pitch=40, color_by="T", colormap="viridis", range=(20, 100))
+    left = tessella.render(corners, facets, scheme="flat", level=1, size=(w, h), colorbar=False,
+                           point_data={"T": temp(corners)}, label="order 1 faceted", **view)
+    # The bar of a picture 400 pixels tall is 84 pixels wide: the surfaces get the same width.
+    right = tessella.render(v2, f2, scheme="quadratic", level=8, size=(w + 84, h),
+                            point_data={"T": temp(v2)}, label="order 2 quadratic", **view)
+    gap = np.empty((h, 2, 4), dtype=np.uint8)
+    gap[:] = (40, 40, 48, 255)
+    row = np.concatenate([left, gap, right], axis=1)
+    _write_png(image, row)
+    print(f"picture: {image} ({len(f1)} faceted triangles | {len(f2)} P2 faces at level 8)")
+
+
+def _write_png(path: str, rgba: np.ndarray) -> None:
+    """An 8-bit RGBA PNG (zlib, no filters), so the example needs no imaging package."""
+    import struct
+    import zlib
+
+    h, w = rgba.shape[:2]
+    raw = b"".join(b"\x00" + rgba[y].tobytes() for y in range(h))
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0))
+                + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
 
 
 def main(argv=None) -> int:

@@ -18,6 +18,7 @@ mod gpu;
 mod gpu;
 mod options;
 mod refiner;
+mod render;
 mod tags;
 
 use numpy::PyArray2;
@@ -439,6 +440,7 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine, m)?)?;
     m.add_function(wrap_pyfunction!(refine_adaptive, m)?)?;
     m.add_function(wrap_pyfunction!(fem::refine_fem, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(pattern, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;
     m.add_function(wrap_pyfunction!(quality, m)?)?;

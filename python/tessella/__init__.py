@@ -66,6 +66,7 @@ __all__ = [
     "quality",
     "refine",
     "RefineResult",
+    "render",
     "Refiner",
     "refine_trimesh",
     "save",
@@ -529,6 +530,118 @@ def quality(
         alpha=alpha,
         tags=tags,
         crease_angle=crease_angle,
+    )
+
+
+def render(
+    vertices: Any,
+    faces: Any,
+    normals: Any = None,
+    *,
+    path: Union[str, "os.PathLike[str]", None] = None,
+    scheme: Optional[str] = None,
+    level: int = 8,
+    size: Tuple[int, int] = (512, 512),
+    yaw: float = 30.0,
+    pitch: float = 20.0,
+    zoom: float = 1.0,
+    wireframe: bool = False,
+    compare: Optional[List[str]] = None,
+    point_data: Optional[Dict[str, Any]] = None,
+    color_by: Optional[str] = None,
+    colormap: str = "viridis",
+    range: Optional[Tuple[float, float]] = None,
+    colorbar: bool = True,
+    label: Optional[str] = None,
+) -> np.ndarray:
+    """Draw the refined surface offscreen on the GPU (the CLI's ``tessella render``).
+
+    One refinement pattern per coarse triangle is evaluated in the vertex shader (as the GMR
+    paper draws), multisampled, and read back.
+
+    Parameters
+    ----------
+    vertices, faces, normals
+        As :func:`refine`; ``faces`` with 6 columns are second-order (6-node) elements, drawn
+        with the ``"quadratic"`` scheme by default.
+    path : str or os.PathLike, optional
+        Also write the picture there as a PNG (through a temporary file, renamed into place).
+    scheme : str, optional
+        One of :func:`schemes`; ``None``: ``"quadratic"`` for 6-column faces, else ``"pn"``.
+    level : int
+        Segments per coarse edge (1 or more).
+    size : (int, int)
+        Width and height in pixels (1 .. 8192 each), the colour bar and panels included.
+    yaw, pitch : float
+        Orbit about the vertical axis and elevation of the eye, degrees (yaw 0 looks along -Z).
+    zoom : float
+        1 frames the mesh's bounding sphere; larger values move closer.
+    wireframe : bool
+        Overlay the refinement pattern's edges.
+    compare : list of str, optional
+        Scheme names: one labelled panel per scheme side by side (``size`` is the whole row);
+        ``scheme`` is then ignored.
+    point_data : dict of str to array_like, optional
+        Per-vertex fields, ``(n,)`` or ``(n, 1)`` (mid-edge nodes of 6-column faces included),
+        as for :func:`refine`.
+    color_by : str, optional
+        Colour the surface by this ``point_data`` field (interpolated across each face with its
+        shape functions: linear, or the 6-node ones for second-order faces), with a colour bar
+        on the right showing the field's name and range.
+    colormap : {"viridis", "coolwarm"}
+        The colours from low to high.
+    range : (float, float), optional
+        The values mapped to the colormap's ends (clamped beyond); ``None``: the field's
+        smallest and largest value.
+    colorbar : bool
+        ``False`` leaves the colour bar out (the surface then fills ``size``), to compose
+        several pictures sharing one bar.
+    label : str, optional
+        Text written at the picture's top left.
+
+    Returns
+    -------
+    numpy.ndarray, uint8 (height, width, 4)
+        RGBA, sRGB, top row first; the background is white.
+
+    Raises
+    ------
+    ValueError
+        Bad arrays or options as :func:`refine`, a bad size, zoom or angle, an unknown
+        ``color_by`` field (the message names the available ones), colormap or scheme, a bad
+        ``range``, or a package built without the ``gpu`` cargo feature.
+    RuntimeError
+        No GPU adapter opens (a software one such as Mesa's lavapipe is enough) or the GPU fails.
+    OSError
+        ``path`` cannot be written.
+    """
+    corners, mids = _fields.split_faces(faces)
+    if scheme is None:
+        scheme = "quadratic" if mids is not None else "pn"
+    n = np.shape(vertices)[0] if np.ndim(vertices) else 0
+    fields = [
+        (name, _fields._field_rows(name, a, n, "vertex")) for name, a in dict(point_data or {}).items()
+    ]
+    return _tessella.render(
+        vertices,
+        corners,
+        mids,
+        normals,
+        scheme=scheme,
+        level=level,
+        size=(int(size[0]), int(size[1])),
+        yaw=yaw,
+        pitch=pitch,
+        zoom=zoom,
+        wireframe=wireframe,
+        compare=None if compare is None else [str(s) for s in compare],
+        point_data=fields,
+        color_by=color_by,
+        colormap=colormap,
+        range=None if range is None else (float(range[0]), float(range[1])),
+        colorbar=colorbar,
+        label=label,
+        path=None if path is None else os.fspath(path),
     )
 
 

@@ -71,6 +71,28 @@ def refine_fem(
     List[Tuple[str, npt.NDArray[np.float32]]],
     List[Tuple[str, npt.NDArray[np.float32]]],
 ]: ...
+def render(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    mids: Optional[npt.NDArray[np.int64]] = None,
+    normals: Optional[npt.ArrayLike] = None,
+    *,
+    scheme: str = "pn",
+    level: int = 8,
+    size: Tuple[int, int] = (512, 512),
+    yaw: float = 30.0,
+    pitch: float = 20.0,
+    zoom: float = 1.0,
+    wireframe: bool = False,
+    compare: Optional[List[str]] = None,
+    point_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
+    color_by: Optional[str] = None,
+    colormap: str = "viridis",
+    range: Optional[Tuple[float, float]] = None,
+    colorbar: bool = True,
+    label: Optional[str] = None,
+    path: Optional[_Path] = None,
+) -> npt.NDArray[np.uint8]: ...
 def quality(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,
