@@ -41,6 +41,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         Ok(options)
     };
     if args.backend == RenderBackendArg::Gl {
+        if args.color_by.is_some() {
+            anyhow::bail!(
+                "--color-by is not supported with --backend gl (it colours by normal); use --backend gpu"
+            );
+        }
         let panels = if args.compare.is_empty() {
             vec![(String::new(), options_for(args.scheme)?)]
         } else {
