@@ -422,6 +422,11 @@ pub struct BenchArgs {
     /// (static refined vertex buffer vs instanced pattern), and PN vs PNG1 frame time.
     #[arg(long)]
     pub gpu: bool,
+    /// Also measure the OpenGL tessellator: quadratic ("fake") against real normals (time per
+    /// vertex), and the hardware tessellator against the instanced pattern against the CPU at
+    /// about equal triangle counts (ratios; absolute times only on a hardware GPU).
+    #[arg(long)]
+    pub gl: bool,
 }
 
 /// Parses `800x600`.

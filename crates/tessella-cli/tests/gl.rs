@@ -266,3 +266,48 @@ fn gl_render_without_a_driver_is_a_clear_error_and_no_file() {
     assert!(err.contains("libegl-mesa0"), "{err}");
     assert!(!out.exists());
 }
+
+/// `tessella bench --gl`: both GL tables, a row for the level asked for, positive ratios, and the
+/// driver labelled software or hardware.
+#[test]
+fn bench_gl_prints_the_tessellator_tables() {
+    let out = tessella(&["bench", "--gl", "--levels", "2", "--repeat", "1"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("GL driver: "), "{text}");
+    assert!(
+        text.contains("software") || text.contains("hardware"),
+        "{text}"
+    );
+    let row = |header: &str| -> Vec<String> {
+        let at = text
+            .find(header)
+            .unwrap_or_else(|| panic!("no table {header}: {text}"));
+        let line = text[at..]
+            .lines()
+            .find(|l| l.starts_with("| 2 |"))
+            .unwrap_or_else(|| panic!("no level-2 row after {header}: {text}"));
+        line.trim_matches('|')
+            .split('|')
+            .map(|c| c.trim().to_string())
+            .collect()
+    };
+    // n = 2: 320 faces × 6 triangles on the GL, the grid m = 2: 320 × 4.
+    let pattern = row("| n | GL triangles | m |");
+    assert_eq!(&pattern[..4], ["2", "1920", "2", "1280"], "{text}");
+    let normals = row("| n | triangles | vertices | quadratic GL / CPU |");
+    assert_eq!(&normals[..3], ["2", "1920", "5760"], "{text}");
+    for cells in [&pattern[4..], &normals[3..]] {
+        for c in cells.iter().filter(|c| *c != "—") {
+            let x: f64 = c.parse().unwrap_or_else(|_| panic!("'{c}' in {text}"));
+            assert!(x > 0.0, "{c} in {text}");
+        }
+    }
+    // The GL ratio columns are always measured.
+    assert!(pattern[5].parse::<f64>().unwrap() > 0.0, "{text}");
+    assert!(normals[5].parse::<f64>().unwrap() > 0.0, "{text}");
+}

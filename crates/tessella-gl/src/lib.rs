@@ -16,6 +16,7 @@
 //! rational weights are GLSL written after `basis/png1.rs` and tied to it by the tests, which
 //! compare every GL vertex with the CPU refinement of the same scheme, spacing and levels.
 
+pub mod bench;
 mod context;
 mod error;
 mod refine;

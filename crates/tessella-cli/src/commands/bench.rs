@@ -26,6 +26,13 @@ fn time_refine(refiner: &Refiner, repeat: usize) -> Duration {
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    #[cfg(not(feature = "gl"))]
+    if args.gl {
+        anyhow::bail!(
+            "bench --gl needs the `gl` feature, and this tessella was built without it; rebuild \
+             with it (cargo build -p tessella-cli --features gl)"
+        );
+    }
     let mesh: Mesh = match &args.mesh {
         Some(path) => tessella_io::read_mesh(path)?,
         None => samples::icosphere_4k(),
@@ -106,6 +113,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         gpu_tables(&mesh, args)?;
         #[cfg(not(feature = "gpu"))]
         return Err(super::no_gpu("bench --gpu"));
+    }
+    #[cfg(feature = "gl")]
+    if args.gl {
+        super::bench_gl::run(args)?;
     }
     Ok(())
 }

@@ -4,6 +4,8 @@
 mod animate;
 mod bench;
 mod bench_frames;
+#[cfg(feature = "gl")]
+mod bench_gl;
 mod demo;
 mod displace;
 #[cfg(feature = "gpu")]
