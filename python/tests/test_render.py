@@ -165,7 +165,7 @@ def test_six_column_faces_render_quadratic_with_their_mid_node_field(tmp_path):
     ts = t_of(img[:, : 300 - 84, :3][mask], VIRIDIS)
     # The quadratic field spans 0 (corners) .. 1 (mid nodes) .. 1/3 (centroid): both ends show.
     assert ts.min() < 0.15 and ts.max() > 0.85
-    # Flat would need 3-column faces' scheme; an explicit scheme of a linear mesh is refused.
+    # The corners alone: a plain linear triangle.
     plain = tessella.render(v, f[:, :3], size=(200, 200), scheme="flat", level=1)
     assert plain.shape == (200, 200, 4)
 
