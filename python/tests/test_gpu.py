@@ -316,7 +316,7 @@ def test_without_an_adapter_gpu_raises_and_auto_uses_the_cpu(tmp_path):
 
 def test_unknown_backends_are_refused():
     v, f, n = MESHES["sphere"]
-    with pytest.raises(ValueError, match=r'unknown backend "tpu"; use one of \["auto", "cpu", "gpu"\]'):
+    with pytest.raises(ValueError, match=r'unknown backend "tpu"; use one of \["auto", "cpu", "gpu", "gl"\]'):
         tessella.refine(v, f, n, backend="tpu")
     a = tessella.refine(v, f, n, level=2, backend="GPU")
     b = tessella.refine(v, f, n, level=2, backend="gpu")
