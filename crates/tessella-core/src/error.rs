@@ -9,6 +9,14 @@ pub enum MeshError {
     NoTriangles,
     #[error("vertex {vertex} has a non-finite coordinate {value:?}; remove NaN/infinite positions before refining")]
     NonFinitePosition { vertex: usize, value: [f32; 3] },
+    /// A coordinate so large that control points built from it overflow f32 (found by fuzzing
+    /// `refine`: a finite 1.7e38 gave infinite refined positions).
+    #[error("vertex {vertex} has a coordinate beyond ±{max:e} ({value:?}); scale the mesh down before refining")]
+    PositionTooLarge {
+        vertex: usize,
+        value: [f32; 3],
+        max: f32,
+    },
     #[error("triangle {face} uses vertex {index}, but the mesh has only {count} vertices")]
     IndexOutOfRange {
         face: usize,

@@ -241,15 +241,29 @@ impl Mesh {
     }
 }
 
-/// The first non-finite position, as an error.
+/// Coordinates up to this magnitude refine without overflow: control points are sums of a few
+/// multiples of positions, and normals come from products of their differences.
+pub const MAX_COORDINATE: f32 = 1e15;
+
+/// The first non-finite or too large position, as an error.
 fn check_finite(positions: &[[f32; 3]]) -> Result<(), MeshError> {
-    match positions
+    if let Some(vertex) = positions
         .iter()
         .position(|p| !p.iter().all(|c| c.is_finite()))
     {
-        Some(vertex) => Err(MeshError::NonFinitePosition {
+        return Err(MeshError::NonFinitePosition {
             vertex,
             value: positions[vertex],
+        });
+    }
+    match positions
+        .iter()
+        .position(|p| p.iter().any(|c| c.abs() > MAX_COORDINATE))
+    {
+        Some(vertex) => Err(MeshError::PositionTooLarge {
+            vertex,
+            value: positions[vertex],
+            max: MAX_COORDINATE,
         }),
         None => Ok(()),
     }
