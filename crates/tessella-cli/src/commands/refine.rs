@@ -264,7 +264,10 @@ mod backend {
         match on_gpu {
             Some(Ok(refined)) => Ok(refined),
             Some(Err(e)) if args.backend == BackendArg::Auto => {
-                eprintln!("note: the GPU failed ({e}); refining on the CPU");
+                // One line: wgpu's validation reports span several.
+                let reason = e.to_string();
+                let first = reason.lines().next().unwrap_or("unknown error").trim();
+                eprintln!("note: the GPU failed ({first}); refining on the CPU");
                 cpu()
             }
             Some(Err(e)) => Err(e).context("GPU refinement failed"),
