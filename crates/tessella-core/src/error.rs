@@ -87,7 +87,9 @@ pub enum RefineError {
     },
     #[error("level {level} would make {vertices} output vertices, more than 32-bit indices can address (4294967295); choose a lower level")]
     IndexOverflow { level: u32, vertices: u64 },
-    #[error("Phong shape factor alpha must be finite (usually within 0..=1), got {0}")]
+    #[error(
+        "Phong shape factor alpha must be finite and within -16..=16 (usually 0..=1), got {0}"
+    )]
     BadAlpha(f32),
     #[error("bad vertex format: {0}")]
     BadVertexFormat(String),

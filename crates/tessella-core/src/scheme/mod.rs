@@ -58,6 +58,9 @@ pub enum Scheme {
     Quadratic,
 }
 
+/// Largest |alpha| [`Scheme::Phong`] accepts.
+pub const MAX_PHONG_ALPHA: f32 = 16.0;
+
 impl Scheme {
     /// Phong tessellation with the paper's default shape factor 3/4.
     pub const PHONG: Scheme = Scheme::Phong { alpha: 0.75 };
@@ -102,7 +105,11 @@ impl Scheme {
     /// Checks the scheme's parameters.
     pub fn validate(&self) -> Result<(), RefineError> {
         match *self {
-            Scheme::Phong { alpha } if !alpha.is_finite() => Err(RefineError::BadAlpha(alpha)),
+            // The paper's alpha lies in 0..=1; a little outside still makes sense (over- or
+            // under-shooting the projection), but a huge one overflows f32 (found by fuzzing).
+            Scheme::Phong { alpha } if !(alpha.is_finite() && alpha.abs() <= MAX_PHONG_ALPHA) => {
+                Err(RefineError::BadAlpha(alpha))
+            }
             _ => Ok(()),
         }
     }
