@@ -93,7 +93,7 @@ fn on_gpu(
 ) -> Result<RefinedMesh, GpuError> {
     let options = GpuRefineOptions {
         displacement: displacement.clone(),
-        max_chunk_items: None,
+        ..Default::default()
     };
     let result = gpu_refine_with(ctx, refiner, &options);
     if matches!(result, Err(GpuError::DeviceLost { .. })) {

@@ -35,6 +35,9 @@ pub struct GpuRefineOptions {
     /// Caps the vertices or triangles per chunk below what the device allows (for tests of
     /// the chunking; `None` uses the device limits).
     pub max_chunk_items: Option<u32>,
+    /// Caps the coarse faces whose control nets one binding holds below what the binding
+    /// limit allows (for tests of the net windows; `None` uses the device limits).
+    pub max_net_faces: Option<u32>,
 }
 
 /// Where [`GpuEvaluator::evaluate`] writes one frame's vertices (format: see the module docs,
@@ -155,6 +158,13 @@ struct Chunk<'b> {
     count: u64,
 }
 
+/// The nets of a window of faces, bound as group 0 for the output vertices before `end` (and
+/// from the previous window's `end`), which read only those faces' nets.
+struct NetWindow {
+    end: u64,
+    group: wgpu::BindGroup,
+}
+
 /// The GPU implementation of [`Evaluator`]: made once per [`Plan`], evaluates its frames.
 ///
 /// ```no_run
@@ -182,7 +192,9 @@ pub struct GpuEvaluator {
     /// Identifies the plan: vertex, triangle and face counts, level, weld, basis size.
     plan_key: (usize, usize, usize, u32, bool, usize),
     patches: PatchBuffers,
-    patch_group: wgpu::BindGroup,
+    /// Group 0 per window of output vertices: one window binding all nets when they fit one
+    /// binding, else windows whose faces' nets do.
+    nets: Vec<NetWindow>,
     mesh_u32: wgpu::Buffer,
     mesh_f32: wgpu::Buffer,
     /// Scratch for the binding a kernel does not write.
@@ -290,8 +302,9 @@ impl GpuEvaluator {
                     plan.triangles(),
                     &plan.topology().position_ids,
                 ),
+                true,
             )?;
-            let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
+            let nets = net_windows(ctx, plan, &u32s, &params, &patches, &pipelines, options)?;
             let copy = wgpu::BufferUsages::COPY_DST;
             let none = wgpu::BufferUsages::empty();
             let mesh_u32 = ctx.storage_buffer("mesh u32", bytemuck::cast_slice(&u32s), none);
@@ -304,7 +317,7 @@ impl GpuEvaluator {
                 pipelines,
                 plan_key: plan_key(plan),
                 patches,
-                patch_group,
+                nets,
                 mesh_u32,
                 mesh_f32,
                 params,
@@ -473,7 +486,10 @@ impl GpuEvaluator {
             let window_start = start / align * align;
             let window_len = max_binding.min(buffer.size() - window_start) / 4 * 4;
             let fit = window_len.saturating_sub(start - window_start) / stride;
-            let count = fit.min(self.item_cap()).min(total - first);
+            let count = fit
+                .min(self.item_cap())
+                .min(total - first)
+                .min(self.net_window(first).1 - first);
             if count == 0 {
                 return Err(GpuError::TooLarge {
                     what: "one refined vertex",
@@ -491,6 +507,15 @@ impl GpuEvaluator {
             first += count;
         }
         Ok(chunks)
+    }
+
+    /// The net window of output vertex `vertex`: its index in `nets` and its end.
+    fn net_window(&self, vertex: u64) -> (usize, u64) {
+        let i = self
+            .nets
+            .partition_point(|w| w.end <= vertex)
+            .min(self.nets.len() - 1);
+        (i, self.nets[i].end)
     }
 
     /// Records one dispatch of `pipeline` over `chunk`.
@@ -551,7 +576,14 @@ impl GpuEvaluator {
         } else {
             &self.pipelines.indices
         });
-        pass.set_bind_group(0, &self.patch_group, &[]);
+        // The index kernel reads no nets: any window will do.
+        let (window, end) = if vertices {
+            self.net_window(chunk.first)
+        } else {
+            (0, 0)
+        };
+        debug_assert!(!vertices || chunk.first + chunk.count <= end);
+        pass.set_bind_group(0, &self.nets[window].group, &[]);
         pass.set_bind_group(1, &group, &[]);
         pass.dispatch_workgroups(chunk.count.div_ceil(WORKGROUP) as u32, 1, 1);
     }
@@ -718,7 +750,10 @@ pub fn gpu_refine_with(
     ] {
         let mut first = 0;
         while first < total {
-            let count = chunk.min(total - first);
+            let mut count = chunk.min(total - first);
+            if vertices {
+                count = count.min(gpu.net_window(first).1 - first);
+            }
             jobs.push((vertices, first, count, count * item_bytes));
             first += count;
         }
@@ -787,6 +822,109 @@ pub fn gpu_refine_with(
         out.triangles.extend_from_slice(plan.indices());
     }
     Ok(out)
+}
+
+/// The coarse face whose net output vertex `g` is evaluated from (`None`: none, a coarse vertex
+/// no face uses), read from the plan's tables as `refine.wgsl` reads them.
+fn vertex_face(u32s: &[u32], p: &RefineParams, g: u64) -> Option<u64> {
+    let g = g as usize;
+    let owner = |at: u32, i: usize| match u32s[at as usize + i] {
+        NONE => None,
+        o => Some(o as u64 >> 2),
+    };
+    if p.adaptive != 0 {
+        return match u32s[p.lookup_at as usize + g * 2] {
+            NONE => None,
+            f => Some(f as u64),
+        };
+    }
+    let g32 = g as u32;
+    if p.weld == 0 {
+        return Some((g32 / p.points_per_face) as u64);
+    }
+    if g32 < p.input_vertices {
+        owner(p.vertex_owner_at, g)
+    } else if g32 < p.interior_base {
+        owner(
+            p.edge_owner_at,
+            ((g32 - p.edge_base) / (p.level - 1)) as usize,
+        )
+    } else {
+        Some(((g32 - p.interior_base) / p.interior_per_face) as u64)
+    }
+}
+
+/// Group 0 for every window of output vertices: all nets in one window when they fit one
+/// binding (and `max_net_faces`), else consecutive vertex ranges whose faces span few enough
+/// faces for their nets to fit one binding window, bound from an aligned offset.
+fn net_windows(
+    ctx: &GpuContext,
+    plan: &Plan,
+    u32s: &[u32],
+    params: &RefineParams,
+    patches: &PatchBuffers,
+    pipelines: &Pipelines,
+    options: &GpuRefineOptions,
+) -> Result<Vec<NetWindow>, GpuError> {
+    let total = plan.vertex_count() as u64;
+    let faces = plan.face_count() as u64;
+    let point_bytes = plan.options().scheme.basis().len() as u64 * 12;
+    let normal_bytes = patch::NORMAL_NET_BYTES;
+    let face_bytes = point_bytes.max(normal_bytes);
+    let cap = options.max_net_faces.map_or(u64::MAX, |c| c.max(1) as u64);
+    let limit = ctx.max_binding() / 4 * 4;
+    if faces * face_bytes <= limit && faces <= cap {
+        return Ok(vec![NetWindow {
+            end: total,
+            group: patches.bind_group(ctx, &pipelines.patch_layout),
+        }]);
+    }
+    let align = ctx.limits.min_storage_buffer_offset_alignment.max(4) as u64;
+    let per_window = (limit.saturating_sub(align) / face_bytes).min(cap);
+    if per_window == 0 {
+        return Err(GpuError::TooLarge {
+            what: "one coarse face's control net",
+            bytes: face_bytes + align,
+            limit,
+        });
+    }
+    let mut windows = Vec::new();
+    let mut push = |end: u64, (lo, hi): (u64, u64)| {
+        let range = |bytes: u64, buffer: &wgpu::Buffer| {
+            let start = lo * bytes / align * align;
+            (start, ((hi + 1) * bytes).min(buffer.size()) - start)
+        };
+        let points = range(point_bytes, &patches.points);
+        let normals = range(normal_bytes, &patches.normals);
+        let eval = crate::gpu_types::EvalParams {
+            points_base: (points.0 / 4) as u32,
+            normals_base: (normals.0 / 4) as u32,
+            ..patches.eval_params
+        };
+        let eval = ctx.buffer_init(
+            "eval params (net window)",
+            bytemuck::bytes_of(&eval),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let group = patches.bind_group_window(ctx, &pipelines.patch_layout, &eval, points, normals);
+        windows.push(NetWindow { end, group });
+    };
+    let mut span: Option<(u64, u64)> = None;
+    for g in 0..total {
+        let Some(f) = vertex_face(u32s, params, g) else {
+            continue;
+        };
+        span = match span {
+            None => Some((f, f)),
+            Some((lo, hi)) if hi.max(f) - lo.min(f) < per_window => Some((lo.min(f), hi.max(f))),
+            Some(old) => {
+                push(g, old);
+                Some((f, f))
+            }
+        };
+    }
+    push(total, span.unwrap_or((0, 0)));
+    Ok(windows)
 }
 
 fn plan_key(plan: &Plan) -> (usize, usize, usize, u32, bool, usize) {

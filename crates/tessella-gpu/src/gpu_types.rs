@@ -12,8 +12,15 @@ pub(crate) struct EvalParams {
     pub stride: u32,
     pub normal_mode: u32,
     pub face_count: u32,
+    /// `f32` index in the nets of the first float the bound `net_points` window holds (0
+    /// unless the compute path splits the nets into windows of faces).
+    pub points_base: u32,
+    /// The same for `net_normals`.
+    pub normals_base: u32,
+    pub _pad: [u32; 2],
 }
-const _: () = assert!(size_of::<EvalParams>() == 16);
+const _: () = assert!(size_of::<EvalParams>() == 32);
+const _: () = assert!(offset_of!(EvalParams, normals_base) == 20);
 const _: () = assert!(offset_of!(EvalParams, normal_mode) == 8);
 
 /// `DisplaceParams` in `shaders/displace.wgsl`.

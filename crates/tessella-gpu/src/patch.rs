@@ -68,22 +68,46 @@ pub(crate) struct PatchBuffers {
     /// Byte offset of the face records in `displace_data`; `None` without displacement.
     displace_faces_at: Option<u64>,
     pub face_count: u32,
+    /// The uniform `eval` holds (whole nets bound).
+    pub eval_params: EvalParams,
 }
+
+/// Bytes of one face's normal net (6 points).
+pub(crate) const NORMAL_NET_BYTES: u64 = 6 * 12;
 
 impl PatchBuffers {
     /// `stencil`: the weights rows of every pattern point drawn (`Stencil::weights`, or several
     /// patterns' rows one after the other), `Stencil::stride_for(K)` floats each.
+    /// `split_nets`: the caller binds the nets in windows of faces
+    /// ([`PatchBuffers::bind_group_window`]), so they need only fit one buffer; otherwise nets
+    /// over one binding are refused.
     pub fn new(
         ctx: &GpuContext,
         stencil: &[f32],
         nets: &PatchNets,
         displacement: &Displacement,
         edges: &[u32],
+        split_nets: bool,
     ) -> Result<PatchBuffers, GpuError> {
         let limit = ctx.max_binding();
+        let net_bytes = (nets.points.len() as u64 * 12).max(nets.normals.len() as u64 * 12);
+        let (nets_what, nets_limit) = if split_nets {
+            (
+                "the control nets (in one buffer)",
+                ctx.limits.max_buffer_size,
+            )
+        } else {
+            ("the control nets", limit)
+        };
+        if net_bytes > nets_limit {
+            return Err(GpuError::TooLarge {
+                what: nets_what,
+                bytes: net_bytes,
+                limit: nets_limit,
+            });
+        }
         for (what, bytes) in [
             ("the pattern's stencil", stencil.len() as u64 * 4),
-            ("the control nets", nets.points.len() as u64 * 12),
             ("the canonical edge table", edges.len() as u64 * 4),
         ] {
             if bytes > limit {
@@ -96,6 +120,9 @@ impl PatchBuffers {
             stride: Stencil::stride_for(nets.basis.len()) as u32,
             normal_mode: normal_mode_code(nets.normal_mode),
             face_count: nets.len() as u32,
+            points_base: 0,
+            normals_base: 0,
+            _pad: [0; 2],
         };
         let (dparams, ddata) = displace::gpu_data(displacement, nets.len());
         let data_bytes = ddata.len() as u64 * 4;
@@ -124,6 +151,7 @@ impl PatchBuffers {
             displace_faces_at: (dparams.faces_at != displace::NO_FACES)
                 .then_some(dparams.faces_at as u64 * 4),
             face_count: nets.len() as u32,
+            eval_params: eval,
         })
     }
 
@@ -175,21 +203,44 @@ impl PatchBuffers {
     }
 
     pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
-        let buffers = [
-            &self.stencil,
-            &self.points,
-            &self.normals,
-            &self.eval,
-            &self.displace,
-            &self.displace_data,
-            &self.edges,
+        let points = (0, self.points.size());
+        let normals = (0, self.normals.size());
+        self.bind_group_window(ctx, layout, &self.eval, points, normals)
+    }
+
+    /// Group 0 with only the byte ranges `points` and `normals` (offset, size) of the nets
+    /// bound, and `eval` as the uniform (an [`EvalParams`] whose `points_base` and
+    /// `normals_base` are the ranges' offsets in floats).
+    pub fn bind_group_window(
+        &self,
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        eval: &wgpu::Buffer,
+        points: (u64, u64),
+        normals: (u64, u64),
+    ) -> wgpu::BindGroup {
+        let window = |buffer, (offset, size): (u64, u64)| {
+            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer,
+                offset,
+                size: wgpu::BufferSize::new(size),
+            })
+        };
+        let resources = [
+            self.stencil.as_entire_binding(),
+            window(&self.points, points),
+            window(&self.normals, normals),
+            eval.as_entire_binding(),
+            self.displace.as_entire_binding(),
+            self.displace_data.as_entire_binding(),
+            self.edges.as_entire_binding(),
         ];
-        let entries: Vec<_> = buffers
-            .iter()
+        let entries: Vec<_> = resources
+            .into_iter()
             .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
+            .map(|(i, resource)| wgpu::BindGroupEntry {
                 binding: i as u32,
-                resource: b.as_entire_binding(),
+                resource,
             })
             .collect();
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -282,8 +282,14 @@ impl PatternRenderer {
                 plan.triangles(),
                 &plan.topology().position_ids,
             );
-            let patches =
-                PatchBuffers::new(ctx, &tiles.weights, frame.nets(), displacement, &edges)?;
+            let patches = PatchBuffers::new(
+                ctx,
+                &tiles.weights,
+                frame.nets(),
+                displacement,
+                &edges,
+                false,
+            )?;
             let position_ids = patches
                 .displaced()
                 .then(|| plan.topology().position_ids.clone());

@@ -152,7 +152,7 @@ fn displacement_on_gpu_matches_cpu_and_keeps_shared_vertices_shared() {
             &refiner,
             &GpuRefineOptions {
                 displacement: d.clone(),
-                max_chunk_items: None,
+                ..Default::default()
             },
         )
         .unwrap();
@@ -177,7 +177,7 @@ fn displacement_on_gpu_matches_cpu_and_keeps_shared_vertices_shared() {
             &Refiner::new(&mesh, &opts.clone().with_weld(false)).unwrap(),
             &GpuRefineOptions {
                 displacement: d.clone(),
-                max_chunk_items: None,
+                ..Default::default()
             },
         )
         .unwrap();
@@ -211,7 +211,7 @@ fn height_map_without_uvs_is_a_clear_error() {
         &refiner,
         &GpuRefineOptions {
             displacement: d,
-            max_chunk_items: None,
+            ..Default::default()
         },
     )
     .unwrap_err();
@@ -264,7 +264,7 @@ fn displaced_hard_edges_stay_closed_on_the_gpu_as_on_the_cpu() {
                         &refiner,
                         &GpuRefineOptions {
                             displacement: d.clone(),
-                            max_chunk_items: None,
+                            ..Default::default()
                         },
                     )
                     .unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -302,7 +302,7 @@ fn a_deforming_displaced_hard_cube_follows_the_cpu_frame_by_frame() {
         &plan,
         &GpuRefineOptions {
             displacement: d.clone(),
-            max_chunk_items: None,
+            ..Default::default()
         },
     )
     .unwrap();

@@ -2,8 +2,12 @@
 //! limits are far below what the work asks for. Run on the software adapter (lavapipe).
 mod common;
 
-use tessella_core::{samples, RefineOptions, Refiner, Scheme};
-use tessella_gpu::{gpu_refine_with, AdapterChoice, GpuContext, GpuError, GpuRefineOptions};
+use tessella_core::refine::{Evaluator, Levels, Plan, Spacing};
+use tessella_core::{samples, RefineOptions, RefinedMesh, Refiner, Scheme};
+use tessella_gpu::{
+    gpu_refine_with, AdapterChoice, GpuContext, GpuError, GpuEvaluator, GpuOutput,
+    GpuRefineOptions, PatternRenderer, TargetFormats,
+};
 
 fn refiner(mesh: &tessella_core::Mesh, level: u32) -> Refiner<'_> {
     Refiner::new(mesh, &RefineOptions::new(Scheme::Pn, level)).unwrap()
@@ -84,4 +88,118 @@ fn no_adapter_of_a_kind_is_a_clear_error() {
             assert!(e.to_string().contains("use the CPU backend"), "{e}");
         }
     }
+}
+
+fn same_bits(a: &RefinedMesh, b: &RefinedMesh, what: &str) {
+    let bits = |m: &RefinedMesh| -> Vec<u32> {
+        let mut out: Vec<u32> = m.positions.iter().flatten().map(|x| x.to_bits()).collect();
+        out.extend(m.normals.iter().flatten().map(|x| x.to_bits()));
+        out
+    };
+    assert_eq!(bits(a), bits(b), "{what}: vertices");
+    assert_eq!(a.triangles, b.triangles, "{what}: triangles");
+}
+
+/// Welded and soup, uniform and adaptive (per-edge levels) options on `mesh`.
+fn plans(mesh: &tessella_core::Mesh) -> Vec<(String, RefineOptions)> {
+    let edges = Plan::new(mesh, &RefineOptions::new(Scheme::Pn, 1))
+        .unwrap()
+        .topology()
+        .edges
+        .len();
+    let levels = Levels::PerEdge {
+        edges: (0..edges).map(|e| 1.0 + (e * 7 % 5) as f32).collect(),
+        faces: None,
+    };
+    let mut out = Vec::new();
+    for weld in [true, false] {
+        out.push((
+            format!("uniform weld {weld}"),
+            RefineOptions::new(Scheme::Pn, 3).with_weld(weld),
+        ));
+        out.push((
+            format!("adaptive weld {weld}"),
+            RefineOptions::new(Scheme::Pn, 1)
+                .with_weld(weld)
+                .with_spacing(Spacing::Grid)
+                .with_levels(levels.clone()),
+        ));
+    }
+    out
+}
+
+/// Control nets split into windows of a few faces (a test cap, and a real binding limit
+/// below the nets' size) give the CPU's output, and the unsplit GPU output bit for bit,
+/// through `gpu_refine_with` and `GpuEvaluator::evaluate`.
+#[test]
+fn control_nets_over_one_binding_are_split_by_faces() {
+    let mesh = samples::icosphere(1);
+    for (what, options) in plans(&mesh) {
+        let refiner = Refiner::new(&mesh, &options).unwrap();
+        let cpu = refiner.refine();
+        let whole = gpu_refine_with(common::ctx(), &refiner, &GpuRefineOptions::default()).unwrap();
+        common::assert_same(&cpu, &whole, &mesh, 0.0, &what);
+        for cap in [2, 17] {
+            let split = GpuRefineOptions {
+                max_net_faces: Some(cap),
+                max_chunk_items: Some(50),
+                ..Default::default()
+            };
+            let what = format!("{what}, {cap} faces per net window");
+            let out = gpu_refine_with(common::ctx(), &refiner, &split).unwrap();
+            same_bits(&whole, &out, &what);
+            // The frame path (vertex chunks over its own buffer).
+            let plan = refiner.plan();
+            let mut gpu = GpuEvaluator::with_options(common::ctx(), plan, &split).unwrap();
+            gpu.evaluate(plan, refiner.frame(), GpuOutput::Own).unwrap();
+            let floats = gpu.read_back().unwrap();
+            let expected: Vec<f32> = whole
+                .positions
+                .iter()
+                .zip(&whole.normals)
+                .flat_map(|(p, n)| p.iter().chain(n).copied())
+                .collect();
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&floats), bits(&expected), "{what}: evaluate");
+        }
+    }
+    // A real limit: 96 KiB bindings, nets of 1280 faces x (10 + 6) x 12 bytes = 240 KiB
+    // (uniform plans: the adaptive plans' stencils of every tile exceed 96 KiB themselves).
+    let ctx = own_device(|l| wgpu::Limits {
+        max_storage_buffer_binding_size: 96 << 10,
+        ..l
+    });
+    let mesh = samples::icosphere(3);
+    for (what, options) in plans(&mesh).into_iter().step_by(2) {
+        let refiner = Refiner::new(&mesh, &options).unwrap();
+        let out = gpu_refine_with(&ctx, &refiner, &GpuRefineOptions::default()).unwrap();
+        let whole = gpu_refine_with(common::ctx(), &refiner, &GpuRefineOptions::default()).unwrap();
+        same_bits(&whole, &out, &format!("{what}, 96 KiB bindings"));
+    }
+}
+
+/// The instanced renderer binds all nets at once: nets over one binding are a clear error.
+#[test]
+fn the_renderer_refuses_nets_over_one_binding() {
+    let ctx = own_device(|l| wgpu::Limits {
+        max_storage_buffer_binding_size: 96 << 10,
+        ..l
+    });
+    let mesh = samples::icosphere(3);
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4)).unwrap();
+    let frame = plan.frame(&mesh).unwrap();
+    let formats = TargetFormats {
+        color: wgpu::TextureFormat::Rgba8UnormSrgb,
+        depth: None,
+        samples: 1,
+    };
+    let err = PatternRenderer::new(&ctx, &plan, &frame, &formats, &Default::default())
+        .map(|_| ())
+        .unwrap_err();
+    assert!(
+        matches!(err, GpuError::TooLarge { what, .. } if what == "the control nets"),
+        "{err}"
+    );
+    assert!(err.to_string().contains("the control nets"), "{err}");
+    assert!(err.to_string().contains("CPU backend"), "{err}");
 }

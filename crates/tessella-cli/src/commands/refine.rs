@@ -256,7 +256,7 @@ mod backend {
         let on_gpu = backend.ctx.as_ref().map(|ctx| {
             let gpu_options = GpuRefineOptions {
                 displacement: displacement.clone(),
-                max_chunk_items: None,
+                ..Default::default()
             };
             gpu_refine_with(ctx, refiner, &gpu_options)
         });

@@ -9,6 +9,12 @@ struct EvalParams {
     stride: u32,
     normal_mode: u32, // 0 linear, 1 quadratic, 2 real (NormalMode order)
     face_count: u32,
+    // f32 index (in all faces' nets) of the first float of the bound net_points / net_normals
+    // window: the compute path binds the nets of a window of faces when they exceed one binding.
+    points_base: u32,
+    normals_base: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 @group(0) @binding(0) var<storage, read> stencil: array<f32>;
@@ -32,12 +38,12 @@ struct SurfacePoint {
 }
 
 fn net_point(face: u32, k: u32) -> vec3<f32> {
-    let i = (face * eval_params.k + k) * 3u;
+    let i = (face * eval_params.k + k) * 3u - eval_params.points_base;
     return vec3<f32>(net_points[i], net_points[i + 1u], net_points[i + 2u]);
 }
 
 fn net_normal(face: u32, k: u32) -> vec3<f32> {
-    let i = (face * NORMAL_NET_LEN + k) * 3u;
+    let i = (face * NORMAL_NET_LEN + k) * 3u - eval_params.normals_base;
     return vec3<f32>(net_normals[i], net_normals[i + 1u], net_normals[i + 2u]);
 }
 
