@@ -66,7 +66,11 @@ fn open_device() -> Result<(wgpu::Device, wgpu::Queue), Box<dyn Error>> {
         ..wgpu::InstanceDescriptor::new_without_display_handle()
     });
     let adapter = pollster::block_on(instance.request_adapter(&Default::default()))?;
-    let (device, queue) = pollster::block_on(adapter.request_device(&Default::default()))?;
+    // tessella's compute path binds more storage buffers than WebGPU's default allows.
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        required_limits: GpuContext::required_limits(&adapter.limits()),
+        ..Default::default()
+    }))?;
     Ok((device, queue))
 }
 

@@ -3,6 +3,10 @@
 use crate::error::GpuError;
 use std::sync::{Arc, Mutex};
 
+/// Storage buffers the compute path binds in one shader stage; a device must allow at least
+/// this many ([`GpuContext::required_limits`]).
+pub const COMPUTE_STORAGE_BUFFERS: u32 = 9;
+
 /// Which adapter [`GpuContext::new`] asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum AdapterChoice {
@@ -106,15 +110,7 @@ impl GpuContext {
         let info = adapter.get_info();
         // Ask for the adapter's own buffer limits: the defaults (128 MiB bindings) are often
         // lower than what the hardware allows, and larger bindings mean fewer chunks.
-        let supported = adapter.limits();
-        let limits = wgpu::Limits {
-            max_storage_buffer_binding_size: supported.max_storage_buffer_binding_size,
-            max_buffer_size: supported.max_buffer_size,
-            max_storage_buffers_per_shader_stage: supported
-                .max_storage_buffers_per_shader_stage
-                .min(16),
-            ..wgpu::Limits::default()
-        };
+        let limits = GpuContext::required_limits(&adapter.limits());
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("tessella"),
@@ -128,6 +124,32 @@ impl GpuContext {
                 reason: e.to_string(),
             })?;
         Ok(GpuContext::from_device(device, queue))
+    }
+
+    /// The limits to request when opening a device for tessella: WebGPU's defaults, raised to
+    /// the adapter's own buffer sizes (larger bindings mean fewer chunks) and to the storage
+    /// buffers per shader stage the compute path binds ([`COMPUTE_STORAGE_BUFFERS`], above
+    /// WebGPU's default of 8). An engine opening its own device passes these (or larger).
+    ///
+    /// ```no_run
+    /// # async fn open(adapter: wgpu::Adapter) {
+    /// let limits = tessella_gpu::GpuContext::required_limits(&adapter.limits());
+    /// let (device, queue) = adapter
+    ///     .request_device(&wgpu::DeviceDescriptor { required_limits: limits, ..Default::default() })
+    ///     .await
+    ///     .unwrap();
+    /// let ctx = tessella_gpu::GpuContext::from_device(device, queue);
+    /// # }
+    /// ```
+    pub fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
+        wgpu::Limits {
+            max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
+            max_buffer_size: adapter.max_buffer_size,
+            max_storage_buffers_per_shader_stage: adapter
+                .max_storage_buffers_per_shader_stage
+                .min(16),
+            ..wgpu::Limits::default()
+        }
     }
 
     /// Wraps a device and queue the caller opened (an engine's own), so tessella's evaluator

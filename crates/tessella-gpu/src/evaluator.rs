@@ -230,6 +230,14 @@ impl GpuEvaluator {
         plan: &Plan,
         options: &GpuRefineOptions,
     ) -> Result<GpuEvaluator, GpuError> {
+        let allowed = ctx.limits.max_storage_buffers_per_shader_stage;
+        if allowed < crate::context::COMPUTE_STORAGE_BUFFERS {
+            return Err(GpuError::BadOption(format!(
+                "the device allows {allowed} storage buffers per shader stage; the GPU evaluator \
+                 binds {}: open the device with `GpuContext::required_limits(&adapter.limits())`",
+                crate::context::COMPUTE_STORAGE_BUFFERS
+            )));
+        }
         if plan.tiling().is_some() && options.displacement != Displacement::None {
             return Err(GpuError::BadOption(
                 "displacement of adaptive and tessellator plans is not supported on the GPU \

@@ -66,7 +66,7 @@ mod gpu_types;
 mod patch;
 mod renderer;
 
-pub use context::{AdapterChoice, GpuContext};
+pub use context::{AdapterChoice, GpuContext, COMPUTE_STORAGE_BUFFERS};
 pub use error::GpuError;
 pub use evaluator::{
     gpu_refine, gpu_refine_with, GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth,

@@ -203,3 +203,19 @@ fn the_renderer_refuses_nets_over_one_binding() {
     assert!(err.to_string().contains("the control nets"), "{err}");
     assert!(err.to_string().contains("CPU backend"), "{err}");
 }
+
+#[test]
+fn a_device_with_too_few_storage_buffers_is_refused_clearly() {
+    // WebGPU's default limits: 8 storage buffers per stage, fewer than the compute path binds.
+    let ctx = own_device(|l| wgpu::Limits {
+        max_storage_buffers_per_shader_stage: 8,
+        ..l
+    });
+    let mesh = tessella_core::samples::icosphere(0);
+    let refiner = refiner(&mesh, 2);
+    let Err(e) = tessella_gpu::GpuEvaluator::new(&ctx, refiner.plan()) else {
+        panic!("a device with 8 storage buffers per stage was accepted");
+    };
+    assert!(e.to_string().contains("required_limits"), "{e}");
+    assert!(ctx.check().is_ok(), "the refusal came before any GPU call");
+}
