@@ -83,7 +83,7 @@ fn is_svg(path: &Path) -> bool {
 }
 
 fn write_svg(path: &Path, built: &Built) -> anyhow::Result<()> {
-    let text = pattern_svg::draw(built);
+    let text = pattern_svg::draw(built).context("formatting the SVG drawing")?;
     tessella_io::write_atomic(path, |out| out.write_all(text.as_bytes()))
         .with_context(|| format!("writing the drawing {}", path.display()))
 }

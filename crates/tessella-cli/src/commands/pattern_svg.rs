@@ -21,39 +21,39 @@ fn screen(l: [f64; 3]) -> (f64, f64) {
     (MARGIN + x * side, top + h - y * h)
 }
 
-/// The SVG text.
-pub(crate) fn draw(built: &Built) -> String {
+/// The SVG text. (Writing into a `String` only fails if a `Display` impl does.)
+pub(crate) fn draw(built: &Built) -> Result<String, std::fmt::Error> {
     let p = &built.pattern;
     let mut s = String::new();
     let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(screen);
-    let _ = writeln!(
+    writeln!(
         s,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{SIZE}" height="{SIZE}" viewBox="0 0 {SIZE} {SIZE}" font-family="sans-serif" font-size="14">"#
-    );
-    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(s, "<title>{}</title>", title(built));
-    let _ = writeln!(s, r#"<text x="12" y="24">{}</text>"#, title(built));
+    )?;
+    writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#)?;
+    writeln!(s, "<title>{}</title>", title(built))?;
+    writeln!(s, r#"<text x="12" y="24">{}</text>"#, title(built))?;
     // The coarse triangle.
-    let _ = writeln!(
+    writeln!(
         s,
         r##"<polygon points="{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}" fill="#f4f6fb" stroke="#222" stroke-width="2"/>"##,
         corners[0].0, corners[0].1, corners[1].0, corners[1].1, corners[2].0, corners[2].1
-    );
+    )?;
     // Small triangles, one path.
     let mut d = String::new();
     for t in &p.triangles {
         let [a, b, c] = t.map(|i| screen(p.points[i as usize]));
-        let _ = write!(
+        write!(
             d,
             "M{:.2} {:.2}L{:.2} {:.2}L{:.2} {:.2}Z",
             a.0, a.1, b.0, b.1, c.0, c.1
-        );
+        )?;
     }
     if !d.is_empty() {
-        let _ = writeln!(
+        writeln!(
             s,
             r##"<path d="{d}" fill="none" stroke="#3a5a9a" stroke-width="0.8" stroke-linejoin="round"/>"##
-        );
+        )?;
     }
     // Points.
     let r = (6.0 / (1.0 + (p.points.len() as f64).sqrt() / 8.0)).max(1.2);
@@ -64,20 +64,20 @@ pub(crate) fn draw(built: &Built) -> String {
             PointClass::Edge { .. } => "#1f77b4",
             PointClass::Interior { .. } => "#d62728",
         };
-        let _ = writeln!(
+        writeln!(
             s,
             r#"<circle cx="{x:.2}" cy="{y:.2}" r="{r:.2}" fill="{colour}"/>"#
-        );
+        )?;
     }
     // Corner labels and, for the tessellator, each outer level beside its edge.
     for (k, (x, y)) in corners.iter().enumerate() {
         let dy = if k == 2 { -12.0 } else { 22.0 };
-        let _ = writeln!(
+        writeln!(
             s,
             r#"<text x="{x:.2}" y="{:.2}" text-anchor="middle">P{}</text>"#,
             y + dy,
             k + 1
-        );
+        )?;
     }
     if let Some(levels) = built.processed.map(|l| l.levels).or(built.requested) {
         // outer[k] lies on the edge opposite corner k: label it at the edge's midpoint, pushed
@@ -91,15 +91,15 @@ pub(crate) fn draw(built: &Built) -> String {
                 mid.0 + away.0 / len * 28.0,
                 mid.1 + away.1 / len * 28.0 + 5.0,
             );
-            let _ = writeln!(
+            writeln!(
                 s,
                 r#"<text x="{x:.2}" y="{y:.2}" text-anchor="middle">outer[{k}] = {}</text>"#,
                 levels.outer[k]
-            );
+            )?;
         }
     }
-    let _ = writeln!(s, "</svg>");
-    s
+    writeln!(s, "</svg>")?;
+    Ok(s)
 }
 
 fn title(built: &Built) -> String {
