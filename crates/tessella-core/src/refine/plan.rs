@@ -190,19 +190,14 @@ impl Plan {
                 (p, s)
             }
         };
-        Ok(Plan {
-            id: NEXT_PLAN_ID.fetch_add(1, Ordering::Relaxed),
-            options: options.clone(),
-            triangles: mesh.triangles().to_vec(),
-            vertex_count: mesh.vertex_count(),
-            has_uvs: mesh.uvs().is_some(),
+        Ok(Plan::assemble(
+            mesh,
+            options,
             topology,
             layout,
-            pattern,
-            stencil,
-            indices: OnceLock::new(),
-            tiling: Some(tiling),
-        })
+            (pattern, stencil),
+            Some(tiling),
+        ))
     }
 
     /// The classic plan: one uniform grid pattern for every face.
@@ -240,7 +235,26 @@ impl Plan {
         )?;
         let pattern = Pattern::uniform(options.level);
         let stencil = Stencil::new(&pattern, options.scheme.basis());
-        Ok(Plan {
+        Ok(Plan::assemble(
+            mesh,
+            options,
+            topology,
+            layout,
+            (pattern, stencil),
+            None,
+        ))
+    }
+
+    /// The plan from its parts (the one place a `Plan` is put together).
+    fn assemble(
+        mesh: &Mesh,
+        options: &RefineOptions,
+        topology: Topology,
+        layout: OutputLayout,
+        (pattern, stencil): (Pattern, Stencil),
+        tiling: Option<Tiling>,
+    ) -> Plan {
+        Plan {
             id: NEXT_PLAN_ID.fetch_add(1, Ordering::Relaxed),
             options: options.clone(),
             triangles: mesh.triangles().to_vec(),
@@ -251,8 +265,8 @@ impl Plan {
             pattern,
             stencil,
             indices: OnceLock::new(),
-            tiling: None,
-        })
+            tiling,
+        }
     }
 
     /// The first frame: a copy of `mesh` (which must have the plan's topology) and its nets.
