@@ -3,6 +3,8 @@
 //! the same plan drawn as a plain vertex buffer (`PatternRenderer::draw_refined`, no stencil on
 //! the GPU): the two must cover the same pixels with the same colours, up to rasterisation.
 
+// The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.
+#[path = "../../tessella-gpu/tests/common/mod.rs"]
 mod common;
 
 use common::ctx;

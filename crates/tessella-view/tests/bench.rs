@@ -1,5 +1,7 @@
 //! The benchmark functions run, report the sizes they claim, and draw what they time.
 
+// The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.
+#[path = "../../tessella-gpu/tests/common/mod.rs"]
 mod common;
 
 use common::ctx;

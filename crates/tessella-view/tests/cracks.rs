@@ -4,6 +4,8 @@
 //! (eval.wgsl's `canonical_edge`), so PN on a closed smooth mesh shows none at any level; PN on
 //! a cube with split normals really opens at its hard edges, and the count sees it.
 
+// The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.
+#[path = "../../tessella-gpu/tests/common/mod.rs"]
 mod common;
 
 use common::ctx;

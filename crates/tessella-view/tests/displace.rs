@@ -4,6 +4,8 @@
 //! the shared direction on hard edges, every instance moved its rim along its own face normal
 //! and the cube's edges opened.
 
+// The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.
+#[path = "../../tessella-gpu/tests/common/mod.rs"]
 mod common;
 
 use common::ctx;

@@ -2,6 +2,8 @@
 //! plus properties that hold whatever the references say: PN silhouettes are rounder than flat
 //! ones, the wireframe draws the pattern, panels line up, animation uploads only the nets.
 
+// The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.
+#[path = "../../tessella-gpu/tests/common/mod.rs"]
 mod common;
 
 use common::ctx;

@@ -3,6 +3,8 @@
 //! the picture's own camera, puts coarse and refined edges, and how much darker those pixels
 //! are than in the same picture without the wireframe.
 
+// The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.
+#[path = "../../tessella-gpu/tests/common/mod.rs"]
 mod common;
 
 use common::ctx;
