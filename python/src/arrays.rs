@@ -132,3 +132,21 @@ pub fn to_numpy<'py, T: Element, const K: usize>(
     let array = Array2::from_shape_vec((n, K), flat).expect("n*K elements make an (n, K) array");
     PyArray2::from_owned_array(py, array)
 }
+
+/// Mid-edge node rows of second-order faces, `(faces, 3)` (edges 0-1, 1-2, 2-0); a negative
+/// entry (or one past `u32`) marks a linear face's edge as [`tessella_core::mesh::NO_MID`].
+pub fn mid_nodes(m: &PyReadonlyArray2<'_, i64>, faces: usize) -> PyResult<Vec<[u32; 3]>> {
+    let a = m.as_array();
+    if a.ncols() != 3 || a.nrows() != faces {
+        return Err(PyValueError::new_err(format!(
+            "mid-edge nodes must have shape ({faces}, 3), got {:?}",
+            a.shape()
+        )));
+    }
+    Ok(a.rows()
+        .into_iter()
+        .map(|r| {
+            std::array::from_fn(|k| u32::try_from(r[k]).unwrap_or(tessella_core::mesh::NO_MID))
+        })
+        .collect())
+}

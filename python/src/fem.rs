@@ -8,7 +8,6 @@ use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use tessella_core::fields::{copy_cell_data, interpolate_point_data};
-use tessella_core::mesh::NO_MID;
 use tessella_core::{Mesh, RefineOptions, Refiner};
 
 /// A named field as it comes in: `(name, float32 (count, width) C-ordered array)`.
@@ -75,33 +74,9 @@ pub fn refine_fem<'py>(
         Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
         _ => None,
     };
-    let mids: Option<Vec<[u32; 3]>> = match mids {
-        None => None,
-        Some(m) => {
-            let a = m.as_array();
-            if a.ncols() != 3 || a.nrows() != triangles.len() {
-                return Err(PyValueError::new_err(format!(
-                    "mid-edge nodes must have shape ({}, 3), got {:?}",
-                    triangles.len(),
-                    a.shape()
-                )));
-            }
-            Some(
-                a.rows()
-                    .into_iter()
-                    .map(|r| {
-                        std::array::from_fn(|k| {
-                            if r[k] < 0 || r[k] > u32::MAX as i64 - 1 {
-                                NO_MID
-                            } else {
-                                r[k] as u32
-                            }
-                        })
-                    })
-                    .collect(),
-            )
-        }
-    };
+    let mids = mids
+        .map(|m| arrays::mid_nodes(&m, triangles.len()))
+        .transpose()?;
     let point_data = point_data
         .into_iter()
         .map(|(n, a)| flat_field(n, a))

@@ -88,7 +88,6 @@ pub fn render<'py>(
     use crate::{arrays, errors, gpu, options};
     use numpy::ndarray::Array3;
     use pyo3::exceptions::{PyRuntimeError, PyValueError};
-    use tessella_core::mesh::NO_MID;
     use tessella_core::{Mesh, RefineOptions};
     use tessella_view::{colormap as bar, Colormap, FieldColors, RenderOptions};
 
@@ -165,25 +164,9 @@ pub fn render<'py>(
         Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
         _ => None,
     };
-    let mids: Option<Vec<[u32; 3]>> = match mids {
-        None => None,
-        Some(m) => {
-            let a = m.as_array();
-            if a.ncols() != 3 || a.nrows() != triangles.len() {
-                return Err(PyValueError::new_err(format!(
-                    "mid-edge nodes must have shape ({}, 3), got {:?}",
-                    triangles.len(),
-                    a.shape()
-                )));
-            }
-            Some(
-                a.rows()
-                    .into_iter()
-                    .map(|r| std::array::from_fn(|k| u32::try_from(r[k]).unwrap_or(NO_MID)))
-                    .collect(),
-            )
-        }
-    };
+    let mids = mids
+        .map(|m| arrays::mid_nodes(&m, triangles.len()))
+        .transpose()?;
     let picture = py.detach(|| -> PyResult<_> {
         let mut mesh =
             Mesh::new(positions, normals, None, triangles).map_err(errors::mesh_error)?;
