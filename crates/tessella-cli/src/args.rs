@@ -413,7 +413,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub mesh: Option<PathBuf>,
     /// Levels to measure, comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = [4u32, 8, 16, 32])]
+    #[arg(long, value_delimiter = ',', default_values_t = [8u32, 16, 32, 64])]
     pub levels: Vec<u32>,
     /// Repetitions per measurement (the median is reported).
     #[arg(long, default_value_t = 15)]
@@ -427,6 +427,10 @@ pub struct BenchArgs {
     /// about equal triangle counts (ratios; absolute times only on a hardware GPU).
     #[arg(long)]
     pub gl: bool,
+    /// Print the CPU measurements (bandwidth, one-shot, per frame, file writers) as one JSON
+    /// object instead of tables.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Parses `800x600`.

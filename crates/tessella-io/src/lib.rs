@@ -47,6 +47,7 @@
 //! renamed over the target only once it is complete, so a failure leaves the old file (or none).
 
 mod atomic;
+mod encode;
 mod error;
 mod format;
 #[doc(hidden)]

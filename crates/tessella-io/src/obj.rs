@@ -149,32 +149,55 @@ fn vertex_key(p: [f32; 3], n: Option<[f32; 3]>, t: Option<[f32; 2]>) -> [u32; 8]
 /// Writes one `v` (and `vt`, `vn`) per vertex and `f` lines with the same index for each
 /// attribute. Numbers use Rust's shortest round-trip formatting, so reading back is exact.
 pub fn write(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
-    writeln!(out, "# written by tessella")?;
-    for p in mesh.positions {
-        writeln!(out, "v {} {} {}", p[0], p[1], p[2])?;
+    use crate::encode::{push_f32, push_int, write_records};
+    fn floats<const N: usize>(
+        out: &mut dyn Write,
+        tag: &'static [u8],
+        values: &[[f32; N]],
+    ) -> std::io::Result<()> {
+        write_records(out, values.len(), 12 * N, |i, out| {
+            out.extend_from_slice(tag);
+            for x in values[i] {
+                out.push(b' ');
+                push_f32(out, x);
+            }
+            out.push(b'\n');
+        })
     }
+    out.write_all(b"# written by tessella\n")?;
+    floats(out, b"v", mesh.positions)?;
     if let Some(uvs) = mesh.uvs {
-        for t in uvs {
-            writeln!(out, "vt {} {}", t[0], t[1])?;
-        }
+        floats(out, b"vt", uvs)?;
     }
     if let Some(normals) = mesh.normals {
-        for n in normals {
-            writeln!(out, "vn {} {} {}", n[0], n[1], n[2])?;
-        }
+        floats(out, b"vn", normals)?;
     }
-    for t in mesh.triangles {
-        out.write_all(b"f")?;
-        for &i in t {
+    let (uvs, normals) = (mesh.uvs.is_some(), mesh.normals.is_some());
+    write_records(out, mesh.triangles.len(), 40, |f, out| {
+        out.push(b'f');
+        for &i in &mesh.triangles[f] {
             let i = u64::from(i) + 1;
-            match (mesh.uvs.is_some(), mesh.normals.is_some()) {
-                (true, true) => write!(out, " {i}/{i}/{i}")?,
-                (true, false) => write!(out, " {i}/{i}")?,
-                (false, true) => write!(out, " {i}//{i}")?,
-                (false, false) => write!(out, " {i}")?,
+            out.push(b' ');
+            push_int(out, i);
+            match (uvs, normals) {
+                (true, true) => {
+                    out.push(b'/');
+                    push_int(out, i);
+                    out.push(b'/');
+                    push_int(out, i);
+                }
+                (true, false) => {
+                    out.push(b'/');
+                    push_int(out, i);
+                }
+                (false, true) => {
+                    out.extend_from_slice(b"//");
+                    push_int(out, i);
+                }
+                (false, false) => {}
             }
         }
-        out.write_all(b"\n")?;
-    }
+        out.push(b'\n');
+    })?;
     Ok(())
 }

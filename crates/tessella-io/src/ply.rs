@@ -436,43 +436,62 @@ fn write_with(
     }
     writeln!(out, "element face {}", mesh.triangles.len())?;
     writeln!(out, "property list uchar uint vertex_indices\nend_header")?;
-    let mut values = Vec::with_capacity(names.len());
-    for v in 0..mesh.positions.len() {
-        values.clear();
-        values.extend(mesh.positions[v]);
-        values.extend(mesh.normals.map(|n| n[v]).into_iter().flatten());
-        values.extend(mesh.uvs.map(|t| t[v]).into_iter().flatten());
-        values.extend(scalars.iter().map(|(_, s)| s[v]));
-        let from = origin.map(|o| (o.faces[v] as i32, o.bary[v]));
-        if ascii {
-            // `{}` prints the shortest text that parses back to the same f32.
-            let mut line: Vec<String> = values.iter().map(f32::to_string).collect();
-            if let Some((f, b)) = from {
-                line.push(f.to_string());
-                line.extend(b.iter().map(f32::to_string));
+    // One vertex record: its floats, then the origin (face, barycentrics) if asked for.
+    let floats = names.len() + 4 * usize::from(origin.is_some());
+    let record_bytes = if ascii { 16 * floats } else { 4 * floats };
+    crate::encode::write_records(out, mesh.positions.len(), record_bytes, |v, out| {
+        let mut first = true;
+        let mut separate = |out: &mut Vec<u8>| {
+            if ascii && !first {
+                out.push(b' ');
             }
-            writeln!(out, "{}", line.join(" "))?;
-        } else {
-            for x in &values {
-                out.write_all(&x.to_le_bytes())?;
+            first = false;
+        };
+        let mut float = |out: &mut Vec<u8>, x: f32| {
+            separate(out);
+            if ascii {
+                crate::encode::push_f32(out, x);
+            } else {
+                out.extend_from_slice(&x.to_le_bytes());
             }
-            if let Some((f, b)) = from {
-                out.write_all(&f.to_le_bytes())?;
-                for x in b {
-                    out.write_all(&x.to_le_bytes())?;
-                }
-            }
+        };
+        mesh.positions[v].into_iter().for_each(|x| float(out, x));
+        if let Some(normals) = mesh.normals {
+            normals[v].into_iter().for_each(|x| float(out, x));
         }
-    }
-    for t in mesh.triangles {
+        if let Some(uvs) = mesh.uvs {
+            uvs[v].into_iter().for_each(|x| float(out, x));
+        }
+        scalars.iter().for_each(|(_, s)| float(out, s[v]));
+        if let Some(o) = origin {
+            let face = o.faces[v] as i32;
+            if ascii {
+                out.push(b' ');
+                crate::encode::push_int(out, face);
+            } else {
+                out.extend_from_slice(&face.to_le_bytes());
+            }
+            o.bary[v].into_iter().for_each(|x| float(out, x));
+        }
         if ascii {
-            writeln!(out, "3 {} {} {}", t[0], t[1], t[2])?;
-        } else {
-            out.write_all(&[3])?;
+            out.push(b'\n');
+        }
+    })?;
+    let face_bytes = if ascii { 40 } else { 13 };
+    crate::encode::write_records(out, mesh.triangles.len(), face_bytes, |f, out| {
+        let t = mesh.triangles[f];
+        if ascii {
+            out.push(b'3');
             for i in t {
-                out.write_all(&i.to_le_bytes())?;
+                out.push(b' ');
+                crate::encode::push_int(out, i);
             }
+            out.push(b'\n');
+        } else {
+            out.push(3);
+            t.iter()
+                .for_each(|i| out.extend_from_slice(&i.to_le_bytes()));
         }
-    }
+    })?;
     Ok(())
 }

@@ -1,4 +1,5 @@
-//! STL: read with `stl_io` (ascii and binary), written binary with `stl_io`.
+//! STL: read with `stl_io` (ascii and binary), written binary (50-byte records, encoded in
+//! parallel blocks).
 //!
 //! STL stores a triangle soup: every triangle repeats its corner coordinates. Reading welds
 //! corners whose positions are equal as f32 values (bit-identical, with -0.0 taken as 0.0) into
@@ -76,14 +77,25 @@ fn prepare(bytes: &mut Vec<u8>) {
 /// Writes a binary STL; facet normals are the triangles' geometric normals. Vertex normals and
 /// uvs cannot be stored in STL and are dropped.
 pub fn write(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
-    let triangles = mesh.triangles.iter().map(|t| {
-        let [a, b, c] = t.map(|i| glam::Vec3::from(mesh.positions[i as usize]));
+    let count = u32::try_from(mesh.triangles.len()).map_err(|_| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "an STL file holds at most 2^32 - 1 triangles; write .ply instead",
+        )
+    })?;
+    let mut header = [b' '; 80];
+    let note = b"binary STL written by tessella";
+    header[..note.len()].copy_from_slice(note);
+    out.write_all(&header)?;
+    out.write_all(&count.to_le_bytes())?;
+    crate::encode::write_records(out, mesh.triangles.len(), 50, |f, out| {
+        let [a, b, c] = mesh.triangles[f].map(|i| glam::Vec3::from(mesh.positions[i as usize]));
         let normal = (b - a).cross(c - a).normalize_or_zero();
-        stl_io::Triangle {
-            normal: stl_io::Normal::new(normal.into()),
-            vertices: [a, b, c].map(|p| stl_io::Vertex::new(p.into())),
+        for v in [normal, a, b, c] {
+            v.to_array()
+                .iter()
+                .for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
         }
-    });
-    let mut out = out;
-    stl_io::write_stl(&mut out, triangles)
+        out.extend_from_slice(&[0, 0]); // attribute byte count
+    })
 }

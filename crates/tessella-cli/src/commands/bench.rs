@@ -1,14 +1,16 @@
-//! `tessella bench`: refinement throughput, all cores against one core in the same run.
+//! `tessella bench`: the machine's memory bandwidth, then refinement measured against it and
+//! against baselines timed in the same run: one-shot refinement on all cores against one core,
+//! every scheme refined per frame (the roofline table), a deforming mesh updated per frame
+//! against rebuilt per frame, and the file writers. `--json` prints the same numbers as one
+//! object.
 
+use super::bench_frames::{self, median, Bandwidth, DeformRow, RooflineRow};
+use super::bench_write::{self, WriteRow};
 use crate::args::BenchArgs;
 use anyhow::Context;
+use serde::Serialize;
 use std::time::{Duration, Instant};
 use tessella_core::{samples, Mesh, RefineOptions, RefinedMesh, Refiner, Scheme};
-
-fn median(mut times: Vec<Duration>) -> Duration {
-    times.sort();
-    times[times.len() / 2]
-}
 
 /// Median time of `repeat` refinements into reused buffers.
 fn time_refine(refiner: &Refiner, repeat: usize) -> Duration {
@@ -25,6 +27,126 @@ fn time_refine(refiner: &Refiner, repeat: usize) -> Duration {
     )
 }
 
+/// One row of the one-shot table: PN refined with indices into reused buffers.
+#[derive(Debug, Clone, Serialize)]
+struct OneShotRow {
+    level: u32,
+    vertices: u64,
+    triangles: u64,
+    /// Topology, control nets, stencil and layout.
+    prepare_ms: f64,
+    ms: f64,
+    vertices_per_s: f64,
+    one_thread_ms: f64,
+    one_thread_vertices_per_s: f64,
+}
+
+/// Everything `tessella bench` measures on the CPU, in one run.
+#[derive(Debug, Serialize)]
+struct Report {
+    mesh: String,
+    faces: usize,
+    repeat: usize,
+    bandwidth: Bandwidth,
+    one_shot: Vec<OneShotRow>,
+    per_frame: Vec<RooflineRow>,
+    deforming: Vec<DeformRow>,
+    /// The mesh refined at `write_level`, written in every format.
+    write_level: u32,
+    writers: Vec<WriteRow>,
+}
+
+fn one_shot(mesh: &Mesh, levels: &[u32], repeat: usize) -> anyhow::Result<Vec<OneShotRow>> {
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .context("cannot start a one-thread pool")?;
+    let mut rows = Vec::new();
+    for &level in levels {
+        let start = Instant::now();
+        let refiner = Refiner::new(mesh, &RefineOptions::new(Scheme::Pn, level))?;
+        let prepare = start.elapsed();
+        let vertices = refiner.layout().vertex_count;
+        let many = time_refine(&refiner, repeat);
+        let one = single.install(|| time_refine(&refiner, repeat));
+        let rate = |d: Duration| vertices as f64 / d.as_secs_f64();
+        rows.push(OneShotRow {
+            level,
+            vertices,
+            triangles: refiner.layout().triangle_count,
+            prepare_ms: prepare.as_secs_f64() * 1e3,
+            ms: many.as_secs_f64() * 1e3,
+            vertices_per_s: rate(many),
+            one_thread_ms: one.as_secs_f64() * 1e3,
+            one_thread_vertices_per_s: rate(one),
+        });
+    }
+    Ok(rows)
+}
+
+fn one_shot_table(rows: &[OneShotRow], threads: usize) -> String {
+    let mut s = format!(
+        "| level | vertices | triangles | prepare (ms) | refine {threads} threads (ms) | M vertices/s | 1 thread (ms) | M vertices/s | speed-up |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+    );
+    for r in rows {
+        s += &format!(
+            "| {} | {} | {} | {:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2}x |\n",
+            r.level,
+            r.vertices,
+            r.triangles,
+            r.prepare_ms,
+            r.ms,
+            r.vertices_per_s / 1e6,
+            r.one_thread_ms,
+            r.one_thread_vertices_per_s / 1e6,
+            r.ms.recip() * r.one_thread_ms
+        );
+    }
+    s
+}
+
+fn print_tables(report: &Report) {
+    let b = &report.bandwidth;
+    println!(
+        "Memory bandwidth, {} threads: fill {:.1} GB/s, copy {:.1} GB/s (read + write)",
+        b.threads,
+        b.fill_bytes_per_s / 1e9,
+        b.copy_bytes_per_s / 1e9
+    );
+    println!();
+    println!(
+        "One-shot refinement, PN, welded, positions + quadratic normals + indices into reused buffers; {} ({} coarse triangles); median of {}:",
+        report.mesh, report.faces, report.repeat
+    );
+    println!();
+    print!("{}", one_shot_table(&report.one_shot, b.threads));
+    println!();
+    println!(
+        "Per frame (plan and nets reused, indices not rewritten), positions + normals into reused arrays, against the fill rate; {}:",
+        report.mesh
+    );
+    println!();
+    print!("{}", bench_frames::roofline_table(&report.per_frame));
+    println!();
+    println!("Deforming mesh (twisting), PN: plan update + evaluate against rebuilding everything per frame:");
+    println!();
+    print!("{}", bench_frames::deforming_table(&report.deforming));
+    println!();
+    println!(
+        "File writers, {} refined at level {} ({} vertices), against the copy bandwidth:",
+        report.mesh,
+        report.write_level,
+        report
+            .per_frame
+            .iter()
+            .find(|r| r.level == report.write_level)
+            .map_or(0, |r| r.vertices)
+    );
+    println!();
+    print!("{}", bench_write::writers_table(&report.writers));
+}
+
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     #[cfg(not(feature = "gl"))]
     if args.gl {
@@ -33,81 +155,58 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
              with it (cargo build -p tessella-cli --features gl)"
         );
     }
+    if args.json && (args.gpu || args.gl) {
+        anyhow::bail!("--json covers the CPU measurements; run --gpu or --gl without --json");
+    }
     let mesh: Mesh = match &args.mesh {
         Some(path) => tessella_io::read_mesh(path)?,
         None => samples::icosphere_4k(),
     };
-    let repeat = args.repeat.max(1);
-    let threads = rayon::current_num_threads();
-    let single = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .context("cannot start a one-thread pool")?;
-    println!("CPU refinement, PN, welded, positions + quadratic normals + indices; {} coarse triangles; median of {repeat}", mesh.face_count());
-    println!();
-    println!("| level | vertices | triangles | prepare (ms) | refine {threads} threads (ms) | M vertices/s | 1 thread (ms) | M vertices/s | speed-up |");
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for &level in &args.levels {
-        let options = RefineOptions::new(Scheme::Pn, level);
-        let start = Instant::now();
-        let refiner = Refiner::new(&mesh, &options)?;
-        let prepare = start.elapsed();
-        let vertices = refiner.layout().vertex_count;
-        let many = time_refine(&refiner, repeat);
-        let one = single.install(|| time_refine(&refiner, repeat));
-        let rate = |d: Duration| vertices as f64 / d.as_secs_f64() / 1e6;
-        println!(
-            "| {level} | {vertices} | {} | {:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2}x |",
-            refiner.layout().triangle_count,
-            prepare.as_secs_f64() * 1e3,
-            many.as_secs_f64() * 1e3,
-            rate(many),
-            one.as_secs_f64() * 1e3,
-            rate(one),
-            one.as_secs_f64() / many.as_secs_f64()
-        );
-    }
-
-    // Every scheme at one level, relative to PN measured in the same run.
-    let level = 16;
-    println!();
-    println!("All schemes at level {level}, {threads} threads, relative to PN (prepare = topology + control nets + stencil):");
-    println!();
-    println!("| scheme | prepare (ms) | refine (ms) | M vertices/s | throughput vs PN |");
-    println!("|---|---:|---:|---:|---:|");
-    let schemes = [
-        Scheme::Pn,
-        Scheme::Flat,
-        Scheme::PHONG,
-        Scheme::PnAen,
-        Scheme::ScalarTagged,
-        Scheme::Png1,
-    ];
-    let mut pn_rate = None;
-    for scheme in schemes {
-        let start = Instant::now();
-        let refiner = Refiner::new(&mesh, &RefineOptions::new(scheme, level))?;
-        let prepare = start.elapsed();
-        let time = time_refine(&refiner, repeat);
-        let rate = refiner.layout().vertex_count as f64 / time.as_secs_f64() / 1e6;
-        let pn = *pn_rate.get_or_insert(rate);
-        println!(
-            "| {} | {:.2} | {:.2} | {rate:.1} | {:.2}x |",
-            scheme.name(),
-            prepare.as_secs_f64() * 1e3,
-            time.as_secs_f64() * 1e3,
-            rate / pn
-        );
-    }
-    let fill = super::bench_frames::fill_rate(repeat);
     let name = match &args.mesh {
         Some(path) => path.display().to_string(),
         None => "icosphere-4k".to_string(),
     };
-    super::bench_frames::table(&name, &mesh, &args.levels, repeat, fill)?;
+    let repeat = args.repeat.max(1);
+    let bandwidth = Bandwidth::measure(repeat);
+    let one_shot = one_shot(&mesh, &args.levels, repeat)?;
+    let per_frame = bench_frames::roofline(&mesh, &args.levels, repeat, &bandwidth)?;
+    let mut deforming = bench_frames::deforming(&name, &mesh, &args.levels, repeat, &bandwidth)?;
     if args.mesh.is_none() {
-        super::bench_frames::table("creature", &samples::creature(), &args.levels, repeat, fill)?;
+        let creature = samples::creature();
+        deforming.extend(bench_frames::deforming(
+            "creature",
+            &creature,
+            &args.levels,
+            repeat,
+            &bandwidth,
+        )?);
     }
+    // Writers: the largest level up to 32 (a few hundred MB at most of files).
+    let write_level = args
+        .levels
+        .iter()
+        .copied()
+        .filter(|&l| l <= 32)
+        .max()
+        .unwrap_or(args.levels.iter().copied().min().unwrap_or(1));
+    let refined = Refiner::new(&mesh, &RefineOptions::new(Scheme::Pn, write_level))?.refine();
+    let writers = bench_write::writers(&refined, repeat, &bandwidth)?;
+    let report = Report {
+        mesh: name,
+        faces: mesh.face_count(),
+        repeat,
+        bandwidth,
+        one_shot,
+        per_frame,
+        deforming,
+        write_level,
+        writers,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    print_tables(&report);
     if args.gpu {
         #[cfg(feature = "gpu")]
         gpu_tables(&mesh, args)?;

@@ -1,71 +1,207 @@
-//! `tessella bench`'s deforming-mesh table: a mesh twisting frame after frame, refined by
-//! updating a plan's frame (O(coarse) nets, then vertices written into reused buffers, indices
-//! not rewritten) against rebuilding everything per frame (mesh, topology, nets, stencil,
-//! pattern, fresh buffers and indices), with the machine's memory fill rate measured in the
-//! same run as the roofline.
+//! `tessella bench`'s per-frame measurements: the machine's memory bandwidth (the roofline),
+//! every scheme refined per frame into reused buffers against it, and a deforming mesh refined
+//! by updating a plan's frame against rebuilding everything per frame.
 
 use rayon::prelude::*;
+use serde::Serialize;
 use std::time::{Duration, Instant};
 use tessella_core::refine::{Plan, VertexOutput};
-use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
+use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Refiner, Scheme};
 
 /// One frame's coarse positions and normals.
 type FrameData = (Vec<[f32; 3]>, Vec<[f32; 3]>);
 
-/// Bytes of the buffer the fill rate is measured on: far larger than any cache.
-const FILL_BYTES: usize = 512 << 20;
+/// Bytes of the buffers bandwidth is measured on: far larger than any cache.
+const BANDWIDTH_BYTES: usize = 512 << 20;
 
-fn median(mut times: Vec<Duration>) -> Duration {
+/// Bytes written per refined vertex in the per-frame tables: a position and a normal.
+pub const BYTES_PER_VERTEX: usize = 24;
+
+pub fn median(mut times: Vec<Duration>) -> Duration {
     times.sort();
     times[times.len() / 2]
 }
 
-/// Bytes per second all threads write into memory with plain stores (`fill`), median of
-/// `repeat` passes over a buffer much larger than the caches; the page faults of the first
-/// pass are not timed.
-pub fn fill_rate(repeat: usize) -> f64 {
-    let mut buffer = vec![0.0f32; FILL_BYTES / 4];
-    let threads = rayon::current_num_threads().max(1);
-    let chunk = buffer.len().div_ceil(threads);
-    let mut pass = |value: f32| {
-        buffer
-            .par_chunks_mut(chunk)
-            .for_each(|c| c.fill(std::hint::black_box(value)));
-    };
-    pass(1.0);
-    let time = median(
-        (0..repeat.max(3))
-            .map(|i| {
-                let start = Instant::now();
-                pass(i as f32);
-                start.elapsed()
-            })
-            .collect(),
-    );
-    std::hint::black_box(&buffer);
-    FILL_BYTES as f64 / time.as_secs_f64()
+/// What the machine's memory takes, measured on all threads over buffers much larger than the
+/// caches (median of the passes; the page faults of the first pass are not timed).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Bandwidth {
+    pub threads: usize,
+    /// Bytes per second written with plain stores (`fill`).
+    pub fill_bytes_per_s: f64,
+    /// Bytes per second moved by a copy, reads and writes both counted (as STREAM's Copy).
+    pub copy_bytes_per_s: f64,
 }
 
-/// Prints the table for `mesh` (named `name`) at `levels`.
-pub fn table(
+impl Bandwidth {
+    pub fn measure(repeat: usize) -> Bandwidth {
+        let threads = rayon::current_num_threads().max(1);
+        let mut dst = vec![0.0f32; BANDWIDTH_BYTES / 4];
+        let src = vec![1.0f32; BANDWIDTH_BYTES / 4];
+        let chunk = dst.len().div_ceil(threads);
+        let time = |pass: &mut dyn FnMut(f32)| {
+            pass(0.0);
+            median(
+                (0..repeat.max(3))
+                    .map(|i| {
+                        let start = Instant::now();
+                        pass(i as f32);
+                        start.elapsed()
+                    })
+                    .collect(),
+            )
+        };
+        let fill = time(&mut |value| {
+            dst.par_chunks_mut(chunk)
+                .for_each(|c| c.fill(std::hint::black_box(value)))
+        });
+        let copy = time(&mut |_| {
+            dst.par_chunks_mut(chunk)
+                .zip(src.par_chunks(chunk))
+                .for_each(|(d, s)| d.copy_from_slice(std::hint::black_box(s)))
+        });
+        std::hint::black_box(&dst);
+        Bandwidth {
+            threads,
+            fill_bytes_per_s: BANDWIDTH_BYTES as f64 / fill.as_secs_f64(),
+            copy_bytes_per_s: 2.0 * BANDWIDTH_BYTES as f64 / copy.as_secs_f64(),
+        }
+    }
+}
+
+/// One row of the roofline table: a scheme refined per frame (plan and frame reused, nets
+/// not rebuilt, indices not rewritten), positions and normals into reused separate arrays.
+#[derive(Debug, Clone, Serialize)]
+pub struct RooflineRow {
+    pub scheme: String,
+    pub normals: String,
+    pub level: u32,
+    pub vertices: usize,
+    pub ms: f64,
+    pub vertices_per_s: f64,
+    pub bytes_per_vertex: usize,
+    pub bytes_per_s: f64,
+    /// `bytes_per_s` over the fill rate.
+    pub of_fill: f64,
+    /// Vertices per second against PN with quadratic normals at the same level.
+    pub vs_pn: f64,
+}
+
+/// The schemes of the roofline table, PN first (the others are compared with it).
+pub fn roofline_schemes() -> Vec<(Scheme, NormalMode)> {
+    vec![
+        (Scheme::Pn, NormalMode::Quadratic),
+        (Scheme::Pn, NormalMode::Real),
+        (Scheme::Png1, NormalMode::Quadratic),
+        (Scheme::PHONG, NormalMode::Quadratic),
+        (Scheme::Flat, NormalMode::Quadratic),
+    ]
+}
+
+/// Times `evaluate` of each scheme at each level on `mesh` (median of `repeat`).
+pub fn roofline(
+    mesh: &Mesh,
+    levels: &[u32],
+    repeat: usize,
+    bandwidth: &Bandwidth,
+) -> anyhow::Result<Vec<RooflineRow>> {
+    let mut rows = Vec::new();
+    for &level in levels {
+        let mut pn_rate = None;
+        for (scheme, normals) in roofline_schemes() {
+            let options = RefineOptions::new(scheme, level).with_normals(normals);
+            let plan = Plan::new(mesh, &options)?;
+            let frame = plan.frame(mesh)?;
+            let n = plan.vertex_count();
+            let (mut positions, mut out_normals) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+            let mut once = || -> anyhow::Result<Duration> {
+                let start = Instant::now();
+                plan.evaluate(
+                    &frame,
+                    VertexOutput::Separate {
+                        positions: &mut positions,
+                        normals: Some(&mut out_normals),
+                        uvs: None,
+                    },
+                )?;
+                Ok(start.elapsed())
+            };
+            once()?; // warm up: fault the output pages in
+            let time = median((0..repeat).map(|_| once()).collect::<Result<_, _>>()?);
+            let rate = n as f64 / time.as_secs_f64();
+            let pn = *pn_rate.get_or_insert(rate);
+            let bytes = rate * BYTES_PER_VERTEX as f64;
+            rows.push(RooflineRow {
+                scheme: scheme.name().to_string(),
+                normals: normals.to_string(),
+                level,
+                vertices: n,
+                ms: time.as_secs_f64() * 1e3,
+                vertices_per_s: rate,
+                bytes_per_vertex: BYTES_PER_VERTEX,
+                bytes_per_s: bytes,
+                of_fill: bytes / bandwidth.fill_bytes_per_s,
+                vs_pn: rate / pn,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// Markdown table of [`roofline`] rows.
+pub fn roofline_table(rows: &[RooflineRow]) -> String {
+    let mut s = String::from(
+        "| level | scheme | normals | vertices | ms | M vertices/s | bytes/vertex | GB/s written | of fill rate | vs PN |\n\
+         |---:|---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        s += &format!(
+            "| {} | {} | {} | {} | {:.2} | {:.1} | {} | {:.2} | {:.0}% | {:.2}x |\n",
+            r.level,
+            r.scheme,
+            r.normals,
+            r.vertices,
+            r.ms,
+            r.vertices_per_s / 1e6,
+            r.bytes_per_vertex,
+            r.bytes_per_s / 1e9,
+            100.0 * r.of_fill,
+            r.vs_pn
+        );
+    }
+    s
+}
+
+/// One row of the deforming-mesh table.
+#[derive(Debug, Clone, Serialize)]
+pub struct DeformRow {
+    pub mesh: String,
+    pub faces: usize,
+    pub level: u32,
+    pub vertices: usize,
+    /// Mesh, topology, nets, stencil, pattern, fresh buffers and indices, every frame.
+    pub rebuild_ms: f64,
+    /// Plan reused: nets updated in O(coarse), vertices written into reused buffers.
+    pub update_evaluate_ms: f64,
+    /// The nets update alone.
+    pub update_ms: f64,
+    pub bytes_per_s: f64,
+    pub of_fill: f64,
+}
+
+/// A mesh twisting frame after frame (PN, welded, positions + normals), refined by updating a
+/// plan's frame against rebuilding everything per frame.
+pub fn deforming(
     name: &str,
     mesh: &Mesh,
     levels: &[u32],
     repeat: usize,
-    fill: f64,
-) -> anyhow::Result<()> {
+    bandwidth: &Bandwidth,
+) -> anyhow::Result<Vec<DeformRow>> {
     let frames: Vec<FrameData> = (0..8)
         .map(|i| samples::twist(mesh, 10.0 * i as f32))
         .collect();
-    println!();
-    println!(
-        "Deforming mesh ({name}, {} coarse triangles, twisting), PN, welded, positions + normals; per frame, median of {repeat}; fill rate {:.1} GB/s:",
-        mesh.face_count(),
-        fill / 1e9
-    );
-    println!();
-    println!("| level | vertices | rebuild (ms) | update + evaluate (ms) | speed-up | update (ms) | GB/s written | of fill rate |");
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let mut rows = Vec::new();
     for &level in levels {
         let options = RefineOptions::new(Scheme::Pn, level);
         let plan = Plan::new(mesh, &options)?;
@@ -107,18 +243,42 @@ pub fn table(
                 })
                 .collect::<Result<_, _>>()?,
         );
-        let bytes = (n * 24) as f64;
-        let rate = bytes / per_frame.as_secs_f64();
+        let rate = (n * BYTES_PER_VERTEX) as f64 / per_frame.as_secs_f64();
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
-        println!(
-            "| {level} | {n} | {:.2} | {:.2} | {:.1}x | {:.3} | {:.2} | {:.0}% |",
-            ms(rebuild),
-            ms(per_frame),
-            rebuild.as_secs_f64() / per_frame.as_secs_f64(),
-            ms(update),
-            rate / 1e9,
-            100.0 * rate / fill
+        rows.push(DeformRow {
+            mesh: name.to_string(),
+            faces: mesh.face_count(),
+            level,
+            vertices: n,
+            rebuild_ms: ms(rebuild),
+            update_evaluate_ms: ms(per_frame),
+            update_ms: ms(update),
+            bytes_per_s: rate,
+            of_fill: rate / bandwidth.fill_bytes_per_s,
+        });
+    }
+    Ok(rows)
+}
+
+/// Markdown table of [`deforming`] rows.
+pub fn deforming_table(rows: &[DeformRow]) -> String {
+    let mut s = String::from(
+        "| mesh | level | vertices | rebuild (ms) | update + evaluate (ms) | speed-up | update (ms) | GB/s written | of fill rate |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        s += &format!(
+            "| {} | {} | {} | {:.2} | {:.2} | {:.1}x | {:.3} | {:.2} | {:.0}% |\n",
+            r.mesh,
+            r.level,
+            r.vertices,
+            r.rebuild_ms,
+            r.update_evaluate_ms,
+            r.rebuild_ms / r.update_evaluate_ms,
+            r.update_ms,
+            r.bytes_per_s / 1e9,
+            100.0 * r.of_fill
         );
     }
-    Ok(())
+    s
 }

@@ -6,6 +6,7 @@ mod bench;
 mod bench_frames;
 #[cfg(feature = "gl")]
 mod bench_gl;
+mod bench_write;
 mod demo;
 mod displace;
 #[cfg(feature = "gpu")]

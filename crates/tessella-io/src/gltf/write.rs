@@ -103,25 +103,22 @@ fn write_buffer(
     mesh: &MeshView,
     scalars: &VertexScalars,
 ) -> std::io::Result<()> {
-    fn floats(out: &mut dyn Write, values: impl Iterator<Item = f32>) -> std::io::Result<()> {
-        values
-            .into_iter()
-            .try_for_each(|x| out.write_all(&x.to_le_bytes()))
-    }
-    floats(out, mesh.positions.iter().flatten().copied())?;
+    use crate::encode::write_le;
+    write_le(out, mesh.positions)?;
     if let Some(normals) = mesh.normals {
-        floats(out, normals.iter().flatten().copied())?;
+        write_le(out, normals)?;
     }
     if let Some(uvs) = mesh.uvs {
-        floats(out, uvs.iter().flat_map(|&t| flip_v(t)))?;
+        crate::encode::write_records(out, uvs.len(), 8, |i, out| {
+            flip_v(uvs[i])
+                .iter()
+                .for_each(|x| out.extend_from_slice(&x.to_le_bytes()))
+        })?;
     }
     for (_, values) in scalars {
-        floats(out, values.iter().copied())?;
+        write_le(out, values)?;
     }
-    mesh.triangles
-        .iter()
-        .flatten()
-        .try_for_each(|i| out.write_all(&i.to_le_bytes()))
+    write_le(out, mesh.triangles)
 }
 
 /// Writes `.glb` (`binary`) or `.gltf` with the buffer embedded as a base64 `data:` URI.

@@ -1,0 +1,179 @@
+"""tessella next to the libraries people would otherwise use to make a coarse mesh finer:
+trimesh, Open3D and libigl (each when installed), on the same mesh at the same output size.
+
+    python python/examples/bench_peers.py [--subdivisions 6] [--level 32] [--repeat 3] [--json]
+
+A level-L refinement pattern (L a power of two) gives exactly the triangles and vertices of
+log2(L) rounds of midpoint (or Loop) subdivision, so the rows compare equal outputs: numpy in,
+numpy out, welded. Every case runs in a fresh process, so its peak memory (the process's peak
+resident size above what it held once its input was ready) is its own. Nothing here is
+asserted: the numbers depend on the machine, and the table says which one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+
+def icosphere(subdivisions: int):
+    """Unit icosphere: 20 * 4**subdivisions counter-clockwise outward triangles, numpy only."""
+    t = (1.0 + 5.0**0.5) / 2.0
+    v = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+                  [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]])
+    f = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9],
+                  [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2],
+                  [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10],
+                  [8, 6, 7], [9, 8, 1]])
+    v = v / np.linalg.norm(v, axis=1, keepdims=True)
+    for _ in range(subdivisions):
+        edges = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+        unique, inverse = np.unique(edges, axis=0, return_inverse=True)
+        mid = v[unique[:, 0]] + v[unique[:, 1]]
+        mid /= np.linalg.norm(mid, axis=1, keepdims=True)
+        m = inverse.reshape(3, -1).T + len(v)
+        v = np.concatenate([v, mid])
+        a, b, c = f.T
+        ab, bc, ca = m.T
+        f = np.concatenate([np.stack(x, axis=1) for x in
+                            ([a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca])])
+    return v.astype(np.float32), f.astype(np.int64)
+
+
+def rss_bytes() -> int:
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def run_case(name: str, subdivisions: int, level: int, repeat: int) -> dict:
+    """Runs one case in this process; returns its times and peak memory."""
+    v, f = icosphere(subdivisions)
+    n = v.copy()  # unit sphere: the normals are the positions
+    rounds = level.bit_length() - 1
+    if name.startswith("tessella"):
+        import tessella
+
+        scheme = name.split(" ")[1]
+        run = lambda: tessella.refine(v, f, n, scheme=scheme, level=level)  # noqa: E731
+    elif name == "trimesh midpoint":
+        import trimesh.remesh
+
+        def run():
+            vv, ff = v.astype(np.float64), f
+            for _ in range(rounds):
+                vv, ff = trimesh.remesh.subdivide(vv, ff)
+            return vv, ff
+    elif name == "trimesh loop":
+        import trimesh.remesh
+
+        run = lambda: trimesh.remesh.subdivide_loop(v.astype(np.float64), f, iterations=rounds)  # noqa: E731
+    elif name == "libigl upsample":
+        import igl
+
+        run = lambda: igl.upsample(v.astype(np.float64), f, number_of_subdivs=rounds)  # noqa: E731
+    elif name.startswith("open3d"):
+        import open3d as o3d
+
+        mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(v.astype(np.float64)),
+                                         o3d.utility.Vector3iVector(f.astype(np.int32)))
+
+        def run():
+            if name == "open3d midpoint":
+                m = mesh.subdivide_midpoint(number_of_iterations=rounds)
+            else:
+                m = mesh.subdivide_loop(number_of_iterations=rounds)
+            return np.asarray(m.vertices), np.asarray(m.triangles)
+    else:
+        raise SystemExit(f"unknown case {name}")
+    before = rss_bytes()
+    times = []
+    result = None
+    for _ in range(repeat):
+        result = None
+        t0 = time.perf_counter()
+        result = run()
+        times.append(time.perf_counter() - t0)
+    arrays = result
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    return {
+        "case": name,
+        "seconds": float(np.median(times)),
+        "vertices": int(len(arrays[0])),
+        "triangles": int(len(arrays[1])),
+        "output_bytes": int(sum(a.nbytes for a in arrays)),
+        "peak_bytes": int(peak - before),
+    }
+
+
+CASES = ["tessella pn", "tessella flat", "libigl upsample", "trimesh midpoint",
+         "open3d midpoint", "trimesh loop", "open3d loop"]
+
+
+def installed(name: str) -> bool:
+    module = {"tessella": "tessella", "libigl": "igl", "trimesh": "trimesh",
+              "open3d": "open3d"}[name.split(" ")[0]]
+    try:
+        __import__(module)
+        return True
+    except ImportError:
+        return False
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--subdivisions", type=int, default=6,
+                    help="icosphere subdivisions of the coarse mesh (6: 81,920 triangles, "
+                         "the size of the Stanford bunny)")
+    ap.add_argument("--level", type=int, default=32, help="pattern level, a power of two")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--json", action="store_true", help="print the rows as JSON")
+    ap.add_argument("--one", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.level < 2 or args.level & (args.level - 1):
+        raise SystemExit("--level must be a power of two (2, 4, 8, ...)")
+    if args.one:
+        print(json.dumps(run_case(args.one, args.subdivisions, args.level, args.repeat)))
+        return
+    rows = []
+    for case in CASES:
+        if not installed(case):
+            print(f"{case}: not installed, skipped", file=sys.stderr)
+            continue
+        cmd = [sys.executable, __file__, "--one", case, "--subdivisions",
+               str(args.subdivisions), "--level", str(args.level), "--repeat", str(args.repeat)]
+        done = subprocess.run(cmd, capture_output=True, text=True)
+        if done.returncode != 0:
+            print(f"{case}: failed: {done.stderr.strip().splitlines()[-1:]}", file=sys.stderr)
+            continue
+        rows.append(json.loads(done.stdout))
+    faces = 20 * 4**args.subdivisions
+    if args.json:
+        print(json.dumps({"faces": faces, "level": args.level, "rows": rows}, indent=2))
+        return
+    peers = [r for r in rows if not r["case"].startswith("tessella")]
+    fastest = min(peers, key=lambda r: r["seconds"]) if peers else None
+    print(f"{faces} coarse triangles to level {args.level} "
+          f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores), "
+          f"median of {args.repeat}:\n")
+    print("| library | vertices | triangles | seconds | M vertices/s | peak memory / output |"
+          + (f" vs {fastest['case']} |" if fastest else ""))
+    print("|---|---:|---:|---:|---:|---:|" + ("---:|" if fastest else ""))
+    for r in rows:
+        line = (f"| {r['case']} | {r['vertices']} | {r['triangles']} | {r['seconds']:.3f} | "
+                f"{r['vertices'] / r['seconds'] / 1e6:.1f} | "
+                f"{r['peak_bytes'] / r['output_bytes']:.2f} |")
+        if fastest:
+            line += f" {fastest['seconds'] / r['seconds']:.1f}x |"
+        print(line)
+
+
+if __name__ == "__main__":
+    main()
