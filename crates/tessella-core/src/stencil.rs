@@ -23,6 +23,9 @@ pub struct Stencil {
     pub blocks: StencilBlocks,
 }
 
+/// Points a [`Block`]'s weight rows are padded to a multiple of: the evaluator's vector width.
+pub const BLOCK_LANES: usize = 16;
+
 /// Transposed weight tables, see [`Block`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct StencilBlocks {
@@ -31,35 +34,41 @@ pub struct StencilBlocks {
     pub all: Block,
 }
 
-/// Weights of a run of pattern points, weight-major: `value[k * len + i]` is control point
+/// Weights of a run of pattern points, weight-major: `value[k * stride + i]` is control point
 /// `k`'s weight at the run's point `i`. Summing `weight × control point` over `k` for many points
-/// at once is then a run of independent multiply-adds the compiler vectorises.
+/// at once is then a run of independent multiply-adds the compiler vectorises. Each control
+/// point's weights are padded with zeros to [`Block::stride`] (a multiple of [`BLOCK_LANES`])
+/// so the evaluator sums whole vectors, also for runs shorter than one.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Block {
     /// Pattern point index of each point of the run.
     pub points: Vec<u32>,
+    /// Floats between one control point's weights and the next's: the run's length rounded
+    /// up to a multiple of [`BLOCK_LANES`].
+    pub stride: usize,
     pub value: Vec<f32>,
     pub du: Vec<f32>,
     pub dv: Vec<f32>,
-    /// Weights of the six control normals, `normal[k * len + i]`.
+    /// Weights of the six control normals, `normal[k * stride + i]`.
     pub normal: Vec<f32>,
 }
 
 impl Block {
     fn new(points: Vec<u32>, rows: &[f32], k: usize) -> Block {
-        let stride = Stencil::stride_for(k);
-        let len = points.len();
+        let row_len = Stencil::stride_for(k);
+        let stride = points.len().next_multiple_of(BLOCK_LANES);
         let column = |offset: usize, count: usize| {
-            let mut out = vec![0.0f32; count * len];
+            let mut out = vec![0.0f32; count * stride];
             for (i, &p) in points.iter().enumerate() {
-                let row = &rows[p as usize * stride..];
+                let row = &rows[p as usize * row_len..];
                 for c in 0..count {
-                    out[c * len + i] = row[offset + c];
+                    out[c * stride + i] = row[offset + c];
                 }
             }
             out
         };
         Block {
+            stride,
             value: column(0, k),
             du: column(k, k),
             dv: column(2 * k, k),

@@ -9,7 +9,7 @@ use crate::basis::NORMAL_NET_LEN;
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
 use crate::scheme::{NormalMode, PatchNets};
-use crate::stencil::{Block, Stencil};
+use crate::stencil::{Block, Stencil, BLOCK_LANES};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -36,7 +36,11 @@ pub fn eval_point<const K: usize>(
     let points: &[[f32; 3]; K] = points.try_into().expect("patch has K control points");
     let w: &[f32; K] = row[..K].try_into().unwrap();
     let position = combine(w, points);
-    let (du, dv) = if mode == NormalMode::Real {
+    let (du, dv) = if mode == NormalMode::Real && K == CUBIC_LEN {
+        let (du_net, dv_net) = cubic_derivative_nets(points[..].try_into().unwrap());
+        let q: &[f32; NORMAL_NET_LEN] = row[3 * K..3 * K + NORMAL_NET_LEN].try_into().unwrap();
+        (combine(q, &du_net), combine(q, &dv_net))
+    } else if mode == NormalMode::Real {
         (
             combine::<K>(row[K..2 * K].try_into().unwrap(), points),
             combine::<K>(row[2 * K..3 * K].try_into().unwrap(), points),
@@ -46,6 +50,38 @@ pub fn eval_point<const K: usize>(
     };
     let normal = finish_normal::<K>(mode, du, dv, row, points, normals);
     (position.into(), normal.into())
+}
+
+/// Control points of the cubic basis ([`crate::basis::CUBIC_ORDER`]).
+const CUBIC_LEN: usize = 10;
+
+/// `Du` and `Dv` of a cubic patch as quadratic nets, weighted like the normal net
+/// (`l1², l2², l3², l1 l2, l2 l3, l3 l1`): the derivative of a cubic Bézier triangle along
+/// `u` is `3 Σ B²_a (b_{a+e2} - b_{a+e1})` (along `v`, `e3` for `e2`), and `B²` of a mid
+/// slot is twice its normal weight. Six weights per derivative instead of ten, and real
+/// normals cost about what quadratic ones do.
+#[inline(always)]
+fn cubic_derivative_nets(p: &[[f32; 3]; CUBIC_LEN]) -> ([[f32; 3]; 6], [[f32; 3]; 6]) {
+    // Storage order: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111.
+    let d = |s: f32, a: usize, b: usize| [0, 1, 2].map(|c| s * (p[a][c] - p[b][c]));
+    (
+        [
+            d(3.0, 3, 0),
+            d(3.0, 1, 4),
+            d(3.0, 6, 7),
+            d(6.0, 4, 3),
+            d(6.0, 5, 9),
+            d(6.0, 9, 8),
+        ],
+        [
+            d(3.0, 8, 0),
+            d(3.0, 5, 4),
+            d(3.0, 2, 7),
+            d(6.0, 9, 3),
+            d(6.0, 6, 9),
+            d(6.0, 7, 8),
+        ],
+    )
 }
 
 /// The unit normal from the accumulated derivatives (`Real`) or the normal net, with the
@@ -94,28 +130,41 @@ fn combine<const K: usize>(w: &[f32; K], c: &[[f32; 3]; K]) -> Vec3 {
 /// Points per tile of [`eval_block`]: the accumulators stay in L1.
 const TILE: usize = 64;
 
-/// Accumulates `Σ_k w[k*len + i] c[k]` for the tile's points `start..start+n` into `acc`.
+/// Points summed together by [`accumulate`]: their running sums stay in registers (six
+/// 8-wide vectors for x, y, z) over all control points, enough independent additions to hide
+/// the adder's latency.
+const LANES: usize = BLOCK_LANES;
+const _: () = assert!(TILE % LANES == 0, "tiles hold whole vectors");
+
+/// Accumulates `Σ_k w[k*stride + i] c[k]` for the tile's points `start..start+n` into `acc`,
+/// summing over `k` in order from zero for every point (the order [`combine`] uses, so the
+/// same bits). Works in whole vectors: a short last vector sums the weights' zero padding into
+/// slots past `n`, which nobody reads.
 #[inline(always)]
 fn accumulate(
     weights: &[f32],
-    len: usize,
+    stride: usize,
     start: usize,
     n: usize,
     controls: &[[f32; 3]],
     acc: &mut [[f32; TILE]; 3],
 ) {
-    for a in acc.iter_mut() {
-        a[..n].fill(0.0);
-    }
-    for (k, c) in controls.iter().enumerate() {
-        let w = &weights[k * len + start..k * len + start + n];
-        let [cx, cy, cz] = *c;
-        let [ax, ay, az] = acc;
-        for i in 0..n {
-            ax[i] += w[i] * cx;
-            ay[i] += w[i] * cy;
-            az[i] += w[i] * cz;
+    for i in (0..n).step_by(LANES) {
+        let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
+        for (k, c) in controls.iter().enumerate() {
+            let w: &[f32; LANES] = weights[k * stride + start + i..][..LANES]
+                .try_into()
+                .expect("rows are padded to whole vectors");
+            let [cx, cy, cz] = *c;
+            for l in 0..LANES {
+                x[l] += w[l] * cx;
+                y[l] += w[l] * cy;
+                z[l] += w[l] * cz;
+            }
         }
+        acc[0][i..i + LANES].copy_from_slice(&x);
+        acc[1][i..i + LANES].copy_from_slice(&y);
+        acc[2][i..i + LANES].copy_from_slice(&z);
     }
 }
 
@@ -184,11 +233,36 @@ pub(crate) fn eval_block<const K: usize>(
     reverse: bool,
 ) {
     #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU was just checked to have AVX-512F, the only feature enabled there.
+        unsafe {
+            eval_block_avx512::<K>(block, stencil, points, normals, mode, sink, base, reverse)
+        };
+        return;
+    }
+    #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU was just checked to have AVX2, the only feature the function enables.
         unsafe { eval_block_avx2::<K>(block, stencil, points, normals, mode, sink, base, reverse) };
         return;
     }
+    eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
+}
+
+/// [`eval_block_body`] compiled for AVX-512.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn eval_block_avx512<const K: usize>(
+    block: &Block,
+    stencil: &Stencil,
+    points: &[[f32; 3]],
+    normals: &[[f32; 3]],
+    mode: NormalMode,
+    sink: &mut Sink,
+    base: usize,
+    reverse: bool,
+) {
     eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
 }
 
@@ -230,13 +304,20 @@ fn eval_block_body<const K: usize>(
     let mut d2 = [[0.0f32; TILE]; 3];
     let mut unit = [[0.0f32; TILE]; 3];
     let mut ok = [true; TILE];
+    let derivative_nets = (mode == NormalMode::Real && K == CUBIC_LEN)
+        .then(|| cubic_derivative_nets(points[..].try_into().expect("cubic patch")));
     for start in (0..len).step_by(TILE) {
         let n = TILE.min(len - start);
-        accumulate(&block.value, len, start, n, points, &mut pos);
+        accumulate(&block.value, block.stride, start, n, points, &mut pos);
         if want_normals {
             if mode == NormalMode::Real {
-                accumulate(&block.du, len, start, n, points, &mut d1);
-                accumulate(&block.dv, len, start, n, points, &mut d2);
+                if let Some((du_net, dv_net)) = &derivative_nets {
+                    accumulate(&block.normal, block.stride, start, n, du_net, &mut d1);
+                    accumulate(&block.normal, block.stride, start, n, dv_net, &mut d2);
+                } else {
+                    accumulate(&block.du, block.stride, start, n, points, &mut d1);
+                    accumulate(&block.dv, block.stride, start, n, points, &mut d2);
+                }
                 cross_tile(&d1, &d2, n, &mut unit, &mut ok);
                 let mut normalized = [true; TILE];
                 normalize_tile(&mut unit, n, &mut normalized);
@@ -244,26 +325,21 @@ fn eval_block_body<const K: usize>(
                     *ok &= normalized;
                 }
             } else {
-                accumulate(&block.normal, len, start, n, normals, &mut unit);
+                accumulate(&block.normal, block.stride, start, n, normals, &mut unit);
                 normalize_tile(&mut unit, n, &mut ok);
             }
         }
-        let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
-        for (i, &ok) in ok[..n].iter().enumerate() {
-            let s = slot(start + i);
-            sink.set_position(s, at(&pos, i));
-            if !want_normals {
-                continue;
-            }
-            let normal = if ok {
-                at(&unit, i)
-            } else {
+        let first = slot(start);
+        sink.put_tile(first, reverse, n, &pos, want_normals.then_some(&unit));
+        if want_normals && !ok[..n].iter().all(|&ok| ok) {
+            let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
+            for i in (0..n).filter(|&i| !ok[i]) {
                 // Parallel derivatives or a vanishing normal: the scalar path's fallbacks.
                 let p = block.points[start + i] as usize;
                 let (du, dv) = (Vec3::from(at(&d1, i)), Vec3::from(at(&d2, i)));
-                finish_normal::<K>(mode, du, dv, stencil.row(p), points, normals).into()
-            };
-            sink.set_normal(s, normal);
+                let normal = finish_normal::<K>(mode, du, dv, stencil.row(p), points, normals);
+                sink.set_normal(slot(start + i), normal.into());
+            }
         }
     }
 }
@@ -562,6 +638,31 @@ mod tests {
                     assert_eq!(bits(pos[i]), bits(want_p), "case {case} {mode:?} point {i}");
                     assert_eq!(bits(nrm[i]), bits(want_n), "case {case} {mode:?} point {i}");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn cubic_derivative_nets_give_the_basis_derivatives() {
+        let mut seed = 3;
+        let points: [[f32; 3]; CUBIC_LEN] = [0; CUBIC_LEN].map(|_| [0; 3].map(|_| lcg(&mut seed)));
+        let (du_net, dv_net) = cubic_derivative_nets(&points);
+        for l in [
+            [1.0, 0.0, 0.0],
+            [0.2, 0.3, 0.5],
+            [0.0, 0.6, 0.4],
+            [1.0 / 3.0; 3],
+        ] {
+            // The basis's own derivative weights, in f64.
+            let w = Basis::Cubic.weights(l);
+            let q = crate::basis::normal_weights(l);
+            for c in 0..3 {
+                let want_u: f64 = (0..CUBIC_LEN).map(|k| w.du[k] * points[k][c] as f64).sum();
+                let want_v: f64 = (0..CUBIC_LEN).map(|k| w.dv[k] * points[k][c] as f64).sum();
+                let got_u: f64 = (0..6).map(|j| q[j] * du_net[j][c] as f64).sum();
+                let got_v: f64 = (0..6).map(|j| q[j] * dv_net[j][c] as f64).sum();
+                assert!((got_u - want_u).abs() < 1e-5, "{l:?} du {got_u} {want_u}");
+                assert!((got_v - want_v).abs() < 1e-5, "{l:?} dv {got_v} {want_v}");
             }
         }
     }

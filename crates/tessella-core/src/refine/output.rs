@@ -233,6 +233,55 @@ impl<'a> Sink<'a> {
         out
     }
 
+    /// Writes `n` points given as component arrays (`pos[c][i]`, and normals likewise) to
+    /// slots `first + i`, or `first - i` when `reverse`. One match for the whole run, then a
+    /// plain loop: the per-point attribute writes of [`Sink::set_position`] cost more than the
+    /// arithmetic once the sums are vectorised.
+    #[inline(always)]
+    pub fn put_tile<const T: usize>(
+        &mut self,
+        first: usize,
+        reverse: bool,
+        n: usize,
+        pos: &[[f32; T]; 3],
+        normals: Option<&[[f32; T]; 3]>,
+    ) {
+        let n = n.min(T);
+        let at = |a: &[[f32; T]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
+        // The slots as one ascending range, and where point i goes within it.
+        let lo = if reverse { first + 1 - n } else { first };
+        let index = |i: usize| if reverse { n - 1 - i } else { i };
+        match self {
+            Sink::Separate {
+                positions,
+                normals: out_normals,
+                ..
+            } => {
+                let out = &mut positions[lo..lo + n];
+                for i in 0..n {
+                    out[index(i)] = at(pos, i);
+                }
+                if let (Some(out), Some(nrm)) = (out_normals, normals) {
+                    let out = &mut out[lo..lo + n];
+                    for i in 0..n {
+                        out[index(i)] = at(nrm, i);
+                    }
+                }
+            }
+            Sink::Interleaved { data, format } => {
+                let stride = format.stride;
+                let data = &mut data[lo * stride..(lo + n) * stride];
+                for i in 0..n {
+                    let v = &mut data[index(i) * stride..][..stride];
+                    v[format.position..format.position + 3].copy_from_slice(&at(pos, i));
+                    if let (Some(offset), Some(nrm)) = (format.normal, normals) {
+                        v[offset..offset + 3].copy_from_slice(&at(nrm, i));
+                    }
+                }
+            }
+        }
+    }
+
     #[inline(always)]
     pub fn set_position(&mut self, i: usize, p: [f32; 3]) {
         match self {
