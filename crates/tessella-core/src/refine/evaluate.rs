@@ -134,7 +134,7 @@ const TILE: usize = 64;
 /// 8-wide vectors for x, y, z) over all control points, enough independent additions to hide
 /// the adder's latency.
 const LANES: usize = BLOCK_LANES;
-const _: () = assert!(TILE % LANES == 0, "tiles hold whole vectors");
+const _: () = assert!(TILE.is_multiple_of(LANES), "tiles hold whole vectors");
 
 /// Accumulates `Σ_k w[k*stride + i] c[k]` for the tile's points `start..start+n` into `acc`,
 /// summing over `k` in order from zero for every point (the order [`combine`] uses, so the
