@@ -39,6 +39,13 @@ struct OneShotRow {
     vertices_per_s: f64,
     one_thread_ms: f64,
     one_thread_vertices_per_s: f64,
+    /// `Refiner::refine`: new arrays every call (what Python's `tessella.refine` does).
+    fresh_ms: f64,
+    fresh_vertices_per_s: f64,
+    /// Bytes of the output: positions, normals, triangles.
+    output_bytes: u64,
+    /// Output bytes per second of the fresh call over the fresh-memory fill rate.
+    fresh_of_fresh_fill: f64,
 }
 
 /// Everything `tessella bench` measures on the CPU, in one run.
@@ -56,7 +63,12 @@ struct Report {
     writers: Vec<WriteRow>,
 }
 
-fn one_shot(mesh: &Mesh, levels: &[u32], repeat: usize) -> anyhow::Result<Vec<OneShotRow>> {
+fn one_shot(
+    mesh: &Mesh,
+    levels: &[u32],
+    repeat: usize,
+    bandwidth: &Bandwidth,
+) -> anyhow::Result<Vec<OneShotRow>> {
     let single = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -69,8 +81,26 @@ fn one_shot(mesh: &Mesh, levels: &[u32], repeat: usize) -> anyhow::Result<Vec<On
         let vertices = refiner.layout().vertex_count;
         let many = time_refine(&refiner, repeat);
         let one = single.install(|| time_refine(&refiner, repeat));
+        let fresh = median(
+            (0..repeat)
+                .map(|_| {
+                    let start = Instant::now();
+                    let out = refiner.refine();
+                    let time = start.elapsed();
+                    std::hint::black_box(out);
+                    time
+                })
+                .collect(),
+        );
         let rate = |d: Duration| vertices as f64 / d.as_secs_f64();
+        let output_bytes = vertices * 24 + refiner.layout().triangle_count * 12;
         rows.push(OneShotRow {
+            fresh_ms: fresh.as_secs_f64() * 1e3,
+            fresh_vertices_per_s: rate(fresh),
+            output_bytes,
+            fresh_of_fresh_fill: output_bytes as f64
+                / fresh.as_secs_f64()
+                / bandwidth.fresh_fill_bytes_per_s,
             level,
             vertices,
             triangles: refiner.layout().triangle_count,
@@ -86,12 +116,12 @@ fn one_shot(mesh: &Mesh, levels: &[u32], repeat: usize) -> anyhow::Result<Vec<On
 
 fn one_shot_table(rows: &[OneShotRow], threads: usize) -> String {
     let mut s = format!(
-        "| level | vertices | triangles | prepare (ms) | refine {threads} threads (ms) | M vertices/s | 1 thread (ms) | M vertices/s | speed-up |\n\
-         |---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+        "| level | vertices | triangles | prepare (ms) | reused, {threads} threads (ms) | M vertices/s | 1 thread (ms) | M vertices/s | speed-up | new arrays (ms) | M vertices/s | of fresh fill |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     for r in rows {
         s += &format!(
-            "| {} | {} | {} | {:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2}x |\n",
+            "| {} | {} | {} | {:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2}x | {:.2} | {:.1} | {:.0}% |\n",
             r.level,
             r.vertices,
             r.triangles,
@@ -100,7 +130,10 @@ fn one_shot_table(rows: &[OneShotRow], threads: usize) -> String {
             r.vertices_per_s / 1e6,
             r.one_thread_ms,
             r.one_thread_vertices_per_s / 1e6,
-            r.ms.recip() * r.one_thread_ms
+            r.ms.recip() * r.one_thread_ms,
+            r.fresh_ms,
+            r.fresh_vertices_per_s / 1e6,
+            100.0 * r.fresh_of_fresh_fill
         );
     }
     s
@@ -109,14 +142,15 @@ fn one_shot_table(rows: &[OneShotRow], threads: usize) -> String {
 fn print_tables(report: &Report) {
     let b = &report.bandwidth;
     println!(
-        "Memory bandwidth, {} threads: fill {:.1} GB/s, copy {:.1} GB/s (read + write)",
+        "Memory bandwidth, {} threads: fill {:.1} GB/s, copy {:.1} GB/s (read + write), fill of freshly allocated memory {:.1} GB/s (page faults included)",
         b.threads,
         b.fill_bytes_per_s / 1e9,
-        b.copy_bytes_per_s / 1e9
+        b.copy_bytes_per_s / 1e9,
+        b.fresh_fill_bytes_per_s / 1e9
     );
     println!();
     println!(
-        "One-shot refinement, PN, welded, positions + quadratic normals + indices into reused buffers; {} ({} coarse triangles); median of {}:",
+        "One-shot refinement, PN, welded, positions + quadratic normals + indices, into reused buffers and into new arrays (the output bytes against the fresh-memory fill rate); {} ({} coarse triangles); median of {}:",
         report.mesh, report.faces, report.repeat
     );
     println!();
@@ -168,7 +202,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     let repeat = args.repeat.max(1);
     let bandwidth = Bandwidth::measure(repeat);
-    let one_shot = one_shot(&mesh, &args.levels, repeat)?;
+    let one_shot = one_shot(&mesh, &args.levels, repeat, &bandwidth)?;
     let per_frame = bench_frames::roofline(&mesh, &args.levels, repeat, &bandwidth)?;
     let mut deforming = bench_frames::deforming(&name, &mesh, &args.levels, repeat, &bandwidth)?;
     if args.mesh.is_none() {

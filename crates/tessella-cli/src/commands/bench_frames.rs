@@ -31,6 +31,9 @@ pub struct Bandwidth {
     pub fill_bytes_per_s: f64,
     /// Bytes per second moved by a copy, reads and writes both counted (as STREAM's Copy).
     pub copy_bytes_per_s: f64,
+    /// Bytes per second written into freshly allocated memory: every page faulted in and
+    /// zeroed by the system first. What one-shot output (new arrays every call) is bounded by.
+    pub fresh_fill_bytes_per_s: f64,
 }
 
 impl Bandwidth {
@@ -61,10 +64,26 @@ impl Bandwidth {
                 .for_each(|(d, s)| d.copy_from_slice(std::hint::black_box(s)))
         });
         std::hint::black_box(&dst);
+        drop((dst, src));
+        let fresh = median(
+            (0..repeat.max(3))
+                .map(|i| {
+                    let start = Instant::now();
+                    let mut fresh = vec![0.0f32; BANDWIDTH_BYTES / 4];
+                    fresh
+                        .par_chunks_mut(chunk)
+                        .for_each(|c| c.fill(std::hint::black_box(i as f32)));
+                    let time = start.elapsed();
+                    std::hint::black_box(fresh);
+                    time
+                })
+                .collect(),
+        );
         Bandwidth {
             threads,
             fill_bytes_per_s: BANDWIDTH_BYTES as f64 / fill.as_secs_f64(),
             copy_bytes_per_s: 2.0 * BANDWIDTH_BYTES as f64 / copy.as_secs_f64(),
+            fresh_fill_bytes_per_s: BANDWIDTH_BYTES as f64 / fresh.as_secs_f64(),
         }
     }
 }
