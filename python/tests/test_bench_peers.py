@@ -1,0 +1,36 @@
+"""The peer benchmark compares equal outputs: every library it runs makes exactly the vertices
+and triangles tessella makes (run small, with whichever peers are installed)."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+SCRIPT = Path(__file__).resolve().parents[1] / "examples" / "bench_peers.py"
+
+
+def test_every_case_has_tessellas_output_size():
+    done = subprocess.run(
+        [sys.executable, str(SCRIPT), "--subdivisions", "1", "--level", "4", "--repeat", "1",
+         "--json"],
+        capture_output=True, text=True, timeout=600,
+    )
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert report["faces"] == 80 and report["level"] == 4
+    rows = {r["case"]: r for r in report["rows"]}
+    pn = rows["tessella pn"]
+    # 80 faces to level 4: 80 * 16 triangles; V + E*3 + F*3 vertices (42 + 120*3 + 80*3).
+    assert pn["triangles"] == 80 * 16
+    assert pn["vertices"] == 42 + 120 * 3 + 80 * 3
+    for name, row in rows.items():
+        assert (row["vertices"], row["triangles"]) == (pn["vertices"], pn["triangles"]), name
+        assert row["seconds"] > 0 and row["output_bytes"] > 0, name
+    # trimesh is one of the test environment's packages, so one peer at least is compared.
+    assert "trimesh midpoint" in rows
+
+
+def test_level_must_be_a_power_of_two():
+    done = subprocess.run([sys.executable, str(SCRIPT), "--level", "6"], capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode != 0 and "power of two" in done.stderr
