@@ -29,6 +29,18 @@ pub fn refine(mesh: &Mesh, options: &RefineOptions) -> PyResult<RefinedMesh> {
     Ok(gl.refine(mesh, options, None).map_err(err)?.to_mesh())
 }
 
+/// Whether `backend="gl"` can run here: an OpenGL 4.3 context opens (made and dropped).
+#[cfg(feature = "gl")]
+pub fn available() -> bool {
+    tessella_gl::GlContext::new().is_ok()
+}
+
+/// Without the `gl` feature: never.
+#[cfg(not(feature = "gl"))]
+pub fn available() -> bool {
+    false
+}
+
 /// What `backend="gl"` raises in a build without the `gl` feature.
 #[cfg(not(feature = "gl"))]
 pub const NO_GL_FEATURE: &str = "this tessella package was built without OpenGL support (the \

@@ -375,9 +375,10 @@ fn schemes() -> Vec<&'static str> {
     options::SCHEMES.to_vec()
 }
 
-/// Names of the backends that work on this machine: ``["cpu", "gpu"]`` when a GPU adapter
-/// (hardware, or a software one such as Mesa's lavapipe) opens, else ``["cpu"]``; always
-/// ``["cpu"]`` in a package built without the ``gpu`` cargo feature.
+/// Names of the backends that work on this machine: ``"cpu"``; ``"gpu"`` when a GPU adapter
+/// (hardware, or a software one such as Mesa's lavapipe) opens; ``"gl"`` when an OpenGL 4.3
+/// context with tessellation shaders opens through EGL (a hardware driver or Mesa's
+/// llvmpipe). A package built without the ``gpu`` or ``gl`` cargo feature never lists it.
 ///
 /// The first call opens the GPU device (kept for the process, so ``refine`` reuses it).
 /// ``refine(backend="auto")`` picks the GPU only when it is a hardware one; see
@@ -394,6 +395,9 @@ fn backends(py: Python<'_>) -> Vec<&'static str> {
     let mut names = vec!["cpu"];
     if gpu {
         names.push("gpu");
+    }
+    if py.detach(gl::available) {
+        names.push("gl");
     }
     names
 }

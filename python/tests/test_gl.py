@@ -116,3 +116,17 @@ def test_gl_feature_off_message():
     if not src.exists():
         pytest.skip("the Rust sources are not beside the tests")
     assert NO_FEATURE.replace('"', '\\"') in src.read_text()
+
+
+def test_backends_lists_gl_exactly_when_it_runs():
+    """``backends()`` names "gl" when a context opens; then backend="gl" refines (CI has
+    llvmpipe, so there it must be listed)."""
+    v, f = _ico()
+    if "gl" in tessella.backends():
+        gl = tessella.refine(v, f, backend="gl", spacing="equal", level=2)
+        cpu = tessella.refine(v, f, backend="cpu", weld=False, spacing="equal", level=2)
+        assert len(gl[1]) == len(cpu[1]) == 20 * 6  # the tessellator's level-2 triangle
+    else:
+        with pytest.raises((ValueError, RuntimeError)):
+            tessella.refine(v, f, backend="gl", spacing="equal", level=2)
+        pytest.fail("no OpenGL 4.3 context here; CI installs Mesa's llvmpipe (scripts/setup-gl.sh)")

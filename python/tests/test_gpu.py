@@ -54,7 +54,7 @@ def assert_close(cpu, gpu, diag):
 
 def test_a_gpu_adapter_is_there():
     # Fails (never skips) on a machine without any adapter: CI installs lavapipe.
-    assert tessella.backends() == ["cpu", "gpu"]
+    assert tessella.backends()[:2] == ["cpu", "gpu"]
     info = tessella.gpu_info()
     assert info is not None, "no GPU adapter: apt-get install mesa-vulkan-drivers libvulkan1"
     assert set(info) == {"name", "backend", "device_type", "driver", "driver_info", "software"}
@@ -284,7 +284,7 @@ NO_ADAPTER = """
 import numpy as np, tessella
 v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=np.float32)
 f = [[0, 1, 2]]
-assert tessella.backends() == ["cpu"], tessella.backends()
+assert "gpu" not in tessella.backends(), tessella.backends()
 assert tessella.gpu_info() is None
 for attempt in range(2):  # the failure is remembered as a failure, never as a device
     try:
