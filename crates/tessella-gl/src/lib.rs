@@ -8,13 +8,18 @@
 //!
 //! ## One copy of each scheme's formulas
 //!
-//! The control nets are built on the CPU by tessella-core ([`tessella_core::scheme`], the nets
-//! the WGSL backend uploads too) and uploaded as storage buffers indexed by `gl_PrimitiveID`;
-//! the TCS only sets levels (uniform, or per face from the levels the CPU plan resolved: each
-//! edge's level from that edge alone, so the output is crack-free); the TES sums `Σ w_k(l) C_k`.
-//! The cubic Bernstein weights are generated from [`tessella_core::basis::CUBIC_ORDER`]; PNG1's
-//! rational weights are GLSL written after `basis/png1.rs` and tied to it by the tests, which
-//! compare every GL vertex with the CPU refinement of the same scheme, spacing and levels.
+//! The tessellation control shader builds each patch's control net, as van Veen's does, from
+//! the patch's corners (flat, Phong, PN) or from a 6-vertex patch that adds each edge's opposite
+//! neighbour corner (PNG1, in double precision as the CPU builds it), so per frame only the
+//! coarse positions and normals cross the bus ([`NetSource::Shader`]). Schemes whose nets need
+//! more (PN-AEN, scalar-tagged, quadratic elements) take the nets tessella-core builds on the
+//! CPU from storage buffers indexed by `gl_PrimitiveID` ([`NetSource::Buffers`]). The TCS also
+//! sets the levels (uniform, or per face from the levels the CPU plan resolved: each edge's
+//! level from that edge alone, so the output is crack-free); the TES sums `Σ w_k(l) C_k`.
+//! The cubic Bernstein weights are generated from [`tessella_core::basis::CUBIC_ORDER`]; the net
+//! builders and PNG1's rational weights are GLSL written after tessella-core's `scheme` and
+//! `basis/png1.rs` and tied to them by the tests, which compare every GL vertex with the CPU
+//! refinement of the same scheme, spacing and levels.
 
 pub mod bench;
 mod context;
@@ -26,6 +31,6 @@ pub use context::{DriverInfo, GlContext};
 pub use error::{GlError, DRIVER_PACKAGES};
 pub use refine::{
     compare, gl_clip_from_zero_to_one, hardware_spacing, Comparison, DrawMode, GlRefined,
-    GlTessellator, LevelSource, Prepared,
+    GlTessellator, LevelSource, NetSource, Prepared, ShaderNets,
 };
 pub use shaders::{glsl_sources, ShaderSources};

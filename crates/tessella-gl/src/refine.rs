@@ -7,8 +7,9 @@ use crate::shaders::glsl_sources;
 use glow::HasContext;
 use std::collections::HashMap;
 use tessella_core::refine::{Frame, Plan, Spacing};
+use tessella_core::scheme::png1_edge_sources;
 use tessella_core::tessellator;
-use tessella_core::{Mesh, NormalMode, RefineOptions, RefinedMesh};
+use tessella_core::{Mesh, NormalMode, RefineOptions, RefinedMesh, Scheme, Tags};
 
 /// Floats per captured vertex: position, normal, tessellation coordinate, face (an `int`).
 const TF_FLOATS: usize = 10;
@@ -205,8 +206,13 @@ impl<'c> GlTessellator<'c> {
                 options.max_output_bytes
             )));
         }
+        let nets = match ShaderNets::new(mesh, &plan) {
+            Some(n) => NetSource::Shader(n),
+            None => NetSource::Buffers,
+        };
         Ok(Prepared {
             spacing,
+            nets,
             plan,
             frame,
             levels,
@@ -224,8 +230,6 @@ impl<'c> GlTessellator<'c> {
         let gl = ctx.gl();
         let nets = p.frame.nets();
         let faces = p.plan.face_count();
-        let points: Vec<f32> = nets.points.iter().flatten().copied().collect();
-        let normals: Vec<f32> = nets.normals.iter().flatten().copied().collect();
         // Generous room: the hardware may write more than the CPU expects only when it is wrong,
         // which the primitive count below reports.
         let expected_tris = p.expected.unwrap_or_else(|| faces as u64 * 2 * 66 * 66);
@@ -233,19 +237,12 @@ impl<'c> GlTessellator<'c> {
         let real = nets.normal_mode == NormalMode::Real;
         // SAFETY: GL calls on the current context; buffer sizes are those of the slices given.
         unsafe {
-            let buffers: Vec<glow::Buffer> = (0..4)
-                .map(|_| gl.create_buffer())
-                .collect::<Result<_, _>>()
-                .map_err(GlError::Unsupported)?;
+            let mut buffers: Vec<glow::Buffer> = Vec::new();
             let result = (|| {
-                for (i, data) in [&points, &normals, &p.levels].into_iter().enumerate() {
-                    gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(buffers[i]));
-                    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_ne_bytes()).collect();
-                    gl.buffer_data_u8_slice(glow::SHADER_STORAGE_BUFFER, &bytes, glow::STATIC_DRAW);
-                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, i as u32, Some(buffers[i]));
-                }
-                ctx.check("uploading the control nets")?;
-                gl.bind_buffer(glow::TRANSFORM_FEEDBACK_BUFFER, Some(buffers[3]));
+                buffers = upload_patch_inputs(ctx, self.vao, p)?;
+                let tf = gl.create_buffer().map_err(GlError::Unsupported)?;
+                buffers.push(tf);
+                gl.bind_buffer(glow::TRANSFORM_FEEDBACK_BUFFER, Some(tf));
                 gl.buffer_data_size(
                     glow::TRANSFORM_FEEDBACK_BUFFER,
                     i32::try_from(tf_bytes).map_err(|_| {
@@ -260,14 +257,13 @@ impl<'c> GlTessellator<'c> {
                 set_uniforms(gl, program, nets.basis.len() as i32, real, p)?;
                 gl.bind_vertex_array(Some(self.vao));
                 gl.bind_framebuffer(glow::FRAMEBUFFER, Some(self.fbo));
-                gl.patch_parameter_i32(glow::PATCH_VERTICES, 1);
                 gl.enable(glow::RASTERIZER_DISCARD);
                 let query = gl.create_query().map_err(GlError::Unsupported)?;
                 let start = std::time::Instant::now();
-                gl.bind_buffer_base(glow::TRANSFORM_FEEDBACK_BUFFER, 0, Some(buffers[3]));
+                gl.bind_buffer_base(glow::TRANSFORM_FEEDBACK_BUFFER, 0, Some(tf));
                 gl.begin_query(glow::TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, query);
                 gl.begin_transform_feedback(glow::TRIANGLES);
-                gl.draw_arrays(glow::PATCHES, 0, faces as i32);
+                draw_patches(gl, p);
                 gl.end_transform_feedback();
                 gl.end_query(glow::TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
                 gl.disable(glow::RASTERIZER_DISCARD);
@@ -337,18 +333,13 @@ impl GlTessellator<'_> {
         let ctx = self.ctx;
         let gl = ctx.gl();
         let nets = p.frame.nets();
-        let points: Vec<f32> = nets.points.iter().flatten().copied().collect();
-        let normals: Vec<f32> = nets.normals.iter().flatten().copied().collect();
         let real = nets.normal_mode == NormalMode::Real;
         // SAFETY: GL calls on the current context; the read-back buffer has the picture's size.
         unsafe {
             let fbo = gl.create_framebuffer().map_err(GlError::Unsupported)?;
             let colour = gl.create_renderbuffer().map_err(GlError::Unsupported)?;
             let depth = gl.create_renderbuffer().map_err(GlError::Unsupported)?;
-            let buffers: Vec<glow::Buffer> = (0..3)
-                .map(|_| gl.create_buffer())
-                .collect::<Result<_, _>>()
-                .map_err(GlError::Unsupported)?;
+            let mut buffers: Vec<glow::Buffer> = Vec::new();
             let result = (|| {
                 gl.bind_renderbuffer(glow::RENDERBUFFER, Some(colour));
                 gl.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, width, height);
@@ -368,12 +359,7 @@ impl GlTessellator<'_> {
                     Some(depth),
                 );
                 ctx.check("making the picture's framebuffer")?;
-                for (i, data) in [&points, &normals, &p.levels].into_iter().enumerate() {
-                    gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(buffers[i]));
-                    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_ne_bytes()).collect();
-                    gl.buffer_data_u8_slice(glow::SHADER_STORAGE_BUFFER, &bytes, glow::STATIC_DRAW);
-                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, i as u32, Some(buffers[i]));
-                }
+                buffers = upload_patch_inputs(ctx, self.vao, p)?;
                 gl.use_program(Some(program));
                 set_uniforms(gl, program, nets.basis.len() as i32, real, p)?;
                 let loc = gl.get_uniform_location(program, "u_view_proj");
@@ -384,21 +370,19 @@ impl GlTessellator<'_> {
                 gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
                 gl.enable(glow::DEPTH_TEST);
                 gl.depth_func(glow::LEQUAL);
-                gl.patch_parameter_i32(glow::PATCH_VERTICES, 1);
                 let wire = gl.get_uniform_location(program, "u_wire");
-                let faces = p.plan.face_count() as i32;
                 if mode != DrawMode::Lines {
                     gl.uniform_1_i32(wire.as_ref(), 0);
                     gl.enable(glow::POLYGON_OFFSET_FILL);
                     gl.polygon_offset(1.0, 1.0);
-                    gl.draw_arrays(glow::PATCHES, 0, faces);
+                    draw_patches(gl, p);
                     gl.disable(glow::POLYGON_OFFSET_FILL);
                 }
                 if mode != DrawMode::Fill {
                     // Lines alone keep the normal colours; over the fill they are near-black.
                     gl.uniform_1_i32(wire.as_ref(), i32::from(mode == DrawMode::FillAndLines));
                     gl.polygon_mode(glow::FRONT_AND_BACK, glow::LINE);
-                    gl.draw_arrays(glow::PATCHES, 0, faces);
+                    draw_patches(gl, p);
                     gl.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
                     gl.uniform_1_i32(wire.as_ref(), 0);
                 }
@@ -452,17 +436,188 @@ pub enum DrawMode {
     FillAndLines,
 }
 
+/// Where the tessellation control shader gets each patch's control net.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NetSource {
+    /// Built in the control shader from the coarse vertices (van Veen): flat, Phong, PN and
+    /// PNG1 (whose 6-vertex patches add each edge's opposite neighbour corner). Per frame only
+    /// the coarse positions and normals are uploaded.
+    Shader(ShaderNets),
+    /// Copied from buffers the CPU filled (`tessella_core::scheme`): the schemes whose nets need
+    /// more than a triangle and its neighbours' corners (PN-AEN, scalar-tagged, quadratic).
+    Buffers,
+}
+
+/// What the control shader needs to build the nets itself; see [`NetSource::Shader`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShaderNets {
+    /// The shader's `u_nets`: 1 flat, 2 Phong, 3 PN, 4 PNG1.
+    pub code: i32,
+    /// Phong's shape factor.
+    pub alpha: f32,
+    /// Vertices per patch: the 3 corners, then (PNG1) each edge's opposite corner.
+    pub patch_vertices: i32,
+    /// Coarse vertex indices, `patch_vertices` per face (topology: built once).
+    pub indices: Vec<u32>,
+    /// PNG1, per face and edge: flags (1 = has a neighbour, 2 = sharp) and `κ` (topology and
+    /// tags: built once).
+    pub edges: Vec<f32>,
+    /// The coarse vertices, interleaved position and normal (what changes per frame).
+    pub vertices: Vec<f32>,
+}
+
+impl ShaderNets {
+    /// The shader-built nets of `mesh` for `plan`'s scheme, or `None` when the scheme's nets
+    /// come from the CPU.
+    pub fn new(mesh: &Mesh, plan: &Plan) -> Option<ShaderNets> {
+        let options = plan.options();
+        let (code, alpha) = match options.scheme {
+            Scheme::Flat => (1, 0.0),
+            Scheme::Phong { alpha } => (2, alpha),
+            Scheme::Pn => (3, 0.0),
+            Scheme::Png1 => (4, 0.0),
+            _ => return None,
+        };
+        let triangles = mesh.triangles();
+        let (patch_vertices, indices, edges) = if code == 4 {
+            let empty = Tags::new();
+            let tags = options.tags.as_deref().unwrap_or(&empty);
+            let mut indices = Vec::with_capacity(triangles.len() * 6);
+            let mut edges = Vec::with_capacity(triangles.len() * 6);
+            for (f, t) in triangles.iter().enumerate() {
+                let sources = png1_edge_sources(mesh, plan.topology(), tags, f);
+                indices.extend(t);
+                for (k, (opposite, sharp)) in sources.iter().enumerate() {
+                    indices.push(opposite.unwrap_or(t[k]));
+                    let flags = u8::from(opposite.is_some()) + 2 * u8::from(sharp.is_some());
+                    edges.extend([flags as f32, sharp.unwrap_or(0.0) as f32]);
+                }
+            }
+            (6, indices, edges)
+        } else {
+            (3, triangles.iter().flatten().copied().collect(), Vec::new())
+        };
+        let vertices = mesh
+            .positions()
+            .iter()
+            .zip(mesh.normals())
+            .flat_map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]])
+            .collect();
+        Some(ShaderNets {
+            code,
+            alpha,
+            patch_vertices,
+            indices,
+            edges,
+            vertices,
+        })
+    }
+}
+
 /// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]).
 pub struct Prepared {
     pub spacing: tessellator::Spacing,
     pub plan: Plan,
     pub frame: Frame,
+    /// Where the control shader gets the nets (the frame's CPU nets for [`NetSource::Buffers`]).
+    pub nets: NetSource,
     /// Four levels per face, GL order: `outer[0..3]`, inner.
     pub levels: Vec<f32>,
     pub source: LevelSource,
     /// Triangles the CPU plan makes (`None` when levels were clamped for the driver).
     pub expected: Option<u64>,
     pub notes: Vec<String>,
+}
+
+/// Uploads what the patches read and binds it: the levels (storage buffer 2) and either the
+/// coarse vertices, patch indices and PNG1's edge data (storage buffer 3) for shader-built nets,
+/// or the CPU's nets (storage buffers 0 and 1). Blocks a source does not use get a small empty
+/// buffer. Returns the buffers made, for the caller to delete.
+///
+/// # Safety
+/// `ctx` is current on this thread and `vao` was made on it.
+unsafe fn upload_patch_inputs(
+    ctx: &GlContext,
+    vao: glow::VertexArray,
+    p: &Prepared,
+) -> Result<Vec<glow::Buffer>, GlError> {
+    let gl = ctx.gl();
+    let mut buffers = Vec::new();
+    let mut upload = |target: u32, bytes: &[u8]| -> Result<glow::Buffer, GlError> {
+        let b = gl.create_buffer().map_err(GlError::Unsupported)?;
+        buffers.push(b);
+        gl.bind_buffer(target, Some(b));
+        gl.buffer_data_u8_slice(target, bytes, glow::STATIC_DRAW);
+        Ok(b)
+    };
+    let floats = |v: &[f32]| -> Vec<u8> {
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_ne_bytes()).collect();
+        if bytes.is_empty() {
+            vec![0; 16]
+        } else {
+            bytes
+        }
+    };
+    let nets = p.frame.nets();
+    let (points, normals, edges) = match &p.nets {
+        NetSource::Buffers => (
+            floats(&nets.points.iter().flatten().copied().collect::<Vec<_>>()),
+            floats(&nets.normals.iter().flatten().copied().collect::<Vec<_>>()),
+            floats(&[]),
+        ),
+        NetSource::Shader(s) => (floats(&[]), floats(&[]), floats(&s.edges)),
+    };
+    for (binding, bytes) in [
+        (0, points),
+        (1, normals),
+        (2, floats(&p.levels)),
+        (3, edges),
+    ] {
+        let b = upload(glow::SHADER_STORAGE_BUFFER, &bytes)?;
+        gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, binding, Some(b));
+    }
+    gl.bind_vertex_array(Some(vao));
+    match &p.nets {
+        NetSource::Shader(s) => {
+            upload(glow::ARRAY_BUFFER, &floats(&s.vertices))?;
+            for (location, offset) in [(0u32, 0i32), (1, 12)] {
+                gl.enable_vertex_attrib_array(location);
+                gl.vertex_attrib_pointer_f32(location, 3, glow::FLOAT, false, 24, offset);
+            }
+            let indices: Vec<u8> = s.indices.iter().flat_map(|i| i.to_ne_bytes()).collect();
+            upload(glow::ELEMENT_ARRAY_BUFFER, &indices)?;
+        }
+        NetSource::Buffers => {
+            gl.disable_vertex_attrib_array(0);
+            gl.disable_vertex_attrib_array(1);
+            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, None);
+        }
+    }
+    ctx.check("uploading the patches' inputs")?;
+    Ok(buffers)
+}
+
+/// Draws every face's patch.
+///
+/// # Safety
+/// The program, vertex array and [`upload_patch_inputs`]'s buffers are bound.
+unsafe fn draw_patches(gl: &glow::Context, p: &Prepared) {
+    let faces = p.plan.face_count() as i32;
+    match &p.nets {
+        NetSource::Shader(s) => {
+            gl.patch_parameter_i32(glow::PATCH_VERTICES, s.patch_vertices);
+            gl.draw_elements(
+                glow::PATCHES,
+                faces * s.patch_vertices,
+                glow::UNSIGNED_INT,
+                0,
+            );
+        }
+        NetSource::Buffers => {
+            gl.patch_parameter_i32(glow::PATCH_VERTICES, 1);
+            gl.draw_arrays(glow::PATCHES, 0, faces);
+        }
+    }
 }
 
 /// # Safety
@@ -477,6 +632,18 @@ unsafe fn set_uniforms(
     let loc = |name: &str| gl.get_uniform_location(program, name);
     gl.uniform_1_i32(loc("u_k").as_ref(), k);
     gl.uniform_1_i32(loc("u_real").as_ref(), i32::from(real));
+    let (code, alpha) = match &p.nets {
+        NetSource::Shader(s) => (s.code, s.alpha),
+        NetSource::Buffers => (0, 0.0),
+    };
+    gl.uniform_1_i32(loc("u_nets").as_ref(), code);
+    gl.uniform_1_f32(loc("u_alpha").as_ref(), alpha);
+    let normals = match p.frame.nets().normal_mode {
+        NormalMode::Linear => 0,
+        NormalMode::Quadratic => 1,
+        NormalMode::Real => 2,
+    };
+    gl.uniform_1_i32(loc("u_normals").as_ref(), normals);
     gl.uniform_1_i32(
         loc("u_per_face").as_ref(),
         i32::from(p.source == LevelSource::PerFace),

@@ -222,3 +222,94 @@ fn a_missing_driver_is_a_clear_error() {
     assert!(err.contains(tessella_gl::DRIVER_PACKAGES), "{err}");
     assert!(err.contains("--backend cpu"), "{err}");
 }
+
+/// The first `n` faces of `mesh`, vertices compacted: a surface with a boundary.
+fn open_patch(mesh: &Mesh, n: usize) -> Mesh {
+    let mut map = vec![u32::MAX; mesh.vertex_count()];
+    let (mut p, mut nr, mut t) = (Vec::new(), Vec::new(), Vec::new());
+    for tri in mesh.triangles().iter().take(n) {
+        t.push(tri.map(|v| {
+            if map[v as usize] == u32::MAX {
+                map[v as usize] = p.len() as u32;
+                p.push(mesh.positions()[v as usize]);
+                nr.push(mesh.normals()[v as usize]);
+            }
+            map[v as usize]
+        }));
+    }
+    Mesh::new(p, Some(nr), None, t).unwrap()
+}
+
+#[test]
+fn the_control_shader_builds_the_nets_and_they_match_the_cpu() {
+    use tessella_core::tags::{EdgeTag, Tags};
+    use tessella_gl::NetSource;
+    let ctx = ctx();
+    let mut gl = GlTessellator::new(&ctx).unwrap();
+    let level = |o: RefineOptions| {
+        o.with_spacing(Spacing::FractionalOdd)
+            .with_levels(Levels::Uniform(4.5))
+    };
+    // Which schemes build their nets in the shader, and which take the CPU's.
+    let torus = samples::torus(1.0, 0.35, 8, 6);
+    for (scheme, shader) in [
+        (Scheme::Flat, true),
+        (Scheme::Phong { alpha: 0.3 }, true),
+        (Scheme::Pn, true),
+        (Scheme::Png1, true),
+        (Scheme::PnAen, false),
+        (Scheme::ScalarTagged, false),
+    ] {
+        let o = level(RefineOptions::new(scheme, 1));
+        let p = gl.prepare(&torus, &o, None).unwrap();
+        assert_eq!(matches!(p.nets, NetSource::Shader(_)), shader, "{scheme:?}");
+        check(
+            &mut gl,
+            &torus,
+            &o,
+            None,
+            &format!("{scheme:?} on the torus"),
+        );
+    }
+    // PNG1's edge cases, built in the shader: boundary edges (an open patch), split normals
+    // (sharp, κ = 0: the hard cube, half a faceted sphere) and tagged sharp edges with κ.
+    let sphere = samples::icosphere(1);
+    let open = open_patch(&sphere, 30);
+    let mut tags = Tags::new();
+    let t = sphere.triangles()[0];
+    let crease = EdgeTag {
+        sharpness: 1.0,
+        kappa: 0.05,
+    };
+    tags.set_edge(&sphere, [t[0], t[1]], crease).unwrap();
+    let cases = [
+        ("open patch", open, None),
+        ("hard cube", samples::hard_cube(), None),
+        (
+            "half-faceted sphere",
+            samples::half_faceted_icosphere(1),
+            None,
+        ),
+        ("tagged crease", sphere, Some(tags)),
+    ];
+    for (name, mesh, tags) in cases {
+        for normals in [NormalMode::Quadratic, NormalMode::Real] {
+            let mut o = level(RefineOptions::new(Scheme::Png1, 1)).with_normals(normals);
+            if let Some(t) = &tags {
+                o = o.with_tags(t.clone());
+            }
+            let p = gl.prepare(&mesh, &o, None).unwrap();
+            let NetSource::Shader(s) = &p.nets else {
+                panic!("{name}: PNG1 nets should come from the shader");
+            };
+            assert_eq!(s.patch_vertices, 6);
+            check(
+                &mut gl,
+                &mesh,
+                &o,
+                None,
+                &format!("PNG1 {normals:?}, {name}"),
+            );
+        }
+    }
+}

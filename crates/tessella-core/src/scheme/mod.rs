@@ -318,15 +318,21 @@ pub(crate) fn fill_nets(
         });
 }
 
-/// What PNG1 sees of the edges of face `f`: neighbours' opposite corners, sharp edges from
-/// `tags` (sharpness > 0, displaced by their `kappa`), and sharp edges where the two sides
-/// disagree on a normal (G1 cannot hold there).
-pub fn png1_edges(mesh: &Mesh, topo: &Topology, tags: &Tags, f: usize) -> [png1::Png1Edge; 3] {
+/// The data behind [`png1_edges`], by vertex index: for each edge `k` of face `f`, the
+/// neighbour's corner opposite the edge (`None` on boundary and non-manifold edges) and, for a
+/// sharp edge, its `κ`. It depends on the topology, the normals' splits and the tags only, so
+/// a deforming mesh keeps it (the GL backend uploads it once and builds the nets in its
+/// tessellation control shader).
+pub fn png1_edge_sources(
+    mesh: &Mesh,
+    topo: &Topology,
+    tags: &Tags,
+    f: usize,
+) -> [(Option<u32>, Option<f64>); 3] {
     let t = mesh.triangles()[f];
     let pid = |v: u32| topo.position_ids[v as usize];
-    let pos = |v: u32| glam::Vec3::from(mesh.positions()[v as usize]).as_dvec3();
     std::array::from_fn(|k| match across_edge(mesh, topo, f, k) {
-        None => png1::Png1Edge::default(),
+        None => (None, None),
         Some(x) => {
             let nrm = |v: u32| mesh.normals()[v as usize];
             let split = nrm(x.at_a) != nrm(t[k]) || nrm(x.at_b) != nrm(t[(k + 1) % 3]);
@@ -336,11 +342,22 @@ pub fn png1_edges(mesh: &Mesh, topo: &Topology, tags: &Tags, f: usize) -> [png1:
             } else {
                 split.then_some(0.0)
             };
-            png1::Png1Edge {
-                opposite: Some(pos(x.opposite)),
-                sharp,
-            }
+            (Some(x.opposite), sharp)
         }
+    })
+}
+
+/// What PNG1 sees of the edges of face `f`: neighbours' opposite corners, sharp edges from
+/// `tags` (sharpness > 0, displaced by their `kappa`), and sharp edges where the two sides
+/// disagree on a normal (G1 cannot hold there).
+pub fn png1_edges(mesh: &Mesh, topo: &Topology, tags: &Tags, f: usize) -> [png1::Png1Edge; 3] {
+    let pos = |v: u32| glam::Vec3::from(mesh.positions()[v as usize]).as_dvec3();
+    png1_edge_sources(mesh, topo, tags, f).map(|(opposite, sharp)| match opposite {
+        None => png1::Png1Edge::default(),
+        Some(v) => png1::Png1Edge {
+            opposite: Some(pos(v)),
+            sharp,
+        },
     })
 }
 
