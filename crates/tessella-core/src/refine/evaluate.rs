@@ -212,6 +212,57 @@ fn cross_tile(
     }
 }
 
+/// Real normals of a cubic patch for the tile's points, in one pass: `Du` and `Dv` summed from
+/// the derivative nets with the normal weights (16 points at a time, in registers), crossed and
+/// normalised as [`cross_tile`] and [`normalize_tile`] do, so the same bits; `ok[i]` false
+/// where a fallback is needed.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn real_normals_tile(
+    weights: &[f32],
+    stride: usize,
+    start: usize,
+    n: usize,
+    du_net: &[[f32; 3]; NORMAL_NET_LEN],
+    dv_net: &[[f32; 3]; NORMAL_NET_LEN],
+    unit: &mut [[f32; TILE]; 3],
+    ok: &mut [bool; TILE],
+) {
+    for i in (0..n).step_by(LANES) {
+        let mut a = [[0.0f32; LANES]; 3];
+        let mut b = [[0.0f32; LANES]; 3];
+        for j in 0..NORMAL_NET_LEN {
+            let w: &[f32; LANES] = weights[j * stride + start + i..][..LANES]
+                .try_into()
+                .expect("rows are padded to whole vectors");
+            let (u, v) = (du_net[j], dv_net[j]);
+            for l in 0..LANES {
+                for c in 0..3 {
+                    a[c][l] += w[l] * u[c];
+                    b[c][l] += w[l] * v[c];
+                }
+            }
+        }
+        for l in 0..LANES {
+            let (ax, ay, az) = (a[0][l], a[1][l], a[2][l]);
+            let (bx, by, bz) = (b[0][l], b[1][l], b[2][l]);
+            let x = ay * bz - by * az;
+            let y = az * bx - bz * ax;
+            let z = ax * by - bx * ay;
+            let c2 = (x * x) + (y * y) + (z * z);
+            let a2 = (ax * ax) + (ay * ay) + (az * az);
+            let b2 = (bx * bx) + (by * by) + (bz * bz);
+            let rcp = 1.0 / c2.sqrt();
+            let good = c2 > 1e-12 * a2 * b2 && rcp.is_finite() && rcp > 0.0;
+            let rcp = if good { rcp } else { 0.0 };
+            ok[i + l] = good;
+            unit[0][i + l] = x * rcp;
+            unit[1][i + l] = y * rcp;
+            unit[2][i + l] = z * rcp;
+        }
+    }
+}
+
 /// Evaluates a run of pattern points of one patch ([`Block`]) into `sink` slots
 /// `base..base + len` (reversed when `reverse`, for edges stored against the owner's
 /// direction). Normals are computed only when the sink takes them. Equal, bit for bit, to
@@ -312,17 +363,25 @@ fn eval_block_body<const K: usize>(
         if want_normals {
             if mode == NormalMode::Real {
                 if let Some((du_net, dv_net)) = &derivative_nets {
-                    accumulate(&block.normal, block.stride, start, n, du_net, &mut d1);
-                    accumulate(&block.normal, block.stride, start, n, dv_net, &mut d2);
+                    real_normals_tile(
+                        &block.normal,
+                        block.stride,
+                        start,
+                        n,
+                        du_net,
+                        dv_net,
+                        &mut unit,
+                        &mut ok,
+                    );
                 } else {
                     accumulate(&block.du, block.stride, start, n, points, &mut d1);
                     accumulate(&block.dv, block.stride, start, n, points, &mut d2);
-                }
-                cross_tile(&d1, &d2, n, &mut unit, &mut ok);
-                let mut normalized = [true; TILE];
-                normalize_tile(&mut unit, n, &mut normalized);
-                for (ok, normalized) in ok[..n].iter_mut().zip(&normalized[..n]) {
-                    *ok &= normalized;
+                    cross_tile(&d1, &d2, n, &mut unit, &mut ok);
+                    let mut normalized = [true; TILE];
+                    normalize_tile(&mut unit, n, &mut normalized);
+                    for (ok, normalized) in ok[..n].iter_mut().zip(&normalized[..n]) {
+                        *ok &= normalized;
+                    }
                 }
             } else {
                 accumulate(&block.normal, block.stride, start, n, normals, &mut unit);
@@ -336,7 +395,17 @@ fn eval_block_body<const K: usize>(
             for i in (0..n).filter(|&i| !ok[i]) {
                 // Parallel derivatives or a vanishing normal: the scalar path's fallbacks.
                 let p = block.points[start + i] as usize;
-                let (du, dv) = (Vec3::from(at(&d1, i)), Vec3::from(at(&d2, i)));
+                let (du, dv) = match &derivative_nets {
+                    // Not kept by real_normals_tile: summed again, in the same order.
+                    Some((du_net, dv_net)) => {
+                        let q: &[f32; NORMAL_NET_LEN] = stencil.row(p)
+                            [3 * K..3 * K + NORMAL_NET_LEN]
+                            .try_into()
+                            .expect("normal weights");
+                        (combine(q, du_net), combine(q, dv_net))
+                    }
+                    None => (Vec3::from(at(&d1, i)), Vec3::from(at(&d2, i))),
+                };
                 let normal = finish_normal::<K>(mode, du, dv, stencil.row(p), points, normals);
                 sink.set_normal(slot(start + i), normal.into());
             }
