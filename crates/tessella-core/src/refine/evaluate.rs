@@ -186,36 +186,46 @@ fn normalize_tile(v: &mut [[f32; TILE]; 3], n: usize, ok: &mut [bool; TILE]) {
     }
 }
 
-/// `Du × Dv` for the tile's points into `out`, as `Vec3::cross` computes it; `ok[i]` is false
-/// where the derivatives are (nearly) parallel, the test [`finish_normal`] makes.
+/// The unit normal `Du × Dv / |Du × Dv|` of one point, as `Vec3::cross` and
+/// `normalize_or_zero` compute it, and whether it stands: false where the derivatives are
+/// (nearly) parallel (the test [`finish_normal`] makes) or the cross product cannot be
+/// normalised, and the point takes the scalar fallback.
+#[inline(always)]
+fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f32; 3], bool) {
+    let x = ay * bz - by * az;
+    let y = az * bx - bz * ax;
+    let z = ax * by - bx * ay;
+    let c2 = (x * x) + (y * y) + (z * z);
+    let a2 = (ax * ax) + (ay * ay) + (az * az);
+    let b2 = (bx * bx) + (by * by) + (bz * bz);
+    let rcp = 1.0 / c2.sqrt();
+    let good = c2 > 1e-12 * a2 * b2 && rcp.is_finite() && rcp > 0.0;
+    let rcp = if good { rcp } else { 0.0 };
+    ([x * rcp, y * rcp, z * rcp], good)
+}
+
+/// [`unit_cross`] of the tile's summed derivatives `du`, `dv` into `unit` and `ok`.
 #[inline(always)]
 fn cross_tile(
     du: &[[f32; TILE]; 3],
     dv: &[[f32; TILE]; 3],
     n: usize,
-    out: &mut [[f32; TILE]; 3],
+    unit: &mut [[f32; TILE]; 3],
     ok: &mut [bool; TILE],
 ) {
-    let ([ax, ay, az], [bx, by, bz]) = (du, dv);
-    let [cx, cy, cz] = out;
+    let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
     for i in 0..n {
-        let x = ay[i] * bz[i] - by[i] * az[i];
-        let y = az[i] * bx[i] - bz[i] * ax[i];
-        let z = ax[i] * by[i] - bx[i] * ay[i];
-        let c2 = (x * x) + (y * y) + (z * z);
-        let a2 = (ax[i] * ax[i]) + (ay[i] * ay[i]) + (az[i] * az[i]);
-        let b2 = (bx[i] * bx[i]) + (by[i] * by[i]) + (bz[i] * bz[i]);
-        ok[i] = c2 > 1e-12 * a2 * b2;
-        cx[i] = x;
-        cy[i] = y;
-        cz[i] = z;
+        let (u, good) = unit_cross(at(du, i), at(dv, i));
+        ok[i] = good;
+        unit[0][i] = u[0];
+        unit[1][i] = u[1];
+        unit[2][i] = u[2];
     }
 }
 
 /// Real normals of a cubic patch for the tile's points, in one pass: `Du` and `Dv` summed from
-/// the derivative nets with the normal weights (16 points at a time, in registers), crossed and
-/// normalised as [`cross_tile`] and [`normalize_tile`] do, so the same bits; `ok[i]` false
-/// where a fallback is needed.
+/// the derivative nets with the normal weights (16 points at a time, in registers), then
+/// [`unit_cross`]; `ok[i]` false where a fallback is needed.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn real_normals_tile(
@@ -244,21 +254,11 @@ fn real_normals_tile(
             }
         }
         for l in 0..LANES {
-            let (ax, ay, az) = (a[0][l], a[1][l], a[2][l]);
-            let (bx, by, bz) = (b[0][l], b[1][l], b[2][l]);
-            let x = ay * bz - by * az;
-            let y = az * bx - bz * ax;
-            let z = ax * by - bx * ay;
-            let c2 = (x * x) + (y * y) + (z * z);
-            let a2 = (ax * ax) + (ay * ay) + (az * az);
-            let b2 = (bx * bx) + (by * by) + (bz * bz);
-            let rcp = 1.0 / c2.sqrt();
-            let good = c2 > 1e-12 * a2 * b2 && rcp.is_finite() && rcp > 0.0;
-            let rcp = if good { rcp } else { 0.0 };
+            let (u, good) = unit_cross([a[0][l], a[1][l], a[2][l]], [b[0][l], b[1][l], b[2][l]]);
             ok[i + l] = good;
-            unit[0][i + l] = x * rcp;
-            unit[1][i + l] = y * rcp;
-            unit[2][i + l] = z * rcp;
+            unit[0][i + l] = u[0];
+            unit[1][i + l] = u[1];
+            unit[2][i + l] = u[2];
         }
     }
 }
@@ -268,9 +268,10 @@ fn real_normals_tile(
 /// direction). Normals are computed only when the sink takes them. Equal, bit for bit, to
 /// [`eval_point`] on each point.
 ///
-/// On x86-64 machines with AVX2 the same code runs compiled for AVX2 (twice the vector width
-/// of the SSE2 baseline). The results are the same bits: Rust never fuses a multiply and an add
-/// on its own, so wider vectors change only how many lanes run at once.
+/// On x86-64 machines with AVX-512 or AVX2 the same code runs compiled for it (four or two
+/// times the vector width of the SSE2 baseline). The results are the same bits: Rust never
+/// fuses a multiply and an add on its own, so wider vectors change only how many lanes run at
+/// once.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub(crate) fn eval_block<const K: usize>(
@@ -300,39 +301,29 @@ pub(crate) fn eval_block<const K: usize>(
     eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
 }
 
-/// [`eval_block_body`] compiled for AVX-512.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn eval_block_avx512<const K: usize>(
-    block: &Block,
-    stencil: &Stencil,
-    points: &[[f32; 3]],
-    normals: &[[f32; 3]],
-    mode: NormalMode,
-    sink: &mut Sink,
-    base: usize,
-    reverse: bool,
-) {
-    eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
+/// Defines `$name`: [`eval_block_body`] compiled with the target feature `$feature`.
+macro_rules! eval_block_for {
+    ($name:ident, $feature:literal) => {
+        #[doc = concat!("[`eval_block_body`] compiled for `", $feature, "`.")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn $name<const K: usize>(
+            block: &Block,
+            stencil: &Stencil,
+            points: &[[f32; 3]],
+            normals: &[[f32; 3]],
+            mode: NormalMode,
+            sink: &mut Sink,
+            base: usize,
+            reverse: bool,
+        ) {
+            eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
+        }
+    };
 }
-
-/// [`eval_block_body`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn eval_block_avx2<const K: usize>(
-    block: &Block,
-    stencil: &Stencil,
-    points: &[[f32; 3]],
-    normals: &[[f32; 3]],
-    mode: NormalMode,
-    sink: &mut Sink,
-    base: usize,
-    reverse: bool,
-) {
-    eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
-}
+eval_block_for!(eval_block_avx512, "avx512f");
+eval_block_for!(eval_block_avx2, "avx2");
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
@@ -377,11 +368,6 @@ fn eval_block_body<const K: usize>(
                     accumulate(&block.du, block.stride, start, n, points, &mut d1);
                     accumulate(&block.dv, block.stride, start, n, points, &mut d2);
                     cross_tile(&d1, &d2, n, &mut unit, &mut ok);
-                    let mut normalized = [true; TILE];
-                    normalize_tile(&mut unit, n, &mut normalized);
-                    for (ok, normalized) in ok[..n].iter_mut().zip(&normalized[..n]) {
-                        *ok &= normalized;
-                    }
                 }
             } else {
                 accumulate(&block.normal, block.stride, start, n, normals, &mut unit);
