@@ -263,6 +263,45 @@ fn unit(axis: usize, sign: f32) -> [f32; 3] {
     n
 }
 
+/// The first `faces` triangles of `mesh` (at least one), vertices compacted with their
+/// normals and uvs: an open patch cut from a closed sample, or a mesh with an exact face count.
+///
+/// ```
+/// let sphere = tessella_core::samples::icosphere(1);
+/// let patch = tessella_core::samples::first_faces(&sphere, 30);
+/// assert_eq!(patch.face_count(), 30);
+/// assert!(patch.vertex_count() < sphere.vertex_count());
+/// ```
+pub fn first_faces(mesh: &Mesh, faces: usize) -> Mesh {
+    let mut map = vec![u32::MAX; mesh.vertex_count()];
+    let mut kept = Vec::new();
+    let triangles = mesh
+        .triangles()
+        .iter()
+        .take(faces.max(1))
+        .map(|t| {
+            t.map(|v| {
+                if map[v as usize] == u32::MAX {
+                    map[v as usize] = kept.len() as u32;
+                    kept.push(v as usize);
+                }
+                map[v as usize]
+            })
+        })
+        .collect();
+    let pick = |a: &[[f32; 3]]| kept.iter().map(|&v| a[v]).collect::<Vec<_>>();
+    let uvs = mesh
+        .uvs()
+        .map(|uv| kept.iter().map(|&v| uv[v]).collect::<Vec<_>>());
+    Mesh::new(
+        pick(mesh.positions()),
+        Some(pick(mesh.normals())),
+        uvs,
+        triangles,
+    )
+    .expect("a subset of a valid mesh's faces is a valid mesh")
+}
+
 /// One frame of a twisting deformation, for demos, animations and benchmarks: `mesh`'s
 /// positions and normals turned about the vertical (Y) axis through the bounding box's centre,
 /// by an angle growing linearly with height from `-degrees/2` at the bottom to `+degrees/2` at

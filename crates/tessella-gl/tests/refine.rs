@@ -223,23 +223,6 @@ fn a_missing_driver_is_a_clear_error() {
     assert!(err.contains("--backend cpu"), "{err}");
 }
 
-/// The first `n` faces of `mesh`, vertices compacted: a surface with a boundary.
-fn open_patch(mesh: &Mesh, n: usize) -> Mesh {
-    let mut map = vec![u32::MAX; mesh.vertex_count()];
-    let (mut p, mut nr, mut t) = (Vec::new(), Vec::new(), Vec::new());
-    for tri in mesh.triangles().iter().take(n) {
-        t.push(tri.map(|v| {
-            if map[v as usize] == u32::MAX {
-                map[v as usize] = p.len() as u32;
-                p.push(mesh.positions()[v as usize]);
-                nr.push(mesh.normals()[v as usize]);
-            }
-            map[v as usize]
-        }));
-    }
-    Mesh::new(p, Some(nr), None, t).unwrap()
-}
-
 #[test]
 fn the_control_shader_builds_the_nets_and_they_match_the_cpu() {
     use tessella_core::tags::{EdgeTag, Tags};
@@ -274,7 +257,7 @@ fn the_control_shader_builds_the_nets_and_they_match_the_cpu() {
     // PNG1's edge cases, built in the shader: boundary edges (an open patch), split normals
     // (sharp, κ = 0: the hard cube, half a faceted sphere) and tagged sharp edges with κ.
     let sphere = samples::icosphere(1);
-    let open = open_patch(&sphere, 30);
+    let open = samples::first_faces(&sphere, 30);
     let mut tags = Tags::new();
     let t = sphere.triangles()[0];
     let crease = EdgeTag {

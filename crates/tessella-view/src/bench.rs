@@ -135,20 +135,7 @@ pub fn mesh_with_faces(faces: usize) -> Result<Mesh, GpuError> {
     while 20 * 4usize.pow(sub) < faces {
         sub += 1;
     }
-    let source = samples::icosphere(sub);
-    let mut map = vec![u32::MAX; source.vertex_count()];
-    let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
-    for t in source.triangles().iter().take(faces.max(1)) {
-        triangles.push(t.map(|v| {
-            if map[v as usize] == u32::MAX {
-                map[v as usize] = positions.len() as u32;
-                positions.push(source.positions()[v as usize]);
-                normals.push(source.normals()[v as usize]);
-            }
-            map[v as usize]
-        }));
-    }
-    Mesh::new(positions, Some(normals), None, triangles).map_err(|e| GpuError::Refine(e.into()))
+    Ok(samples::first_faces(&samples::icosphere(sub), faces))
 }
 
 /// GMR Figure 7 redone: frame time and GPU footprint of (a) a static refined vertex buffer
