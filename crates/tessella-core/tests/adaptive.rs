@@ -475,14 +475,13 @@ fn measure() {
     }
     let mut pop = (0.0f64, 0);
     for n in 1..64u32 {
-        let (pa, a) = run(&mesh, &RefineOptions::new(Scheme::Pn, n).with_weld(false));
+        let (_, a) = run(&mesh, &RefineOptions::new(Scheme::Pn, n).with_weld(false));
         let (pb, b) = run(
             &mesh,
             &RefineOptions::new(Scheme::Pn, n + 1).with_weld(false),
         );
         let (fb, lb) = pb.origin();
         let np = (n as usize + 1) * (n as usize + 2) / 2;
-        let _ = pa;
         for (v, l) in lb.iter().enumerate() {
             let face = fb[v] as usize;
             // level-n cell of parameter (l2, l3)

@@ -41,6 +41,18 @@ fn no_driver(what: impl Into<String>) -> GlError {
     GlError::NoDriver { what: what.into() }
 }
 
+/// `error`, the reason a start-up failed, with the failure of the clean-up that followed it (if
+/// any) added to its message: the first error is the one to report, the second is not lost.
+fn after_cleanup(error: GlError, cleanup: Result<(), egl::Error>, step: &str) -> GlError {
+    match (error, cleanup) {
+        (error, Ok(())) => error,
+        (GlError::NoDriver { what }, Err(e)) => {
+            no_driver(format!("{what}; {step} also failed ({e})"))
+        }
+        (error, Err(_)) => error,
+    }
+}
+
 impl GlContext {
     /// Loads `libEGL.so.1`, opens a display without a window system and makes a 4.5 (else 4.3)
     /// core context current on this thread.
@@ -60,10 +72,7 @@ impl GlContext {
         let made = Self::make_context(&egl, display);
         let (context, gl) = match made {
             Ok(x) => x,
-            Err(e) => {
-                let _ = egl.terminate(display);
-                return Err(e);
-            }
+            Err(e) => return Err(after_cleanup(e, egl.terminate(display), "eglTerminate")),
         };
         // SAFETY: the context is current on this thread.
         let info = unsafe {
@@ -144,11 +153,12 @@ impl GlContext {
             match egl.create_context(display, config, None, &ctx_attrs) {
                 Ok(ctx) => {
                     if let Err(e) = egl.make_current(display, None, None, Some(ctx)) {
-                        let _ = egl.destroy_context(display, ctx);
-                        return Err(no_driver(format!(
+                        let error = no_driver(format!(
                             "the context cannot be made current without a surface \
                              (EGL_KHR_surfaceless_context: {e})"
-                        )));
+                        ));
+                        let cleanup = egl.destroy_context(display, ctx);
+                        return Err(after_cleanup(error, cleanup, "eglDestroyContext"));
                     }
                     // SAFETY: the context is current; symbols come from the same driver.
                     let gl = unsafe {
@@ -211,8 +221,23 @@ fn error_name(code: u32) -> &'static str {
 
 impl Drop for GlContext {
     fn drop(&mut self) {
-        let _ = self.egl.make_current(self.display, None, None, None);
-        let _ = self.egl.destroy_context(self.display, self.context);
-        let _ = self.egl.terminate(self.display);
+        // A drop has no caller to return a failed release to (and the driver frees what is
+        // left when the process ends), so a failure is reported on stderr, once per step.
+        let steps = [
+            (
+                "eglMakeCurrent",
+                self.egl.make_current(self.display, None, None, None),
+            ),
+            (
+                "eglDestroyContext",
+                self.egl.destroy_context(self.display, self.context),
+            ),
+            ("eglTerminate", self.egl.terminate(self.display)),
+        ];
+        for (step, result) in steps {
+            if let Err(e) = result {
+                eprintln!("tessella-gl: releasing the GL context: {step} failed ({e})");
+            }
+        }
     }
 }

@@ -147,16 +147,13 @@ pub fn same_file(input: &std::path::Path, output: &std::path::Path) -> bool {
         // An input that cannot be resolved cannot be read either; reading says why.
         return false;
     };
+    // The same file by device and inode (hard links included), where the system says so.
+    #[cfg(unix)]
     if let (Ok(a), Ok(b)) = (std::fs::metadata(&input), std::fs::metadata(output)) {
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::MetadataExt;
-            if (a.dev(), a.ino()) == (b.dev(), b.ino()) {
-                return true;
-            }
+        use std::os::unix::fs::MetadataExt;
+        if (a.dev(), a.ino()) == (b.dev(), b.ino()) {
+            return true;
         }
-        #[cfg(not(unix))]
-        let _ = (a, b);
     }
     let resolved = std::fs::canonicalize(output).or_else(|_| {
         let folder = match output.parent() {

@@ -4,6 +4,7 @@
 //! Blinn-Phong; `--wireframe` draws the pattern's edges over the surface, `--compare` labelled
 //! panels side by side (tessella-view's panel widths and font).
 
+#[cfg(feature = "gl")]
 use tessella_core::refine::{Levels, Spacing};
 use tessella_core::{Mesh, RefineOptions};
 use tessella_view::{RenderOptions, RgbaImage};
@@ -84,6 +85,7 @@ fn flip(pixels: Vec<u8>, w: u32, h: u32) -> RgbaImage {
 
 /// The hardware tessellator draws equal / fractional spacing: a whole `--level` on the default
 /// grid is drawn with equal spacing at that level (the same segments per edge).
+#[cfg(feature = "gl")]
 fn hardware(options: &RefineOptions) -> anyhow::Result<RefineOptions> {
     if options.spacing == Spacing::Grid && options.levels.is_none() {
         return Ok(options
@@ -102,7 +104,6 @@ pub fn render(
     _compare: bool,
     _view: &RenderOptions,
 ) -> anyhow::Result<(RgbaImage, String)> {
-    let _ = hardware;
     anyhow::bail!(
         "render --backend gl needs the `gl` feature, and this tessella was built without it; \
          rebuild with it (cargo build -p tessella-cli --features gl)"
