@@ -122,6 +122,9 @@ pub fn triangles(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[u32; 3]>> 
     )))
 }
 
+/// A named field as it comes in: `(name, float32 (count, width) C-ordered array)`.
+pub type FieldIn<'py> = (String, numpy::PyReadonlyArray2<'py, f32>);
+
 /// Rows as a C-ordered `(n, K)` numpy array, moving the buffer (no copy).
 pub fn to_numpy<'py, T: Element, const K: usize>(
     py: Python<'py>,

@@ -8,10 +8,9 @@ use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use tessella_core::fields::{copy_cell_data, interpolate_point_data};
-use tessella_core::{Mesh, RefineOptions, Refiner};
+use tessella_core::{RefineOptions, Refiner};
 
-/// A named field as it comes in: `(name, float32 (count, width) C-ordered array)`.
-type FieldIn<'py> = (String, PyReadonlyArray2<'py, f32>);
+use arrays::FieldIn;
 /// A named field as it goes out.
 type FieldOut<'py> = (String, Bound<'py, PyArray2<f32>>);
 
@@ -68,15 +67,7 @@ pub fn refine_fem<'py>(
     let backend = options::backend(backend)?;
     let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
     opts.normals = options::normal_mode(normals_mode)?;
-    let positions = arrays::points(vertices, "vertices")?;
-    let triangles = arrays::triangles(faces, "faces")?;
-    let normals = match normals {
-        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
-        _ => None,
-    };
-    let mids = mids
-        .map(|m| arrays::mid_nodes(&m, triangles.len()))
-        .transpose()?;
+    let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals)?;
     let point_data = point_data
         .into_iter()
         .map(|(n, a)| flat_field(n, a))
@@ -88,11 +79,6 @@ pub fn refine_fem<'py>(
     let displacement = displace::parse(None)?;
     let value = |e: tessella_core::fields::FieldError| PyValueError::new_err(e.to_string());
     let (out, faces_of, bary, pd, cd) = py.detach(|| -> PyResult<_> {
-        let mut mesh =
-            Mesh::new(positions, normals, None, triangles).map_err(errors::mesh_error)?;
-        if let Some(m) = mids {
-            mesh = mesh.with_mid_nodes(m).map_err(errors::mesh_error)?;
-        }
         let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
         let plan = refiner.plan();
         // Fields are checked before the refinement runs.

@@ -51,6 +51,24 @@ fn mesh_from(
         .map_err(errors::mesh_error)
 }
 
+/// [`mesh_from`] with second-order faces: `mids` (int64 `(m, 3)`, -1 for a linear face's edges)
+/// gives faces their mid-edge nodes.
+pub(crate) fn mesh_with_mids_from(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    mids: Option<numpy::PyReadonlyArray2<'_, i64>>,
+    normals: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Mesh> {
+    let mesh = mesh_from(py, vertices, faces, normals)?;
+    let Some(mids) = mids else {
+        return Ok(mesh);
+    };
+    let mids = arrays::mid_nodes(&mids, mesh.face_count())?;
+    py.detach(|| mesh.with_mid_nodes(mids))
+        .map_err(errors::mesh_error)
+}
+
 /// Refines a mesh; see `tessella.refine` (the Python wrapper) for the full documentation.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,

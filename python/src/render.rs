@@ -4,11 +4,12 @@
 //! (`--compare`). Needs the `gpu` feature (wgpu; lavapipe counts); without it a `ValueError`.
 //! The arrays are read with the GIL held, everything else runs without it.
 
-use numpy::{PyArray3, PyReadonlyArray2};
+#[cfg(feature = "gpu")]
+use crate::arrays::FieldIn;
+use numpy::PyArray3;
+#[cfg(feature = "gpu")]
+use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
-
-/// A named field as it comes in: `(name, float32 (count, width) C-ordered array)`.
-type FieldIn<'py> = (String, PyReadonlyArray2<'py, f32>);
 
 /// What `tessella.render` raises in a build without the `gpu` feature.
 #[cfg(not(feature = "gpu"))]
@@ -16,42 +17,15 @@ pub const NO_GPU_RENDER: &str = "this tessella package was built without GPU sup
      \"gpu\" cargo feature is off), which tessella.render needs; rebuild with the default \
      features";
 
-/// Without the `gpu` feature: a `ValueError`.
+/// Without the `gpu` feature: a `ValueError`, whatever the arguments (the Python wrapper
+/// `tessella.render` holds the signature).
 #[cfg(not(feature = "gpu"))]
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, mids=None, normals=None, *, scheme="pn", level=8,
-                    size=(512, 512), yaw=30.0, pitch=20.0, zoom=1.0, wireframe=false,
-                    compare=None, point_data=Vec::new(), color_by=None, colormap="viridis",
-                    range=None, colorbar=true, label=None, path=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (*_args, **_kwargs))]
 pub fn render<'py>(
-    vertices: &Bound<'py, PyAny>,
-    faces: &Bound<'py, PyAny>,
-    mids: Option<PyReadonlyArray2<'py, i64>>,
-    normals: Option<&Bound<'py, PyAny>>,
-    scheme: &str,
-    level: i64,
-    size: (i64, i64),
-    yaw: f64,
-    pitch: f64,
-    zoom: f64,
-    wireframe: bool,
-    compare: Option<Vec<String>>,
-    point_data: Vec<FieldIn<'py>>,
-    color_by: Option<String>,
-    colormap: &str,
-    range: Option<(f64, f64)>,
-    colorbar: bool,
-    label: Option<String>,
-    path: Option<std::path::PathBuf>,
+    _args: &Bound<'py, pyo3::types::PyTuple>,
+    _kwargs: Option<&Bound<'py, pyo3::types::PyDict>>,
 ) -> PyResult<Bound<'py, PyArray3<u8>>> {
-    let _ = (
-        vertices, faces, mids, normals, scheme, level, size, yaw, pitch, zoom,
-    );
-    let _ = (
-        wireframe, compare, point_data, color_by, colormap, range, colorbar,
-    );
-    let _ = (label, path);
     Err(pyo3::exceptions::PyValueError::new_err(NO_GPU_RENDER))
 }
 
@@ -85,10 +59,10 @@ pub fn render<'py>(
     label: Option<String>,
     path: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyArray3<u8>>> {
-    use crate::{arrays, errors, gpu, options};
+    use crate::{errors, gpu, options};
     use numpy::ndarray::Array3;
     use pyo3::exceptions::{PyRuntimeError, PyValueError};
-    use tessella_core::{Mesh, RefineOptions};
+    use tessella_core::RefineOptions;
     use tessella_view::{colormap as bar, Colormap, FieldColors, RenderOptions};
 
     let alpha = options::alpha(0.75)?;
@@ -158,21 +132,8 @@ pub fn render<'py>(
         }
     };
     drop(point_data);
-    let positions = arrays::points(vertices, "vertices")?;
-    let triangles = arrays::triangles(faces, "faces")?;
-    let normals = match normals {
-        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
-        _ => None,
-    };
-    let mids = mids
-        .map(|m| arrays::mid_nodes(&m, triangles.len()))
-        .transpose()?;
+    let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals)?;
     let picture = py.detach(|| -> PyResult<_> {
-        let mut mesh =
-            Mesh::new(positions, normals, None, triangles).map_err(errors::mesh_error)?;
-        if let Some(m) = mids {
-            mesh = mesh.with_mid_nodes(m).map_err(errors::mesh_error)?;
-        }
         // Without the bar: drawn as wide as asked plus the bar, which is then cut off.
         let bar_cut = match (&field, colorbar) {
             (Some(_), false) => bar::bar_width(size.1),
