@@ -57,6 +57,7 @@
 //! software Vulkan adapter ([`AdapterChoice::Software`]); the tests run on it and fail (not
 //! skip) without it.
 
+mod adaptive;
 mod canonical;
 mod context;
 mod displace;
@@ -66,6 +67,7 @@ mod gpu_types;
 mod patch;
 mod renderer;
 
+pub use adaptive::{AdaptiveRenderer, CapturedTriangles};
 pub use context::{AdapterChoice, GpuContext, COMPUTE_STORAGE_BUFFERS};
 pub use error::GpuError;
 pub use evaluator::{

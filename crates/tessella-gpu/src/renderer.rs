@@ -39,54 +39,17 @@ struct Pipelines {
 impl Pipelines {
     fn new(ctx: &GpuContext, targets: &TargetFormats) -> Pipelines {
         let patch_layout = patch::layout(ctx, wgpu::ShaderStages::VERTEX);
-        let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let render_layout = ctx
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("render"),
-                entries: &[
-                    entry(
-                        0,
-                        wgpu::ShaderStages::VERTEX_FRAGMENT,
-                        wgpu::BufferBindingType::Uniform,
-                    ),
-                    entry(
-                        1,
-                        wgpu::ShaderStages::VERTEX,
-                        wgpu::BufferBindingType::Storage { read_only: true },
-                    ),
-                    entry(
-                        2,
-                        wgpu::ShaderStages::VERTEX,
-                        wgpu::BufferBindingType::Storage { read_only: true },
-                    ),
-                    entry(
-                        3,
-                        wgpu::ShaderStages::VERTEX,
-                        wgpu::BufferBindingType::Storage { read_only: true },
-                    ),
-                    entry(
-                        4,
-                        wgpu::ShaderStages::VERTEX_FRAGMENT,
-                        wgpu::BufferBindingType::Storage { read_only: true },
-                    ),
-                ],
-            });
+        let render_layout = render_layout(ctx);
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("render.wgsl"),
                 source: wgpu::ShaderSource::Wgsl(
-                    patch::shader_source(include_str!("shaders/render.wgsl")).into(),
+                    patch::shader_source(concat!(
+                        include_str!("shaders/shade.wgsl"),
+                        include_str!("shaders/render.wgsl")
+                    ))
+                    .into(),
                 ),
             });
         let pattern_layout = ctx
@@ -103,58 +66,19 @@ impl Pipelines {
                 bind_group_layouts: &[None, Some(&render_layout)],
                 immediate_size: 0,
             });
-        let pattern_attrs = wgpu::vertex_attr_array![0 => Uint32];
         let fixed_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let make =
-            |layout: &wgpu::PipelineLayout, entry: &str, buffer: wgpu::VertexBufferLayout| {
-                ctx.device
-                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some(entry),
-                        layout: Some(layout),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some(entry),
-                            compilation_options: Default::default(),
-                            buffers: &[Some(buffer)],
-                        },
-                        primitive: wgpu::PrimitiveState {
-                            topology: wgpu::PrimitiveTopology::TriangleList,
-                            front_face: wgpu::FrontFace::Ccw,
-                            cull_mode: None,
-                            ..Default::default()
-                        },
-                        depth_stencil: targets.depth.map(|format| wgpu::DepthStencilState {
-                            format,
-                            depth_write_enabled: Some(true),
-                            depth_compare: Some(wgpu::CompareFunction::Less),
-                            stencil: Default::default(),
-                            bias: Default::default(),
-                        }),
-                        multisample: wgpu::MultisampleState {
-                            count: targets.samples,
-                            ..Default::default()
-                        },
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some("fs_main"),
-                            compilation_options: Default::default(),
-                            targets: &[Some(targets.color.into())],
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    })
-            };
         Pipelines {
-            pattern: make(
+            pattern: render_pipeline(
+                ctx,
+                &module,
                 &pattern_layout,
                 "vs_pattern",
-                wgpu::VertexBufferLayout {
-                    array_stride: 4,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &pattern_attrs,
-                },
+                CODE_VERTICES,
+                targets,
             ),
-            fixed: make(
+            fixed: render_pipeline(
+                ctx,
+                &module,
                 &fixed_layout,
                 "vs_static",
                 wgpu::VertexBufferLayout {
@@ -162,11 +86,99 @@ impl Pipelines {
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &fixed_attrs,
                 },
+                targets,
             ),
             patch_layout,
             render_layout,
         }
     }
+}
+
+/// A vertex buffer of one `u32` per vertex (a stencil row or a point code, corner bits on top).
+pub(crate) const CODE_VERTICES: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    array_stride: 4,
+    step_mode: wgpu::VertexStepMode::Vertex,
+    attributes: &[wgpu::VertexAttribute {
+        format: wgpu::VertexFormat::Uint32,
+        offset: 0,
+        shader_location: 0,
+    }],
+};
+
+/// Layout of group 1 of the render pipelines (`shaders/shade.wgsl`): uniforms, face UVs,
+/// instances, field nets, colormap.
+pub(crate) fn render_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
+    let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let storage = wgpu::BufferBindingType::Storage { read_only: true };
+    let vertex = wgpu::ShaderStages::VERTEX;
+    let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("render"),
+            entries: &[
+                entry(0, both, wgpu::BufferBindingType::Uniform),
+                entry(1, vertex, storage),
+                entry(2, vertex, storage),
+                entry(3, vertex, storage),
+                entry(4, both, storage),
+            ],
+        })
+}
+
+/// A triangle-list pipeline of `module`'s vertex `entry` and `fs_main`, for `targets`.
+pub(crate) fn render_pipeline(
+    ctx: &GpuContext,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    entry: &str,
+    buffer: wgpu::VertexBufferLayout,
+    targets: &TargetFormats,
+) -> wgpu::RenderPipeline {
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(entry),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                buffers: &[Some(buffer)],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: targets.depth.map(|format| wgpu::DepthStencilState {
+                format,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: targets.samples,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(targets.color.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
 }
 
 /// Draws a plan's frames with the refinement pattern (GMR section 3.2): the pattern and the
@@ -557,7 +569,7 @@ fn displacement_reach(displacement: &Displacement) -> f32 {
     }
 }
 
-fn render_group(
+pub(crate) fn render_group(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     buffers: [&wgpu::Buffer; 5],

@@ -6,13 +6,15 @@
 // The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.
 #[path = "../../tessella-gpu/tests/common/mod.rs"]
 mod common;
+mod pixels;
 
 use common::ctx;
 use image::RgbaImage;
+use pixels::{crack_pixels, MAGENTA};
 use std::sync::Arc;
 use tessella_core::refine::{Levels, Plan, Spacing};
 use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
-use tessella_gpu::{Displacement, PatternRenderer};
+use tessella_gpu::{AdaptiveRenderer, Displacement, PatternRenderer};
 use tessella_view::{scene_uniforms, RenderOptions, Target};
 use wgpu::util::DeviceExt;
 
@@ -158,4 +160,115 @@ fn the_compute_path_refines_adaptive_plans_like_the_cpu() {
     let cpu = refiner.refine();
     assert_eq!(gpu.triangles, cpu.triangles);
     assert_eq!(gpu.positions.len(), cpu.positions.len());
+}
+
+/// The picture `AdaptiveRenderer` draws of `mesh` with per-edge `levels`, and its draw count.
+fn live(
+    mesh: &Mesh,
+    scheme: Scheme,
+    spacing: Spacing,
+    levels: &[f32],
+    view: &RenderOptions,
+) -> (RgbaImage, usize) {
+    let plan = Plan::new(mesh, &RefineOptions::new(scheme, 1)).unwrap();
+    let frame = plan.frame(mesh).unwrap();
+    let mut renderer =
+        AdaptiveRenderer::new(ctx(), &plan, &frame, &Target::FORMATS, spacing).unwrap();
+    renderer.set_levels(levels, None).unwrap();
+    renderer.set_uniforms(&scene_uniforms(mesh, view, 0.0));
+    let target = Target::new(ctx(), view.size).unwrap();
+    target
+        .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+        .unwrap();
+    (target.read(ctx()).unwrap(), renderer.draw_count())
+}
+
+#[test]
+fn levels_set_per_frame_draw_the_cpu_surface() {
+    let mesh = samples::icosphere(1);
+    let edges = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1))
+        .unwrap()
+        .topology()
+        .edges
+        .len();
+    let varying: Vec<f32> = (0..edges)
+        .map(|e| 1.0 + (e * 37 % 71) as f32 / 10.0)
+        .collect();
+    for scheme in [Scheme::Pn, Scheme::Png1] {
+        for spacing in Spacing::ALL {
+            for levels in [vec![5.5; edges], vec![2.0; edges], varying.clone()] {
+                let options = RefineOptions::new(scheme, 1)
+                    .with_spacing(spacing)
+                    .with_levels(Levels::PerEdge {
+                        edges: levels.clone().into(),
+                        faces: None,
+                    });
+                let (_, reference, _) = both(&mesh, &options);
+                let (picture, draws) = live(&mesh, scheme, spacing, &levels, &view());
+                let what = format!("{} {spacing:?} levels {:?}..", scheme.name(), &levels[..3]);
+                assert!(draws >= 1, "{what}");
+                assert!(covered(&reference) > 5000, "{what}: blank reference");
+                let d = differing(&picture, &reference);
+                assert!(d <= 40, "{what}: {d} pixels differ from the CPU's surface");
+            }
+        }
+    }
+    // The comparison sees a wrong level: 5.5 against 2.5 differs in far more pixels.
+    let options = RefineOptions::new(Scheme::Pn, 1)
+        .with_spacing(Spacing::FractionalOdd)
+        .with_levels(Levels::Uniform(2.5));
+    let (_, reference, _) = both(&mesh, &options);
+    let (picture, _) = live(
+        &mesh,
+        Scheme::Pn,
+        Spacing::FractionalOdd,
+        &vec![5.5; edges],
+        &view(),
+    );
+    let d = differing(&picture, &reference);
+    assert!(d > 200, "{d}");
+}
+
+#[test]
+fn levels_set_per_frame_leave_no_cracks_and_upload_only_coarse_data() {
+    let mesh = samples::icosphere(1);
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1)).unwrap();
+    let edges = plan.topology().edges.len();
+    let view = RenderOptions {
+        size: (256, 256),
+        yaw: 23.0,
+        pitch: 17.0,
+        back_color: Some(MAGENTA),
+        ..Default::default()
+    };
+    let frame = plan.frame(&mesh).unwrap();
+    for spacing in Spacing::ALL {
+        let mut renderer =
+            AdaptiveRenderer::new(ctx(), &plan, &frame, &Target::FORMATS, spacing).unwrap();
+        let mut uploads = Vec::new();
+        for step in 0..4 {
+            // Levels that differ edge by edge and change every frame, low to high.
+            let levels: Vec<f32> = (0..edges)
+                .map(|e| 1.5 + ((e * 29 + step * 11) % 53) as f32 * (0.2 + step as f32 * 0.35))
+                .collect();
+            uploads.push(renderer.set_levels(&levels, None).unwrap());
+            renderer.set_uniforms(&scene_uniforms(&mesh, &view, 0.0));
+            let target = Target::new(ctx(), view.size).unwrap();
+            target
+                .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+                .unwrap();
+            let picture = target.read(ctx()).unwrap();
+            let magenta = crack_pixels(&picture);
+            assert_eq!(magenta, 0, "{spacing:?} step {step}: crack pixels");
+            assert!(covered(&picture) > 10_000, "{spacing:?}: blank");
+        }
+        // The upload is one record per face and an instance per face and part: the same bytes
+        // whatever the levels (levels up to 30 here), and no more than 112 bytes per face.
+        let faces = mesh.face_count() as u64;
+        assert!(
+            uploads.iter().all(|&b| b == uploads[0]),
+            "{spacing:?} {uploads:?}"
+        );
+        assert!(uploads[0] <= faces * 112, "{spacing:?} {uploads:?}");
+    }
 }

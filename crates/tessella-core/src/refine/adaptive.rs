@@ -301,8 +301,8 @@ pub fn resolve_levels(
     }
 }
 
-/// Segments of an edge level for `spacing` (grid: rounded up, at least 1).
-fn grid_segments(x: f32) -> u32 {
+/// Segments of a grid level: rounded up, at least 1.
+pub fn grid_segments(x: f32) -> u32 {
     (x.ceil() as f64).clamp(1.0, u32::MAX as f64 / 4.0) as u32
 }
 
@@ -464,8 +464,24 @@ pub fn grid_pattern(n: [u32; 3], n_inner: u32) -> Pattern {
     }
 }
 
+/// Edge levels as a spacing uses them: clamped as the hardware does (tessellator spacings;
+/// equal spacing also rounds up). The grid keeps fractional levels: its pattern rounds them up
+/// and its stencil morphs.
+pub fn clamp_edge_levels(spacing: Spacing, mut levels: Vec<f32>) -> Vec<f32> {
+    if let Some(s) = spacing.tessellator() {
+        let (lo, hi) = s.range();
+        for x in &mut levels {
+            *x = x.clamp(lo, hi);
+            if spacing == Spacing::Equal {
+                *x = x.ceil();
+            }
+        }
+    }
+    levels
+}
+
 /// Face `f`'s edge levels in its own edge order and its inner level.
-fn face_levels(
+pub fn face_levels(
     topology: &Topology,
     f: usize,
     edge_levels: &[f32],
@@ -492,25 +508,7 @@ pub(crate) fn build_tiling(
     uvs: bool,
     max_bytes: u64,
 ) -> Result<Tiling, RefineError> {
-    // Clamp as the hardware does (tessellator spacings); the grid rounds up.
-    let edge_levels: Vec<f32> = match spacing.tessellator() {
-        Some(s) => {
-            let (lo, hi) = s.range();
-            let round = |x: f32| {
-                if spacing == Spacing::Equal {
-                    x.ceil()
-                } else {
-                    x
-                }
-            };
-            edge_levels
-                .iter()
-                .map(|&x| round(x.clamp(lo, hi)))
-                .collect()
-        }
-        // The grid keeps fractional levels: the pattern rounds them up, the stencil morphs.
-        None => edge_levels,
-    };
+    let edge_levels = clamp_edge_levels(spacing, edge_levels);
     let nf = mesh.face_count();
     // Size check from upper bounds, before building any pattern.
     let mut bound_points = 0u64;

@@ -13,6 +13,7 @@ pub mod canonical;
 mod evaluate;
 mod evaluator;
 mod indices;
+pub mod instanced;
 mod layout;
 pub mod lod;
 pub mod morph;

@@ -39,6 +39,7 @@
 //! (64; 63 for fractional-odd), values below the minimum and a NaN inner level become the minimum.
 
 mod fixed;
+pub mod parts;
 mod points;
 mod stitch;
 

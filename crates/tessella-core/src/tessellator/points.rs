@@ -66,6 +66,19 @@ impl Ruler {
         }
     }
 
+    /// The constants as the GPU reads them (`shaders/adaptive.wgsl`'s `place`): `1/floor`,
+    /// `1/ceil`, the fraction, the split index, then `half_points | odd << 8 | points << 16`
+    /// with `points` the caller's point count of the layout.
+    pub fn words(&self, points: u32) -> [u32; 5] {
+        [
+            self.inv_floor,
+            self.inv_ceil,
+            self.fraction,
+            self.split,
+            self.half_points | u32::from(self.odd) << 8 | points << 16,
+        ]
+    }
+
     /// Position of point `point` (0 = start, 16.16 in `[0, 1]`). The second half is the first
     /// mirrored, `1 − t` computed exactly, so both directions along an edge agree bit for bit.
     pub fn place(&self, point: u32) -> u32 {

@@ -1,0 +1,420 @@
+//! Adaptive levels drawn with index buffers built once: the per-frame data of an instanced
+//! renderer whose levels change every frame (tessella-gpu's `AdaptiveRenderer`).
+//!
+//! An adaptive plan ([`super::adaptive`]) builds a pattern and a stencil per distinct set of
+//! levels; when the levels change every frame, so do those. Here instead:
+//!
+//! - **Parts, built once per spacing ([`PartTable`]).** Tessellator spacings: the strips and
+//!   interiors of [`crate::tessellator::parts`] for every layout shape (their topology depends on
+//!   integer point counts and parities only), and the one-triangle pattern. Grid: the uniform grid
+//!   of each level `N` up to [`MAX_GRID_LEVEL`]. Triangles hold point codes, not stencil rows.
+//! - **Per frame, O(coarse) ([`frame_instances`]).** Per face a record of [`RECORD_WORDS`]
+//!   words: its four rulers (tessellator: the fixed-point constants that place its points), or
+//!   its edge segment counts, grid level and geomorph factors (grid); and which of its edges
+//!   run canonically. Per part drawn, the instances (face and side) that draw it.
+//!
+//! The vertex shader turns a code into a barycentric point with the face's record, evaluates the
+//! basis there and sums the control net (the weights are no longer a table: they follow the
+//! face's fractional levels). The positions are those of [`super::adaptive`]'s patterns: the
+//! tessellator's 16.16 placement exactly; the grid's edge points snapped to each edge's own
+//! layout, where grid triangles that become degenerate stay in the index buffer with zero area
+//! (the rasteriser draws nothing for them) instead of being dropped. Edge points are
+//! evaluated from the edge's own data in canonical direction, so both faces agree bit for bit.
+
+use super::adaptive::{clamp_edge_levels, face_levels, grid_segments, Spacing};
+use super::canonical;
+use super::morph;
+use crate::error::RefineError;
+use crate::mesh::Topology;
+use crate::tessellator::parts::{self, FaceRulers, Shape};
+use crate::tessellator::{process_levels, TessLevels};
+use std::ops::Range;
+
+/// `u32` words of one face's record.
+pub const RECORD_WORDS: usize = 24;
+/// Word of a record holding the canonical bits: bit `k` set when edge `k` runs canonically
+/// ([`canonical::forward`]).
+pub const FORWARD_WORD: usize = 20;
+/// Largest grid level the parts cover: grid levels above it are drawn at it (no geomorph there).
+pub const MAX_GRID_LEVEL: u32 = 64;
+
+/// Part ids of the tessellator spacings: strips, interiors, the single triangle.
+const STRIPS: u32 = Shape::COUNT * Shape::COUNT;
+const SINGLE: u32 = STRIPS + Shape::COUNT;
+
+/// Part id of the strip between an outer edge of shape `outer` and the inner shape `inner`.
+pub fn strip_part(inner: Shape, outer: Shape) -> u32 {
+    inner.id() * Shape::COUNT + outer.id()
+}
+
+/// Part id of the interior of inner shape `inner`.
+pub fn interior_part(inner: Shape) -> u32 {
+    STRIPS + inner.id()
+}
+
+/// Part id of the grid of level `n` (1..=[`MAX_GRID_LEVEL`]).
+pub fn grid_part(n: u32) -> u32 {
+    n - 1
+}
+
+/// Code of grid point `(i, j)` (see [`crate::Pattern`]).
+pub const fn grid_code(i: u32, j: u32) -> u32 {
+    i | j << 8
+}
+
+/// The parts of a spacing: their triangles (point codes) one after the other.
+#[derive(Debug, Clone)]
+pub struct PartTable {
+    pub spacing: Spacing,
+    pub triangles: Vec<[u32; 3]>,
+    /// Triangle range of each part id (empty for shapes the spacing never makes).
+    pub ranges: Vec<Range<u32>>,
+}
+
+impl PartTable {
+    /// Every part `spacing` can draw.
+    pub fn new(spacing: Spacing) -> PartTable {
+        let mut triangles = Vec::new();
+        let mut ranges = Vec::new();
+        let mut push = |tris: Vec<[u32; 3]>, ranges: &mut Vec<Range<u32>>| {
+            let start = triangles.len() as u32;
+            triangles.extend(tris);
+            ranges.push(start..triangles.len() as u32);
+        };
+        match spacing {
+            Spacing::Grid => {
+                for n in 1..=MAX_GRID_LEVEL {
+                    push(grid_triangles(n), &mut ranges);
+                }
+            }
+            _ => {
+                // Which parities the spacing makes; equal spacing makes both.
+                let made = |s: Shape| match spacing {
+                    Spacing::FractionalOdd => s.odd,
+                    Spacing::FractionalEven => !s.odd,
+                    _ => true,
+                };
+                for inner in (0..Shape::COUNT).map(Shape::from_id) {
+                    for outer in (0..Shape::COUNT).map(Shape::from_id) {
+                        let tris = if made(inner) && made(outer) {
+                            parts::strip(inner, outer)
+                        } else {
+                            Vec::new()
+                        };
+                        push(tris, &mut ranges);
+                    }
+                }
+                for inner in (0..Shape::COUNT).map(Shape::from_id) {
+                    let tris = if made(inner) {
+                        parts::interior(inner)
+                    } else {
+                        Vec::new()
+                    };
+                    push(tris, &mut ranges);
+                }
+                push(vec![parts::single()], &mut ranges);
+            }
+        }
+        PartTable {
+            spacing,
+            triangles,
+            ranges,
+        }
+    }
+}
+
+/// The uniform grid of level `n`'s triangles as grid codes, in [`crate::Pattern::uniform`]'s
+/// order.
+fn grid_triangles(n: u32) -> Vec<[u32; 3]> {
+    let mut tris = Vec::with_capacity((n * n) as usize);
+    for j in 0..n {
+        for i in 0..(n - j) {
+            tris.push([grid_code(i, j), grid_code(i + 1, j), grid_code(i, j + 1)]);
+            if i + 1 < n - j {
+                tris.push([
+                    grid_code(i + 1, j),
+                    grid_code(i + 1, j + 1),
+                    grid_code(i, j + 1),
+                ]);
+            }
+        }
+    }
+    tris
+}
+
+/// The barycentric point grid code `(i, j)` names on a face whose edges have `n` segments and
+/// whose grid has `big` (at least each `n`): an edge point moves to the nearest step of its
+/// edge's own layout, ties up, as [`super::adaptive::grid_pattern`] does.
+pub fn grid_point(n: [u32; 3], big: u32, i: u32, j: u32) -> [f64; 3] {
+    let k = big - i - j;
+    let on_edge = match (i, j, k) {
+        (0, 0, _) | (_, 0, 0) | (0, _, 0) => None,
+        (_, 0, _) => Some((0, i)),
+        (_, _, 0) => Some((1, j)),
+        (0, _, _) => Some((2, big - j)),
+        _ => None,
+    };
+    match on_edge {
+        Some((e, step)) => {
+            let ne = n[e] as u64;
+            let s = (2 * step as u64 * ne + big as u64) / (2 * big as u64);
+            let mut l = [0.0; 3];
+            l[e] = (ne - s) as f64 / ne as f64;
+            l[(e + 1) % 3] = s as f64 / ne as f64;
+            l
+        }
+        None => {
+            let b = big as f64;
+            [k as f64 / b, i as f64 / b, j as f64 / b]
+        }
+    }
+}
+
+/// One instanced draw: a part and the instances (positions in
+/// [`FrameInstances::instances`]) that draw it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PartDraw {
+    pub part: u32,
+    pub instances: Range<u32>,
+}
+
+/// One frame's per-face data for drawing with a [`PartTable`].
+#[derive(Debug, Clone, Default)]
+pub struct FrameInstances {
+    /// [`RECORD_WORDS`] per face.
+    pub records: Vec<u32>,
+    /// `face | side << 30`, grouped by part.
+    pub instances: Vec<u32>,
+    pub draws: Vec<PartDraw>,
+    /// Triangles the draws make (grid: with the zero-area ones).
+    pub triangles: u64,
+}
+
+/// The record and the parts (with their instance sides) of one face with edge levels `outer`
+/// (our edge order, already clamped) and inner level `inner`; no parts when it is culled.
+fn face_record(
+    spacing: Spacing,
+    outer: [f32; 3],
+    inner: f32,
+    forward: u32,
+) -> ([u32; RECORD_WORDS], Vec<(u32, u32)>) {
+    let mut record = [0u32; RECORD_WORDS];
+    record[FORWARD_WORD] = forward;
+    let mut parts = Vec::with_capacity(4);
+    match spacing.tessellator() {
+        None => {
+            let cap = MAX_GRID_LEVEL as f32;
+            let outer = outer.map(|x| x.min(cap));
+            let inner = inner.min(cap);
+            let n = outer.map(grid_segments);
+            let big = grid_segments(inner).max(n[0]).max(n[1]).max(n[2]);
+            record[..3].copy_from_slice(&n);
+            record[3] = big;
+            for k in 0..3 {
+                record[4 + k] = (morph::factor(outer[k], n[k]) as f32).to_bits();
+            }
+            record[7] = (morph::factor(inner, big) as f32).to_bits();
+            parts.push((grid_part(big), 0));
+        }
+        Some(s) => {
+            let levels = TessLevels {
+                inner,
+                // GL's outer[k] is the edge opposite corner k: our edges 1, 2, 0.
+                outer: [outer[1], outer[2], outer[0]],
+            };
+            if let Some(p) = process_levels(s, levels) {
+                let rulers = FaceRulers::new(&p);
+                record[..20].copy_from_slice(&rulers.words());
+                if rulers.single_triangle {
+                    parts.push((SINGLE, 0));
+                } else {
+                    let (outer, inner) = rulers.shapes();
+                    for (k, &o) in outer.iter().enumerate() {
+                        parts.push((strip_part(inner, o), k as u32));
+                    }
+                    parts.push((interior_part(inner), 0));
+                }
+            }
+        }
+    }
+    (record, parts)
+}
+
+/// One frame's records and instances: `edge_levels` one per unique edge of `topology`
+/// ([`Topology::edges`] order), `face_levels` optional per-face minimum inner levels, as
+/// [`super::Levels::PerEdge`] takes them; `triangles` and `position_ids` the plan's, for the
+/// canonical edge directions. O(faces + parts).
+pub fn frame_instances(
+    table: &PartTable,
+    topology: &Topology,
+    triangles: &[[u32; 3]],
+    position_ids: &[u32],
+    edge_levels: &[f32],
+    face_minimums: Option<&[f32]>,
+) -> Result<FrameInstances, RefineError> {
+    let nf = triangles.len();
+    if edge_levels.len() != topology.edges.len() {
+        return Err(RefineError::BadLevels(format!(
+            "{} edge levels for a mesh of {} unique edges",
+            edge_levels.len(),
+            topology.edges.len()
+        )));
+    }
+    for (e, &x) in edge_levels.iter().enumerate() {
+        super::adaptive::check_level(&format!("the level of edge {e}"), x)?;
+    }
+    if let Some(f) = face_minimums {
+        if f.len() != nf {
+            return Err(RefineError::BadLevels(format!(
+                "{} face levels for a mesh of {nf} triangles",
+                f.len()
+            )));
+        }
+        for (i, &x) in f.iter().enumerate() {
+            super::adaptive::check_level(&format!("the inner level of face {i}"), x)?;
+        }
+    }
+    let edge_levels = clamp_edge_levels(table.spacing, edge_levels.to_vec());
+    let mut records = Vec::with_capacity(nf * RECORD_WORDS);
+    let mut face_parts = Vec::with_capacity(nf);
+    let mut counts = vec![0u32; table.ranges.len()];
+    for (f, &t) in triangles.iter().enumerate() {
+        let (outer, inner) = face_levels(topology, f, &edge_levels, face_minimums);
+        let forward = (0..3).fold(0u32, |bits, k| {
+            bits | u32::from(canonical::forward(t, k, position_ids)) << k
+        });
+        let (record, parts) = face_record(table.spacing, outer, inner, forward);
+        records.extend_from_slice(&record);
+        for &(part, _) in &parts {
+            counts[part as usize] += 1;
+        }
+        face_parts.push(parts);
+    }
+    // Instances grouped by part (a counting sort), in face order within a part.
+    let mut starts = Vec::with_capacity(counts.len());
+    let mut at = 0u32;
+    let mut draws = Vec::new();
+    let mut drawn = 0u64;
+    for (part, &c) in counts.iter().enumerate() {
+        starts.push(at);
+        let range = &table.ranges[part];
+        if c > 0 && !range.is_empty() {
+            draws.push(PartDraw {
+                part: part as u32,
+                instances: at..at + c,
+            });
+            drawn += c as u64 * range.len() as u64;
+        }
+        at += c;
+    }
+    let mut instances = vec![0u32; at as usize];
+    for (f, parts) in face_parts.iter().enumerate() {
+        for &(part, side) in parts {
+            let slot = &mut starts[part as usize];
+            instances[*slot as usize] = f as u32 | side << 30;
+            *slot += 1;
+        }
+    }
+    Ok(FrameInstances {
+        records,
+        instances,
+        draws,
+        triangles: drawn,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::adaptive::grid_pattern;
+    use super::*;
+
+    #[test]
+    fn grid_parts_draw_the_adaptive_grid_patterns() {
+        let mut seed = 99u64;
+        let mut next = |m: u32| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            1 + ((seed >> 33) % m as u64) as u32
+        };
+        for case in 0..400 {
+            let n = [next(20), next(20), next(20)];
+            let big = n[0]
+                .max(n[1])
+                .max(n[2])
+                .max(if case % 2 == 0 { next(24) } else { 1 });
+            let expected = grid_pattern(n, big);
+            let want: Vec<[[f64; 3]; 3]> = expected
+                .triangles
+                .iter()
+                .map(|t| t.map(|p| expected.points[p as usize]))
+                .collect();
+            let got: Vec<[[f64; 3]; 3]> = grid_triangles(big)
+                .iter()
+                .map(|t| t.map(|c| grid_point(n, big, c & 0xff, c >> 8)))
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+                .collect();
+            assert_eq!(got, want, "edges {n:?}, grid {big}");
+        }
+    }
+
+    #[test]
+    fn instances_group_faces_by_part_and_cover_every_triangle() {
+        let mesh = crate::samples::icosphere(1);
+        let topology = Topology::new(&mesh);
+        let ids = &topology.position_ids;
+        let levels: Vec<f32> = (0..topology.edges.len())
+            .map(|e| 1.0 + (e * 37 % 71) as f32 / 7.0)
+            .collect();
+        for spacing in Spacing::ALL {
+            let table = PartTable::new(spacing);
+            let frame =
+                frame_instances(&table, &topology, mesh.triangles(), ids, &levels, None).unwrap();
+            assert_eq!(frame.records.len(), mesh.face_count() * RECORD_WORDS);
+            // Every face drawn by its parts (1 for the grid, 4 or the single triangle).
+            let per_face = if spacing == Spacing::Grid { 1 } else { 4 };
+            assert_eq!(frame.instances.len(), mesh.face_count() * per_face);
+            let mut seen = vec![0; mesh.face_count()];
+            for d in &frame.draws {
+                for &i in &frame.instances[d.instances.start as usize..d.instances.end as usize] {
+                    seen[(i & 0x3fff_ffff) as usize] += 1;
+                }
+            }
+            assert!(seen.iter().all(|&c| c == per_face), "{spacing:?}");
+            // The same triangle count as the adaptive plan's patterns (the grid keeps its
+            // zero-area triangles: at least as many).
+            let options = crate::RefineOptions::new(crate::Scheme::Pn, 1)
+                .with_spacing(spacing)
+                .with_levels(super::super::Levels::PerEdge {
+                    edges: levels.clone().into(),
+                    faces: None,
+                });
+            let plan = super::super::Plan::new(&mesh, &options).unwrap();
+            let cpu = plan.triangle_count() as u64;
+            if spacing == Spacing::Grid {
+                assert!(frame.triangles >= cpu, "{spacing:?}");
+            } else {
+                assert_eq!(frame.triangles, cpu, "{spacing:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_levels_are_refused() {
+        let mesh = crate::samples::tetrahedron();
+        let topology = Topology::new(&mesh);
+        let table = PartTable::new(Spacing::FractionalOdd);
+        let ids = &topology.position_ids;
+        let run = |levels: &[f32]| {
+            frame_instances(&table, &topology, mesh.triangles(), ids, levels, None)
+        };
+        assert!(run(&[1.0; 3]).is_err());
+        for bad in [f32::NAN, -1.0, 0.0, f32::INFINITY] {
+            let mut l = vec![2.0; topology.edges.len()];
+            l[2] = bad;
+            assert!(run(&l).is_err(), "{bad}");
+        }
+        // Levels above the maximum are clamped as the hardware does.
+        assert!(run(&vec![1e9; topology.edges.len()]).is_ok());
+    }
+}

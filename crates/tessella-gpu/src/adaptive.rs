@@ -1,0 +1,578 @@
+//! The instanced renderer for levels that change every frame: the spacing's parts (strips and
+//! interiors of the tessellator's patterns, or the grids) are uploaded once; per frame only
+//! coarse data crosses the bus — the nets, one record per face and one instance per face and
+//! part (`tessella_core::refine::instanced`).
+
+use crate::context::GpuContext;
+use crate::error::GpuError;
+use crate::gpu_types::{AdaptiveParams, RenderUniforms};
+use crate::patch::normal_mode_code;
+use crate::renderer::{render_group, render_layout, render_pipeline, TargetFormats, CODE_VERTICES};
+use std::collections::HashMap;
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
+use tessella_core::refine::instanced::{self, FrameInstances, PartTable, RECORD_WORDS};
+use tessella_core::refine::{canonical, lod, Frame, Lod, Plan, Spacing};
+use tessella_core::Topology;
+
+/// Instances per face at most: three strips and an interior.
+const MAX_PARTS_PER_FACE: u64 = 4;
+
+/// Draws a deforming mesh whose per-edge levels change every frame, with the hardware
+/// tessellator's patterns or geomorphing grids, crack-free and without rebuilding anything per
+/// frame: [`AdaptiveRenderer::set_levels`] (or [`AdaptiveRenderer::set_lod`]) uploads one record
+/// per face and one instance per face and part, [`AdaptiveRenderer::update`] the frame's nets;
+/// both are O(coarse) whatever the levels. The vertex shader places each point from the face's
+/// levels and evaluates the basis there (`shaders/adaptive.wgsl`).
+///
+/// ```no_run
+/// # fn demo(ctx: &tessella_gpu::GpuContext, pass: &mut wgpu::RenderPass<'_>,
+/// #         uniforms: &tessella_gpu::RenderUniforms) -> Result<(), tessella_gpu::GpuError> {
+/// use tessella_core::refine::{Plan, Spacing};
+/// use tessella_core::{samples, RefineOptions, Scheme};
+/// use tessella_gpu::{AdaptiveRenderer, TargetFormats};
+/// let mesh = samples::icosphere(1);
+/// let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1))?;
+/// let frame = plan.frame(&mesh)?;
+/// let formats = TargetFormats {
+///     color: wgpu::TextureFormat::Rgba8UnormSrgb,
+///     depth: None,
+///     samples: 1,
+/// };
+/// let mut renderer =
+///     AdaptiveRenderer::new(ctx, &plan, &frame, &formats, Spacing::FractionalOdd)?;
+/// // Every frame: new levels (one per unique edge), new nets, one draw call per part used.
+/// let levels = vec![5.5; plan.topology().edges.len()];
+/// renderer.set_levels(&levels, None)?;
+/// renderer.set_uniforms(uniforms);
+/// renderer.draw(pass);
+/// # Ok(()) }
+/// ```
+pub struct AdaptiveRenderer {
+    ctx: GpuContext,
+    spacing: Spacing,
+    pipeline: wgpu::RenderPipeline,
+    /// Per part: its index range and first vertex in `vertices`.
+    parts: Vec<GpuPart>,
+    /// Point codes, each part's distinct codes one after the other.
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    /// Every part's triangles unrolled, `code | corner << 30`, for the wireframe.
+    wire: wgpu::Buffer,
+    points: wgpu::Buffer,
+    normals: wgpu::Buffer,
+    records: wgpu::Buffer,
+    instances: wgpu::Buffer,
+    patch_group: wgpu::BindGroup,
+    patch_layout: wgpu::BindGroupLayout,
+    uniforms: wgpu::Buffer,
+    render_group: wgpu::BindGroup,
+    wireframe: AtomicBool,
+    table: PartTable,
+    /// What the per-frame records need from the plan.
+    topology: Topology,
+    triangles: Vec<[u32; 3]>,
+    /// Coarse triangles and basis size.
+    shape: (usize, usize),
+    /// The last [`AdaptiveRenderer::set_levels`]: draws and triangle count.
+    frame: FrameInstances,
+    /// Bytes kept in the GPU buffers made at creation (parts, nets, per-face buffers).
+    bytes: u64,
+}
+
+/// What [`AdaptiveRenderer::capture`] reads back: per drawn vertex (three per triangle) its
+/// position, unit normal and barycentric point in its coarse triangle; per triangle its face.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CapturedTriangles {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    pub barycentric: Vec<[f32; 3]>,
+    pub faces: Vec<u32>,
+}
+
+#[derive(Debug, Clone)]
+struct GpuPart {
+    indices: Range<u32>,
+    base_vertex: i32,
+}
+
+impl std::fmt::Debug for AdaptiveRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AdaptiveRenderer")
+            .field("faces", &self.shape.0)
+            .field("spacing", &self.spacing)
+            .field("draws", &self.frame.draws.len())
+            .finish()
+    }
+}
+
+/// The part table as GPU arrays: per part its distinct codes and local indices, and the
+/// unrolled wireframe vertices.
+struct PartArrays {
+    vertices: Vec<u32>,
+    indices: Vec<u32>,
+    wire: Vec<u32>,
+    parts: Vec<GpuPart>,
+}
+
+impl PartArrays {
+    fn new(table: &PartTable) -> PartArrays {
+        let mut out = PartArrays {
+            vertices: Vec::new(),
+            indices: Vec::new(),
+            wire: Vec::new(),
+            parts: Vec::with_capacity(table.ranges.len()),
+        };
+        let mut local: HashMap<u32, u32> = HashMap::new();
+        for range in &table.ranges {
+            local.clear();
+            let base = out.vertices.len();
+            let first = out.indices.len() as u32;
+            for t in &table.triangles[range.start as usize..range.end as usize] {
+                for (corner, &code) in t.iter().enumerate() {
+                    let next = local.len() as u32;
+                    let i = *local.entry(code).or_insert_with(|| {
+                        out.vertices.push(code);
+                        next
+                    });
+                    out.indices.push(i);
+                    out.wire.push(code | (corner as u32) << 30);
+                }
+            }
+            out.parts.push(GpuPart {
+                indices: first..out.indices.len() as u32,
+                base_vertex: base as i32,
+            });
+        }
+        out
+    }
+}
+
+impl AdaptiveRenderer {
+    /// Compiles the pipeline for `formats`, uploads `spacing`'s parts and the first frame's
+    /// nets. The plan gives the mesh's topology and scheme; its own levels are not used (make
+    /// it at level 1). Nothing is drawn before the first [`AdaptiveRenderer::set_levels`].
+    pub fn new(
+        ctx: &GpuContext,
+        plan: &Plan,
+        frame: &Frame,
+        formats: &TargetFormats,
+        spacing: Spacing,
+    ) -> Result<AdaptiveRenderer, GpuError> {
+        plan.check_frame(frame)?;
+        let nets = frame.nets();
+        let faces = plan.face_count();
+        let limit = ctx.max_binding();
+        let record_bytes = faces as u64 * RECORD_WORDS as u64 * 4;
+        let instance_bytes = faces as u64 * MAX_PARTS_PER_FACE * 4;
+        for (what, bytes) in [
+            ("the control nets", nets.points.len() as u64 * 12),
+            ("the normal nets", nets.normals.len() as u64 * 12),
+            ("the per-face level records", record_bytes),
+            ("the instances", instance_bytes),
+        ] {
+            if bytes > limit {
+                return Err(GpuError::TooLarge { what, bytes, limit });
+            }
+        }
+        let table = PartTable::new(spacing);
+        let arrays = PartArrays::new(&table);
+        let basis = nets.basis;
+        let params = AdaptiveParams {
+            k: basis.len() as u32,
+            normal_mode: normal_mode_code(nets.normal_mode),
+            grid: u32::from(spacing == Spacing::Grid),
+            _pad: 0,
+            edge_controls: [0, 1, 2].map(|k| canonical::edge_controls(basis, k).map(|i| i as u32)),
+            edge_normals: [0, 1, 2].map(|k| {
+                let [a, b, c] = canonical::edge_normal_controls(k);
+                [a as u32, b as u32, c as u32, 0]
+            }),
+        };
+        ctx.scoped(|| {
+            let copy = wgpu::BufferUsages::COPY_DST;
+            let storage = |label, bytes: u64| {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: bytes.max(4).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT),
+                    usage: wgpu::BufferUsages::STORAGE | copy,
+                    mapped_at_creation: false,
+                })
+            };
+            let points = ctx.storage_buffer("net points", bytemuck::cast_slice(&nets.points), copy);
+            let normals =
+                ctx.storage_buffer("net normals", bytemuck::cast_slice(&nets.normals), copy);
+            let params = ctx.buffer_init(
+                "adaptive params",
+                bytemuck::bytes_of(&params),
+                wgpu::BufferUsages::UNIFORM,
+            );
+            let records = storage("level records", record_bytes);
+            let instances = storage("instances", instance_bytes);
+            let vertices = ctx.buffer_init(
+                "part codes",
+                bytemuck::cast_slice(&arrays.vertices),
+                wgpu::BufferUsages::VERTEX,
+            );
+            let indices = ctx.buffer_init(
+                "part indices",
+                bytemuck::cast_slice(&arrays.indices),
+                wgpu::BufferUsages::INDEX,
+            );
+            let wire = ctx.buffer_init(
+                "part wireframe",
+                bytemuck::cast_slice(&arrays.wire),
+                wgpu::BufferUsages::VERTEX,
+            );
+            let uniforms = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("render uniforms"),
+                size: std::mem::size_of::<RenderUniforms>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | copy,
+                mapped_at_creation: false,
+            });
+            // The fragment shader's colormap: none; the vertex shader reads no UVs or fields.
+            let unused = ctx.storage_buffer("unused", &[0; 4], wgpu::BufferUsages::empty());
+            let colormap = ctx.storage_buffer("colormap", &[0; 32], wgpu::BufferUsages::empty());
+
+            let patch_layout = adaptive_layout(ctx);
+            let patch_layout_for_capture = patch_layout.clone();
+            let render_layout = render_layout(ctx);
+            let entries: Vec<_> = [&points, &normals, &params, &records]
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect();
+            let patch_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("adaptive"),
+                layout: &patch_layout,
+                entries: &entries,
+            });
+            let render_group = render_group(
+                ctx,
+                &render_layout,
+                [&uniforms, &unused, &instances, &unused, &colormap],
+            );
+            let module = ctx
+                .device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("adaptive.wgsl"),
+                    source: wgpu::ShaderSource::Wgsl(
+                        concat!(
+                            include_str!("shaders/basis.wgsl"),
+                            include_str!("shaders/shade.wgsl"),
+                            include_str!("shaders/adaptive.wgsl"),
+                            include_str!("shaders/adaptive_draw.wgsl")
+                        )
+                        .into(),
+                    ),
+                });
+            let layout = ctx
+                .device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("adaptive"),
+                    bind_group_layouts: &[Some(&patch_layout), Some(&render_layout)],
+                    immediate_size: 0,
+                });
+            let pipeline =
+                render_pipeline(ctx, &module, &layout, "vs_adaptive", CODE_VERTICES, formats);
+            let bytes = [
+                &vertices, &indices, &wire, &points, &normals, &records, &instances, &params,
+                &uniforms, &unused, &colormap,
+            ]
+            .iter()
+            .map(|b| b.size())
+            .sum();
+            AdaptiveRenderer {
+                ctx: ctx.clone(),
+                spacing,
+                pipeline,
+                parts: arrays.parts,
+                vertices,
+                indices,
+                wire,
+                points,
+                normals,
+                records,
+                instances,
+                patch_group,
+                patch_layout: patch_layout_for_capture,
+                uniforms,
+                render_group,
+                wireframe: AtomicBool::new(false),
+                table,
+                topology: plan.topology().clone(),
+                triangles: plan.triangles().to_vec(),
+                shape: (faces, basis.len()),
+                frame: FrameInstances::default(),
+                bytes,
+            }
+        })
+    }
+
+    /// Sets the levels of the next draws: one per unique edge (`Topology::edges` order, as
+    /// `Levels::PerEdge`), optionally a minimum inner level per face; clamped as the spacing
+    /// does (grid levels above `instanced::MAX_GRID_LEVEL` are drawn at it). Uploads one record
+    /// per face and one instance per face and part; returns the bytes written.
+    pub fn set_levels(
+        &mut self,
+        edge_levels: &[f32],
+        face_minimums: Option<&[f32]>,
+    ) -> Result<u64, GpuError> {
+        let frame = instanced::frame_instances(
+            &self.table,
+            &self.topology,
+            &self.triangles,
+            &self.topology.position_ids,
+            edge_levels,
+            face_minimums,
+        )?;
+        let records: &[u8] = bytemuck::cast_slice(&frame.records);
+        let instances: &[u8] = bytemuck::cast_slice(&frame.instances);
+        self.ctx.queue.write_buffer(&self.records, 0, records);
+        if !instances.is_empty() {
+            self.ctx.queue.write_buffer(&self.instances, 0, instances);
+        }
+        let bytes = (records.len() + instances.len()) as u64;
+        self.frame = frame;
+        Ok(bytes)
+    }
+
+    /// [`AdaptiveRenderer::set_levels`] with the levels `lod` gives on `frame`'s mesh (a
+    /// camera that moves, a mesh that deforms: new levels every frame).
+    pub fn set_lod(&mut self, frame: &Frame, lod: &Lod) -> Result<u64, GpuError> {
+        self.check_shape(frame)?;
+        let (edges, faces) = lod::levels(frame.mesh(), &self.topology, frame.nets(), lod)?;
+        self.set_levels(&edges, faces.as_deref())
+    }
+
+    fn check_shape(&self, frame: &Frame) -> Result<(), GpuError> {
+        let nets = frame.nets();
+        if (nets.len(), nets.basis.len()) != self.shape {
+            return Err(GpuError::BadOption(format!(
+                "a frame of {} patches of {} control points, the renderer draws {} of {}",
+                nets.len(),
+                nets.basis.len(),
+                self.shape.0,
+                self.shape.1
+            )));
+        }
+        Ok(())
+    }
+
+    /// Uploads `frame`'s control nets; returns the bytes written.
+    pub fn update(&self, frame: &Frame) -> Result<u64, GpuError> {
+        self.check_shape(frame)?;
+        let nets = frame.nets();
+        let points: &[u8] = bytemuck::cast_slice(&nets.points);
+        let normals: &[u8] = bytemuck::cast_slice(&nets.normals);
+        self.ctx.queue.write_buffer(&self.points, 0, points);
+        self.ctx.queue.write_buffer(&self.normals, 0, normals);
+        Ok((points.len() + normals.len()) as u64)
+    }
+
+    /// Sets the camera, light and colours; `flags.x` draws the wireframe (see
+    /// [`crate::PatternRenderer::set_uniforms`]).
+    pub fn set_uniforms(&self, uniforms: &RenderUniforms) {
+        self.wireframe
+            .store(uniforms.flags[0] != 0, Ordering::Relaxed);
+        self.ctx
+            .queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
+    }
+
+    /// Records one instanced draw per part used into `pass`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.patch_group, &[]);
+        pass.set_bind_group(1, &self.render_group, &[]);
+        if self.wireframe.load(Ordering::Relaxed) {
+            pass.set_vertex_buffer(0, self.wire.slice(..));
+            for d in &self.frame.draws {
+                let r = &self.parts[d.part as usize].indices;
+                pass.draw(r.clone(), d.instances.clone());
+            }
+            return;
+        }
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        for d in &self.frame.draws {
+            let p = &self.parts[d.part as usize];
+            pass.draw_indexed(p.indices.clone(), p.base_vertex, d.instances.clone());
+        }
+    }
+
+    /// Reads back the triangles the current levels draw, evaluated by the vertex shader's own
+    /// code in a compute pass (`shaders/adaptive_capture.wgsl`): three vertices per triangle
+    /// (the grid's zero-area triangles included). For tests and debugging: its size is the
+    /// refined mesh's.
+    pub fn capture(&self) -> Result<CapturedTriangles, GpuError> {
+        let mut jobs: Vec<[u32; 2]> = Vec::new();
+        let mut faces = Vec::new();
+        for d in &self.frame.draws {
+            let range = &self.table.ranges[d.part as usize];
+            let tris = &self.table.triangles[range.start as usize..range.end as usize];
+            for &inst in &self.frame.instances[d.instances.start as usize..d.instances.end as usize]
+            {
+                for t in tris {
+                    jobs.extend(t.map(|code| [inst, code]));
+                    faces.push(inst & 0x3fff_ffff);
+                }
+            }
+        }
+        let out_bytes = jobs.len() as u64 * 36;
+        let limit = self.ctx.max_binding();
+        if out_bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "the captured triangles",
+                bytes: out_bytes,
+                limit,
+            });
+        }
+        let ctx = &self.ctx;
+        let bytes = ctx.scoped(|| -> Result<Vec<u8>, GpuError> {
+            let jobs_buffer = ctx.storage_buffer(
+                "capture jobs",
+                bytemuck::cast_slice(&jobs),
+                wgpu::BufferUsages::empty(),
+            );
+            let out = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("captured"),
+                size: out_bytes.max(4),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let entry = |binding, read_only| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            };
+            let layout = ctx
+                .device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("capture"),
+                    entries: &[entry(0, true), entry(1, false)],
+                });
+            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("capture"),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: jobs_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: out.as_entire_binding(),
+                    },
+                ],
+            });
+            let module = ctx
+                .device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("adaptive_capture.wgsl"),
+                    source: wgpu::ShaderSource::Wgsl(
+                        concat!(
+                            include_str!("shaders/basis.wgsl"),
+                            include_str!("shaders/adaptive.wgsl"),
+                            include_str!("shaders/adaptive_capture.wgsl")
+                        )
+                        .into(),
+                    ),
+                });
+            let pipeline_layout =
+                ctx.device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("capture"),
+                        bind_group_layouts: &[Some(&self.patch_layout), Some(&layout)],
+                        immediate_size: 0,
+                    });
+            let pipeline = ctx
+                .device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("cs_capture"),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some("cs_capture"),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+            let groups = (jobs.len() as u64).div_ceil(64);
+            let max = ctx.limits.max_compute_workgroups_per_dimension as u64;
+            let (x, y) = (groups.min(max), groups.div_ceil(max));
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &self.patch_group, &[]);
+                pass.set_bind_group(1, &group, &[]);
+                pass.dispatch_workgroups(x as u32, y as u32, 1);
+            }
+            ctx.submit_and_wait(encoder)?;
+            ctx.read_buffer(&out, 0, out_bytes)
+        })??;
+        let floats: &[f32] = bytemuck::cast_slice(&bytes);
+        let mut c = CapturedTriangles {
+            faces,
+            ..Default::default()
+        };
+        for v in floats.chunks_exact(9) {
+            c.positions.push([v[0], v[1], v[2]]);
+            c.normals.push([v[3], v[4], v[5]]);
+            c.barycentric.push([v[6], v[7], v[8]]);
+        }
+        Ok(c)
+    }
+
+    /// Draw calls of the current levels: one per part used.
+    pub fn draw_count(&self) -> usize {
+        self.frame.draws.len()
+    }
+
+    /// Triangles the current levels draw (grid: with the zero-area ones the rasteriser skips).
+    pub fn triangle_count(&self) -> u64 {
+        self.frame.triangles
+    }
+
+    /// The spacing drawn.
+    pub fn spacing(&self) -> Spacing {
+        self.spacing
+    }
+
+    /// Bytes kept on the GPU: the parts (built once), the nets and the per-face buffers.
+    pub fn byte_size(&self) -> u64 {
+        self.bytes
+    }
+}
+
+/// Group 0 of `shaders/adaptive.wgsl`: nets, params, records.
+fn adaptive_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let storage = wgpu::BufferBindingType::Storage { read_only: true };
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("adaptive"),
+            entries: &[
+                entry(0, storage),
+                entry(1, storage),
+                entry(2, wgpu::BufferBindingType::Uniform),
+                entry(3, storage),
+            ],
+        })
+}

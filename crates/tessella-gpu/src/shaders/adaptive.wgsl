@@ -1,0 +1,326 @@
+// Adaptive levels that change every frame (tessella_core::refine::instanced). The vertex buffer
+// holds the point codes of the spacing's parts, built once; per face a record (tessellator: four
+// rulers; grid: edge segments, grid level and geomorph factors; both: canonical edge bits), per
+// instance `face | side << 30`. A vertex turns its code into a barycentric point with its face's
+// record, evaluates the basis there (basis.wgsl) and sums the control net. Points on a coarse
+// edge are evaluated from the edge's four boundary control points in canonical direction with
+// weights from the edge's own data, the same floats on both faces. Prepended: basis.wgsl;
+// appended: adaptive_draw.wgsl (the vertex shader) or adaptive_capture.wgsl (a compute read-back
+// of the same points).
+
+struct AdaptiveParams {
+    k: u32,
+    normal_mode: u32, // 0 linear, 1 quadratic, 2 real (NormalMode order)
+    grid: u32,        // 1: grid spacing, 0: tessellator spacings
+    _pad: u32,
+    // Per edge k (corner k to k + 1): its boundary curve's control points
+    // (canonical::edge_controls), then its normal-net entries (xyz).
+    edge_controls: array<vec4<u32>, 3>,
+    edge_normals: array<vec4<u32>, 3>,
+}
+
+@group(0) @binding(0) var<storage, read> net_points: array<f32>;
+@group(0) @binding(1) var<storage, read> net_normals: array<f32>;
+@group(0) @binding(2) var<uniform> params: AdaptiveParams;
+@group(0) @binding(3) var<storage, read> records: array<u32>;
+
+const RECORD_WORDS: u32 = 24u;
+const FORWARD_WORD: u32 = 20u;
+const ONE: u32 = 65536u;
+const ONE_HALF: u32 = 32768u;
+const ONE_THIRD: u32 = 0x5555u;
+const TWO_THIRDS: u32 = 0xaaaau;
+const MODE_REAL: u32 = 2u;
+const NO_EDGE: u32 = 3u;
+
+fn net_point(face: u32, k: u32) -> vec3<f32> {
+    let i = (face * params.k + k) * 3u;
+    return vec3<f32>(net_points[i], net_points[i + 1u], net_points[i + 2u]);
+}
+
+fn net_normal(face: u32, k: u32) -> vec3<f32> {
+    let i = (face * 6u + k) * 3u;
+    return vec3<f32>(net_normals[i], net_normals[i + 1u], net_normals[i + 2u]);
+}
+
+// Points of ruler r (0..2 the outer levels in GL order, 3 the inner level) of record `rec`.
+fn ruler_points(rec: u32, r: u32) -> u32 {
+    return records[rec + 5u * r + 4u] >> 16u;
+}
+
+// tessellator::points::Ruler::place: 16.16 position of point `point` of ruler r, in the
+// reference tessellator's wrapping integer arithmetic.
+fn place(rec: u32, r: u32, point: u32) -> u32 {
+    let b = rec + 5u * r;
+    let w = records[b + 4u];
+    let half = w & 0xffu;
+    let odd = (w >> 8u) & 1u;
+    var p = point;
+    var mirrored = false;
+    if (p >= half) {
+        p = 2u * half - p - odd;
+        mirrored = true;
+    }
+    if (p == half) {
+        return ONE_HALF;
+    }
+    let on_floor = select(p, p - 1u, p > records[b + 3u]);
+    let fraction = records[b + 2u];
+    let lerp = on_floor * records[b] * (ONE - fraction) + p * records[b + 1u] * fraction;
+    let t = (lerp + ONE_HALF) >> 16u;
+    return select(t, ONE - t, mirrored);
+}
+
+// tessellator::parts::FaceRulers::locate: the 16.16 (u, v) of `code`, its side turned by
+// `side_offset`, and the edge (ours) whose inside it lies in (NO_EDGE off the coarse edges).
+fn locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32> {
+    let ring = code >> 10u;
+    var side = (((code >> 8u) & 3u) + side_offset) % 3u;
+    var i = code & 0xffu;
+    if (ring == 0u) {
+        if (i == ruler_points(rec, side) - 1u) {
+            side = (side + 1u) % 3u;
+            i = 0u;
+        }
+        let last = ruler_points(rec, side) - 1u;
+        let t = place(rec, side, select(last - i, i, side == 1u));
+        // GL's outer[k] is our edge k + 1.
+        let edge = select(NO_EDGE, (side + 1u) % 3u, i > 0u);
+        if (side == 0u) {
+            return vec3<u32>(0u, t, edge);
+        }
+        if (side == 1u) {
+            return vec3<u32>(t, 0u, edge);
+        }
+        return vec3<u32>(t, ONE - t, edge);
+    }
+    let inner_points = ruler_points(rec, 3u);
+    let len = inner_points - 2u * ring;
+    if (len == 1u) {
+        return vec3<u32>(ONE_THIRD, ONE_THIRD, NO_EDGE);
+    }
+    if (i == len - 1u) {
+        side = (side + 1u) % 3u;
+        i = 0u;
+    }
+    let end = inner_points - 1u - ring;
+    let perp = (place(rec, 3u, ring) * TWO_THIRDS + ONE_HALF) >> 16u;
+    let slide = (perp + 1u) / 2u;
+    let t = place(rec, 3u, select(end - i, ring + i, side == 1u)) - slide;
+    if (side == 0u) {
+        return vec3<u32>(perp, t, NO_EDGE);
+    }
+    if (side == 1u) {
+        return vec3<u32>(t, perp, NO_EDGE);
+    }
+    return vec3<u32>(t, ONE - t - perp, NO_EDGE);
+}
+
+// A point's weights, accumulated: basis (value, Du, Dv), normal net, and on a coarse edge the
+// canonical weights of its boundary curve and normal restriction.
+struct Weights {
+    w: array<vec3<f32>, 21>,
+    n: array<f32, 6>,
+    edge_w: vec4<f32>,
+    edge_n: vec3<f32>,
+}
+
+fn add_point(acc: ptr<function, Weights>, l: vec3<f32>, scale: f32) {
+    var w: array<vec3<f32>, 21>;
+    basis_weights(params.k, l, &w);
+    var n: array<f32, 6>;
+    normal_net_weights(l, &n);
+    for (var k = 0u; k < params.k; k++) {
+        (*acc).w[k] += scale * w[k];
+    }
+    for (var j = 0u; j < 6u; j++) {
+        (*acc).n[j] += scale * n[j];
+    }
+}
+
+// Canonical weights at (a, b): a the canonical start corner's barycentric weight.
+fn add_edge(acc: ptr<function, Weights>, a: f32, b: f32, scale: f32) {
+    (*acc).edge_w += scale * vec4<f32>(a * a * a, 3.0 * a * a * b, 3.0 * a * b * b, b * b * b);
+    (*acc).edge_n += scale * vec3<f32>(a * a, a * b, b * b);
+}
+
+fn step_point(e: u32, n: u32, s: u32) -> vec3<f32> {
+    var l = vec3<f32>(0.0);
+    l[e] = f32(n - s) / f32(n);
+    l[(e + 1u) % 3u] = f32(s) / f32(n);
+    return l;
+}
+
+// Grid point (i, j) of a face (refine::instanced::grid_point, with refine::morph's blend):
+// weights into `acc`; returns the barycentric point and its edge (NO_EDGE off the edges).
+fn grid_weights(rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, Weights>) -> vec4<f32> {
+    let big = records[rec + 3u];
+    let kk = big - i - j;
+    var e = NO_EDGE;
+    var step = 0u;
+    if (j == 0u && i != 0u && kk != 0u) {
+        e = 0u;
+        step = i;
+    } else if (kk == 0u && i != 0u && j != 0u) {
+        e = 1u;
+        step = j;
+    } else if (i == 0u && j != 0u && kk != 0u) {
+        e = 2u;
+        step = big - j;
+    }
+    if (e != NO_EDGE) {
+        let n = records[rec + e];
+        let s = (2u * step * n + big) / (2u * big);
+        if (s == 0u || s == n) {
+            // Snapped onto a corner.
+            var l = vec3<f32>(0.0);
+            l[select((e + 1u) % 3u, e, s == 0u)] = 1.0;
+            add_point(acc, l, 1.0);
+            return vec4<f32>(l, f32(NO_EDGE));
+        }
+        let l = step_point(e, n, s);
+        let alpha = bitcast<f32>(records[rec + 4u + e]);
+        let forward = ((face_forward >> e) & 1u) != 0u;
+        let sc = select(n - s, s, forward);
+        add_point(acc, l, select(1.0, alpha, alpha < 1.0));
+        add_edge(acc, f32(n - sc) / f32(n), f32(sc) / f32(n), select(1.0, alpha, alpha < 1.0));
+        if (alpha < 1.0) {
+            // refine::morph::edge_sources: the two level-(n - 1) steps around it.
+            let m = n - 1u;
+            let x = s * m;
+            let xc = sc * m;
+            for (var h = 0u; h < 2u; h++) {
+                let beta = select(f32(n - x % n), f32(x % n), h == 1u) / f32(n);
+                let beta_c = select(f32(n - xc % n), f32(xc % n), h == 1u) / f32(n);
+                let t = x / n + h;
+                let tc = xc / n + h;
+                if (beta > 0.0) {
+                    add_point(acc, step_point(e, m, t), (1.0 - alpha) * beta);
+                }
+                if (beta_c > 0.0) {
+                    add_edge(acc, f32(m - tc) / f32(m), f32(tc) / f32(m), (1.0 - alpha) * beta_c);
+                }
+            }
+        }
+        return vec4<f32>(l, f32(e));
+    }
+    let l = vec3<f32>(f32(kk), f32(i), f32(j)) / f32(big);
+    let alpha = bitcast<f32>(records[rec + 7u]);
+    let corner = (i == 0u && j == 0u) || i == big || j == big;
+    if (alpha >= 1.0 || corner) {
+        add_point(acc, l, 1.0);
+        return vec4<f32>(l, f32(NO_EDGE));
+    }
+    add_point(acc, l, alpha);
+    // refine::morph::grid_sources: the level-(big - 1) triangle holding the point.
+    let n = big;
+    let m = big - 1u;
+    let x = i * m;
+    let y = j * m;
+    let cx = x / n;
+    let cy = y / n;
+    let rx = x % n;
+    let ry = y % n;
+    var ci: array<vec2<u32>, 3>;
+    var cb: array<u32, 3>;
+    if (rx + ry <= n) {
+        ci = array<vec2<u32>, 3>(vec2<u32>(cx, cy), vec2<u32>(cx + 1u, cy), vec2<u32>(cx, cy + 1u));
+        cb = array<u32, 3>(n - rx - ry, rx, ry);
+    } else {
+        ci = array<vec2<u32>, 3>(vec2<u32>(cx + 1u, cy), vec2<u32>(cx + 1u, cy + 1u), vec2<u32>(cx, cy + 1u));
+        cb = array<u32, 3>(n - ry, rx + ry - n, n - rx);
+    }
+    for (var h = 0u; h < 3u; h++) {
+        if (cb[h] > 0u) {
+            let c = ci[h];
+            let lt = vec3<f32>(f32(m - c.x - c.y), f32(c.x), f32(c.y)) / f32(m);
+            add_point(acc, lt, (1.0 - alpha) * f32(cb[h]) / f32(n));
+        }
+    }
+    return vec4<f32>(l, f32(NO_EDGE));
+}
+
+struct AdaptivePoint {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    // Barycentric in the coarse triangle.
+    l: vec3<f32>,
+}
+
+// The point `vcode` (a point code; the top two bits are ignored) names on instance `inst`
+// (`face | side << 30`).
+fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
+    let face = inst & 0x3fffffffu;
+    let code = vcode & 0x3fffffffu;
+    let rec = face * RECORD_WORDS;
+    let face_forward = records[rec + FORWARD_WORD];
+    var acc: Weights;
+    var l: vec3<f32>;
+    var edge = NO_EDGE;
+    if (params.grid == 0u) {
+        let p = locate(rec, code, inst >> 30u);
+        let lf = vec3<u32>(p.x, p.y, ONE - p.x - p.y);
+        l = vec3<f32>(lf) / 65536.0;
+        add_point(&acc, l, 1.0);
+        edge = p.z;
+        if (edge != NO_EDGE) {
+            let forward = ((face_forward >> edge) & 1u) != 0u;
+            let a = select(ONE - lf[edge], lf[edge], forward);
+            add_edge(&acc, f32(a) / 65536.0, f32(ONE - a) / 65536.0, 1.0);
+        }
+    } else {
+        let g = grid_weights(rec, face_forward, code & 0xffu, (code >> 8u) & 0xffu, &acc);
+        l = g.xyz;
+        edge = u32(g.w);
+    }
+
+    var p = vec3<f32>(0.0);
+    var du = vec3<f32>(0.0);
+    var dv = vec3<f32>(0.0);
+    for (var k = 0u; k < params.k; k++) {
+        let c = net_point(face, k);
+        p += acc.w[k].x * c;
+        du += acc.w[k].y * c;
+        dv += acc.w[k].z * c;
+    }
+    var n = vec3<f32>(0.0);
+    if (params.normal_mode == MODE_REAL) {
+        let c = cross(du, dv);
+        if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {
+            n = c;
+        }
+    }
+    if (all(n == vec3<f32>(0.0))) {
+        for (var j = 0u; j < 6u; j++) {
+            n += acc.n[j] * net_normal(face, j);
+        }
+    }
+    if (edge != NO_EDGE) {
+        // The edge's own data in canonical order, summed in the same order on both faces.
+        let forward = ((face_forward >> edge) & 1u) != 0u;
+        let ctrl = params.edge_controls[edge];
+        var q = vec3<f32>(0.0);
+        for (var i = 0u; i < 4u; i++) {
+            q += acc.edge_w[i] * net_point(face, ctrl[select(3u - i, i, forward)]);
+        }
+        p = q;
+        if (params.normal_mode != MODE_REAL) {
+            let nc = params.edge_normals[edge];
+            var m = vec3<f32>(0.0);
+            for (var i = 0u; i < 3u; i++) {
+                m += acc.edge_n[i] * net_normal(face, nc[select(2u - i, i, forward)]);
+            }
+            if (dot(m, m) > 0.0) {
+                n = m;
+            }
+        }
+    }
+    if (dot(n, n) > 0.0) {
+        n = normalize(n);
+    } else {
+        let a = net_point(face, 0u);
+        let fn_ = cross(net_point(face, 1u) - a, net_point(face, 2u) - a);
+        n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(fn_), dot(fn_, fn_) > 0.0);
+    }
+    return AdaptivePoint(p, n, l);
+}

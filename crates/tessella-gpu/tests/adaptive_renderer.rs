@@ -1,0 +1,152 @@
+//! `AdaptiveRenderer`: levels set per frame, parts built once. Its vertex shader's points are
+//! read back (`capture`, the same WGSL in a compute pass) and compared with the CPU's adaptive
+//! refinement of the same levels, point by point, and every shared coarse-edge point is checked
+//! bit for bit between the two faces that draw it.
+
+mod common;
+
+use common::ctx;
+use std::collections::HashMap;
+use tessella_core::refine::{canonical, Levels, Plan, Spacing};
+use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Scheme};
+use tessella_gpu::{AdaptiveRenderer, CapturedTriangles, TargetFormats};
+
+const FORMATS: TargetFormats = TargetFormats {
+    color: wgpu::TextureFormat::Rgba8UnormSrgb,
+    depth: None,
+    samples: 1,
+};
+
+/// Per-edge levels in `[1, 1 + spread]`, fractional, different edge by edge.
+fn levels(edges: usize, spread: f32, seed: usize) -> Vec<f32> {
+    (0..edges)
+        .map(|e| 1.0 + ((e * 37 + seed * 13) % 71) as f32 / 70.0 * spread)
+        .collect()
+}
+
+fn capture(
+    mesh: &Mesh,
+    options: &RefineOptions,
+    spacing: Spacing,
+    lv: &[f32],
+) -> CapturedTriangles {
+    let plan = Plan::new(mesh, options).unwrap();
+    let frame = plan.frame(mesh).unwrap();
+    let mut r = AdaptiveRenderer::new(ctx(), &plan, &frame, &FORMATS, spacing).unwrap();
+    r.set_levels(lv, None).unwrap();
+    let c = r.capture().unwrap();
+    assert_eq!(c.positions.len() as u64, 3 * r.triangle_count());
+    c
+}
+
+/// Largest distance between a captured point and the CPU's point of the same face and
+/// barycentric coordinates (every captured point must have one), and how many were compared.
+fn against_cpu(mesh: &Mesh, options: &RefineOptions, spacing: Spacing, lv: &[f32]) -> (f32, usize) {
+    let cpu_options = options
+        .clone()
+        .with_spacing(spacing)
+        .with_weld(false)
+        .with_levels(Levels::PerEdge {
+            edges: lv.to_vec().into(),
+            faces: None,
+        });
+    let plan = Plan::new(mesh, &cpu_options).unwrap();
+    let out = tessella_core::refine(mesh, &cpu_options).unwrap();
+    let (faces, bary) = plan.origin();
+    let key = |f: u32, l: [f32; 3]| (f, l.map(f32::to_bits));
+    let cpu: HashMap<_, _> = (0..faces.len())
+        .map(|i| (key(faces[i], bary[i]), out.positions[i]))
+        .collect();
+    let c = capture(mesh, options, spacing, lv);
+    let mut worst = 0.0f32;
+    for (i, (&p, &l)) in c.positions.iter().zip(&c.barycentric).enumerate() {
+        let f = c.faces[i / 3];
+        let q = cpu
+            .get(&key(f, l))
+            .unwrap_or_else(|| panic!("{spacing:?}: face {f} point {l:?} is not the CPU's"));
+        worst = worst.max(common::dist(p, *q));
+    }
+    (worst, c.positions.len())
+}
+
+#[test]
+fn the_renderer_draws_the_cpus_points() {
+    for (mesh, scheme, normals) in [
+        (samples::icosphere(1), Scheme::Pn, NormalMode::Quadratic),
+        (samples::creature(), Scheme::Pn, NormalMode::Real),
+        (samples::icosphere(1), Scheme::Png1, NormalMode::Quadratic),
+        (
+            samples::torus(1.0, 0.4, 10, 6),
+            Scheme::PHONG,
+            NormalMode::Linear,
+        ),
+    ] {
+        let options = RefineOptions::new(scheme, 1).with_normals(normals);
+        let edges = Plan::new(&mesh, &options).unwrap().topology().edges.len();
+        let diag = mesh.diagonal();
+        for spacing in Spacing::ALL {
+            for (seed, spread) in [(1, 6.0), (2, 13.0)] {
+                let lv = levels(edges, spread, seed);
+                let (worst, n) = against_cpu(&mesh, &options, spacing, &lv);
+                assert!(n > 1000);
+                assert!(
+                    worst <= 2e-6 * diag,
+                    "{} {spacing:?}: a point {worst} from the CPU's",
+                    scheme.name()
+                );
+            }
+        }
+    }
+}
+
+/// A drawn point's position and normal bits, and its face.
+type Drawn = ([u32; 3], [u32; 3], u32);
+
+#[test]
+fn shared_edge_points_are_bit_identical_from_both_faces() {
+    let mesh = samples::icosphere(1);
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 7)).unwrap();
+    let topology = plan.topology();
+    let ids = &topology.position_ids;
+    for spacing in Spacing::ALL {
+        let lv = levels(topology.edges.len(), 9.0, 3);
+        let c = capture(&mesh, &RefineOptions::new(Scheme::Pn, 1), spacing, &lv);
+        // Edge points by unique edge and canonical parameter: all copies must agree.
+        let mut seen: HashMap<(u32, u32), Drawn> = HashMap::new();
+        let (mut shared, mut differ) = (0, 0);
+        for (i, (&p, &l)) in c.positions.iter().zip(&c.barycentric).enumerate() {
+            let f = c.faces[i / 3] as usize;
+            let t = mesh.triangles()[f];
+            for k in 0..3 {
+                let (a, b) = (l[k], l[(k + 1) % 3]);
+                if l[(k + 2) % 3] != 0.0 || a == 0.0 || b == 0.0 {
+                    continue;
+                }
+                let w = if canonical::forward(t, k, ids) { a } else { b };
+                let e = topology.face_edges[f][k];
+                let bits = (
+                    p.map(f32::to_bits),
+                    c.normals[i].map(f32::to_bits),
+                    f as u32,
+                );
+                match seen.get(&(e, w.to_bits())) {
+                    None => {
+                        seen.insert((e, w.to_bits()), bits);
+                    }
+                    Some(&(q, n, g)) if g != f as u32 => {
+                        shared += 1;
+                        if (q, n) != (bits.0, bits.1) {
+                            differ += 1;
+                        }
+                    }
+                    Some(_) => {}
+                }
+            }
+        }
+        assert!(shared > 1000, "{spacing:?}: {shared} shared points");
+        assert_eq!(
+            differ, 0,
+            "{spacing:?}: {differ} of {shared} shared points differ"
+        );
+    }
+}
