@@ -1,13 +1,14 @@
 //! A deforming coarse mesh rendered with the pattern: one [`Plan`] for the whole animation;
 //! per frame [`Plan::update`] rebuilds the control nets (O(coarse triangles)) and
 //! [`PatternRenderer::update`] uploads them (GMR section 3.1), never a refined vertex buffer.
+//! The fly-in changes the levels every frame instead, drawn by one [`AdaptiveRenderer`].
 
 use crate::render::{scene_uniforms, RenderOptions, Target};
 use crate::save_png;
 use std::path::{Path, PathBuf};
 use tessella_core::refine::Plan;
 use tessella_core::{Mesh, OutputLayout, RefineOptions};
-use tessella_gpu::{GpuContext, GpuError, PatternRenderer};
+use tessella_gpu::{AdaptiveRenderer, GpuContext, GpuError, PatternRenderer};
 
 /// What an animation cost on the bus.
 #[derive(Debug, Clone, PartialEq)]
@@ -108,12 +109,13 @@ pub fn render_twist(
 /// What a fly-in rendered.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlyInStats {
-    /// Per frame: the camera's zoom, the largest segment count of any edge, the refined
-    /// triangle count, and the bytes uploaded for the new plan's tiles (once per plan).
+    /// Per frame: the camera's zoom, the largest edge level, the refined triangle count, and
+    /// the bytes uploaded for its levels (one record per face and one instance per face and
+    /// part: coarse data, whatever the levels).
     pub zooms: Vec<f32>,
-    pub max_levels: Vec<u32>,
+    pub max_levels: Vec<f32>,
     pub triangles: Vec<u64>,
-    pub plan_bytes: Vec<u64>,
+    pub upload_bytes: Vec<u64>,
     /// The frames written, in order.
     pub paths: Vec<PathBuf>,
 }
@@ -122,9 +124,10 @@ pub struct FlyInStats {
 /// `zoom.1` (geometrically, the eye's distance shrinking by the same factor every frame),
 /// with view-dependent levels: `refine`'s spacing (fractional-odd or fractional-even make
 /// levels, and so points, move continuously) and `Lod::Screen` at `pixels` per refined edge
-/// seen from each frame's own camera. The levels change every frame, so every frame is a new
-/// plan: its tiles' stencils are uploaded once, then the frame is drawn. Frames go to
-/// `out_dir/frame_000.png`, ...; `options.zoom` is ignored.
+/// seen from each frame's own camera. The levels change every frame; one
+/// [`AdaptiveRenderer`] draws them all, uploading only per-face level data per frame. Frames go
+/// to `out_dir/frame_000.png`, ...; `options.zoom` is ignored, and displacement is refused (the
+/// adaptive renderer draws none).
 #[allow(clippy::too_many_arguments)]
 pub fn render_fly_in(
     ctx: &GpuContext,
@@ -136,7 +139,7 @@ pub fn render_fly_in(
     pixels: f32,
     out_dir: &Path,
 ) -> Result<FlyInStats, GpuError> {
-    use tessella_core::refine::{Levels, Lod};
+    use tessella_core::refine::{lod, Lod};
     if frames == 0 {
         return Err(GpuError::BadOption(
             "an animation needs at least one frame".into(),
@@ -148,13 +151,28 @@ pub fn render_fly_in(
             zoom.0, zoom.1
         )));
     }
+    if options.displacement != tessella_gpu::Displacement::None {
+        return Err(GpuError::BadOption(
+            "the fly-in's adaptive renderer draws no displacement".into(),
+        ));
+    }
     options.validate()?;
     let target = Target::new(ctx, options.size)?;
+    let plan = Plan::new(
+        mesh,
+        &RefineOptions {
+            levels: None,
+            level: 1,
+            ..refine.clone()
+        },
+    )?;
+    let frame = plan.frame(mesh)?;
+    let mut renderer = AdaptiveRenderer::new(ctx, &plan, &frame, &Target::FORMATS, refine.spacing)?;
     let mut stats = FlyInStats {
         zooms: Vec::new(),
         max_levels: Vec::new(),
         triangles: Vec::new(),
-        plan_bytes: Vec::new(),
+        upload_bytes: Vec::new(),
         paths: Vec::new(),
     };
     for k in 0..frames {
@@ -168,16 +186,14 @@ pub fn render_fly_in(
             ..options.clone()
         };
         let (w, h) = view.size;
-        let levels = Levels::Lod(Lod::Screen {
+        let screen = Lod::Screen {
             pixels,
             camera: crate::lod_camera(mesh, &view),
             size: [w, h],
-        });
-        let plan = Plan::new(mesh, &refine.clone().with_levels(levels))?;
-        let frame = plan.frame(mesh)?;
-        let renderer =
-            PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &view.displacement)?;
-        renderer.set_uniforms(&scene_uniforms(mesh, &view, renderer.displacement_reach()));
+        };
+        let (edges, faces) = lod::levels(mesh, plan.topology(), frame.nets(), &screen)?;
+        let bytes = renderer.set_levels(&edges, faces.as_deref())?;
+        renderer.set_uniforms(&scene_uniforms(mesh, &view, 0.0));
         target.draw(ctx, view.background, |pass| renderer.draw(pass))?;
         let picture = target.read(ctx)?;
         let path = out_dir.join(format!("frame_{k:03}.png"));
@@ -185,9 +201,9 @@ pub fn render_fly_in(
         stats.zooms.push(view.zoom);
         stats
             .max_levels
-            .push(plan.tiling().map_or(plan.layout().level, |t| t.max_level()));
-        stats.triangles.push(plan.triangle_count() as u64);
-        stats.plan_bytes.push(renderer.byte_size());
+            .push(edges.iter().copied().fold(1.0, f32::max));
+        stats.triangles.push(renderer.triangle_count());
+        stats.upload_bytes.push(bytes);
         stats.paths.push(path);
     }
     Ok(stats)

@@ -8,7 +8,8 @@ use std::time::Instant;
 use tessella_core::refine::{Evaluator, Plan};
 use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
 use tessella_gpu::{
-    gpu_refine, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput, PatternRenderer,
+    gpu_refine, AdaptiveRenderer, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput,
+    PatternRenderer,
 };
 
 /// One row of [`refine_throughput`].
@@ -361,4 +362,138 @@ pub fn mixed_pattern_frame_times(
         out.push((ms, plan.triangle_count(), renderer.draw_count()));
     }
     Ok((out[0].0, out[1].0, out[0].1, out[1].1, out[1].2))
+}
+
+/// One row of [`changing_levels`]: per frame when the levels change every frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChangingLevelsRow {
+    pub adapter: String,
+    pub spacing: String,
+    pub faces: usize,
+    /// Median refined triangles per frame.
+    pub triangles: u64,
+    /// A new plan and `PatternRenderer` per frame, then the draw: median ms, and the median
+    /// bytes the new renderer uploads (its tiles' stencils and patterns, the nets).
+    pub rebuild_ms: f64,
+    pub rebuild_bytes: u64,
+    /// One `AdaptiveRenderer`: `set_levels` then the draw: median ms and bytes uploaded.
+    pub adaptive_ms: f64,
+    pub adaptive_bytes: u64,
+    /// The draw alone, levels fixed: `PatternRenderer` (stencil rows) and `AdaptiveRenderer`
+    /// (points placed and the basis evaluated in the vertex shader).
+    pub pattern_draw_ms: f64,
+    pub adaptive_draw_ms: f64,
+}
+
+/// Per-edge levels in `[1, top]` that differ edge by edge and move with `frame`.
+fn moving_levels(edges: usize, top: f32, frame: u32) -> Vec<f32> {
+    (0..edges)
+        .map(|e| 1.0 + ((e * 37 + frame as usize * 11) % 101) as f32 / 100.0 * (top - 1.0))
+        .collect()
+}
+
+/// What a frame costs when the levels change every frame (a camera flying, a LOD updating):
+/// rebuilding the adaptive plan and its renderer each frame against one [`AdaptiveRenderer`]
+/// fed new levels; and, levels fixed, the draw of each (PN, per-edge levels up to `top`).
+pub fn changing_levels(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    top: f32,
+    frames: u32,
+    size: (u32, u32),
+) -> Result<Vec<ChangingLevelsRow>, GpuError> {
+    use tessella_core::refine::{Levels, Spacing};
+    let options = RenderOptions {
+        size,
+        ..Default::default()
+    };
+    let target = Target::new(ctx, size)?;
+    let uniforms = scene_uniforms(mesh, &options, 0.0);
+    let base = Plan::new(mesh, &RefineOptions::new(Scheme::Pn, 1))?;
+    let first = base.frame(mesh)?;
+    let edges = base.topology().edges.len();
+    let frames = frames.max(1);
+    let mut rows = Vec::new();
+    for spacing in [Spacing::Grid, Spacing::FractionalOdd] {
+        let options_at = |k| {
+            RefineOptions::new(Scheme::Pn, 1)
+                .with_spacing(spacing)
+                .with_levels(Levels::PerEdge {
+                    edges: moving_levels(edges, top, k).into(),
+                    faces: None,
+                })
+        };
+        let draw = |r: &dyn Fn(&mut wgpu::RenderPass<'_>)| target.draw(ctx, options.background, r);
+        let (mut rebuild_ms, mut rebuild_bytes, mut triangles) = (vec![], vec![], vec![]);
+        let mut last = None;
+        for k in 0..=frames {
+            let t = Instant::now();
+            let plan = Plan::new(mesh, &options_at(k))?;
+            let frame = plan.frame(mesh)?;
+            let renderer =
+                PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
+            renderer.set_uniforms(&uniforms);
+            draw(&|pass| renderer.draw(pass))?;
+            // Frame 0 warms up.
+            if k > 0 {
+                rebuild_ms.push(t.elapsed().as_secs_f64() * 1e3);
+                rebuild_bytes.push(renderer.byte_size() as f64);
+                triangles.push(plan.triangle_count() as f64);
+            }
+            last = Some(renderer);
+        }
+        let mut adaptive = AdaptiveRenderer::new(ctx, &base, &first, &Target::FORMATS, spacing)?;
+        adaptive.set_uniforms(&uniforms);
+        let (mut adaptive_ms, mut adaptive_bytes) = (vec![], vec![]);
+        for k in 0..=frames {
+            let t = Instant::now();
+            let bytes = adaptive.set_levels(&moving_levels(edges, top, k), None)?;
+            draw(&|pass| adaptive.draw(pass))?;
+            if k > 0 {
+                adaptive_ms.push(t.elapsed().as_secs_f64() * 1e3);
+                adaptive_bytes.push(bytes as f64);
+            }
+        }
+        // The last frame's levels, drawn again by both.
+        let pattern = last.expect("at least one frame");
+        let pattern_draw_ms = time_frames(frames, || draw(&|pass| pattern.draw(pass)))?;
+        let adaptive_draw_ms = time_frames(frames, || draw(&|pass| adaptive.draw(pass)))?;
+        rows.push(ChangingLevelsRow {
+            adapter: ctx.adapter_label(),
+            spacing: spacing.name().to_string(),
+            faces: mesh.face_count(),
+            triangles: median(&mut triangles) as u64,
+            rebuild_ms: median(&mut rebuild_ms),
+            rebuild_bytes: median(&mut rebuild_bytes) as u64,
+            adaptive_ms: median(&mut adaptive_ms),
+            adaptive_bytes: median(&mut adaptive_bytes) as u64,
+            pattern_draw_ms,
+            adaptive_draw_ms,
+        });
+    }
+    Ok(rows)
+}
+
+/// Markdown table of [`changing_levels`] rows.
+pub fn changing_levels_table(rows: &[ChangingLevelsRow]) -> String {
+    let mut s = String::from(
+        "| adapter | spacing | coarse triangles | triangles | rebuild ms | rebuild bytes | adaptive ms | adaptive bytes | speed-up | draw ms: pattern / adaptive |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        s += &format!(
+            "| {} | {} | {} | {} | {:.2} | {} | {:.2} | {} | {:.1}x | {:.2} / {:.2} |\n",
+            r.adapter,
+            r.spacing,
+            r.faces,
+            r.triangles,
+            r.rebuild_ms,
+            r.rebuild_bytes,
+            r.adaptive_ms,
+            r.adaptive_bytes,
+            r.rebuild_ms / r.adaptive_ms,
+            r.pattern_draw_ms,
+            r.adaptive_draw_ms
+        );
+    }
+    s
 }

@@ -70,3 +70,22 @@ fn mixed_patterns_are_timed_against_one_uniform_pattern() {
     assert!(u > 0.0 && m > 0.0);
     assert!(draws > 1);
 }
+
+#[test]
+fn changing_levels_are_timed_rebuilt_and_adaptive() {
+    let ctx = tessella_gpu::GpuContext::new(tessella_gpu::AdapterChoice::Software).unwrap();
+    let mesh = tessella_core::samples::icosphere(1);
+    let rows = tessella_view::bench::changing_levels(&ctx, &mesh, 9.0, 3, (128, 128)).unwrap();
+    let table = tessella_view::bench::changing_levels_table(&rows);
+    println!("{table}");
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert!(r.triangles > mesh.face_count() as u64 * 4, "{r:?}");
+        assert!(r.rebuild_ms > 0.0 && r.adaptive_ms > 0.0 && r.adaptive_draw_ms > 0.0);
+        // The adaptive renderer uploads coarse data only: at most 112 bytes per face, while
+        // a rebuilt renderer uploads its patterns and stencils again.
+        assert!(r.adaptive_bytes <= 112 * mesh.face_count() as u64, "{r:?}");
+        assert!(r.rebuild_bytes > 10 * r.adaptive_bytes, "{r:?}");
+    }
+    assert!(table.contains("| fractional-odd |"));
+}

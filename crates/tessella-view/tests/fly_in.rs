@@ -40,6 +40,18 @@ fn a_fly_in_changes_smoothly_and_refines_more_and_more() {
     for w in stats.triangles.windows(2) {
         assert!(w[1] >= w[0], "triangle counts fall: {:?}", stats.triangles);
     }
+    // Every frame uploads the same coarse data for its levels: a record per face and an
+    // instance per face and part, at most 112 bytes per face.
+    let faces = mesh.face_count() as u64;
+    assert!(stats
+        .upload_bytes
+        .iter()
+        .all(|&b| b == stats.upload_bytes[0]));
+    assert!(
+        stats.upload_bytes[0] <= 112 * faces,
+        "{:?}",
+        stats.upload_bytes
+    );
     let (first, last) = (stats.triangles[0], *stats.triangles.last().unwrap());
     assert!(last > 3 * first, "triangles {first} -> {last}");
     let pictures: Vec<RgbaImage> = stats

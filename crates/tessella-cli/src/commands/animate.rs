@@ -36,13 +36,14 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
             &args.output,
         )?;
         println!(
-            "{} frames in {}: zoom {:.2} -> {:.2}, largest level {} -> {}, triangles {}",
+            "{} frames in {}: zoom {:.2} -> {:.2}, largest level {:.1} -> {:.1}, {} bytes of levels uploaded per frame, triangles {}",
             args.frames,
             args.output.display(),
             stats.zooms[0],
             stats.zooms.last().copied().unwrap_or_default(),
             stats.max_levels[0],
             stats.max_levels.last().copied().unwrap_or_default(),
+            stats.upload_bytes.iter().max().copied().unwrap_or_default(),
             stats
                 .triangles
                 .iter()

@@ -284,5 +284,10 @@ fn gpu_tables(mesh: &Mesh, args: &BenchArgs) -> anyhow::Result<()> {
         (512, 512),
     )?;
     print!("{}", bench::scheme_table(&rows));
+    println!();
+    println!("Levels that change every frame (PN, per-edge levels 1..24 moving each frame): a new plan and renderer per frame against one AdaptiveRenderer; then the draw alone, adapter: {label}");
+    println!();
+    let rows = bench::changing_levels(&ctx, &samples::icosphere(2), 24.0, 8, (512, 512))?;
+    print!("{}", bench::changing_levels_table(&rows));
     Ok(())
 }
