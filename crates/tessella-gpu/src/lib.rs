@@ -22,6 +22,8 @@
 //!   [`tessella_core::Refiner::refine`].
 //! - **Renderer:** [`PatternRenderer`] draws one instanced pattern per coarse triangle (GMR
 //!   section 3.2) into the caller's render pass; per frame only the nets are uploaded.
+//!   [`AdaptiveRenderer`] draws per-edge levels that change every frame: the patterns' parts
+//!   are uploaded once (`tessella_core::refine::instanced`), per frame one record per face.
 //! - **Displacement:** [`tessella_core::displace`]'s [`Displacement`] (sine, Perlin, height
 //!   map; re-exported here because [`GpuRefineOptions`] and [`PatternRenderer`] take it) in
 //!   both GPU paths (`shaders/displace.wgsl`), with the core's direction rule: hard edges and
@@ -48,7 +50,10 @@
 //!
 //! ## Shaders
 //! `shaders/eval.wgsl` (patch evaluation) and `shaders/displace.wgsl` (displacement) are
-//! prepended to `shaders/refine.wgsl` (compute) and `shaders/render.wgsl` (vertex/fragment).
+//! prepended to `shaders/refine.wgsl` (compute) and `shaders/shade.wgsl` + `shaders/render.wgsl`
+//! (vertex/fragment). The adaptive renderer's are `shaders/basis.wgsl` (basis weights at any
+//! point) + `shaders/adaptive.wgsl` (points from level records), then `shaders/shade.wgsl` +
+//! `shaders/adaptive_draw.wgsl`, or `shaders/adaptive_capture.wgsl` for the read-back.
 //! Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
 //! `displace.wgsl`'s Rust twin is `tessella_core::displace`. The tests tie each pair together by
 //! comparing GPU and CPU outputs.
