@@ -51,6 +51,9 @@ pub struct Block {
     pub dv: Vec<f32>,
     /// Weights of the six control normals, `normal[k * stride + i]`.
     pub normal: Vec<f32>,
+    /// Each point's barycentric `l` (the rows' last three floats), contiguous, for texture
+    /// coordinates.
+    pub barycentric: Vec<[f32; 3]>,
 }
 
 impl Block {
@@ -73,6 +76,13 @@ impl Block {
             du: column(k, k),
             dv: column(2 * k, k),
             normal: column(3 * k, NORMAL_NET_LEN),
+            barycentric: points
+                .iter()
+                .map(|&p| {
+                    let end = (p as usize + 1) * row_len;
+                    [rows[end - 3], rows[end - 2], rows[end - 1]]
+                })
+                .collect(),
             points,
         }
     }

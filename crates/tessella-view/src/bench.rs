@@ -376,9 +376,13 @@ pub struct ChangingLevelsRow {
     /// bytes the new renderer uploads (its tiles' stencils and patterns, the nets).
     pub rebuild_ms: f64,
     pub rebuild_bytes: u64,
+    /// Of which the new plan and renderer, before the draw.
+    pub rebuild_setup_ms: f64,
     /// One `AdaptiveRenderer`: `set_levels` then the draw: median ms and bytes uploaded.
     pub adaptive_ms: f64,
     pub adaptive_bytes: u64,
+    /// Of which `set_levels`.
+    pub set_levels_ms: f64,
     /// The draw alone, levels fixed: `PatternRenderer` (stencil rows) and `AdaptiveRenderer`
     /// (points placed and the basis evaluated in the vertex shader).
     pub pattern_draw_ms: f64,
@@ -425,6 +429,7 @@ pub fn changing_levels(
         };
         let draw = |r: &dyn Fn(&mut wgpu::RenderPass<'_>)| target.draw(ctx, options.background, r);
         let (mut rebuild_ms, mut rebuild_bytes, mut triangles) = (vec![], vec![], vec![]);
+        let (mut rebuild_setup_ms, mut set_levels_ms) = (vec![], vec![]);
         let mut last = None;
         for k in 0..=frames {
             let t = Instant::now();
@@ -433,9 +438,11 @@ pub fn changing_levels(
             let renderer =
                 PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
             renderer.set_uniforms(&uniforms);
+            let setup = t.elapsed().as_secs_f64() * 1e3;
             draw(&|pass| renderer.draw(pass))?;
             // Frame 0 warms up.
             if k > 0 {
+                rebuild_setup_ms.push(setup);
                 rebuild_ms.push(t.elapsed().as_secs_f64() * 1e3);
                 rebuild_bytes.push(renderer.byte_size() as f64);
                 triangles.push(plan.triangle_count() as f64);
@@ -448,8 +455,10 @@ pub fn changing_levels(
         for k in 0..=frames {
             let t = Instant::now();
             let bytes = adaptive.set_levels(&moving_levels(edges, top, k), None)?;
+            let setup = t.elapsed().as_secs_f64() * 1e3;
             draw(&|pass| adaptive.draw(pass))?;
             if k > 0 {
+                set_levels_ms.push(setup);
                 adaptive_ms.push(t.elapsed().as_secs_f64() * 1e3);
                 adaptive_bytes.push(bytes as f64);
             }
@@ -465,8 +474,10 @@ pub fn changing_levels(
             triangles: median(&mut triangles) as u64,
             rebuild_ms: median(&mut rebuild_ms),
             rebuild_bytes: median(&mut rebuild_bytes) as u64,
+            rebuild_setup_ms: median(&mut rebuild_setup_ms),
             adaptive_ms: median(&mut adaptive_ms),
             adaptive_bytes: median(&mut adaptive_bytes) as u64,
+            set_levels_ms: median(&mut set_levels_ms),
             pattern_draw_ms,
             adaptive_draw_ms,
         });
@@ -477,20 +488,23 @@ pub fn changing_levels(
 /// Markdown table of [`changing_levels`] rows.
 pub fn changing_levels_table(rows: &[ChangingLevelsRow]) -> String {
     let mut s = String::from(
-        "| adapter | spacing | coarse triangles | triangles | rebuild ms | rebuild bytes | adaptive ms | adaptive bytes | speed-up | draw ms: pattern / adaptive |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| adapter | spacing | coarse triangles | triangles | rebuild: frame ms (new plan + renderer) | bytes uploaded | adaptive: frame ms (set_levels) | bytes uploaded | frame speed-up | levels speed-up | draw ms: pattern / adaptive |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         s += &format!(
-            "| {} | {} | {} | {} | {:.2} | {} | {:.2} | {} | {:.1}x | {:.2} / {:.2} |\n",
+            "| {} | {} | {} | {} | {:.2} ({:.2}) | {} | {:.2} ({:.3}) | {} | {:.1}x | {:.0}x | {:.2} / {:.2} |\n",
             r.adapter,
             r.spacing,
             r.faces,
             r.triangles,
             r.rebuild_ms,
+            r.rebuild_setup_ms,
             r.rebuild_bytes,
             r.adaptive_ms,
+            r.set_levels_ms,
             r.adaptive_bytes,
             r.rebuild_ms / r.adaptive_ms,
+            r.rebuild_setup_ms / r.set_levels_ms,
             r.pattern_draw_ms,
             r.adaptive_draw_ms
         );

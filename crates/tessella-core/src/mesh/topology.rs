@@ -8,7 +8,10 @@
 //!   non-manifold edges, split normals.
 
 use super::Mesh;
-use std::collections::HashMap;
+use rayon::prelude::*;
+// FxHash: the keys are vertex indices and position bits of the caller's own mesh, so a fast
+// non-cryptographic hash is safe here (SipHash cost a tenth of a one-shot refinement).
+use rustc_hash::FxHashMap as HashMap;
 
 /// Marks "no neighbour" in [`Topology::neighbors`].
 pub const NO_NEIGHBOR: u32 = u32::MAX;
@@ -68,7 +71,8 @@ impl TopologyReport {
 
 /// For each vertex, the lowest vertex index with bit-identical position (`-0.0` equals `0.0`).
 pub fn position_ids(positions: &[[f32; 3]]) -> Vec<u32> {
-    let mut first: HashMap<[u32; 3], u32> = HashMap::with_capacity(positions.len());
+    let mut first: HashMap<[u32; 3], u32> =
+        HashMap::with_capacity_and_hasher(positions.len(), Default::default());
     positions
         .iter()
         .enumerate()
@@ -82,16 +86,23 @@ pub fn position_ids(positions: &[[f32; 3]]) -> Vec<u32> {
 
 /// Groups the faces' local edges by a key `(lo, hi)`: returns, sorted by key, the runs of
 /// `(lo, hi, face, local edge, forward)` that share a key.
-fn edge_runs(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32) -> Vec<(u32, u32, u32, u8, bool)> {
-    let mut half: Vec<(u32, u32, u32, u8, bool)> = Vec::with_capacity(triangles.len() * 3);
-    for (f, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
-            half.push((a.min(b), a.max(b), f as u32, k as u8, a < b));
-        }
-    }
+fn edge_runs(
+    triangles: &[[u32; 3]],
+    key: impl Fn(u32) -> u32 + Sync + Send,
+) -> Vec<(u32, u32, u32, u8, bool)> {
+    let mut half: Vec<(u32, u32, u32, u8, bool)> = triangles
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(f, t)| {
+            let key = &key;
+            (0..3).map(move |k| {
+                let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+                (a.min(b), a.max(b), f as u32, k as u8, a < b)
+            })
+        })
+        .collect();
     // Stable order inside a run (by face, then local edge) makes the owner the first face.
-    half.sort_unstable();
+    half.par_sort_unstable();
     half
 }
 
@@ -167,7 +178,7 @@ impl Topology {
             }
         }
         report.unreferenced_vertices = used.iter().filter(|u| !**u).count();
-        let mut first_normal: HashMap<u32, ([f32; 3], bool)> = HashMap::new();
+        let mut first_normal: HashMap<u32, ([f32; 3], bool)> = HashMap::default();
         for v in (0..nv).filter(|&v| used[v]) {
             let n = mesh.normals()[v];
             let entry = first_normal.entry(position_ids[v]).or_insert((n, false));

@@ -399,10 +399,10 @@ fn eval_block_body<const K: usize>(
     }
 }
 
-/// Barycentric interpolation of the face's UVs at the row's `l`.
+/// Barycentric interpolation of the face's UVs at `l` (a block's contiguous `barycentric`, not
+/// the strided stencil rows).
 #[inline(always)]
-fn interpolate_uv(row: &[f32], uv: &[[f32; 2]; 3]) -> [f32; 2] {
-    let l = &row[row.len() - 3..];
+fn interpolate_uv(l: [f32; 3], uv: &[[f32; 2]; 3]) -> [f32; 2] {
     [
         l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0],
         l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1],
@@ -533,13 +533,10 @@ impl Job<'_> {
                             !forward,
                         );
                         if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
+                            let l = &self.stencil.blocks.edges[k].barycentric;
                             for s in 0..m {
-                                let p = self.stencil.edge_points[k]
-                                    [if forward { s } else { m - 1 - s }];
-                                sink.set_uv(
-                                    le * m + s,
-                                    interpolate_uv(self.stencil.row(p as usize), &face_uv),
-                                );
+                                let i = if forward { s } else { m - 1 - s };
+                                sink.set_uv(le * m + s, interpolate_uv(l[i], &face_uv));
                             }
                         }
                     }
@@ -561,11 +558,8 @@ impl Job<'_> {
                     let f = task * FACES_PER_TASK + lf;
                     self.block::<K>(&self.stencil.blocks.interior, f, &mut sink, lf * ni, false);
                     if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
-                        for (i, &p) in self.stencil.interior_points.iter().enumerate() {
-                            sink.set_uv(
-                                lf * ni + i,
-                                interpolate_uv(self.stencil.row(p as usize), &face_uv),
-                            );
+                        for (i, &l) in self.stencil.blocks.interior.barycentric.iter().enumerate() {
+                            sink.set_uv(lf * ni + i, interpolate_uv(l, &face_uv));
                         }
                     }
                 }
@@ -625,8 +619,8 @@ impl Job<'_> {
                     }
                     self.canonical_edges(f, &edge_weights, &mut sink, base);
                     if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
-                        for p in 0..np {
-                            sink.set_uv(base + p, interpolate_uv(self.stencil.row(p), &face_uv));
+                        for (p, &l) in self.stencil.blocks.all.barycentric.iter().enumerate() {
+                            sink.set_uv(base + p, interpolate_uv(l, &face_uv));
                         }
                     }
                 }

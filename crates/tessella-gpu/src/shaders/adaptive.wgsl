@@ -116,30 +116,51 @@ fn locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32> {
     return vec3<u32>(t, ONE - t - perp, NO_EDGE);
 }
 
-// A point's weights, accumulated: basis (value, Du, Dv), normal net, and on a coarse edge the
-// canonical weights of its boundary curve and normal restriction.
-struct Weights {
-    w: array<vec3<f32>, 21>,
-    n: array<f32, 6>,
+// A point's surface, accumulated (geomorphing blends several): position, Du, Dv and the normal
+// net's sum; on a coarse edge also the canonical weights of its boundary curve and normal
+// restriction.
+struct Sums {
+    p: vec3<f32>,
+    du: vec3<f32>,
+    dv: vec3<f32>,
+    n: vec3<f32>,
     edge_w: vec4<f32>,
     edge_n: vec3<f32>,
 }
 
-fn add_point(acc: ptr<function, Weights>, l: vec3<f32>, scale: f32) {
-    var w: array<vec3<f32>, 21>;
-    basis_weights(params.k, l, &w);
-    var n: array<f32, 6>;
-    normal_net_weights(l, &n);
-    for (var k = 0u; k < params.k; k++) {
-        (*acc).w[k] += scale * w[k];
+fn add_term(acc: ptr<function, Sums>, w: vec3<f32>, c: vec3<f32>) {
+    (*acc).p += w.x * c;
+    (*acc).du += w.y * c;
+    (*acc).dv += w.z * c;
+}
+
+// Adds `scale` times the surface of `face` at `l`.
+fn add_point(acc: ptr<function, Sums>, face: u32, l: vec3<f32>, scale: f32) {
+    var s: Sums;
+    if (params.k == PNG1_K) {
+        var w: array<vec3<f32>, 21>;
+        png1_weights(l, &w);
+        for (var k = 0u; k < PNG1_K; k++) {
+            add_term(&s, w[k], net_point(face, k));
+        }
+    } else {
+        let w = cubic_weights(l);
+        for (var k = 0u; k < 10u; k++) {
+            add_term(&s, w[k], net_point(face, k));
+        }
     }
+    let nw = normal_net_weights(l);
     for (var j = 0u; j < 6u; j++) {
-        (*acc).n[j] += scale * n[j];
+        s.n += nw[j] * net_normal(face, j);
     }
+    (*acc).p += scale * s.p;
+    (*acc).du += scale * s.du;
+    (*acc).dv += scale * s.dv;
+    (*acc).n += scale * s.n;
 }
 
 // Canonical weights at (a, b): a the canonical start corner's barycentric weight.
-fn add_edge(acc: ptr<function, Weights>, a: f32, b: f32, scale: f32) {
+fn add_edge(acc: ptr<function, Sums>, a: f32, b: f32, scale: f32) {
     (*acc).edge_w += scale * vec4<f32>(a * a * a, 3.0 * a * a * b, 3.0 * a * b * b, b * b * b);
     (*acc).edge_n += scale * vec3<f32>(a * a, a * b, b * b);
 }
@@ -152,8 +173,8 @@ fn step_point(e: u32, n: u32, s: u32) -> vec3<f32> {
 }
 
 // Grid point (i, j) of a face (refine::instanced::grid_point, with refine::morph's blend):
-// weights into `acc`; returns the barycentric point and its edge (NO_EDGE off the edges).
-fn grid_weights(rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, Weights>) -> vec4<f32> {
+// its surface into `acc`; returns the barycentric point and its edge (NO_EDGE off the edges).
+fn grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, Sums>) -> vec4<f32> {
     let big = records[rec + 3u];
     let kk = big - i - j;
     var e = NO_EDGE;
@@ -175,14 +196,14 @@ fn grid_weights(rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, 
             // Snapped onto a corner.
             var l = vec3<f32>(0.0);
             l[select((e + 1u) % 3u, e, s == 0u)] = 1.0;
-            add_point(acc, l, 1.0);
+            add_point(acc, face, l, 1.0);
             return vec4<f32>(l, f32(NO_EDGE));
         }
         let l = step_point(e, n, s);
         let alpha = bitcast<f32>(records[rec + 4u + e]);
         let forward = ((face_forward >> e) & 1u) != 0u;
         let sc = select(n - s, s, forward);
-        add_point(acc, l, select(1.0, alpha, alpha < 1.0));
+        add_point(acc, face, l, select(1.0, alpha, alpha < 1.0));
         add_edge(acc, f32(n - sc) / f32(n), f32(sc) / f32(n), select(1.0, alpha, alpha < 1.0));
         if (alpha < 1.0) {
             // refine::morph::edge_sources: the two level-(n - 1) steps around it.
@@ -195,7 +216,7 @@ fn grid_weights(rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, 
                 let t = x / n + h;
                 let tc = xc / n + h;
                 if (beta > 0.0) {
-                    add_point(acc, step_point(e, m, t), (1.0 - alpha) * beta);
+                    add_point(acc, face, step_point(e, m, t), (1.0 - alpha) * beta);
                 }
                 if (beta_c > 0.0) {
                     add_edge(acc, f32(m - tc) / f32(m), f32(tc) / f32(m), (1.0 - alpha) * beta_c);
@@ -208,10 +229,10 @@ fn grid_weights(rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, 
     let alpha = bitcast<f32>(records[rec + 7u]);
     let corner = (i == 0u && j == 0u) || i == big || j == big;
     if (alpha >= 1.0 || corner) {
-        add_point(acc, l, 1.0);
+        add_point(acc, face, l, 1.0);
         return vec4<f32>(l, f32(NO_EDGE));
     }
-    add_point(acc, l, alpha);
+    add_point(acc, face, l, alpha);
     // refine::morph::grid_sources: the level-(big - 1) triangle holding the point.
     let n = big;
     let m = big - 1u;
@@ -234,7 +255,7 @@ fn grid_weights(rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, 
         if (cb[h] > 0u) {
             let c = ci[h];
             let lt = vec3<f32>(f32(m - c.x - c.y), f32(c.x), f32(c.y)) / f32(m);
-            add_point(acc, lt, (1.0 - alpha) * f32(cb[h]) / f32(n));
+            add_point(acc, face, lt, (1.0 - alpha) * f32(cb[h]) / f32(n));
         }
     }
     return vec4<f32>(l, f32(NO_EDGE));
@@ -254,14 +275,14 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
     let code = vcode & 0x3fffffffu;
     let rec = face * RECORD_WORDS;
     let face_forward = records[rec + FORWARD_WORD];
-    var acc: Weights;
+    var acc: Sums;
     var l: vec3<f32>;
     var edge = NO_EDGE;
     if (params.grid == 0u) {
         let p = locate(rec, code, inst >> 30u);
         let lf = vec3<u32>(p.x, p.y, ONE - p.x - p.y);
         l = vec3<f32>(lf) / 65536.0;
-        add_point(&acc, l, 1.0);
+        add_point(&acc, face, l, 1.0);
         edge = p.z;
         if (edge != NO_EDGE) {
             let forward = ((face_forward >> edge) & 1u) != 0u;
@@ -269,31 +290,21 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
             add_edge(&acc, f32(a) / 65536.0, f32(ONE - a) / 65536.0, 1.0);
         }
     } else {
-        let g = grid_weights(rec, face_forward, code & 0xffu, (code >> 8u) & 0xffu, &acc);
+        let g = grid_point(face, rec, face_forward, code & 0xffu, (code >> 8u) & 0xffu, &acc);
         l = g.xyz;
         edge = u32(g.w);
     }
 
-    var p = vec3<f32>(0.0);
-    var du = vec3<f32>(0.0);
-    var dv = vec3<f32>(0.0);
-    for (var k = 0u; k < params.k; k++) {
-        let c = net_point(face, k);
-        p += acc.w[k].x * c;
-        du += acc.w[k].y * c;
-        dv += acc.w[k].z * c;
-    }
+    var p = acc.p;
     var n = vec3<f32>(0.0);
     if (params.normal_mode == MODE_REAL) {
-        let c = cross(du, dv);
-        if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {
+        let c = cross(acc.du, acc.dv);
+        if (dot(c, c) > 1e-12 * dot(acc.du, acc.du) * dot(acc.dv, acc.dv)) {
             n = c;
         }
     }
     if (all(n == vec3<f32>(0.0))) {
-        for (var j = 0u; j < 6u; j++) {
-            n += acc.n[j] * net_normal(face, j);
-        }
+        n = acc.n;
     }
     if (edge != NO_EDGE) {
         // The edge's own data in canonical order, summed in the same order on both faces.

@@ -7,20 +7,22 @@
 const PNG1_K: u32 = 21u;
 
 // The cubic Bernstein polynomials of CUBIC_ORDER: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111.
-fn cubic_weights(l: vec3<f32>, w: ptr<function, array<vec3<f32>, 21>>) {
+fn cubic_weights(l: vec3<f32>) -> array<vec3<f32>, 10> {
     let a = l.x;
     let b = l.y;
     let c = l.z;
-    (*w)[0] = vec3<f32>(a * a * a, -3.0 * a * a, -3.0 * a * a);
-    (*w)[1] = vec3<f32>(b * b * b, 3.0 * b * b, 0.0);
-    (*w)[2] = vec3<f32>(c * c * c, 0.0, 3.0 * c * c);
-    (*w)[3] = vec3<f32>(3.0 * a * a * b, 3.0 * a * a - 6.0 * a * b, -6.0 * a * b);
-    (*w)[4] = vec3<f32>(3.0 * a * b * b, 6.0 * a * b - 3.0 * b * b, -3.0 * b * b);
-    (*w)[5] = vec3<f32>(3.0 * b * b * c, 6.0 * b * c, 3.0 * b * b);
-    (*w)[6] = vec3<f32>(3.0 * b * c * c, 3.0 * c * c, 6.0 * b * c);
-    (*w)[7] = vec3<f32>(3.0 * a * c * c, -3.0 * c * c, 6.0 * a * c - 3.0 * c * c);
-    (*w)[8] = vec3<f32>(3.0 * a * a * c, -6.0 * a * c, 3.0 * a * a - 6.0 * a * c);
-    (*w)[9] = vec3<f32>(6.0 * a * b * c, 6.0 * a * c - 6.0 * b * c, 6.0 * a * b - 6.0 * b * c);
+    return array<vec3<f32>, 10>(
+        vec3<f32>(a * a * a, -3.0 * a * a, -3.0 * a * a),
+        vec3<f32>(b * b * b, 3.0 * b * b, 0.0),
+        vec3<f32>(c * c * c, 0.0, 3.0 * c * c),
+        vec3<f32>(3.0 * a * a * b, 3.0 * a * a - 6.0 * a * b, -6.0 * a * b),
+        vec3<f32>(3.0 * a * b * b, 6.0 * a * b - 3.0 * b * b, -3.0 * b * b),
+        vec3<f32>(3.0 * b * b * c, 6.0 * b * c, 3.0 * b * b),
+        vec3<f32>(3.0 * b * c * c, 3.0 * c * c, 6.0 * b * c),
+        vec3<f32>(3.0 * a * c * c, -3.0 * c * c, 6.0 * a * c - 3.0 * c * c),
+        vec3<f32>(3.0 * a * a * c, -6.0 * a * c, 3.0 * a * a - 6.0 * a * c),
+        vec3<f32>(6.0 * a * b * c, 6.0 * a * c - 6.0 * b * c, 6.0 * a * b - 6.0 * b * c),
+    );
 }
 
 fn dmul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
@@ -82,21 +84,7 @@ fn png1_weights(bl: vec3<f32>, w: ptr<function, array<vec3<f32>, 21>>) {
     }
 }
 
-// The weights of a basis of `k` control points (10: cubic, 21: PNG1) at `l`.
-fn basis_weights(k: u32, l: vec3<f32>, w: ptr<function, array<vec3<f32>, 21>>) {
-    if (k == PNG1_K) {
-        png1_weights(l, w);
-    } else {
-        cubic_weights(l, w);
-    }
-}
-
 // The quadratic normal net's weights N1, N2, N3, n110, n011, n101.
-fn normal_net_weights(l: vec3<f32>, w: ptr<function, array<f32, 6>>) {
-    (*w)[0] = l.x * l.x;
-    (*w)[1] = l.y * l.y;
-    (*w)[2] = l.z * l.z;
-    (*w)[3] = l.x * l.y;
-    (*w)[4] = l.y * l.z;
-    (*w)[5] = l.z * l.x;
+fn normal_net_weights(l: vec3<f32>) -> array<f32, 6> {
+    return array<f32, 6>(l.x * l.x, l.y * l.y, l.z * l.z, l.x * l.y, l.y * l.z, l.z * l.x);
 }
