@@ -300,5 +300,50 @@ fn bench_frames(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench_refine, bench_frames);
+/// Topology of an 81,920-triangle icosphere (the one-shot benchmark's mesh): edges by index and
+/// by position, owners, neighbours.
+fn bench_topology(c: &mut Criterion) {
+    let mesh = samples::icosphere(6);
+    let mut group = c.benchmark_group("topology");
+    group.sample_size(20);
+    group.throughput(Throughput::Elements(mesh.face_count() as u64));
+    group.bench_function("icosphere-82k", |b| {
+        b.iter(|| tessella_core::Topology::new(&mesh))
+    });
+    group.finish();
+}
+
+/// The cost of texture coordinates: PN at level 32 on the 5120-triangle icosphere with UVs
+/// (spherical coordinates) against the same mesh without.
+fn bench_uvs(c: &mut Criterion) {
+    let plain = samples::icosphere(4);
+    let uvs = plain
+        .positions()
+        .iter()
+        .map(|p| [p[0].atan2(p[2]), p[1].clamp(-1.0, 1.0).asin()])
+        .collect();
+    let textured = Mesh::new(
+        plain.positions().to_vec(),
+        Some(plain.normals().to_vec()),
+        Some(uvs),
+        plain.triangles().to_vec(),
+    )
+    .expect("the icosphere with UVs");
+    let mut group = c.benchmark_group("uvs-pn-32");
+    group.sample_size(15);
+    for (name, mesh) in [("without", &plain), ("with", &textured)] {
+        let refiner = Refiner::new(mesh, &RefineOptions::new(Scheme::Pn, 32)).expect("refiner");
+        group.throughput(Throughput::Elements(refiner.layout().vertex_count));
+        group.bench_function(name, |b| b.iter(|| black_box(refiner.refine())));
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_refine,
+    bench_frames,
+    bench_topology,
+    bench_uvs
+);
 criterion_main!(benches);
