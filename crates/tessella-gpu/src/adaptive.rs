@@ -162,7 +162,8 @@ impl AdaptiveRenderer {
         plan.check_frame(frame)?;
         let nets = frame.nets();
         let faces = plan.face_count();
-        let limit = ctx.max_binding();
+        // Under 4 GiB a binding's u32 indices in the shaders cannot wrap.
+        let limit = ctx.max_binding().min(u32::MAX as u64);
         let record_bytes = faces as u64 * RECORD_WORDS as u64 * 4;
         let instance_bytes = faces as u64 * MAX_PARTS_PER_FACE * 4;
         for (what, bytes) in [
@@ -341,7 +342,8 @@ impl AdaptiveRenderer {
     }
 
     /// [`AdaptiveRenderer::set_levels`] with the levels `lod` gives on `frame`'s mesh (a
-    /// camera that moves, a mesh that deforms: new levels every frame).
+    /// camera that moves, a mesh that deforms: new levels every frame). Grid levels are drawn
+    /// at most at `instanced::MAX_GRID_LEVEL` (64), below the tolerance LOD's cap of 1024.
     pub fn set_lod(&mut self, frame: &Frame, lod: &Lod) -> Result<u64, GpuError> {
         self.check_shape(frame)?;
         let (edges, faces) = lod::levels(frame.mesh(), &self.topology, frame.nets(), lod)?;
@@ -423,7 +425,7 @@ impl AdaptiveRenderer {
             }
         }
         let out_bytes = jobs.len() as u64 * 36;
-        let limit = self.ctx.max_binding();
+        let limit = self.ctx.max_binding().min(u32::MAX as u64);
         if out_bytes > limit {
             return Err(GpuError::TooLarge {
                 what: "the captured triangles",

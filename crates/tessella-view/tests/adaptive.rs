@@ -263,7 +263,8 @@ fn levels_set_per_frame_leave_no_cracks_and_upload_only_coarse_data() {
             assert!(covered(&picture) > 10_000, "{spacing:?}: blank");
         }
         // The upload is one record per face and an instance per face and part: the same bytes
-        // whatever the levels (levels up to 30 here), and no more than 112 bytes per face.
+        // whatever the levels (up to 66.5 here, over the maxima: clamped), at most 112 bytes a
+        // face.
         let faces = mesh.face_count() as u64;
         assert!(
             uploads.iter().all(|&b| b == uploads[0]),

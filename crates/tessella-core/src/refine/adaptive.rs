@@ -259,6 +259,37 @@ pub fn check_level(what: &str, x: f32) -> Result<(), RefineError> {
     Ok(())
 }
 
+/// Checks per-edge levels (one per unique edge of `ne`) and optional per-face minimum inner
+/// levels (one per face of `nf`): the right counts, each finite and above 0.
+pub fn check_per_edge(
+    ne: usize,
+    nf: usize,
+    edges: &[f32],
+    faces: Option<&[f32]>,
+) -> Result<(), RefineError> {
+    if edges.len() != ne {
+        return Err(bad(format!(
+            "{} edge levels for a mesh of {ne} unique edges",
+            edges.len()
+        )));
+    }
+    for (e, &x) in edges.iter().enumerate() {
+        check_level(&format!("the level of edge {e}"), x)?;
+    }
+    if let Some(f) = faces {
+        if f.len() != nf {
+            return Err(bad(format!(
+                "{} face levels for a mesh of {nf} triangles",
+                f.len()
+            )));
+        }
+        for (i, &x) in f.iter().enumerate() {
+            check_level(&format!("the inner level of face {i}"), x)?;
+        }
+    }
+    Ok(())
+}
+
 /// The per-edge and per-face levels `levels` gives on `mesh` (`nets`: the mesh's control
 /// nets, for the tolerance LOD).
 pub fn resolve_levels(
@@ -274,27 +305,7 @@ pub fn resolve_levels(
             Ok((vec![*x; ne], None))
         }
         Levels::PerEdge { edges, faces } => {
-            if edges.len() != ne {
-                return Err(bad(format!(
-                    "{} edge levels for a mesh of {ne} unique edges",
-                    edges.len()
-                )));
-            }
-            for (e, &x) in edges.iter().enumerate() {
-                check_level(&format!("the level of edge {e}"), x)?;
-            }
-            if let Some(f) = faces {
-                if f.len() != mesh.face_count() {
-                    return Err(bad(format!(
-                        "{} face levels for a mesh of {} triangles",
-                        f.len(),
-                        mesh.face_count()
-                    )));
-                }
-                for (i, &x) in f.iter().enumerate() {
-                    check_level(&format!("the inner level of face {i}"), x)?;
-                }
-            }
+            check_per_edge(ne, mesh.face_count(), edges, faces.as_deref())?;
             Ok((edges.to_vec(), faces.as_ref().map(|f| f.to_vec())))
         }
         Levels::Lod(lod) => super::lod::levels(mesh, topology, nets, lod),
@@ -332,14 +343,7 @@ fn build_tile(spacing: Spacing, outer: [f32; 3], inner: f32, basis: crate::Basis
     let mut morph = None;
     let pattern = match spacing.tessellator() {
         None => grid_pattern(outer.map(grid_segments), grid_segments(inner)),
-        Some(s) => tessellator::tessellate(
-            s,
-            TessLevels {
-                inner,
-                // outer[k] of GL is the edge opposite corner k: our edges 1, 2, 0.
-                outer: [outer[1], outer[2], outer[0]],
-            },
-        ),
+        Some(s) => tessellator::tessellate(s, gl_levels(outer, inner)),
     };
     let mut corners = [0u32; 3];
     let mut edges: [Vec<(u32, u32)>; 3] = Default::default();
@@ -384,6 +388,21 @@ fn build_tile(spacing: Spacing, outer: [f32; 3], inner: f32, basis: crate::Basis
         corners,
         edges,
         interior,
+    }
+}
+
+/// Where step `step` of a level-`big` grid edge goes on the edge's own `n`-segment layout: the
+/// nearest step, ties up (monotone in `step`, so the boundary keeps its order).
+pub fn snap_step(step: u32, n: u32, big: u32) -> u32 {
+    ((2 * step as u64 * n as u64 + big as u64) / (2 * big as u64)) as u32
+}
+
+/// The hardware tessellator's levels of a face with edge levels `outer` (our edge order) and
+/// inner level `inner`: GL's `outer[k]` is the edge opposite corner `k`, our edges 1, 2, 0.
+pub fn gl_levels(outer: [f32; 3], inner: f32) -> TessLevels {
+    TessLevels {
+        inner,
+        outer: [outer[1], outer[2], outer[0]],
     }
 }
 
@@ -439,8 +458,7 @@ pub fn grid_pattern(n: [u32; 3], n_inner: u32) -> Pattern {
         if let PointClass::Edge { edge, step } = *class {
             let k = edge as usize;
             let ne = n[k] as u64;
-            // Nearest step of the edge's own layout, ties up: monotone in `step`.
-            let s = ((2 * step as u64 * ne + big as u64) / (2 * big as u64)) as u32;
+            let s = snap_step(step, n[k], big);
             map[p] = if s == 0 {
                 corner_at[k]
             } else if s as u64 == ne {

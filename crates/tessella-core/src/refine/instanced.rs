@@ -21,13 +21,15 @@
 //! (the rasteriser draws nothing for them) instead of being dropped. Edge points are
 //! evaluated from the edge's own data in canonical direction, so both faces agree bit for bit.
 
-use super::adaptive::{clamp_edge_levels, face_levels, grid_segments, Spacing};
+use super::adaptive::{
+    check_per_edge, clamp_edge_levels, face_levels, gl_levels, grid_segments, snap_step, Spacing,
+};
 use super::canonical;
 use super::morph;
 use crate::error::RefineError;
 use crate::mesh::Topology;
 use crate::tessellator::parts::{self, FaceRulers, Shape};
-use crate::tessellator::{process_levels, TessLevels};
+use crate::tessellator::process_levels;
 use std::ops::Range;
 
 /// `u32` words of one face's record.
@@ -144,7 +146,9 @@ fn grid_triangles(n: u32) -> Vec<[u32; 3]> {
 
 /// The barycentric point grid code `(i, j)` names on a face whose edges have `n` segments and
 /// whose grid has `big` (at least each `n`): an edge point moves to the nearest step of its
-/// edge's own layout, ties up, as [`super::adaptive::grid_pattern`] does.
+/// edge's own layout, ties up, as [`super::adaptive::grid_pattern`] does. The reference twin of
+/// `shaders/adaptive.wgsl`'s grid points (the tests compare the parts with the CPU's patterns
+/// through it).
 pub fn grid_point(n: [u32; 3], big: u32, i: u32, j: u32) -> [f64; 3] {
     let k = big - i - j;
     let on_edge = match (i, j, k) {
@@ -156,11 +160,10 @@ pub fn grid_point(n: [u32; 3], big: u32, i: u32, j: u32) -> [f64; 3] {
     };
     match on_edge {
         Some((e, step)) => {
-            let ne = n[e] as u64;
-            let s = (2 * step as u64 * ne + big as u64) / (2 * big as u64);
+            let (ne, s) = (n[e] as f64, snap_step(step, n[e], big) as f64);
             let mut l = [0.0; 3];
-            l[e] = (ne - s) as f64 / ne as f64;
-            l[(e + 1) % 3] = s as f64 / ne as f64;
+            l[e] = (ne - s) / ne;
+            l[(e + 1) % 3] = s / ne;
             l
         }
         None => {
@@ -217,12 +220,7 @@ fn face_record(
             parts.push((grid_part(big), 0));
         }
         Some(s) => {
-            let levels = TessLevels {
-                inner,
-                // GL's outer[k] is the edge opposite corner k: our edges 1, 2, 0.
-                outer: [outer[1], outer[2], outer[0]],
-            };
-            if let Some(p) = process_levels(s, levels) {
+            if let Some(p) = process_levels(s, gl_levels(outer, inner)) {
                 let rulers = FaceRulers::new(&p);
                 record[..20].copy_from_slice(&rulers.words());
                 if rulers.single_triangle {
@@ -253,27 +251,13 @@ pub fn frame_instances(
     face_minimums: Option<&[f32]>,
 ) -> Result<FrameInstances, RefineError> {
     let nf = triangles.len();
-    if edge_levels.len() != topology.edges.len() {
+    // Instances are `face | side << 30`.
+    if nf >= 1 << 30 {
         return Err(RefineError::BadLevels(format!(
-            "{} edge levels for a mesh of {} unique edges",
-            edge_levels.len(),
-            topology.edges.len()
+            "{nf} triangles; instanced drawing takes fewer than 2^30"
         )));
     }
-    for (e, &x) in edge_levels.iter().enumerate() {
-        super::adaptive::check_level(&format!("the level of edge {e}"), x)?;
-    }
-    if let Some(f) = face_minimums {
-        if f.len() != nf {
-            return Err(RefineError::BadLevels(format!(
-                "{} face levels for a mesh of {nf} triangles",
-                f.len()
-            )));
-        }
-        for (i, &x) in f.iter().enumerate() {
-            super::adaptive::check_level(&format!("the inner level of face {i}"), x)?;
-        }
-    }
+    check_per_edge(topology.edges.len(), nf, edge_levels, face_minimums)?;
     let edge_levels = clamp_edge_levels(table.spacing, edge_levels.to_vec());
     let mut records = Vec::with_capacity(nf * RECORD_WORDS);
     let mut face_parts = Vec::with_capacity(nf);

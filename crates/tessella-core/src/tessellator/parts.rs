@@ -149,7 +149,7 @@ impl FaceRulers {
     }
 
     /// The 16.16 `(u, v)` of the point `code` names, its side turned by `side_offset` (a
-    /// strip's instance side). `shaders/adaptive.wgsl` computes the same.
+    /// strip's instance side): the reference twin of `shaders/adaptive.wgsl`'s `locate`.
     pub fn locate(&self, code: u32, side_offset: u32) -> (u32, u32) {
         let ring = code >> 10;
         let mut side = ((code >> 8 & 3) + side_offset) % 3;
