@@ -265,3 +265,31 @@ fn bad_levels_are_refused_with_a_message_and_no_file() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("levels up to 64"), "{}", stderr(&o));
 }
+
+#[test]
+fn the_fly_in_uploads_the_same_coarse_bytes_every_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_sample(dir.path(), "creature");
+    let out = dir.path().join("frames");
+    let o = tessella(&[
+        "animate",
+        s(&input),
+        "-o",
+        s(&out),
+        "--fly-in",
+        "--frames",
+        "3",
+        "--size",
+        "96x72",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in 0..3 {
+        assert!(out.join(format!("frame_{k:03}.png")).is_file(), "frame {k}");
+    }
+    // 320 triangles: a 96-byte record and four 4-byte instances each.
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains(&format!("{} bytes of levels uploaded per frame", 320 * 112)),
+        "{text}"
+    );
+}
