@@ -65,6 +65,8 @@ pub struct AdaptiveRenderer {
     instances: wgpu::Buffer,
     patch_group: wgpu::BindGroup,
     patch_layout: wgpu::BindGroupLayout,
+    /// The WGSL constants the shaders are compiled with (basis, normal mode, spacing).
+    constants: String,
     uniforms: wgpu::Buffer,
     render_group: wgpu::BindGroup,
     wireframe: AtomicBool,
@@ -179,11 +181,13 @@ impl AdaptiveRenderer {
         let table = PartTable::new(spacing);
         let arrays = PartArrays::new(&table);
         let basis = nets.basis;
+        let constants = format!(
+            "const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+            basis.len(),
+            normal_mode_code(nets.normal_mode),
+            spacing == Spacing::Grid
+        );
         let params = AdaptiveParams {
-            k: basis.len() as u32,
-            normal_mode: normal_mode_code(nets.normal_mode),
-            grid: u32::from(spacing == Spacing::Grid),
-            _pad: 0,
             edge_controls: [0, 1, 2].map(|k| canonical::edge_controls(basis, k).map(|i| i as u32)),
             edge_normals: [0, 1, 2].map(|k| {
                 let [a, b, c] = canonical::edge_normal_controls(k);
@@ -261,12 +265,14 @@ impl AdaptiveRenderer {
                 .create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some("adaptive.wgsl"),
                     source: wgpu::ShaderSource::Wgsl(
-                        concat!(
+                        [
+                            &constants,
                             include_str!("shaders/basis.wgsl"),
                             include_str!("shaders/shade.wgsl"),
                             include_str!("shaders/adaptive.wgsl"),
-                            include_str!("shaders/adaptive_draw.wgsl")
-                        )
+                            include_str!("shaders/adaptive_draw.wgsl"),
+                        ]
+                        .concat()
                         .into(),
                     ),
                 });
@@ -300,6 +306,7 @@ impl AdaptiveRenderer {
                 instances,
                 patch_group,
                 patch_layout: patch_layout_for_capture,
+                constants: constants.clone(),
                 uniforms,
                 render_group,
                 wireframe: AtomicBool::new(false),
@@ -481,11 +488,13 @@ impl AdaptiveRenderer {
                 .create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some("adaptive_capture.wgsl"),
                     source: wgpu::ShaderSource::Wgsl(
-                        concat!(
+                        [
+                            &self.constants,
                             include_str!("shaders/basis.wgsl"),
                             include_str!("shaders/adaptive.wgsl"),
-                            include_str!("shaders/adaptive_capture.wgsl")
-                        )
+                            include_str!("shaders/adaptive_capture.wgsl"),
+                        ]
+                        .concat()
                         .into(),
                     ),
                 });

@@ -110,15 +110,10 @@ const _: () = assert!(offset_of!(RenderUniforms, flags) == 128);
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub(crate) struct AdaptiveParams {
-    pub k: u32,
-    pub normal_mode: u32,
-    pub grid: u32,
-    pub _pad: u32,
     /// Per edge `k`: `canonical::edge_controls`.
     pub edge_controls: [[u32; 4]; 3],
     /// Per edge `k`: `canonical::edge_normal_controls`, then 0.
     pub edge_normals: [[u32; 4]; 3],
 }
-const _: () = assert!(size_of::<AdaptiveParams>() == 112);
-const _: () = assert!(offset_of!(AdaptiveParams, edge_controls) == 16);
-const _: () = assert!(offset_of!(AdaptiveParams, edge_normals) == 64);
+const _: () = assert!(size_of::<AdaptiveParams>() == 96);
+const _: () = assert!(offset_of!(AdaptiveParams, edge_normals) == 48);

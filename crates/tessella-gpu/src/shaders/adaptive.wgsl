@@ -8,11 +8,12 @@
 // appended: adaptive_draw.wgsl (the vertex shader) or adaptive_capture.wgsl (a compute read-back
 // of the same points).
 
+// Set by the renderer before this file, so that each pipeline compiles only its own basis,
+// normal mode and spacing (a branch on a uniform still costs its whole body on a software
+// rasteriser): BASIS_K (10 cubic, 21 PNG1), NORMAL_MODE (0 linear, 1 quadratic, 2 real:
+// NormalMode order), GRID (grid spacing, else a tessellator spacing).
+
 struct AdaptiveParams {
-    k: u32,
-    normal_mode: u32, // 0 linear, 1 quadratic, 2 real (NormalMode order)
-    grid: u32,        // 1: grid spacing, 0: tessellator spacings
-    _pad: u32,
     // Per edge k (corner k to k + 1): its boundary curve's control points
     // (canonical::edge_controls), then its normal-net entries (xyz).
     edge_controls: array<vec4<u32>, 3>,
@@ -34,7 +35,7 @@ const MODE_REAL: u32 = 2u;
 const NO_EDGE: u32 = 3u;
 
 fn net_point(face: u32, k: u32) -> vec3<f32> {
-    let i = (face * params.k + k) * 3u;
+    let i = (face * BASIS_K + k) * 3u;
     return vec3<f32>(net_points[i], net_points[i + 1u], net_points[i + 2u]);
 }
 
@@ -134,25 +135,47 @@ fn add_term(acc: ptr<function, Sums>, w: vec3<f32>, c: vec3<f32>) {
     (*acc).dv += w.z * c;
 }
 
-// Adds `scale` times the surface of `face` at `l`.
+// Adds `scale` times the surface of `face` at `l`. The cubic case is written out term by
+// term: a loop over a local weight array is not unrolled by every compiler, and an array
+// indexed in a loop goes to memory (three times slower on lavapipe).
 fn add_point(acc: ptr<function, Sums>, face: u32, l: vec3<f32>, scale: f32) {
     var s: Sums;
-    if (params.k == PNG1_K) {
+    if (BASIS_K == PNG1_K) {
         var w: array<vec3<f32>, 21>;
         png1_weights(l, &w);
         for (var k = 0u; k < PNG1_K; k++) {
             add_term(&s, w[k], net_point(face, k));
         }
     } else {
-        let w = cubic_weights(l);
-        for (var k = 0u; k < 10u; k++) {
-            add_term(&s, w[k], net_point(face, k));
+        let a = l.x;
+        let b = l.y;
+        let c = l.z;
+        let c0 = net_point(face, 0u);
+        let c1 = net_point(face, 1u);
+        let c2 = net_point(face, 2u);
+        let c3 = net_point(face, 3u);
+        let c4 = net_point(face, 4u);
+        let c5 = net_point(face, 5u);
+        let c6 = net_point(face, 6u);
+        let c7 = net_point(face, 7u);
+        let c8 = net_point(face, 8u);
+        let c9 = net_point(face, 9u);
+        // CUBIC_ORDER: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111.
+        s.p = a * a * a * c0 + b * b * b * c1 + c * c * c * c2 + 3.0 * a * a * b * c3
+            + 3.0 * a * b * b * c4 + 3.0 * b * b * c * c5 + 3.0 * b * c * c * c6
+            + 3.0 * a * c * c * c7 + 3.0 * a * a * c * c8 + 6.0 * a * b * c * c9;
+        if (NORMAL_MODE == MODE_REAL) {
+            s.du = -3.0 * a * a * c0 + 3.0 * b * b * c1 + (3.0 * a * a - 6.0 * a * b) * c3
+                + (6.0 * a * b - 3.0 * b * b) * c4 + 6.0 * b * c * c5 + 3.0 * c * c * c6
+                - 3.0 * c * c * c7 - 6.0 * a * c * c8 + (6.0 * a * c - 6.0 * b * c) * c9;
+            s.dv = -3.0 * a * a * c0 + 3.0 * c * c * c2 - 6.0 * a * b * c3 - 3.0 * b * b * c4
+                + 3.0 * b * b * c5 + 6.0 * b * c * c6 + (6.0 * a * c - 3.0 * c * c) * c7
+                + (3.0 * a * a - 6.0 * a * c) * c8 + (6.0 * a * b - 6.0 * b * c) * c9;
         }
     }
-    let nw = normal_net_weights(l);
-    for (var j = 0u; j < 6u; j++) {
-        s.n += nw[j] * net_normal(face, j);
-    }
+    s.n = l.x * l.x * net_normal(face, 0u) + l.y * l.y * net_normal(face, 1u)
+        + l.z * l.z * net_normal(face, 2u) + l.x * l.y * net_normal(face, 3u)
+        + l.y * l.z * net_normal(face, 4u) + l.z * l.x * net_normal(face, 5u);
     (*acc).p += scale * s.p;
     (*acc).du += scale * s.du;
     (*acc).dv += scale * s.dv;
@@ -278,7 +301,7 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
     var acc: Sums;
     var l: vec3<f32>;
     var edge = NO_EDGE;
-    if (params.grid == 0u) {
+    if (!GRID) {
         let p = locate(rec, code, inst >> 30u);
         let lf = vec3<u32>(p.x, p.y, ONE - p.x - p.y);
         l = vec3<f32>(lf) / 65536.0;
@@ -297,7 +320,7 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
 
     var p = acc.p;
     var n = vec3<f32>(0.0);
-    if (params.normal_mode == MODE_REAL) {
+    if (NORMAL_MODE == MODE_REAL) {
         let c = cross(acc.du, acc.dv);
         if (dot(c, c) > 1e-12 * dot(acc.du, acc.du) * dot(acc.dv, acc.dv)) {
             n = c;
@@ -315,7 +338,7 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
             q += acc.edge_w[i] * net_point(face, ctrl[select(3u - i, i, forward)]);
         }
         p = q;
-        if (params.normal_mode != MODE_REAL) {
+        if (NORMAL_MODE != MODE_REAL) {
             let nc = params.edge_normals[edge];
             var m = vec3<f32>(0.0);
             for (var i = 0u; i < 3u; i++) {

@@ -1,29 +1,10 @@
-// Basis weights at a barycentric point, for pipelines whose points are not a stencil's rows
-// (adaptive.wgsl: fractional levels move the points every frame). The twins of
-// tessella_core::basis: `Basis::Cubic` in CUBIC_ORDER and PNG1's rational weights
-// (basis/png1.rs `weights_dual`, as dual numbers (value, d/du, d/dv)). Each weight is a vec3:
-// value, Du, Dv, with Du = d/dl2 - d/dl1 and Dv = d/dl3 - d/dl1.
+// PNG1's basis weights at a barycentric point, for pipelines whose points are not a stencil's
+// rows (adaptive.wgsl: fractional levels move the points every frame; its cubic case is written
+// out there). The twin of tessella_core::basis::png1 (`weights_dual`, as dual numbers
+// (value, d/du, d/dv)). Each weight is a vec3: value, Du, Dv, with Du = d/dl2 - d/dl1 and
+// Dv = d/dl3 - d/dl1.
 
 const PNG1_K: u32 = 21u;
-
-// The cubic Bernstein polynomials of CUBIC_ORDER: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111.
-fn cubic_weights(l: vec3<f32>) -> array<vec3<f32>, 10> {
-    let a = l.x;
-    let b = l.y;
-    let c = l.z;
-    return array<vec3<f32>, 10>(
-        vec3<f32>(a * a * a, -3.0 * a * a, -3.0 * a * a),
-        vec3<f32>(b * b * b, 3.0 * b * b, 0.0),
-        vec3<f32>(c * c * c, 0.0, 3.0 * c * c),
-        vec3<f32>(3.0 * a * a * b, 3.0 * a * a - 6.0 * a * b, -6.0 * a * b),
-        vec3<f32>(3.0 * a * b * b, 6.0 * a * b - 3.0 * b * b, -3.0 * b * b),
-        vec3<f32>(3.0 * b * b * c, 6.0 * b * c, 3.0 * b * b),
-        vec3<f32>(3.0 * b * c * c, 3.0 * c * c, 6.0 * b * c),
-        vec3<f32>(3.0 * a * c * c, -3.0 * c * c, 6.0 * a * c - 3.0 * c * c),
-        vec3<f32>(3.0 * a * a * c, -6.0 * a * c, 3.0 * a * a - 6.0 * a * c),
-        vec3<f32>(6.0 * a * b * c, 6.0 * a * c - 6.0 * b * c, 6.0 * a * b - 6.0 * b * c),
-    );
-}
 
 fn dmul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + a.x * b.z);
@@ -82,9 +63,4 @@ fn png1_weights(bl: vec3<f32>, w: ptr<function, array<vec3<f32>, 21>>) {
             (*w)[16u + 2u * k] = dmul(t, dmul(one - a, b));
         }
     }
-}
-
-// The quadratic normal net's weights N1, N2, N3, n110, n011, n101.
-fn normal_net_weights(l: vec3<f32>) -> array<f32, 6> {
-    return array<f32, 6>(l.x * l.x, l.y * l.y, l.z * l.z, l.x * l.y, l.y * l.z, l.z * l.x);
 }
