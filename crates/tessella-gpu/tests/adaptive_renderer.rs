@@ -40,7 +40,30 @@ fn capture(
 }
 
 /// Largest distance between a captured point and the CPU's point of the same face and
-/// barycentric coordinates (every captured point must have one), and how many were compared.
+/// barycentric coordinates (every captured point must have one; a GPU's division may round the
+/// barycentrics differently from the CPU's in the last bit).
+fn worst_against(c: &CapturedTriangles, cpu_plan: &Plan, cpu: &tessella_core::RefinedMesh) -> f32 {
+    let (faces, bary) = cpu_plan.origin();
+    let mut by_face: Vec<Vec<([f32; 3], [f32; 3])>> = vec![Vec::new(); cpu_plan.face_count()];
+    for i in 0..faces.len() {
+        by_face[faces[i] as usize].push((bary[i], cpu.positions[i]));
+    }
+    let mut worst = 0.0f32;
+    for (i, (&p, &l)) in c.positions.iter().zip(&c.barycentric).enumerate() {
+        let f = c.faces[i / 3];
+        let (d, q) = by_face[f as usize]
+            .iter()
+            .map(|(m, q)| (common::dist(l, *m), q))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .expect("the face has points");
+        assert!(d < 1e-6, "face {f} point {l:?} is not the CPU's");
+        worst = worst.max(common::dist(p, *q));
+    }
+    worst
+}
+
+/// [`worst_against`] the CPU's soup refinement with per-edge levels `lv`, and how many points
+/// were compared.
 fn against_cpu(mesh: &Mesh, options: &RefineOptions, spacing: Spacing, lv: &[f32]) -> (f32, usize) {
     let cpu_options = options
         .clone()
@@ -52,29 +75,8 @@ fn against_cpu(mesh: &Mesh, options: &RefineOptions, spacing: Spacing, lv: &[f32
         });
     let plan = Plan::new(mesh, &cpu_options).unwrap();
     let out = tessella_core::refine(mesh, &cpu_options).unwrap();
-    let (faces, bary) = plan.origin();
-    let mut by_face: Vec<Vec<([f32; 3], [f32; 3])>> = vec![Vec::new(); mesh.face_count()];
-    for i in 0..faces.len() {
-        by_face[faces[i] as usize].push((bary[i], out.positions[i]));
-    }
     let c = capture(mesh, options, spacing, lv);
-    let mut worst = 0.0f32;
-    for (i, (&p, &l)) in c.positions.iter().zip(&c.barycentric).enumerate() {
-        let f = c.faces[i / 3];
-        // The CPU's point of this face at the same barycentrics (a GPU's division may round
-        // them differently from the CPU's in the last bit).
-        let (d, q) = by_face[f as usize]
-            .iter()
-            .map(|(m, q)| (common::dist(l, *m), q))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .expect("the face has points");
-        assert!(
-            d < 1e-6,
-            "{spacing:?}: face {f} point {l:?} is not the CPU's"
-        );
-        worst = worst.max(common::dist(p, *q));
-    }
-    (worst, c.positions.len())
+    (worst_against(&c, &plan, &out), c.positions.len())
 }
 
 #[test]
@@ -168,5 +170,55 @@ fn shared_edge_points_are_bit_identical_from_both_faces() {
             differ, 0,
             "{what}: {differ} of {shared} shared points differ"
         );
+    }
+}
+
+#[test]
+fn a_deforming_mesh_with_lod_levels_draws_each_frames_cpu_points() {
+    use tessella_core::refine::Lod;
+    let mesh = samples::creature();
+    let options = RefineOptions::new(Scheme::Pn, 1);
+    let plan = Plan::new(&mesh, &options).unwrap();
+    let first = plan.frame(&mesh).unwrap();
+    let mut r =
+        AdaptiveRenderer::new(ctx(), &plan, &first, &FORMATS, Spacing::FractionalOdd).unwrap();
+    let lod = Lod::Distance {
+        near: 1.0,
+        far: 6.0,
+        max: 9.0,
+        eye: [0.0, 0.5, 3.0],
+    };
+    for step in 1..3 {
+        // The mesh stretches and moves: new nets, and new levels from the new distances.
+        let s = 1.0 + 0.3 * step as f32;
+        let moved = Mesh::new(
+            mesh.positions()
+                .iter()
+                .map(|p| [p[0] * s, p[1], p[2] + 0.4 * step as f32])
+                .collect(),
+            Some(mesh.normals().to_vec()),
+            None,
+            mesh.triangles().to_vec(),
+        )
+        .unwrap();
+        let frame = plan.frame(&moved).unwrap();
+        let nets = r.update(&frame).unwrap();
+        assert_eq!(
+            nets,
+            (frame.nets().points.len() + frame.nets().normals.len()) as u64 * 12
+        );
+        r.set_lod(&frame, &lod).unwrap();
+        let c = r.capture().unwrap();
+        // The CPU's soup refinement of the moved mesh with the same LOD.
+        let cpu_options = options
+            .clone()
+            .with_spacing(Spacing::FractionalOdd)
+            .with_weld(false)
+            .with_levels(Levels::Lod(lod.clone()));
+        let cpu_plan = Plan::new(&moved, &cpu_options).unwrap();
+        let out = tessella_core::refine(&moved, &cpu_options).unwrap();
+        assert_eq!(c.positions.len(), 3 * out.triangles.len(), "step {step}");
+        let worst = worst_against(&c, &cpu_plan, &out);
+        assert!(worst <= 2e-6 * moved.diagonal(), "step {step}: {worst}");
     }
 }
