@@ -16,6 +16,16 @@ pub(crate) const FACE_RECORD_LEN: usize = 10;
 /// `DisplaceParams::faces_at` when there are no face records (no displacement).
 pub(crate) const NO_FACES: u32 = u32::MAX;
 
+/// `DisplaceParams::kind` of `d`: 0 none, 1 sine, 2 Perlin, 3 height map.
+pub(crate) fn kind_code(d: &Displacement) -> u32 {
+    match d {
+        Displacement::None => 0,
+        Displacement::Sine { .. } => 1,
+        Displacement::Perlin { .. } => 2,
+        Displacement::HeightMap { .. } => 3,
+    }
+}
+
 /// The uniform and the data buffer contents for `displace.wgsl`, with room for `face_count`
 /// zeroed face records after the displacement's own data (none without displacement).
 pub(crate) fn gpu_data(d: &Displacement, face_count: usize) -> (DisplaceParams, Vec<f32>) {
@@ -34,7 +44,7 @@ pub(crate) fn gpu_data(d: &Displacement, face_count: usize) -> (DisplaceParams, 
             amplitude,
             frequency,
         } => {
-            (params.kind, params.amplitude, params.frequency) = (1, *amplitude, *frequency);
+            (params.amplitude, params.frequency) = (*amplitude, *frequency);
             vec![0.0]
         }
         Displacement::Perlin {
@@ -42,18 +52,19 @@ pub(crate) fn gpu_data(d: &Displacement, face_count: usize) -> (DisplaceParams, 
             frequency,
             seed,
         } => {
-            (params.kind, params.amplitude, params.frequency) = (2, *amplitude, *frequency);
+            (params.amplitude, params.frequency) = (*amplitude, *frequency);
             tessella_core::displace::permutation(*seed)
                 .iter()
                 .map(|&x| x as f32)
                 .collect()
         }
         Displacement::HeightMap { amplitude, map } => {
-            (params.kind, params.amplitude) = (3, *amplitude);
+            params.amplitude = *amplitude;
             (params.map_width, params.map_height) = (map.width, map.height);
             map.heights.clone()
         }
     };
+    params.kind = kind_code(d);
     params.faces_at = data.len() as u32;
     data.resize(data.len() + face_count * FACE_RECORD_LEN, 0.0);
     (params, data)

@@ -19,7 +19,7 @@ use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::pattern::PointClass;
 use tessella_core::refine::{Evaluator, Frame, Plan, Tiling};
-use tessella_core::{PatchNets, Pattern, RefinedMesh, Refiner};
+use tessella_core::{NormalMode, PatchNets, Pattern, RefinedMesh, Refiner};
 
 /// Threads per workgroup of both kernels (`@workgroup_size(64)` in `refine.wgsl`).
 const WORKGROUP: u64 = 64;
@@ -87,7 +87,7 @@ struct Pipelines {
 }
 
 impl Pipelines {
-    fn new(ctx: &GpuContext) -> Pipelines {
+    fn new(ctx: &GpuContext, normal_mode: NormalMode, displacement: &Displacement) -> Pipelines {
         let patch_layout = patch::layout(ctx, wgpu::ShaderStages::COMPUTE);
         let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
@@ -125,7 +125,12 @@ impl Pipelines {
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("refine.wgsl"),
                 source: wgpu::ShaderSource::Wgsl(
-                    patch::shader_source(include_str!("shaders/refine.wgsl")).into(),
+                    patch::shader_source(
+                        include_str!("shaders/refine.wgsl"),
+                        normal_mode,
+                        displacement,
+                    )
+                    .into(),
                 ),
             });
         let pipeline = |entry| {
@@ -295,7 +300,7 @@ impl GpuEvaluator {
             ),
         };
         ctx.scoped(|| {
-            let pipelines = Pipelines::new(ctx);
+            let pipelines = Pipelines::new(ctx, plan.normal_mode(), &options.displacement);
             let patches = PatchBuffers::new(
                 ctx,
                 &weights,

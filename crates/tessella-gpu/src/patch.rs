@@ -251,9 +251,21 @@ impl PatchBuffers {
     }
 }
 
-/// The WGSL source of a pipeline: the shared evaluation and displacement modules, then its own.
-pub(crate) fn shader_source(own: &str) -> String {
+/// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
+/// shared evaluation and displacement modules, then its own. Constants rather than uniforms,
+/// so each pipeline compiles only its own branch (a software rasteriser runs the whole body of a
+/// branch on a uniform: Perlin noise or `Du × Dv` for every vertex that needs neither).
+pub(crate) fn shader_source(
+    own: &str,
+    normal_mode: NormalMode,
+    displacement: &Displacement,
+) -> String {
     [
+        &format!(
+            "const NORMAL_MODE: u32 = {}u;\nconst DISPLACE_KIND: u32 = {}u;\n",
+            normal_mode_code(normal_mode),
+            displace::kind_code(displacement)
+        ),
         include_str!("shaders/eval.wgsl"),
         include_str!("shaders/displace.wgsl"),
         own,

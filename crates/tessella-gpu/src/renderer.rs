@@ -12,6 +12,7 @@ use crate::gpu_types::RenderUniforms;
 use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::refine::{Frame, Plan};
+use tessella_core::NormalMode;
 
 /// A field for [`PatternRenderer::set_field`]: six net values per coarse face, the colormap's
 /// sRGB samples (0..=1) and the range `[low, high]` they span.
@@ -37,7 +38,12 @@ struct Pipelines {
 }
 
 impl Pipelines {
-    fn new(ctx: &GpuContext, targets: &TargetFormats) -> Pipelines {
+    fn new(
+        ctx: &GpuContext,
+        targets: &TargetFormats,
+        normal_mode: NormalMode,
+        displacement: &Displacement,
+    ) -> Pipelines {
         let patch_layout = patch::layout(ctx, wgpu::ShaderStages::VERTEX);
         let render_layout = render_layout(ctx);
         let module = ctx
@@ -45,10 +51,14 @@ impl Pipelines {
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("render.wgsl"),
                 source: wgpu::ShaderSource::Wgsl(
-                    patch::shader_source(concat!(
-                        include_str!("shaders/shade.wgsl"),
-                        include_str!("shaders/render.wgsl")
-                    ))
+                    patch::shader_source(
+                        concat!(
+                            include_str!("shaders/shade.wgsl"),
+                            include_str!("shaders/render.wgsl")
+                        ),
+                        normal_mode,
+                        displacement,
+                    )
                     .into(),
                 ),
             });
@@ -284,7 +294,7 @@ impl PatternRenderer {
             None => vec![0.0],
         };
         ctx.scoped(|| {
-            let pipelines = Pipelines::new(ctx, formats);
+            let pipelines = Pipelines::new(ctx, formats, plan.normal_mode(), displacement);
             let edges = crate::canonical::edge_table(
                 plan.options().scheme.basis(),
                 &tiles.patterns,

@@ -3,7 +3,8 @@
 // change both together; the GPU-vs-CPU tests compare them.
 
 struct DisplaceParams {
-    kind: u32, // 0 none, 1 sine a*sin(f*|P|), 2 Perlin a*noise(f*P), 3 height map a*h(uv)
+    kind: u32, // 0 none, 1 sine a*sin(f*|P|), 2 Perlin a*noise(f*P), 3 height map a*h(uv);
+               // the shaders read the DISPLACE_KIND constant patch.rs compiles in
     amplitude: f32,
     frequency: f32,
     map_width: u32,
@@ -97,7 +98,7 @@ fn height_map(uv: vec2<f32>) -> f32 {
 fn displacement(p: vec3<f32>, uv: vec2<f32>) -> f32 {
     let a = displace_params.amplitude;
     let f = displace_params.frequency;
-    switch displace_params.kind {
+    switch DISPLACE_KIND {
         case 1u: { return a * sin(f * length(p)); }
         case 2u: { return a * perlin(f * p); }
         case 3u: { return a * height_map(uv); }
@@ -112,7 +113,7 @@ fn displacement(p: vec3<f32>, uv: vec2<f32>) -> f32 {
 // normalize(l1 M1 + l2 M2 + l3 M3), the same on both sides of a hard edge, so it stays closed;
 // every other point (and a vanishing sum) along n.
 fn displace_direction(face: u32, l: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
-    if (displace_params.kind == 0u || displace_params.faces_at == 0xffffffffu) {
+    if (DISPLACE_KIND == 0u || displace_params.faces_at == 0xffffffffu) {
         return n;
     }
     let at = displace_params.faces_at + face * 10u;

@@ -7,7 +7,8 @@
 struct EvalParams {
     k: u32,
     stride: u32,
-    normal_mode: u32, // 0 linear, 1 quadratic, 2 real (NormalMode order)
+    normal_mode: u32, // 0 linear, 1 quadratic, 2 real (NormalMode order); the shaders read the
+                      // NORMAL_MODE constant patch.rs compiles in
     face_count: u32,
     // f32 index (in all faces' nets) of the first float of the bound net_points / net_normals
     // window: the compute path binds the nets of a window of faces when they exceed one binding.
@@ -63,7 +64,7 @@ fn eval_patch(face: u32, row: u32) -> SurfacePoint {
     var out: SurfacePoint;
     out.position = combine_points(face, base);
     var n = vec3<f32>(0.0);
-    if (eval_params.normal_mode == MODE_REAL) {
+    if (NORMAL_MODE == MODE_REAL) {
         let du = combine_points(face, base + k);
         let dv = combine_points(face, base + 2u * k);
         let c = cross(du, dv);
@@ -108,7 +109,7 @@ fn canonical_edge(face: u32, row: u32, out: ptr<function, SurfacePoint>) {
         p += bitcast<f32>(edge_table[w + i]) * net_point(face, c);
     }
     (*out).position = p;
-    if (eval_params.normal_mode != MODE_REAL) {
+    if (NORMAL_MODE != MODE_REAL) {
         var n = vec3<f32>(0.0);
         for (var i = 0u; i < 3u; i++) {
             let c = edge_table[13u + k * 3u + select(2u - i, i, forward)];

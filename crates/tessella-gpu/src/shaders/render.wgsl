@@ -12,7 +12,7 @@ fn vs_pattern(@location(0) code: u32, @builtin(instance_index) instance: u32) ->
     let corner = code >> 30u;
     let sp = eval_patch(face, row);
     var p = sp.position;
-    if (displace_params.kind != 0u) {
+    if (DISPLACE_KIND != 0u) {
         let i = face * 6u;
         let l = sp.l;
         let uv = vec2<f32>(
