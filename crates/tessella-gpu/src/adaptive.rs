@@ -3,10 +3,10 @@
 //! coarse data crosses the bus — the nets, one record per face and one instance per face and
 //! part (`tessella_core::refine::instanced`).
 
-use crate::context::GpuContext;
+use crate::context::{GpuContext, READ, UNIFORM, WRITE};
 use crate::error::GpuError;
 use crate::gpu_types::{AdaptiveParams, RenderUniforms};
-use crate::patch::normal_mode_code;
+use crate::patch::{check_nets_shape, normal_mode_code, write_nets};
 use crate::renderer::{render_group, render_layout, render_pipeline, TargetFormats, CODE_VERTICES};
 use std::collections::HashMap;
 use std::ops::Range;
@@ -242,19 +242,11 @@ impl AdaptiveRenderer {
             let patch_layout = adaptive_layout(ctx);
             let patch_layout_for_capture = patch_layout.clone();
             let render_layout = render_layout(ctx);
-            let entries: Vec<_> = [&points, &normals, &params, &records]
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect();
-            let patch_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("adaptive"),
-                layout: &patch_layout,
-                entries: &entries,
-            });
+            let patch_group = ctx.buffer_group(
+                "adaptive",
+                &patch_layout,
+                &[&points, &normals, &params, &records],
+            );
             let render_group = render_group(
                 ctx,
                 &render_layout,
@@ -352,34 +344,20 @@ impl AdaptiveRenderer {
     /// camera that moves, a mesh that deforms: new levels every frame). Grid levels are drawn
     /// at most at `instanced::MAX_GRID_LEVEL` (64), below the tolerance LOD's cap of 1024.
     pub fn set_lod(&mut self, frame: &Frame, lod: &Lod) -> Result<u64, GpuError> {
-        self.check_shape(frame)?;
+        check_nets_shape(frame.nets(), self.shape)?;
         let (edges, faces) = lod::levels(frame.mesh(), &self.topology, frame.nets(), lod)?;
         self.set_levels(&edges, faces.as_deref())
     }
 
-    fn check_shape(&self, frame: &Frame) -> Result<(), GpuError> {
-        let nets = frame.nets();
-        if (nets.len(), nets.basis.len()) != self.shape {
-            return Err(GpuError::BadOption(format!(
-                "a frame of {} patches of {} control points, the renderer draws {} of {}",
-                nets.len(),
-                nets.basis.len(),
-                self.shape.0,
-                self.shape.1
-            )));
-        }
-        Ok(())
-    }
-
     /// Uploads `frame`'s control nets; returns the bytes written.
     pub fn update(&self, frame: &Frame) -> Result<u64, GpuError> {
-        self.check_shape(frame)?;
-        let nets = frame.nets();
-        let points: &[u8] = bytemuck::cast_slice(&nets.points);
-        let normals: &[u8] = bytemuck::cast_slice(&nets.normals);
-        self.ctx.queue.write_buffer(&self.points, 0, points);
-        self.ctx.queue.write_buffer(&self.normals, 0, normals);
-        Ok((points.len() + normals.len()) as u64)
+        check_nets_shape(frame.nets(), self.shape)?;
+        Ok(write_nets(
+            &self.ctx,
+            &self.points,
+            &self.normals,
+            frame.nets(),
+        ))
     }
 
     /// Sets the camera, light and colours; `flags.x` draws the wireframe (see
@@ -453,36 +431,9 @@ impl AdaptiveRenderer {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
-            let entry = |binding, read_only| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            };
-            let layout = ctx
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("capture"),
-                    entries: &[entry(0, true), entry(1, false)],
-                });
-            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("capture"),
-                layout: &layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: jobs_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: out.as_entire_binding(),
-                    },
-                ],
-            });
+            let compute = wgpu::ShaderStages::COMPUTE;
+            let layout = ctx.buffer_layout("capture", &[(compute, READ), (compute, WRITE)]);
+            let group = ctx.buffer_group("capture", &layout, &[&jobs_buffer, &out]);
             let module = ctx
                 .device
                 .create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -565,25 +516,7 @@ impl AdaptiveRenderer {
 
 /// Group 0 of `shaders/adaptive.wgsl`: nets, params, records.
 fn adaptive_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let storage = wgpu::BufferBindingType::Storage { read_only: true };
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("adaptive"),
-            entries: &[
-                entry(0, storage),
-                entry(1, storage),
-                entry(2, wgpu::BufferBindingType::Uniform),
-                entry(3, storage),
-            ],
-        })
+    let stages = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE;
+    let [r, u] = [(stages, READ), (stages, UNIFORM)];
+    ctx.buffer_layout("adaptive", &[r, r, u, r])
 }

@@ -63,6 +63,15 @@ fn quiet_probe() {
     });
 }
 
+/// A read-only storage buffer binding (see [`GpuContext::buffer_layout`]).
+pub(crate) const READ: wgpu::BufferBindingType =
+    wgpu::BufferBindingType::Storage { read_only: true };
+/// A read-write storage buffer binding.
+pub(crate) const WRITE: wgpu::BufferBindingType =
+    wgpu::BufferBindingType::Storage { read_only: false };
+/// A uniform buffer binding.
+pub(crate) const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
+
 impl GpuContext {
     /// Opens a device on the chosen kind of adapter.
     ///
@@ -328,6 +337,56 @@ impl GpuContext {
             }
         }
         buffer
+    }
+
+    /// A bind group layout of buffers only, binding `i` being `entries[i]`: the stages that
+    /// see it and its kind ([`READ`], [`WRITE`], [`UNIFORM`]).
+    pub(crate) fn buffer_layout(
+        &self,
+        label: &str,
+        entries: &[(wgpu::ShaderStages, wgpu::BufferBindingType)],
+    ) -> wgpu::BindGroupLayout {
+        let entries: Vec<_> = entries
+            .iter()
+            .enumerate()
+            .map(|(i, &(visibility, ty))| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility,
+                ty: wgpu::BindingType::Buffer {
+                    ty,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        self.device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &entries,
+            })
+    }
+
+    /// A bind group of whole buffers, binding `i` being `buffers[i]`.
+    pub(crate) fn buffer_group(
+        &self,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        buffers: &[&wgpu::Buffer],
+    ) -> wgpu::BindGroup {
+        let entries: Vec<_> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &entries,
+        })
     }
 
     /// A storage buffer initialised from `data` (at least 4 bytes: empty bindings are invalid).

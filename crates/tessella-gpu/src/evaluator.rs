@@ -11,7 +11,7 @@
 //! Work is split into chunks that fit one storage-buffer binding and one dispatch, so an
 //! output that fits in one buffer can be refined whatever the binding limit.
 
-use crate::context::GpuContext;
+use crate::context::{GpuContext, READ, UNIFORM, WRITE};
 use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::RefineParams;
@@ -89,30 +89,17 @@ struct Pipelines {
 impl Pipelines {
     fn new(ctx: &GpuContext, normal_mode: NormalMode, displacement: &Displacement) -> Pipelines {
         let patch_layout = patch::layout(ctx, wgpu::ShaderStages::COMPUTE);
-        let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
-        let write = wgpu::BufferBindingType::Storage { read_only: false };
-        let refine_layout = ctx
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("refine"),
-                entries: &[
-                    buffer(0, wgpu::BufferBindingType::Uniform),
-                    buffer(1, read),
-                    buffer(2, read),
-                    buffer(3, write),
-                    buffer(4, write),
-                ],
-            });
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let refine_layout = ctx.buffer_layout(
+            "refine",
+            &[
+                (compute, UNIFORM),
+                (compute, READ),
+                (compute, READ),
+                (compute, WRITE),
+                (compute, WRITE),
+            ],
+        );
         let layout = ctx
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

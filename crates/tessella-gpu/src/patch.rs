@@ -2,7 +2,7 @@
 //! what `shaders/eval.wgsl` and `shaders/displace.wgsl` read. Uploaded unchanged from
 //! tessella-core's `Stencil` and `PatchNets`.
 
-use crate::context::GpuContext;
+use crate::context::{GpuContext, READ, UNIFORM};
 use crate::displace::{self, Displacement};
 use crate::error::GpuError;
 use crate::gpu_types::EvalParams;
@@ -20,39 +20,8 @@ pub(crate) fn normal_mode_code(mode: NormalMode) -> u32 {
 
 /// Layout of group 0, for the given shader stages.
 pub(crate) fn layout(ctx: &GpuContext, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayout {
-    let storage = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let uniform = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("patch"),
-            entries: &[
-                storage(0),
-                storage(1),
-                storage(2),
-                uniform(3),
-                uniform(4),
-                storage(5),
-                storage(6),
-            ],
-        })
+    let [r, u] = [(visibility, READ), (visibility, UNIFORM)];
+    ctx.buffer_layout("patch", &[r, r, r, u, u, r, r])
 }
 
 /// The GPU copies of one mesh's nets plus a pattern's stencil.
@@ -158,11 +127,7 @@ impl PatchBuffers {
     /// Replaces the nets with new ones of the same size: the only per-frame upload of a
     /// deforming mesh. Returns the bytes written.
     pub fn update_nets(&self, ctx: &GpuContext, nets: &PatchNets) -> u64 {
-        let points: &[u8] = bytemuck::cast_slice(&nets.points);
-        let normals: &[u8] = bytemuck::cast_slice(&nets.normals);
-        ctx.queue.write_buffer(&self.points, 0, points);
-        ctx.queue.write_buffer(&self.normals, 0, normals);
-        (points.len() + normals.len()) as u64
+        write_nets(ctx, &self.points, &self.normals, nets)
     }
 
     /// `true` when a displacement is bound (its face records need writing per frame).
@@ -249,6 +214,35 @@ impl PatchBuffers {
             entries: &entries,
         })
     }
+}
+
+/// Writes `nets` into the point and normal-net buffers of a renderer or evaluator; returns the
+/// bytes written.
+pub(crate) fn write_nets(
+    ctx: &GpuContext,
+    points: &wgpu::Buffer,
+    normals: &wgpu::Buffer,
+    nets: &PatchNets,
+) -> u64 {
+    let p: &[u8] = bytemuck::cast_slice(&nets.points);
+    let n: &[u8] = bytemuck::cast_slice(&nets.normals);
+    ctx.queue.write_buffer(points, 0, p);
+    ctx.queue.write_buffer(normals, 0, n);
+    (p.len() + n.len()) as u64
+}
+
+/// Refuses a frame whose nets are not `shape`: (patches, control points per patch).
+pub(crate) fn check_nets_shape(nets: &PatchNets, shape: (usize, usize)) -> Result<(), GpuError> {
+    if (nets.len(), nets.basis.len()) != shape {
+        return Err(GpuError::BadOption(format!(
+            "a frame of {} patches of {} control points, the renderer draws {} of {}",
+            nets.len(),
+            nets.basis.len(),
+            shape.0,
+            shape.1
+        )));
+    }
+    Ok(())
 }
 
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the

@@ -5,7 +5,7 @@
 //! [`PatternRenderer`] records into the caller's render pass; the caller owns the targets, the
 //! encoder and the submission (tessella-view's offscreen pictures are one such caller).
 
-use crate::context::GpuContext;
+use crate::context::{GpuContext, READ, UNIFORM};
 use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::RenderUniforms;
@@ -118,30 +118,18 @@ pub(crate) const CODE_VERTICES: wgpu::VertexBufferLayout<'static> = wgpu::Vertex
 /// Layout of group 1 of the render pipelines (`shaders/shade.wgsl`): uniforms, face UVs,
 /// instances, field nets, colormap.
 pub(crate) fn render_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
-    let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let storage = wgpu::BufferBindingType::Storage { read_only: true };
     let vertex = wgpu::ShaderStages::VERTEX;
     let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("render"),
-            entries: &[
-                entry(0, both, wgpu::BufferBindingType::Uniform),
-                entry(1, vertex, storage),
-                entry(2, vertex, storage),
-                entry(3, vertex, storage),
-                entry(4, both, storage),
-            ],
-        })
+    ctx.buffer_layout(
+        "render",
+        &[
+            (both, UNIFORM),
+            (vertex, READ),
+            (vertex, READ),
+            (vertex, READ),
+            (both, READ),
+        ],
+    )
 }
 
 /// A triangle-list pipeline of `module`'s vertex `entry` and `fs_main`, for `targets`.
@@ -462,15 +450,7 @@ impl PatternRenderer {
     /// count and basis.
     pub fn update(&self, frame: &Frame) -> Result<u64, GpuError> {
         let nets = frame.nets();
-        if (nets.len(), nets.basis.len()) != self.shape {
-            return Err(GpuError::BadOption(format!(
-                "a frame of {} patches of {} control points, the renderer draws {} of {}",
-                nets.len(),
-                nets.basis.len(),
-                self.shape.0,
-                self.shape.1
-            )));
-        }
+        patch::check_nets_shape(nets, self.shape)?;
         let mut bytes = 0;
         if let Some(ids) = &self.position_ids {
             let mesh = frame.mesh();
@@ -584,19 +564,7 @@ pub(crate) fn render_group(
     layout: &wgpu::BindGroupLayout,
     buffers: [&wgpu::Buffer; 5],
 ) -> wgpu::BindGroup {
-    let entries: Vec<_> = buffers
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("render"),
-        layout,
-        entries: &entries,
-    })
+    ctx.buffer_group("render", layout, &buffers)
 }
 
 /// One instanced draw: a pattern's index range (or unrolled vertex range, the same numbers)
