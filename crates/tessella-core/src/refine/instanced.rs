@@ -193,6 +193,24 @@ pub struct FrameInstances {
     pub triangles: u64,
 }
 
+/// The parts one face draws, with their instance sides: none (culled), one or four. Fixed
+/// size, so a frame allocates nothing per face.
+#[derive(Debug, Clone, Copy, Default)]
+struct FaceParts {
+    parts: [(u32, u32); 4],
+    len: usize,
+}
+
+impl FaceParts {
+    fn push(&mut self, part: u32, side: u32) {
+        self.parts[self.len] = (part, side);
+        self.len += 1;
+    }
+    fn as_slice(&self) -> &[(u32, u32)] {
+        &self.parts[..self.len]
+    }
+}
+
 /// The record and the parts (with their instance sides) of one face with edge levels `outer`
 /// (our edge order, already clamped) and inner level `inner`; no parts when it is culled.
 fn face_record(
@@ -200,10 +218,10 @@ fn face_record(
     outer: [f32; 3],
     inner: f32,
     forward: u32,
-) -> ([u32; RECORD_WORDS], Vec<(u32, u32)>) {
+) -> ([u32; RECORD_WORDS], FaceParts) {
     let mut record = [0u32; RECORD_WORDS];
     record[FORWARD_WORD] = forward;
-    let mut parts = Vec::with_capacity(4);
+    let mut parts = FaceParts::default();
     match spacing.tessellator() {
         None => {
             let cap = MAX_GRID_LEVEL as f32;
@@ -217,20 +235,20 @@ fn face_record(
                 record[4 + k] = (morph::factor(outer[k], n[k]) as f32).to_bits();
             }
             record[7] = (morph::factor(inner, big) as f32).to_bits();
-            parts.push((grid_part(big), 0));
+            parts.push(grid_part(big), 0);
         }
         Some(s) => {
             if let Some(p) = process_levels(s, gl_levels(outer, inner)) {
                 let rulers = FaceRulers::new(&p);
                 record[..20].copy_from_slice(&rulers.words());
                 if rulers.single_triangle {
-                    parts.push((SINGLE, 0));
+                    parts.push(SINGLE, 0);
                 } else {
                     let (outer, inner) = rulers.shapes();
                     for (k, &o) in outer.iter().enumerate() {
-                        parts.push((strip_part(inner, o), k as u32));
+                        parts.push(strip_part(inner, o), k as u32);
                     }
-                    parts.push((interior_part(inner), 0));
+                    parts.push(interior_part(inner), 0);
                 }
             }
         }
@@ -269,7 +287,7 @@ pub fn frame_instances(
         });
         let (record, parts) = face_record(table.spacing, outer, inner, forward);
         records.extend_from_slice(&record);
-        for &(part, _) in &parts {
+        for &(part, _) in parts.as_slice() {
             counts[part as usize] += 1;
         }
         face_parts.push(parts);
@@ -293,7 +311,7 @@ pub fn frame_instances(
     }
     let mut instances = vec![0u32; at as usize];
     for (f, parts) in face_parts.iter().enumerate() {
-        for &(part, side) in parts {
+        for &(part, side) in parts.as_slice() {
             let slot = &mut starts[part as usize];
             instances[*slot as usize] = f as u32 | side << 30;
             *slot += 1;
