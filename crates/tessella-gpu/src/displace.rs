@@ -16,7 +16,7 @@ pub(crate) const FACE_RECORD_LEN: usize = 10;
 /// `DisplaceParams::faces_at` when there are no face records (no displacement).
 pub(crate) const NO_FACES: u32 = u32::MAX;
 
-/// `DisplaceParams::kind` of `d`: 0 none, 1 sine, 2 Perlin, 3 height map.
+/// `DISPLACE_KIND` of `d` in `displace.wgsl`: 0 none, 1 sine, 2 Perlin, 3 height map.
 pub(crate) fn kind_code(d: &Displacement) -> u32 {
     match d {
         Displacement::None => 0,
@@ -30,13 +30,12 @@ pub(crate) fn kind_code(d: &Displacement) -> u32 {
 /// zeroed face records after the displacement's own data (none without displacement).
 pub(crate) fn gpu_data(d: &Displacement, face_count: usize) -> (DisplaceParams, Vec<f32>) {
     let mut params = DisplaceParams {
-        kind: 0,
         amplitude: 0.0,
         frequency: 0.0,
         map_width: 1,
         map_height: 1,
         faces_at: NO_FACES,
-        _pad: [0; 2],
+        _pad: [0; 3],
     };
     let mut data = match d {
         Displacement::None => return (params, vec![0.0]),
@@ -64,7 +63,6 @@ pub(crate) fn gpu_data(d: &Displacement, face_count: usize) -> (DisplaceParams, 
             map.heights.clone()
         }
     };
-    params.kind = kind_code(d);
     params.faces_at = data.len() as u32;
     data.resize(data.len() + face_count * FACE_RECORD_LEN, 0.0);
     (params, data)

@@ -10,35 +10,33 @@ use std::mem::{offset_of, size_of};
 pub(crate) struct EvalParams {
     pub k: u32,
     pub stride: u32,
-    pub normal_mode: u32,
     pub face_count: u32,
     /// `f32` index in the nets of the first float the bound `net_points` window holds (0
     /// unless the compute path splits the nets into windows of faces).
     pub points_base: u32,
     /// The same for `net_normals`.
     pub normals_base: u32,
-    pub _pad: [u32; 2],
+    pub _pad: [u32; 3],
 }
 const _: () = assert!(size_of::<EvalParams>() == 32);
-const _: () = assert!(offset_of!(EvalParams, normals_base) == 20);
-const _: () = assert!(offset_of!(EvalParams, normal_mode) == 8);
+const _: () = assert!(offset_of!(EvalParams, face_count) == 8);
+const _: () = assert!(offset_of!(EvalParams, normals_base) == 16);
 
 /// `DisplaceParams` in `shaders/displace.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub(crate) struct DisplaceParams {
-    pub kind: u32,
     pub amplitude: f32,
     pub frequency: f32,
     pub map_width: u32,
     pub map_height: u32,
     /// Index in `displace_data` of the first face record, or `u32::MAX` for none.
     pub faces_at: u32,
-    pub _pad: [u32; 2],
+    pub _pad: [u32; 3],
 }
 const _: () = assert!(size_of::<DisplaceParams>() == 32);
-const _: () = assert!(offset_of!(DisplaceParams, map_height) == 16);
-const _: () = assert!(offset_of!(DisplaceParams, faces_at) == 20);
+const _: () = assert!(offset_of!(DisplaceParams, map_height) == 12);
+const _: () = assert!(offset_of!(DisplaceParams, faces_at) == 16);
 
 /// `RefineParams` in `shaders/refine.wgsl`.
 #[repr(C)]

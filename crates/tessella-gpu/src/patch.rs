@@ -87,11 +87,10 @@ impl PatchBuffers {
         let eval = EvalParams {
             k,
             stride: Stencil::stride_for(nets.basis.len()) as u32,
-            normal_mode: normal_mode_code(nets.normal_mode),
             face_count: nets.len() as u32,
             points_base: 0,
             normals_base: 0,
-            _pad: [0; 2],
+            _pad: [0; 3],
         };
         let (dparams, ddata) = displace::gpu_data(displacement, nets.len());
         let data_bytes = ddata.len() as u64 * 4;

@@ -3,13 +3,14 @@
 // change both together; the GPU-vs-CPU tests compare them.
 
 struct DisplaceParams {
-    kind: u32, // 0 none, 1 sine a*sin(f*|P|), 2 Perlin a*noise(f*P), 3 height map a*h(uv);
-               // the shaders read the DISPLACE_KIND constant patch.rs compiles in
+    // The kind is the constant DISPLACE_KIND (patch.rs compiles it in): 0 none,
+    // 1 sine a*sin(f*|P|), 2 Perlin a*noise(f*P), 3 height map a*h(uv).
     amplitude: f32,
     frequency: f32,
     map_width: u32,
     map_height: u32,
     faces_at: u32, // first face record in displace_data, or 0xffffffff for none
+    _pad0: u32,
     _pad1: u32,
     _pad2: u32,
 }

@@ -7,8 +7,6 @@
 struct EvalParams {
     k: u32,
     stride: u32,
-    normal_mode: u32, // 0 linear, 1 quadratic, 2 real (NormalMode order); the shaders read the
-                      // NORMAL_MODE constant patch.rs compiles in
     face_count: u32,
     // f32 index (in all faces' nets) of the first float of the bound net_points / net_normals
     // window: the compute path binds the nets of a window of faces when they exceed one binding.
@@ -16,6 +14,7 @@ struct EvalParams {
     normals_base: u32,
     _pad0: u32,
     _pad1: u32,
+    _pad2: u32,
 }
 
 @group(0) @binding(0) var<storage, read> stencil: array<f32>;
