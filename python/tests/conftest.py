@@ -121,7 +121,7 @@ def uniform_barycentrics(level: int) -> np.ndarray:
 
 
 def pn_points(p: np.ndarray, nrm: np.ndarray, bary: np.ndarray) -> np.ndarray:
-    """PN triangle (Vlachos et al. 2001, ERRATA.md) of corners p (3,3), normals nrm (3,3),
+    """PN triangle (Vlachos et al. 2001, docs/formulas.md) of corners p (3,3), normals nrm (3,3),
     evaluated in f64 at barycentrics bary (k, 3)."""
     p = p.astype(np.float64)
     nrm = nrm.astype(np.float64)
@@ -146,7 +146,7 @@ def pn_points(p: np.ndarray, nrm: np.ndarray, bary: np.ndarray) -> np.ndarray:
 
 
 def phong_points(p: np.ndarray, nrm: np.ndarray, bary: np.ndarray, alpha: float) -> np.ndarray:
-    """Phong tessellation (Boubekeur & Alexa 2008, ERRATA.md) in f64."""
+    """Phong tessellation (Boubekeur & Alexa 2008, docs/formulas.md) in f64."""
     p = p.astype(np.float64)
     nrm = nrm.astype(np.float64)
     nrm = nrm / np.linalg.norm(nrm, axis=1, keepdims=True)

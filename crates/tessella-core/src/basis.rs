@@ -14,7 +14,7 @@ pub mod png1;
 use serde::Serialize;
 
 /// Cubic control points in storage order: corners, then two points per edge walking
-/// P1 → P2 → P3 → P1, then the centre. Index `i` of `b_ijk` belongs to P1 (see ERRATA.md).
+/// P1 → P2 → P3 → P1, then the centre. Index `i` of `b_ijk` belongs to P1 (docs/formulas.md, Conventions).
 pub const CUBIC_ORDER: [[u8; 3]; 10] = [
     [3, 0, 0], // b300 = P1
     [0, 3, 0], // b030 = P2
@@ -104,7 +104,7 @@ fn cubic_weights(l: [f64; 3]) -> BasisWeights {
 
 /// Weights of the quadratic normal net `N1, N2, N3, n110, n011, n101` at `l`:
 /// `l1², l2², l3², l1 l2, l2 l3, l3 l1` (Vlachos et al., with the mid coefficients carrying
-/// their factor; see ERRATA.md).
+/// their factor; docs/formulas.md, Normal nets).
 pub fn normal_weights(l: [f64; 3]) -> [f64; NORMAL_NET_LEN] {
     let [a, b, c] = l;
     [a * a, b * b, c * c, a * b, b * c, c * a]

@@ -3,7 +3,7 @@
 //!
 //! | type | names |
 //! |---|---|
-//! | [`Scheme`] | `flat`, `phong`, `pn`, `png1`, `pn-aen`, `st` |
+//! | [`Scheme`] | `flat`, `phong`, `pn`, `png1`, `pn-aen`, `st`, `quadratic` |
 //! | [`NormalMode`] | `linear`, `quadratic`, `real` |
 //! | [`Backend`] | `auto`, `cpu`, `gpu`, `gl` |
 //!

@@ -113,7 +113,7 @@ fn edge_defects(mesh: &Mesh, topo: &Topology, eval: &Eval, oriented: bool) -> (f
     (worst, gap, count)
 }
 
-/// PN control points in f64 straight from Vlachos et al. (ERRATA.md), in `CUBIC_ORDER`.
+/// PN control points in f64 straight from Vlachos et al. (docs/formulas.md, PN triangles), in `CUBIC_ORDER`.
 fn pn_net(p: [DVec3; 3], n: [DVec3; 3]) -> Vec<DVec3> {
     let edge = |i: usize, j: usize| (2.0 * p[i] + p[j] - (p[j] - p[i]).dot(n[i]) * n[i]) / 3.0;
     let e = [

@@ -1,5 +1,5 @@
 //! Phong tessellation (Boubekeur & Alexa 2008; the FEM poster's equations (1), (2), with the
-//! parenthesis fixed as in ERRATA.md).
+//! parenthesis fixed as in docs/formulas.md, Corrections to printed formulas).
 
 use super::{cubic_from_quadratic, Corners};
 use glam::Vec3;

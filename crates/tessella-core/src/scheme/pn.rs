@@ -1,5 +1,5 @@
 //! Curved PN triangles (Vlachos et al. 2001; GMR Appendix A and van Veen eq. (3), corrected as
-//! in ERRATA.md).
+//! in docs/formulas.md, Corrections to printed formulas).
 
 use super::Corners;
 use glam::Vec3;

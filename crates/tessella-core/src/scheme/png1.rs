@@ -47,7 +47,7 @@
 //! # Naming
 //!
 //! The paper writes `(u, v, w)` with `w ↔ P1`, `u ↔ P2`, `v ↔ P3`; here `(l1, l2, l3) = (w, u, v)`
-//! and `b_ijk` has `i` for P1 (ERRATA.md). The paper's `D_u`, `D_v` are our `Du` (P1 → P2) and
+//! and `b_ijk` has `i` for P1 (docs/formulas.md, Conventions). The paper's `D_u`, `D_v` are our `Du` (P1 → P2) and
 //! `Dv` (P1 → P3).
 
 pub use crate::basis::png1::{eval_f64, weights, PNG1_LEN, PNG1_ORDER};

@@ -6,7 +6,7 @@
 //! a validated `Mesh` (positions, unit normals, triangles), a `Pattern`'s table of barycentric
 //! points and small triangles, and the refined output.
 //!
-//! Convention (ERRATA.md): a point of face `(P1, P2, P3)` is `l1 P1 + l2 P2 + l3 P3`, and the
+//! Convention (docs/formulas.md, Conventions): a point of face `(P1, P2, P3)` is `l1 P1 + l2 P2 + l3 P3`, and the
 //! first index of `b_ijk` belongs to `P1`. Derivatives use `l = (1 - u - v, u, v)`, so `Du` runs
 //! along `P1 -> P2` and `Dv` along `P1 -> P3`, and `Du × Dv` faces the side a counter-clockwise
 //! triangle's normals face.
@@ -57,7 +57,7 @@ pub fn d3(p: [f32; 3]) -> DVec3 {
     DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
 }
 
-/// The cubic PN control net (Vlachos et al. 2001; GMR Appendix A with ERRATA.md's fixes),
+/// The cubic PN control net (Vlachos et al. 2001; GMR Appendix A with the fixes in docs/formulas.md, Corrections to printed formulas),
 /// indexed by `(i, j, k)`.
 #[derive(Debug, Clone, Copy)]
 pub struct PnNet {
