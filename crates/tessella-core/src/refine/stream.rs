@@ -107,10 +107,14 @@ impl Plan {
     }
 
     fn piece_k<const K: usize>(&self, frame: &Frame, piece: &Piece, sink: Sink) {
-        let (mesh, nets, stencil, topo) = (frame.mesh(), frame.nets(), self.stencil(), self.topology());
+        let (mesh, nets, stencil, topo) =
+            (frame.mesh(), frame.nets(), self.stencil(), self.topology());
         let want_normals = sink.wants_normals();
         let want_uvs = sink.wants_uvs();
-        let face_uvs = |f: usize| mesh.uvs().map(|uv| mesh.triangles()[f].map(|v| uv[v as usize]));
+        let face_uvs = |f: usize| {
+            mesh.uvs()
+                .map(|uv| mesh.triangles()[f].map(|v| uv[v as usize]))
+        };
         match piece.clone() {
             Piece::Corners(r) => sink
                 .chunks(CORNERS_PER_TASK)
@@ -123,7 +127,8 @@ impl Plan {
                         if want_normals {
                             let normal = match topo.vertex_owner[v] {
                                 Some((f, c)) => {
-                                    let row = stencil.row(stencil.corner_point(c as usize) as usize);
+                                    let row =
+                                        stencil.row(stencil.corner_point(c as usize) as usize);
                                     let f = f as usize;
                                     eval_point::<K>(
                                         row,
@@ -167,7 +172,10 @@ impl Plan {
                             if let (true, Some(uv)) = (want_uvs, face_uvs(f)) {
                                 for s in 0..m {
                                     let i = if forward { s } else { m - 1 - s };
-                                    sink.set_uv(le * m + s, interpolate_uv(block.barycentric[i], &uv));
+                                    sink.set_uv(
+                                        le * m + s,
+                                        interpolate_uv(block.barycentric[i], &uv),
+                                    );
                                 }
                             }
                         }
@@ -226,8 +234,12 @@ impl Plan {
                 need,
             });
         }
-        let (topo, stencil, pattern, layout) =
-            (self.topology(), self.stencil(), self.pattern(), self.layout());
+        let (topo, stencil, pattern, layout) = (
+            self.topology(),
+            self.stencil(),
+            self.pattern(),
+            self.layout(),
+        );
         let n = layout.level as usize;
         let m = n - 1;
         let ni = Pattern::interior_count(layout.level) as usize;
@@ -357,7 +369,9 @@ mod tests {
             normals: None,
             uvs: None,
         };
-        assert!(plan.evaluate_piece(&frame, &Piece::Interiors(0..99), out).is_err());
+        assert!(plan
+            .evaluate_piece(&frame, &Piece::Interiors(0..99), out)
+            .is_err());
         let mut t = vec![[0u32; 3]; 16];
         assert!(plan.write_face_indices(3..5, &mut t).is_err());
         let soup = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4).with_weld(false)).unwrap();
