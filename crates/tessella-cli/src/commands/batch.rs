@@ -40,7 +40,8 @@ fn usage(message: String) -> anyhow::Error {
 pub struct Row {
     pub input: PathBuf,
     pub output: PathBuf,
-    /// `ok`, `skipped` (the output existed) or `failed`.
+    /// `ok`, `skipped` (the output existed: counts from the run that made it, when its
+    /// manifest had them) or `failed`.
     pub status: String,
     pub input_triangles: Option<u64>,
     pub vertices: Option<u64>,
@@ -83,7 +84,11 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
     let skipped: Vec<Row> = skip
         .into_iter()
         .map(|(input, output)| match old.get(&input) {
-            Some(row) if row.output == output && row.status != "failed" => row.clone(),
+            // The last run's counts, marked as not redone.
+            Some(row) if row.output == output && row.status != "failed" => Row {
+                status: "skipped".into(),
+                ..row.clone()
+            },
             _ => Row {
                 input,
                 output,
