@@ -188,9 +188,15 @@ pub struct RefineArgs {
     /// Write PLY as ASCII instead of binary little-endian.
     #[arg(long)]
     pub ply_ascii: bool,
-    /// Refuse outputs larger than this (e.g. 512MiB, 8GiB).
+    /// Memory to work in (e.g. 512MiB, 8GiB): the pieces in flight when the output is
+    /// streamed, a cap on the output when it is refined in memory.
     #[arg(long, default_value = "8GiB", value_parser = parse_bytes)]
     pub max_memory: u64,
+    /// Refine the whole output in memory before writing it (capped by --max-memory) instead
+    /// of streaming it piece by piece; the same file, the reference the streamed one is
+    /// checked against.
+    #[arg(long)]
+    pub in_memory: bool,
     /// Where to refine.
     #[arg(long, value_parser = CoreName::<Backend>::new(), default_value = "auto")]
     pub backend: Backend,

@@ -163,7 +163,8 @@ fn streams(
         tessella_core::Backend::Auto | tessella_core::Backend::Cpu
     );
     let format = Format::from_path(&args.output).ok();
-    cpu && options.weld
+    cpu && !args.in_memory
+        && options.weld
         && options.uniform_grid_level() == Some(options.level)
         && options.levels.is_none()
         && args.displace.is_none()
