@@ -34,7 +34,7 @@ rm -rf "$VENV"
 "$PYTHON" -m venv "$VENV"
 PIP=("$VENV/bin/python" -m pip --disable-pip-version-check -q)
 "${PIP[@]}" install --upgrade pip
-"${PIP[@]}" install maturin numpy pytest trimesh meshio h5py gmsh matplotlib
+"${PIP[@]}" install maturin numpy pytest trimesh meshio h5py gmsh matplotlib "dask[distributed]"
 
 echo "== python: building and installing the package (maturin, release)"
 "${PIP[@]}" install "$HERE"

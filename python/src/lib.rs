@@ -19,6 +19,7 @@ mod gpu;
 mod options;
 mod refiner;
 mod render;
+mod stream;
 mod tags;
 
 use numpy::PyArray2;
@@ -468,6 +469,7 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(quality, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
+    stream::register(m)?;
     m.add_function(wrap_pyfunction!(schemes, m)?)?;
     m.add_function(wrap_pyfunction!(backends, m)?)?;
     m.add_function(wrap_pyfunction!(gpu_info, m)?)?;

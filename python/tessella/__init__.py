@@ -655,3 +655,4 @@ def _is_trimesh(obj: Any) -> bool:
 
 from ._interop import refine_trimesh, to_trimesh  # noqa: E402
 from ._fem import boundary_faces, read_fem, write_fem  # noqa: E402
+from ._batch import batch, refine_file, refine_to_file  # noqa: E402,F401

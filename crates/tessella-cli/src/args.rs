@@ -8,6 +8,8 @@ use std::path::PathBuf;
 use std::str::FromStr;
 use tessella_core::{Backend, Named, NormalMode, Scheme, UnknownName};
 
+pub use crate::args_batch::BatchArgs;
+
 /// Turn coarse triangle meshes into smooth curved surfaces.
 ///
 /// Each coarse triangle is replaced by a curved patch (Phong tessellation or PN triangles)
@@ -26,6 +28,13 @@ pub enum Command {
     ///
     /// Example: tessella refine bunny.obj -o smooth.ply --scheme pn --level 8
     Refine(RefineArgs),
+    /// Refine many mesh files (files, folders, glob patterns) into a folder with the options
+    /// of `refine`, on all cores; existing outputs are skipped (a killed batch resumes), and
+    /// `manifest.jsonl` in the folder gets a row per input. Exit code 1 when some file failed,
+    /// 2 for usage errors.
+    ///
+    /// Example: tessella batch meshes/ 'more/*.stl' -o refined/ --level 4
+    Batch(BatchArgs),
     /// Report a mesh file's counts, bounds, boundary and non-manifold edges, split normals and
     /// degenerate triangles.
     Info(InfoArgs),
@@ -134,7 +143,7 @@ fn scheme_parser() -> impl TypedValueParser<Value = SchemeArg> {
     CoreName::<Scheme>::new().map(SchemeArg)
 }
 
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 pub struct RefineArgs {
     /// Input mesh (.obj, .ply, .gltf, .glb, .stl).
     pub input: PathBuf,
@@ -179,9 +188,15 @@ pub struct RefineArgs {
     /// Write PLY as ASCII instead of binary little-endian.
     #[arg(long)]
     pub ply_ascii: bool,
-    /// Refuse outputs larger than this (e.g. 512MiB, 8GiB).
+    /// Memory to work in (e.g. 512MiB, 8GiB): the pieces in flight when the output is
+    /// streamed, a cap on the output when it is refined in memory.
     #[arg(long, default_value = "8GiB", value_parser = parse_bytes)]
     pub max_memory: u64,
+    /// Refine the whole output in memory before writing it (capped by --max-memory) instead
+    /// of streaming it piece by piece; the same file, the reference the streamed one is
+    /// checked against.
+    #[arg(long)]
+    pub in_memory: bool,
     /// Where to refine.
     #[arg(long, value_parser = CoreName::<Backend>::new(), default_value = "auto")]
     pub backend: Backend,
@@ -317,7 +332,7 @@ pub struct AnimateArgs {
 
 /// Creases and shape tags, for `--scheme st` (all tags) and `--scheme png1` (sharp edges).
 /// Hard edges in the file (one position, several normals) become creases on their own.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 pub struct TagArgs {
     /// Sidecar JSON with per-edge sharpness and per-vertex tension/sharpness/bias/crease
     /// (format: `tessella_io::tags` docs and the README). PLY inputs may carry the same as

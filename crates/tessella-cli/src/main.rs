@@ -2,6 +2,7 @@
 //! print refinement patterns. Run `tessella --help` for the commands.
 
 mod args;
+mod args_batch;
 mod commands;
 mod progress;
 
@@ -20,6 +21,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
             eprintln!("error: {error}");
+            if error.is::<commands::batch::UsageError>() {
+                return ExitCode::from(2);
+            }
             for cause in error.chain().skip(1) {
                 eprintln!("  caused by: {cause}");
             }

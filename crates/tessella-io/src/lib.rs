@@ -57,7 +57,9 @@ mod height_map;
 pub mod obj;
 pub mod ply;
 mod raw;
+mod refined;
 pub mod stl;
+pub mod stream;
 pub mod tags;
 
 pub use atomic::write_atomic;
@@ -65,6 +67,8 @@ pub use error::IoError;
 pub use format::Format;
 pub use height_map::read_height_map;
 pub use raw::{MeshView, RawEdge, RawMesh};
+pub use refined::RefinedSource;
+pub use stream::{write_streamed, MeshSource};
 
 use std::io::BufReader;
 use std::path::Path;

@@ -149,33 +149,54 @@ fn vertex_key(p: [f32; 3], n: Option<[f32; 3]>, t: Option<[f32; 2]>) -> [u32; 8]
 /// Writes one `v` (and `vt`, `vn`) per vertex and `f` lines with the same index for each
 /// attribute. Numbers use Rust's shortest round-trip formatting, so reading back is exact.
 pub fn write(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
-    use crate::encode::{push_f32, push_int, write_records};
-    fn floats<const N: usize>(
-        out: &mut dyn Write,
-        tag: &'static [u8],
-        values: &[[f32; N]],
-    ) -> std::io::Result<()> {
-        write_records(out, values.len(), 12 * N, |i, out| {
-            out.extend_from_slice(tag);
-            for x in values[i] {
-                out.push(b' ');
-                push_f32(out, x);
-            }
-            out.push(b'\n');
-        })
-    }
-    out.write_all(b"# written by tessella\n")?;
-    floats(out, b"v", mesh.positions)?;
+    out.write_all(HEADER)?;
+    write_floats(out, b"v", mesh.positions)?;
     if let Some(uvs) = mesh.uvs {
-        floats(out, b"vt", uvs)?;
+        write_floats(out, b"vt", uvs)?;
     }
     if let Some(normals) = mesh.normals {
-        floats(out, b"vn", normals)?;
+        write_floats(out, b"vn", normals)?;
     }
-    let (uvs, normals) = (mesh.uvs.is_some(), mesh.normals.is_some());
-    write_records(out, mesh.triangles.len(), 40, |f, out| {
+    write_faces(
+        out,
+        mesh.triangles,
+        mesh.uvs.is_some(),
+        mesh.normals.is_some(),
+    )
+}
+
+/// The file's first line.
+pub(crate) const HEADER: &[u8] = b"# written by tessella\n";
+
+/// One `tag x y z` line per value: a run of the `v`, `vt` or `vn` section.
+pub(crate) fn write_floats<const N: usize>(
+    out: &mut dyn Write,
+    tag: &'static [u8],
+    values: &[[f32; N]],
+) -> std::io::Result<()> {
+    use crate::encode::{push_f32, write_records};
+    write_records(out, values.len(), 12 * N, |i, out| {
+        out.extend_from_slice(tag);
+        for x in values[i] {
+            out.push(b' ');
+            push_f32(out, x);
+        }
+        out.push(b'\n');
+    })
+}
+
+/// One `f` line per triangle (0-based indices in, 1-based out), naming the uv and normal of
+/// each corner by the same index when the file has them.
+pub(crate) fn write_faces(
+    out: &mut dyn Write,
+    triangles: &[[u32; 3]],
+    uvs: bool,
+    normals: bool,
+) -> std::io::Result<()> {
+    use crate::encode::{push_int, write_records};
+    write_records(out, triangles.len(), 40, |f, out| {
         out.push(b'f');
-        for &i in &mesh.triangles[f] {
+        for &i in &triangles[f] {
             let i = u64::from(i) + 1;
             out.push(b' ');
             push_int(out, i);
@@ -198,6 +219,5 @@ pub fn write(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
             }
         }
         out.push(b'\n');
-    })?;
-    Ok(())
+    })
 }

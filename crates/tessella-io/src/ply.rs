@@ -407,6 +407,24 @@ fn write_with(
     scalars: &VertexScalars,
     origin: Option<Origin>,
 ) -> std::io::Result<()> {
+    let counts = (mesh.positions.len() as u64, mesh.triangles.len() as u64);
+    let names: Vec<&str> = scalars.iter().map(|(name, _)| *name).collect();
+    let has = (mesh.normals.is_some(), mesh.uvs.is_some());
+    write_header(out, counts, has, &names, origin.is_some(), ascii)?;
+    write_vertices(out, mesh, ascii, scalars, origin)?;
+    write_faces(out, mesh.triangles, ascii)
+}
+
+/// The header for `counts` (vertices, triangles), with normals and uvs as `has` says, extra
+/// float properties `scalars` and the origin properties.
+pub(crate) fn write_header(
+    out: &mut dyn Write,
+    (vertices, triangles): (u64, u64),
+    (normals, uvs): (bool, bool),
+    scalars: &[&str],
+    origin: bool,
+    ascii: bool,
+) -> std::io::Result<()> {
     let encoding = if ascii {
         "ascii"
     } else {
@@ -416,28 +434,42 @@ fn write_with(
         out,
         "ply\nformat {encoding} 1.0\ncomment written by tessella"
     )?;
-    writeln!(out, "element vertex {}", mesh.positions.len())?;
+    writeln!(out, "element vertex {vertices}")?;
     let mut names = vec!["x", "y", "z"];
-    if mesh.normals.is_some() {
+    if normals {
         names.extend(["nx", "ny", "nz"]);
     }
-    if mesh.uvs.is_some() {
+    if uvs {
         names.extend(["u", "v"]);
     }
-    names.extend(scalars.iter().map(|(name, _)| *name));
+    names.extend(scalars);
     for name in &names {
         writeln!(out, "property float {name}")?;
     }
-    if origin.is_some() {
+    if origin {
         writeln!(
             out,
             "property int face\nproperty float bary1\nproperty float bary2\nproperty float bary3"
         )?;
     }
-    writeln!(out, "element face {}", mesh.triangles.len())?;
-    writeln!(out, "property list uchar uint vertex_indices\nend_header")?;
+    writeln!(out, "element face {triangles}")?;
+    writeln!(out, "property list uchar uint vertex_indices\nend_header")
+}
+
+/// The vertex records of `mesh` (its triangles are not read): a run of the vertex element.
+pub(crate) fn write_vertices(
+    out: &mut dyn Write,
+    mesh: &MeshView,
+    ascii: bool,
+    scalars: &VertexScalars,
+    origin: Option<Origin>,
+) -> std::io::Result<()> {
     // One vertex record: its floats, then the origin (face, barycentrics) if asked for.
-    let floats = names.len() + 4 * usize::from(origin.is_some());
+    let floats = 3
+        + 3 * usize::from(mesh.normals.is_some())
+        + 2 * usize::from(mesh.uvs.is_some())
+        + scalars.len()
+        + 4 * usize::from(origin.is_some());
     let record_bytes = if ascii { 16 * floats } else { 4 * floats };
     crate::encode::write_records(out, mesh.positions.len(), record_bytes, |v, out| {
         let mut first = true;
@@ -477,9 +509,18 @@ fn write_with(
             out.push(b'\n');
         }
     })?;
+    Ok(())
+}
+
+/// Face records for `triangles`: a run of the face element.
+pub(crate) fn write_faces(
+    out: &mut dyn Write,
+    triangles: &[[u32; 3]],
+    ascii: bool,
+) -> std::io::Result<()> {
     let face_bytes = if ascii { 40 } else { 13 };
-    crate::encode::write_records(out, mesh.triangles.len(), face_bytes, |f, out| {
-        let t = mesh.triangles[f];
+    crate::encode::write_records(out, triangles.len(), face_bytes, |f, out| {
+        let t = triangles[f];
         if ascii {
             out.push(b'3');
             for i in t {

@@ -77,25 +77,45 @@ fn prepare(bytes: &mut Vec<u8>) {
 /// Writes a binary STL; facet normals are the triangles' geometric normals. Vertex normals and
 /// uvs cannot be stored in STL and are dropped.
 pub fn write(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
-    let count = u32::try_from(mesh.triangles.len()).map_err(|_| {
+    let count = check_count(mesh.triangles.len() as u64)?;
+    write_header(out, count)?;
+    crate::encode::write_records(out, mesh.triangles.len(), 50, |f, out| {
+        push_facet(out, mesh.triangles[f].map(|i| mesh.positions[i as usize]))
+    })
+}
+
+/// The triangle count as STL stores it, or why it cannot.
+pub(crate) fn check_count(triangles: u64) -> std::io::Result<u32> {
+    u32::try_from(triangles).map_err(|_| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             "an STL file holds at most 2^32 - 1 triangles; write .ply instead",
         )
-    })?;
+    })
+}
+
+/// The 80-byte header and the triangle count.
+pub(crate) fn write_header(out: &mut dyn Write, count: u32) -> std::io::Result<()> {
     let mut header = [b' '; 80];
     let note = b"binary STL written by tessella";
     header[..note.len()].copy_from_slice(note);
     out.write_all(&header)?;
-    out.write_all(&count.to_le_bytes())?;
-    crate::encode::write_records(out, mesh.triangles.len(), 50, |f, out| {
-        let [a, b, c] = mesh.triangles[f].map(|i| glam::Vec3::from(mesh.positions[i as usize]));
-        let normal = (b - a).cross(c - a).normalize_or_zero();
-        for v in [normal, a, b, c] {
-            v.to_array()
-                .iter()
-                .for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
-        }
-        out.extend_from_slice(&[0, 0]); // attribute byte count
-    })
+    out.write_all(&count.to_le_bytes())
+}
+
+/// Facet records for triangles given by their corner positions.
+pub(crate) fn write_facets(out: &mut dyn Write, corners: &[[[f32; 3]; 3]]) -> std::io::Result<()> {
+    crate::encode::write_records(out, corners.len(), 50, |f, out| push_facet(out, corners[f]))
+}
+
+/// One facet: the geometric normal, the three corners, a zero attribute byte count.
+fn push_facet(out: &mut Vec<u8>, corners: [[f32; 3]; 3]) {
+    let [a, b, c] = corners.map(glam::Vec3::from);
+    let normal = (b - a).cross(c - a).normalize_or_zero();
+    for v in [normal, a, b, c] {
+        v.to_array()
+            .iter()
+            .for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
+    }
+    out.extend_from_slice(&[0, 0]); // attribute byte count
 }

@@ -2,6 +2,7 @@
 
 #[cfg(feature = "gpu")]
 mod animate;
+pub mod batch;
 mod bench;
 mod bench_frames;
 #[cfg(feature = "gl")]
@@ -29,6 +30,7 @@ use crate::args::{Cli, Command};
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Refine(args) => refine::run(&args),
+        Command::Batch(args) => batch::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Pattern(args) => pattern::run(&args),
         Command::Samples(args) => samples::run(&args),

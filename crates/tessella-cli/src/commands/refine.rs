@@ -11,6 +11,41 @@ use tessella_core::{RefineOptions, RefinedMesh, Refiner};
 use tessella_io::{Format, MeshView, WriteOptions};
 
 pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
+    let done = refine_file(args, true)?;
+    eprintln!(
+        "{} -> {}: {} triangles -> {} vertices, {} triangles ({}) in {:.1} ms",
+        args.input.display(),
+        args.output.display(),
+        done.input_triangles,
+        done.vertices,
+        done.triangles,
+        done.what,
+        done.refine_seconds * 1e3
+    );
+    if args.report {
+        let report = tessella_core::quality::report(&done.mesh, &done.options)?;
+        super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
+    }
+    Ok(())
+}
+
+/// What one refinement made.
+pub struct Refined {
+    pub mesh: tessella_core::Mesh,
+    pub options: RefineOptions,
+    pub input_triangles: usize,
+    pub vertices: u64,
+    pub triangles: u64,
+    /// Scheme and level, for messages.
+    pub what: String,
+    /// Seconds spent refining (and, when streamed, writing).
+    pub refine_seconds: f64,
+    /// Whether the output was written piece by piece.
+    pub streamed: bool,
+}
+
+/// Refines `args.input` into `args.output`; `bars`: show progress bars (on a terminal).
+pub fn refine_file(args: &RefineArgs, bars: bool) -> anyhow::Result<Refined> {
     // Refuse an unknown output format, or an output that is the input, before doing any work.
     Format::from_path(&args.output)?;
     if same_file(&args.input, &args.output) {
@@ -43,6 +78,9 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
     let fields = std::mem::take(&mut raw.vertex_scalars);
     drop(raw);
 
+    if streams(args, &options, &fields) {
+        return stream::refine(args, mesh, options, bars);
+    }
     let backend = backend::choose(args, &mesh)?;
 
     let start = Instant::now();
@@ -83,30 +121,105 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
             },
         )?;
     }
+    let what = describe(&options, refiner.plan());
+    let (vertices, triangles) = (refined.positions.len(), refined.triangles.len());
+    drop((refined, refiner));
+    Ok(Refined {
+        what,
+        input_triangles: mesh.face_count(),
+        vertices: vertices as u64,
+        triangles: triangles as u64,
+        refine_seconds: elapsed.as_secs_f64(),
+        streamed: false,
+        mesh,
+        options,
+    })
+}
+
+/// Scheme and level, as messages give them.
+fn describe(options: &RefineOptions, plan: &tessella_core::refine::Plan) -> String {
     let level = match options.uniform_grid_level() {
         Some(n) => format!("level {n}"),
         None => format!(
             "{} spacing, levels up to {}",
             options.spacing,
-            refiner.plan().layout().level
+            plan.layout().level
         ),
     };
-    eprintln!(
-        "{} -> {}: {} triangles -> {} vertices, {} triangles ({}, {}) in {:.1} ms",
-        args.input.display(),
-        args.output.display(),
-        mesh.face_count(),
-        refined.positions.len(),
-        refined.triangles.len(),
-        options.scheme.name(),
-        level,
-        elapsed.as_secs_f64() * 1e3
+    format!("{}, {level}", options.scheme.name())
+}
+
+/// Whether this refinement is written piece by piece (bounded memory, any size): welded
+/// uniform grid levels on the CPU, without displacement, per-vertex fields or origins, to a
+/// format the streamed writer knows. Everything else is refined in memory, within
+/// `--max-memory`.
+fn streams(
+    args: &RefineArgs,
+    options: &RefineOptions,
+    fields: &std::collections::BTreeMap<String, Vec<f32>>,
+) -> bool {
+    let cpu = matches!(
+        args.backend,
+        tessella_core::Backend::Auto | tessella_core::Backend::Cpu
     );
-    if args.report {
-        let report = tessella_core::quality::report(&mesh, &options)?;
-        super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
+    let format = Format::from_path(&args.output).ok();
+    cpu && !args.in_memory
+        && options.weld
+        && options.uniform_grid_level() == Some(options.level)
+        && options.levels.is_none()
+        && args.displace.is_none()
+        && !args.write_origin
+        && fields.is_empty()
+        && !matches!(format, Some(Format::Gltf) | None)
+}
+
+/// The streamed path: `--max-memory` is the working set, not a cap on the output.
+mod stream {
+    use super::Refined;
+    use crate::args::RefineArgs;
+    use crate::progress;
+    use anyhow::Context;
+    use std::time::Instant;
+    use tessella_core::refine::Plan;
+    use tessella_core::{Mesh, RefineOptions};
+    use tessella_io::stream::expected_bytes;
+    use tessella_io::{write_streamed, RefinedSource, WriteOptions};
+
+    pub fn refine(
+        args: &RefineArgs,
+        mesh: Mesh,
+        mut options: RefineOptions,
+        bars: bool,
+    ) -> anyhow::Result<Refined> {
+        options.max_output_bytes = u64::MAX;
+        let start = Instant::now();
+        let plan = Plan::new(&mesh, &options)
+            .with_context(|| format!("cannot refine {}", args.input.display()))?;
+        let frame = plan.frame(&mesh)?;
+        let source = RefinedSource::new(&plan, &frame, args.max_memory)
+            .context("a welded uniform plan is evaluated in pieces")?;
+        let write = WriteOptions {
+            ply_ascii: args.ply_ascii,
+        };
+        let total = expected_bytes(&args.output, &source, &write)?;
+        let bar = match bars {
+            true => progress::byte_bar(total, "writing"),
+            false => indicatif::ProgressBar::hidden(),
+        };
+        write_streamed(&args.output, &source, &write, &|n| bar.inc(n))?;
+        bar.finish_and_clear();
+        options.max_output_bytes = args.max_memory;
+        Ok(Refined {
+            what: super::describe(&options, &plan),
+            input_triangles: mesh.face_count(),
+            vertices: plan.vertex_count() as u64,
+            triangles: plan.triangle_count() as u64,
+            refine_seconds: start.elapsed().as_secs_f64(),
+            streamed: true,
+            mesh,
+            options,
+        })
     }
-    Ok(())
 }
 
 /// The input's per-vertex fields at the refined vertices (`fields::interpolate_point_data`:

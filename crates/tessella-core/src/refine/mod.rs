@@ -19,6 +19,7 @@ pub mod lod;
 pub mod morph;
 mod output;
 mod plan;
+pub mod stream;
 
 pub use adaptive::{Camera, Levels, Lod, Morph, Spacing, Tile, Tiling};
 pub use evaluate::eval_point;
@@ -27,6 +28,7 @@ pub use indices::IndexInt;
 pub use layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE};
 pub use output::{VertexFormat, VertexOutput};
 pub use plan::{Frame, Plan, NO_FACE};
+pub use stream::Piece;
 
 use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};

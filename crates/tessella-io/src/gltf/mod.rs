@@ -17,9 +17,10 @@ mod read;
 mod write;
 
 pub use read::read;
+pub(crate) use write::{glb_document, write_glb_header, write_glb_padding, Shape};
 pub use write::{write, write_with_scalars};
 
 /// Flips a texture coordinate between glTF's and OBJ/PLY's conventions (an involution).
-fn flip_v(uv: [f32; 2]) -> [f32; 2] {
+pub(crate) fn flip_v(uv: [f32; 2]) -> [f32; 2] {
     [uv[0], 1.0 - uv[1]]
 }

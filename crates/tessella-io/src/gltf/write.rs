@@ -22,7 +22,28 @@ pub(crate) fn attribute_name(name: &str) -> String {
 
 /// The JSON document for `mesh` and the byte length of its single buffer.
 fn document(mesh: &MeshView, scalars: &VertexScalars, uri: Option<String>) -> (Value, u64) {
-    let n = mesh.positions.len() as u64;
+    let shape = Shape {
+        vertices: mesh.positions.len() as u64,
+        triangles: mesh.triangles.len() as u64,
+        normals: mesh.normals.is_some(),
+        uvs: mesh.uvs.is_some(),
+        bounds: tessella_core::mesh::bounds(mesh.positions),
+    };
+    document_for(&shape, scalars, uri)
+}
+
+/// What the JSON document says about a mesh: its sizes, attributes and position bounds.
+pub(crate) struct Shape {
+    pub vertices: u64,
+    pub triangles: u64,
+    pub normals: bool,
+    pub uvs: bool,
+    pub bounds: ([f32; 3], [f32; 3]),
+}
+
+/// The JSON document for a mesh of `shape` and the byte length of its single buffer.
+fn document_for(shape: &Shape, scalars: &VertexScalars, uri: Option<String>) -> (Value, u64) {
+    let n = shape.vertices;
     let (mut views, mut accessors) = (Vec::new(), Vec::new());
     let mut offset = 0u64;
     let mut push = |bytes: u64, target: u32, accessor: Value| {
@@ -35,7 +56,7 @@ fn document(mesh: &MeshView, scalars: &VertexScalars, uri: Option<String>) -> (V
         offset += bytes;
         accessors.len() - 1
     };
-    let (lo, hi) = tessella_core::mesh::bounds(mesh.positions);
+    let (lo, hi) = shape.bounds;
     let mut attributes = serde_json::Map::new();
     let position = push(
         12 * n,
@@ -43,7 +64,7 @@ fn document(mesh: &MeshView, scalars: &VertexScalars, uri: Option<String>) -> (V
         json!({"componentType": FLOAT, "count": n, "type": "VEC3", "min": lo, "max": hi}),
     );
     attributes.insert("POSITION".into(), json!(position));
-    if mesh.normals.is_some() {
+    if shape.normals {
         let normal = push(
             12 * n,
             ARRAY_BUFFER,
@@ -51,7 +72,7 @@ fn document(mesh: &MeshView, scalars: &VertexScalars, uri: Option<String>) -> (V
         );
         attributes.insert("NORMAL".into(), json!(normal));
     }
-    if mesh.uvs.is_some() {
+    if shape.uvs {
         let uv = push(
             8 * n,
             ARRAY_BUFFER,
@@ -73,7 +94,7 @@ fn document(mesh: &MeshView, scalars: &VertexScalars, uri: Option<String>) -> (V
         let index = push(4 * n, ARRAY_BUFFER, accessor);
         attributes.insert(attribute_name(name), json!(index));
     }
-    let f = mesh.triangles.len() as u64;
+    let f = shape.triangles;
     let indices = push(
         12 * f,
         ELEMENT_ARRAY_BUFFER,
@@ -138,6 +159,40 @@ pub fn write_with_scalars(
 ) -> std::io::Result<()> {
     if binary {
         let (doc, bin_len) = document(mesh, scalars, None);
+        write_glb_header(out, &doc, bin_len)?;
+        write_buffer(out, mesh, scalars)?;
+        write_glb_padding(out, bin_len)
+    } else {
+        let uri = format!("data:application/octet-stream;base64,{PLACEHOLDER}");
+        let (doc, _) = document(mesh, scalars, Some(uri));
+        let text = serde_json::to_string_pretty(&doc).map_err(std::io::Error::other)?;
+        let (head, tail) = text
+            .split_once(PLACEHOLDER)
+            .ok_or_else(|| std::io::Error::other("glTF writer lost its buffer placeholder"))?;
+        out.write_all(head.as_bytes())?;
+        {
+            let mut encoder = base64::write::EncoderWriter::new(&mut *out, &STANDARD);
+            write_buffer(&mut encoder, mesh, scalars)?;
+            encoder.finish()?;
+        }
+        out.write_all(tail.as_bytes())?;
+        out.write_all(b"\n")
+    }
+}
+
+/// The GLB document of a mesh of `shape` without extra scalars, and its buffer's length.
+pub(crate) fn glb_document(shape: &Shape) -> (Value, u64) {
+    document_for(shape, &[], None)
+}
+
+/// The file header, the JSON chunk and the BIN chunk's header, for a buffer of `bin_len`
+/// bytes (the chunk lengths known before the data).
+pub(crate) fn write_glb_header(
+    out: &mut dyn Write,
+    doc: &Value,
+    bin_len: u64,
+) -> std::io::Result<()> {
+    {
         let mut json = serde_json::to_vec(&doc).map_err(std::io::Error::other)?;
         json.resize(json.len().next_multiple_of(4), b' ');
         let bin_padded = bin_len.next_multiple_of(4);
@@ -155,23 +210,11 @@ pub fn write_with_scalars(
         out.write_all(b"JSON")?;
         out.write_all(&json)?;
         out.write_all(&(bin_padded as u32).to_le_bytes())?;
-        out.write_all(b"BIN\0")?;
-        write_buffer(out, mesh, scalars)?;
-        out.write_all(&vec![0; (bin_padded - bin_len) as usize])
-    } else {
-        let uri = format!("data:application/octet-stream;base64,{PLACEHOLDER}");
-        let (doc, _) = document(mesh, scalars, Some(uri));
-        let text = serde_json::to_string_pretty(&doc).map_err(std::io::Error::other)?;
-        let (head, tail) = text
-            .split_once(PLACEHOLDER)
-            .ok_or_else(|| std::io::Error::other("glTF writer lost its buffer placeholder"))?;
-        out.write_all(head.as_bytes())?;
-        {
-            let mut encoder = base64::write::EncoderWriter::new(&mut *out, &STANDARD);
-            write_buffer(&mut encoder, mesh, scalars)?;
-            encoder.finish()?;
-        }
-        out.write_all(tail.as_bytes())?;
-        out.write_all(b"\n")
+        out.write_all(b"BIN\0")
     }
+}
+
+/// The zero bytes that pad the BIN chunk to a multiple of 4.
+pub(crate) fn write_glb_padding(out: &mut dyn Write, bin_len: u64) -> std::io::Result<()> {
+    out.write_all(&vec![0; (bin_len.next_multiple_of(4) - bin_len) as usize])
 }

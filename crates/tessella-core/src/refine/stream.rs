@@ -1,0 +1,380 @@
+//! Refinement in pieces, for outputs larger than memory: the welded layout (corners | edges |
+//! interiors) cut into runs of whole corners, edges or faces, each evaluated on its own into a
+//! small buffer, and the triangles of any range of faces. Concatenated in order, the pieces
+//! are exactly [`Plan::evaluate`]'s vertices and [`Plan::indices`]'s triangles, bit for bit:
+//! each vertex is computed by the same block evaluation on the same owning face.
+
+use super::evaluate::{eval_block, eval_point};
+use super::output::{Sink, VertexOutput};
+use super::plan::{Frame, Plan};
+use crate::error::RefineError;
+use crate::pattern::Pattern;
+use rayon::prelude::*;
+use std::ops::Range;
+
+/// Elements per parallel task inside a piece.
+const CORNERS_PER_TASK: usize = 1024;
+const EDGES_PER_TASK: usize = 64;
+const FACES_PER_TASK: usize = 32;
+
+/// A run of consecutive output vertices made of whole elements of the welded layout.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Piece {
+    /// Coarse vertices (one output vertex each).
+    Corners(Range<usize>),
+    /// Unique edges (`level - 1` output vertices each).
+    Edges(Range<usize>),
+    /// Faces' interior points (`(N-1)(N-2)/2` output vertices each).
+    Interiors(Range<usize>),
+}
+
+impl Plan {
+    /// Whether this plan can be evaluated in [`Piece`]s: welded uniform grid plans (soup and
+    /// adaptive plans are evaluated whole).
+    pub fn evaluates_in_pieces(&self) -> bool {
+        self.tiling().is_none() && self.layout().weld
+    }
+
+    /// The welded output cut into pieces of at most `max_vertices` vertices (or one element,
+    /// when an element alone is larger), in output order. Empty when the plan does not
+    /// [`Plan::evaluates_in_pieces`].
+    pub fn pieces(&self, max_vertices: usize) -> Vec<Piece> {
+        if !self.evaluates_in_pieces() {
+            return Vec::new();
+        }
+        let max = max_vertices.max(1);
+        let m = self.layout().level as usize - 1;
+        let ni = Pattern::interior_count(self.layout().level) as usize;
+        let mut out = Vec::new();
+        let mut cut = |count: usize, per: usize, make: fn(Range<usize>) -> Piece| {
+            if per == 0 {
+                return;
+            }
+            let step = (max / per).max(1);
+            for start in (0..count).step_by(step) {
+                out.push(make(start..(start + step).min(count)));
+            }
+        };
+        cut(self.coarse_vertex_count(), 1, Piece::Corners);
+        cut(self.topology().edges.len(), m, Piece::Edges);
+        cut(self.face_count(), ni, Piece::Interiors);
+        out
+    }
+
+    /// The output vertices `piece` covers.
+    pub fn piece_vertices(&self, piece: &Piece) -> Range<usize> {
+        let layout = self.layout();
+        let m = layout.level as usize - 1;
+        let ni = Pattern::interior_count(layout.level) as usize;
+        let (base, per, r) = match piece {
+            Piece::Corners(r) => (0, 1, r),
+            Piece::Edges(r) => (layout.edge_base as usize, m, r),
+            Piece::Interiors(r) => (layout.interior_base as usize, ni, r),
+        };
+        base + r.start * per..base + r.end * per
+    }
+
+    /// Writes the vertices of `piece` (from [`Plan::pieces`]) into `out`, which holds
+    /// [`Plan::piece_vertices`]`.len()` slots; the same values [`Plan::evaluate`] puts there.
+    pub fn evaluate_piece(
+        &self,
+        frame: &Frame,
+        piece: &Piece,
+        out: VertexOutput<'_>,
+    ) -> Result<(), RefineError> {
+        self.check_frame(frame)?;
+        let limit = match piece {
+            Piece::Corners(_) => self.coarse_vertex_count(),
+            Piece::Edges(_) => self.topology().edges.len(),
+            Piece::Interiors(_) => self.face_count(),
+        };
+        let range = match piece {
+            Piece::Corners(r) | Piece::Edges(r) | Piece::Interiors(r) => r,
+        };
+        if !self.evaluates_in_pieces() || range.start > range.end || range.end > limit {
+            return Err(RefineError::BadLevels(format!(
+                "{piece:?} is not a piece of this plan (welded uniform grid plans only, \
+                 ranges within the mesh)"
+            )));
+        }
+        let sink = out.sink(self.piece_vertices(piece).len(), self.has_uvs())?;
+        match frame.nets().basis.len() {
+            10 => self.piece_k::<10>(frame, piece, sink),
+            21 => self.piece_k::<21>(frame, piece, sink),
+            k => unreachable!("no evaluator for a basis of {k} points"),
+        }
+        Ok(())
+    }
+
+    fn piece_k<const K: usize>(&self, frame: &Frame, piece: &Piece, sink: Sink) {
+        let (mesh, nets, stencil, topo) =
+            (frame.mesh(), frame.nets(), self.stencil(), self.topology());
+        let want_normals = sink.wants_normals();
+        let want_uvs = sink.wants_uvs();
+        let face_uvs = |f: usize| {
+            mesh.uvs()
+                .map(|uv| mesh.triangles()[f].map(|v| uv[v as usize]))
+        };
+        match piece.clone() {
+            Piece::Corners(r) => sink
+                .chunks(CORNERS_PER_TASK)
+                .into_par_iter()
+                .enumerate()
+                .for_each(|(task, mut sink)| {
+                    for i in 0..sink.len() {
+                        let v = r.start + task * CORNERS_PER_TASK + i;
+                        sink.set_position(i, mesh.positions()[v]);
+                        if want_normals {
+                            let normal = match topo.vertex_owner[v] {
+                                Some((f, c)) => {
+                                    let row =
+                                        stencil.row(stencil.corner_point(c as usize) as usize);
+                                    let f = f as usize;
+                                    eval_point::<K>(
+                                        row,
+                                        nets.patch_points(f),
+                                        nets.patch_normals(f),
+                                        nets.normal_mode,
+                                    )
+                                    .1
+                                }
+                                None => mesh.normals()[v],
+                            };
+                            sink.set_normal(i, normal);
+                        }
+                        if want_uvs {
+                            sink.set_uv(i, mesh.uvs().expect("checked: the mesh has uvs")[v]);
+                        }
+                    }
+                }),
+            Piece::Edges(r) => {
+                let m = self.layout().level as usize - 1;
+                sink.chunks(m * EDGES_PER_TASK)
+                    .into_par_iter()
+                    .enumerate()
+                    .for_each(|(task, mut sink)| {
+                        for le in 0..sink.len() / m {
+                            let e = r.start + task * EDGES_PER_TASK + le;
+                            let (f, k) = topo.edge_owner[e];
+                            let (f, k) = (f as usize, k as usize);
+                            let forward = mesh.triangles()[f][k] == topo.edges[e][0];
+                            let block = &stencil.blocks.edges[k];
+                            eval_block::<K>(
+                                block,
+                                stencil,
+                                nets.patch_points(f),
+                                nets.patch_normals(f),
+                                nets.normal_mode,
+                                &mut sink,
+                                le * m,
+                                !forward,
+                            );
+                            if let (true, Some(uv)) = (want_uvs, face_uvs(f)) {
+                                for s in 0..m {
+                                    let i = if forward { s } else { m - 1 - s };
+                                    sink.set_uv(
+                                        le * m + s,
+                                        interpolate_uv(block.barycentric[i], &uv),
+                                    );
+                                }
+                            }
+                        }
+                    });
+            }
+            Piece::Interiors(r) => {
+                let ni = Pattern::interior_count(self.layout().level) as usize;
+                let block = &stencil.blocks.interior;
+                sink.chunks(ni * FACES_PER_TASK)
+                    .into_par_iter()
+                    .enumerate()
+                    .for_each(|(task, mut sink)| {
+                        for lf in 0..sink.len() / ni {
+                            let f = r.start + task * FACES_PER_TASK + lf;
+                            eval_block::<K>(
+                                block,
+                                stencil,
+                                nets.patch_points(f),
+                                nets.patch_normals(f),
+                                nets.normal_mode,
+                                &mut sink,
+                                lf * ni,
+                                false,
+                            );
+                            if let (true, Some(uv)) = (want_uvs, face_uvs(f)) {
+                                for (i, &l) in block.barycentric.iter().enumerate() {
+                                    sink.set_uv(lf * ni + i, interpolate_uv(l, &uv));
+                                }
+                            }
+                        }
+                    });
+            }
+        }
+    }
+
+    /// Writes the refined triangles of coarse faces `faces` (`level²` each, in the order of
+    /// [`Plan::indices`]) into `out`, exactly that long. Uniform grid plans, welded or soup.
+    pub fn write_face_indices(
+        &self,
+        faces: Range<usize>,
+        out: &mut [[u32; 3]],
+    ) -> Result<(), RefineError> {
+        let per_face = self.pattern().triangles.len();
+        if self.tiling().is_some() || faces.start > faces.end || faces.end > self.face_count() {
+            return Err(RefineError::BadLevels(format!(
+                "faces {faces:?}: triangles by face range need a uniform grid plan and faces \
+                 within the mesh's {}",
+                self.face_count()
+            )));
+        }
+        let need = faces.len() * per_face;
+        if out.len() != need {
+            return Err(RefineError::OutputTooSmall {
+                what: "triangles".into(),
+                got: out.len(),
+                need,
+            });
+        }
+        let (topo, stencil, pattern, layout) = (
+            self.topology(),
+            self.stencil(),
+            self.pattern(),
+            self.layout(),
+        );
+        let n = layout.level as usize;
+        let m = n - 1;
+        let ni = Pattern::interior_count(layout.level) as usize;
+        let np = pattern.points.len();
+        out.par_chunks_mut(per_face * FACES_PER_TASK)
+            .enumerate()
+            .for_each(|(task, tris)| {
+                // Pattern point -> output vertex, rebuilt for each face.
+                let mut map = vec![0u32; np];
+                for (lf, face_tris) in tris.chunks_mut(per_face).enumerate() {
+                    let f = faces.start + task * FACES_PER_TASK + lf;
+                    if layout.weld {
+                        let t = self.triangles()[f];
+                        for (c, &v) in t.iter().enumerate() {
+                            map[stencil.corner_point(c) as usize] = v;
+                        }
+                        for k in 0..3 {
+                            let e = topo.face_edges[f][k] as usize;
+                            let forward = t[k] == topo.edges[e][0];
+                            let base = layout.edge_base as usize + e * m;
+                            for (s, &p) in stencil.edge_points[k].iter().enumerate() {
+                                map[p as usize] =
+                                    (base + if forward { s } else { m - 1 - s }) as u32;
+                            }
+                        }
+                        let base = layout.interior_base as usize + f * ni;
+                        for (i, &p) in stencil.interior_points.iter().enumerate() {
+                            map[p as usize] = (base + i) as u32;
+                        }
+                    } else {
+                        for (p, slot) in map.iter_mut().enumerate() {
+                            *slot = (f * np + p) as u32;
+                        }
+                    }
+                    for (dst, src) in face_tris.iter_mut().zip(&pattern.triangles) {
+                        *dst = src.map(|p| map[p as usize]);
+                    }
+                }
+            });
+        Ok(())
+    }
+}
+
+/// Barycentric interpolation of a face's UVs, the same arithmetic as the whole evaluation.
+#[inline(always)]
+fn interpolate_uv(l: [f32; 3], uv: &[[f32; 2]; 3]) -> [f32; 2] {
+    [
+        l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0],
+        l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1],
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{samples, RefineOptions, Scheme};
+
+    /// Pieces of every size, concatenated, against the whole evaluation and the whole index
+    /// table, for a cubic and a 21-point basis, with and without UVs.
+    #[test]
+    fn pieces_concatenate_to_the_whole_evaluation() {
+        let meshes = [samples::icosphere(1), samples::tetrahedron()];
+        for mesh in &meshes {
+            for scheme in [Scheme::Pn, Scheme::Png1] {
+                for level in [1, 2, 5] {
+                    let plan = Plan::new(mesh, &RefineOptions::new(scheme.clone(), level)).unwrap();
+                    let frame = plan.frame(mesh).unwrap();
+                    let n = plan.vertex_count();
+                    let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+                    plan.evaluate(
+                        &frame,
+                        VertexOutput::Separate {
+                            positions: &mut pos,
+                            normals: Some(&mut nrm),
+                            uvs: None,
+                        },
+                    )
+                    .unwrap();
+                    for max in [1, 7, 1000] {
+                        let (mut p2, mut n2) = (Vec::new(), Vec::new());
+                        for piece in plan.pieces(max) {
+                            let len = plan.piece_vertices(&piece).len();
+                            assert!(len <= max.max(level as usize * level as usize));
+                            let (mut p, mut q) = (vec![[0.0f32; 3]; len], vec![[0.0f32; 3]; len]);
+                            plan.evaluate_piece(
+                                &frame,
+                                &piece,
+                                VertexOutput::Separate {
+                                    positions: &mut p,
+                                    normals: Some(&mut q),
+                                    uvs: None,
+                                },
+                            )
+                            .unwrap();
+                            p2.extend(p);
+                            n2.extend(q);
+                        }
+                        let bits = |v: &[[f32; 3]]| -> Vec<[u32; 3]> {
+                            v.iter().map(|p| p.map(f32::to_bits)).collect()
+                        };
+                        assert_eq!(bits(&p2), bits(&pos), "{scheme:?} level {level} max {max}");
+                        assert_eq!(bits(&n2), bits(&nrm), "{scheme:?} level {level} max {max}");
+                    }
+                    let per = plan.pattern().triangles.len();
+                    let mut tris = Vec::new();
+                    let faces = plan.face_count();
+                    for start in (0..faces).step_by(3) {
+                        let end = (start + 3).min(faces);
+                        let mut t = vec![[0u32; 3]; (end - start) * per];
+                        plan.write_face_indices(start..end, &mut t).unwrap();
+                        tris.extend(t);
+                    }
+                    assert_eq!(tris, plan.indices());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn bad_pieces_are_refused() {
+        let mesh = samples::tetrahedron();
+        let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4)).unwrap();
+        let frame = plan.frame(&mesh).unwrap();
+        let mut p = vec![[0.0f32; 3]; 100];
+        let out = VertexOutput::Separate {
+            positions: &mut p,
+            normals: None,
+            uvs: None,
+        };
+        assert!(plan
+            .evaluate_piece(&frame, &Piece::Interiors(0..99), out)
+            .is_err());
+        let mut t = vec![[0u32; 3]; 16];
+        assert!(plan.write_face_indices(3..5, &mut t).is_err());
+        let soup = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4).with_weld(false)).unwrap();
+        assert!(soup.pieces(100).is_empty());
+    }
+}

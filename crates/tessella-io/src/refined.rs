@@ -1,0 +1,241 @@
+//! A refinement as a [`MeshSource`]: the plan's [`Piece`]s evaluated one after the other into
+//! a few reused buffers, the next piece computed on another thread while the last is written,
+//! so memory holds a few pieces whatever the output's size.
+
+use crate::stream::{MeshSource, Wanted};
+use crate::MeshView;
+use std::collections::HashMap;
+use std::sync::mpsc;
+use tessella_core::refine::{Frame, Piece, Plan, VertexOutput};
+
+/// Bytes of one vertex in the piece buffers (position, normal, uv).
+const VERTEX_BYTES: usize = 32;
+
+/// A welded uniform refinement of `frame`, produced piece by piece.
+pub struct RefinedSource<'a> {
+    plan: &'a Plan,
+    frame: &'a Frame,
+    piece_vertices: usize,
+}
+
+impl<'a> RefinedSource<'a> {
+    /// A source whose buffers (three pieces in flight) stay within about `budget` bytes, or
+    /// `None` when the plan cannot be evaluated in pieces (soup or adaptive plans).
+    pub fn new(plan: &'a Plan, frame: &'a Frame, budget: u64) -> Option<RefinedSource<'a>> {
+        if !plan.evaluates_in_pieces() {
+            return None;
+        }
+        // Three pieces in flight and the encoders' blocks: an eighth of the budget each.
+        let piece_vertices = (budget / 8 / VERTEX_BYTES as u64).clamp(1024, 1 << 24) as usize;
+        Some(RefinedSource {
+            plan,
+            frame,
+            piece_vertices,
+        })
+    }
+
+    /// Faces per run of triangles: about a piece's worth of bytes.
+    fn faces_per_run(&self) -> usize {
+        let per_face = self.plan.pattern().triangles.len().max(1);
+        (self.piece_vertices * VERTEX_BYTES / 12 / per_face).max(1)
+    }
+}
+
+/// One evaluated piece: positions, and normals and uvs when asked for.
+#[derive(Default)]
+struct Buffers {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    uvs: Vec<[f32; 2]>,
+}
+
+impl Buffers {
+    fn fill(
+        &mut self,
+        plan: &Plan,
+        frame: &Frame,
+        piece: &Piece,
+        want: Wanted,
+    ) -> std::io::Result<()> {
+        let n = plan.piece_vertices(piece).len();
+        self.positions.resize(n, [0.0; 3]);
+        self.normals
+            .resize(if want.normals { n } else { 0 }, [0.0; 3]);
+        self.uvs.resize(if want.uvs { n } else { 0 }, [0.0; 2]);
+        plan.evaluate_piece(
+            frame,
+            piece,
+            VertexOutput::Separate {
+                positions: &mut self.positions,
+                normals: want.normals.then_some(&mut self.normals[..]),
+                uvs: want.uvs.then_some(&mut self.uvs[..]),
+            },
+        )
+        .map_err(std::io::Error::other)
+    }
+
+    fn view(&self, want: Wanted) -> MeshView<'_> {
+        MeshView {
+            positions: &self.positions,
+            normals: want.normals.then_some(&self.normals[..]),
+            uvs: want.uvs.then_some(&self.uvs[..]),
+            triangles: &[],
+        }
+    }
+}
+
+impl MeshSource for RefinedSource<'_> {
+    fn vertex_count(&self) -> u64 {
+        self.plan.vertex_count() as u64
+    }
+    fn triangle_count(&self) -> u64 {
+        self.plan.triangle_count() as u64
+    }
+    fn has_normals(&self) -> bool {
+        true
+    }
+    fn has_uvs(&self) -> bool {
+        self.plan.has_uvs()
+    }
+
+    fn vertices(
+        &self,
+        want: Wanted,
+        each: &mut dyn FnMut(MeshView<'_>) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let want = Wanted {
+            normals: want.normals,
+            uvs: want.uvs && self.plan.has_uvs(),
+        };
+        let pieces = self.plan.pieces(self.piece_vertices);
+        // Full buffers go to the writer, empty ones come back; three exist in all.
+        let (full_tx, full_rx) = mpsc::sync_channel::<std::io::Result<Buffers>>(1);
+        let (empty_tx, empty_rx) = mpsc::channel::<Buffers>();
+        for _ in 0..3 {
+            empty_tx
+                .send(Buffers::default())
+                .map_err(std::io::Error::other)?;
+        }
+        // `move`: the writer's ends of both channels drop when it returns (early, on an
+        // error, too), which stops the evaluating thread before the scope joins it.
+        std::thread::scope(move |scope| {
+            scope.spawn(move || {
+                for piece in &pieces {
+                    // The writer hung up (it failed): stop.
+                    let Ok(mut buffers) = empty_rx.recv() else {
+                        return;
+                    };
+                    let filled = buffers.fill(self.plan, self.frame, piece, want);
+                    if full_tx.send(filled.map(|()| buffers)).is_err() {
+                        return;
+                    }
+                }
+            });
+            // Ends when the evaluating thread has sent every piece and hung up.
+            for filled in full_rx.iter() {
+                let buffers = filled?;
+                each(buffers.view(want))?;
+                // Refused once the evaluator has sent its last piece and gone: the buffer is
+                // then dropped, and the pieces still queued are written all the same.
+                if let Err(mpsc::SendError(unused)) = empty_tx.send(buffers) {
+                    drop(unused);
+                }
+            }
+            Ok(())
+        })
+    }
+
+    fn triangles(
+        &self,
+        each: &mut dyn FnMut(&[[u32; 3]]) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let per_face = self.plan.pattern().triangles.len();
+        let faces = self.plan.face_count();
+        let step = self.faces_per_run();
+        let mut run = Vec::new();
+        for start in (0..faces).step_by(step) {
+            let end = (start + step).min(faces);
+            run.resize((end - start) * per_face, [0u32; 3]);
+            self.plan
+                .write_face_indices(start..end, &mut run)
+                .map_err(std::io::Error::other)?;
+            each(&run)?;
+        }
+        Ok(())
+    }
+
+    fn triangle_corners(
+        &self,
+        each: &mut dyn FnMut(&[[[f32; 3]; 3]]) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let plan = self.plan;
+        let layout = plan.layout();
+        let topology = plan.topology();
+        let m = layout.level as usize - 1;
+        let positions_only = Wanted {
+            normals: false,
+            uvs: false,
+        };
+        let corners = self.frame.mesh().positions();
+        let per_face = plan.pattern().triangles.len();
+        let faces = plan.face_count();
+        let step = self.faces_per_run();
+        let (mut triangles, mut interiors, mut edges) =
+            (Vec::new(), Buffers::default(), Buffers::default());
+        let mut out = Vec::new();
+        for start in (0..faces).step_by(step) {
+            let end = (start + step).min(faces);
+            triangles.resize((end - start) * per_face, [0u32; 3]);
+            plan.write_face_indices(start..end, &mut triangles)
+                .map_err(std::io::Error::other)?;
+            let interior_piece = Piece::Interiors(start..end);
+            interiors.fill(plan, self.frame, &interior_piece, positions_only)?;
+            let interior_first = plan.piece_vertices(&interior_piece).start;
+            // The run's edges, evaluated in runs of consecutive edge numbers.
+            let mut unique: Vec<usize> = topology.face_edges[start..end]
+                .iter()
+                .flatten()
+                .map(|&e| e as usize)
+                .collect();
+            unique.sort_unstable();
+            unique.dedup();
+            let mut edge_slot = HashMap::with_capacity(unique.len());
+            let mut edge_positions: Vec<[f32; 3]> = Vec::with_capacity(unique.len() * m);
+            let mut i = 0;
+            while i < unique.len() && m > 0 {
+                let mut j = i + 1;
+                while j < unique.len() && unique[j] == unique[j - 1] + 1 {
+                    j += 1;
+                }
+                edges.fill(
+                    plan,
+                    self.frame,
+                    &Piece::Edges(unique[i]..unique[j - 1] + 1),
+                    positions_only,
+                )?;
+                for (k, &e) in unique[i..j].iter().enumerate() {
+                    edge_slot.insert(e, edge_positions.len());
+                    edge_positions.extend_from_slice(&edges.positions[k * m..(k + 1) * m]);
+                }
+                i = j;
+            }
+            let (edge_base, interior_base) =
+                (layout.edge_base as usize, layout.interior_base as usize);
+            let at = |v: u32| -> [f32; 3] {
+                let v = v as usize;
+                if v < edge_base {
+                    corners[v]
+                } else if v < interior_base {
+                    let (e, s) = ((v - edge_base) / m, (v - edge_base) % m);
+                    edge_positions[edge_slot[&e] + s]
+                } else {
+                    interiors.positions[v - interior_first]
+                }
+            };
+            out.clear();
+            out.extend(triangles.iter().map(|t| t.map(at)));
+            each(&out)?;
+        }
+        Ok(())
+    }
+}

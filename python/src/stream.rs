@@ -1,0 +1,207 @@
+//! `tessella.refine_to_file` and `tessella._tessella.refine_file`: refinements written straight
+//! to a file, piece by piece where the plan allows (welded uniform levels), so the output may
+//! be far larger than memory; `max_memory` is then the working set, not a cap on the output.
+//! Errors are raised as the package's own classes (`tessella._errors`): `MeshError`,
+//! `OptionError`, `FileFormatError`, and `OSError` for what the system refused (a full disk,
+//! a read-only folder, a missing file).
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use tessella_core::refine::Plan;
+use tessella_core::{Mesh, NormalMode, RefineError, RefineOptions, Scheme};
+use tessella_io::{IoError, MeshView, RefinedSource, WriteOptions};
+
+/// Adds this module's functions to `m`.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(refine_file, m)?)?;
+    m.add_function(wrap_pyfunction!(refine_to_file, m)?)?;
+    Ok(())
+}
+
+/// An instance of `tessella._errors.<class>` with `message`.
+fn error(py: Python<'_>, class: &str, message: String) -> PyErr {
+    match py
+        .import("tessella._errors")
+        .and_then(|m| m.getattr(class))
+        .and_then(|c| c.call1((message.clone(),)))
+    {
+        Ok(instance) => PyErr::from_value(instance),
+        Err(e) => e,
+    }
+}
+
+fn io_error(py: Python<'_>, e: IoError) -> PyErr {
+    match &e {
+        IoError::Read { .. } | IoError::Write { .. } => crate::errors::io_error(e),
+        IoError::Mesh { .. } | IoError::BadMesh { .. } | IoError::NoTriangles { .. } => {
+            error(py, "MeshError", e.to_string())
+        }
+        _ => error(py, "FileFormatError", e.to_string()),
+    }
+}
+
+fn refine_error(py: Python<'_>, e: RefineError) -> PyErr {
+    match e {
+        RefineError::Mesh(_) => error(py, "MeshError", e.to_string()),
+        _ => error(py, "OptionError", e.to_string()),
+    }
+}
+
+/// The options both functions take.
+struct Options {
+    refine: RefineOptions,
+    write: WriteOptions,
+    max_memory: u64,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn options(
+    py: Python<'_>,
+    scheme: &str,
+    level: i64,
+    alpha: f64,
+    normals_mode: Option<&str>,
+    weld: bool,
+    ply_ascii: bool,
+    max_memory: i64,
+) -> PyResult<Options> {
+    let option = |m: String| error(py, "OptionError", m);
+    let scheme: Scheme = scheme
+        .parse()
+        .map_err(|e| option(format!("scheme={scheme:?}: {e}")))?;
+    if !alpha.is_finite() {
+        return Err(option(format!("alpha={alpha}: give a finite number")));
+    }
+    let level = u32::try_from(level)
+        .ok()
+        .filter(|&l| l >= 1)
+        .ok_or_else(|| option(format!("level={level}: give a whole number of 1 or more")))?;
+    let max_memory = u64::try_from(max_memory)
+        .ok()
+        .filter(|&b| b >= 1 << 20)
+        .ok_or_else(|| {
+            option(format!(
+                "max_memory={max_memory}: give at least 1 MiB (in bytes)"
+            ))
+        })?;
+    let mut refine = RefineOptions::new(scheme.with_alpha(alpha as f32), level).with_weld(weld);
+    if let Some(name) = normals_mode {
+        let mode: NormalMode = name
+            .parse()
+            .map_err(|e| option(format!("normals_mode={name:?}: {e}")))?;
+        refine = refine.with_normals(mode);
+    }
+    Ok(Options {
+        refine,
+        write: WriteOptions { ply_ascii },
+        max_memory,
+    })
+}
+
+/// Refines `mesh` into `output`: streamed when the plan allows, else whole within the budget.
+fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py<PyDict>> {
+    tessella_io::Format::from_path(output).map_err(|e| io_error(py, e))?;
+    let start = Instant::now();
+    let mut refine = o.refine.clone();
+    let streams = refine.weld
+        && !output
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
+    refine.max_output_bytes = if streams { u64::MAX } else { o.max_memory };
+    let (vertices, triangles) = py.detach(|| -> Result<(usize, usize), PyErr> {
+        let plan =
+            Plan::new(mesh, &refine).map_err(|e| Python::attach(|py| refine_error(py, e)))?;
+        let frame = plan
+            .frame(mesh)
+            .map_err(|e| Python::attach(|py| refine_error(py, e)))?;
+        let counts = (plan.vertex_count(), plan.triangle_count());
+        let written = match RefinedSource::new(&plan, &frame, o.max_memory).filter(|_| streams) {
+            Some(source) => tessella_io::write_streamed(output, &source, &o.write, &|_| {}),
+            None => {
+                let whole = tessella_core::refine(mesh, &refine)
+                    .map_err(|e| Python::attach(|py| refine_error(py, e)))?;
+                tessella_io::write_mesh(output, MeshView::from(&whole), &o.write)
+            }
+        };
+        written.map_err(|e| Python::attach(|py| io_error(py, e)))?;
+        Ok(counts)
+    })?;
+    let row = PyDict::new(py);
+    row.set_item("output", output)?;
+    row.set_item("input_triangles", mesh.face_count())?;
+    row.set_item("vertices", vertices)?;
+    row.set_item("triangles", triangles)?;
+    row.set_item("streamed", streams)?;
+    row.set_item("seconds", start.elapsed().as_secs_f64())?;
+    Ok(row.unbind())
+}
+
+/// Refines the mesh file `input` into the file `output` (format by extension); returns the
+/// counts. See `tessella.refine_to_file` for the options.
+#[pyfunction]
+#[pyo3(signature = (input, output, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
+                    weld=true, ply_ascii=false, max_memory=1 << 30))]
+#[allow(clippy::too_many_arguments)]
+fn refine_file(
+    py: Python<'_>,
+    input: PathBuf,
+    output: PathBuf,
+    scheme: &str,
+    level: i64,
+    alpha: f64,
+    normals_mode: Option<&str>,
+    weld: bool,
+    ply_ascii: bool,
+    max_memory: i64,
+) -> PyResult<Py<PyDict>> {
+    let o = options(
+        py,
+        scheme,
+        level,
+        alpha,
+        normals_mode,
+        weld,
+        ply_ascii,
+        max_memory,
+    )?;
+    let mesh = py
+        .detach(|| tessella_io::read_mesh(&input))
+        .map_err(|e| io_error(py, e))?;
+    write(py, &mesh, &output, &o)
+}
+
+/// Refines arrays into the file `output`; see `tessella.refine_to_file`.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8, alpha=0.75,
+                    normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30))]
+#[allow(clippy::too_many_arguments)]
+fn refine_to_file(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    output: PathBuf,
+    normals: Option<&Bound<'_, PyAny>>,
+    scheme: &str,
+    level: i64,
+    alpha: f64,
+    normals_mode: Option<&str>,
+    weld: bool,
+    ply_ascii: bool,
+    max_memory: i64,
+) -> PyResult<Py<PyDict>> {
+    let o = options(
+        py,
+        scheme,
+        level,
+        alpha,
+        normals_mode,
+        weld,
+        ply_ascii,
+        max_memory,
+    )?;
+    let mesh = crate::mesh_from(py, vertices, faces, normals)
+        .map_err(|e| error(py, "MeshError", e.to_string()))?;
+    write(py, &mesh, &output, &o)
+}

@@ -1,0 +1,154 @@
+"""Refining many mesh files on a Dask cluster (``pip install tessella[dask]``).
+
+:func:`refine_files` is :func:`tessella.batch` with one Dask task per file: the same
+outputs, the same manifest rows, the same skipping of outputs that exist. A worker that dies
+while it refines a file has the file retried on another worker (Dask reschedules the tasks of
+lost workers); its half-written temporary file is removed when the run ends, and outputs are
+only ever renamed into place complete, so nothing partial is left.
+
+On one machine, ``client=None`` makes a ``LocalCluster``. On a real cluster, start a scheduler
+and workers (``dask scheduler`` on one machine, ``dask worker tcp://HOST:8786`` on each of the
+others, with tessella installed everywhere) and pass ``distributed.Client("tcp://HOST:8786")``;
+the input and output paths must then name a file system every worker sees (or use
+:func:`refine_partition` with a bag of ``(name, bytes)`` pairs)::
+
+    from distributed import Client
+    import tessella.dask
+    client = Client("tcp://scheduler.example.org:8786")
+    rows = tessella.dask.refine_files(["/shared/meshes"], "/shared/refined", client, level=4)
+    failed = [r for r in rows if r["status"] == "failed"]
+
+:func:`refine_partition` fits ``dask.bag`` pipelines::
+
+    import dask.bag as db
+    rows = db.from_sequence(paths, npartitions=8).map_partitions(
+        tessella.dask.refine_partition, "/shared/refined", level=4).compute()
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
+
+from ._batch import (
+    MANIFEST,
+    PathLike,
+    _row,
+    _split_options,
+    expand,
+    refine_row,
+    remove_stale_temporaries,
+    skipped_row,
+)
+
+__all__ = ["refine_files", "refine_partition"]
+
+
+def _distributed() -> Any:
+    try:
+        import distributed
+    except ImportError as e:  # pragma: no cover - depends on the environment
+        raise ImportError(
+            "tessella.dask needs Dask's distributed scheduler: pip install 'tessella[dask]'"
+        ) from e
+    return distributed
+
+
+def refine_files(
+    paths: Iterable[PathLike],
+    out_dir: PathLike,
+    client: Any = None,
+    *,
+    retries: int = 2,
+    **options: Any,
+) -> List[Dict[str, Any]]:
+    """Refines every mesh file named by ``paths`` (files, folders, glob patterns) into
+    ``out_dir`` on the Dask cluster of ``client`` (default: the current client, else a new
+    ``LocalCluster``), with the options of :func:`tessella.refine_to_file` (and ``format``,
+    ``force`` as for :func:`tessella.batch`). Returns the manifest rows, also written to
+    ``out_dir/manifest.jsonl`` as results arrive.
+
+    A file whose task fails for another reason than a bad file (a worker lost ``retries``
+    times over and more, per Dask's ``allowed-failures``) gets a ``"failed"`` row naming the
+    cause; files that cannot be refined get their error, as in :func:`tessella.batch`.
+    """
+    distributed = _distributed()
+    ext, force, options = _split_options(options)
+    pairs = expand(paths, out_dir, ext)
+    os.makedirs(os.fspath(out_dir), exist_ok=True)
+    remove_stale_temporaries(out_dir)
+    own_cluster = None
+    if client is None:
+        try:
+            client = distributed.get_client()
+        except ValueError:
+            own_cluster = distributed.LocalCluster(processes=True)
+            client = distributed.Client(own_cluster)
+    try:
+        rows = [skipped_row(i, o) for i, o in pairs if not force and os.path.exists(o)]
+        todo = [(i, o) for i, o in pairs if force or not os.path.exists(o)]
+        with open(Path(os.fspath(out_dir)) / MANIFEST, "w", encoding="utf-8") as manifest:
+            for row in rows:
+                manifest.write(json.dumps(row) + "\n")
+            manifest.flush()
+            futures = client.map(
+                refine_row,
+                [i for i, _ in todo],
+                [o for _, o in todo],
+                pure=False,
+                retries=retries,
+                **options,
+            )
+            pair_of = {f.key: p for f, p in zip(futures, todo)}
+            for future in distributed.as_completed(futures):
+                try:
+                    row = future.result()
+                except Exception as e:  # the task itself failed: a lost worker, a dead cluster
+                    row = _row(*pair_of[future.key], "failed")
+                    row["error"] = f"{type(e).__name__}: {e}"
+                manifest.write(json.dumps(row) + "\n")
+                manifest.flush()
+                rows.append(row)
+    finally:
+        if own_cluster is not None:
+            client.close()
+            own_cluster.close()
+    # Every task has ended: what is left of temporary files was a lost worker's.
+    remove_stale_temporaries(out_dir)
+    return rows
+
+
+def refine_partition(
+    items: Iterable[Union[PathLike, Tuple[str, bytes]]], out_dir: PathLike, **options: Any
+) -> List[Dict[str, Any]]:
+    """Refines one partition of a ``dask.bag`` into ``out_dir`` and returns its manifest rows
+    (``bag.map_partitions(refine_partition, out_dir, level=4)``). Items are paths, or
+    ``(name, bytes)`` pairs: a file's name (its extension says its format) and contents, for
+    workers that do not see the inputs' file system. Outputs that exist are skipped unless
+    ``force=True``."""
+    ext, force, options = _split_options(options)
+    rows: List[Dict[str, Any]] = []
+    for item in items:
+        if isinstance(item, tuple):
+            name, data = item
+            output = str(Path(os.fspath(out_dir)) / Path(name).with_suffix("." + ext).name)
+            if not force and os.path.exists(output):
+                rows.append(skipped_row(name, output))
+                continue
+            with tempfile.TemporaryDirectory(prefix="tessella-") as tmp:
+                path = os.path.join(tmp, Path(name).name)
+                with open(path, "wb") as f:
+                    f.write(data)
+                row = refine_row(path, output, **options)
+            row["input"] = name
+            rows.append(row)
+        else:
+            ((input, output),) = expand([item], out_dir, ext)
+            if not force and os.path.exists(output):
+                rows.append(skipped_row(input, output))
+            else:
+                rows.append(refine_row(input, output, **options))
+    return rows

@@ -1,0 +1,203 @@
+"""Outputs larger than memory and many files: tessella.refine_to_file (streamed, bounded memory,
+the bytes of the whole refinement), tessella.batch (broken files, resume) and tessella.dask on
+a 2-worker LocalCluster with a worker killed while it works."""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tessella
+from conftest import icosphere
+from tessella._errors import FileFormatError, MeshError, OptionError, TessellaError
+
+
+def write_folder(root: Path, copies: int, level_sub: int = 2):
+    """Good meshes (some in a subfolder) and broken ones; returns (relative name, faces)."""
+    (root / "sub").mkdir(parents=True)
+    good = []
+    for i in range(copies):
+        v, f = icosphere(level_sub + i % 2)
+        name = f"sphere-{i}.ply" if i % 2 == 0 else f"sub/sphere-{i}.obj"
+        tessella.save(str(root / name), v, f, v)
+        good.append((name, len(f)))
+    (root / "garbage.obj").write_text("this is not a mesh\n")
+    (root / "sub" / "truncated.ply").write_text("ply\nformat ascii 1.0\nelement vertex 3\n")
+    return good
+
+
+def temporaries(root: Path):
+    return sorted(str(p) for p in root.rglob(".tessella-*"))
+
+
+@pytest.mark.parametrize("name", ["a.ply", "b.obj", "c.glb", "d.stl"])
+def test_streamed_file_has_the_bytes_of_the_whole_refinement(tmp_path, name):
+    v, f = icosphere(2)
+    # Independent path: the whole refinement in memory, written by tessella.save.
+    rv, rf, rn = tessella.refine(v, f, v, level=9, scheme="pn")
+    tessella.save(str(tmp_path / ("want-" + name)), rv, rf, None if name.endswith(".stl") else rn)
+    done = tessella.refine_to_file(v, f, tmp_path / name, v, level=9, scheme="pn", max_memory=1 << 20)
+    assert done["streamed"] and done["triangles"] == len(f) * 81 == len(rf)
+    assert done["vertices"] == len(rv)
+    assert (tmp_path / name).read_bytes() == (tmp_path / ("want-" + name)).read_bytes()
+
+
+def test_refine_to_file_errors_are_typed_and_leave_nothing(tmp_path):
+    v, f = icosphere(0)
+    with pytest.raises(OptionError, match="level"):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", level=0)
+    with pytest.raises(OptionError, match="scheme"):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", scheme="nope")
+    with pytest.raises(OptionError, match="unknown option"):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", colour="red")
+    with pytest.raises(MeshError):
+        tessella.refine_to_file(v, np.array([[0, 1, 99]]), tmp_path / "x.ply")
+    with pytest.raises(FileFormatError, match="extension"):
+        tessella.refine_to_file(v, f, tmp_path / "x.fbx")
+    # Soup is refined whole, and capped by max_memory.
+    with pytest.raises(OptionError, match="limit"):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", level=200, weld=False, max_memory=1 << 20)
+    with pytest.raises(FileNotFoundError):
+        tessella.refine_file(tmp_path / "missing.obj", tmp_path / "x.ply")
+    assert issubclass(OptionError, TessellaError) and issubclass(TessellaError, ValueError)
+    assert list(tmp_path.iterdir()) == []
+
+
+PEAK_SCRIPT = """
+import resource, sys
+sys.path.insert(0, {tests!r})
+import numpy as np, tessella
+from conftest import icosphere
+v, f = icosphere(4)
+level = int(sys.argv[1])
+if level > 1:
+    tessella.refine_to_file(v, f, sys.argv[2], v, level=level, max_memory=8 << 20)
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
+"""
+
+
+def test_streaming_several_times_the_budget_keeps_memory_bounded(tmp_path):
+    script = PEAK_SCRIPT.format(tests=str(Path(__file__).parent))
+    run = lambda *a: int(subprocess.run([sys.executable, "-c", script, *a], check=True,
+                                        capture_output=True, text=True).stdout.split()[-1])
+    baseline = run("1", "unused")
+    out = tmp_path / "big.ply"
+    peak = run("20", str(out))
+    size = out.stat().st_size
+    assert size > 48 << 20, size  # 5120 faces x 400: 2M triangles, 1M vertices
+    # The whole output in memory would take more than the file; the stream holds pieces of
+    # about a megabyte (8 MiB budget) and the encoders' blocks.
+    assert peak - baseline < size / 4, (peak, baseline, size)
+    # Correct: equal to the whole refinement at the same size, written by save.
+    v, f = icosphere(4)
+    rv, rf, rn = tessella.refine(v, f, v, level=20)
+    tessella.save(str(tmp_path / "want.ply"), rv, rf, rn)
+    assert (tmp_path / "want.ply").read_bytes() == out.read_bytes()
+
+
+def test_batch_reports_broken_files_and_resumes(tmp_path):
+    src, out = tmp_path / "in", tmp_path / "out"
+    good = write_folder(src, 6)
+    rows = tessella.batch([src], out, level=3)
+    assert len(rows) == len(good) + 2
+    by_input = {Path(r["input"]).relative_to(src).as_posix(): r for r in rows}
+    for name in ["garbage.obj", "sub/truncated.ply"]:
+        assert by_input[name]["status"] == "failed" and name.split("/")[-1] in by_input[name]["error"]
+    for name, faces in good:
+        row = by_input[name]
+        assert row["status"] == "ok" and row["triangles"] == faces * 9, row
+        back_v, back_f, _ = tessella.load(str(out / Path(name).with_suffix(".ply")))
+        assert len(back_f) == faces * 9
+    manifest = [json.loads(l) for l in (out / "manifest.jsonl").read_text().splitlines()]
+    assert sorted(r["input"] for r in manifest) == sorted(r["input"] for r in rows)
+    # A second run redoes nothing that exists (modification times unchanged).
+    mtimes = {p: p.stat().st_mtime_ns for p in out.rglob("*.ply")}
+    again = tessella.batch([src], out, level=3)
+    assert sorted(r["status"] for r in again) == ["failed"] * 2 + ["skipped"] * len(good)
+    assert {p: p.stat().st_mtime_ns for p in out.rglob("*.ply")} == mtimes
+    with pytest.raises(OptionError, match="no such file"):
+        tessella.batch([tmp_path / "nothing"], out)
+    with pytest.raises(OptionError, match="format"):
+        tessella.batch([src], out, format="fbx")
+    assert temporaries(out) == []
+
+
+def test_dask_cluster_survives_a_killed_worker(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    import tessella.dask
+
+    src, out = tmp_path / "in", tmp_path / "out"
+    good = write_folder(src, 12, level_sub=3)
+    level = 24  # a few tenths of a second per file, so the kill lands while files are in work
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        pids = client.run(os.getpid)
+        assert len(pids) == 2
+        killed = []
+
+        def writing(pid):
+            """The temporary output file worker `pid` holds open, if any."""
+            try:
+                links = [os.readlink(f"/proc/{pid}/fd/{fd}") for fd in os.listdir(f"/proc/{pid}/fd")]
+            except OSError:
+                return None
+            return next((l for l in links if ".tessella-" in l), None)
+
+        def kill_one_worker_mid_run():
+            deadline = time.time() + 120
+            while time.time() < deadline:
+                for pid in pids.values():
+                    temp = writing(pid)
+                    if temp:
+                        os.kill(pid, 9)  # SIGKILL, in the middle of writing its file
+                        killed.append((pid, temp))
+                        return
+                time.sleep(0.002)
+
+        killer = threading.Thread(target=kill_one_worker_mid_run)
+        killer.start()
+        rows = tessella.dask.refine_files([src], out, client, level=level)
+        killer.join()
+    assert killed, "no worker was caught writing"
+    # The killed worker left its temporary file behind when it died (nothing cleans up after
+    # SIGKILL); the run removed it.
+    by_input = {Path(r["input"]).relative_to(src).as_posix(): r for r in rows}
+    assert len(rows) == len(good) + 2
+    assert by_input["garbage.obj"]["status"] == "failed"
+    assert by_input["sub/truncated.ply"]["status"] == "failed"
+    for name, faces in good:
+        assert by_input[name]["status"] == "ok", by_input[name]
+        _, back_f, _ = tessella.load(str(out / Path(name).with_suffix(".ply")))
+        assert len(back_f) == faces * level * level, name  # complete
+    assert temporaries(out) == []
+    manifest = [json.loads(l) for l in (out / "manifest.jsonl").read_text().splitlines()]
+    assert len(manifest) == len(rows)
+
+
+def test_dask_bag_partitions_of_paths_and_bytes(tmp_path):
+    pytest.importorskip("distributed")
+    import dask
+    import dask.bag as db
+    import tessella.dask
+
+    src, out = tmp_path / "in", tmp_path / "out"
+    good = write_folder(src, 4)
+    paths = [str(src / name) for name, _ in good]
+    items = paths[:2] + [(Path(p).name, Path(p).read_bytes()) for p in paths[2:]]
+    with dask.config.set(scheduler="synchronous"):
+        rows = db.from_sequence(items, npartitions=2).map_partitions(
+            tessella.dask.refine_partition, str(out), level=2).compute()
+    assert [r["status"] for r in rows] == ["ok"] * 4
+    for (name, faces), row in zip(good, rows):
+        assert row["triangles"] == faces * 4
+        assert Path(row["output"]).exists()
