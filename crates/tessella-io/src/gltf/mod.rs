@@ -16,7 +16,7 @@
 mod read;
 mod write;
 
-pub use read::read;
+pub use read::{read, read_with, Buffers};
 pub use write::{write, write_with_scalars};
 
 /// Flips a texture coordinate between glTF's and OBJ/PLY's conventions (an involution).
