@@ -50,3 +50,18 @@ if [ -f python/ci.sh ]; then
   echo "== python"
   bash python/ci.sh
 fi
+
+# --- The browser: wasm32 builds and the npm package `tessella` (js/) ---
+# Installs what it needs: the wasm32 target (rustup), wasm-bindgen-cli at the version locked in
+# Cargo.lock when `wasm-bindgen --version` differs (js/scripts/build.js), Node packages (npm ci).
+echo "== wasm32: tessella-core and tessella-io build for the browser"
+if ! rustup target list --installed | grep -qx wasm32-unknown-unknown; then
+  rustup target add wasm32-unknown-unknown
+fi
+cargo check --quiet -p tessella-core -p tessella-io --target wasm32-unknown-unknown
+echo "== npm package js/: build the wasm from the Rust sources, test with Node's test runner"
+if ! command -v node >/dev/null && [ "$(id -u)" = 0 ]; then
+  apt-get update -qq && apt-get install -y -qq nodejs npm >/dev/null
+fi
+node -e 'if (+process.versions.node.split(".")[0] < 20) { console.error("the npm package needs Node 20 or later, found " + process.version); process.exit(1) }'
+(cd js && npm ci --no-audit --no-fund && npm run build && npm test)

@@ -109,10 +109,75 @@ pub fn read_raw(path: &Path) -> Result<RawMesh, IoError> {
     }
 }
 
+/// Reads a mesh file held in memory (the browser's way: no file system is touched). `name` is
+/// the file's name: its extension picks the format and messages name it. A `.gltf` file's
+/// external buffers come from `buffers`, (relative URI, bytes) pairs.
+///
+/// ```
+/// let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+/// let raw = tessella_io::read_raw_bytes("triangle.obj", obj, &[])?;
+/// assert_eq!(raw.triangles, vec![[0, 1, 2]]);
+/// # Ok::<(), tessella_io::IoError>(())
+/// ```
+pub fn read_raw_bytes(
+    name: &str,
+    bytes: &[u8],
+    buffers: &[(&str, &[u8])],
+) -> Result<RawMesh, IoError> {
+    let path = Path::new(name);
+    let format = Format::from_path(path)?;
+    match format {
+        Format::Obj => obj::read(path, bytes),
+        Format::Ply | Format::PlyAscii => ply::read(path, bytes),
+        Format::Gltf | Format::Glb => {
+            gltf::read_with(path, bytes, format.name(), gltf::Buffers::Given(buffers))
+        }
+        Format::Stl => stl::read(path, bytes.to_vec()),
+    }
+}
+
+/// [`read_raw_bytes`], validated into a [`tessella_core::Mesh`] as [`read_mesh`] does.
+pub fn read_mesh_bytes(
+    name: &str,
+    bytes: &[u8],
+    buffers: &[(&str, &[u8])],
+) -> Result<tessella_core::Mesh, IoError> {
+    validate(Path::new(name), read_raw_bytes(name, bytes, buffers)?)
+}
+
+/// Encodes `mesh` as a file of `format` in memory, after the same checks as [`write_mesh`].
+pub fn write_mesh_bytes(format: Format, mesh: MeshView) -> Result<Vec<u8>, IoError> {
+    let path = Path::new(match format {
+        Format::Obj => "mesh.obj",
+        Format::Ply | Format::PlyAscii => "mesh.ply",
+        Format::Gltf => "mesh.gltf",
+        Format::Glb => "mesh.glb",
+        Format::Stl => "mesh.stl",
+    });
+    mesh.check(path)?;
+    let mut out = Vec::new();
+    match format {
+        Format::Obj => obj::write(&mut out, &mesh),
+        Format::Ply => ply::write(&mut out, &mesh, false),
+        Format::PlyAscii => ply::write(&mut out, &mesh, true),
+        Format::Gltf => gltf::write(&mut out, &mesh, false),
+        Format::Glb => gltf::write(&mut out, &mesh, true),
+        Format::Stl => stl::write(&mut out, &mesh),
+    }
+    .map_err(|source| IoError::Write {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(out)
+}
+
 /// Reads a mesh file and validates it into a [`tessella_core::Mesh`] (normals computed when the
 /// file has none).
 pub fn read_mesh(path: &Path) -> Result<tessella_core::Mesh, IoError> {
-    let raw = read_raw(path)?;
+    validate(path, read_raw(path)?)
+}
+
+fn validate(path: &Path, raw: RawMesh) -> Result<tessella_core::Mesh, IoError> {
     tessella_core::Mesh::new(raw.positions, raw.normals, raw.uvs, raw.triangles).map_err(|source| {
         IoError::Mesh {
             path: path.to_path_buf(),

@@ -73,3 +73,45 @@ fn every_good_file_loads_with_its_counts() {
         );
     }
 }
+
+/// The same files read from memory, as the browser reads them (`read_mesh_bytes`): the same
+/// messages, and a `.gltf` file's external buffer comes from the bytes given with it.
+#[test]
+fn the_corpus_read_from_bytes_gives_the_same_results() {
+    let manifest = manifest();
+    for (name, expected) in manifest["bad"].as_object().unwrap() {
+        let bytes = std::fs::read(corpus().join("bad").join(name)).unwrap();
+        let expected = expected.as_str().unwrap();
+        let err = match tessella_io::read_mesh_bytes(name, &bytes, &[]) {
+            Ok(mesh) => panic!("{name} loaded ({} vertices)", mesh.vertex_count()),
+            Err(err) => err,
+        };
+        let message = format!(
+            "{err} {}",
+            std::error::Error::source(&err).map_or(String::new(), |s| s.to_string())
+        );
+        assert!(
+            message.contains(expected),
+            "{name}: {message:?} lacks {expected:?}"
+        );
+    }
+    let buffer = std::fs::read(corpus().join("good/buffer data.bin")).unwrap();
+    for (name, counts) in manifest["good"].as_object().unwrap() {
+        let bytes = std::fs::read(corpus().join("good").join(name)).unwrap();
+        let given = [("buffer data.bin", buffer.as_slice())];
+        let mesh = tessella_io::read_mesh_bytes(name, &bytes, &given)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(
+            (mesh.vertex_count() as u64, mesh.face_count() as u64),
+            (
+                counts["vertices"].as_u64().unwrap(),
+                counts["triangles"].as_u64().unwrap()
+            ),
+            "{name}"
+        );
+    }
+    // Without its buffer the external-buffer file is refused, naming the file it needs.
+    let bytes = std::fs::read(corpus().join("good/gltf-external-buffer.gltf")).unwrap();
+    let err = tessella_io::read_mesh_bytes("gltf-external-buffer.gltf", &bytes, &[]).unwrap_err();
+    assert!(err.to_string().contains("buffer%20data.bin"), "{err}");
+}

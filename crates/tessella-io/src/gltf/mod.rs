@@ -16,7 +16,7 @@
 mod read;
 mod write;
 
-pub use read::read;
+pub use read::{read, read_with, Buffers};
 pub(crate) use write::{glb_document, write_glb_header, write_glb_padding, Shape};
 pub use write::{write, write_with_scalars};
 

@@ -24,6 +24,26 @@ use std::path::Path;
 
 /// Reads a `.gltf` or `.glb` file held in memory; external buffers are read from `path`'s folder.
 pub fn read(path: &Path, bytes: &[u8], format: &'static str) -> Result<RawMesh, IoError> {
+    read_with(path, bytes, format, Buffers::Folder)
+}
+
+/// Where a `.gltf` file's external buffers (relative URIs) come from.
+#[derive(Debug, Clone, Copy)]
+pub enum Buffers<'a> {
+    /// Files in the folder of the `.gltf` file's path.
+    Folder,
+    /// Only these (relative URI, bytes) pairs: the file system is never touched (the browser
+    /// has none).
+    Given(&'a [(&'a str, &'a [u8])]),
+}
+
+/// [`read`] with external buffers from `buffers`.
+pub fn read_with(
+    path: &Path,
+    bytes: &[u8],
+    format: &'static str,
+    buffers: Buffers<'_>,
+) -> Result<RawMesh, IoError> {
     let parse = |message: String| IoError::Parse {
         path: path.to_path_buf(),
         format,
@@ -57,7 +77,7 @@ pub fn read(path: &Path, bytes: &[u8], format: &'static str) -> Result<RawMesh, 
         }
     }
     let document = gltf::Document::from_json(root).map_err(|e| parse(e.to_string()))?;
-    let buffers = load_buffers(path, &document, blob, format)?;
+    let buffers = load_buffers(path, &document, blob, format, buffers)?;
     let mut raw = RawMesh::default();
     let (mut normals, mut uvs) = (Some(Vec::new()), Some(Vec::new()));
     // Extra scalar attributes `_NAME`: values so far and the primitives that had them.
@@ -361,6 +381,7 @@ fn load_buffers(
     document: &Document,
     blob: Option<Vec<u8>>,
     format: &'static str,
+    external: Buffers<'_>,
 ) -> Result<Vec<Vec<u8>>, IoError> {
     let parse = |message: String| IoError::Parse {
         path: path.to_path_buf(),
@@ -377,7 +398,7 @@ fn load_buffers(
                     buffer.index()
                 ))
             })?,
-            gltf::buffer::Source::Uri(uri) => load_uri(path, uri, format)?,
+            gltf::buffer::Source::Uri(uri) => load_uri(path, uri, format, external)?,
         };
         if data.len() < buffer.length() {
             return Err(parse(format!(
@@ -392,7 +413,12 @@ fn load_buffers(
     Ok(buffers)
 }
 
-fn load_uri(path: &Path, uri: &str, format: &'static str) -> Result<Vec<u8>, IoError> {
+fn load_uri(
+    path: &Path,
+    uri: &str,
+    format: &'static str,
+    external: Buffers<'_>,
+) -> Result<Vec<u8>, IoError> {
     use base64::Engine;
     if let Some(rest) = uri.strip_prefix("data:") {
         let (header, payload) = rest.split_once(',').unwrap_or((rest, ""));
@@ -428,6 +454,22 @@ fn load_uri(path: &Path, uri: &str, format: &'static str) -> Result<Vec<u8>, IoE
         return Err(unsupported(format!(
             "buffer URI {uri:?} is not a data: URI or a relative file path"
         )));
+    }
+    if let Buffers::Given(given) = external {
+        return match given
+            .iter()
+            .find(|(name, _)| *name == relative || *name == uri)
+        {
+            Some((_, data)) => Ok(data.to_vec()),
+            None => Err(IoError::Parse {
+                path: path.to_path_buf(),
+                format,
+                message: format!(
+                    "buffer URI {uri:?} names a file beside the glTF file, and none of that \
+                     name was given with it (pass its bytes along, or use a GLB or data: URI)"
+                ),
+            }),
+        };
     }
     let file = path.parent().unwrap_or(Path::new("")).join(relative);
     let cannot_read = |source| IoError::Read {

@@ -1,0 +1,66 @@
+//! Flat typed arrays (what JS passes) to the core's arrays, with the checks that say which
+//! argument was wrong. Values themselves (NaN, indices out of range) are the core's to check.
+
+/// `values` as points of 3 (`positions`, `normals`): its length must be a multiple of 3.
+pub fn points(values: &[f32], what: &str) -> Result<Vec<[f32; 3]>, String> {
+    Ok(as_points(values, what)?.to_vec())
+}
+
+/// [`points`] without a copy.
+pub fn as_points<'a>(values: &'a [f32], what: &str) -> Result<&'a [[f32; 3]], String> {
+    if !values.len().is_multiple_of(3) {
+        return Err(format!(
+            "{what} has {} numbers, not a multiple of 3 (x, y, z per vertex)",
+            values.len()
+        ));
+    }
+    Ok(bytemuck::cast_slice(values))
+}
+
+/// `values` as texture coordinates, 2 numbers per vertex.
+pub fn uvs(values: &[f32]) -> Result<Vec<[f32; 2]>, String> {
+    if !values.len().is_multiple_of(2) {
+        return Err(format!(
+            "uvs has {} numbers, not a multiple of 2 (u, v per vertex)",
+            values.len()
+        ));
+    }
+    Ok(bytemuck::cast_slice(values).to_vec())
+}
+
+/// `values` as triangles, 3 vertex indices each.
+pub fn triangles(values: &[u32]) -> Result<Vec<[u32; 3]>, String> {
+    if !values.len().is_multiple_of(3) {
+        return Err(format!(
+            "indices has {} entries, not a multiple of 3 (one triangle is 3 indices)",
+            values.len()
+        ));
+    }
+    Ok(bytemuck::cast_slice(values).to_vec())
+}
+
+/// Flattens points for JS.
+pub fn flat<const N: usize>(values: &[[f32; N]]) -> &[f32]
+where
+    [f32; N]: bytemuck::Pod,
+{
+    bytemuck::cast_slice(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lengths_that_are_not_whole_points_are_refused_by_name() {
+        assert_eq!(points(&[0.0; 6], "positions").unwrap().len(), 2);
+        let err = points(&[0.0; 7], "normals").unwrap_err();
+        assert!(err.starts_with("normals has 7 numbers"), "{err}");
+        assert!(triangles(&[0, 1]).unwrap_err().contains("multiple of 3"));
+        assert!(uvs(&[0.0; 3]).unwrap_err().contains("multiple of 2"));
+        assert_eq!(
+            triangles(&[0, 1, 2, 2, 1, 3]).unwrap(),
+            vec![[0, 1, 2], [2, 1, 3]]
+        );
+    }
+}

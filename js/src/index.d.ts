@@ -1,0 +1,118 @@
+/** An error of tessella: bad input (the message says what was wrong) or an internal panic. */
+export class TessellaError extends Error {
+  name: 'TessellaError';
+}
+
+/** Resolves once the wasm is loaded; call nothing else before. */
+export const ready: Promise<void>;
+
+/** Which wasm build was loaded: the SIMD one where the engine validates SIMD. */
+export const variant: 'simd' | 'scalar';
+
+/** The scheme names `refine` accepts: flat, phong, pn, png1, pn-aen, st, quadratic. */
+export function schemes(): string[];
+
+export type IndexArray =
+  | Uint32Array
+  | Uint16Array
+  | Uint8Array
+  | Uint8ClampedArray
+  | Int32Array
+  | Int16Array
+  | Int8Array
+  | BigInt64Array
+  | BigUint64Array;
+
+/** A coarse mesh: 3 numbers per vertex (positions, normals), 2 per vertex (uvs), 3 indices per triangle. */
+export interface MeshInput {
+  positions: Float32Array | Float64Array;
+  indices: IndexArray;
+  /** Unit normals per vertex; left out, they are computed (angle-weighted). */
+  normals?: Float32Array | Float64Array;
+  uvs?: Float32Array | Float64Array;
+}
+
+export interface RefineOptions {
+  /** 'flat', 'phong', 'pn' (default), 'png1', 'pn-aen', 'st' or 'quadratic'; see `schemes()`. */
+  scheme?: string;
+  /** Segments per coarse edge (default 8); fractional with a tessellator spacing or geomorphing. */
+  level?: number;
+  /** 'linear', 'quadratic' or 'real'; default: the scheme's own. */
+  normals?: 'linear' | 'quadratic' | 'real';
+  /** Phong's shape factor (default 0.75). */
+  alpha?: number;
+  /** 'grid' (default), 'equal', 'fractional-odd' or 'fractional-even'. */
+  spacing?: 'grid' | 'equal' | 'fractional-odd' | 'fractional-even';
+  /** Per-edge levels: 'tolerance:D', 'screen:PX' or 'distance:NEAR,FAR,MAX' (the last two need `camera`). */
+  lod?: string;
+  /** [eyeX, eyeY, eyeZ, targetX, targetY, targetZ, fovYDegrees] or the same as a string. */
+  camera?: number[] | string;
+  /** Viewport [width, height] in pixels for 'screen:PX'. */
+  size?: [number, number];
+  /** true: every coarse triangle gets its own vertices (no sharing across edges). */
+  soup?: boolean;
+  /** Also return `faces` and `barycentric`: each refined vertex's coarse face and coordinates in it. */
+  origin?: boolean;
+}
+
+export interface MeshOutput {
+  positions: Float32Array;
+  normals: Float32Array;
+  indices: Uint32Array;
+  /** When the input had uvs. */
+  uvs?: Float32Array;
+}
+
+export interface RefineOutput extends MeshOutput {
+  /** With `origin: true`: each vertex's coarse face (0xffffffff for a vertex no face uses). */
+  faces?: Uint32Array;
+  /** With `origin: true`: 3 barycentric coordinates per vertex. */
+  barycentric?: Float32Array;
+}
+
+/** Refines a coarse mesh into new arrays. Throws TessellaError on bad input. */
+export function refine(mesh: MeshInput, options?: RefineOptions): RefineOutput;
+
+export interface RefinerOptions extends Omit<RefineOptions, 'origin'> {
+  /** Texture coordinates (2 per vertex), fixed for every frame. */
+  uvs?: Float32Array | Float64Array;
+}
+
+/**
+ * A plan for a deforming mesh: indices, uvs and options fixed; each `refine` writes one frame
+ * into the same output arrays (views over wasm memory) without allocating.
+ */
+export class Refiner {
+  constructor(indices: IndexArray, options?: RefinerOptions);
+  /**
+   * Refines one frame; `normals` left out are computed. The vertex count must stay that of the
+   * first frame. Returns `output`.
+   */
+  refine(positions: Float32Array | Float64Array, normals?: Float32Array | Float64Array): MeshOutput;
+  /**
+   * The last frame: views over wasm memory, overwritten by the next `refine`, detached if the
+   * wasm memory grows (read `output` again after each `refine`; copy what you keep).
+   */
+  readonly output: MeshOutput;
+  /** Frees its wasm memory. */
+  free(): void;
+}
+
+export interface ReadMeshOptions {
+  /** A .gltf file's external buffers by their URI (as written in the file). */
+  buffers?: Record<string, Uint8Array | ArrayBuffer>;
+}
+
+export interface ReadMeshOutput extends MeshOutput {
+  /** true when the file had no normals and they were computed. */
+  normalsComputed: boolean;
+}
+
+/**
+ * Reads and validates a mesh file from bytes: format 'obj', 'ply', 'stl', 'gltf', 'glb' or a
+ * file name ('bunny.ply'). Throws TessellaError with the reason for a broken file.
+ */
+export function readMesh(bytes: Uint8Array | ArrayBuffer, format: string, options?: ReadMeshOptions): ReadMeshOutput;
+
+/** Encodes a mesh as 'obj', 'ply' (binary), 'ply-ascii', 'gltf', 'glb' or 'stl'. */
+export function writeMesh(mesh: MeshInput, format: 'obj' | 'ply' | 'ply-ascii' | 'gltf' | 'glb' | 'stl'): Uint8Array;

@@ -1,0 +1,278 @@
+// tessella: curved surfaces from coarse triangle meshes, in WebAssembly.
+// This file loads the wasm (the SIMD build where the engine validates SIMD, the scalar build
+// otherwise) and wraps its exports: typed arrays in and out, every failure a TessellaError.
+
+/** An error of tessella: bad input (the message says what was wrong), or an internal panic. */
+export class TessellaError extends Error {
+  constructor(message) {
+    super(message);
+    this.name = 'TessellaError';
+  }
+}
+
+// A module of one function that uses a v128 instruction (i32.const 0; i8x16.splat; drop):
+// engines without SIMD refuse to validate it.
+const SIMD_PROBE = new Uint8Array([
+  0, 97, 115, 109, 1, 0, 0, 0, 1, 4, 1, 96, 0, 0, 3, 2, 1, 0, 10, 9, 1, 7, 0, 65, 0, 253, 15, 26, 11,
+]);
+
+const isNode = typeof process !== 'undefined' && process.versions != null && process.versions.node != null;
+
+function chooseVariant() {
+  const forced = isNode ? process.env.TESSELLA_WASM : undefined;
+  if (forced === 'simd' || forced === 'scalar') return forced;
+  return WebAssembly.validate(SIMD_PROBE) ? 'simd' : 'scalar';
+}
+
+/** `'simd'` or `'scalar'`: which wasm build was loaded. */
+export const variant = chooseVariant();
+
+let glue = null;
+let memory = null;
+let panicked = null;
+const PANIC_PREFIX = 'tessella panicked';
+
+async function load() {
+  const g = variant === 'simd' ? await import('../dist/simd/tessella.js') : await import('../dist/scalar/tessella.js');
+  const url = new URL(`../dist/${variant}/tessella_bg.wasm`, import.meta.url);
+  let source;
+  if (isNode) {
+    const { readFile } = await import('node:fs/promises');
+    source = await readFile(url);
+  } else {
+    source = fetch(url);
+  }
+  const exports = await g.default({ module_or_path: source });
+  glue = g;
+  memory = exports.memory;
+}
+
+/** Resolves once the wasm is loaded; every other function needs it. */
+export const ready = load();
+
+// Runs one wasm call: its errors become TessellaErrors; after a panic (a bug) the instance is
+// not trusted again, so later calls throw instead of computing from broken state.
+function call(fn) {
+  if (glue === null) throw new TessellaError('tessella is not loaded yet: await ready first');
+  if (panicked !== null) {
+    throw new TessellaError(`tessella cannot be used after an internal panic (reload it): ${panicked}`);
+  }
+  try {
+    return fn(glue);
+  } catch (e) {
+    const message = e instanceof Error ? e.message : String(e);
+    if (message.startsWith(PANIC_PREFIX) || e instanceof WebAssembly.RuntimeError) panicked = message;
+    if (e instanceof TessellaError) throw e;
+    throw new TessellaError(message);
+  }
+}
+
+/** The scheme names `refine` accepts. */
+export function schemes() {
+  return call((g) => g.schemes());
+}
+
+function floats(values, what, width) {
+  if (values instanceof Float32Array) return values;
+  if (values instanceof Float64Array || Array.isArray(values)) return Float32Array.from(values);
+  throw new TessellaError(`${what} must be a Float32Array or Float64Array (${width} numbers per vertex)`);
+}
+
+const INTEGER_ARRAYS = [Int8Array, Uint8Array, Uint8ClampedArray, Int16Array, Uint16Array, Int32Array];
+
+function indexArray(indices) {
+  if (indices instanceof Uint32Array) return indices;
+  const big = indices instanceof BigInt64Array || indices instanceof BigUint64Array;
+  if (!big && !INTEGER_ARRAYS.some((T) => indices instanceof T)) {
+    throw new TessellaError('indices must be an integer typed array (Uint32Array, Uint16Array, Int32Array, ...)');
+  }
+  const out = new Uint32Array(indices.length);
+  for (let i = 0; i < indices.length; i++) {
+    const v = big ? Number(indices[i]) : indices[i];
+    if (v < 0 || v > 0xffffffff) {
+      throw new TessellaError(`indices[${i}] is ${indices[i]}: a vertex index is 0 or more and fits 32 bits`);
+    }
+    out[i] = v;
+  }
+  return out;
+}
+
+const OPTION_NAMES = ['scheme', 'level', 'normals', 'alpha', 'spacing', 'lod', 'camera', 'size', 'soup'];
+
+// The options as the Rust side reads them (JSON; non-finite numbers spelt out, since JSON has
+// none). Unknown keys go through, so the Rust side refuses them by name.
+function optionsJson(options, ignore = []) {
+  if (options == null) options = {};
+  if (typeof options !== 'object') throw new TessellaError('options must be an object');
+  const out = {};
+  for (const [key, value] of Object.entries(options)) {
+    if (value === undefined || ignore.includes(key)) continue;
+    out[key] = key === 'camera' && Array.isArray(value) ? value.join(',') : value;
+  }
+  return JSON.stringify(out, (_, v) => (typeof v === 'number' && !Number.isFinite(v) ? String(v) : v));
+}
+
+function mesh(input) {
+  if (input == null || typeof input !== 'object') throw new TessellaError('the mesh must be { positions, indices, normals?, uvs? }');
+  if (input.positions == null || input.indices == null) throw new TessellaError('the mesh needs positions and indices');
+  return {
+    positions: floats(input.positions, 'positions', 3),
+    indices: indexArray(input.indices),
+    normals: input.normals == null ? undefined : floats(input.normals, 'normals', 3),
+    uvs: input.uvs == null ? undefined : floats(input.uvs, 'uvs', 2),
+  };
+}
+
+function take(arrays) {
+  try {
+    const out = {
+      positions: arrays.takePositions(),
+      normals: arrays.takeNormals(),
+      indices: arrays.takeIndices(),
+    };
+    const uvs = arrays.takeUvs();
+    if (uvs !== undefined) out.uvs = uvs;
+    const faces = arrays.takeFaces();
+    if (faces !== undefined) {
+      out.faces = faces;
+      out.barycentric = arrays.takeBarycentric();
+    }
+    return out;
+  } finally {
+    arrays.free();
+  }
+}
+
+/**
+ * Refines a coarse mesh. See index.d.ts for the options; returns new arrays
+ * `{ positions, normals, indices, uvs? }`.
+ */
+export function refine(input, options) {
+  const m = mesh(input);
+  const json = optionsJson(options);
+  return call((g) => take(g.refine(m.positions, m.indices, m.normals, m.uvs, json)));
+}
+
+/**
+ * Reads a mesh file from bytes. `format` is 'obj', 'ply', 'stl', 'gltf', 'glb' or a file name
+ * ('bunny.obj'); `options.buffers` maps a .gltf file's external buffer URIs to their bytes.
+ */
+export function readMesh(bytes, format, options = {}) {
+  if (!(bytes instanceof Uint8Array)) {
+    if (bytes instanceof ArrayBuffer) bytes = new Uint8Array(bytes);
+    else throw new TessellaError('readMesh takes the file as a Uint8Array or ArrayBuffer');
+  }
+  if (typeof format !== 'string') throw new TessellaError("readMesh's format must be a string such as 'obj'");
+  const names = [];
+  const parts = [];
+  for (const [name, data] of Object.entries(options.buffers ?? {})) {
+    names.push(name);
+    parts.push(data instanceof Uint8Array ? data : new Uint8Array(data));
+  }
+  const lengths = Uint32Array.from(parts, (p) => p.length);
+  const data = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
+  let at = 0;
+  for (const p of parts) {
+    data.set(p, at);
+    at += p.length;
+  }
+  return call((g) => {
+    const arrays = g.readMesh(bytes, format, names, lengths, data);
+    const computed = arrays.normalsComputed;
+    const out = take(arrays);
+    out.normalsComputed = computed;
+    return out;
+  });
+}
+
+/**
+ * Encodes a mesh `{ positions, indices, normals?, uvs? }` as a file: format 'obj', 'ply'
+ * (binary), 'ply-ascii', 'gltf', 'glb' or 'stl'. Returns its bytes.
+ */
+export function writeMesh(input, format) {
+  const m = mesh(input);
+  if (typeof format !== 'string') throw new TessellaError("writeMesh's format must be a string such as 'glb'");
+  return call((g) => g.writeMesh(format, m.positions, m.indices, m.normals, m.uvs));
+}
+
+function view(Type, ptr, length) {
+  return new Type(memory.buffer, ptr, length);
+}
+
+/**
+ * A refinement plan for a deforming mesh: the topology (indices, uvs) and options are fixed,
+ * each `refine(positions, normals?)` refines one frame into the same output arrays.
+ */
+export class Refiner {
+  #inner;
+  #views = null;
+  #inputs = null;
+
+  constructor(indices, options = {}) {
+    const idx = indexArray(indices);
+    const uvs = options?.uvs == null ? undefined : floats(options.uvs, 'uvs', 2);
+    const json = optionsJson(options, ['uvs']);
+    this.#inner = call((g) => new g.Refiner(idx, uvs, json));
+  }
+
+  #input(which, length) {
+    const inner = this.#inner;
+    const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
+    const key = `${which}`;
+    this.#inputs ??= {};
+    const old = this.#inputs[key];
+    if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
+    return (this.#inputs[key] = view(Float32Array, ptr, length));
+  }
+
+  /**
+   * Refines one frame. `positions` (and `normals`, or leave them out to have them computed)
+   * must have the vertex count of the first frame. Returns the output views (see `positions`).
+   */
+  refine(positions, normals) {
+    if (this.#inner === null) throw new TessellaError('this Refiner was freed');
+    const p = positions instanceof Float32Array || positions instanceof Float64Array ? positions : floats(positions, 'positions', 3);
+    const n = normals == null ? null : normals instanceof Float32Array || normals instanceof Float64Array ? normals : floats(normals, 'normals', 3);
+    call(() => {
+      this.#input('positions', p.length).set(p);
+      if (n !== null) this.#input('normals', n.length).set(n);
+      this.#inner.frame(n !== null);
+    });
+    return this.output;
+  }
+
+  /**
+   * The last frame's output, `{ positions, normals, indices, uvs? }`: views over wasm memory,
+   * overwritten by the next `refine` (no copy, no allocation). They become detached (length 0)
+   * if the wasm memory grows, which a later tessella call may do: read `output` again after
+   * each `refine` (it is the same object while the memory has not grown), copy what you keep.
+   */
+  get output() {
+    const inner = this.#inner;
+    if (inner === null) throw new TessellaError('this Refiner was freed');
+    const v = this.#views;
+    if (v !== null && v.positions.buffer === memory.buffer) return v;
+    const nv = inner.vertexCount();
+    if (nv === 0) throw new TessellaError('no frame refined yet: call refine(positions) first');
+    const out = {
+      positions: view(Float32Array, inner.positionsOutput(), nv * 3),
+      normals: view(Float32Array, inner.normalsOutput(), nv * 3),
+      indices: view(Uint32Array, inner.indicesOutput(), inner.triangleCount() * 3),
+    };
+    if (inner.hasUvs()) out.uvs = view(Float32Array, inner.uvsOutput(), nv * 2);
+    return (this.#views = out);
+  }
+
+  /** Frees the wasm memory this refiner holds; it cannot be used afterwards. */
+  free() {
+    if (this.#inner !== null) this.#inner.free();
+    this.#inner = null;
+    this.#views = null;
+    this.#inputs = null;
+  }
+}
+
+/** Test hook: panics inside the wasm (see test/panic.test.js). Not part of the API. */
+export function __panicForTests() {
+  return call((g) => g.__panicForTests());
+}

@@ -1,0 +1,35 @@
+// Compiled by test/types.test.js (tsc --noEmit, strict): the declarations describe the API the
+// other tests exercise; the lines marked @ts-expect-error must be refused.
+import { ready, refine, Refiner, readMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
+import type { MeshOutput, RefineOutput } from 'tessella';
+import { refineGeometry, RefinedGeometry } from 'tessella/three';
+import { BufferGeometry } from 'three';
+
+await ready;
+const v: 'simd' | 'scalar' = variant;
+const names: string[] = schemes();
+const out: RefineOutput = refine(
+  { positions: new Float64Array(9), indices: new Int32Array(3) },
+  { scheme: 'png1', level: 4, normals: 'real', lod: 'tolerance:0.01', camera: [0, 0, 5, 0, 0, 0, 45], size: [64, 64], origin: true },
+);
+const p: Float32Array = out.positions;
+const faces: Uint32Array | undefined = out.faces;
+const r = new Refiner(new Uint16Array(3), { scheme: 'pn', level: 2, uvs: new Float32Array(6) });
+const frame: MeshOutput = r.refine(new Float32Array(9));
+const i: Uint32Array = frame.indices;
+r.free();
+const m = readMesh(new Uint8Array(4), 'obj', { buffers: { 'a.bin': new Uint8Array(1) } });
+const computed: boolean = m.normalsComputed;
+const glb: Uint8Array = writeMesh(m, 'glb');
+const e: Error = new TessellaError('x');
+const g: BufferGeometry = refineGeometry(new BufferGeometry(), { scheme: 'pn' });
+const live = new RefinedGeometry(new BufferGeometry(), { level: 3, normalsFromSource: false });
+const same: BufferGeometry = live.update();
+live.dispose();
+// @ts-expect-error: positions must be a float typed array
+refine({ positions: [0, 0, 0], indices: new Uint32Array(3) });
+// @ts-expect-error: not a normals mode
+refine({ positions: new Float32Array(9), indices: new Uint32Array(3) }, { normals: 'cubic' });
+// @ts-expect-error: not a format writeMesh writes
+writeMesh(m, 'fbx');
+export { v, names, p, faces, i, computed, glb, e, g, same };
