@@ -189,7 +189,8 @@ impl AdaptiveRenderer {
         let arrays = PartArrays::new(&table);
         let basis = nets.basis;
         let constants = format!(
-            "const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+            "{}const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+            crate::wgsl_constants::source(),
             basis.len(),
             normal_mode_code(nets.normal_mode),
             spacing == Spacing::Grid

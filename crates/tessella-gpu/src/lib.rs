@@ -59,7 +59,8 @@
 //! (vertex/fragment). The adaptive renderer's are `shaders/basis.wgsl` (basis weights at any
 //! point) + `shaders/adaptive.wgsl` (points from level records), then `shaders/shade.wgsl` +
 //! `shaders/adaptive_draw.wgsl`, or `shaders/adaptive_capture.wgsl` for the read-back.
-//! Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
+//! The layout constants both sides use are generated from Rust (`wgsl_constants.rs`) and
+//! prepended to every shader. Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
 //! `displace.wgsl`'s Rust twin is `tessella_core::displace`. The tests tie each pair together by
 //! comparing GPU and CPU outputs.
 //!
@@ -77,6 +78,7 @@ mod gpu_types;
 mod patch;
 mod renderer;
 pub mod wgsl;
+mod wgsl_constants;
 
 pub use adaptive::{AdaptiveRenderer, CapturedTriangles};
 pub use context::{AdapterChoice, GpuContext, COMPUTE_STORAGE_BUFFERS};

@@ -132,9 +132,9 @@ pub(crate) fn render_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     )
 }
 
-/// Bytes of the colormap uniform: `array<vec4<f32>, 257>` in `shaders/shade.wgsl` (a header
-/// and up to 256 samples).
-pub(crate) const COLORMAP_BYTES: usize = 257 * 16;
+/// Bytes of the colormap uniform: `array<vec4<f32>, COLORMAP_ENTRIES>` in `shaders/shade.wgsl`
+/// (a header and up to 256 samples).
+pub(crate) const COLORMAP_BYTES: usize = crate::wgsl_constants::COLORMAP_ENTRIES * 16;
 
 /// The colormap uniform holding `header` (floats, at most [`COLORMAP_BYTES`]), zero-padded.
 pub(crate) fn colormap_buffer(ctx: &GpuContext, header: &[f32]) -> wgpu::Buffer {
