@@ -180,7 +180,7 @@ pub fn run_frame(
     for (i, v) in m.iter().flatten().enumerate() {
         view[i] = *v;
     }
-    view[16..19].copy_from_slice(&[0.4, 0.6, 0.7]);
+    view[16..19].copy_from_slice(&[0.4, 0.6, -0.7]);
     let uniforms = init("engine view", bytemuck::cast_slice(&view), U::UNIFORM);
 
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
