@@ -229,7 +229,11 @@ fn webgpu_default_storage_buffers_suffice_and_fewer_are_refused_clearly() {
         depth: None,
         samples: 1,
     };
+    // Both renderers' pipelines (validated when made) fit the 8 storage buffers too.
     PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()).unwrap();
+    tessella_gpu::AdaptiveRenderer::new(&ctx, plan, &frame, &formats, Spacing::FractionalOdd)
+        .unwrap();
+    assert!(ctx.check().is_ok());
 
     let ctx = own_device(|l| wgpu::Limits {
         max_storage_buffers_per_shader_stage: 4,
