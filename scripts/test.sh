@@ -44,6 +44,11 @@ if cmp -s "$frames/frame_000.png" "$frames/frame_001.png"; then
   exit 1
 fi
 rm -rf "$frames"
+# -- tessella-gpu in the browser: wgpu's webgpu backend, without the blocking forms (pollster),
+# builds for wasm32 so the async, non-blocking API cannot regress.
+echo "== tessella-gpu for wasm32-unknown-unknown (webgpu backend, no blocking feature)"
+rustup target add wasm32-unknown-unknown
+cargo check --quiet -p tessella-gpu --target wasm32-unknown-unknown --no-default-features
 echo "== python extension crate: fmt and clippy (its own cargo workspace)"
 (cd python && cargo fmt -- --check && cargo clippy --quiet -- -D warnings)
 if [ -f python/ci.sh ]; then

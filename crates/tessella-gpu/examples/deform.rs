@@ -10,7 +10,7 @@
 
 use std::error::Error;
 use std::path::PathBuf;
-use tessella_core::refine::{Evaluator, Plan};
+use tessella_core::refine::Plan;
 use tessella_core::{samples, RefineOptions, Scheme};
 use tessella_gpu::{GpuContext, GpuEvaluator, GpuOutput, IndexWidth};
 
@@ -66,11 +66,8 @@ fn open_device() -> Result<(wgpu::Device, wgpu::Queue), Box<dyn Error>> {
         ..wgpu::InstanceDescriptor::new_without_display_handle()
     });
     let adapter = pollster::block_on(instance.request_adapter(&Default::default()))?;
-    // tessella's compute path binds more storage buffers than WebGPU's default allows.
-    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        required_limits: GpuContext::required_limits(&adapter.limits()),
-        ..Default::default()
-    }))?;
+    // tessella works within WebGPU's default limits.
+    let (device, queue) = pollster::block_on(adapter.request_device(&Default::default()))?;
     Ok((device, queue))
 }
 
@@ -112,19 +109,11 @@ fn main() -> Result<(), Box<dyn Error>> {
         usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
-    let width = if plan.fits_u16() {
-        IndexWidth::U16
-    } else {
-        IndexWidth::U32
-    };
+    let width = IndexWidth::for_plan(&plan);
     let index_count = plan.triangle_count() as u32 * 3;
-    let index_bytes = match width {
-        IndexWidth::U16 => 2,
-        IndexWidth::U32 => 4,
-    } * index_count as u64;
     let indices = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("app indices"),
-        size: index_bytes.next_multiple_of(4),
+        size: width.buffer_bytes(&plan),
         usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
@@ -167,9 +156,22 @@ fn main() -> Result<(), Box<dyn Error>> {
         bind_group_layouts: &[Some(&layout)],
         immediate_size: 0,
     });
-    // tessella's format without UVs: position (3 f32), normal (3 f32), 24 bytes.
-    assert_eq!(evaluator.vertex_stride(), 6);
-    let attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+    // tessella's default format without UVs: position, normal (`examples/engine.rs` passes a
+    // format of its own).
+    let format = evaluator.vertex_format();
+    let normal = format.normal.ok_or("the default format has normals")?;
+    let attributes = [
+        wgpu::VertexAttribute {
+            format: wgpu::VertexFormat::Float32x3,
+            offset: format.position as u64 * 4,
+            shader_location: 0,
+        },
+        wgpu::VertexAttribute {
+            format: wgpu::VertexFormat::Float32x3,
+            offset: normal as u64 * 4,
+            shader_location: 1,
+        },
+    ];
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("app pipeline"),
         layout: Some(&pipeline_layout),
@@ -178,7 +180,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             entry_point: Some("vs"),
             compilation_options: Default::default(),
             buffers: &[Some(wgpu::VertexBufferLayout {
-                array_stride: 24,
+                array_stride: format.stride as u64 * 4,
                 step_mode: wgpu::VertexStepMode::Vertex,
                 attributes: &attributes,
             })],
@@ -255,7 +257,10 @@ fn main() -> Result<(), Box<dyn Error>> {
             })
             .collect();
         plan.update(&mut frame, &moved, None)?;
-        evaluator.evaluate(
+        // tessella's dispatches and the application's draw in one encoder of the application.
+        let mut encoder = device.create_command_encoder(&Default::default());
+        evaluator.record(
+            &mut encoder,
             &plan,
             &frame,
             GpuOutput::Buffer {
@@ -263,8 +268,6 @@ fn main() -> Result<(), Box<dyn Error>> {
                 offset: 0,
             },
         )?;
-
-        let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("app pass"),

@@ -3,7 +3,9 @@
 //! coarse data crosses the bus — the nets, one record per face and one instance per face and
 //! part (`tessella_core::refine::instanced`).
 
-use crate::context::{GpuContext, READ, UNIFORM, WRITE};
+#[cfg(feature = "blocking")]
+use crate::context::WRITE;
+use crate::context::{GpuContext, READ, UNIFORM};
 use crate::error::GpuError;
 use crate::gpu_types::{AdaptiveParams, RenderUniforms};
 use crate::patch::{check_nets_shape, normal_mode_code, write_nets};
@@ -64,8 +66,11 @@ pub struct AdaptiveRenderer {
     records: wgpu::Buffer,
     instances: wgpu::Buffer,
     patch_group: wgpu::BindGroup,
+    // Read by the (blocking) capture only.
+    #[cfg_attr(not(feature = "blocking"), allow(dead_code))]
     patch_layout: wgpu::BindGroupLayout,
     /// The WGSL constants the shaders are compiled with (basis, normal mode, spacing).
+    #[cfg_attr(not(feature = "blocking"), allow(dead_code))]
     constants: String,
     uniforms: wgpu::Buffer,
     render_group: wgpu::BindGroup,
@@ -162,6 +167,8 @@ impl AdaptiveRenderer {
         spacing: Spacing,
     ) -> Result<AdaptiveRenderer, GpuError> {
         plan.check_frame(frame)?;
+        // Its patch group (nets, records) and the render group's instances and UVs.
+        ctx.check_storage_buffers("the adaptive renderer", "vertex", 7)?;
         let nets = frame.nets();
         let faces = plan.face_count();
         // Under 4 GiB a binding's u32 indices in the shaders cannot wrap.
@@ -182,7 +189,8 @@ impl AdaptiveRenderer {
         let arrays = PartArrays::new(&table);
         let basis = nets.basis;
         let constants = format!(
-            "const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+            "{}const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+            crate::wgsl_constants::source(),
             basis.len(),
             normal_mode_code(nets.normal_mode),
             spacing == Spacing::Grid
@@ -237,7 +245,7 @@ impl AdaptiveRenderer {
             });
             // The fragment shader's colormap: none; the vertex shader reads no UVs or fields.
             let unused = ctx.storage_buffer("unused", &[0; 4], wgpu::BufferUsages::empty());
-            let colormap = ctx.storage_buffer("colormap", &[0; 32], wgpu::BufferUsages::empty());
+            let colormap = crate::renderer::colormap_buffer(ctx, &[0.0; 4]);
 
             let patch_layout = adaptive_layout(ctx);
             let patch_layout_for_capture = patch_layout.clone();
@@ -394,7 +402,8 @@ impl AdaptiveRenderer {
     /// Reads back the triangles the current levels draw, evaluated by the vertex shader's own
     /// code in a compute pass (`shaders/adaptive_capture.wgsl`): three vertices per triangle
     /// (the grid's zero-area triangles included). For tests and debugging: its size is the
-    /// refined mesh's.
+    /// refined mesh's. Blocks (the `blocking` feature).
+    #[cfg(feature = "blocking")]
     pub fn capture(&self) -> Result<CapturedTriangles, GpuError> {
         let mut jobs: Vec<[u32; 2]> = Vec::new();
         let mut faces = Vec::new();

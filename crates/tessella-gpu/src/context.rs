@@ -1,11 +1,28 @@
 //! Device setup, kept apart from the GPU work so callers and tests open one device and reuse it.
 
 use crate::error::GpuError;
+use std::future::Future;
+use std::pin::Pin;
 use std::sync::{Arc, Mutex};
+use std::task::{Context, Poll, Waker};
 
-/// Storage buffers the compute path binds in one shader stage; a device must allow at least
-/// this many ([`GpuContext::required_limits`]).
-pub const COMPUTE_STORAGE_BUFFERS: u32 = 9;
+/// Storage buffers the compute path binds in one shader stage: within WebGPU's default of 8.
+pub const COMPUTE_STORAGE_BUFFERS: u32 = 8;
+
+/// An error scope popped but not answered yet (on the web the answer is a promise).
+#[cfg(not(target_arch = "wasm32"))]
+type ScopeAnswer = Pin<Box<dyn Future<Output = Option<wgpu::Error>> + Send>>;
+#[cfg(target_arch = "wasm32")]
+type ScopeAnswer = Pin<Box<dyn Future<Output = Option<wgpu::Error>>>>;
+
+/// Polls `future` once: native wgpu answers error scopes and finished maps at once, the web
+/// later.
+fn poll_now<F: Future + ?Sized>(future: Pin<&mut F>) -> Option<F::Output> {
+    match future.poll(&mut Context::from_waker(Waker::noop())) {
+        Poll::Ready(value) => Some(value),
+        Poll::Pending => None,
+    }
+}
 
 /// Which adapter [`GpuContext::new`] asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -29,9 +46,29 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub limits: wgpu::Limits,
-    /// First uncaptured error or loss reported by the device, turned into a `GpuError` by
-    /// [`GpuContext::check`] (wgpu's default handler would panic).
+    /// First error tessella met outside an error scope (a buffer it could not fill) or, on a
+    /// device tessella opened itself, an uncaptured error or loss; taken by
+    /// [`GpuContext::check`].
     fault: Arc<Mutex<Option<GpuError>>>,
+    /// Error scopes of tessella's calls whose answer had not come when the call returned (on
+    /// the web): [`GpuContext::check`] / [`GpuContext::check_async`] take them.
+    pending: Arc<Mutex<Vec<(ErrorKind, ScopeAnswer)>>>,
+}
+
+/// Which scope an answer belongs to.
+#[derive(Debug, Clone, Copy)]
+enum ErrorKind {
+    Validation,
+    OutOfMemory,
+}
+
+impl ErrorKind {
+    fn error(self, e: wgpu::Error) -> GpuError {
+        match self {
+            ErrorKind::Validation => GpuError::Validation(e.to_string()),
+            ErrorKind::OutOfMemory => GpuError::OutOfMemory(e.to_string()),
+        }
+    }
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -52,6 +89,7 @@ impl std::fmt::Debug for GpuContext {
 /// (no Wayland session can exist) the layer is switched off with its documented
 /// `NODEVICE_SELECT=1`, once, before the first instance is created. Set `NODEVICE_SELECT`
 /// yourself (to anything) to keep this from happening.
+#[cfg(not(target_arch = "wasm32"))]
 fn quiet_probe() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
@@ -82,17 +120,21 @@ impl GpuContext {
     ///     Err(e) => eprintln!("{e}"),
     /// }
     /// ```
+    #[cfg(feature = "blocking")]
     pub fn new(choice: AdapterChoice) -> Result<GpuContext, GpuError> {
         pollster::block_on(Self::new_async(choice))
     }
 
-    async fn new_async(choice: AdapterChoice) -> Result<GpuContext, GpuError> {
+    /// [`GpuContext::new`] without blocking: the form for the web (where the page's thread may
+    /// not wait), and for native callers with an executor of their own.
+    pub async fn new_async(choice: AdapterChoice) -> Result<GpuContext, GpuError> {
+        #[cfg(not(target_arch = "wasm32"))]
         quiet_probe();
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::PRIMARY,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         });
-        let adapters = instance.enumerate_adapters(wgpu::Backends::PRIMARY).await;
+        let adapters = candidate_adapters(&instance).await;
         let is_software = |a: &wgpu::Adapter| a.get_info().device_type == wgpu::DeviceType::Cpu;
         let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
             wgpu::DeviceType::DiscreteGpu => 0,
@@ -132,13 +174,28 @@ impl GpuContext {
                 adapter: info.name.clone(),
                 reason: e.to_string(),
             })?;
-        Ok(GpuContext::from_device(device, queue))
+        // The device is tessella's own: its uncaptured errors and loss are recorded here (wgpu's
+        // default handler would panic), and returned by `check`.
+        let ctx = GpuContext::from_device(device, queue);
+        let sink = ctx.fault.clone();
+        ctx.device
+            .on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+                let mut slot = sink.lock().unwrap_or_else(|p| p.into_inner());
+                slot.get_or_insert(GpuError::Validation(e.to_string()));
+            }));
+        let sink = ctx.fault.clone();
+        ctx.device.set_device_lost_callback(move |reason, message| {
+            let mut slot = sink.lock().unwrap_or_else(|p| p.into_inner());
+            slot.get_or_insert(GpuError::DeviceLost {
+                reason: format!("{reason:?}: {message}"),
+            });
+        });
+        Ok(ctx)
     }
 
-    /// The limits to request when opening a device for tessella: WebGPU's defaults, raised to
-    /// the adapter's own buffer sizes (larger bindings mean fewer chunks) and to the storage
-    /// buffers per shader stage the compute path binds ([`COMPUTE_STORAGE_BUFFERS`], above
-    /// WebGPU's default of 8). An engine opening its own device passes these (or larger).
+    /// The limits to request when opening a device for tessella: WebGPU's defaults (which
+    /// every path works within), raised to the adapter's own buffer sizes (larger bindings
+    /// mean fewer chunks). An engine may open its device with WebGPU's defaults instead.
     ///
     /// ```no_run
     /// # async fn open(adapter: wgpu::Adapter) {
@@ -154,40 +211,51 @@ impl GpuContext {
         wgpu::Limits {
             max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
             max_buffer_size: adapter.max_buffer_size,
-            max_storage_buffers_per_shader_stage: adapter
-                .max_storage_buffers_per_shader_stage
-                .min(16),
             ..wgpu::Limits::default()
         }
     }
 
     /// Wraps a device and queue the caller opened (an engine's own), so tessella's evaluator
-    /// and renderer work on the caller's resources. Installs an uncaptured-error handler and a
-    /// device-lost callback that record into this context (see [`GpuContext::check`]):
-    /// replace them afterwards if the caller wants its own.
+    /// and renderers work on the caller's resources. The caller's uncaptured-error handler and
+    /// device-lost callback are left alone: tessella's own errors reach its calls through
+    /// error scopes and returned `Result`s, and errors in the caller's work stay the caller's.
     ///
-    /// The work sizes its chunks from `device.limits()`; tessella needs no optional features.
+    /// The work sizes its chunks from `device.limits()`; tessella needs no optional features,
+    /// and works within WebGPU's default limits (see [`GpuContext::check_limits`]).
+    // On wasm32 the pending scope answers are JS promises (not `Send`): one thread there.
+    #[cfg_attr(target_arch = "wasm32", allow(clippy::arc_with_non_send_sync))]
     pub fn from_device(device: wgpu::Device, queue: wgpu::Queue) -> GpuContext {
-        let fault = Arc::new(Mutex::new(None));
-        let sink = fault.clone();
-        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-            let mut slot = sink.lock().unwrap_or_else(|p| p.into_inner());
-            slot.get_or_insert(GpuError::Validation(e.to_string()));
-        }));
-        let sink = fault.clone();
-        device.set_device_lost_callback(move |reason, message| {
-            let mut slot = sink.lock().unwrap_or_else(|p| p.into_inner());
-            slot.get_or_insert(GpuError::DeviceLost {
-                reason: format!("{reason:?}: {message}"),
-            });
-        });
         GpuContext {
             info: device.adapter_info(),
             limits: device.limits(),
             device,
             queue,
-            fault,
+            fault: Arc::new(Mutex::new(None)),
+            pending: Arc::new(Mutex::new(Vec::new())),
         }
+    }
+
+    /// Refuses a device that allows fewer storage buffers in a shader stage than a path binds:
+    /// `what` names the path, `stage` the stage.
+    pub(crate) fn check_storage_buffers(
+        &self,
+        what: &'static str,
+        stage: &'static str,
+        needed: u32,
+    ) -> Result<(), GpuError> {
+        // wgpu 30 has one limit for every stage (a device without storage buffers in the
+        // vertex stage, as GL ES 3.0, reports 0 here).
+        let allowed = self.limits.max_storage_buffers_per_shader_stage;
+        if allowed < needed {
+            return Err(GpuError::Limit {
+                what,
+                stage,
+                limit: "max_storage_buffers_per_shader_stage",
+                needed: needed as u64,
+                allowed: allowed as u64,
+            });
+        }
+        Ok(())
     }
 
     /// `true` for software adapters (lavapipe, WARP, SwiftShader): correct but slow.
@@ -212,40 +280,100 @@ impl GpuContext {
             .min(self.limits.max_buffer_size)
     }
 
-    /// Returns the first error the device reported since the last call, if any.
+    /// Returns the first error of tessella's calls since the last check, if any: one recorded
+    /// outside a scope, or one an error scope answered after its call returned (the web).
+    /// Scopes not answered yet stay for the next check ([`GpuContext::check_async`] awaits
+    /// them).
     pub fn check(&self) -> Result<(), GpuError> {
+        let mut first = None;
+        {
+            let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+            pending.retain_mut(|(kind, answer)| match poll_now(answer.as_mut()) {
+                Some(found) => {
+                    if let Some(e) = found {
+                        first.get_or_insert(kind.error(e));
+                    }
+                    false
+                }
+                None => true,
+            });
+        }
         let mut slot = self.fault.lock().unwrap_or_else(|p| p.into_inner());
-        match slot.take() {
+        match slot.take().or(first) {
             Some(e) => Err(e),
             None => Ok(()),
         }
     }
 
+    /// [`GpuContext::check`] that first awaits every error scope of tessella's calls not
+    /// answered yet: on the web, the way to learn whether a frame's work was accepted.
+    pub async fn check_async(&self) -> Result<(), GpuError> {
+        let answers: Vec<(ErrorKind, ScopeAnswer)> = {
+            let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+            pending.drain(..).collect()
+        };
+        let mut first = None;
+        for (kind, answer) in answers {
+            if let Some(e) = answer.await {
+                first.get_or_insert(kind.error(e));
+            }
+        }
+        self.check()?;
+        first.map_or(Ok(()), Err)
+    }
+
     /// Runs `f` (which creates resources, records or submits work) inside validation and
-    /// out-of-memory error scopes, and returns the first error either caught, or one the
-    /// device recorded meanwhile. Does not wait for the GPU: on native backends validation is
-    /// done when the call returns.
+    /// out-of-memory error scopes of its own, and returns the first error either caught, or
+    /// one tessella recorded meanwhile. Never blocks: native wgpu answers the scopes at once;
+    /// on the web the answers come later and [`GpuContext::check_async`] returns them. Errors
+    /// of work outside `f` (the caller's own) do not enter these scopes.
     pub fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {
         let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f();
-        let invalid = pollster::block_on(validation.pop());
-        let out_of_memory = pollster::block_on(memory.pop());
-        if let Some(e) = invalid {
-            return Err(GpuError::Validation(e.to_string()));
+        let answers = [
+            (
+                ErrorKind::Validation,
+                Box::pin(validation.pop()) as ScopeAnswer,
+            ),
+            (
+                ErrorKind::OutOfMemory,
+                Box::pin(memory.pop()) as ScopeAnswer,
+            ),
+        ];
+        let mut first = None;
+        for (kind, mut answer) in answers {
+            match poll_now(answer.as_mut()) {
+                Some(found) => {
+                    if let Some(e) = found {
+                        first.get_or_insert(kind.error(e));
+                    }
+                }
+                None => self
+                    .pending
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .push((kind, answer)),
+            }
         }
-        if let Some(e) = out_of_memory {
-            return Err(GpuError::OutOfMemory(e.to_string()));
+        if let Some(e) = first {
+            return Err(e);
         }
         self.check()?;
         Ok(value)
     }
 
+    /// Finishes and submits `encoder` inside error scopes, without waiting for the GPU.
+    pub fn submit(&self, encoder: wgpu::CommandEncoder) -> Result<wgpu::SubmissionIndex, GpuError> {
+        self.scoped(|| self.queue.submit([encoder.finish()]))
+    }
+
     /// Finishes and submits `encoder`, then blocks until the GPU has finished it. Any error
     /// wgpu reports for the commands (or reported earlier and not yet taken by
     /// [`GpuContext::check`]) is returned: a rejected frame is an `Err`, never a blank `Ok`.
+    #[cfg(feature = "blocking")]
     pub fn submit_and_wait(&self, encoder: wgpu::CommandEncoder) -> Result<(), GpuError> {
-        let index = self.scoped(|| self.queue.submit([encoder.finish()]))?;
+        let index = self.submit(encoder)?;
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: Some(index),
@@ -257,12 +385,16 @@ impl GpuContext {
         self.check()
     }
 
-    /// Maps a `MAP_READ` buffer (after its copy was submitted) and copies it out.
+    /// Maps a `MAP_READ` buffer (after its copy was submitted) and copies it out; blocks
+    /// until the GPU is done.
+    #[cfg(feature = "blocking")]
     pub fn map_and_copy(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        staging.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
+        let mut mapped = std::pin::pin!(self.map_and_copy_async(staging));
+        // The first poll requests the map (an async body runs only when polled)...
+        if let Some(done) = poll_now(mapped.as_mut()) {
+            return done;
+        }
+        // ...the device's work completes it.
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: None,
@@ -271,9 +403,21 @@ impl GpuContext {
             .map_err(|e| GpuError::DeviceLost {
                 reason: e.to_string(),
             })?;
-        rx.recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        poll_now(mapped.as_mut()).unwrap_or_else(|| {
+            Err(GpuError::Readback(
+                "the buffer was not mapped after the device finished its work".into(),
+            ))
+        })
+    }
+
+    /// [`GpuContext::map_and_copy`] without blocking. On the web the browser completes the
+    /// map; on native the caller's loop must poll the device (`device.poll(PollType::Poll)`)
+    /// for it to complete.
+    pub async fn map_and_copy_async(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        let done = MapDone::default();
+        let sink = done.clone();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| sink.finish(r));
+        done.await.map_err(|e| GpuError::Readback(e.to_string()))?;
         let bytes = staging
             .get_mapped_range(..)
             .map_err(|e| GpuError::Readback(e.to_string()))?
@@ -283,24 +427,58 @@ impl GpuContext {
         Ok(bytes)
     }
 
+    /// Records into `encoder` a copy of `len` bytes of `buffer` (which needs `COPY_SRC`) from
+    /// byte `offset` into a new staging buffer, returned for [`GpuContext::map_and_copy`] /
+    /// [`GpuContext::map_and_copy_async`] once the encoder is submitted. `offset` and `len`
+    /// must be multiples of 4.
+    pub fn record_readback(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        len: u64,
+    ) -> Result<wgpu::Buffer, GpuError> {
+        self.scoped(|| {
+            let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: len.max(4),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, len);
+            staging
+        })
+    }
+
     /// Copies `len` bytes of `buffer` (which needs `COPY_SRC`) from byte `offset` back to the
     /// CPU; waits for the GPU. `offset` and `len` must be multiples of 4.
+    #[cfg(feature = "blocking")]
     pub fn read_buffer(
         &self,
         buffer: &wgpu::Buffer,
         offset: u64,
         len: u64,
     ) -> Result<Vec<u8>, GpuError> {
-        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: len.max(4),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, len);
+        let staging = self.record_readback(&mut encoder, buffer, offset, len)?;
         self.submit_and_wait(encoder)?;
         let mut bytes = self.map_and_copy(&staging)?;
+        bytes.truncate(len as usize);
+        Ok(bytes)
+    }
+
+    /// [`GpuContext::read_buffer`] without blocking (see [`GpuContext::map_and_copy_async`]).
+    pub async fn read_buffer_async(
+        &self,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        len: u64,
+    ) -> Result<Vec<u8>, GpuError> {
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let staging = self.record_readback(&mut encoder, buffer, offset, len)?;
+        self.submit(encoder)?;
+        let mut bytes = self.map_and_copy_async(&staging).await?;
+        self.check_async().await?;
         bytes.truncate(len as usize);
         Ok(bytes)
     }
@@ -404,5 +582,54 @@ impl GpuContext {
             data
         };
         self.buffer_init(label, contents, wgpu::BufferUsages::STORAGE | extra)
+    }
+}
+
+/// The adapters worth ranking: every one on native, the browser's one on the web.
+#[cfg(not(target_arch = "wasm32"))]
+async fn candidate_adapters(instance: &wgpu::Instance) -> Vec<wgpu::Adapter> {
+    instance.enumerate_adapters(wgpu::Backends::PRIMARY).await
+}
+
+#[cfg(target_arch = "wasm32")]
+async fn candidate_adapters(instance: &wgpu::Instance) -> Vec<wgpu::Adapter> {
+    instance
+        .request_adapter(&wgpu::RequestAdapterOptions::default())
+        .await
+        .into_iter()
+        .collect()
+}
+
+/// The answer of one `map_async`, as a future (wgpu gives a callback).
+#[derive(Clone, Default)]
+struct MapDone(Arc<Mutex<MapState>>);
+
+#[derive(Default)]
+struct MapState {
+    result: Option<Result<(), wgpu::BufferAsyncError>>,
+    waker: Option<Waker>,
+}
+
+impl MapDone {
+    fn finish(&self, result: Result<(), wgpu::BufferAsyncError>) {
+        let mut state = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        state.result = Some(result);
+        if let Some(waker) = state.waker.take() {
+            waker.wake();
+        }
+    }
+}
+
+impl Future for MapDone {
+    type Output = Result<(), wgpu::BufferAsyncError>;
+    fn poll(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Self::Output> {
+        let mut state = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        match state.result.take() {
+            Some(result) => Poll::Ready(result),
+            None => {
+                state.waker = Some(cx.waker().clone());
+                Poll::Pending
+            }
+        }
     }
 }

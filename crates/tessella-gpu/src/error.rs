@@ -36,6 +36,17 @@ pub enum GpuError {
         bytes: u64,
         limit: u64,
     },
+    #[error(
+        "{what} needs {needed} in the {stage} stage for the device limit `{limit}`, and this \
+         device allows {allowed}; open the device with higher limits, or use the CPU backend"
+    )]
+    Limit {
+        what: &'static str,
+        stage: &'static str,
+        limit: &'static str,
+        needed: u64,
+        allowed: u64,
+    },
     #[error("invalid render option: {0}")]
     BadOption(String),
     #[error(transparent)]

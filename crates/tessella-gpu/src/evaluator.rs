@@ -3,10 +3,15 @@
 //! each [`Frame`]'s refined vertices into a `wgpu` buffer, its own or the caller's, uploading
 //! only the frame's coarse data (control nets, coarse positions, normals and UVs).
 //!
-//! Output order is the plan's (the CPU's `OutputLayout`); the vertex format is interleaved
-//! `f32`: position (3), normal (3), and texture coordinates (2) when the mesh has them, i.e.
-//! [`tessella_core::refine::VertexFormat::POSITION_NORMAL`] (24 bytes per vertex) or
-//! [`tessella_core::refine::VertexFormat::POSITION_NORMAL_UV`] (32 bytes).
+//! Output order is the plan's (the CPU's `OutputLayout`); the vertex format is any
+//! [`VertexFormat`], the CPU's (stride and offsets of position, normal, uv, in floats), so one
+//! dispatch fills an engine's interleaved vertex buffer. The default is
+//! [`VertexFormat::POSITION_NORMAL`], or [`VertexFormat::POSITION_NORMAL_UV`] when the mesh has
+//! texture coordinates.
+//!
+//! [`GpuEvaluator::record`] records the frame's dispatches into the caller's encoder (the
+//! engine submits it with its own work); [`Evaluator::evaluate`] is the convenience that
+//! submits them itself.
 //!
 //! Work is split into chunks that fit one storage-buffer binding and one dispatch, so an
 //! output that fits in one buffer can be refined whatever the binding limit.
@@ -18,13 +23,16 @@ use crate::gpu_types::RefineParams;
 use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::pattern::PointClass;
-use tessella_core::refine::{Evaluator, Frame, Plan, Tiling};
-use tessella_core::{NormalMode, PatchNets, Pattern, RefinedMesh, Refiner};
+use tessella_core::refine::{Evaluator, Frame, Plan, Tiling, VertexFormat};
+use tessella_core::{NormalMode, PatchNets, Pattern};
+#[cfg(feature = "blocking")]
+use tessella_core::{RefinedMesh, Refiner};
 
 /// Threads per workgroup of both kernels (`@workgroup_size(64)` in `refine.wgsl`).
 const WORKGROUP: u64 = 64;
 
 /// Largest staging buffer for one batch of chunks read back together.
+#[cfg(feature = "blocking")]
 const STAGING_BYTES: u64 = 256 << 20;
 
 /// Options of [`GpuEvaluator::with_options`] and [`gpu_refine_with`].
@@ -38,10 +46,13 @@ pub struct GpuRefineOptions {
     /// Caps the coarse faces whose control nets one binding holds below what the binding
     /// limit allows (for tests of the net windows; `None` uses the device limits).
     pub max_net_faces: Option<u32>,
+    /// The output's interleaved layout; `None`: position and normal, and uv when the mesh
+    /// has texture coordinates ([`GpuEvaluator::vertex_format`]).
+    pub vertex_format: Option<VertexFormat>,
 }
 
-/// Where [`GpuEvaluator::evaluate`] writes one frame's vertices (format: see the module docs,
-/// [`GpuEvaluator::vertex_stride`]).
+/// Where [`GpuEvaluator::record`] writes one frame's vertices (format:
+/// [`GpuEvaluator::vertex_format`]).
 #[derive(Debug)]
 pub enum GpuOutput<'a> {
     /// The evaluator's own vertex buffer (`VERTEX | STORAGE | COPY_SRC`), made on first use and
@@ -63,6 +74,21 @@ pub enum IndexWidth {
 }
 
 impl IndexWidth {
+    /// The narrowest width that holds the plan's vertex indices.
+    pub fn for_plan(plan: &Plan) -> IndexWidth {
+        if plan.fits_u16() {
+            IndexWidth::U16
+        } else {
+            IndexWidth::U32
+        }
+    }
+
+    /// Bytes of the plan's refined triangles at this width, rounded up to 4 (the size of the
+    /// buffer [`GpuEvaluator::write_indices`] fills).
+    pub fn buffer_bytes(self, plan: &Plan) -> u64 {
+        (plan.triangle_count() as u64 * 3 * self.bytes()).next_multiple_of(4)
+    }
+
     /// The `wgpu` index format.
     pub fn format(self) -> wgpu::IndexFormat {
         match self {
@@ -96,7 +122,6 @@ impl Pipelines {
                 (compute, UNIFORM),
                 (compute, READ),
                 (compute, READ),
-                (compute, WRITE),
                 (compute, WRITE),
             ],
         );
@@ -189,11 +214,8 @@ pub struct GpuEvaluator {
     nets: Vec<NetWindow>,
     mesh_u32: wgpu::Buffer,
     mesh_f32: wgpu::Buffer,
-    /// Scratch for the binding a kernel does not write.
-    spare_vertices: wgpu::Buffer,
-    spare_indices: wgpu::Buffer,
     params: RefineParams,
-    has_uv: bool,
+    format: VertexFormat,
     max_chunk_items: Option<u32>,
     own: Option<wgpu::Buffer>,
     own_indices: Option<(wgpu::Buffer, IndexWidth)>,
@@ -222,14 +244,11 @@ impl GpuEvaluator {
         plan: &Plan,
         options: &GpuRefineOptions,
     ) -> Result<GpuEvaluator, GpuError> {
-        let allowed = ctx.limits.max_storage_buffers_per_shader_stage;
-        if allowed < crate::context::COMPUTE_STORAGE_BUFFERS {
-            return Err(GpuError::BadOption(format!(
-                "the device allows {allowed} storage buffers per shader stage; the GPU evaluator \
-                 binds {}: open the device with `GpuContext::required_limits(&adapter.limits())`",
-                crate::context::COMPUTE_STORAGE_BUFFERS
-            )));
-        }
+        ctx.check_storage_buffers(
+            "the GPU evaluator's compute pass",
+            "compute",
+            crate::context::COMPUTE_STORAGE_BUFFERS,
+        )?;
         if plan.tiling().is_some() && options.displacement != Displacement::None {
             return Err(GpuError::BadOption(
                 "displacement of adaptive and tessellator plans is not supported on the GPU \
@@ -239,6 +258,7 @@ impl GpuEvaluator {
         }
         let has_uv = plan.has_uvs();
         options.displacement.validate(has_uv)?;
+        let format = output_format(plan, options.vertex_format)?;
         let layout = plan.layout();
         if layout.triangle_count > u32::MAX as u64 {
             return Err(GpuError::TooLarge {
@@ -247,10 +267,15 @@ impl GpuEvaluator {
                 limit: u32::MAX as u64 * 12,
             });
         }
-        let (u32s, params) = match plan.tiling() {
+        let (u32s, mut params) = match plan.tiling() {
             None => index_tables(plan),
             Some(tiling) => adaptive_tables(plan, tiling),
         };
+        let word = |o: Option<usize>| o.map_or(NONE, |o| o as u32);
+        params.out_stride = format.stride as u32;
+        params.out_position = format.position as u32;
+        params.out_normal = word(format.normal);
+        params.out_uv = word(format.uv);
         let f32_len = coarse_f32_len(plan);
         let limit = ctx.max_binding();
         for (what, bytes) in [
@@ -311,8 +336,6 @@ impl GpuEvaluator {
             let zeros = vec![0.0f32; f32_len];
             let mesh_f32 = ctx.storage_buffer("mesh f32", bytemuck::cast_slice(&zeros), copy);
             Ok(GpuEvaluator {
-                spare_vertices: ctx.storage_buffer("spare vertices", &[0; 32], none),
-                spare_indices: ctx.storage_buffer("spare indices", &[0; 12], none),
                 ctx: ctx.clone(),
                 pipelines,
                 plan_key: plan_key(plan),
@@ -321,7 +344,7 @@ impl GpuEvaluator {
                 mesh_u32,
                 mesh_f32,
                 params,
-                has_uv,
+                format,
                 max_chunk_items: options.max_chunk_items,
                 own: None,
                 own_indices: None,
@@ -337,13 +360,14 @@ impl GpuEvaluator {
         self.uploaded
     }
 
-    /// Floats per output vertex: 6 (position, normal) or 8 (and UV, when the mesh has them).
+    /// The layout of the output vertices ([`GpuRefineOptions::vertex_format`]).
+    pub fn vertex_format(&self) -> VertexFormat {
+        self.format
+    }
+
+    /// Floats per output vertex: the format's stride.
     pub fn vertex_stride(&self) -> usize {
-        if self.has_uv {
-            8
-        } else {
-            6
-        }
+        self.format.stride
     }
 
     /// Bytes one frame's vertices take.
@@ -358,12 +382,25 @@ impl GpuEvaluator {
 
     /// Copies the evaluator's own vertex buffer back (waits for the GPU): `vertex_stride()`
     /// floats per vertex.
+    #[cfg(feature = "blocking")]
     pub fn read_back(&self) -> Result<Vec<f32>, GpuError> {
-        let own = self.own.as_ref().ok_or_else(|| {
-            GpuError::BadOutput("nothing evaluated into the evaluator's own buffer yet".into())
-        })?;
+        let own = self.own_or_err()?;
         let bytes = self.ctx.read_buffer(own, 0, own.size())?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// [`GpuEvaluator::read_back`] without blocking (the web's form; see
+    /// [`GpuContext::map_and_copy_async`]).
+    pub async fn read_back_async(&self) -> Result<Vec<f32>, GpuError> {
+        let own = self.own_or_err()?;
+        let bytes = self.ctx.read_buffer_async(own, 0, own.size()).await?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    fn own_or_err(&self) -> Result<&wgpu::Buffer, GpuError> {
+        self.own.as_ref().ok_or_else(|| {
+            GpuError::BadOutput("nothing evaluated into the evaluator's own buffer yet".into())
+        })
     }
 
     /// An index buffer (`INDEX | COPY_SRC`) holding the plan's refined triangles, `u16` when
@@ -375,12 +412,8 @@ impl GpuEvaluator {
     ) -> Result<(&wgpu::Buffer, wgpu::IndexFormat), GpuError> {
         self.check_plan(plan)?;
         if self.own_indices.is_none() {
-            let width = if plan.fits_u16() {
-                IndexWidth::U16
-            } else {
-                IndexWidth::U32
-            };
-            let size = (plan.triangle_count() as u64 * 3 * width.bytes()).next_multiple_of(4);
+            let width = IndexWidth::for_plan(plan);
+            let size = width.buffer_bytes(plan);
             let buffer = self.ctx.scoped(|| {
                 self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("refined indices"),
@@ -476,7 +509,7 @@ impl GpuEvaluator {
         offset: u64,
         total: u64,
     ) -> Result<Vec<Chunk<'b>>, GpuError> {
-        let stride = self.vertex_stride() as u64 * 4;
+        let stride = self.format.stride as u64 * 4;
         let align = self.ctx.limits.min_storage_buffer_offset_alignment.max(4) as u64;
         let max_binding = self.ctx.max_binding() / 4 * 4;
         let mut chunks = Vec::new();
@@ -536,11 +569,6 @@ impl GpuEvaluator {
             offset: chunk.window.0,
             size: wgpu::BufferSize::new(chunk.window.1),
         };
-        let (out_vertices, out_indices) = if vertices {
-            (window, self.spare_indices.as_entire_buffer_binding())
-        } else {
-            (self.spare_vertices.as_entire_buffer_binding(), window)
-        };
         let group = self
             .ctx
             .device
@@ -562,11 +590,7 @@ impl GpuEvaluator {
                     },
                     wgpu::BindGroupEntry {
                         binding: 3,
-                        resource: wgpu::BindingResource::Buffer(out_vertices),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: wgpu::BindingResource::Buffer(out_indices),
+                        resource: wgpu::BindingResource::Buffer(window),
                     },
                 ],
             });
@@ -615,15 +639,21 @@ impl GpuEvaluator {
     }
 }
 
-impl Evaluator for GpuEvaluator {
-    type Output<'a> = GpuOutput<'a>;
-    type Error = GpuError;
-
-    /// Uploads the frame's coarse data and submits the dispatches that write its vertices into
-    /// `out`. Returns once the work is submitted and validated, without waiting for the GPU:
-    /// commands the caller submits afterwards (a draw reading the buffer) run after it. An
-    /// unusable output buffer, or work wgpu rejects, is an `Err`.
-    fn evaluate(&mut self, plan: &Plan, frame: &Frame, out: GpuOutput<'_>) -> Result<(), GpuError> {
+impl GpuEvaluator {
+    /// Uploads the frame's coarse data (`queue.write_buffer`, so it lands before the next
+    /// submission) and records into the caller's `encoder` the dispatches that write its
+    /// vertices into `out`; the caller submits the encoder, with its own passes after (a draw
+    /// reading the buffer). Record one frame per submission: a second `record` before the
+    /// submit overwrites the first frame's coarse data. An unusable output buffer, or work
+    /// wgpu rejects, is an `Err` (checked in error scopes of tessella's own, which the
+    /// caller's work does not enter).
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        plan: &Plan,
+        frame: &Frame,
+        out: GpuOutput<'_>,
+    ) -> Result<(), GpuError> {
         self.check_plan(plan)?;
         plan.check_frame(frame)?;
         let total = plan.vertex_count() as u64;
@@ -642,13 +672,43 @@ impl Evaluator for GpuEvaluator {
         let chunks = self.vertex_chunks(&buffer, offset, total)?;
         self.uploaded = self.upload(plan, frame)?;
         self.ctx.scoped(|| {
-            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
             for chunk in &chunks {
-                self.encode(&mut encoder, chunk, true);
+                self.encode(encoder, chunk, true);
             }
-            self.ctx.queue.submit([encoder.finish()]);
         })
     }
+}
+
+impl Evaluator for GpuEvaluator {
+    type Output<'a> = GpuOutput<'a>;
+    type Error = GpuError;
+
+    /// The convenience beside [`GpuEvaluator::record`]: records the frame into an encoder of
+    /// its own and submits it, without waiting for the GPU (commands the caller submits
+    /// afterwards run after it).
+    fn evaluate(&mut self, plan: &Plan, frame: &Frame, out: GpuOutput<'_>) -> Result<(), GpuError> {
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        self.record(&mut encoder, plan, frame, out)?;
+        self.ctx.submit(encoder).map(|_| ())
+    }
+}
+
+/// The evaluator's output format: the caller's, checked against the plan, or the default.
+fn output_format(plan: &Plan, wanted: Option<VertexFormat>) -> Result<VertexFormat, GpuError> {
+    let Some(format) = wanted else {
+        return Ok(if plan.has_uvs() {
+            VertexFormat::POSITION_NORMAL_UV
+        } else {
+            VertexFormat::POSITION_NORMAL
+        });
+    };
+    format.validate()?;
+    if format.uv.is_some() && !plan.has_uvs() {
+        return Err(GpuError::BadOption(
+            "the vertex format asks for texture coordinates and the mesh has none".into(),
+        ));
+    }
+    Ok(format)
 }
 
 /// Refuses a caller buffer without `usage`, with a misaligned offset, or too small.
@@ -692,19 +752,26 @@ fn check_buffer(
 /// assert_eq!(out.triangles.len(), mesh.face_count() * 64);
 /// # Ok::<(), tessella_gpu::GpuError>(())
 /// ```
+#[cfg(feature = "blocking")]
 pub fn gpu_refine(ctx: &GpuContext, refiner: &Refiner) -> Result<RefinedMesh, GpuError> {
     gpu_refine_with(ctx, refiner, &GpuRefineOptions::default())
 }
 
 /// [`gpu_refine`] with displacement and chunk-size options. Outputs larger than one GPU buffer
 /// are refined chunk by chunk through a scratch buffer.
+#[cfg(feature = "blocking")]
 pub fn gpu_refine_with(
     ctx: &GpuContext,
     refiner: &Refiner,
     options: &GpuRefineOptions,
 ) -> Result<RefinedMesh, GpuError> {
     let plan = refiner.plan();
-    let gpu = GpuEvaluator::with_options(ctx, plan, options)?;
+    // Read back in the default format, which the loop below unpacks.
+    let options = GpuRefineOptions {
+        vertex_format: None,
+        ..options.clone()
+    };
+    let gpu = GpuEvaluator::with_options(ctx, plan, &options)?;
     gpu.upload(plan, refiner.frame())?;
     let layout = *plan.layout();
     let floats = gpu.vertex_stride() as u64;
@@ -734,7 +801,7 @@ pub fn gpu_refine_with(
     let mut out = RefinedMesh {
         positions: Vec::with_capacity(nv),
         normals: Vec::with_capacity(nv),
-        uvs: gpu.has_uv.then(|| Vec::with_capacity(nv)),
+        uvs: plan.has_uvs().then(|| Vec::with_capacity(nv)),
         triangles: Vec::with_capacity(layout.triangle_count as usize),
     };
 

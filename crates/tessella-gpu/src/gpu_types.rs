@@ -71,9 +71,17 @@ pub(crate) struct RefineParams {
     pub adaptive: u32,
     /// Offset (in `u32`s) of the adaptive lookup: per output vertex, its face and stencil row.
     pub lookup_at: u32,
+    /// The output's `VertexFormat`, in words: stride, then the offsets of position, normal and
+    /// uv (`u32::MAX`: not written).
+    pub out_stride: u32,
+    pub out_position: u32,
+    pub out_normal: u32,
+    pub out_uv: u32,
     pub _pad: [u32; 2],
 }
-const _: () = assert!(size_of::<RefineParams>() == 112);
+const _: () = assert!(size_of::<RefineParams>() == 128);
+const _: () = assert!(offset_of!(RefineParams, out_stride) == 104);
+const _: () = assert!(offset_of!(RefineParams, out_uv) == 116);
 const _: () = assert!(offset_of!(RefineParams, lookup_at) == 100);
 const _: () = assert!(offset_of!(RefineParams, has_uv) == 36);
 const _: () = assert!(offset_of!(RefineParams, pattern_triangles_at) == 76);

@@ -30,8 +30,12 @@
 //!   split corners move along one shared direction and stay closed. The per-face records that
 //!   rule needs are uploaded with each frame.
 //!
-//! Errors reach the caller: work tessella submits runs inside wgpu error scopes
-//! ([`GpuContext::scoped`], [`GpuContext::submit_and_wait`]), so a rejected frame is an `Err`.
+//! Errors reach the caller: tessella's own work runs inside wgpu error scopes of its own
+//! ([`GpuContext::scoped`]), so a rejected frame is an `Err`; [`GpuContext::from_device`] leaves
+//! the engine's handlers alone. [`GpuEvaluator::record`] records into the engine's encoder, in
+//! the engine's [`tessella_core::refine::VertexFormat`]; [`PatchBindings`] gives WGSL an engine's
+//! own shader calls (`docs/engine.md`). Nothing per frame blocks; the blocking forms are the
+//! default `blocking` feature, and without it the crate builds for the web (wgpu's `webgpu`).
 //! Pictures, cameras, labels, animations and benchmarks live in the `tessella-view` crate.
 //!
 //! ```no_run
@@ -45,7 +49,8 @@
 //! # Ok::<(), tessella_gpu::GpuError>(())
 //! ```
 //!
-//! `examples/deform.rs` owns its device, deforms a mesh over frames, evaluates into its own
+//! `examples/engine.rs` is an engine frame (its encoder, a 32-byte vertex, its shader calling
+//! `tessella_point`); `examples/deform.rs` owns its device, deforms a mesh over frames, evaluates into its own
 //! vertex buffer and draws it with its own pipeline.
 //!
 //! ## Shaders
@@ -54,7 +59,8 @@
 //! (vertex/fragment). The adaptive renderer's are `shaders/basis.wgsl` (basis weights at any
 //! point) + `shaders/adaptive.wgsl` (points from level records), then `shaders/shade.wgsl` +
 //! `shaders/adaptive_draw.wgsl`, or `shaders/adaptive_capture.wgsl` for the read-back.
-//! Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
+//! The layout constants both sides use are generated from Rust (`wgsl_constants.rs`) and
+//! prepended to every shader. Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
 //! `displace.wgsl`'s Rust twin is `tessella_core::displace`. The tests tie each pair together by
 //! comparing GPU and CPU outputs.
 //!
@@ -71,13 +77,16 @@ mod evaluator;
 mod gpu_types;
 mod patch;
 mod renderer;
+pub mod wgsl;
+mod wgsl_constants;
 
 pub use adaptive::{AdaptiveRenderer, CapturedTriangles};
 pub use context::{AdapterChoice, GpuContext, COMPUTE_STORAGE_BUFFERS};
 pub use error::GpuError;
-pub use evaluator::{
-    gpu_refine, gpu_refine_with, GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth,
-};
+#[cfg(feature = "blocking")]
+pub use evaluator::{gpu_refine, gpu_refine_with};
+pub use evaluator::{GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth};
 pub use gpu_types::RenderUniforms;
 pub use renderer::{PatternRenderer, TargetFormats};
 pub use tessella_core::displace::Displacement;
+pub use wgsl::PatchBindings;

@@ -254,6 +254,7 @@ pub(crate) fn shader_source(
     displacement: &Displacement,
 ) -> String {
     [
+        &crate::wgsl_constants::source(),
         &format!(
             "const NORMAL_MODE: u32 = {}u;\nconst DISPLACE_KIND: u32 = {}u;\n",
             normal_mode_code(normal_mode),

@@ -127,9 +127,21 @@ pub(crate) fn render_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
             (vertex, READ),
             (vertex, READ),
             (vertex, READ),
-            (both, READ),
+            (both, UNIFORM),
         ],
     )
+}
+
+/// Bytes of the colormap uniform: `array<vec4<f32>, COLORMAP_ENTRIES>` in `shaders/shade.wgsl`
+/// (a header and up to 256 samples).
+pub(crate) const COLORMAP_BYTES: usize = crate::wgsl_constants::COLORMAP_ENTRIES * 16;
+
+/// The colormap uniform holding `header` (floats, at most [`COLORMAP_BYTES`]), zero-padded.
+pub(crate) fn colormap_buffer(ctx: &GpuContext, header: &[f32]) -> wgpu::Buffer {
+    let mut bytes = vec![0u8; COLORMAP_BYTES];
+    let data: &[u8] = bytemuck::cast_slice(header);
+    bytes[..data.len()].copy_from_slice(data);
+    ctx.buffer_init("colormap", &bytes, wgpu::BufferUsages::UNIFORM)
 }
 
 /// A triangle-list pipeline of `module`'s vertex `entry` and `fs_main`, for `targets`.
@@ -269,6 +281,8 @@ impl PatternRenderer {
         displacement: &Displacement,
     ) -> Result<PatternRenderer, GpuError> {
         plan.check_frame(frame)?;
+        // The patch group and face UVs, instances and field nets.
+        ctx.check_storage_buffers("the pattern renderer", "vertex", 8)?;
         let mesh = frame.mesh();
         displacement.validate(mesh.uvs().is_some())?;
         let tiles = Tiles::new(plan)?;
@@ -343,11 +357,7 @@ impl PatternRenderer {
                 bytemuck::cast_slice(&[0f32]),
                 wgpu::BufferUsages::empty(),
             );
-            let colormap = ctx.storage_buffer(
-                "colormap",
-                bytemuck::cast_slice(&[0f32; 8]),
-                wgpu::BufferUsages::empty(),
-            );
+            let colormap = colormap_buffer(ctx, &[0.0; 4]);
             let render_group = render_group(
                 ctx,
                 &pipelines.render_layout,
@@ -425,11 +435,7 @@ impl PatternRenderer {
                 bytemuck::cast_slice(nets),
                 wgpu::BufferUsages::empty(),
             );
-            self.colormap = ctx.storage_buffer(
-                "colormap",
-                bytemuck::cast_slice(&header),
-                wgpu::BufferUsages::empty(),
-            );
+            self.colormap = colormap_buffer(&ctx, &header);
             self.render_group = render_group(
                 &ctx,
                 &self.pipelines.render_layout,

@@ -204,18 +204,63 @@ fn the_renderer_refuses_nets_over_one_binding() {
     assert!(err.to_string().contains("CPU backend"), "{err}");
 }
 
+/// WebGPU's default of 8 storage buffers per stage is enough for every path (the CPU gives the
+/// same mesh); a device allowing fewer is refused with the limit named, before any GPU call.
 #[test]
-fn a_device_with_too_few_storage_buffers_is_refused_clearly() {
-    // WebGPU's default limits: 8 storage buffers per stage, fewer than the compute path binds.
+fn webgpu_default_storage_buffers_suffice_and_fewer_are_refused_clearly() {
     let ctx = own_device(|l| wgpu::Limits {
         max_storage_buffers_per_shader_stage: 8,
         ..l
     });
-    let mesh = tessella_core::samples::icosphere(0);
-    let refiner = refiner(&mesh, 2);
-    let Err(e) = tessella_gpu::GpuEvaluator::new(&ctx, refiner.plan()) else {
-        panic!("a device with 8 storage buffers per stage was accepted");
+    let mesh = samples::icosphere(1);
+    let refiner = refiner(&mesh, 3);
+    let gpu = gpu_refine_with(&ctx, &refiner, &GpuRefineOptions::default()).unwrap();
+    let cpu = refiner.refine();
+    assert_eq!(gpu.triangles, cpu.triangles);
+    for (g, c) in gpu.positions.iter().zip(&cpu.positions) {
+        for k in 0..3 {
+            assert!((g[k] - c[k]).abs() < 1e-5, "{g:?} vs {c:?}");
+        }
+    }
+    let plan = refiner.plan();
+    let frame = plan.frame(&mesh).unwrap();
+    let formats = TargetFormats {
+        color: wgpu::TextureFormat::Rgba8UnormSrgb,
+        depth: None,
+        samples: 1,
     };
-    assert!(e.to_string().contains("required_limits"), "{e}");
-    assert!(ctx.check().is_ok(), "the refusal came before any GPU call");
+    // Both renderers' pipelines (validated when made) fit the 8 storage buffers too.
+    PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()).unwrap();
+    tessella_gpu::AdaptiveRenderer::new(&ctx, plan, &frame, &formats, Spacing::FractionalOdd)
+        .unwrap();
+    assert!(ctx.check().is_ok());
+
+    let ctx = own_device(|l| wgpu::Limits {
+        max_storage_buffers_per_shader_stage: 4,
+        ..l
+    });
+    let Err(e) = GpuEvaluator::new(&ctx, plan) else {
+        panic!("a device with 4 storage buffers per stage was accepted");
+    };
+    assert!(
+        matches!(
+            e,
+            GpuError::Limit {
+                needed: 8,
+                allowed: 4,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(
+        e.to_string()
+            .contains("max_storage_buffers_per_shader_stage"),
+        "{e}"
+    );
+    let Err(e) = PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()) else {
+        panic!("the renderer took a device with 4 storage buffers per stage");
+    };
+    assert!(e.to_string().contains("vertex stage"), "{e}");
+    assert!(ctx.check().is_ok(), "the refusals came before any GPU call");
 }

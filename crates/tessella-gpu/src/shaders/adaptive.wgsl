@@ -25,13 +25,12 @@ struct AdaptiveParams {
 @group(0) @binding(2) var<uniform> params: AdaptiveParams;
 @group(0) @binding(3) var<storage, read> records: array<u32>;
 
-const RECORD_WORDS: u32 = 24u;
 const FORWARD_WORD: u32 = 20u;
 const ONE: u32 = 65536u;
 const ONE_HALF: u32 = 32768u;
 const ONE_THIRD: u32 = 0x5555u;
 const TWO_THIRDS: u32 = 0xaaaau;
-const MODE_REAL: u32 = 2u;
+// RECORD_WORDS, MODE_REAL: prepended from Rust (wgsl_constants.rs).
 const NO_EDGE: u32 = 3u;
 
 fn net_point(face: u32, k: u32) -> vec3<f32> {

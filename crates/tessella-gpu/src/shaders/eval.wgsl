@@ -25,10 +25,7 @@ struct EvalParams {
 // edge and both directions' weights, per face which edges run canonically.
 @group(0) @binding(6) var<storage, read> edge_table: array<u32>;
 
-const NORMAL_NET_LEN: u32 = 6u;
-const EDGE_ROWS_AT: u32 = 22u;
-const EDGE_ROW_LEN: u32 = 15u;
-const MODE_REAL: u32 = 2u;
+// NORMAL_NET_LEN, EDGE_ROWS_AT, EDGE_ROW_LEN, MODE_REAL: prepended from Rust (wgsl_constants.rs).
 
 struct SurfacePoint {
     position: vec3<f32>,

@@ -32,6 +32,12 @@ struct RefineParams {
     out_base: u32,          // f32 index of this chunk's first vertex in `out_vertices`
     adaptive: u32,          // 1: every vertex from the lookup table (adaptive plans)
     lookup_at: u32,         // per output vertex: face (or NONE), row | (corner + 1) << 30
+    // The caller's VertexFormat, in words: stride, offsets of position, normal, uv (NONE: the
+    // attribute is not written; neither is any word no attribute covers).
+    out_stride: u32,
+    out_position: u32,
+    out_normal: u32,
+    out_uv: u32,
     _pad0: u32,
     _pad1: u32,
 }
@@ -41,8 +47,15 @@ const NONE: u32 = 0xffffffffu;
 @group(1) @binding(0) var<uniform> params: RefineParams;
 @group(1) @binding(1) var<storage, read> mesh_u32: array<u32>;
 @group(1) @binding(2) var<storage, read> mesh_f32: array<f32>;
-@group(1) @binding(3) var<storage, read_write> out_vertices: array<f32>;
-@group(1) @binding(4) var<storage, read_write> out_indices: array<u32>;
+// One output binding for both kernels (vertices as f32 bits, or indices), so the compute stage
+// binds 8 storage buffers, WebGPU's default limit.
+@group(1) @binding(3) var<storage, read_write> out_words: array<u32>;
+
+fn put3(i: u32, v: vec3<f32>) {
+    out_words[i] = bitcast<u32>(v.x);
+    out_words[i + 1u] = bitcast<u32>(v.y);
+    out_words[i + 2u] = bitcast<u32>(v.z);
+}
 
 fn input_vec3(at: u32, v: u32) -> vec3<f32> {
     let i = at + v * 3u;
@@ -76,18 +89,15 @@ fn forward(face: u32, k: u32, e: u32) -> bool {
 fn write_vertex(local: u32, p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, uv: vec2<f32>) {
     // Displace after evaluation, once per output slot: shared vertices stay shared.
     let q = p + displacement(p, uv) * dir;
-    // Interleaved: position, normal, then uv when the mesh has them (6 or 8 floats).
-    let stride = select(6u, 8u, params.has_uv != 0u);
-    let i = params.out_base + local * stride;
-    out_vertices[i] = q.x;
-    out_vertices[i + 1u] = q.y;
-    out_vertices[i + 2u] = q.z;
-    out_vertices[i + 3u] = n.x;
-    out_vertices[i + 4u] = n.y;
-    out_vertices[i + 5u] = n.z;
-    if (params.has_uv != 0u) {
-        out_vertices[i + 6u] = uv.x;
-        out_vertices[i + 7u] = uv.y;
+    // Interleaved as the caller's VertexFormat says.
+    let i = params.out_base + local * params.out_stride;
+    put3(i + params.out_position, q);
+    if (params.out_normal != NONE) {
+        put3(i + params.out_normal, n);
+    }
+    if (params.out_uv != NONE) {
+        out_words[i + params.out_uv] = bitcast<u32>(uv.x);
+        out_words[i + params.out_uv + 1u] = bitcast<u32>(uv.y);
     }
 }
 
@@ -217,6 +227,6 @@ fn refine_indices(@builtin(global_invocation_id) gid: vec3<u32>) {
     let j = t % per_face;
     for (var c = 0u; c < 3u; c++) {
         let p = mesh_u32[params.pattern_triangles_at + j * 3u + c];
-        out_indices[local * 3u + c] = output_vertex(face, p);
+        out_words[local * 3u + c] = output_vertex(face, p);
     }
 }

@@ -22,8 +22,10 @@ struct RenderUniforms {
 @group(1) @binding(2) var<storage, read> instance_faces: array<u32>;
 // Per coarse triangle: a scalar field's P2 net (corners, then mid-edges 0-1, 1-2, 2-0).
 @group(1) @binding(3) var<storage, read> face_field: array<f32>;
-// [low, high, samples, 0], then `samples` sRGB colours; samples 0: no field colouring.
-@group(1) @binding(4) var<storage, read> colormap: array<vec4<f32>>;
+// [low, high, samples, 0], then `samples` sRGB colours; samples 0: no field colouring. A
+// uniform (COLORMAP_ENTRIES, prepended from Rust), so the vertex stage binds 8 storage
+// buffers, WebGPU's default limit.
+@group(1) @binding(4) var<uniform> colormap: array<vec4<f32>, COLORMAP_ENTRIES>;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,

@@ -1,0 +1,146 @@
+//! WGSL an engine composes into its own shaders: the refined point and normal of (coarse
+//! triangle, pattern vertex), with the bind group it reads. The contract (bindings, function,
+//! conventions) is written out in `docs/engine.md`; [`crate::PatternRenderer`] draws with the
+//! same evaluation module (`shaders/eval.wgsl`).
+
+use crate::context::GpuContext;
+use crate::displace::Displacement;
+use crate::error::GpuError;
+use crate::patch::{self, PatchBuffers};
+use tessella_core::refine::{Frame, Plan};
+
+/// Storage buffers the patch group binds in each stage that sees it (an engine's vertex
+/// shader adds its own to these; WebGPU's default allows 8 per stage).
+pub const PATCH_STORAGE_BUFFERS: u32 = 5;
+
+/// The entry point an engine calls, appended to the evaluation module.
+const ENTRY: &str = "
+// tessella's exported entry point (docs/engine.md): the refined point of pattern vertex
+// `vertex` on coarse triangle `face`.
+struct TessellaPoint {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    // The pattern vertex's barycentric coordinates on the coarse triangle (l1, l2, l3).
+    barycentric: vec3<f32>,
+}
+
+fn tessella_point(face: u32, vertex: u32) -> TessellaPoint {
+    let sp = eval_patch(face, vertex);
+    return TessellaPoint(sp.position, sp.normal, sp.l);
+}
+";
+
+/// The patch group of a plan, for an engine's own pipelines: the stencil (uploaded once) and
+/// the control nets (uploaded per frame by [`PatchBindings::update`]), bound at the group
+/// index the engine chose.
+///
+/// An engine draws `plan.pattern().triangles` as its index buffer (`u32`, one pattern per
+/// coarse triangle: `instance_index` is the coarse triangle, `vertex_index` the pattern
+/// vertex) and calls `tessella_point(instance, vertex)` from [`PatchBindings::wgsl`] in its
+/// vertex shader.
+pub struct PatchBindings {
+    ctx: GpuContext,
+    group_index: u32,
+    normal_mode: tessella_core::NormalMode,
+    shape: (usize, usize),
+    patches: PatchBuffers,
+    layout: wgpu::BindGroupLayout,
+    group: wgpu::BindGroup,
+}
+
+impl std::fmt::Debug for PatchBindings {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PatchBindings")
+            .field("group", &self.group_index)
+            .field("faces", &self.shape.0)
+            .finish()
+    }
+}
+
+impl PatchBindings {
+    /// Uploads the plan's stencil and the frame's nets into a group visible to `visibility`
+    /// (the engine's vertex stage, say), to be bound at `group_index` (0 to 3). Plans of one
+    /// level only (an adaptive plan's tiles are [`crate::AdaptiveRenderer`]'s).
+    pub fn new(
+        ctx: &GpuContext,
+        plan: &Plan,
+        frame: &Frame,
+        group_index: u32,
+        visibility: wgpu::ShaderStages,
+    ) -> Result<PatchBindings, GpuError> {
+        if plan.tiling().is_some() {
+            return Err(GpuError::BadOption(
+                "the exported WGSL module draws plans of one level; this plan has per-edge \
+                 levels"
+                    .into(),
+            ));
+        }
+        if group_index > 3 {
+            return Err(GpuError::BadOption(format!(
+                "bind group index {group_index}; WebGPU has groups 0 to 3"
+            )));
+        }
+        plan.check_frame(frame)?;
+        ctx.check_storage_buffers("the exported patch group", "vertex", PATCH_STORAGE_BUFFERS)?;
+        let basis = plan.options().scheme.basis();
+        let edges = crate::canonical::edge_table(
+            basis,
+            &[plan.pattern()],
+            &[],
+            plan.triangles(),
+            &plan.topology().position_ids,
+        );
+        ctx.scoped(|| {
+            let patches = PatchBuffers::new(
+                ctx,
+                &plan.stencil().weights,
+                frame.nets(),
+                &Displacement::None,
+                &edges,
+                false,
+            )?;
+            let layout = patch::layout(ctx, visibility);
+            let group = patches.bind_group(ctx, &layout);
+            Ok(PatchBindings {
+                ctx: ctx.clone(),
+                group_index,
+                normal_mode: plan.normal_mode(),
+                shape: (frame.nets().len(), basis.len()),
+                patches,
+                layout,
+                group,
+            })
+        })?
+    }
+
+    /// The WGSL to put before the engine's own: `tessella_point` and what it calls, at
+    /// `@group(group_index)`, bindings 0 to 6 (see `docs/engine.md`).
+    pub fn wgsl(&self) -> String {
+        patch_module(self.group_index, self.normal_mode)
+    }
+
+    /// The group's layout, for the engine's pipeline layout at `group_index`.
+    pub fn layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// The bind group to set at `group_index`.
+    pub fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.group
+    }
+
+    /// Writes the frame's control nets (`queue.write_buffer`: they land before the next
+    /// submission); returns the bytes written.
+    pub fn update(&self, frame: &Frame) -> Result<u64, GpuError> {
+        patch::check_nets_shape(frame.nets(), self.shape)?;
+        self.ctx
+            .scoped(|| self.patches.update_nets(&self.ctx, frame.nets()))
+    }
+}
+
+/// The evaluation module (no displacement) with its bindings at `@group(group_index)`, and
+/// `tessella_point`.
+pub fn patch_module(group_index: u32, normal_mode: tessella_core::NormalMode) -> String {
+    let source = patch::shader_source(ENTRY, normal_mode, &Displacement::None);
+    source.replace("@group(0)", &format!("@group({group_index})"))
+}

@@ -1,0 +1,24 @@
+//! The layout constants Rust and WGSL share, written once here and prepended to every shader
+//! as WGSL `const`s (the `.wgsl` files declare none of them), so the two cannot drift apart.
+
+use crate::patch::{normal_mode_code, NORMAL_NET_BYTES};
+use tessella_core::refine::instanced::RECORD_WORDS;
+use tessella_core::NormalMode;
+
+/// Entries of the colormap uniform (`shaders/shade.wgsl`): a header and up to 256 samples.
+pub(crate) const COLORMAP_ENTRIES: usize = 257;
+
+/// The shared constants as WGSL source.
+pub(crate) fn source() -> String {
+    [
+        ("NORMAL_NET_LEN", NORMAL_NET_BYTES as u32 / 12),
+        ("EDGE_ROWS_AT", crate::canonical::ROWS_AT as u32),
+        ("EDGE_ROW_LEN", crate::canonical::ROW_LEN as u32),
+        ("MODE_REAL", normal_mode_code(NormalMode::Real)),
+        ("RECORD_WORDS", RECORD_WORDS as u32),
+        ("COLORMAP_ENTRIES", COLORMAP_ENTRIES as u32),
+    ]
+    .iter()
+    .map(|(name, value)| format!("const {name}: u32 = {value}u;\n"))
+    .collect()
+}
