@@ -457,7 +457,7 @@ fn eval_block_body<const K: usize>(
                 } else {
                     accumulate(&block.du, block.stride, start, n, &spread_points, d1);
                     accumulate(&block.dv, block.stride, start, n, &spread_points, d2);
-                    cross_tile(&d1, &d2, n, unit, ok)
+                    cross_tile(d1, d2, n, unit, ok)
                 }
             } else {
                 accumulate(&block.normal, block.stride, start, n, &spread_normals, unit);
