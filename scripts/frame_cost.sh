@@ -5,11 +5,16 @@
 # One thread: idle rayon workers spin, and under valgrind that spinning would be counted.
 # Valgrind reports no AVX-512, so this counts the AVX2 copy of the evaluator.
 # Usage: scripts/frame_cost.sh [LEVEL]   (needs valgrind; builds the example in release)
+#        FRAME_COST_BIN=path scripts/frame_cost.sh [LEVEL]   (counts that build instead, e.g. an
+#        older commit's, for a before/after pair)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 level=${1:-32}
-cargo build --release --quiet --example frame_cost -p tessella-core
-bin=target/release/examples/frame_cost
+bin=${FRAME_COST_BIN:-}
+if [ -z "$bin" ]; then
+    cargo build --release --quiet --example frame_cost -p tessella-core
+    bin=target/release/examples/frame_cost
+fi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 count() { # scheme normals frames -> instructions
