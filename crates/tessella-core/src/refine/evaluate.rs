@@ -127,8 +127,9 @@ fn combine<const K: usize>(w: &[f32; K], c: &[[f32; 3]; K]) -> Vec3 {
     Vec3::new(x, y, z)
 }
 
-/// Points per tile of [`eval_block`]: the accumulators stay in L1.
-const TILE: usize = 64;
+/// Points per tile of [`eval_block`]: the four accumulator arrays (12 KiB) stay in L1, and
+/// the per-tile set-up is spread over enough points (64 spent 9 instructions a point on it).
+const TILE: usize = 256;
 
 /// Points summed together by [`accumulate`]: their running sums stay in registers (six
 /// 8-wide vectors for x, y, z) over all control points, enough independent additions to hide
@@ -136,32 +137,82 @@ const TILE: usize = 64;
 const LANES: usize = BLOCK_LANES;
 const _: () = assert!(TILE.is_multiple_of(LANES), "tiles hold whole vectors");
 
+/// The weights `k` of the tile's vector `v` in a weight-major block: the points
+/// `start + v * LANES..` of row `k`. `check_tile` has made sure the tile's vectors lie within
+/// the rows (the last one padded with zeros).
+#[inline(always)]
+fn lane_weights(weights: &[f32], at: usize) -> &[f32; LANES] {
+    debug_assert!(at + LANES <= weights.len());
+    // SAFETY: `check_tile` bounds every `at` passed here (k * stride + start + v * LANES, with
+    // start + vectors * LANES <= stride and rows * stride <= weights.len()). A checked slice
+    // costs a compare and a branch per weight and vector, a third of the sum's instructions.
+    unsafe { &*weights.as_ptr().add(at).cast::<[f32; LANES]>() }
+}
+
+/// Number of whole vectors covering the tile's points `start..start + n` of `rows` weight
+/// rows, after checking that they lie within the block (panics otherwise: a stencil bug).
+#[inline(always)]
+fn check_tile(weights: &[f32], rows: usize, stride: usize, start: usize, n: usize) -> usize {
+    let vectors = n.div_ceil(LANES);
+    assert!(
+        start + vectors * LANES <= stride && rows * stride <= weights.len(),
+        "stencil rows are padded to whole vectors"
+    );
+    vectors
+}
+
+/// Control points spread over whole vectors (`[k][c][lane]`), made once per block: the sums
+/// then multiply by a vector in memory (on AVX2 one instruction with the load folded in)
+/// instead of broadcasting every control point again for every vector of points, which spilled
+/// registers.
+type Spread<const C: usize> = [[[f32; LANES]; 3]; C];
+
+/// Spreads `controls` into `out` in place (a spread made and moved by value cost 25
+/// instructions a vertex on the 15-point edges of level 16).
+#[inline(always)]
+fn spread_into<'a, const C: usize>(
+    controls: &[[f32; 3]],
+    out: &'a mut [[[f32; LANES]; 3]],
+) -> &'a Spread<C> {
+    let out: &mut Spread<C> = (&mut out[..C])
+        .try_into()
+        .expect("room for C control points");
+    for (s, c) in out.iter_mut().zip(controls) {
+        for (lanes, &v) in s.iter_mut().zip(c) {
+            *lanes = [v; LANES];
+        }
+    }
+    out
+}
+
+/// The most control points of a patch (PNG1's quartic net).
+const MAX_CONTROLS: usize = 21;
+
 /// Accumulates `Σ_k w[k*stride + i] c[k]` for the tile's points `start..start+n` into `acc`,
 /// summing over `k` in order from zero for every point (the order [`combine`] uses, so the
 /// same bits). Works in whole vectors: a short last vector sums the weights' zero padding into
 /// slots past `n`, which nobody reads.
 #[inline(always)]
-fn accumulate(
+fn accumulate<const C: usize>(
     weights: &[f32],
     stride: usize,
     start: usize,
     n: usize,
-    controls: &[[f32; 3]],
+    controls: &Spread<C>,
     acc: &mut [[f32; TILE]; 3],
 ) {
-    for i in (0..n).step_by(LANES) {
+    let vectors = check_tile(weights, C, stride, start, n);
+    for v in 0..vectors {
         let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
-        for (k, c) in controls.iter().enumerate() {
-            let w: &[f32; LANES] = weights[k * stride + start + i..][..LANES]
-                .try_into()
-                .expect("rows are padded to whole vectors");
-            let [cx, cy, cz] = *c;
+        for (k, [cx, cy, cz]) in controls.iter().enumerate() {
+            let w = lane_weights(weights, k * stride + start + v * LANES);
             for l in 0..LANES {
-                x[l] += w[l] * cx;
-                y[l] += w[l] * cy;
-                z[l] += w[l] * cz;
+                x[l] += w[l] * cx[l];
+                y[l] += w[l] * cy[l];
+                z[l] += w[l] * cz[l];
             }
         }
+        let i = v * LANES;
         acc[0][i..i + LANES].copy_from_slice(&x);
         acc[1][i..i + LANES].copy_from_slice(&y);
         acc[2][i..i + LANES].copy_from_slice(&z);
@@ -171,19 +222,25 @@ fn accumulate(
 /// Normalises the tile's `n` vectors in place, exactly as `Vec3::normalize_or_zero` does per
 /// vector (the same operations in the same order, so the same bits), but one component array
 /// at a time so the loop vectorises. `ok[i]` is false where the vector could not be normalised
-/// (zero, tiny or not finite): those points take the scalar fallback.
+/// (zero, tiny or not finite): those points take the scalar fallback. Returns whether all
+/// `n` were normalised (summed in the same loop, so no second pass over `ok`).
 #[inline(always)]
-fn normalize_tile(v: &mut [[f32; TILE]; 3], n: usize, ok: &mut [bool; TILE]) {
+fn normalize_tile(v: &mut [[f32; TILE]; 3], n: usize, ok: &mut [bool; TILE]) -> bool {
     let [x, y, z] = v;
-    for i in 0..n {
+    let mut bad = 0u32;
+    for i in 0..n.min(TILE) {
         let rcp = 1.0 / ((x[i] * x[i]) + (y[i] * y[i]) + (z[i] * z[i])).sqrt();
-        let good = rcp.is_finite() && rcp > 0.0;
+        // `&`, not `&&`, and a count, not a flag: branch-free, so the loop vectorises.
+        // `is_finite() && rcp > 0`: two compares (NaN fails both).
+        let good = (rcp > 0.0) & (rcp < f32::INFINITY);
         ok[i] = good;
+        bad += u32::from(!good);
         let rcp = if good { rcp } else { 0.0 };
         x[i] *= rcp;
         y[i] *= rcp;
         z[i] *= rcp;
     }
+    bad == 0
 }
 
 /// The unit normal `Du × Dv / |Du × Dv|` of one point, as `Vec3::cross` and
@@ -199,7 +256,7 @@ fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f32; 3], bool
     let a2 = (ax * ax) + (ay * ay) + (az * az);
     let b2 = (bx * bx) + (by * by) + (bz * bz);
     let rcp = 1.0 / c2.sqrt();
-    let good = c2 > 1e-12 * a2 * b2 && rcp.is_finite() && rcp > 0.0;
+    let good = (c2 > 1e-12 * a2 * b2) & (rcp > 0.0) & (rcp < f32::INFINITY);
     let rcp = if good { rcp } else { 0.0 };
     ([x * rcp, y * rcp, z * rcp], good)
 }
@@ -212,15 +269,18 @@ fn cross_tile(
     n: usize,
     unit: &mut [[f32; TILE]; 3],
     ok: &mut [bool; TILE],
-) {
+) -> bool {
     let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
-    for i in 0..n {
+    let mut bad = 0u32;
+    for i in 0..n.min(TILE) {
         let (u, good) = unit_cross(at(du, i), at(dv, i));
         ok[i] = good;
+        bad += u32::from(!good);
         unit[0][i] = u[0];
         unit[1][i] = u[1];
         unit[2][i] = u[2];
     }
+    bad == 0
 }
 
 /// Real normals of a cubic patch for the tile's points, in one pass: `Du` and `Dv` summed from
@@ -237,29 +297,95 @@ fn real_normals_tile(
     dv_net: &[[f32; 3]; NORMAL_NET_LEN],
     unit: &mut [[f32; TILE]; 3],
     ok: &mut [bool; TILE],
-) {
-    for i in (0..n).step_by(LANES) {
+) -> bool {
+    let vectors = check_tile(weights, NORMAL_NET_LEN, stride, start, n);
+    let mut bad = 0u32;
+    for v in 0..vectors {
         let mut a = [[0.0f32; LANES]; 3];
         let mut b = [[0.0f32; LANES]; 3];
         for j in 0..NORMAL_NET_LEN {
-            let w: &[f32; LANES] = weights[j * stride + start + i..][..LANES]
-                .try_into()
-                .expect("rows are padded to whole vectors");
-            let (u, v) = (du_net[j], dv_net[j]);
+            let w = lane_weights(weights, j * stride + start + v * LANES);
+            let (u, d) = (du_net[j], dv_net[j]);
             for l in 0..LANES {
                 for c in 0..3 {
                     a[c][l] += w[l] * u[c];
-                    b[c][l] += w[l] * v[c];
+                    b[c][l] += w[l] * d[c];
                 }
             }
         }
+        let i = v * LANES;
         for l in 0..LANES {
             let (u, good) = unit_cross([a[0][l], a[1][l], a[2][l]], [b[0][l], b[1][l], b[2][l]]);
+            // Padding lanes past `n` are not points: they neither fail nor get a fallback.
+            let good = good | (i + l >= n);
             ok[i + l] = good;
+            bad += u32::from(!good);
             unit[0][i + l] = u[0];
             unit[1][i + l] = u[1];
             unit[2][i + l] = u[2];
         }
+    }
+    bad == 0
+}
+
+/// The working arrays of [`eval_block`], one per parallel task and reused for all its blocks:
+/// made per call, zeroing them cost more instructions than the evaluation itself.
+pub(crate) struct Scratch {
+    pos: [[f32; TILE]; 3],
+    d1: [[f32; TILE]; 3],
+    d2: [[f32; TILE]; 3],
+    unit: [[f32; TILE]; 3],
+    ok: [bool; TILE],
+    spread_points: [[[f32; LANES]; 3]; MAX_CONTROLS],
+    spread_normals: [[[f32; LANES]; 3]; NORMAL_NET_LEN],
+}
+
+impl Scratch {
+    pub fn new() -> Box<Scratch> {
+        Box::new(Scratch {
+            pos: [[0.0; TILE]; 3],
+            d1: [[0.0; TILE]; 3],
+            d2: [[0.0; TILE]; 3],
+            unit: [[0.0; TILE]; 3],
+            ok: [true; TILE],
+            spread_points: [[[0.0; LANES]; 3]; MAX_CONTROLS],
+            spread_normals: [[[0.0; LANES]; 3]; NORMAL_NET_LEN],
+        })
+    }
+}
+
+thread_local! {
+    /// Each thread's [`Scratch`], kept between tasks and frames.
+    static SCRATCH: std::cell::Cell<Option<Box<Scratch>>> = const { std::cell::Cell::new(None) };
+}
+
+impl Scratch {
+    /// This thread's scratch (a new one the first time), handed back when the guard drops:
+    /// made per task, its 18 KiB were zeroed and moved 300 times a frame at level 16.
+    pub fn take() -> ScratchGuard {
+        ScratchGuard(Some(SCRATCH.take().unwrap_or_else(Scratch::new)))
+    }
+}
+
+/// A thread's [`Scratch`] on loan ([`Scratch::take`]).
+pub(crate) struct ScratchGuard(Option<Box<Scratch>>);
+
+impl std::ops::Deref for ScratchGuard {
+    type Target = Scratch;
+    fn deref(&self) -> &Scratch {
+        self.0.as_ref().expect("held until dropped")
+    }
+}
+
+impl std::ops::DerefMut for ScratchGuard {
+    fn deref_mut(&mut self) -> &mut Scratch {
+        self.0.as_mut().expect("held until dropped")
+    }
+}
+
+impl Drop for ScratchGuard {
+    fn drop(&mut self) {
+        SCRATCH.set(self.0.take());
     }
 }
 
@@ -283,22 +409,31 @@ pub(crate) fn eval_block<const K: usize>(
     sink: &mut Sink,
     base: usize,
     reverse: bool,
+    scratch: &mut Scratch,
 ) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx512f") {
         // SAFETY: the CPU was just checked to have AVX-512F, the only feature enabled there.
         unsafe {
-            eval_block_avx512::<K>(block, stencil, points, normals, mode, sink, base, reverse)
+            eval_block_avx512::<K>(
+                block, stencil, points, normals, mode, sink, base, reverse, scratch,
+            )
         };
         return;
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU was just checked to have AVX2, the only feature the function enables.
-        unsafe { eval_block_avx2::<K>(block, stencil, points, normals, mode, sink, base, reverse) };
+        unsafe {
+            eval_block_avx2::<K>(
+                block, stencil, points, normals, mode, sink, base, reverse, scratch,
+            )
+        };
         return;
     }
-    eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
+    eval_block_body::<K>(
+        block, stencil, points, normals, mode, sink, base, reverse, scratch,
+    );
 }
 
 /// Defines `$name`: [`eval_block_body`] compiled with the target feature `$feature`.
@@ -317,8 +452,11 @@ macro_rules! eval_block_for {
             sink: &mut Sink,
             base: usize,
             reverse: bool,
+            scratch: &mut Scratch,
         ) {
-            eval_block_body::<K>(block, stencil, points, normals, mode, sink, base, reverse);
+            eval_block_body::<K>(
+                block, stencil, points, normals, mode, sink, base, reverse, scratch,
+            );
         }
     };
 }
@@ -336,23 +474,35 @@ fn eval_block_body<const K: usize>(
     sink: &mut Sink,
     base: usize,
     reverse: bool,
+    scratch: &mut Scratch,
 ) {
     let points: &[[f32; 3]; K] = points.try_into().expect("patch has K control points");
     let len = block.len();
     let want_normals = sink.wants_normals();
     let slot = |i: usize| base + if reverse { len - 1 - i } else { i };
-    let mut pos = [[0.0f32; TILE]; 3];
-    let mut d1 = [[0.0f32; TILE]; 3];
-    let mut d2 = [[0.0f32; TILE]; 3];
-    let mut unit = [[0.0f32; TILE]; 3];
-    let mut ok = [true; TILE];
+    let Scratch {
+        pos,
+        d1,
+        d2,
+        unit,
+        ok,
+        spread_points,
+        spread_normals,
+    } = scratch;
     let derivative_nets = (mode == NormalMode::Real && K == CUBIC_LEN)
         .then(|| cubic_derivative_nets(points[..].try_into().expect("cubic patch")));
+    let spread_points = spread_into::<K>(points, spread_points);
+    let spread_normals = if want_normals && mode != NormalMode::Real {
+        spread_into::<NORMAL_NET_LEN>(normals, spread_normals)
+    } else {
+        &*spread_normals
+    };
     for start in (0..len).step_by(TILE) {
         let n = TILE.min(len - start);
-        accumulate(&block.value, block.stride, start, n, points, &mut pos);
+        accumulate(&block.value, block.stride, start, n, spread_points, pos);
+        let mut all_ok = true;
         if want_normals {
-            if mode == NormalMode::Real {
+            all_ok = if mode == NormalMode::Real {
                 if let Some((du_net, dv_net)) = &derivative_nets {
                     real_normals_tile(
                         &block.normal,
@@ -361,22 +511,22 @@ fn eval_block_body<const K: usize>(
                         n,
                         du_net,
                         dv_net,
-                        &mut unit,
-                        &mut ok,
-                    );
+                        unit,
+                        ok,
+                    )
                 } else {
-                    accumulate(&block.du, block.stride, start, n, points, &mut d1);
-                    accumulate(&block.dv, block.stride, start, n, points, &mut d2);
-                    cross_tile(&d1, &d2, n, &mut unit, &mut ok);
+                    accumulate(&block.du, block.stride, start, n, spread_points, d1);
+                    accumulate(&block.dv, block.stride, start, n, spread_points, d2);
+                    cross_tile(d1, d2, n, unit, ok)
                 }
             } else {
-                accumulate(&block.normal, block.stride, start, n, normals, &mut unit);
-                normalize_tile(&mut unit, n, &mut ok);
-            }
+                accumulate(&block.normal, block.stride, start, n, spread_normals, unit);
+                normalize_tile(unit, n, ok)
+            };
         }
         let first = slot(start);
-        sink.put_tile(first, reverse, n, &pos, want_normals.then_some(&unit));
-        if want_normals && !ok[..n].iter().all(|&ok| ok) {
+        sink.put_tile(first, reverse, n, pos, want_normals.then_some(&*unit));
+        if !all_ok {
             let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
             for i in (0..n).filter(|&i| !ok[i]) {
                 // Parallel derivatives or a vanishing normal: the scalar path's fallbacks.
@@ -390,7 +540,7 @@ fn eval_block_body<const K: usize>(
                             .expect("normal weights");
                         (combine(q, du_net), combine(q, dv_net))
                     }
-                    None => (Vec3::from(at(&d1, i)), Vec3::from(at(&d2, i))),
+                    None => (Vec3::from(at(d1, i)), Vec3::from(at(d2, i))),
                 };
                 let normal = finish_normal::<K>(mode, du, dv, stencil.row(p), points, normals);
                 sink.set_normal(slot(start + i), normal.into());
@@ -454,6 +604,7 @@ impl Job<'_> {
         sink: &mut Sink,
         base: usize,
         reverse: bool,
+        scratch: &mut Scratch,
     ) {
         eval_block::<K>(
             block,
@@ -464,6 +615,7 @@ impl Job<'_> {
             sink,
             base,
             reverse,
+            scratch,
         );
     }
 
@@ -520,6 +672,7 @@ impl Job<'_> {
                 .into_par_iter()
                 .enumerate()
                 .for_each(|(task, mut sink)| {
+                    let mut scratch = Scratch::take();
                     for le in 0..sink.len() / m {
                         let e = task * EDGES_PER_TASK + le;
                         let (f, k) = topo.edge_owner[e];
@@ -531,6 +684,7 @@ impl Job<'_> {
                             &mut sink,
                             le * m,
                             !forward,
+                            &mut scratch,
                         );
                         if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
                             let l = &self.stencil.blocks.edges[k].barycentric;
@@ -553,10 +707,18 @@ impl Job<'_> {
             .into_par_iter()
             .enumerate()
             .for_each(|(task, mut sink)| {
+                let mut scratch = Scratch::take();
                 let faces = sink.len() / ni;
                 for lf in 0..faces {
                     let f = task * FACES_PER_TASK + lf;
-                    self.block::<K>(&self.stencil.blocks.interior, f, &mut sink, lf * ni, false);
+                    self.block::<K>(
+                        &self.stencil.blocks.interior,
+                        f,
+                        &mut sink,
+                        lf * ni,
+                        false,
+                        &mut scratch,
+                    );
                     if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
                         for (i, &l) in self.stencil.blocks.interior.barycentric.iter().enumerate() {
                             sink.set_uv(lf * ni + i, interpolate_uv(l, &face_uv));
@@ -608,11 +770,19 @@ impl Job<'_> {
             .into_par_iter()
             .enumerate()
             .for_each(|(task, mut sink)| {
+                let mut scratch = Scratch::take();
                 let faces = sink.len() / np;
                 for lf in 0..faces {
                     let f = task * FACES_PER_TASK + lf;
                     let base = lf * np;
-                    self.block::<K>(&self.stencil.blocks.all, f, &mut sink, base, false);
+                    self.block::<K>(
+                        &self.stencil.blocks.all,
+                        f,
+                        &mut sink,
+                        base,
+                        false,
+                        &mut scratch,
+                    );
                     for (c, &v) in mesh.triangles()[f].iter().enumerate() {
                         let p = self.stencil.corner_point(c) as usize;
                         sink.set_position(base + p, mesh.positions()[v as usize]);
@@ -648,9 +818,11 @@ mod tests {
     /// vanish (the fallbacks).
     fn check<const K: usize>(
         basis: Basis,
-        run: impl Fn(&Block, &Stencil, &[[f32; 3]], &[[f32; 3]], NormalMode, &mut Sink),
+        run: impl Fn(&Block, &Stencil, &[[f32; 3]], &[[f32; 3]], NormalMode, &mut Sink, bool),
     ) {
-        let stencil = Stencil::new(&Pattern::uniform(9), basis);
+        // Level 24: 325 points, more than one tile, so tiles after the first are covered.
+        let stencil = Stencil::new(&Pattern::uniform(24), basis);
+        assert!(stencil.blocks.all.len() > TILE);
         let block = &stencil.blocks.all;
         let mut seed = 7;
         for case in 0..4 {
@@ -667,7 +839,12 @@ mod tests {
             if case == 3 {
                 points.iter_mut().for_each(|p| *p = [0.0; 3]);
             }
-            for mode in [NormalMode::Quadratic, NormalMode::Real] {
+            for (mode, reverse) in [
+                (NormalMode::Quadratic, false),
+                (NormalMode::Real, false),
+                (NormalMode::Quadratic, true),
+                (NormalMode::Real, true),
+            ] {
                 let n = block.len();
                 let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
                 {
@@ -678,14 +855,16 @@ mod tests {
                     }
                     .sink(n, false)
                     .unwrap();
-                    run(block, &stencil, &points, &normals, mode, &mut sink);
+                    run(block, &stencil, &points, &normals, mode, &mut sink, reverse);
                 }
                 for (i, &p) in block.points.iter().enumerate() {
                     let (want_p, want_n) =
                         eval_point::<K>(stencil.row(p as usize), &points, &normals, mode);
                     let bits = |v: [f32; 3]| v.map(f32::to_bits);
-                    assert_eq!(bits(pos[i]), bits(want_p), "case {case} {mode:?} point {i}");
-                    assert_eq!(bits(nrm[i]), bits(want_n), "case {case} {mode:?} point {i}");
+                    let at = if reverse { n - 1 - i } else { i };
+                    let what = format!("case {case} {mode:?} reverse {reverse} point {i}");
+                    assert_eq!(bits(pos[at]), bits(want_p), "{what}");
+                    assert_eq!(bits(nrm[at]), bits(want_n), "{what}");
                 }
             }
         }
@@ -719,19 +898,19 @@ mod tests {
     #[test]
     fn block_evaluation_equals_point_evaluation_bit_for_bit() {
         let dispatched =
-            |b: &Block, s: &Stencil, p: &[[f32; 3]], n: &[[f32; 3]], m, sink: &mut Sink| {
-                eval_block::<10>(b, s, p, n, m, sink, 0, false)
+            |b: &Block, s: &Stencil, p: &[[f32; 3]], n: &[[f32; 3]], m, sink: &mut Sink, r| {
+                eval_block::<10>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
             };
         check::<10>(Basis::Cubic, dispatched);
-        check::<21>(Basis::Png1, |b, s, p, n, m, sink| {
-            eval_block::<21>(b, s, p, n, m, sink, 0, false)
+        check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
+            eval_block::<21>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
         });
         // The baseline code as well, whatever the machine dispatches to.
-        check::<10>(Basis::Cubic, |b, s, p, n, m, sink| {
-            eval_block_body::<10>(b, s, p, n, m, sink, 0, false)
+        check::<10>(Basis::Cubic, |b, s, p, n, m, sink, r| {
+            eval_block_body::<10>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
         });
-        check::<21>(Basis::Png1, |b, s, p, n, m, sink| {
-            eval_block_body::<21>(b, s, p, n, m, sink, 0, false)
+        check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
+            eval_block_body::<21>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
         });
     }
 }

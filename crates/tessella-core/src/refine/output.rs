@@ -257,15 +257,9 @@ impl<'a> Sink<'a> {
                 normals: out_normals,
                 ..
             } => {
-                let out = &mut positions[lo..lo + n];
-                for i in 0..n {
-                    out[index(i)] = at(pos, i);
-                }
+                interleave(&mut positions[lo..lo + n], pos, reverse);
                 if let (Some(out), Some(nrm)) = (out_normals, normals) {
-                    let out = &mut out[lo..lo + n];
-                    for i in 0..n {
-                        out[index(i)] = at(nrm, i);
-                    }
+                    interleave(&mut out[lo..lo + n], nrm, reverse);
                 }
             }
             Sink::Interleaved { data, format } => {
@@ -331,6 +325,25 @@ impl<'a> Sink<'a> {
                 data[at..at + 2].copy_from_slice(&uv);
             }
             _ => {}
+        }
+    }
+}
+
+/// Writes component arrays `a[c][i]` as the points `out[i]` (`out[len - 1 - i]` when
+/// `reverse`). A loop per direction with plain indices, so the compiler turns it into vector
+/// shuffles and stores (one loop with a computed index stays scalar: 16 instructions a point).
+#[inline(always)]
+fn interleave<const T: usize>(out: &mut [[f32; 3]], a: &[[f32; T]; 3], reverse: bool) {
+    let n = out.len().min(T);
+    let out = &mut out[..n];
+    let [x, y, z] = a;
+    if reverse {
+        for i in 0..n {
+            out[n - 1 - i] = [x[i], y[i], z[i]];
+        }
+    } else {
+        for i in 0..n {
+            out[i] = [x[i], y[i], z[i]];
         }
     }
 }
