@@ -22,7 +22,8 @@ mod render;
 mod tags;
 
 use numpy::PyArray2;
-use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
+use errors::bad_option;
+use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -153,9 +154,9 @@ fn refine_adaptive<'py>(
     backend: &str,
 ) -> PyResult<AdaptiveArrays<'py>> {
     use tessella_core::refine::{Camera, Levels, Lod, Spacing};
-    let value = |e: tessella_core::RefineError| PyValueError::new_err(e.to_string());
+    let value = |e: tessella_core::RefineError| bad_option(e.to_string());
     let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
-    let spacing: Spacing = spacing.parse().map_err(PyValueError::new_err)?;
+    let spacing: Spacing = spacing.parse().map_err(bad_option)?;
     let whole =
         level.is_finite() && level >= 1.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
     let mut opts = RefineOptions::new(scheme, if whole { level as u32 } else { 1 })
@@ -167,7 +168,7 @@ fn refine_adaptive<'py>(
         let lod = Lod::parse(spec, camera, size.map(|(w, h)| [w, h])).map_err(value)?;
         opts = opts.with_levels(Levels::Lod(lod));
     } else if camera.is_some() || size.is_some() {
-        return Err(PyValueError::new_err(
+        return Err(bad_option(
             "camera= and size= serve lod='screen:PX' and lod='distance:NEAR,FAR,MAX'",
         ));
     } else if !whole || spacing != Spacing::Grid {
@@ -176,7 +177,7 @@ fn refine_adaptive<'py>(
     }
     let backend = options::backend(backend)?;
     if backend == options::Backend::Gl && origin {
-        return Err(PyValueError::new_err(
+        return Err(bad_option(
             "origin=True is not supported with backend=\"gl\"; use backend=\"cpu\"",
         ));
     }
@@ -229,7 +230,7 @@ fn pattern<'py>(
     let level = options::level(level)?;
     // A pattern has (N+1)(N+2)/2 points; refuse sizes that cannot be allocated sensibly.
     if Pattern::point_count(level) > 1 << 28 {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "level {level} makes a pattern of {} points; choose a level of 23000 or less",
             Pattern::point_count(level)
         )));
