@@ -8,6 +8,7 @@
 //! | other `RefineError`s (level, alpha, too large), `TagError`, `TagSourceError` (bad tags, bad crease angle), `DisplaceError`, bad or conflicting options | `OptionError` |
 //! | `IoError::{UnknownExtension, Parse, Unsupported, NoTriangles, IndexOutOfRange}` | `FileFormatError` |
 //! | `IoError::{Mesh, BadMesh}` (a file's mesh failed validation, arrays a writer refused) | `MeshError` |
+//! | `IoError::Read` of a file the opened one refers to (a glTF's missing buffer) | `FileFormatError` |
 //! | `IoError::Read`/`Write`, `TagSourceError::Read` (the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
 //! | `GpuError::BadOption`/`Displace` | `OptionError`; `GpuError::Refine(e)`: as `e` |
 //! | other `GpuError`s, `GlError`s but `Unsupported` (no adapter, device lost, GPU limits) | `GpuError` (also a `RuntimeError`) |
@@ -104,6 +105,15 @@ pub fn io_error(e: IoError) -> PyErr {
         }
         IoError::Mesh { .. } | IoError::BadMesh { .. } => bad_mesh(message),
         _ => bad_file(message),
+    }
+}
+
+/// An error reading `path`: as [`io_error`], except that the OS refusing a file `path` refers
+/// to (a glTF's external buffer) makes `path` a broken file, not an `OSError` about `path`.
+pub fn read_error(e: IoError, path: &std::path::Path) -> PyErr {
+    match &e {
+        IoError::Read { path: other, .. } if other != path => bad_file(e.to_string()),
+        _ => io_error(e),
     }
 }
 

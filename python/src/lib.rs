@@ -335,8 +335,8 @@ fn quality<'py>(
 /// computes them). Polygons are fan-triangulated; texture coordinates are not returned.
 ///
 /// Raises ``OSError`` (``FileNotFoundError``, ``PermissionError``, ...) when the file cannot be
-/// read, ``ValueError`` when its extension is unknown or its content is malformed or holds no
-/// triangles.
+/// read, ``FileFormatError`` when its extension is unknown, its content is malformed or holds
+/// no triangles, or a file it refers to (a glTF's buffer) cannot be read.
 #[pyfunction]
 fn load<'py>(
     py: Python<'py>,
@@ -344,7 +344,7 @@ fn load<'py>(
 ) -> PyResult<(F32Array<'py>, U32Array<'py>, Option<F32Array<'py>>)> {
     let raw = py
         .detach(|| tessella_io::read_raw(&path))
-        .map_err(errors::io_error)?;
+        .map_err(|e| errors::read_error(e, &path))?;
     Ok((
         arrays::to_numpy(py, raw.positions),
         arrays::to_numpy(py, raw.triangles),

@@ -49,6 +49,7 @@ from ._errors import FileFormatError, GpuError, MeshError, OptionError, Tessella
 from ._options import Camera, Displace, Lod
 from ._result import RefinedMesh
 from ._tessella import __version__, backends, gpu_info, info, load, pattern, save, schemes
+from ._types import BackendName, NormalsMode, SchemeName, Spacing
 
 #: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the
 #: path of a JSON file (see :func:`refine`).
@@ -57,7 +58,7 @@ TagsLike = Union[Dict[str, Any], str, "os.PathLike[str]", None]
 #: What ``displace=`` accepts: ``None``, ``{"kind": "sine", "amplitude": a, "frequency": f}``,
 #: ``{"kind": "perlin", "amplitude": a, "frequency": f, "seed": s}`` or a tuple
 #: ``(kind, amplitude, frequency[, seed])`` (see :func:`refine`).
-DisplaceLike = Union[Dict[str, Any], Tuple[Any, ...], List[Any], None]
+DisplaceLike = Union["Displace", Dict[str, Any], Tuple[Any, ...], List[Any], None]
 
 __all__ = [
     "__version__",
@@ -96,25 +97,25 @@ def refine(
     faces: Any = None,
     normals: Any = None,
     *,
-    scheme: Optional[str] = None,
+    scheme: Optional[SchemeName] = None,
     level: Union[int, float] = 8,
     alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
+    normals_mode: Optional[NormalsMode] = None,
     tags: TagsLike = None,
     crease_angle: Optional[float] = None,
-    backend: str = "auto",
+    backend: BackendName = "auto",
     weld: bool = True,
     displace: DisplaceLike = None,
-    spacing: str = "grid",
-    lod: Union[str, Dict[str, Any], None] = None,
-    camera: Union[str, Tuple[float, ...], List[float], None] = None,
+    spacing: Spacing = "grid",
+    lod: Union[Lod, str, Dict[str, Any], None] = None,
+    camera: Union[Camera, str, Tuple[float, ...], List[float], None] = None,
     size: Optional[Tuple[int, int]] = None,
     origin: bool = False,
     point_data: Optional[Dict[str, Any]] = None,
     cell_data: Optional[Dict[str, Any]] = None,
     warp: Optional[str] = None,
     scale: float = 1.0,
-) -> Any:
+) -> RefinedMesh:
     """Refine a triangle mesh into a curved one.
 
     Parameters
@@ -465,7 +466,7 @@ def quality(
     faces: Any,
     normals: Any = None,
     *,
-    scheme: str = "pn",
+    scheme: SchemeName = "pn",
     level: int = 8,
     alpha: float = 0.75,
     tags: TagsLike = None,
@@ -522,7 +523,7 @@ def render(
     normals: Any = None,
     *,
     path: Union[str, "os.PathLike[str]", None] = None,
-    scheme: Optional[str] = None,
+    scheme: Optional[SchemeName] = None,
     level: int = 8,
     size: Tuple[int, int] = (512, 512),
     yaw: float = 30.0,

@@ -85,7 +85,7 @@ class RefinedMesh:
     def __len__(self) -> int:
         return 3
 
-    def __getitem__(self, index: int) -> Any:
+    def __getitem__(self, index: Any) -> Any:
         return (self.vertices, self.faces, self.normals)[index]
 
     def __repr__(self) -> str:
