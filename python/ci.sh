@@ -64,7 +64,7 @@ if ! have_vulkan; then
 fi
 
 echo "== python: mypy --strict on the examples (the package's annotations and _tessella.pyi)"
-(cd "$HERE" && "$VENV/bin/python" -m mypy --strict examples/fem_pyvista.py)
+(cd "$HERE" && "$VENV/bin/python" -m mypy --strict examples/fem_sphere.py examples/fem_fields.py examples/fem_pyvista.py)
 
 # PyVista renders off screen without an X server: VTK's wheel falls back to EGL (Mesa's
 # llvmpipe, set up above for backend="gl"); naming the EGL window skips the X attempt.

@@ -14,24 +14,20 @@ Conventions
   compute angle-weighted normals.
 - Any array-like is accepted (lists go through ``numpy.asarray``); C order, Fortran order and
   strided views are all read as they are, without a copy first.
-- Results are fresh C-ordered arrays: vertices and normals ``float32 (n, 3)``, faces
-  ``uint32 (m, 3)`` (use ``faces.astype(numpy.int64)`` where a library wants int64).
+- Results are a :class:`RefinedMesh` of fresh C-ordered arrays: vertices and normals
+  ``float32 (n, 3)``, faces ``uint32 (m, 3)``; it unpacks as ``v, f, n`` and converts with
+  ``to_trimesh()``, ``to_pyvista()``, ``to_meshio()`` and ``save(path)``.
 
 Errors
 ------
-- ``ValueError``: bad shapes (not ``(n, 3)``), bad values (NaN positions, indices out of range
-  or negative, degenerate triangles, zero normals), bad options (unknown scheme, level < 1,
-  non-finite alpha, output over the 8 GiB size limit), bad tags (a vertex or edge the mesh
-  lacks, values out of range, malformed JSON, more creases than the scalar-tagged scheme
-  allows; the message says which), a crease angle outside 0..180 or a bad ``displace`` (unknown
-  kind or key, missing or non-finite numbers, a seed that is not a whole number in
-  0..2**32-1). Invalid files passed to :func:`load` also raise ``ValueError``.
-- ``TypeError``: arrays of an unsupported dtype (e.g. complex, strings, float16); ``tags`` of
-  another type than dict, str or path; ``displace`` of another type than dict, tuple or list.
-- ``RuntimeError``: ``backend="gpu"`` when no GPU adapter opens (the message says what to
-  install), or the GPU failing while it works.
-- ``OSError``: a file that cannot be read or written (:func:`load`, :func:`save`, a tags file).
-- ``ImportError``: an interop helper whose optional package (trimesh, meshio) is missing.
+Errors about your input are :class:`TessellaError` (a ``ValueError``) subclasses carrying the
+core's message: :class:`MeshError` (NaN positions, indices out of range, degenerate triangles,
+zero normals, wrong shapes, fields that do not fit), :class:`OptionError` (unknown names, level
+< 1, output over the 8 GiB limit, bad tags, ``lod``, ``camera`` or ``displace``, options that
+cannot be combined), :class:`FileFormatError` (broken or unsupported files) and
+:class:`GpuError` (no adapter for ``backend="gpu"``, the GPU failing; also a ``RuntimeError``).
+Besides: ``TypeError`` for unsupported dtypes and option types, ``OSError`` when the OS refuses
+a file, ``ImportError`` for a converter whose package (trimesh, pyvista, meshio) is missing.
 
 What this build has: :func:`schemes`; what works on this machine: :func:`backends` and
 :func:`gpu_info`.
@@ -120,15 +116,17 @@ def refine(
 
     Parameters
     ----------
-    vertices : array_like, (n, 3) float32/float64, or trimesh.Trimesh
-        Coarse vertex positions. A ``trimesh.Trimesh`` here (with ``faces`` left ``None``) is
-        refined by :func:`refine_trimesh` and a ``Trimesh`` is returned.
+    vertices : array_like, (n, 3) float32/float64, or a mesh object
+        Coarse vertex positions. A ``trimesh.Trimesh``, ``pyvista.PolyData`` /
+        ``UnstructuredGrid`` (its surface) or ``meshio.Mesh`` here (with ``faces`` left
+        ``None``) gives its vertices, faces, normals, and its point and cell data as
+        ``point_data`` / ``cell_data`` when the other options allow fields.
     faces : array_like, (m, 3) or (m, 6) integers
         Counter-clockwise triangles (vertex indices). Six columns: second-order (6-node)
         finite elements, the corners then the mid-edge nodes of edges 0-1, 1-2, 2-0 (gmsh, VTK
         and meshio order; ``-1`` in all three for a linear face of a mixed mesh); the
         ``"quadratic"`` scheme (their default) refines each into its exact isoparametric P2
-        surface. Returns a :class:`RefineResult`; mid-edge nodes are dropped from its vertices.
+        surface. Mid-edge nodes are dropped from the result's vertices.
     normals : array_like, (n, 3) float32/float64, optional
         Vertex normals; ``None`` computes angle-weighted normals. Curved schemes bend the
         surface to follow them, so they matter: pass the true normals when you know them.
@@ -188,9 +186,10 @@ def refine(
         ``True``: refined patches share the vertices on shared coarse corners and edges (a
         watertight mesh where the input is). ``False``: each coarse triangle gets its own
         ``(level+1)(level+2)/2`` vertices.
-    displace : dict, tuple or None
+    displace : Displace, dict, tuple or None
         Moves every refined vertex along its unit normal ``n``, after evaluation (GMR section
-        4), on the chosen backend: ``P + d(P) n``. The dict forms::
+        4), on the chosen backend: ``P + d(P) n``: :meth:`Displace.sine`,
+        :meth:`Displace.perlin`, or the dict forms::
 
             {"kind": "sine", "amplitude": a, "frequency": f}                 # d = a sin(f |P|)
             {"kind": "perlin", "amplitude": a, "frequency": f, "seed": s}    # d = a noise(f P)
@@ -207,26 +206,28 @@ def refine(
         How a level divides each coarse edge: the uniform grid, or the GPU tessellator's
         spacings (``level`` may then be a float such as 5.5, clamped to the spacing's range
         as the hardware does: equal 1..64, fractional-odd 1..63, fractional-even 2..64).
-    lod : str, dict or None
+    lod : Lod, str, dict or None
         Per-edge adaptive levels, crack-free (each coarse edge's level from that edge alone):
+        :meth:`Lod.tolerance`, :meth:`Lod.screen`, :meth:`Lod.distance`, or the shorthands
         ``"tolerance:D"`` / ``{"kind": "tolerance", "max_deviation": D}`` (flat triangles
         within D of the curved surface), ``"screen:PX"`` / ``{"kind": "screen", "pixels": PX}``
         (needs ``camera`` and ``size``), ``"distance:NEAR,FAR,MAX"`` /
         ``{"kind": "distance", "near": .., "far": .., "max": ..}`` (needs ``camera``).
         Overrides ``level``.
-    camera : str or sequence of 7 numbers
-        ``(eye_x, eye_y, eye_z, target_x, target_y, target_z, fov_deg)`` for ``lod``.
+    camera : Camera, str or sequence of 7 numbers
+        A :class:`Camera`, or ``(eye_x, eye_y, eye_z, target_x, target_y, target_z, fov_deg)``,
+        for string or dict ``lod`` forms (a :class:`Lod` carries its own).
     size : (int, int)
         Image width and height in pixels for ``lod="screen:PX"``.
     origin : bool
-        Return a :class:`RefineResult` with ``vertices, faces, normals, face, bary``: each
+        Fill the result's ``origin = (face, bary)``: each
         refined vertex's coarse triangle and barycentric coordinates in its corner order (for
         mapping finite-element fields). ``spacing``, fractional levels, ``lod`` and ``origin``
         refine on the CPU; ``tags``, ``crease_angle`` and ``displace`` are not taken with them.
     point_data : dict of str to array_like (n,) or (n, k), optional
         Per-vertex fields (temperature, displacement, ...) carried to every refined vertex with
         its coarse face's own basis: linear on 3-node faces, the 6 quadratic shape functions on
-        6-node faces. Returns a :class:`RefineResult` whose ``point_data`` has the same names.
+        6-node faces. The result's ``point_data`` has the same names.
     cell_data : dict of str to array_like (m,) or (m, k), optional
         Per-face fields, copied to each refined triangle of the face (``cell_data`` of the result).
     warp : str, optional
@@ -237,17 +238,17 @@ def refine(
 
     Returns
     -------
-    vertices : numpy.ndarray, float32 (N, 3)
-    faces : numpy.ndarray, uint32 (M, 3)
-        ``M = m * level**2``. Welded output starts with the ``n`` input vertices, unchanged.
-    normals : numpy.ndarray, float32 (N, 3)
-        Unit normals.
+    RefinedMesh
+        ``vertices`` float32 ``(N, 3)``, ``faces`` uint32 ``(M, 3)`` (``M = m * level**2``;
+        welded output starts with the ``n`` input vertices, unchanged), unit ``normals``
+        float32 ``(N, 3)``; ``point_data``, ``cell_data`` and ``origin`` (face, bary) when
+        asked for. ``v, f, n = result`` unpacks the three arrays.
 
     Raises
     ------
-    ValueError, TypeError, RuntimeError, OSError
-        See the module's "Errors" section (``OSError``: a tags file that cannot be read;
-        ``RuntimeError``: ``backend="gpu"`` without a GPU adapter, or the GPU failing).
+    MeshError, OptionError, FileFormatError, GpuError, TypeError, OSError
+        See the module's "Errors" section. Options that cannot be combined are an
+        :class:`OptionError` saying ``refine(): A cannot be combined with B (why)``.
 
     Examples
     --------
