@@ -6,9 +6,9 @@
 //! uint64 (also int8/16, uint8/16), checked to be non-negative and below 2³².
 //! Outputs: fresh C-ordered float32 `(n, 3)` and uint32 `(m, 3)` arrays that own their memory.
 
+use crate::errors::bad_mesh;
 use numpy::ndarray::{Array2, ArrayView2};
 use numpy::{Element, PyArray2, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
-use crate::errors::bad_mesh;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 

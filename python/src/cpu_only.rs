@@ -2,8 +2,8 @@
 //! the same interface as `gpu.rs`, CPU only. `backend="auto"` is the CPU; `backend="gpu"` is a
 //! `ValueError` saying the package was built without GPU support.
 
-use crate::options::Backend;
 use crate::errors::bad_option;
+use crate::options::Backend;
 use pyo3::PyResult;
 use tessella_core::{DisplaceFrame, Displacement, RefinedMesh, Refiner};
 

@@ -89,9 +89,8 @@ fn from_sequence<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Fields<'py>> {
 
 /// A finite number that fits an f32.
 fn number(value: Option<Bound<'_, PyAny>>, kind: &str, what: &str) -> PyResult<f32> {
-    let value = value.ok_or_else(|| {
-        bad_option(format!("displace kind {kind:?} needs a value for {what}"))
-    })?;
+    let value = value
+        .ok_or_else(|| bad_option(format!("displace kind {kind:?} needs a value for {what}")))?;
     let x: f64 = value.extract().map_err(|_| {
         bad_option(format!(
             "displace {what} must be a number, got {}",

@@ -31,6 +31,7 @@ mod py {
     pyo3::import_exception!(tessella._errors, MeshError);
     pyo3::import_exception!(tessella._errors, OptionError);
     pyo3::import_exception!(tessella._errors, FileFormatError);
+    #[cfg(any(feature = "gpu", feature = "gl"))]
     pyo3::import_exception!(tessella._errors, GpuError);
 }
 
@@ -49,7 +50,8 @@ pub fn bad_file(message: impl Into<String>) -> PyErr {
     py::FileFormatError::new_err(message.into())
 }
 
-/// The GPU is missing or failed.
+/// The GPU is missing or failed (builds with a GPU or GL backend).
+#[cfg(any(feature = "gpu", feature = "gl"))]
 pub fn gpu_failure(message: impl Into<String>) -> PyErr {
     py::GpuError::new_err(message.into())
 }

@@ -2,10 +2,10 @@
 //! refined mesh (`tessella.refine(..., point_data=, cell_data=)` and 6-column faces; the
 //! Python wrapper in `tessella/_fields.py` prepares the arrays).
 
+use crate::errors::bad_mesh;
 use crate::{arrays, displace, errors, gpu, options, F32Array, U32Array};
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
-use crate::errors::bad_mesh;
 use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use tessella_core::fields::{copy_cell_data, interpolate_point_data};

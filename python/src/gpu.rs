@@ -132,14 +132,10 @@ pub fn refine(
     };
     match backend {
         Backend::Cpu => on_cpu(refiner, displacement).map(done),
-        Backend::Gl => Err(errors::bad_option(
-            crate::options::NO_GL,
-        )),
+        Backend::Gl => Err(errors::bad_option(crate::options::NO_GL)),
         Backend::Gpu => {
             let ctx = any().map_err(|e| {
-                errors::gpu_failure(format!(
-                    "backend=\"gpu\" needs a GPU adapter: {e}"
-                ))
+                errors::gpu_failure(format!("backend=\"gpu\" needs a GPU adapter: {e}"))
             })?;
             on_gpu(&ctx, refiner, displacement)
                 .map(done)
@@ -177,7 +173,10 @@ pub struct FrameGpu {
 
 /// The GPU a `Refiner` runs its frames on: `"gpu"` any adapter (an error without one), `"auto"`
 /// a hardware one when there is one, else none (the CPU); `"cpu"` none.
-pub fn frame_gpu(backend: Backend, plan: &tessella_core::refine::Plan) -> PyResult<Option<FrameGpu>> {
+pub fn frame_gpu(
+    backend: Backend,
+    plan: &tessella_core::refine::Plan,
+) -> PyResult<Option<FrameGpu>> {
     let ctx = match backend {
         Backend::Cpu => return Ok(None),
         Backend::Gl => return Err(errors::bad_option(crate::options::NO_GL)),
@@ -216,7 +215,11 @@ impl FrameGpu {
                 positions.len()
             )));
         }
-        for ((p, n), v) in positions.iter_mut().zip(normals.iter_mut()).zip(floats.chunks_exact(stride)) {
+        for ((p, n), v) in positions
+            .iter_mut()
+            .zip(normals.iter_mut())
+            .zip(floats.chunks_exact(stride))
+        {
             *p = [v[0], v[1], v[2]];
             *n = [v[3], v[4], v[5]];
         }

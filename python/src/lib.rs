@@ -21,8 +21,8 @@ mod refiner;
 mod render;
 mod tags;
 
-use numpy::PyArray2;
 use errors::bad_option;
+use numpy::PyArray2;
 use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

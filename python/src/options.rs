@@ -16,9 +16,7 @@ pub const SCHEMES: &[&str] = Scheme::NAMES;
 pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
     match name.parse::<Scheme>() {
         Ok(s) => Ok(s.with_alpha(alpha as f32)),
-        Err(e) => Err(bad_option(format!(
-            "{e} (see tessella.schemes())"
-        ))),
+        Err(e) => Err(bad_option(format!("{e} (see tessella.schemes())"))),
     }
 }
 

@@ -1,25 +1,31 @@
 //! `tessella.Refiner`: one mesh topology refined frame after frame (a deforming mesh), on the
 //! core's [`Plan`] (built once) and [`Frame`] (moved every frame).
 //!
-//! - The plan is built on the first `refine(vertices, ...)` call, because which vertices share
-//!   a position (what PNG1, PN-AEN and the scalar-tagged scheme look across) and the tags
-//!   (split-normal creases, `crease_angle`, vertex indices) are decided from a mesh. Every later
-//!   call only moves the frame ([`Plan::update`], O(coarse)) and evaluates into memory.
+//! - The plan is built from a mesh, because which vertices share a position (what PNG1, PN-AEN
+//!   and the scalar-tagged scheme look across) and the tags (split-normal creases,
+//!   `crease_angle`, vertex indices) are decided from one: at construction when `vertices=` is
+//!   given, else on the first `refine(vertices, ...)` call. Every later call only moves the
+//!   frame ([`Plan::update`], O(coarse)) and evaluates into memory.
+//! - `backend="gpu"` (or `"auto"` on a hardware GPU) evaluates on a [`crate::gpu::FrameGpu`]:
+//!   the kernels and the plan's tables are uploaded once, each frame uploads its nets and reads
+//!   the vertices back.
 //! - `out=(v, n)` writes into the caller's float32 C-contiguous writable `(N, 3)` arrays with
 //!   the GIL released; without it, fresh arrays are returned.
 //! - A bad frame (wrong vertex count, NaN positions, zero normals, a degenerate triangle) raises
-//!   `ValueError` and changes nothing: the frame stays where it was and `out` is not written.
+//!   `MeshError` and changes nothing: the frame stays where it was and `out` is not written.
 //! - The refined faces are computed once ([`Plan::indices`]) into one read-only uint32 array,
 //!   returned by every call and by the `faces` property.
+//! - Pickling (`tessella.Refiner.__reduce__`, in Python) stores `_state()`: the arguments and
+//!   the mesh the plan was built from, so unpickling rebuilds the same plan.
 //!
 //! The same error mapping as `tessella.refine` (`errors.rs`).
 
 use crate::arrays;
 use crate::errors;
+use crate::errors::{bad_mesh, bad_option};
 use crate::options::{self, Backend};
 use crate::tags::{self, TagSource};
 use numpy::{PyArray2, PyArrayMethods, PyUntypedArrayMethods};
-use crate::errors::{bad_mesh, bad_option};
 use pyo3::prelude::*;
 use pyo3::types::{IntoPyDict, PyDict};
 use tessella_core::refine::{Frame, Plan, VertexOutput};
@@ -27,6 +33,13 @@ use tessella_core::{Mesh, RefineOptions, Scheme};
 
 type F32Array<'py> = Bound<'py, PyArray2<f32>>;
 type U32Array<'py> = Bound<'py, PyArray2<u32>>;
+
+/// What pickling stores: the faces, the keyword arguments, and the mesh the plan was built from.
+type State<'py> = (
+    U32Array<'py>,
+    Bound<'py, PyDict>,
+    Option<(F32Array<'py>, Option<F32Array<'py>>)>,
+);
 
 /// What the first frame builds: the plan, the current frame and the faces array.
 struct Built {
@@ -301,12 +314,8 @@ impl Refiner {
         let mut n_rw = n
             .try_readwrite()
             .map_err(|e| borrow_error("normals (out[1])", e))?;
-        let v_flat = v_rw
-            .as_slice_mut()
-            .map_err(|e| bad_option(e.to_string()))?;
-        let n_flat = n_rw
-            .as_slice_mut()
-            .map_err(|e| bad_option(e.to_string()))?;
+        let v_flat = v_rw.as_slice_mut().map_err(|e| bad_option(e.to_string()))?;
+        let n_flat = n_rw.as_slice_mut().map_err(|e| bad_option(e.to_string()))?;
         let (plan, frame, gpu) = (&built.plan, &mut built.frame, &mut built.gpu);
         py.detach(|| -> PyResult<()> {
             // On error the frame is unchanged and nothing below runs: `out` is not written.
@@ -381,7 +390,7 @@ impl Refiner {
     /// The arguments this refiner was made with, `(faces, kwargs)`, and the mesh its plan was
     /// built from (`(vertices, normals or None)`, or `None` before the first frame): what
     /// pickling stores (`tessella.Refiner.__reduce__`).
-    fn _state<'py>(&self, py: Python<'py>) -> PyResult<(U32Array<'py>, Bound<'py, PyDict>, Option<(F32Array<'py>, Option<F32Array<'py>>)>)> {
+    fn _state<'py>(&self, py: Python<'py>) -> PyResult<State<'py>> {
         let kwargs = PyDict::new(py);
         kwargs.set_item("scheme", self.scheme.name())?;
         kwargs.set_item("level", self.options.level)?;
@@ -397,7 +406,11 @@ impl Refiner {
                 b.planned.1.clone().map(|n| arrays::to_numpy(py, n)),
             )
         });
-        Ok((arrays::to_numpy(py, self.triangles.clone()), kwargs, planned))
+        Ok((
+            arrays::to_numpy(py, self.triangles.clone()),
+            kwargs,
+            planned,
+        ))
     }
 
     fn __repr__(&self) -> String {

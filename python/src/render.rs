@@ -59,9 +59,9 @@ pub fn render<'py>(
     label: Option<String>,
     path: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyArray3<u8>>> {
+    use crate::errors::{bad_option, gpu_failure};
     use crate::{errors, gpu, options};
     use numpy::ndarray::Array3;
-    use crate::errors::{bad_option, gpu_failure};
     use tessella_core::RefineOptions;
     use tessella_view::{colormap as bar, Colormap, FieldColors, RenderOptions};
 
@@ -148,9 +148,8 @@ pub fn render<'py>(
             field,
             ..RenderOptions::default()
         };
-        let ctx = gpu::any().map_err(|e| {
-            gpu_failure(format!("tessella.render needs a GPU adapter: {e}"))
-        })?;
+        let ctx = gpu::any()
+            .map_err(|e| gpu_failure(format!("tessella.render needs a GPU adapter: {e}")))?;
         let mut picture = match &panels {
             None => tessella_view::render(&ctx, &mesh, &single.1, &view),
             Some(panels) => tessella_view::render_compare(&ctx, &mesh, panels, &view),
