@@ -103,5 +103,8 @@ def test_plot_colours_a_fem_field_off_screen(refined, tmp_path):
     def colours(img):
         return len(np.unique(img.reshape(-1, 3) // 16, axis=0))
     assert colours(image) > colours(plain) + 10
+    # The field named is the one drawn: the 3-valued cell field gives another picture.
+    region = tessella.plot(refined, scalars="region", off_screen=True, window_size=(240, 180))
+    assert not np.array_equal(region, image)
     with pytest.raises(tessella.OptionError, match="pressure.*temperature"):
         tessella.plot(refined, scalars="pressure", off_screen=True)
