@@ -73,3 +73,22 @@ def test_spawn_subprocess_gives_the_parents_arrays():
         got = pool.apply(_refine_in_child, (r, frame, v))
     for x, y in zip(got, want):
         np.testing.assert_array_equal(x, y)
+
+
+def _gpu_frame_in_child(refiner, frame, normals):
+    return refiner.backend, refiner.refine(frame, normals)[0]
+
+
+def test_a_gpu_refiner_reopens_the_gpu_in_a_spawn_subprocess():
+    if "gpu" not in tessella.backends():
+        pytest.fail("no GPU adapter (a software one such as lavapipe is enough); see python/ci.sh")
+    v, f = icosphere(1)
+    r = tessella.Refiner(f, vertices=v, normals=v, scheme="pn", level=5, backend="gpu")
+    frame = frames(v)[1]
+    want = r.refine(frame, v)[0]
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        backend, got = pool.apply(_gpu_frame_in_child, (r, frame, v))
+    assert backend == "gpu"
+    # The plan rebuilt and the GPU reopened there: the parent's vertices (to float rounding,
+    # should the child open another adapter).
+    np.testing.assert_allclose(got, want, atol=2e-6)
