@@ -6,7 +6,8 @@
 # Needs: python3 with venv, a Rust toolchain (cargo, for the extension and the CLI the tests
 # compare against), PyPI, and a GPU adapter for tests/test_gpu.py: without a GPU, Mesa's
 # software Vulkan driver (lavapipe). The FEM example's gmsh wheel needs X11/OpenGL client
-# libraries. When the libraries or the Vulkan driver are missing and this runs as root with
+# libraries; PyVista's off-screen pictures need EGL (scripts/setup-gl.sh). When the libraries
+# or the Vulkan driver are missing and this runs as root with
 # apt-get, they are installed (Debian names below).
 set -euo pipefail
 
@@ -34,7 +35,7 @@ rm -rf "$VENV"
 "$PYTHON" -m venv "$VENV"
 PIP=("$VENV/bin/python" -m pip --disable-pip-version-check -q)
 "${PIP[@]}" install --upgrade pip
-"${PIP[@]}" install maturin numpy pytest trimesh meshio h5py gmsh matplotlib "dask[distributed]"
+"${PIP[@]}" install maturin numpy pytest trimesh meshio h5py gmsh matplotlib pyvista mypy "dask[distributed]"
 
 echo "== python: building and installing the package (maturin, release)"
 "${PIP[@]}" install "$HERE"
@@ -61,6 +62,13 @@ if ! have_vulkan; then
         echo "no Vulkan driver found, the GPU tests will fail; install: apt-get install $VULKAN_DEBS" >&2
     fi
 fi
+
+echo "== python: mypy --strict on the examples (the package's annotations and _tessella.pyi)"
+(cd "$HERE" && "$VENV/bin/python" -m mypy --strict examples/fem_sphere.py examples/fem_fields.py examples/fem_pyvista.py)
+
+# PyVista renders off screen without an X server: VTK's wheel falls back to EGL (Mesa's
+# llvmpipe, set up above for backend="gl"); naming the EGL window skips the X attempt.
+export VTK_DEFAULT_OPENGL_WINDOW="${VTK_DEFAULT_OPENGL_WINDOW:-vtkEGLRenderWindow}"
 
 echo "== python: pytest"
 # Run from outside python/ so the source tree's tessella/ does not shadow the installed one.

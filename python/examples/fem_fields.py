@@ -21,17 +21,18 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from typing import Dict, List
+from typing import Any, Callable, Dict, List, Optional
 
 import numpy as np
 
 import tessella
+from tessella._types import SchemeName
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fem_sphere import Part, parts, surface_distance  # noqa: E402
 
 LEVELS = [1, 2, 4, 8, 16]
-LINEAR_SCHEMES = ["flat", "pn", "png1"]
+LINEAR_SCHEMES: List[SchemeName] = ["flat", "pn", "png1"]
 
 
 def mesh_with_gmsh(part: Part, path: str, order: int) -> None:
@@ -55,15 +56,18 @@ def mesh_with_gmsh(part: Part, path: str, order: int) -> None:
         gmsh.finalize()
 
 
-def field_error(r, exact) -> float:
+def field_error(r: tessella.RefinedMesh, exact: Callable[[np.ndarray], np.ndarray]) -> float:
     """Largest |interpolated T − T(x)| over the refined vertices."""
     return float(np.abs(r.point_data["T"] - exact(r.vertices.astype(np.float64))).max())
 
 
-def run(out: str, levels: List[int]) -> Dict[str, dict]:
+def run(out: str, levels: List[int]) -> Dict[str, Dict[str, Any]]:
     os.makedirs(out, exist_ok=True)
-    results: Dict[str, dict] = {}
-    T = lambda p: p[:, 2] ** 2  # noqa: E731  the field with a closed form
+    results: Dict[str, Dict[str, Any]] = {}
+
+    def T(p: np.ndarray) -> np.ndarray:  # the field with a closed form
+        return np.asarray(p[:, 2] ** 2)
+
     for part in parts():
         meshes = {}
         for order in (1, 2):
@@ -74,7 +78,7 @@ def run(out: str, levels: List[int]) -> Dict[str, dict]:
         v2, f2 = meshes[2]
         print(f"\n{part.name}: order 1: {len(v1)} nodes, {len(f1)} boundary triangles; "
               f"order 2: {len(v2)} nodes, {f2.shape} boundary faces")
-        rows: Dict[str, list] = {}
+        rows: Dict[str, List[Dict[str, float]]] = {}
         n1 = part.normal(v1)
         for scheme in LINEAR_SCHEMES:
             rows[scheme] = [surface_distance(part, *tessella.refine(v1, f1, n1, scheme=scheme, level=l)[:2])
@@ -91,20 +95,20 @@ def run(out: str, levels: List[int]) -> Dict[str, dict]:
         print(f"\n{part.name}: largest distance to the true surface / size (vertices and centroids)\n")
         print("| scheme | " + " | ".join(f"L{l}" for l in levels) + " |")
         print("|---|" + "---|" * len(levels))
-        for scheme, row in rows.items():
-            print(f"| {scheme} | " + " | ".join(f"{r['max']:.2e}" for r in row) + " |")
+        for label, distances in rows.items():
+            print(f"| {label} | " + " | ".join(f"{d['max']:.2e}" for d in distances) + " |")
         print(f"\n{part.name}: largest error of T = z² at the refined vertices\n")
         print("| interpolation | " + " | ".join(f"L{l}" for l in levels) + " |")
         print("|---|" + "---|" * len(levels))
-        for name, row in errors.items():
-            print(f"| {name} | " + " | ".join(f"{e:.2e}" for e in row) + " |")
+        for name, row_errors in errors.items():
+            print(f"| {name} | " + " | ".join(f"{e:.2e}" for e in row_errors) + " |")
         r = tessella.refine(v2, f2, level=8, point_data={"T": T(v2)})
         tessella.write_fem(os.path.join(out, f"{part.name}-p2-l8.vtu"), r.vertices, r.faces, r.normals,
                            point_data=r.point_data)
     return results
 
 
-def plot(results: Dict[str, dict], levels: List[int], path: str) -> None:
+def plot(results: Dict[str, Dict[str, Any]], levels: List[int], path: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -137,14 +141,17 @@ def picture(out: str, image: str) -> None:
     nodes on the true torus, T through the 6-node shape functions), one colour bar for both."""
     torus = next(p for p in parts() if p.name == "torus")
     hot = np.array([1.4, 0.0, 0.0])  # a heater on the outer equator
-    temp = lambda p: 20 + 80 * np.exp(-np.sum((p - hot) ** 2, axis=1) / 0.3)  # noqa: E731
+
+    def temp(p: np.ndarray) -> np.ndarray:
+        return np.asarray(20 + 80 * np.exp(-np.sum((p - hot) ** 2, axis=1) / 0.3))
+
     v1, f1 = tessella.read_fem(os.path.join(out, f"{torus.name}-order1.msh"))
     v2, f2 = tessella.read_fem(os.path.join(out, f"{torus.name}-order2.msh"))
     # Faceted: every triangle its own three corners, so each takes its face's normal.
     corners = v1[f1[:, :3]].reshape(-1, 3)
     facets = np.arange(len(corners)).reshape(-1, 3)
     w, h = 460, 400
-    view = dict(yaw=55, pitch=40, color_by="T", colormap="viridis", range=(20, 100))
+    view: Dict[str, Any] = dict(yaw=55, pitch=40, color_by="T", colormap="viridis", range=(20, 100))
     left = tessella.render(corners, facets, scheme="flat", level=1, size=(w, h), colorbar=False,
                            point_data={"T": temp(corners)}, label="order 1 faceted", **view)
     # The bar of a picture 400 pixels tall is 84 pixels wide: the surfaces get the same width.
@@ -173,7 +180,7 @@ def _write_png(path: str, rgba: np.ndarray) -> None:
                 + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
 
 
-def main(argv=None) -> int:
+def main(argv: Optional[List[str]] = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="fem-out", help="folder for the .msh, .vtu and .png files")
     ap.add_argument("--levels", type=int, nargs="+", default=LEVELS)

@@ -26,7 +26,7 @@ import argparse
 import os
 import sys
 from dataclasses import dataclass
-from typing import Callable, Dict, List
+from typing import Callable, Dict, List, Optional
 
 import numpy as np
 
@@ -49,29 +49,29 @@ R_SPHERE = 1.0
 R_TORUS, r_TORUS = 1.0, 0.4
 
 
-def _sphere_distance(p):
-    return np.linalg.norm(p, axis=1) - R_SPHERE
+def _sphere_distance(p: np.ndarray) -> np.ndarray:
+    return np.asarray(np.linalg.norm(p, axis=1) - R_SPHERE)
 
 
-def _sphere_normal(p):
-    return p / np.linalg.norm(p, axis=1, keepdims=True)
+def _sphere_normal(p: np.ndarray) -> np.ndarray:
+    return np.asarray(p / np.linalg.norm(p, axis=1, keepdims=True))
 
 
-def _torus_tube_vector(p):
+def _torus_tube_vector(p: np.ndarray) -> np.ndarray:
     """From the nearest point of the torus' core circle to p."""
     ring = p.copy()
     ring[:, 2] = 0
     ring *= R_TORUS / np.linalg.norm(ring, axis=1, keepdims=True)
-    return p - ring
+    return np.asarray(p - ring)
 
 
-def _torus_distance(p):
-    return np.linalg.norm(_torus_tube_vector(p), axis=1) - r_TORUS
+def _torus_distance(p: np.ndarray) -> np.ndarray:
+    return np.asarray(np.linalg.norm(_torus_tube_vector(p), axis=1) - r_TORUS)
 
 
-def _torus_normal(p):
+def _torus_normal(p: np.ndarray) -> np.ndarray:
     q = _torus_tube_vector(p)
-    return q / np.linalg.norm(q, axis=1, keepdims=True)
+    return np.asarray(q / np.linalg.norm(q, axis=1, keepdims=True))
 
 
 def parts() -> List[Part]:
@@ -112,9 +112,9 @@ def surface_distance(part: Part, v: np.ndarray, f: np.ndarray) -> Dict[str, floa
     return {"max": float(d.max()), "rms": float(np.sqrt(np.mean(d**2)))}
 
 
-def run(out: str, computed_normals: bool, levels: List[int]) -> Dict[str, Dict[str, list]]:
+def run(out: str, computed_normals: bool, levels: List[int]) -> Dict[str, Dict[str, List[Dict[str, float]]]]:
     os.makedirs(out, exist_ok=True)
-    results: Dict[str, Dict[str, list]] = {}
+    results: Dict[str, Dict[str, List[Dict[str, float]]]] = {}
     # flat, phong, pn, and whatever later builds add (png1, ...); "quadratic" needs second-order
     # elements (on this first-order mesh it is flat): examples/fem_fields.py compares it.
     schemes = [s for s in tessella.schemes() if s != "quadratic"]
@@ -145,7 +145,7 @@ def run(out: str, computed_normals: bool, levels: List[int]) -> Dict[str, Dict[s
     return results
 
 
-def print_table(name: str, rows: Dict[str, list], levels: List[int]) -> None:
+def print_table(name: str, rows: Dict[str, List[Dict[str, float]]], levels: List[int]) -> None:
     print(f"\n{name}: largest distance to the true surface / size (vertices and centroids)\n")
     print("| scheme | " + " | ".join(f"L{l}" for l in levels) + " |")
     print("|---|" + "---|" * len(levels))
@@ -153,11 +153,11 @@ def print_table(name: str, rows: Dict[str, list], levels: List[int]) -> None:
         print(f"| {scheme} | " + " | ".join(f"{r['max']:.2e}" for r in row) + " |")
 
 
-def same_curves(rows: Dict[str, list]) -> Dict[str, List[str]]:
+def same_curves(rows: Dict[str, List[Dict[str, float]]]) -> Dict[str, List[str]]:
     """Schemes grouped by equal results (PN-AEN and ST equal PN, up to float32 rounding, on a
     smooth mesh without tags), keyed by the first of each group: one curve per distinct surface."""
 
-    def same(a: list, b: list) -> bool:
+    def same(a: List[Dict[str, float]], b: List[Dict[str, float]]) -> bool:
         return len(a) == len(b) and all(
             abs(x[k] - y[k]) <= 1e-4 * max(abs(x[k]), abs(y[k])) for x, y in zip(a, b)
             for k in ("max", "rms"))
@@ -169,7 +169,7 @@ def same_curves(rows: Dict[str, list]) -> Dict[str, List[str]]:
     return groups
 
 
-def plot(results: Dict[str, Dict[str, list]], levels: List[int], path: str, normals: str) -> None:
+def plot(results: Dict[str, Dict[str, List[Dict[str, float]]]], levels: List[int], path: str, normals: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -200,7 +200,7 @@ def plot(results: Dict[str, Dict[str, list]], levels: List[int], path: str, norm
     print(f"\nplot: {path}")
 
 
-def main(argv=None) -> int:
+def main(argv: Optional[List[str]] = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="fem-out", help="folder for the .msh, .vtu and .png files")
     ap.add_argument("--computed-normals", action="store_true",

@@ -6,9 +6,10 @@
 //! uint64 (also int8/16, uint8/16), checked to be non-negative and below 2³².
 //! Outputs: fresh C-ordered float32 `(n, 3)` and uint32 `(m, 3)` arrays that own their memory.
 
+use crate::errors::bad_mesh;
 use numpy::ndarray::{Array2, ArrayView2};
 use numpy::{Element, PyArray2, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 /// `obj` as a numpy array (`numpy.asarray` for anything else).
@@ -29,7 +30,7 @@ fn as_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyU
 fn check_n_by_3(a: &Bound<'_, PyUntypedArray>, what: &str) -> PyResult<usize> {
     let shape = a.shape();
     if shape.len() != 2 || shape[1] != 3 {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_mesh(format!(
             "{what} must have shape (n, 3), got {}; reshape it with .reshape(-1, 3)",
             py_shape(shape)
         )));
@@ -96,7 +97,7 @@ fn index<T: TryInto<u32> + Copy + std::fmt::Display>(
 ) -> impl Fn(usize, usize, T) -> PyResult<u32> + '_ {
     move |i, j, x| {
         x.try_into().map_err(|_| {
-            PyValueError::new_err(format!(
+            bad_mesh(format!(
                 "{what}[{i}, {j}] = {x} is not a vertex index (indices are 0 .. 2**32-1)"
             ))
         })
@@ -141,7 +142,7 @@ pub fn to_numpy<'py, T: Element, const K: usize>(
 pub fn mid_nodes(m: &PyReadonlyArray2<'_, i64>, faces: usize) -> PyResult<Vec<[u32; 3]>> {
     let a = m.as_array();
     if a.ncols() != 3 || a.nrows() != faces {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_mesh(format!(
             "mid-edge nodes must have shape ({faces}, 3), got {:?}",
             a.shape()
         )));

@@ -2,8 +2,8 @@
 //! the same interface as `gpu.rs`, CPU only. `backend="auto"` is the CPU; `backend="gpu"` is a
 //! `ValueError` saying the package was built without GPU support.
 
+use crate::errors::bad_option;
 use crate::options::Backend;
-use pyo3::exceptions::PyValueError;
 use pyo3::PyResult;
 use tessella_core::{DisplaceFrame, Displacement, RefinedMesh, Refiner};
 
@@ -24,20 +24,48 @@ pub fn refine(
     displacement: &Displacement,
 ) -> PyResult<Outcome> {
     if backend == Backend::Gpu {
-        return Err(PyValueError::new_err(NO_GPU));
+        return Err(bad_option(NO_GPU));
     }
     if backend == Backend::Gl {
-        return Err(PyValueError::new_err(crate::options::NO_GL));
+        return Err(bad_option(crate::options::NO_GL));
     }
     let mut mesh = refiner.refine();
     if displacement.is_some() {
         let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
         displacement
             .apply(&mut mesh, &frame)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            .map_err(|e| bad_option(e.to_string()))?;
     }
     Ok(Outcome {
         mesh,
         fallback: None,
     })
+}
+
+/// A plan's kernels on a GPU: none in this build (the type has no values).
+pub enum FrameGpu {}
+
+/// `tessella.Refiner`'s GPU: none; `"gpu"` is refused, `"auto"` is the CPU.
+pub fn frame_gpu(
+    backend: Backend,
+    _plan: &tessella_core::refine::Plan,
+) -> PyResult<Option<FrameGpu>> {
+    match backend {
+        Backend::Gpu => Err(bad_option(NO_GPU)),
+        Backend::Gl => Err(bad_option(crate::options::NO_GL)),
+        Backend::Auto | Backend::Cpu => Ok(None),
+    }
+}
+
+impl FrameGpu {
+    /// Never called: no `FrameGpu` exists in this build.
+    pub fn evaluate(
+        &mut self,
+        _plan: &tessella_core::refine::Plan,
+        _frame: &tessella_core::refine::Frame,
+        _positions: &mut [[f32; 3]],
+        _normals: &mut [[f32; 3]],
+    ) -> PyResult<()> {
+        match *self {}
+    }
 }

@@ -11,7 +11,8 @@
 //!
 //! Height maps need texture coordinates, which `refine` does not take, so they are refused.
 
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use crate::errors::bad_option;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 use tessella_core::displace::Displacement;
@@ -51,7 +52,7 @@ fn from_dict<'py>(d: &Bound<'py, PyDict>) -> PyResult<Fields<'py>> {
         let known = key.is_instance_of::<PyString>()
             && DICT_KEYS.contains(&key.extract::<String>()?.as_str());
         if !known {
-            return Err(PyValueError::new_err(format!(
+            return Err(bad_option(format!(
                 "displace has an unknown key {}; the keys are {DICT_KEYS:?}",
                 key.repr()?
             )));
@@ -59,7 +60,7 @@ fn from_dict<'py>(d: &Bound<'py, PyDict>) -> PyResult<Fields<'py>> {
     }
     let kind = d
         .get_item("kind")?
-        .ok_or_else(|| PyValueError::new_err(format!("displace needs a \"kind\": {KINDS}")))?;
+        .ok_or_else(|| bad_option(format!("displace needs a \"kind\": {KINDS}")))?;
     Ok(Fields {
         kind,
         amplitude: d.get_item("amplitude")?,
@@ -71,7 +72,7 @@ fn from_dict<'py>(d: &Bound<'py, PyDict>) -> PyResult<Fields<'py>> {
 fn from_sequence<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Fields<'py>> {
     let items: Vec<Bound<'py, PyAny>> = obj.try_iter()?.collect::<PyResult<_>>()?;
     if !(3..=4).contains(&items.len()) {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "displace as a tuple is (kind, amplitude, frequency) or, for perlin, (kind, \
              amplitude, frequency, seed); got {} items",
             items.len()
@@ -88,18 +89,17 @@ fn from_sequence<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Fields<'py>> {
 
 /// A finite number that fits an f32.
 fn number(value: Option<Bound<'_, PyAny>>, kind: &str, what: &str) -> PyResult<f32> {
-    let value = value.ok_or_else(|| {
-        PyValueError::new_err(format!("displace kind {kind:?} needs a value for {what}"))
-    })?;
+    let value = value
+        .ok_or_else(|| bad_option(format!("displace kind {kind:?} needs a value for {what}")))?;
     let x: f64 = value.extract().map_err(|_| {
-        PyValueError::new_err(format!(
+        bad_option(format!(
             "displace {what} must be a number, got {}",
             value.repr().map(|r| r.to_string()).unwrap_or_default()
         ))
     })?;
     let x32 = x as f32;
     if !x32.is_finite() {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "displace {what} must be finite (and within float32 range), got {x}"
         )));
     }
@@ -118,7 +118,7 @@ fn seed(value: Option<Bound<'_, PyAny>>) -> PyResult<u32> {
         value.extract().ok()
     };
     s.and_then(|s| u32::try_from(s).ok()).ok_or_else(|| {
-        PyValueError::new_err(format!(
+        bad_option(format!(
             "displace seed must be a whole number from 0 to {}, got {}",
             u32::MAX,
             value.repr().map(|r| r.to_string()).unwrap_or_default()
@@ -130,12 +130,12 @@ fn build(fields: Fields<'_>) -> PyResult<Displacement> {
     let kind: String = fields
         .kind
         .extract()
-        .map_err(|_| PyValueError::new_err(format!("displace kind must be a string: {KINDS}")))?;
+        .map_err(|_| bad_option(format!("displace kind must be a string: {KINDS}")))?;
     let lower = kind.to_ascii_lowercase();
     let displacement = match lower.as_str() {
         "sine" => {
             if fields.seed.as_ref().is_some_and(|s| !s.is_none()) {
-                return Err(PyValueError::new_err(
+                return Err(bad_option(
                     "displace kind \"sine\" takes no seed (only \"perlin\" does)",
                 ));
             }
@@ -150,13 +150,13 @@ fn build(fields: Fields<'_>) -> PyResult<Displacement> {
             seed: seed(fields.seed)?,
         },
         "heightmap" | "height_map" | "height-map" => {
-            return Err(PyValueError::new_err(
+            return Err(bad_option(
                 "displace kind \"heightmap\" needs texture coordinates, which refine does not \
                  take; use \"sine\" or \"perlin\" (or the CLI's refine --displace heightmap:...)",
             ))
         }
         _ => {
-            return Err(PyValueError::new_err(format!(
+            return Err(bad_option(format!(
                 "unknown displace kind {kind:?}; use {KINDS}"
             )))
         }
@@ -164,6 +164,6 @@ fn build(fields: Fields<'_>) -> PyResult<Displacement> {
     // The core's own checks, so both backends refuse the same values.
     displacement
         .validate(false)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        .map_err(|e| bad_option(e.to_string()))?;
     Ok(displacement)
 }

@@ -2,10 +2,11 @@
 //! refined mesh (`tessella.refine(..., point_data=, cell_data=)` and 6-column faces; the
 //! Python wrapper in `tessella/_fields.py` prepares the arrays).
 
+use crate::errors::bad_mesh;
 use crate::{arrays, displace, errors, gpu, options, F32Array, U32Array};
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
-use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
+use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use tessella_core::fields::{copy_cell_data, interpolate_point_data};
 use tessella_core::{RefineOptions, Refiner};
@@ -29,7 +30,7 @@ fn flat_field(name: String, a: PyReadonlyArray2<'_, f32>) -> PyResult<(String, V
     let width = a.as_array().ncols();
     let data = a
         .as_slice()
-        .map_err(|_| PyValueError::new_err(format!("field {name:?} must be C-contiguous")))?
+        .map_err(|_| bad_mesh(format!("field {name:?} must be C-contiguous")))?
         .to_vec();
     Ok((name, data, width))
 }
@@ -37,7 +38,7 @@ fn flat_field(name: String, a: PyReadonlyArray2<'_, f32>) -> PyResult<(String, V
 fn field_out(py: Python<'_>, name: String, data: Vec<f32>, width: usize) -> PyResult<FieldOut<'_>> {
     let rows = data.len() / width.max(1);
     let a = Array2::from_shape_vec((rows, width), data)
-        .map_err(|e| PyValueError::new_err(format!("field {name:?}: {e}")))?;
+        .map_err(|e| bad_mesh(format!("field {name:?}: {e}")))?;
     Ok((name, PyArray2::from_owned_array(py, a)))
 }
 
@@ -77,7 +78,7 @@ pub fn refine_fem<'py>(
         .map(|(n, a)| flat_field(n, a))
         .collect::<PyResult<Vec<_>>>()?;
     let displacement = displace::parse(None)?;
-    let value = |e: tessella_core::fields::FieldError| PyValueError::new_err(e.to_string());
+    let value = |e: tessella_core::fields::FieldError| bad_mesh(e.to_string());
     let (out, faces_of, bary, pd, cd) = py.detach(|| -> PyResult<_> {
         let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
         let plan = refiner.plan();

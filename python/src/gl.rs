@@ -3,7 +3,7 @@
 //! (vertex `3t + i` is corner `i` of triangle `t`), as the CLI writes it. A GL context belongs
 //! to one thread, so each call makes its own (tens of milliseconds on llvmpipe).
 
-use pyo3::exceptions::PyValueError;
+use crate::errors::bad_option;
 use pyo3::PyResult;
 use tessella_core::{Mesh, RefineOptions, RefinedMesh};
 
@@ -15,15 +15,14 @@ pub const GL_NEEDS_SPACING: &str = "backend=\"gl\" runs the hardware tessellator
 /// Refines `mesh` on the GL tessellator.
 #[cfg(feature = "gl")]
 pub fn refine(mesh: &Mesh, options: &RefineOptions) -> PyResult<RefinedMesh> {
-    use pyo3::exceptions::PyRuntimeError;
     use tessella_gl::{GlContext, GlError, GlTessellator};
     let err = |e: GlError| match e {
-        GlError::Unsupported(_) => PyValueError::new_err(e.to_string()),
+        GlError::Unsupported(_) => bad_option(e.to_string()),
         GlError::Refine(e) => crate::errors::refine_error(e),
-        _ => PyRuntimeError::new_err(e.to_string()),
+        _ => crate::errors::gpu_failure(e.to_string()),
     };
     // Refuse the grid before looking for a driver: the message is about the options.
-    tessella_gl::hardware_spacing(options).map_err(|_| PyValueError::new_err(GL_NEEDS_SPACING))?;
+    tessella_gl::hardware_spacing(options).map_err(|_| bad_option(GL_NEEDS_SPACING))?;
     let ctx = GlContext::new().map_err(err)?;
     let mut gl = GlTessellator::new(&ctx).map_err(err)?;
     Ok(gl.refine(mesh, options, None).map_err(err)?.to_mesh())
@@ -49,5 +48,5 @@ pub const NO_GL_FEATURE: &str = "this tessella package was built without OpenGL 
 /// Without the `gl` feature: a `ValueError`.
 #[cfg(not(feature = "gl"))]
 pub fn refine(_mesh: &Mesh, _options: &RefineOptions) -> PyResult<RefinedMesh> {
-    Err(PyValueError::new_err(NO_GL_FEATURE))
+    Err(bad_option(NO_GL_FEATURE))
 }

@@ -132,14 +132,10 @@ pub fn refine(
     };
     match backend {
         Backend::Cpu => on_cpu(refiner, displacement).map(done),
-        Backend::Gl => Err(pyo3::exceptions::PyValueError::new_err(
-            crate::options::NO_GL,
-        )),
+        Backend::Gl => Err(errors::bad_option(crate::options::NO_GL)),
         Backend::Gpu => {
             let ctx = any().map_err(|e| {
-                pyo3::exceptions::PyRuntimeError::new_err(format!(
-                    "backend=\"gpu\" needs a GPU adapter: {e}"
-                ))
+                errors::gpu_failure(format!("backend=\"gpu\" needs a GPU adapter: {e}"))
             })?;
             on_gpu(&ctx, refiner, displacement)
                 .map(done)
@@ -166,5 +162,67 @@ pub fn refine(
                 }),
             }
         }
+    }
+}
+
+/// A [`tessella_core::refine::Plan`]'s kernels on a GPU, for `tessella.Refiner`'s frames:
+/// compiled and uploaded once, then each frame uploads its coarse nets and reads back.
+pub struct FrameGpu {
+    evaluator: tessella_gpu::GpuEvaluator,
+}
+
+/// The GPU a `Refiner` runs its frames on: `"gpu"` any adapter (an error without one), `"auto"`
+/// a hardware one when there is one, else none (the CPU); `"cpu"` none.
+pub fn frame_gpu(
+    backend: Backend,
+    plan: &tessella_core::refine::Plan,
+) -> PyResult<Option<FrameGpu>> {
+    let ctx = match backend {
+        Backend::Cpu => return Ok(None),
+        Backend::Gl => return Err(errors::bad_option(crate::options::NO_GL)),
+        Backend::Gpu => any().map_err(|e| {
+            errors::gpu_failure(format!("backend=\"gpu\" needs a GPU adapter: {e}"))
+        })?,
+        Backend::Auto => match hardware() {
+            Ok(ctx) => ctx,
+            Err(_) => return Ok(None),
+        },
+    };
+    let evaluator = tessella_gpu::GpuEvaluator::new(&ctx, plan).map_err(errors::gpu_error)?;
+    Ok(Some(FrameGpu { evaluator }))
+}
+
+impl FrameGpu {
+    /// Evaluates `frame` on the GPU and copies the vertices into `positions` and `normals`
+    /// (waits for the GPU).
+    pub fn evaluate(
+        &mut self,
+        plan: &tessella_core::refine::Plan,
+        frame: &tessella_core::refine::Frame,
+        positions: &mut [[f32; 3]],
+        normals: &mut [[f32; 3]],
+    ) -> PyResult<()> {
+        use tessella_core::refine::Evaluator;
+        self.evaluator
+            .evaluate(plan, frame, tessella_gpu::GpuOutput::Own)
+            .map_err(errors::gpu_error)?;
+        let floats = self.evaluator.read_back().map_err(errors::gpu_error)?;
+        let stride = self.evaluator.vertex_stride();
+        if floats.len() < positions.len() * stride || normals.len() != positions.len() {
+            return Err(errors::gpu_failure(format!(
+                "the GPU returned {} floats for {} vertices of {stride}",
+                floats.len(),
+                positions.len()
+            )));
+        }
+        for ((p, n), v) in positions
+            .iter_mut()
+            .zip(normals.iter_mut())
+            .zip(floats.chunks_exact(stride))
+        {
+            *p = [v[0], v[1], v[2]];
+            *n = [v[3], v[4], v[5]];
+        }
+        Ok(())
     }
 }

@@ -22,8 +22,9 @@ mod render;
 mod stream;
 mod tags;
 
+use errors::bad_option;
 use numpy::PyArray2;
-use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
+use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -154,9 +155,9 @@ fn refine_adaptive<'py>(
     backend: &str,
 ) -> PyResult<AdaptiveArrays<'py>> {
     use tessella_core::refine::{Camera, Levels, Lod, Spacing};
-    let value = |e: tessella_core::RefineError| PyValueError::new_err(e.to_string());
+    let value = |e: tessella_core::RefineError| bad_option(e.to_string());
     let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
-    let spacing: Spacing = spacing.parse().map_err(PyValueError::new_err)?;
+    let spacing: Spacing = spacing.parse().map_err(bad_option)?;
     let whole =
         level.is_finite() && level >= 1.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
     let mut opts = RefineOptions::new(scheme, if whole { level as u32 } else { 1 })
@@ -168,7 +169,7 @@ fn refine_adaptive<'py>(
         let lod = Lod::parse(spec, camera, size.map(|(w, h)| [w, h])).map_err(value)?;
         opts = opts.with_levels(Levels::Lod(lod));
     } else if camera.is_some() || size.is_some() {
-        return Err(PyValueError::new_err(
+        return Err(bad_option(
             "camera= and size= serve lod='screen:PX' and lod='distance:NEAR,FAR,MAX'",
         ));
     } else if !whole || spacing != Spacing::Grid {
@@ -177,7 +178,7 @@ fn refine_adaptive<'py>(
     }
     let backend = options::backend(backend)?;
     if backend == options::Backend::Gl && origin {
-        return Err(PyValueError::new_err(
+        return Err(bad_option(
             "origin=True is not supported with backend=\"gl\"; use backend=\"cpu\"",
         ));
     }
@@ -230,7 +231,7 @@ fn pattern<'py>(
     let level = options::level(level)?;
     // A pattern has (N+1)(N+2)/2 points; refuse sizes that cannot be allocated sensibly.
     if Pattern::point_count(level) > 1 << 28 {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "level {level} makes a pattern of {} points; choose a level of 23000 or less",
             Pattern::point_count(level)
         )));
@@ -335,8 +336,8 @@ fn quality<'py>(
 /// computes them). Polygons are fan-triangulated; texture coordinates are not returned.
 ///
 /// Raises ``OSError`` (``FileNotFoundError``, ``PermissionError``, ...) when the file cannot be
-/// read, ``ValueError`` when its extension is unknown or its content is malformed or holds no
-/// triangles.
+/// read, ``FileFormatError`` when its extension is unknown, its content is malformed or holds
+/// no triangles, or a file it refers to (a glTF's buffer) cannot be read.
 #[pyfunction]
 fn load<'py>(
     py: Python<'py>,
@@ -344,7 +345,7 @@ fn load<'py>(
 ) -> PyResult<(F32Array<'py>, U32Array<'py>, Option<F32Array<'py>>)> {
     let raw = py
         .detach(|| tessella_io::read_raw(&path))
-        .map_err(errors::io_error)?;
+        .map_err(|e| errors::read_error(e, &path))?;
     Ok((
         arrays::to_numpy(py, raw.positions),
         arrays::to_numpy(py, raw.triangles),

@@ -4,7 +4,7 @@
 //! `ValueError` that says which Python argument was wrong. `schemes()` and `backends()` report
 //! what this build has, so scripts can adapt.
 
-use pyo3::exceptions::PyValueError;
+use crate::errors::bad_option;
 use pyo3::PyResult;
 pub use tessella_core::Backend;
 use tessella_core::{Named, NormalMode, Scheme};
@@ -16,9 +16,7 @@ pub const SCHEMES: &[&str] = Scheme::NAMES;
 pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
     match name.parse::<Scheme>() {
         Ok(s) => Ok(s.with_alpha(alpha as f32)),
-        Err(e) => Err(PyValueError::new_err(format!(
-            "{e} (see tessella.schemes())"
-        ))),
+        Err(e) => Err(bad_option(format!("{e} (see tessella.schemes())"))),
     }
 }
 
@@ -27,7 +25,7 @@ pub fn normal_mode(name: Option<&str>) -> PyResult<Option<NormalMode>> {
     let Some(name) = name else { return Ok(None) };
     match name.parse::<NormalMode>() {
         Ok(mode) => Ok(Some(mode)),
-        Err(e) => Err(PyValueError::new_err(format!(
+        Err(e) => Err(bad_option(format!(
             "unknown normals_mode {name:?}; use one of {:?} or None for the scheme's default",
             e.valid
         ))),
@@ -37,7 +35,7 @@ pub fn normal_mode(name: Option<&str>) -> PyResult<Option<NormalMode>> {
 /// The backend called `name`.
 pub fn backend(name: &str) -> PyResult<Backend> {
     name.parse::<Backend>().map_err(|e| {
-        PyValueError::new_err(format!(
+        bad_option(format!(
             "{e} (tessella.backends() lists those that work here)"
         ))
     })
@@ -46,7 +44,7 @@ pub fn backend(name: &str) -> PyResult<Backend> {
 /// A refinement level from a Python int: 1 or more.
 pub fn level(level: i64) -> PyResult<u32> {
     if level < 1 || level > u32::MAX as i64 {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "level must be 1 or more (segments per coarse edge), got {level}"
         )));
     }
@@ -61,7 +59,7 @@ pub const MAX_QUALITY_LEVEL: u32 = 256;
 pub fn quality_level(value: i64) -> PyResult<u32> {
     let l = level(value)?;
     if l > MAX_QUALITY_LEVEL {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "level {l} is too fine for the quality report (it samples every pattern point of every \
              triangle); use a level of {MAX_QUALITY_LEVEL} or less"
         )));
@@ -72,7 +70,7 @@ pub fn quality_level(value: i64) -> PyResult<u32> {
 /// Phong's shape factor must be finite.
 pub fn alpha(alpha: f64) -> PyResult<f64> {
     if !alpha.is_finite() {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "alpha must be finite (usually within 0..=1), got {alpha}"
         )));
     }

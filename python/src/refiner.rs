@@ -1,32 +1,45 @@
 //! `tessella.Refiner`: one mesh topology refined frame after frame (a deforming mesh), on the
 //! core's [`Plan`] (built once) and [`Frame`] (moved every frame).
 //!
-//! - The plan is built on the first `refine(vertices, ...)` call, because which vertices share
-//!   a position (what PNG1, PN-AEN and the scalar-tagged scheme look across) and the tags
-//!   (split-normal creases, `crease_angle`, vertex indices) are decided from a mesh. Every later
-//!   call only moves the frame ([`Plan::update`], O(coarse)) and evaluates into memory.
+//! - The plan is built from a mesh, because which vertices share a position (what PNG1, PN-AEN
+//!   and the scalar-tagged scheme look across) and the tags (split-normal creases,
+//!   `crease_angle`, vertex indices) are decided from one: at construction when `vertices=` is
+//!   given, else on the first `refine(vertices, ...)` call. Every later call only moves the
+//!   frame ([`Plan::update`], O(coarse)) and evaluates into memory.
+//! - `backend="gpu"` (or `"auto"` on a hardware GPU) evaluates on a [`crate::gpu::FrameGpu`]:
+//!   the kernels and the plan's tables are uploaded once, each frame uploads its nets and reads
+//!   the vertices back.
 //! - `out=(v, n)` writes into the caller's float32 C-contiguous writable `(N, 3)` arrays with
 //!   the GIL released; without it, fresh arrays are returned.
 //! - A bad frame (wrong vertex count, NaN positions, zero normals, a degenerate triangle) raises
-//!   `ValueError` and changes nothing: the frame stays where it was and `out` is not written.
+//!   `MeshError` and changes nothing: the frame stays where it was and `out` is not written.
 //! - The refined faces are computed once ([`Plan::indices`]) into one read-only uint32 array,
 //!   returned by every call and by the `faces` property.
+//! - Pickling (`tessella.Refiner.__reduce__`, in Python) stores `_state()`: the arguments and
+//!   the mesh the plan was built from, so unpickling rebuilds the same plan.
 //!
 //! The same error mapping as `tessella.refine` (`errors.rs`).
 
 use crate::arrays;
 use crate::errors;
+use crate::errors::{bad_mesh, bad_option};
 use crate::options::{self, Backend};
 use crate::tags::{self, TagSource};
 use numpy::{PyArray2, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::IntoPyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 use tessella_core::refine::{Frame, Plan, VertexOutput};
 use tessella_core::{Mesh, RefineOptions, Scheme};
 
 type F32Array<'py> = Bound<'py, PyArray2<f32>>;
 type U32Array<'py> = Bound<'py, PyArray2<u32>>;
+
+/// What pickling stores: the faces, the keyword arguments, and the mesh the plan was built from.
+type State<'py> = (
+    U32Array<'py>,
+    Bound<'py, PyDict>,
+    Option<(F32Array<'py>, Option<F32Array<'py>>)>,
+);
 
 /// What the first frame builds: the plan, the current frame and the faces array.
 struct Built {
@@ -34,6 +47,11 @@ struct Built {
     frame: Frame,
     /// `plan.indices()` as a read-only numpy array, made once.
     faces: Py<PyArray2<u32>>,
+    /// The GPU evaluating the frames (`None`: the CPU).
+    gpu: Option<crate::gpu::FrameGpu>,
+    /// The mesh the plan was built from (positions, normals), so a pickled refiner rebuilds
+    /// the same plan.
+    planned: (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>),
 }
 
 /// Refines one mesh topology frame after frame; see `tessella.Refiner` (the Python docs).
@@ -46,6 +64,9 @@ pub struct Refiner {
     options: RefineOptions,
     tag_source: TagSource,
     crease_angle: Option<f64>,
+    backend: Backend,
+    /// The arguments as given, for pickling: alpha, normals_mode, tags, backend.
+    given: (f64, Option<String>, Option<Py<PyAny>>, String),
     built: Option<Built>,
 }
 
@@ -68,20 +89,20 @@ fn check_out<'py>(obj: &Bound<'py, PyAny>, what: &str, vertices: usize) -> PyRes
                 .map(|n| n.to_string())
                 .unwrap_or_else(|_| "?".into()),
         };
-        PyValueError::new_err(format!(
+        bad_option(format!(
             "out {what} must be a float32 numpy array of shape ({vertices}, 3), got {got}; \
              make it with numpy.empty(({vertices}, 3), dtype=numpy.float32)"
         ))
     })?;
     let shape = a.shape();
     if shape != [vertices, 3] {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "out {what} must have shape ({vertices}, 3) (the refined vertex count), got ({}, {})",
             shape[0], shape[1]
         )));
     }
     if !a.is_c_contiguous() {
-        return Err(PyValueError::new_err(format!(
+        return Err(bad_option(format!(
             "out {what} must be C-contiguous (a view with strides cannot be written in place); \
              use numpy.ascontiguousarray or numpy.empty(({vertices}, 3), dtype=numpy.float32)"
         )));
@@ -93,14 +114,31 @@ fn check_out<'py>(obj: &Bound<'py, PyAny>, what: &str, vertices: usize) -> PyRes
 /// borrowed elsewhere).
 fn borrow_error(what: &str, e: numpy::BorrowError) -> PyErr {
     match e {
-        numpy::BorrowError::NotWriteable => PyValueError::new_err(format!(
+        numpy::BorrowError::NotWriteable => bad_option(format!(
             "out {what} is read-only (its WRITEABLE flag is off); pass a writable array"
         )),
-        _ => PyValueError::new_err(format!(
+        _ => bad_option(format!(
             "out {what} cannot be written: it shares memory with the other out array (out[0] \
              and out[1] must be two separate arrays) or is being written elsewhere"
         )),
     }
+}
+
+/// A validated mesh of one frame: `triangles` at `vertices` (GIL held only for reading them).
+fn frame_mesh(
+    py: Python<'_>,
+    triangles: &[[u32; 3]],
+    vertices: &Bound<'_, PyAny>,
+    normals: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Mesh> {
+    let positions = arrays::points(vertices, "vertices")?;
+    let normals = match normals {
+        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
+        _ => None,
+    };
+    let triangles = triangles.to_vec();
+    py.detach(|| Mesh::new(positions, normals, None, triangles))
+        .map_err(errors::mesh_error)
 }
 
 /// `&mut [f32]` of `3k` floats as `k` rows.
@@ -114,7 +152,8 @@ fn as_rows(flat: &mut [f32]) -> &mut [[f32; 3]] {
 impl Refiner {
     /// Builds the plan and the first frame from `mesh` (the first call).
     fn build(&self, py: Python<'_>, mesh: &Mesh) -> PyResult<Built> {
-        let (plan, frame) = py.detach(|| -> PyResult<_> {
+        let backend = self.backend;
+        let (plan, frame, gpu) = py.detach(|| -> PyResult<_> {
             let mut opts = self.options.clone();
             if let Some(t) = tags::gather(mesh, self.scheme, &self.tag_source, self.crease_angle)? {
                 opts = opts.with_tags(t);
@@ -122,14 +161,21 @@ impl Refiner {
             let plan = Plan::new(mesh, &opts).map_err(errors::refine_error)?;
             let frame = plan.frame(mesh).map_err(errors::refine_error)?;
             plan.indices();
-            Ok((plan, frame))
+            let gpu = crate::gpu::frame_gpu(backend, &plan)?;
+            Ok((plan, frame, gpu))
         })?;
         let faces = arrays::to_numpy(py, plan.indices().to_vec());
         faces.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
+        let planned = (
+            mesh.positions().to_vec(),
+            (!mesh.normals_computed()).then(|| mesh.normals().to_vec()),
+        );
         Ok(Built {
             plan,
             frame,
             faces: faces.unbind(),
+            gpu,
+            planned,
         })
     }
 }
@@ -137,11 +183,15 @@ impl Refiner {
 #[pymethods]
 impl Refiner {
     #[new]
-    #[pyo3(signature = (faces, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
-                        tags=None, crease_angle=None, backend="auto", weld=true))]
+    #[pyo3(signature = (faces, *, vertices=None, normals=None, scheme="pn", level=8, alpha=0.75,
+                        normals_mode=None, tags=None, crease_angle=None, backend="auto",
+                        weld=true))]
     #[allow(clippy::too_many_arguments)]
     fn new(
+        py: Python<'_>,
         faces: &Bound<'_, PyAny>,
+        vertices: Option<&Bound<'_, PyAny>>,
+        normals: Option<&Bound<'_, PyAny>>,
         scheme: &str,
         level: i64,
         alpha: f64,
@@ -154,29 +204,21 @@ impl Refiner {
         let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
         scheme.validate().map_err(errors::refine_error)?;
         let normal_mode = options::normal_mode(normals_mode)?;
-        match options::backend(backend)? {
-            Backend::Auto | Backend::Cpu => {}
-            Backend::Gl => {
-                return Err(PyValueError::new_err(
-                    "Refiner runs on the CPU (backend=\"gl\" is not supported by Refiner); use \
-                     tessella.refine(..., backend=\"gl\", spacing=\"equal\") for the GL \
-                     tessellator",
-                ))
-            }
-            #[cfg(not(feature = "gpu"))]
-            Backend::Gpu => return Err(PyValueError::new_err(crate::gpu::NO_GPU)),
-            #[cfg(feature = "gpu")]
-            Backend::Gpu => {
-                return Err(PyValueError::new_err(
-                    "Refiner runs on the CPU only for now (backend=\"gpu\" is not supported by \
-                     Refiner yet); use backend=\"cpu\" or \"auto\", or tessella.refine(..., \
-                     backend=\"gpu\") for one-off GPU refinement",
-                ))
-            }
+        let backend_choice = options::backend(backend)?;
+        if backend_choice == Backend::Gl {
+            return Err(bad_option(
+                "Refiner runs on the CPU or the GPU (backend=\"gl\" is not supported by \
+                 Refiner); use tessella.refine(..., backend=\"gl\", spacing=\"equal\") for the GL \
+                 tessellator",
+            ));
+        }
+        #[cfg(not(feature = "gpu"))]
+        if backend_choice == Backend::Gpu {
+            return Err(bad_option(crate::gpu::NO_GPU));
         }
         if let Some(degrees) = crease_angle {
             if !(0.0..=180.0).contains(&degrees) {
-                return Err(PyValueError::new_err(format!(
+                return Err(bad_option(format!(
                     "crease_angle={degrees}: the angle must lie in 0..180 degrees"
                 )));
             }
@@ -184,18 +226,31 @@ impl Refiner {
         let tag_source = tags::source(tags)?;
         let triangles = arrays::triangles(faces, "faces")?;
         if triangles.is_empty() {
-            return Err(PyValueError::new_err("faces holds no triangles"));
+            return Err(bad_mesh("faces holds no triangles"));
         }
         let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
         opts.normals = normal_mode;
-        Ok(Refiner {
+        let mut refiner = Refiner {
             triangles,
             scheme,
             options: opts,
             tag_source,
             crease_angle,
+            backend: backend_choice,
+            given: (
+                alpha,
+                normals_mode.map(str::to_owned),
+                tags.filter(|t| !t.is_none()).map(|t| t.clone().unbind()),
+                backend.to_owned(),
+            ),
             built: None,
-        })
+        };
+        // With a first frame the plan is built now (its errors raised here).
+        if let Some(vertices) = vertices.filter(|v| !v.is_none()) {
+            let mesh = frame_mesh(py, &refiner.triangles, vertices, normals)?;
+            refiner.built = Some(refiner.build(py, &mesh)?);
+        }
+        Ok(refiner)
     }
 
     /// Refines one frame; see `tessella.Refiner.refine` (the Python docs).
@@ -217,7 +272,7 @@ impl Refiner {
             None => None,
             Some(o) => {
                 let pair: (Bound<'py, PyAny>, Bound<'py, PyAny>) = o.extract().map_err(|_| {
-                    PyValueError::new_err(
+                    bad_option(
                         "out must be a tuple (vertices, normals) of two float32 (N, 3) arrays",
                     )
                 })?;
@@ -233,7 +288,8 @@ impl Refiner {
                 let mesh = py
                     .detach(|| Mesh::new(positions, normals, None, triangles))
                     .map_err(errors::mesh_error)?;
-                self.built = Some(self.build(py, &mesh)?);
+                let built = self.build(py, &mesh)?;
+                self.built = Some(built);
                 None
             }
         };
@@ -258,18 +314,17 @@ impl Refiner {
         let mut n_rw = n
             .try_readwrite()
             .map_err(|e| borrow_error("normals (out[1])", e))?;
-        let v_flat = v_rw
-            .as_slice_mut()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let n_flat = n_rw
-            .as_slice_mut()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let (plan, frame) = (&built.plan, &mut built.frame);
+        let v_flat = v_rw.as_slice_mut().map_err(|e| bad_option(e.to_string()))?;
+        let n_flat = n_rw.as_slice_mut().map_err(|e| bad_option(e.to_string()))?;
+        let (plan, frame, gpu) = (&built.plan, &mut built.frame, &mut built.gpu);
         py.detach(|| -> PyResult<()> {
             // On error the frame is unchanged and nothing below runs: `out` is not written.
             if let Some((positions, normals)) = &update {
                 plan.update(frame, positions, normals.as_deref())
                     .map_err(errors::refine_error)?;
+            }
+            if let Some(gpu) = gpu {
+                return gpu.evaluate(plan, frame, as_rows(v_flat), as_rows(n_flat));
             }
             plan.evaluate(
                 frame,
@@ -322,13 +377,50 @@ impl Refiner {
         self.options.weld
     }
 
+    /// Where frames are refined: `"gpu"` or `"cpu"` once planned; before, the backend asked for.
+    #[getter]
+    fn backend(&self) -> String {
+        match &self.built {
+            Some(b) if b.gpu.is_some() => "gpu".into(),
+            Some(_) => "cpu".into(),
+            None => self.given.3.clone(),
+        }
+    }
+
+    /// The arguments this refiner was made with, `(faces, kwargs)`, and the mesh its plan was
+    /// built from (`(vertices, normals or None)`, or `None` before the first frame): what
+    /// pickling stores (`tessella.Refiner.__reduce__`).
+    fn _state<'py>(&self, py: Python<'py>) -> PyResult<State<'py>> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("scheme", self.scheme.name())?;
+        kwargs.set_item("level", self.options.level)?;
+        kwargs.set_item("alpha", self.given.0)?;
+        kwargs.set_item("normals_mode", self.given.1.as_deref())?;
+        kwargs.set_item("tags", self.given.2.as_ref().map(|t| t.bind(py)))?;
+        kwargs.set_item("crease_angle", self.crease_angle)?;
+        kwargs.set_item("backend", &self.given.3)?;
+        kwargs.set_item("weld", self.options.weld)?;
+        let planned = self.built.as_ref().map(|b| {
+            (
+                arrays::to_numpy(py, b.planned.0.clone()),
+                b.planned.1.clone().map(|n| arrays::to_numpy(py, n)),
+            )
+        });
+        Ok((
+            arrays::to_numpy(py, self.triangles.clone()),
+            kwargs,
+            planned,
+        ))
+    }
+
     fn __repr__(&self) -> String {
         format!(
-            "tessella.Refiner(scheme={:?}, level={}, faces={}, weld={}, vertex_count={})",
+            "tessella.Refiner(scheme={:?}, level={}, faces={}, weld={}, backend={:?}, vertex_count={})",
             self.scheme.name(),
             self.options.level,
             self.triangles.len(),
             if self.options.weld { "True" } else { "False" },
+            self.backend(),
             match self.vertex_count() {
                 Some(n) => n.to_string(),
                 None => "None".into(),

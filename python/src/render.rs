@@ -26,7 +26,7 @@ pub fn render<'py>(
     _args: &Bound<'py, pyo3::types::PyTuple>,
     _kwargs: Option<&Bound<'py, pyo3::types::PyDict>>,
 ) -> PyResult<Bound<'py, PyArray3<u8>>> {
-    Err(pyo3::exceptions::PyValueError::new_err(NO_GPU_RENDER))
+    Err(crate::errors::bad_option(NO_GPU_RENDER))
 }
 
 /// Renders a mesh; see `tessella.render` (the Python wrapper) for the full documentation.
@@ -59,9 +59,9 @@ pub fn render<'py>(
     label: Option<String>,
     path: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyArray3<u8>>> {
+    use crate::errors::{bad_option, gpu_failure};
     use crate::{errors, gpu, options};
     use numpy::ndarray::Array3;
-    use pyo3::exceptions::{PyRuntimeError, PyValueError};
     use tessella_core::RefineOptions;
     use tessella_view::{colormap as bar, Colormap, FieldColors, RenderOptions};
 
@@ -82,21 +82,21 @@ pub fn render<'py>(
         .transpose()?;
     let side = |x: i64, what: &str| {
         u32::try_from(x).map_err(|_| {
-            PyValueError::new_err(format!(
+            bad_option(format!(
                 "size=({}, {}): the {what} must be a whole number of pixels, 1 or more",
                 size.0, size.1
             ))
         })
     };
     let size = (side(size.0, "width")?, side(size.1, "height")?);
-    let colormap: Colormap = colormap.parse().map_err(PyValueError::new_err)?;
+    let colormap: Colormap = colormap.parse().map_err(bad_option)?;
     let range = match range {
         None => None,
         Some((lo, hi)) if lo.is_finite() && hi.is_finite() && lo < hi => {
             Some([lo as f32, hi as f32])
         }
         Some((lo, hi)) => {
-            return Err(PyValueError::new_err(format!(
+            return Err(bad_option(format!(
                 "range=({lo}, {hi}): give (min, max), two finite numbers with min < max"
             )))
         }
@@ -106,7 +106,7 @@ pub fn render<'py>(
         Some(name) => {
             let Some((_, values)) = point_data.iter().find(|(n, _)| *n == name) else {
                 let have: Vec<&str> = point_data.iter().map(|(n, _)| n.as_str()).collect();
-                return Err(PyValueError::new_err(format!(
+                return Err(bad_option(format!(
                     "color_by={name:?}: no such field in point_data; {}",
                     if have.is_empty() {
                         "it has none (give point_data={name: values})".to_string()
@@ -117,7 +117,7 @@ pub fn render<'py>(
             };
             let a = values.as_array();
             if a.ncols() != 1 {
-                return Err(PyValueError::new_err(format!(
+                return Err(bad_option(format!(
                     "color_by={name:?}: the field has {} components; colour by one (a 1-D \
                      array or one column)",
                     a.ncols()
@@ -148,9 +148,8 @@ pub fn render<'py>(
             field,
             ..RenderOptions::default()
         };
-        let ctx = gpu::any().map_err(|e| {
-            PyRuntimeError::new_err(format!("tessella.render needs a GPU adapter: {e}"))
-        })?;
+        let ctx = gpu::any()
+            .map_err(|e| gpu_failure(format!("tessella.render needs a GPU adapter: {e}")))?;
         let mut picture = match &panels {
             None => tessella_view::render(&ctx, &mesh, &single.1, &view),
             Some(panels) => tessella_view::render_compare(&ctx, &mesh, panels, &view),
@@ -175,7 +174,7 @@ pub fn render<'py>(
     })?;
     let (w, h) = picture.dimensions();
     let a = Array3::from_shape_vec((h as usize, w as usize, 4), picture.into_raw())
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        .map_err(|e| gpu_failure(e.to_string()))?;
     Ok(PyArray3::from_owned_array(py, a))
 }
 

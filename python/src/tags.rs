@@ -83,7 +83,7 @@ fn dict_to_json(d: &Bound<'_, PyDict>) -> PyResult<String> {
     match json.call_method("dumps", (d,), Some(&kwargs)) {
         Ok(text) => text.extract(),
         // allow_nan=False: NaN or infinity somewhere; JSON cannot carry it.
-        Err(e) if e.is_instance_of::<PyValueError>(py) => Err(PyValueError::new_err(format!(
+        Err(e) if e.is_instance_of::<PyValueError>(py) => Err(crate::errors::bad_option(format!(
             "bad tags in the tags dict: {e}; tags must be finite numbers"
         ))),
         Err(e) => Err(e),

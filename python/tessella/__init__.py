@@ -14,24 +14,20 @@ Conventions
   compute angle-weighted normals.
 - Any array-like is accepted (lists go through ``numpy.asarray``); C order, Fortran order and
   strided views are all read as they are, without a copy first.
-- Results are fresh C-ordered arrays: vertices and normals ``float32 (n, 3)``, faces
-  ``uint32 (m, 3)`` (use ``faces.astype(numpy.int64)`` where a library wants int64).
+- Results are a :class:`RefinedMesh` of fresh C-ordered arrays: vertices and normals
+  ``float32 (n, 3)``, faces ``uint32 (m, 3)``; it unpacks as ``v, f, n`` and converts with
+  ``to_trimesh()``, ``to_pyvista()``, ``to_meshio()`` and ``save(path)``.
 
 Errors
 ------
-- ``ValueError``: bad shapes (not ``(n, 3)``), bad values (NaN positions, indices out of range
-  or negative, degenerate triangles, zero normals), bad options (unknown scheme, level < 1,
-  non-finite alpha, output over the 8 GiB size limit), bad tags (a vertex or edge the mesh
-  lacks, values out of range, malformed JSON, more creases than the scalar-tagged scheme
-  allows; the message says which), a crease angle outside 0..180 or a bad ``displace`` (unknown
-  kind or key, missing or non-finite numbers, a seed that is not a whole number in
-  0..2**32-1). Invalid files passed to :func:`load` also raise ``ValueError``.
-- ``TypeError``: arrays of an unsupported dtype (e.g. complex, strings, float16); ``tags`` of
-  another type than dict, str or path; ``displace`` of another type than dict, tuple or list.
-- ``RuntimeError``: ``backend="gpu"`` when no GPU adapter opens (the message says what to
-  install), or the GPU failing while it works.
-- ``OSError``: a file that cannot be read or written (:func:`load`, :func:`save`, a tags file).
-- ``ImportError``: an interop helper whose optional package (trimesh, meshio) is missing.
+Errors about your input are :class:`TessellaError` (a ``ValueError``) subclasses carrying the
+core's message: :class:`MeshError` (NaN positions, indices out of range, degenerate triangles,
+zero normals, wrong shapes, fields that do not fit), :class:`OptionError` (unknown names, level
+< 1, output over the 8 GiB limit, bad tags, ``lod``, ``camera`` or ``displace``, options that
+cannot be combined), :class:`FileFormatError` (broken or unsupported files) and
+:class:`GpuError` (no adapter for ``backend="gpu"``, the GPU failing; also a ``RuntimeError``).
+Besides: ``TypeError`` for unsupported dtypes and option types, ``OSError`` when the OS refuses
+a file, ``ImportError`` for a converter whose package (trimesh, pyvista, meshio) is missing.
 
 What this build has: :func:`schemes`; what works on this machine: :func:`backends` and
 :func:`gpu_info`.
@@ -44,8 +40,12 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _fields, _tessella
+from . import _fields, _inputs, _options, _tessella
+from ._errors import FileFormatError, GpuError, MeshError, OptionError, TessellaError
+from ._options import Camera, Displace, Lod
+from ._result import RefinedMesh
 from ._tessella import __version__, backends, gpu_info, info, load, pattern, save, schemes
+from ._types import BackendName, NormalsMode, SchemeName, Spacing
 
 #: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the
 #: path of a JSON file (see :func:`refine`).
@@ -54,10 +54,20 @@ TagsLike = Union[Dict[str, Any], str, "os.PathLike[str]", None]
 #: What ``displace=`` accepts: ``None``, ``{"kind": "sine", "amplitude": a, "frequency": f}``,
 #: ``{"kind": "perlin", "amplitude": a, "frequency": f, "seed": s}`` or a tuple
 #: ``(kind, amplitude, frequency[, seed])`` (see :func:`refine`).
-DisplaceLike = Union[Dict[str, Any], Tuple[Any, ...], List[Any], None]
+DisplaceLike = Union["Displace", Dict[str, Any], Tuple[Any, ...], List[Any], None]
 
 __all__ = [
     "__version__",
+    "Camera",
+    "Displace",
+    "FileFormatError",
+    "GpuError",
+    "Lod",
+    "MeshError",
+    "OptionError",
+    "RefinedMesh",
+    "TessellaError",
+    "plot",
     "backends",
     "gpu_info",
     "info",
@@ -83,38 +93,40 @@ def refine(
     faces: Any = None,
     normals: Any = None,
     *,
-    scheme: Optional[str] = None,
+    scheme: Optional[SchemeName] = None,
     level: Union[int, float] = 8,
     alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
+    normals_mode: Optional[NormalsMode] = None,
     tags: TagsLike = None,
     crease_angle: Optional[float] = None,
-    backend: str = "auto",
+    backend: BackendName = "auto",
     weld: bool = True,
     displace: DisplaceLike = None,
-    spacing: str = "grid",
-    lod: Union[str, Dict[str, Any], None] = None,
-    camera: Union[str, Tuple[float, ...], List[float], None] = None,
+    spacing: Spacing = "grid",
+    lod: Union[Lod, str, Dict[str, Any], None] = None,
+    camera: Union[Camera, str, Tuple[float, ...], List[float], None] = None,
     size: Optional[Tuple[int, int]] = None,
     origin: bool = False,
     point_data: Optional[Dict[str, Any]] = None,
     cell_data: Optional[Dict[str, Any]] = None,
     warp: Optional[str] = None,
     scale: float = 1.0,
-) -> Any:
+) -> RefinedMesh:
     """Refine a triangle mesh into a curved one.
 
     Parameters
     ----------
-    vertices : array_like, (n, 3) float32/float64, or trimesh.Trimesh
-        Coarse vertex positions. A ``trimesh.Trimesh`` here (with ``faces`` left ``None``) is
-        refined by :func:`refine_trimesh` and a ``Trimesh`` is returned.
+    vertices : array_like, (n, 3) float32/float64, or a mesh object
+        Coarse vertex positions. A ``trimesh.Trimesh``, ``pyvista.PolyData`` /
+        ``UnstructuredGrid`` (its surface) or ``meshio.Mesh`` here (with ``faces`` left
+        ``None``) gives its vertices, faces, normals, and its point and cell data as
+        ``point_data`` / ``cell_data`` when the other options allow fields.
     faces : array_like, (m, 3) or (m, 6) integers
         Counter-clockwise triangles (vertex indices). Six columns: second-order (6-node)
         finite elements, the corners then the mid-edge nodes of edges 0-1, 1-2, 2-0 (gmsh, VTK
         and meshio order; ``-1`` in all three for a linear face of a mixed mesh); the
         ``"quadratic"`` scheme (their default) refines each into its exact isoparametric P2
-        surface. Returns a :class:`RefineResult`; mid-edge nodes are dropped from its vertices.
+        surface. Mid-edge nodes are dropped from the result's vertices.
     normals : array_like, (n, 3) float32/float64, optional
         Vertex normals; ``None`` computes angle-weighted normals. Curved schemes bend the
         surface to follow them, so they matter: pass the true normals when you know them.
@@ -174,9 +186,10 @@ def refine(
         ``True``: refined patches share the vertices on shared coarse corners and edges (a
         watertight mesh where the input is). ``False``: each coarse triangle gets its own
         ``(level+1)(level+2)/2`` vertices.
-    displace : dict, tuple or None
+    displace : Displace, dict, tuple or None
         Moves every refined vertex along its unit normal ``n``, after evaluation (GMR section
-        4), on the chosen backend: ``P + d(P) n``. The dict forms::
+        4), on the chosen backend: ``P + d(P) n``: :meth:`Displace.sine`,
+        :meth:`Displace.perlin`, or the dict forms::
 
             {"kind": "sine", "amplitude": a, "frequency": f}                 # d = a sin(f |P|)
             {"kind": "perlin", "amplitude": a, "frequency": f, "seed": s}    # d = a noise(f P)
@@ -193,26 +206,28 @@ def refine(
         How a level divides each coarse edge: the uniform grid, or the GPU tessellator's
         spacings (``level`` may then be a float such as 5.5, clamped to the spacing's range
         as the hardware does: equal 1..64, fractional-odd 1..63, fractional-even 2..64).
-    lod : str, dict or None
+    lod : Lod, str, dict or None
         Per-edge adaptive levels, crack-free (each coarse edge's level from that edge alone):
+        :meth:`Lod.tolerance`, :meth:`Lod.screen`, :meth:`Lod.distance`, or the shorthands
         ``"tolerance:D"`` / ``{"kind": "tolerance", "max_deviation": D}`` (flat triangles
         within D of the curved surface), ``"screen:PX"`` / ``{"kind": "screen", "pixels": PX}``
         (needs ``camera`` and ``size``), ``"distance:NEAR,FAR,MAX"`` /
         ``{"kind": "distance", "near": .., "far": .., "max": ..}`` (needs ``camera``).
         Overrides ``level``.
-    camera : str or sequence of 7 numbers
-        ``(eye_x, eye_y, eye_z, target_x, target_y, target_z, fov_deg)`` for ``lod``.
+    camera : Camera, str or sequence of 7 numbers
+        A :class:`Camera`, or ``(eye_x, eye_y, eye_z, target_x, target_y, target_z, fov_deg)``,
+        for string or dict ``lod`` forms (a :class:`Lod` carries its own).
     size : (int, int)
         Image width and height in pixels for ``lod="screen:PX"``.
     origin : bool
-        Return a :class:`RefineResult` with ``vertices, faces, normals, face, bary``: each
+        Fill the result's ``origin = (face, bary)``: each
         refined vertex's coarse triangle and barycentric coordinates in its corner order (for
         mapping finite-element fields). ``spacing``, fractional levels, ``lod`` and ``origin``
         refine on the CPU; ``tags``, ``crease_angle`` and ``displace`` are not taken with them.
     point_data : dict of str to array_like (n,) or (n, k), optional
         Per-vertex fields (temperature, displacement, ...) carried to every refined vertex with
         its coarse face's own basis: linear on 3-node faces, the 6 quadratic shape functions on
-        6-node faces. Returns a :class:`RefineResult` whose ``point_data`` has the same names.
+        6-node faces. The result's ``point_data`` has the same names.
     cell_data : dict of str to array_like (m,) or (m, k), optional
         Per-face fields, copied to each refined triangle of the face (``cell_data`` of the result).
     warp : str, optional
@@ -223,17 +238,17 @@ def refine(
 
     Returns
     -------
-    vertices : numpy.ndarray, float32 (N, 3)
-    faces : numpy.ndarray, uint32 (M, 3)
-        ``M = m * level**2``. Welded output starts with the ``n`` input vertices, unchanged.
-    normals : numpy.ndarray, float32 (N, 3)
-        Unit normals.
+    RefinedMesh
+        ``vertices`` float32 ``(N, 3)``, ``faces`` uint32 ``(M, 3)`` (``M = m * level**2``;
+        welded output starts with the ``n`` input vertices, unchanged), unit ``normals``
+        float32 ``(N, 3)``; ``point_data``, ``cell_data`` and ``origin`` (face, bary) when
+        asked for. ``v, f, n = result`` unpacks the three arrays.
 
     Raises
     ------
-    ValueError, TypeError, RuntimeError, OSError
-        See the module's "Errors" section (``OSError``: a tags file that cannot be read;
-        ``RuntimeError``: ``backend="gpu"`` without a GPU adapter, or the GPU failing).
+    MeshError, OptionError, FileFormatError, GpuError, TypeError, OSError
+        See the module's "Errors" section. Options that cannot be combined are an
+        :class:`OptionError` saying ``refine(): A cannot be combined with B (why)``.
 
     Examples
     --------
@@ -248,27 +263,25 @@ def refine(
     >>> rv[1]  # (1, 0, 0) moved by 0.1 sin(pi/2 * 1) along its normal (0, 0, 1)
     array([1. , 0. , 0.1], dtype=float32)
     """
-    if faces is None and _is_trimesh(vertices):
-        return refine_trimesh(
-            vertices,
-            normals=normals,
-            scheme="pn" if scheme is None else scheme,
-            level=level,
-            alpha=alpha,
-            normals_mode=normals_mode,
-            tags=tags,
-            crease_angle=crease_angle,
-            backend=backend,
-            weld=weld,
-            displace=displace,
+    if faces is None and _inputs.is_mesh_object(vertices):
+        vertices, faces, normals, point_data, cell_data = _from_object(
+            vertices, normals, point_data, cell_data,
+            fields_allowed=spacing == "grid" and lod is None and not origin and tags is None
+            and crease_angle is None and displace is None,
         )
     if faces is None:
-        raise ValueError("refine(vertices, faces, ...) needs faces, an (m, 3) integer array")
-    if point_data is not None or cell_data is not None or warp is not None or _six_columns(faces):
-        if spacing != "grid" or lod is not None or camera is not None or size is not None:
-            raise ValueError("point_data=, cell_data=, warp= and 6-node faces take a whole level, not spacing= or lod=")
-        if tags is not None or crease_angle is not None or displace is not None:
-            raise ValueError("point_data=, cell_data=, warp= and 6-node faces do not take tags=, crease_angle= or displace=")
+        raise MeshError("refine(vertices, faces, ...) needs faces, an (m, 3) integer array (or a mesh object)")
+    fem = point_data is not None or cell_data is not None or warp is not None or _six_columns(faces)
+    fractional = isinstance(level, float) and not float(level).is_integer()
+    adaptive = not fem and (
+        spacing != "grid" or lod is not None or origin or fractional or camera is not None or size is not None
+    )
+    backend_name = backend.lower() if isinstance(backend, str) else backend
+    _options.check_conflicts(
+        fem=fem, adaptive=adaptive, spacing=spacing, lod=lod, camera=camera, size=size, origin=origin,
+        tags=tags, crease_angle=crease_angle, displace=displace, backend=backend_name,
+    )
+    if fem:
         return _fields.refine_fem(
             vertices, faces, normals, scheme=scheme, level=level, alpha=alpha,
             normals_mode=normals_mode, backend=backend, weld=weld, point_data=point_data,
@@ -276,17 +289,8 @@ def refine(
         )
     if scheme is None:
         scheme = "pn"
-    fractional = isinstance(level, float) and not float(level).is_integer()
-    if spacing != "grid" or lod is not None or origin or fractional or camera is not None or size is not None:
-        if tags is not None or crease_angle is not None or displace is not None:
-            raise ValueError(
-                "spacing=, fractional levels, lod= and origin= do not take tags=, crease_angle= or displace="
-            )
-        if backend not in ("auto", "cpu", "gl"):
-            raise ValueError(
-                "spacing=, fractional levels, lod= and origin= refine on the CPU or on the GL "
-                "tessellator: use backend='cpu' or 'gl'"
-            )
+    if adaptive:
+        lod_text, camera_text, size_pair = _options.lod_spec(lod, camera, size)
         v, f, n, face, bary = _tessella.refine_adaptive(
             vertices,
             faces,
@@ -296,17 +300,15 @@ def refine(
             alpha=alpha,
             normals_mode=normals_mode,
             spacing=spacing,
-            lod=_lod_spec(lod),
-            camera=_camera_spec(camera),
-            size=None if size is None else (int(size[0]), int(size[1])),
+            lod=lod_text,
+            camera=camera_text,
+            size=size_pair,
             weld=weld,
             origin=origin,
-            backend="gl" if backend == "gl" else "cpu",
+            backend="gl" if backend_name == "gl" else "cpu",
         )
-        if origin:
-            return RefineResult(v, f, n, face, bary)
-        return v, f, n
-    return _tessella.refine(
+        return RefinedMesh(v, f, n, face, bary)
+    v, f, n = _tessella.refine(
         vertices,
         faces,
         normals,
@@ -318,50 +320,34 @@ def refine(
         crease_angle=crease_angle,
         backend=backend,
         weld=weld,
-        displace=displace,
+        displace=_options.displace_spec(displace),
     )
+    return RefinedMesh(v, f, n)
 
 
-class RefineResult:
-    """What :func:`refine` returns with ``origin=True``.
+#: The old name of :class:`RefinedMesh` (what ``origin=True`` and fields returned).
+RefineResult = RefinedMesh
 
-    Attributes
-    ----------
-    vertices : numpy.ndarray, float32 (N, 3)
-    faces : numpy.ndarray, uint32 (M, 3)
-    normals : numpy.ndarray, float32 (N, 3)
-    face : numpy.ndarray, int64 (N,)
-        The coarse triangle each vertex was evaluated on (-1: a coarse vertex no triangle uses).
-    bary : numpy.ndarray, float32 (N, 3)
-        Its barycentric coordinates in that triangle's corner order.
-    point_data : dict of str to numpy.ndarray, float32 (N,) or (N, k)
-        The ``point_data`` fields at the refined vertices (empty without ``point_data=``).
-    cell_data : dict of str to numpy.ndarray, float32 (M,) or (M, k)
-        The ``cell_data`` fields of the refined triangles.
-    """
 
-    __slots__ = ("vertices", "faces", "normals", "face", "bary", "point_data", "cell_data")
-
-    def __init__(
-        self,
-        vertices: Any,
-        faces: Any,
-        normals: Any,
-        face: Any,
-        bary: Any,
-        point_data: Optional[Dict[str, Any]] = None,
-        cell_data: Optional[Dict[str, Any]] = None,
-    ) -> None:
-        self.vertices, self.faces, self.normals = vertices, faces, normals
-        self.face, self.bary = face, bary
-        self.point_data = {} if point_data is None else point_data
-        self.cell_data = {} if cell_data is None else cell_data
-
-    def __iter__(self) -> Any:
-        return iter((self.vertices, self.faces, self.normals))
-
-    def __repr__(self) -> str:
-        return f"RefineResult({len(self.vertices)} vertices, {len(self.faces)} faces)"
+def _from_object(
+    obj: Any, normals: Any, point_data: Any, cell_data: Any, *, fields_allowed: bool
+) -> Tuple[Any, Any, Any, Any, Any]:
+    """A mesh object's arrays; its fields come along where the options allow fields (and the
+    caller gave none of their own), numeric ones only."""
+    v, f, n, pd, cd = _inputs.arrays(obj)
+    if normals is None:
+        normals = n
+    numeric = lambda d: {  # noqa: E731
+        k: a for k, a in d.items()
+        if np.issubdtype(np.asarray(a).dtype, np.number) and np.asarray(a).ndim in (1, 2)
+        and not np.issubdtype(np.asarray(a).dtype, np.complexfloating)
+    }
+    if fields_allowed:
+        if point_data is None and numeric(pd):
+            point_data = numeric(pd)
+        if cell_data is None and numeric(cd):
+            cell_data = numeric(cd)
+    return v, f, normals, point_data, cell_data
 
 
 def _six_columns(faces: Any) -> bool:
@@ -371,87 +357,72 @@ def _six_columns(faces: Any) -> bool:
     return len(shape) == 2 and shape[1] == 6
 
 
-def _lod_spec(lod: Any) -> Optional[str]:
-    if lod is None or isinstance(lod, str):
-        return lod
-    if isinstance(lod, dict):
-        kind = lod.get("kind")
-        keys = {"tolerance": ["max_deviation"], "screen": ["pixels"], "distance": ["near", "far", "max"]}
-        if kind not in keys:
-            raise ValueError(f"lod kind {kind!r}: expected 'tolerance', 'screen' or 'distance'")
-        missing = [k for k in keys[kind] if k not in lod]
-        if missing:
-            raise ValueError(f"lod {kind!r} needs {', '.join(missing)}")
-        return kind + ":" + ",".join(repr(float(lod[k])) for k in keys[kind])
-    raise TypeError(f"lod must be a string or a dict, not {type(lod).__name__}")
-
-
-def _camera_spec(camera: Any) -> Optional[str]:
-    if camera is None or isinstance(camera, str):
-        return camera
-    values = [float(x) for x in camera]
-    return ",".join(repr(x) for x in values)
-
-
 class Refiner(_tessella.Refiner):
     """Refine one mesh topology frame after frame: a deforming mesh, without re-planning.
 
-    ``Refiner(faces, ...)`` fixes the coarse triangles and the options; each
-    ``refine(vertices, normals=None)`` then refines one frame of vertex positions. The work that
-    depends only on the topology (the output layout, the pattern's stencil, the refined faces) is
-    done once, on the **first** ``refine`` call; later calls recompute only the coarse control
-    nets (proportional to the coarse mesh) and evaluate the refined vertices, optionally into
-    arrays you own (``out=``), with the GIL released. Every frame's result is bit for bit what
-    :func:`refine` gives for that frame's vertices (the same code).
+    ``Refiner(F, *, vertices=V, normals=N, ...)`` plans at construction: the coarse triangles,
+    the options and the first frame's mesh (which vertices share a position, the tags) are
+    checked and turned into a plan there, so every mistake is raised by the constructor. Each
+    ``refine(V, N=None)`` then refines one frame of vertex positions: it recomputes only the
+    coarse control nets (proportional to the coarse mesh) and evaluates the refined vertices,
+    optionally into arrays you own (``out=``), with the GIL released. Every frame's result is
+    what :func:`refine` gives for that frame's vertices (bit for bit on the CPU).
+
+    Without ``vertices=`` (the older form ``Refiner(F)``) the faces and options are still
+    checked at construction, and the plan is built by the first ``refine`` call from its mesh;
+    an error there builds nothing, so the next call is a first call again.
 
     Parameters
     ----------
-    faces : array_like, (m, 3) integers
+    faces : array_like, F  #F by 3 integers
         Counter-clockwise triangles (vertex indices), as for :func:`refine`.
+    vertices : array_like, V  #V by 3 floats, optional
+        The first frame (later frames must have as many vertices; keep coincident vertices
+        coincident, since ``"png1"``, ``"pn-aen"`` and ``"st"`` look across them).
+    normals : array_like, N  #V by 3 floats, optional
+        The first frame's normals (``None``: computed).
     scheme, level, alpha, normals_mode, tags, crease_angle, weld
         As for :func:`refine`.
-    backend : {"auto", "cpu"}
-        Where frames are refined: the CPU for now (``"auto"`` means ``"cpu"``); ``"gpu"``
-        raises ``ValueError`` (use ``tessella.refine(..., backend="gpu")`` for one-off GPU
-        refinement). ``displace`` is not offered.
-
-    Decided by the first frame
-    --------------------------
-    The first ``refine`` call builds the plan from its mesh: the number of coarse vertices
-    (later frames must have as many), which vertices share a position (what ``"png1"``,
-    ``"pn-aen"`` and ``"st"`` look across; keep coincident vertices coincident) and the tags
-    (for ``"st"`` the edges where that first frame splits normals, ``crease_angle``'s creases
-    and ``tags``). Option errors that need a mesh (bad tags, a crease angle the scheme cannot
-    build, an output over the size limit) are raised by that first call, which then builds
-    nothing, so the next call is a first call again.
+    backend : {"auto", "cpu", "gpu"}
+        Where frames are refined. ``"gpu"``: the GPU through wgpu, any adapter (a
+        :class:`GpuError` without one); the kernels are compiled and the plan uploaded once,
+        each frame uploads its coarse nets and reads the vertices back; the vertices equal the
+        CPU's to float rounding. ``"auto"``: a hardware GPU when there is one, else the CPU.
+        The ``backend`` attribute says which one was chosen once the plan is built.
 
     Attributes
     ----------
     vertex_count : int or None
-        Refined vertices per frame; ``None`` until the first ``refine``.
+        Refined vertices per frame; ``None`` until planned.
     triangle_count : int
-        Refined triangles per frame, ``m * level**2``.
+        Refined triangles per frame, ``#F * level**2``.
     faces : numpy.ndarray, uint32 (triangle_count, 3), read-only, or None
         The refined triangles, computed once: the **same** read-only array object is returned
-        by every ``refine`` call (``faces.copy()`` for a writable one); ``None`` until the
-        first ``refine``.
+        by every ``refine`` call (``faces.copy()`` for a writable one); ``None`` until planned.
     level : int
     scheme : str
         The scheme's name as :func:`schemes` spells it.
     weld : bool
+    backend : str
+        ``"cpu"`` or ``"gpu"`` once planned, the asked-for name before.
 
     Methods
     -------
     refine(vertices, normals=None, *, out=None) -> (vertices, faces, normals)
-        ``vertices``: ``(n, 3)`` positions of this frame (any float or integer array-like, as
-        for :func:`refine`); ``normals``: ``(n, 3)`` or ``None`` to compute them from this
-        frame. Without ``out``, returns fresh float32 ``(vertex_count, 3)`` vertices and
-        normals. With ``out=(v, n)``, writes into ``v`` and ``n`` (float32, shape
-        ``(vertex_count, 3)``, C-contiguous, writable, two separate arrays; else
-        ``ValueError`` naming the problem) and returns ``(v, faces, n)``: the same objects, no
-        new arrays. A bad frame (another vertex count, NaN or infinite positions, zero
-        normals, a degenerate triangle) raises ``ValueError`` as :func:`refine` does and
-        changes nothing: the refiner keeps its previous frame and ``out`` is not written.
+        ``vertices``: ``#V by 3`` positions of this frame; ``normals``: ``#V by 3`` or
+        ``None`` to compute them from this frame. Without ``out``, returns fresh float32
+        ``(vertex_count, 3)`` vertices and normals. With ``out=(v, n)``, writes into ``v`` and
+        ``n`` (float32, shape ``(vertex_count, 3)``, C-contiguous, writable, two separate
+        arrays; else :class:`OptionError` naming the problem) and returns ``(v, faces, n)``:
+        the same objects, no new arrays. A bad frame (another vertex count, NaN or infinite
+        positions, zero normals, a degenerate triangle) raises :class:`MeshError` and changes
+        nothing: the refiner keeps its previous frame and ``out`` is not written.
+
+    Pickling and processes
+    ----------------------
+    A ``Refiner`` pickles as its arguments and the mesh its plan was built from; unpickling
+    rebuilds the plan (and reopens the GPU in that process), so a refiner sent to a
+    ``multiprocessing`` worker (``spawn`` included) refines to the same arrays as in the parent.
 
     One ``Refiner`` refines one frame at a time: a second thread calling ``refine`` on the same
     object while one runs gets ``RuntimeError`` (already borrowed); use one refiner per thread.
@@ -461,10 +432,12 @@ class Refiner(_tessella.Refiner):
     >>> import numpy as np, tessella
     >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float32)
     >>> f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-    >>> r = tessella.Refiner(f, scheme="pn", level=4)
-    >>> rv, rf, rn = r.refine(v)                      # the first frame builds the plan
-    >>> r.vertex_count, r.triangle_count, rf is r.faces
-    (34, 64, True)
+    >>> r = tessella.Refiner(f, vertices=v, scheme="pn", level=4, backend="cpu")
+    >>> r.vertex_count, r.triangle_count, r.backend
+    (34, 64, 'cpu')
+    >>> rv, rf, rn = r.refine(v)
+    >>> rf is r.faces
+    True
     >>> out = (np.empty_like(rv), np.empty_like(rn))
     >>> for t in range(3):                            # a deforming mesh, no new arrays
     ...     pv, pf, pn = r.refine(v * (1 + 0.1 * t), out=out)
@@ -476,13 +449,25 @@ class Refiner(_tessella.Refiner):
 
     __slots__ = ()
 
+    def __reduce__(self) -> Tuple[Any, ...]:
+        faces, kwargs, planned = self._state()
+        return (_rebuild_refiner, (type(self), faces, kwargs, planned))
+
+
+def _rebuild_refiner(cls: Any, faces: Any, kwargs: Dict[str, Any], planned: Any) -> "Refiner":
+    """Unpickles a :class:`Refiner`: the same arguments, the plan rebuilt from the same mesh."""
+    if planned is not None:
+        kwargs = dict(kwargs, vertices=planned[0], normals=planned[1])
+    refiner: Refiner = cls(faces, **kwargs)
+    return refiner
+
 
 def quality(
     vertices: Any,
     faces: Any,
     normals: Any = None,
     *,
-    scheme: str = "pn",
+    scheme: SchemeName = "pn",
     level: int = 8,
     alpha: float = 0.75,
     tags: TagsLike = None,
@@ -539,7 +524,7 @@ def render(
     normals: Any = None,
     *,
     path: Union[str, "os.PathLike[str]", None] = None,
-    scheme: Optional[str] = None,
+    scheme: Optional[SchemeName] = None,
     level: int = 8,
     size: Tuple[int, int] = (512, 512),
     yaw: float = 30.0,
@@ -645,14 +630,7 @@ def render(
     )
 
 
-def _is_trimesh(obj: Any) -> bool:
-    # Checked by class name so that trimesh is imported only by those who use it.
-    return any(
-        c.__name__ == "Trimesh" and c.__module__.startswith("trimesh")
-        for c in type(obj).__mro__
-    )
-
-
 from ._interop import refine_trimesh, to_trimesh  # noqa: E402
 from ._fem import boundary_faces, read_fem, write_fem  # noqa: E402
 from ._batch import batch, refine_file, refine_to_file  # noqa: E402,F401
+from ._plot import plot  # noqa: E402

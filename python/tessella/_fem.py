@@ -13,6 +13,8 @@ from typing import Any, Tuple
 
 import numpy as np
 
+from ._errors import FileFormatError, MeshError, OptionError
+
 # Local faces of a positively oriented tetrahedron (a, b, c, d), each opposite one corner and
 # counter-clockwise seen from outside: (b, c, d), (a, d, c), (a, b, d), (a, c, b).
 _TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
@@ -42,7 +44,7 @@ def boundary_faces(points: Any, tets: Any) -> np.ndarray:
     """
     tets = np.asarray(tets)
     if tets.ndim != 2 or tets.shape[1] < 4:
-        raise ValueError(f"tets must have shape (t, 4), got {tets.shape}")
+        raise MeshError(f"tets must have shape (t, 4), got {tets.shape}")
     faces, _ = _boundary(points, tets[:, :4])
     return faces
 
@@ -60,16 +62,16 @@ def _boundary(points: Any, tets: Any) -> Tuple[np.ndarray, np.ndarray]:
     points = np.asarray(points, dtype=np.float64)
     tets = np.asarray(tets)
     if tets.ndim != 2 or tets.shape[1] not in (4, 10):
-        raise ValueError(f"tets must have shape (t, 4) or (t, 10), got {tets.shape}")
+        raise MeshError(f"tets must have shape (t, 4) or (t, 10), got {tets.shape}")
     tets = tets.astype(np.int64)
     if points.ndim != 2 or points.shape[1] not in (2, 3):
-        raise ValueError(f"points must have shape (n, 3), got {points.shape}")
+        raise MeshError(f"points must have shape (n, 3), got {points.shape}")
     if tets.size and (tets.min() < 0 or tets.max() >= len(points)):
-        raise ValueError(
+        raise MeshError(
             f"tets use vertex indices {tets.min()}..{tets.max()}, but there are {len(points)} points"
         )
     if points.shape[1] == 2:
-        raise ValueError("tetrahedra need 3-D points, got 2-D ones")
+        raise MeshError("tetrahedra need 3-D points, got 2-D ones")
     a, b, c, d = (points[tets[:, k]] for k in range(4))
     # Orientation from the signed volume, so files with either node order work.
     volume = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a)
@@ -129,22 +131,34 @@ def read_fem(path: Any, *, cells: str = "auto", order: Any = "auto", fields: boo
 
     Raises
     ------
-    ValueError
+    MeshError, OptionError
         The file has no cells of the requested kind, or ``cells`` / ``order`` is unknown.
-    OSError
-        The file cannot be read.
+    FileFormatError
+        The file is not one meshio reads (``OSError`` when the OS refuses to open it).
     """
     meshio = _meshio()
-    if cells not in ("auto", "tetra", "triangle"):
-        raise ValueError(f"cells must be 'auto', 'tetra' or 'triangle', got {cells!r}")
-    if order not in ("auto", 1, 2):
-        raise ValueError(f"order must be 'auto', 1 or 2, got {order!r}")
+    _check_choices(cells, order)
+    if not os.path.exists(os.fspath(path)):
+        raise FileNotFoundError(f"cannot read {os.fspath(path)!r}: no such file")
     try:
         mesh = meshio.read(os.fspath(path))
     except OSError:
         raise
     except Exception as e:  # meshio raises its own ReadError for unreadable files
-        raise OSError(f"meshio could not read {os.fspath(path)!r}: {e}") from e
+        raise FileFormatError(f"meshio could not read {os.fspath(path)!r}: {e}") from e
+    return mesh_surface(mesh, cells=cells, order=order, fields=fields, where=repr(os.fspath(path)))
+
+
+def _check_choices(cells: Any, order: Any) -> None:
+    if cells not in ("auto", "tetra", "triangle"):
+        raise OptionError(f"cells must be 'auto', 'tetra' or 'triangle', got {cells!r}")
+    if order not in ("auto", 1, 2):
+        raise OptionError(f"order must be 'auto', 1 or 2, got {order!r}")
+
+
+def mesh_surface(mesh: Any, *, cells: str, order: Any, fields: bool, where: str) -> Any:
+    """:func:`read_fem` on a ``meshio.Mesh`` already in memory (``where`` names it in errors)."""
+    _check_choices(cells, order)
     points = np.asarray(mesh.points, dtype=np.float64)
     if points.ndim == 2 and points.shape[1] == 2:
         points = np.hstack([points, np.zeros((len(points), 1))])
@@ -158,10 +172,10 @@ def read_fem(path: Any, *, cells: str = "auto", order: Any = "auto", fields: boo
     chosen = tets if use_tets else tris
     if not chosen:
         what = "tetrahedra" if cells == "tetra" else "triangles or tetrahedra"
-        raise ValueError(f"{os.fspath(path)!r} has no {what} (cell types: {_types(mesh)})")
+        raise MeshError(f"{where} has no {what} (cell types: {_types(mesh)})")
     second = any(b.shape[1] in (6, 10) for _, b in chosen)
     if order == 2 and not second:
-        raise ValueError(f"{os.fspath(path)!r} has no second-order cells (cell types: {_types(mesh)})")
+        raise MeshError(f"{where} has no second-order cells (cell types: {_types(mesh)})")
     keep_mids = second and order != 1
     parts, owners = [], []
     for k, b in chosen:
@@ -214,25 +228,25 @@ def write_fem(
     vertices = np.asarray(vertices)
     faces = np.asarray(faces, dtype=np.int64)
     if vertices.ndim != 2 or vertices.shape[1] != 3:
-        raise ValueError(f"vertices must have shape (n, 3), got {vertices.shape}")
+        raise MeshError(f"vertices must have shape (n, 3), got {vertices.shape}")
     if faces.ndim != 2 or faces.shape[1] not in (3, 6):
-        raise ValueError(f"faces must have shape (m, 3) or (m, 6), got {faces.shape}")
+        raise MeshError(f"faces must have shape (m, 3) or (m, 6), got {faces.shape}")
     out_points = {}
     if normals is not None:
         normals = np.asarray(normals)
         if normals.shape != vertices.shape:
-            raise ValueError(f"normals must have shape {vertices.shape}, got {normals.shape}")
+            raise MeshError(f"normals must have shape {vertices.shape}, got {normals.shape}")
         out_points["normals"] = normals
     for name, a in (point_data or {}).items():
         a = np.asarray(a)
         if a.ndim not in (1, 2) or len(a) != len(vertices):
-            raise ValueError(f"point_data {name!r} must have {len(vertices)} rows, got shape {a.shape}")
+            raise MeshError(f"point_data {name!r} must have {len(vertices)} rows, got shape {a.shape}")
         out_points[name] = a
     out_cells = {}
     for name, a in (cell_data or {}).items():
         a = np.asarray(a)
         if a.ndim not in (1, 2) or len(a) != len(faces):
-            raise ValueError(f"cell_data {name!r} must have {len(faces)} rows, got shape {a.shape}")
+            raise MeshError(f"cell_data {name!r} must have {len(faces)} rows, got shape {a.shape}")
         out_cells[name] = [a]
     kind = "triangle6" if faces.shape[1] == 6 else "triangle"
     mesh = meshio.Mesh(vertices, [(kind, faces)], point_data=out_points, cell_data=out_cells)

@@ -11,6 +11,7 @@ from typing import Any, Dict, Optional, Tuple
 import numpy as np
 
 from . import _tessella
+from ._errors import MeshError, OptionError
 
 
 def _field_rows(name: str, arr: Any, count: int, per: str) -> np.ndarray:
@@ -18,9 +19,9 @@ def _field_rows(name: str, arr: Any, count: int, per: str) -> np.ndarray:
     if a.ndim == 1:
         a = a[:, None]
     if a.ndim != 2:
-        raise ValueError(f"field {name!r} must have shape ({count},) or ({count}, k), got {a.shape}")
+        raise MeshError(f"field {name!r} must have shape ({count},) or ({count}, k), got {a.shape}")
     if a.shape[0] != count:
-        raise ValueError(f"field {name!r} has {a.shape[0]} rows, but the mesh has {count} {per}s")
+        raise MeshError(f"field {name!r} has {a.shape[0]} rows, but the mesh has {count} {per}s")
     if not np.issubdtype(a.dtype, np.number) or np.issubdtype(a.dtype, np.complexfloating):
         raise TypeError(f"field {name!r} must hold real numbers, got dtype {a.dtype}")
     return np.ascontiguousarray(a, dtype=np.float32)
@@ -30,7 +31,7 @@ def split_faces(faces: Any) -> Tuple[np.ndarray, Optional[np.ndarray]]:
     """``(m, 3)`` or ``(m, 6)`` faces as corners and mid-edge nodes (-1 rows: linear faces)."""
     f = np.asarray(faces)
     if f.ndim != 2 or f.shape[1] not in (3, 6):
-        raise ValueError(
+        raise MeshError(
             f"faces must have shape (m, 3) or (m, 6) (corners, then the mid-edge nodes of edges "
             f"0-1, 1-2, 2-0), got {f.shape}"
         )
@@ -40,7 +41,7 @@ def split_faces(faces: Any) -> Tuple[np.ndarray, Optional[np.ndarray]]:
         return f, None
     corners = f[:, :3]
     if corners.size and corners.min() < 0:
-        raise ValueError("faces' corner columns hold a negative index")
+        raise MeshError("faces' corner columns hold a negative index")
     return corners, np.ascontiguousarray(f[:, 3:], dtype=np.int64)
 
 
@@ -60,16 +61,16 @@ def refine_fem(
     warp: Optional[str],
     scale: float,
 ) -> Any:
-    from . import RefineResult
+    from ._result import RefinedMesh
 
     v = np.asarray(vertices, dtype=np.float64)
     if v.ndim != 2 or v.shape[1] != 3:
-        raise ValueError(f"vertices must have shape (n, 3), got {v.shape}")
+        raise MeshError(f"vertices must have shape (n, 3), got {v.shape}")
     corners, mids = split_faces(faces)
     if scheme is None:
         scheme = "quadratic" if mids is not None else "pn"
     if isinstance(level, float) and not float(level).is_integer():
-        raise ValueError("fields and 6-node faces take a whole level")
+        raise OptionError("fields and 6-node faces take a whole level")
     point_data = dict(point_data or {})
     cell_data = dict(cell_data or {})
     pd = {name: _field_rows(name, a, len(v), "vertex") for name, a in point_data.items()}
@@ -79,16 +80,16 @@ def refine_fem(
             bad = np.argwhere(~np.isfinite(a))
             if len(bad):
                 i, c = bad[0]
-                raise ValueError(
+                raise MeshError(
                     f"field {name!r} has the non-finite value {a[i, c]} at {per} {i} (component {c})"
                 )
     if warp is not None:
         if warp not in pd:
-            raise ValueError(f"warp={warp!r} names no point_data field (have: {sorted(pd)})")
+            raise OptionError(f"warp={warp!r} names no point_data field (have: {sorted(pd)})")
         if pd[warp].shape[1] != 3:
-            raise ValueError(f"warp field {warp!r} must have 3 components per vertex, got {pd[warp].shape[1]}")
+            raise OptionError(f"warp field {warp!r} must have 3 components per vertex, got {pd[warp].shape[1]}")
         if not np.isfinite(scale):
-            raise ValueError(f"scale must be finite, got {scale}")
+            raise OptionError(f"scale must be finite, got {scale}")
         v = v + float(scale) * pd[warp].astype(np.float64)
         normals = None  # the deformed shape's normals, not the undeformed ones
     rv, rf, rn, face, bary, rpd, rcd = _tessella.refine_fem(
@@ -116,4 +117,4 @@ def refine_fem(
             rv, rn, face, bary = rv[keep], rn[keep], face[keep], bary[keep]
             rf = remap[rf].astype(np.uint32)
             out_pd = {k: a[keep] for k, a in out_pd.items()}
-    return RefineResult(rv, rf, rn, face, bary, point_data=out_pd, cell_data=out_cd)
+    return RefinedMesh(rv, rf, rn, face, bary, point_data=out_pd, cell_data=out_cd)

@@ -6,6 +6,8 @@ from typing import Any, Optional
 
 import numpy as np
 
+from ._errors import OptionError
+
 
 def _trimesh() -> Any:
     try:
@@ -57,7 +59,7 @@ def refine_trimesh(
 
     if isinstance(normals, str):
         if normals != "trimesh":
-            raise ValueError(
+            raise OptionError(
                 f"normals must be None, 'trimesh' or an (n, 3) array, got {normals!r}"
             )
         normals = mesh.vertex_normals

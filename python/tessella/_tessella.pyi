@@ -6,6 +6,8 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
+from ._types import BackendName, NormalsMode, SchemeName, Spacing
+
 __version__: str
 
 _F32 = npt.NDArray[np.float32]
@@ -21,13 +23,13 @@ def refine(
     faces: npt.ArrayLike,
     normals: Optional[npt.ArrayLike] = None,
     *,
-    scheme: str = "pn",
+    scheme: SchemeName = "pn",
     level: int = 8,
     alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
+    normals_mode: Optional[NormalsMode] = None,
     tags: _Tags = None,
     crease_angle: Optional[float] = None,
-    backend: str = "auto",
+    backend: BackendName = "auto",
     weld: bool = True,
     displace: _Displace = None,
 ) -> Tuple[_F32, _U32, _F32]: ...
@@ -36,17 +38,17 @@ def refine_adaptive(
     faces: npt.ArrayLike,
     normals: Optional[npt.ArrayLike] = None,
     *,
-    scheme: str = "pn",
+    scheme: SchemeName = "pn",
     level: float = 8.0,
     alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
-    spacing: str = "grid",
+    normals_mode: Optional[NormalsMode] = None,
+    spacing: Spacing = "grid",
     lod: Optional[str] = None,
     camera: Optional[str] = None,
     size: Optional[Tuple[int, int]] = None,
     weld: bool = True,
     origin: bool = False,
-    backend: str = "cpu",
+    backend: BackendName = "cpu",
 ) -> Tuple[_F32, _U32, _F32, Optional[npt.NDArray[np.int64]], Optional[_F32]]: ...
 def refine_fem(
     vertices: npt.ArrayLike,
@@ -54,11 +56,11 @@ def refine_fem(
     mids: Optional[npt.NDArray[np.int64]] = None,
     normals: Optional[npt.ArrayLike] = None,
     *,
-    scheme: str = "quadratic",
+    scheme: SchemeName = "quadratic",
     level: int = 8,
     alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
-    backend: str = "auto",
+    normals_mode: Optional[NormalsMode] = None,
+    backend: BackendName = "auto",
     weld: bool = True,
     point_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
     cell_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
@@ -77,7 +79,7 @@ def render(
     mids: Optional[npt.NDArray[np.int64]] = None,
     normals: Optional[npt.ArrayLike] = None,
     *,
-    scheme: str = "pn",
+    scheme: SchemeName = "pn",
     level: int = 8,
     size: Tuple[int, int] = (512, 512),
     yaw: float = 30.0,
@@ -98,7 +100,7 @@ def quality(
     faces: npt.ArrayLike,
     normals: Optional[npt.ArrayLike] = None,
     *,
-    scheme: str = "pn",
+    scheme: SchemeName = "pn",
     level: int = 8,
     alpha: float = 0.75,
     tags: _Tags = None,
@@ -117,7 +119,7 @@ def save(
     *,
     ply_ascii: bool = False,
 ) -> None: ...
-def schemes() -> List[str]: ...
+def schemes() -> List[SchemeName]: ...
 def backends() -> List[str]: ...
 def gpu_info() -> Optional[Dict[str, Any]]: ...
 
@@ -126,13 +128,15 @@ class Refiner:
         self,
         faces: npt.ArrayLike,
         *,
-        scheme: str = "pn",
+        vertices: Optional[npt.ArrayLike] = None,
+        normals: Optional[npt.ArrayLike] = None,
+        scheme: SchemeName = "pn",
         level: int = 8,
         alpha: float = 0.75,
-        normals_mode: Optional[str] = None,
+        normals_mode: Optional[NormalsMode] = None,
         tags: _Tags = None,
         crease_angle: Optional[float] = None,
-        backend: str = "auto",
+        backend: BackendName = "auto",
         weld: bool = True,
     ) -> None: ...
     def refine(
@@ -154,3 +158,8 @@ class Refiner:
     def scheme(self) -> str: ...
     @property
     def weld(self) -> bool: ...
+    @property
+    def backend(self) -> str: ...
+    def _state(
+        self,
+    ) -> Tuple[_U32, Dict[str, Any], Optional[Tuple[_F32, Optional[_F32]]]]: ...

@@ -1,6 +1,7 @@
 """The bad-input corpus shared with the CLI tests (tests/corpus/, described by expected.json):
-every bad file raises a Python exception carrying its expected message (never a crash), every
-good file loads with its expected counts. Also: the default backend prints nothing on a machine
+every bad file raises the tessella exception named for it in expected.json's
+"python_exception" column (MeshError or FileFormatError), carrying its expected message (never
+a crash); every good file loads with its expected counts. Also: the default backend prints nothing on a machine
 without a display."""
 
 import json
@@ -20,16 +21,19 @@ EXPECTED = json.loads((CORPUS / "expected.json").read_text())
 def test_the_corpus_is_large():
     assert len(EXPECTED["bad"]) >= 40
     assert len(EXPECTED["good"]) >= 10
+    assert sorted(EXPECTED["python_exception"]) == sorted(EXPECTED["bad"])
 
 
 @pytest.mark.parametrize("name", sorted(EXPECTED["bad"]))
-def test_bad_file_raises_its_message(name):
+def test_bad_file_raises_its_exception_and_message(name):
     # load() refuses malformed files; geometry it returns as stored (NaN, zero normals,
     # degenerate triangles), which refine() then refuses: the message comes from one of them.
     with pytest.raises(Exception) as info:
         v, f, n = tessella.load(str(CORPUS / "bad" / name))
         tessella.refine(v, f, n, level=2)
-    assert isinstance(info.value, (ValueError, OSError)), repr(info.value)
+    expected = getattr(tessella, EXPECTED["python_exception"][name])
+    assert type(info.value) is expected, repr(info.value)
+    assert isinstance(info.value, (tessella.TessellaError, ValueError))
     assert EXPECTED["bad"][name] in str(info.value), str(info.value)
 
 

@@ -8,10 +8,12 @@ import tessella
 from conftest import icosphere
 
 
-def test_refine_accepts_and_returns_a_trimesh():
+def test_refine_accepts_a_trimesh_and_converts_back():
     v, f = icosphere(1)
     mesh = trimesh.Trimesh(vertices=v.astype(np.float64), faces=f, process=False)
-    out = tessella.refine(mesh, scheme="pn", level=4)
+    result = tessella.refine(mesh, scheme="pn", level=4)
+    assert isinstance(result, tessella.RefinedMesh)
+    out = result.to_trimesh()
     assert isinstance(out, trimesh.Trimesh)
     rv, rf, rn = tessella.refine(v, f, scheme="pn", level=4)
     np.testing.assert_array_equal(out.vertices, rv)

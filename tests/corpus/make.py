@@ -3,7 +3,8 @@
 
 The files are committed; this script documents how each was made and rewrites them
 (`python3 tests/corpus/make.py`). What each must give is in expected.json, which is kept by
-hand: every bad file maps to a substring of its error, every good file to its counts.
+hand: every bad file maps to a substring of its error (and, in "python_exception", to the
+tessella exception class the Python package raises for it), every good file to its counts.
 """
 import base64
 import json

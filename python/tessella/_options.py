@@ -1,0 +1,304 @@
+"""Typed options: :class:`Camera`, :class:`Lod` and :class:`Displace`, and the one place where
+:func:`tessella.refine`'s options are checked against each other (:func:`check_conflicts`).
+
+Each typed option validates its numbers when it is made (an :class:`~tessella.OptionError`
+naming the bad one), has a ``repr`` that reads as the call that made it, and turns into the
+string or dict form the compiled module reads. The string forms (``lod="tolerance:0.001"``)
+remain a shorthand: :func:`lod_spec` and :func:`displace_spec` accept both.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Dict, Optional, Sequence, Tuple
+
+from ._errors import OptionError
+
+
+def _finite(what: str, value: Any) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise OptionError(f"{what} must be a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise OptionError(f"{what} must be finite, got {x}")
+    return x
+
+
+def _positive(what: str, value: Any) -> float:
+    x = _finite(what, value)
+    if x <= 0:
+        raise OptionError(f"{what} must be greater than 0, got {x}")
+    return x
+
+
+def _point(what: str, value: Any) -> Tuple[float, float, float]:
+    try:
+        items = [v for v in value]
+    except TypeError:
+        raise OptionError(f"{what} must be 3 numbers (x, y, z), got {value!r}") from None
+    if len(items) != 3:
+        raise OptionError(f"{what} must be 3 numbers (x, y, z), got {len(items)}")
+    x, y, z = (_finite(f"{what}[{k}]", v) for k, v in enumerate(items))
+    return (x, y, z)
+
+
+class Camera:
+    """A pinhole camera for screen-space and distance LOD.
+
+    ``Camera(eye, target, fov=45.0)``: ``eye`` and ``target`` are 3 numbers each, ``fov`` the
+    vertical field of view in degrees (strictly between 0 and 180). ``eye`` and ``target`` must
+    differ.
+    """
+
+    __slots__ = ("eye", "target", "fov")
+
+    def __init__(self, eye: Sequence[float], target: Sequence[float], fov: float = 45.0) -> None:
+        self.eye = _point("Camera eye", eye)
+        self.target = _point("Camera target", target)
+        self.fov = _finite("Camera fov", fov)
+        if not 0.0 < self.fov < 180.0:
+            raise OptionError(f"Camera fov (the vertical field of view) must lie strictly between 0 and 180 degrees, got {self.fov}")
+        if self.eye == self.target:
+            raise OptionError("Camera eye and target are the same point; the camera looks nowhere")
+
+    @classmethod
+    def coerce(cls, value: Any) -> "Camera":
+        """A :class:`Camera`, or 7 numbers ``(eye_x, eye_y, eye_z, target_x, target_y,
+        target_z, fov)`` (a sequence or that comma-separated string)."""
+        if isinstance(value, Camera):
+            return value
+        if isinstance(value, str):
+            value = value.split(",")
+        try:
+            items = list(value)
+        except TypeError:
+            raise OptionError(f"camera must be a tessella.Camera or 7 numbers, got {value!r}") from None
+        if len(items) != 7:
+            raise OptionError(
+                f"camera must be a tessella.Camera or 7 numbers (eye xyz, target xyz, fov), got {len(items)}"
+            )
+        return cls(items[0:3], items[3:6], items[6])
+
+    def spec(self) -> str:
+        """The camera as the compiled module reads it: ``"ex,ey,ez,tx,ty,tz,fov"``."""
+        return ",".join(repr(x) for x in (*self.eye, *self.target, self.fov))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Camera) and (self.eye, self.target, self.fov) == (
+            other.eye,
+            other.target,
+            other.fov,
+        )
+
+    def __hash__(self) -> int:
+        return hash((self.eye, self.target, self.fov))
+
+    def __repr__(self) -> str:
+        return f"Camera(eye={self.eye!r}, target={self.target!r}, fov={self.fov!r})"
+
+
+class Lod:
+    """Per-edge adaptive levels (crack-free: each coarse edge's level from that edge alone).
+
+    Make one with a constructor:
+
+    - ``Lod.tolerance(max_deviation)``: the flat triangles lie within ``max_deviation`` of the
+      curved surface.
+    - ``Lod.screen(pixels, camera, size)``: edges about ``pixels`` long on screen, for a
+      :class:`Camera` and an image ``size = (width, height)``.
+    - ``Lod.distance(near, far, max, camera)``: level ``max`` up to ``near`` from the eye,
+      falling to 1 at ``far``.
+    """
+
+    __slots__ = ("kind", "values", "camera", "size")
+
+    def __init__(
+        self,
+        kind: str,
+        values: Tuple[float, ...],
+        camera: Optional[Camera] = None,
+        size: Optional[Tuple[int, int]] = None,
+    ) -> None:
+        # Use the constructors: they validate.
+        self.kind, self.values, self.camera, self.size = kind, values, camera, size
+
+    @classmethod
+    def tolerance(cls, max_deviation: float) -> "Lod":
+        return cls("tolerance", (_positive("Lod.tolerance max_deviation", max_deviation),))
+
+    @classmethod
+    def screen(cls, pixels: float, camera: Any, size: Sequence[int]) -> "Lod":
+        px = _positive("Lod.screen pixels", pixels)
+        return cls("screen", (px,), Camera.coerce(camera), _size("Lod.screen size", size))
+
+    @classmethod
+    def distance(cls, near: float, far: float, max: float, camera: Any) -> "Lod":
+        n = _finite("Lod.distance near", near)
+        f = _finite("Lod.distance far", far)
+        m = _finite("Lod.distance max", max)
+        if not 0 <= n < f:
+            raise OptionError(f"Lod.distance needs 0 <= near < far, got near={n}, far={f}")
+        if m < 1:
+            raise OptionError(f"Lod.distance max is the finest level, 1 or more, got {m}")
+        return cls("distance", (n, f, m), Camera.coerce(camera))
+
+    def spec(self) -> str:
+        """The string form the compiled module reads (``"tolerance:0.001"``)."""
+        return self.kind + ":" + ",".join(repr(v) for v in self.values)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Lod) and (self.kind, self.values, self.camera, self.size) == (
+            other.kind,
+            other.values,
+            other.camera,
+            other.size,
+        )
+
+    def __hash__(self) -> int:
+        return hash((self.kind, self.values, self.camera, self.size))
+
+    def __repr__(self) -> str:
+        if self.kind == "tolerance":
+            return f"Lod.tolerance({self.values[0]!r})"
+        if self.kind == "screen":
+            return f"Lod.screen({self.values[0]!r}, {self.camera!r}, {self.size!r})"
+        n, f, m = self.values
+        return f"Lod.distance({n!r}, {f!r}, {m!r}, {self.camera!r})"
+
+
+def _size(what: str, size: Any) -> Tuple[int, int]:
+    try:
+        w, h = size
+    except (TypeError, ValueError):
+        raise OptionError(f"{what} must be (width, height) in pixels, got {size!r}") from None
+    if int(w) != w or int(h) != h or int(w) < 1 or int(h) < 1:
+        raise OptionError(f"{what} must be two whole numbers of pixels, 1 or more, got {size!r}")
+    return (int(w), int(h))
+
+
+class Displace:
+    """A displacement along the unit normal, after evaluation: ``P + d(P) n``.
+
+    - ``Displace.sine(amplitude, frequency)``: ``d = amplitude sin(frequency |P|)``.
+    - ``Displace.perlin(amplitude, frequency, seed=0)``: ``d = amplitude noise(frequency P)``,
+      Perlin's improved noise with a permutation shuffled by ``seed`` (0 .. 2**32-1).
+    """
+
+    __slots__ = ("kind", "amplitude", "frequency", "seed")
+
+    def __init__(self, kind: str, amplitude: float, frequency: float, seed: int = 0) -> None:
+        if kind not in ("sine", "perlin"):
+            raise OptionError(f"Displace kind {kind!r}: use Displace.sine or Displace.perlin")
+        self.kind = kind
+        self.amplitude = _finite(f"Displace.{kind} amplitude", amplitude)
+        self.frequency = _finite(f"Displace.{kind} frequency", frequency)
+        if isinstance(seed, bool) or int(seed) != seed or not 0 <= int(seed) < 2**32:
+            raise OptionError(f"Displace seed must be a whole number in 0..2**32-1, got {seed!r}")
+        self.seed = int(seed)
+
+    @classmethod
+    def sine(cls, amplitude: float, frequency: float) -> "Displace":
+        return cls("sine", amplitude, frequency)
+
+    @classmethod
+    def perlin(cls, amplitude: float, frequency: float, seed: int = 0) -> "Displace":
+        return cls("perlin", amplitude, frequency, seed)
+
+    def spec(self) -> Dict[str, Any]:
+        """The dict form the compiled module reads."""
+        d: Dict[str, Any] = {"kind": self.kind, "amplitude": self.amplitude, "frequency": self.frequency}
+        if self.kind == "perlin":
+            d["seed"] = self.seed
+        return d
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Displace) and self.spec() == other.spec()
+
+    def __hash__(self) -> int:
+        return hash(tuple(self.spec().items()))
+
+    def __repr__(self) -> str:
+        if self.kind == "sine":
+            return f"Displace.sine({self.amplitude!r}, {self.frequency!r})"
+        return f"Displace.perlin({self.amplitude!r}, {self.frequency!r}, seed={self.seed})"
+
+
+_LOD_KEYS = {"tolerance": ["max_deviation"], "screen": ["pixels"], "distance": ["near", "far", "max"]}
+
+
+def lod_spec(lod: Any, camera: Any, size: Any) -> Tuple[Optional[str], Optional[str], Optional[Tuple[int, int]]]:
+    """``(lod, camera, size)`` as the compiled module reads them, from any accepted form: a
+    :class:`Lod` (which carries its own camera and size), a string, or a dict."""
+    if lod is None:
+        if camera is not None or size is not None:
+            raise OptionError("camera= and size= serve lod= (Lod.screen, Lod.distance); pass lod= too")
+        return None, None, None
+    if isinstance(lod, Lod):
+        if camera is not None or size is not None:
+            raise OptionError(f"{lod!r} carries its own camera and size; do not also pass camera= or size=")
+        return lod.spec(), None if lod.camera is None else lod.camera.spec(), lod.size
+    cam = None if camera is None else Camera.coerce(camera).spec()
+    sz = None if size is None else _size("size", size)
+    if isinstance(lod, str):
+        return lod, cam, sz
+    if isinstance(lod, dict):
+        kind = lod.get("kind")
+        if kind not in _LOD_KEYS:
+            raise OptionError(f"lod kind {kind!r}: expected 'tolerance', 'screen' or 'distance'")
+        missing = [k for k in _LOD_KEYS[kind] if k not in lod]
+        if missing:
+            raise OptionError(f"lod {kind!r} needs {', '.join(missing)}")
+        return kind + ":" + ",".join(repr(_finite(f"lod {k}", lod[k])) for k in _LOD_KEYS[kind]), cam, sz
+    raise TypeError(f"lod must be a tessella.Lod, a string or a dict, not {type(lod).__name__}")
+
+
+def displace_spec(displace: Any) -> Any:
+    """A :class:`Displace` as its dict; the dict and tuple shorthands pass through (the compiled
+    module checks them)."""
+    return displace.spec() if isinstance(displace, Displace) else displace
+
+
+def check_conflicts(
+    *,
+    fem: bool,
+    adaptive: bool,
+    spacing: str,
+    lod: Any,
+    camera: Any,
+    size: Any,
+    origin: bool,
+    tags: Any,
+    crease_angle: Any,
+    displace: Any,
+    backend: str,
+) -> None:
+    """Refuses options that cannot go together, all in one message style:
+    ``"refine(): A cannot be combined with B (why)"``."""
+
+    def refuse(a: str, b: str, why: str) -> None:
+        raise OptionError(f"refine(): {a} cannot be combined with {b} ({why})")
+
+    given = lambda pairs: [name for name, v in pairs if v]  # noqa: E731
+    if fem:
+        spaced = given([("spacing=", spacing != "grid"), ("lod=", lod is not None),
+                        ("camera=", camera is not None), ("size=", size is not None)])
+        if spaced:
+            refuse("point_data=, cell_data=, warp= or 6-node faces", spaced[0],
+                   "fields take a whole level on the grid pattern")
+        shaped = given([("tags=", tags is not None), ("crease_angle=", crease_angle is not None),
+                        ("displace=", displace is not None)])
+        if shaped:
+            refuse("point_data=, cell_data=, warp= or 6-node faces", shaped[0],
+                   "fields are carried on the untagged, undisplaced surface")
+    if adaptive:
+        shaped = given([("tags=", tags is not None), ("crease_angle=", crease_angle is not None),
+                        ("displace=", displace is not None)])
+        if shaped:
+            refuse("spacing=, fractional levels, lod= or origin=", shaped[0],
+                   "those refine on the CPU or GL pattern planner, which takes no tags or displacement")
+        if backend == "gpu":
+            refuse("spacing=, fractional levels, lod= or origin=", "backend='gpu'",
+                   "they refine on the CPU or on the GL tessellator: use backend='cpu' or 'gl'")
+        if origin and backend == "gl":
+            refuse("origin=True", "backend='gl'", "the GL tessellator does not report origins; use backend='cpu'")

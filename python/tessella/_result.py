@@ -1,0 +1,171 @@
+"""The one thing :func:`tessella.refine` returns: a :class:`RefinedMesh`, and its converters.
+
+Each converter imports its package only when it is called (trimesh, pyvista, meshio are
+optional). Normals travel as the format's own normals where it has them (trimesh's
+``vertex_normals``, PyVista's active ``"Normals"`` point array, meshio point data
+``"normals"``, as :func:`tessella.write_fem` writes it); the fields as the format's point and
+cell data.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, Iterator, Optional, Tuple, Union
+
+import numpy as np
+
+NORMALS = "Normals"  # PyVista's and VTK's name for point normals
+MESHIO_NORMALS = "normals"  # what write_fem stores
+
+
+def _need(module: str, extra: str) -> Any:
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        raise ImportError(f"this needs {module}; install it with `pip install {extra}`") from e
+
+
+class RefinedMesh:
+    """A refined surface: arrays and the fields carried onto it.
+
+    Attributes
+    ----------
+    vertices : numpy.ndarray, float32, V  #V by 3
+    faces : numpy.ndarray, uint32, F  #F by 3 (counter-clockwise)
+    normals : numpy.ndarray, float32, N  #V by 3 (unit)
+    uvs : numpy.ndarray, float32, #V by 2, or None
+        Texture coordinates when the input had them (``None`` otherwise).
+    point_data : dict of str to numpy.ndarray, float32, #V or #V by k
+        ``point_data=`` fields at the refined vertices (empty when none were given).
+    cell_data : dict of str to numpy.ndarray, float32, #F or #F by k
+        ``cell_data=`` fields, each coarse face's value on its refined triangles.
+    origin : (face, bary) or None
+        With ``origin=True`` or fields: ``face`` int64 ``#V`` (each vertex's coarse triangle,
+        -1 for a coarse vertex no face uses) and ``bary`` float32 ``#V by 3`` (its barycentric
+        coordinates in that triangle's corner order). Also as ``.face`` and ``.bary``.
+
+    ``v, f, n = result`` unpacks the three arrays (so code written for the old tuple keeps
+    working), and ``result[0]`` .. ``result[2]`` index them.
+    """
+
+    __slots__ = ("vertices", "faces", "normals", "uvs", "point_data", "cell_data", "origin")
+
+    def __init__(
+        self,
+        vertices: Any,
+        faces: Any,
+        normals: Any,
+        face: Any = None,
+        bary: Any = None,
+        point_data: Optional[Dict[str, Any]] = None,
+        cell_data: Optional[Dict[str, Any]] = None,
+        uvs: Any = None,
+    ) -> None:
+        self.vertices, self.faces, self.normals = vertices, faces, normals
+        self.origin: Optional[Tuple[Any, Any]] = None if face is None else (face, bary)
+        self.point_data: Dict[str, Any] = {} if point_data is None else dict(point_data)
+        self.cell_data: Dict[str, Any] = {} if cell_data is None else dict(cell_data)
+        self.uvs = uvs
+
+    @property
+    def face(self) -> Any:
+        """Each vertex's coarse triangle (``origin[0]``), or ``None``."""
+        return None if self.origin is None else self.origin[0]
+
+    @property
+    def bary(self) -> Any:
+        """Each vertex's barycentric coordinates (``origin[1]``), or ``None``."""
+        return None if self.origin is None else self.origin[1]
+
+    def __iter__(self) -> Iterator[Any]:
+        return iter((self.vertices, self.faces, self.normals))
+
+    def __len__(self) -> int:
+        return 3
+
+    def __getitem__(self, index: Any) -> Any:
+        return (self.vertices, self.faces, self.normals)[index]
+
+    def __repr__(self) -> str:
+        extra = []
+        if self.point_data:
+            extra.append(f"point_data={sorted(self.point_data)}")
+        if self.cell_data:
+            extra.append(f"cell_data={sorted(self.cell_data)}")
+        if self.origin is not None:
+            extra.append("origin")
+        tail = (", " + ", ".join(extra)) if extra else ""
+        return f"RefinedMesh({len(self.vertices)} vertices, {len(self.faces)} faces{tail})"
+
+    # -- converters -------------------------------------------------------------------------
+
+    def to_trimesh(self) -> Any:
+        """A ``trimesh.Trimesh`` (``process=False``: vertices kept exactly, faces int64) with
+        ``vertex_normals``, and the fields as ``vertex_attributes`` / ``face_attributes``."""
+        trimesh = _need("trimesh", "trimesh")
+        return trimesh.Trimesh(
+            vertices=np.asarray(self.vertices),
+            faces=np.asarray(self.faces, dtype=np.int64),
+            vertex_normals=np.asarray(self.normals),
+            vertex_attributes=dict(self.point_data),
+            face_attributes=dict(self.cell_data),
+            process=False,
+        )
+
+    def to_pyvista(self) -> Any:
+        """A ``pyvista.PolyData`` with point array ``"Normals"`` (the active normals) and the
+        fields as point and cell data (the first point field is the active scalars)."""
+        pv = _need("pyvista", "pyvista")
+        faces = np.asarray(self.faces, dtype=np.int64)
+        cells = np.hstack([np.full((len(faces), 1), 3, dtype=np.int64), faces]).ravel()
+        mesh = pv.PolyData(np.asarray(self.vertices), cells)
+        for name, a in self.point_data.items():
+            mesh.point_data[name] = np.asarray(a)
+        for name, a in self.cell_data.items():
+            mesh.cell_data[name] = np.asarray(a)
+        mesh.point_data[NORMALS] = np.asarray(self.normals)
+        mesh.point_data.active_normals_name = NORMALS
+        if self.point_data:
+            mesh.set_active_scalars(next(iter(self.point_data)), preference="point")
+        return mesh
+
+    def to_meshio(self) -> Any:
+        """A ``meshio.Mesh`` with one ``"triangle"`` block, point data ``"normals"`` and the
+        fields as point and cell data."""
+        meshio = _need("meshio", "meshio")
+        point_data = {MESHIO_NORMALS: np.asarray(self.normals)}
+        point_data.update({k: np.asarray(a) for k, a in self.point_data.items()})
+        cell_data = {k: [np.asarray(a)] for k, a in self.cell_data.items()}
+        return meshio.Mesh(
+            np.asarray(self.vertices),
+            [("triangle", np.asarray(self.faces, dtype=np.int64))],
+            point_data=point_data,
+            cell_data=cell_data,
+        )
+
+    def save(self, path: Union[str, "os.PathLike[str]"], **kwargs: Any) -> None:
+        """Write the mesh; the format follows the extension.
+
+        ``.obj``, ``.ply``, ``.gltf``, ``.glb``, ``.stl``: tessella's own writers
+        (:func:`tessella.save`; fields are not stored). Anything else (``.vtu``, ``.vtk``,
+        ``.xdmf``, ``.msh``, ...): meshio (:func:`tessella.write_fem`), with normals and
+        fields. Both write a temporary file and rename it, so a failure leaves no half file.
+        """
+        from . import _tessella
+        from ._fem import write_fem
+
+        ext = os.path.splitext(os.fspath(path))[1].lower()
+        if ext in (".obj", ".ply", ".gltf", ".glb", ".stl"):
+            _tessella.save(os.fspath(path), self.vertices, self.faces, self.normals, **kwargs)
+        else:
+            write_fem(
+                path,
+                self.vertices,
+                self.faces,
+                self.normals,
+                point_data=self.point_data,
+                cell_data=self.cell_data,
+                **kwargs,
+            )
