@@ -1,7 +1,7 @@
 //! `tessella.refine_to_file` and `tessella._tessella.refine_file`: refinements written straight
 //! to a file, piece by piece where the plan allows (welded uniform levels), so the output may
 //! be far larger than memory; `max_memory` is then the working set, not a cap on the output.
-//! Errors are raised as the package's own classes (`tessella._errors`): `MeshError`,
+//! Errors are mapped by `crate::errors`, as everywhere in the package: `MeshError`,
 //! `OptionError`, `FileFormatError`, and `OSError` for what the system refused (a full disk,
 //! a read-only folder, a missing file).
 
@@ -18,35 +18,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine_file, m)?)?;
     m.add_function(wrap_pyfunction!(refine_to_file, m)?)?;
     Ok(())
-}
-
-/// An instance of `tessella._errors.<class>` with `message`.
-fn error(py: Python<'_>, class: &str, message: String) -> PyErr {
-    match py
-        .import("tessella._errors")
-        .and_then(|m| m.getattr(class))
-        .and_then(|c| c.call1((message.clone(),)))
-    {
-        Ok(instance) => PyErr::from_value(instance),
-        Err(e) => e,
-    }
-}
-
-fn io_error(py: Python<'_>, e: IoError) -> PyErr {
-    match &e {
-        IoError::Read { .. } | IoError::Write { .. } => crate::errors::io_error(e),
-        IoError::Mesh { .. } | IoError::BadMesh { .. } | IoError::NoTriangles { .. } => {
-            error(py, "MeshError", e.to_string())
-        }
-        _ => error(py, "FileFormatError", e.to_string()),
-    }
-}
-
-fn refine_error(py: Python<'_>, e: RefineError) -> PyErr {
-    match e {
-        RefineError::Mesh(_) => error(py, "MeshError", e.to_string()),
-        _ => error(py, "OptionError", e.to_string()),
-    }
 }
 
 /// The options both functions take.
@@ -67,7 +38,7 @@ fn options(
     ply_ascii: bool,
     max_memory: i64,
 ) -> PyResult<Options> {
-    let option = |m: String| error(py, "OptionError", m);
+    let option = |m: String| crate::errors::bad_option(m);
     let scheme: Scheme = scheme
         .parse()
         .map_err(|e| option(format!("scheme={scheme:?}: {e}")))?;
@@ -102,7 +73,7 @@ fn options(
 
 /// Refines `mesh` into `output`: streamed when the plan allows, else whole within the budget.
 fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py<PyDict>> {
-    tessella_io::Format::from_path(output).map_err(|e| io_error(py, e))?;
+    tessella_io::Format::from_path(output).map_err(crate::errors::io_error)?;
     let start = Instant::now();
     let mut refine = o.refine.clone();
     let streams = refine.weld
@@ -111,21 +82,18 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
             .is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
     refine.max_output_bytes = if streams { u64::MAX } else { o.max_memory };
     let (vertices, triangles) = py.detach(|| -> Result<(usize, usize), PyErr> {
-        let plan =
-            Plan::new(mesh, &refine).map_err(|e| Python::attach(|py| refine_error(py, e)))?;
-        let frame = plan
-            .frame(mesh)
-            .map_err(|e| Python::attach(|py| refine_error(py, e)))?;
+        let plan = Plan::new(mesh, &refine).map_err(crate::errors::refine_error)?;
+        let frame = plan.frame(mesh).map_err(crate::errors::refine_error)?;
         let counts = (plan.vertex_count(), plan.triangle_count());
         let written = match RefinedSource::new(&plan, &frame, o.max_memory).filter(|_| streams) {
             Some(source) => tessella_io::write_streamed(output, &source, &o.write, &|_| {}),
             None => {
-                let whole = tessella_core::refine(mesh, &refine)
-                    .map_err(|e| Python::attach(|py| refine_error(py, e)))?;
+                let whole =
+                    tessella_core::refine(mesh, &refine).map_err(crate::errors::refine_error)?;
                 tessella_io::write_mesh(output, MeshView::from(&whole), &o.write)
             }
         };
-        written.map_err(|e| Python::attach(|py| io_error(py, e)))?;
+        written.map_err(crate::errors::io_error)?;
         Ok(counts)
     })?;
     let row = PyDict::new(py);
@@ -168,7 +136,7 @@ fn refine_file(
     )?;
     let mesh = py
         .detach(|| tessella_io::read_mesh(&input))
-        .map_err(|e| io_error(py, e))?;
+        .map_err(|e| crate::errors::read_error(e, &input))?;
     write(py, &mesh, &output, &o)
 }
 
@@ -202,6 +170,6 @@ fn refine_to_file(
         max_memory,
     )?;
     let mesh = crate::mesh_from(py, vertices, faces, normals)
-        .map_err(|e| error(py, "MeshError", e.to_string()))?;
+        .map_err(|e| crate::errors::bad_mesh(e.to_string()))?;
     write(py, &mesh, &output, &o)
 }
