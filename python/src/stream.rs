@@ -29,7 +29,6 @@ struct Options {
 
 #[allow(clippy::too_many_arguments)]
 fn options(
-    py: Python<'_>,
     scheme: &str,
     level: i64,
     alpha: f64,
@@ -38,7 +37,7 @@ fn options(
     ply_ascii: bool,
     max_memory: i64,
 ) -> PyResult<Options> {
-    let option = |m: String| crate::errors::bad_option(m);
+    let option = crate::errors::bad_option::<String>;
     let scheme: Scheme = scheme
         .parse()
         .map_err(|e| option(format!("scheme={scheme:?}: {e}")))?;
@@ -125,7 +124,6 @@ fn refine_file(
     max_memory: i64,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
-        py,
         scheme,
         level,
         alpha,
@@ -160,7 +158,6 @@ fn refine_to_file(
     max_memory: i64,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
-        py,
         scheme,
         level,
         alpha,
