@@ -128,7 +128,7 @@ impl RefineOptions {
     /// The part of these options that defines the surface (scheme, normals, tags; no level).
     pub fn surface_options(&self) -> SurfaceOptions {
         SurfaceOptions {
-            scheme: self.scheme.clone(),
+            scheme: self.scheme,
             normals: self.normals,
             tags: self.tags.clone(),
         }
