@@ -14,8 +14,7 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 use tessella_core::refine::instanced::{self, FrameInstances, PartTable, RECORD_WORDS};
-use tessella_core::refine::{canonical, lod, Frame, Lod, Plan, Spacing};
-use tessella_core::Topology;
+use tessella_core::refine::{canonical, lod, Frame, Lod, Spacing, Surface};
 
 /// Instances per face at most: three strips and an interior.
 const MAX_PARTS_PER_FACE: u64 = 4;
@@ -30,22 +29,26 @@ const MAX_PARTS_PER_FACE: u64 = 4;
 /// ```no_run
 /// # fn demo(ctx: &tessella_gpu::GpuContext, pass: &mut wgpu::RenderPass<'_>,
 /// #         uniforms: &tessella_gpu::RenderUniforms) -> Result<(), tessella_gpu::GpuError> {
-/// use tessella_core::refine::{Plan, Spacing};
-/// use tessella_core::{samples, RefineOptions, Scheme};
+/// use tessella_core::refine::{Spacing, Surface, SurfaceOptions};
+/// use tessella_core::{samples, Scheme};
 /// use tessella_gpu::{AdaptiveRenderer, TargetFormats};
 /// let mesh = samples::icosphere(1);
-/// let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1))?;
-/// let frame = plan.frame(&mesh)?;
+/// // The surface alone (topology and scheme): no level, the levels come every frame.
+/// let surface = Surface::new(&mesh, &SurfaceOptions::new(Scheme::Pn))?;
+/// let mut frame = surface.frame(&mesh)?;
 /// let formats = TargetFormats {
 ///     color: wgpu::TextureFormat::Rgba8UnormSrgb,
 ///     depth: None,
 ///     samples: 1,
 /// };
 /// let mut renderer =
-///     AdaptiveRenderer::new(ctx, &plan, &frame, &formats, Spacing::FractionalOdd)?;
+///     AdaptiveRenderer::new(ctx, &surface, &frame, &formats, Spacing::FractionalOdd)?;
 /// // Every frame: new levels (one per unique edge), new nets, one draw call per part used.
-/// let levels = vec![5.5; plan.topology().edges.len()];
+/// let levels = vec![5.5; surface.topology().edges.len()];
 /// renderer.set_levels(&levels, None)?;
+/// let moved: Vec<[f32; 3]> = mesh.positions().iter().map(|p| p.map(|c| 1.1 * c)).collect();
+/// surface.update(&mut frame, &moved, None)?;
+/// renderer.update(&frame)?;
 /// renderer.set_uniforms(uniforms);
 /// renderer.draw(pass);
 /// # Ok(()) }
@@ -76,9 +79,8 @@ pub struct AdaptiveRenderer {
     render_group: wgpu::BindGroup,
     wireframe: AtomicBool,
     table: PartTable,
-    /// What the per-frame records need from the plan.
-    topology: Topology,
-    triangles: Vec<[u32; 3]>,
+    /// What the per-frame records need (topology, triangles), and whose frames are taken.
+    surface: Surface,
     /// Coarse triangles and basis size.
     shape: (usize, usize),
     /// The last [`AdaptiveRenderer::set_levels`]: draws and triangle count.
@@ -157,20 +159,22 @@ impl PartArrays {
 
 impl AdaptiveRenderer {
     /// Compiles the pipeline for `formats`, uploads `spacing`'s parts and the first frame's
-    /// nets. The plan gives the mesh's topology and scheme; its own levels are not used (make
-    /// it at level 1). Nothing is drawn before the first [`AdaptiveRenderer::set_levels`].
+    /// nets. The surface gives the mesh's topology and scheme (no level: the levels come with
+    /// each [`AdaptiveRenderer::set_levels`]); `frame` is one of its frames (a plan's
+    /// [`tessella_core::refine::Plan::surface`] serves too). Nothing is drawn before the first
+    /// [`AdaptiveRenderer::set_levels`].
     pub fn new(
         ctx: &GpuContext,
-        plan: &Plan,
+        surface: &Surface,
         frame: &Frame,
         formats: &TargetFormats,
         spacing: Spacing,
     ) -> Result<AdaptiveRenderer, GpuError> {
-        plan.check_frame(frame)?;
+        surface.check_frame(frame)?;
         // Its patch group (nets, records) and the render group's instances and UVs.
         ctx.check_storage_buffers("the adaptive renderer", "vertex", 7)?;
         let nets = frame.nets();
-        let faces = plan.face_count();
+        let faces = surface.face_count();
         // Under 4 GiB a binding's u32 indices in the shaders cannot wrap.
         let limit = ctx.max_binding().min(u32::MAX as u64);
         let record_bytes = faces as u64 * RECORD_WORDS as u64 * 4;
@@ -311,8 +315,7 @@ impl AdaptiveRenderer {
                 render_group,
                 wireframe: AtomicBool::new(false),
                 table,
-                topology: plan.topology().clone(),
-                triangles: plan.triangles().to_vec(),
+                surface: surface.clone(),
                 shape: (faces, basis.len()),
                 frame: FrameInstances::default(),
                 bytes,
@@ -331,9 +334,9 @@ impl AdaptiveRenderer {
     ) -> Result<u64, GpuError> {
         let frame = instanced::frame_instances(
             &self.table,
-            &self.topology,
-            &self.triangles,
-            &self.topology.position_ids,
+            self.surface.topology(),
+            self.surface.triangles(),
+            &self.surface.topology().position_ids,
             edge_levels,
             face_minimums,
         )?;
@@ -352,13 +355,17 @@ impl AdaptiveRenderer {
     /// camera that moves, a mesh that deforms: new levels every frame). Grid levels are drawn
     /// at most at `instanced::MAX_GRID_LEVEL` (64), below the tolerance LOD's cap of 1024.
     pub fn set_lod(&mut self, frame: &Frame, lod: &Lod) -> Result<u64, GpuError> {
+        self.surface.check_frame(frame)?;
         check_nets_shape(frame.nets(), self.shape)?;
-        let (edges, faces) = lod::levels(frame.mesh(), &self.topology, frame.nets(), lod)?;
+        let topology = self.surface.topology();
+        let (edges, faces) = lod::levels(frame.mesh(), topology, frame.nets(), lod)?;
         self.set_levels(&edges, faces.as_deref())
     }
 
-    /// Uploads `frame`'s control nets; returns the bytes written.
+    /// Uploads `frame`'s control nets (a frame of the renderer's surface, moved by
+    /// [`Surface::update`]); returns the bytes written.
     pub fn update(&self, frame: &Frame) -> Result<u64, GpuError> {
+        self.surface.check_frame(frame)?;
         check_nets_shape(frame.nets(), self.shape)?;
         Ok(write_nets(
             &self.ctx,
@@ -510,6 +517,11 @@ impl AdaptiveRenderer {
     /// Triangles the current levels draw (grid: with the zero-area ones the rasteriser skips).
     pub fn triangle_count(&self) -> u64 {
         self.frame.triangles
+    }
+
+    /// The surface drawn (its frames are the ones [`AdaptiveRenderer::update`] takes).
+    pub fn surface(&self) -> &Surface {
+        &self.surface
     }
 
     /// The spacing drawn.

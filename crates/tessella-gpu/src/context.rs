@@ -46,6 +46,10 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub limits: wgpu::Limits,
+    /// The adapter's downlevel capabilities where known: [`GpuContext::new`] reads them from
+    /// its adapter; after [`GpuContext::from_device`] they are unknown (the device is taken to
+    /// be WebGPU-compliant) until [`GpuContext::with_downlevel`] gives them.
+    downlevel: Option<wgpu::DownlevelCapabilities>,
     /// First error tessella met outside an error scope (a buffer it could not fill) or, on a
     /// device tessella opened itself, an uncaptured error or loss; taken by
     /// [`GpuContext::check`].
@@ -176,7 +180,8 @@ impl GpuContext {
             })?;
         // The device is tessella's own: its uncaptured errors and loss are recorded here (wgpu's
         // default handler would panic), and returned by `check`.
-        let ctx = GpuContext::from_device(device, queue);
+        let ctx = GpuContext::from_device(device, queue)
+            .with_downlevel(adapter.get_downlevel_capabilities());
         let sink = ctx.fault.clone();
         ctx.device
             .on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
@@ -228,11 +233,40 @@ impl GpuContext {
         GpuContext {
             info: device.adapter_info(),
             limits: device.limits(),
+            downlevel: None,
             device,
             queue,
             fault: Arc::new(Mutex::new(None)),
             pending: Arc::new(Mutex::new(Vec::new())),
         }
+    }
+
+    /// Tells tessella the downlevel capabilities of the adapter the caller's device came from
+    /// (`adapter.get_downlevel_capabilities()`), so that a device without storage buffers in
+    /// the vertex stage (WebGL2, GL ES 3.0: no `wgpu::DownlevelFlags::VERTEX_STORAGE`) has the
+    /// renderers refused up front with [`GpuError::NoVertexStorage`] instead of failing when
+    /// their pipelines are made. The compute path ([`crate::GpuEvaluator`]) does not need it.
+    ///
+    /// ```no_run
+    /// # async fn open(adapter: wgpu::Adapter) {
+    /// let limits = tessella_gpu::GpuContext::required_limits(&adapter.limits());
+    /// let (device, queue) = adapter
+    ///     .request_device(&wgpu::DeviceDescriptor { required_limits: limits, ..Default::default() })
+    ///     .await
+    ///     .unwrap();
+    /// let ctx = tessella_gpu::GpuContext::from_device(device, queue)
+    ///     .with_downlevel(adapter.get_downlevel_capabilities());
+    /// # }
+    /// ```
+    pub fn with_downlevel(mut self, caps: wgpu::DownlevelCapabilities) -> GpuContext {
+        self.downlevel = Some(caps);
+        self
+    }
+
+    /// The downlevel capabilities tessella checks against, where known
+    /// ([`GpuContext::with_downlevel`]).
+    pub fn downlevel(&self) -> Option<&wgpu::DownlevelCapabilities> {
+        self.downlevel.as_ref()
     }
 
     /// Refuses a device that allows fewer storage buffers in a shader stage than a path binds:
@@ -243,8 +277,17 @@ impl GpuContext {
         stage: &'static str,
         needed: u32,
     ) -> Result<(), GpuError> {
-        // wgpu 30 has one limit for every stage (a device without storage buffers in the
-        // vertex stage, as GL ES 3.0, reports 0 here).
+        // wgpu 30 has one limit for every stage; storage buffers in the vertex stage are a
+        // downlevel flag of the adapter.
+        let vertex = wgpu::DownlevelFlags::VERTEX_STORAGE;
+        if stage == "vertex"
+            && self
+                .downlevel
+                .as_ref()
+                .is_some_and(|d| !d.flags.contains(vertex))
+        {
+            return Err(GpuError::NoVertexStorage { what });
+        }
         let allowed = self.limits.max_storage_buffers_per_shader_stage;
         if allowed < needed {
             return Err(GpuError::Limit {

@@ -47,6 +47,13 @@ pub enum GpuError {
         needed: u64,
         allowed: u64,
     },
+    #[error(
+        "{what} reads storage buffers in the vertex stage, and this device has none there \
+         (its adapter lacks wgpu::DownlevelFlags::VERTEX_STORAGE, as WebGL2 and GL ES 3.0 do); \
+         the GPU evaluator's compute path still works on it (GpuEvaluator, gpu_refine), or use \
+         the CPU backend"
+    )]
+    NoVertexStorage { what: &'static str },
     #[error("invalid render option: {0}")]
     BadOption(String),
     #[error(transparent)]

@@ -22,8 +22,11 @@
 //!   [`tessella_core::Refiner::refine`].
 //! - **Renderer:** [`PatternRenderer`] draws one instanced pattern per coarse triangle (GMR
 //!   section 3.2) into the caller's render pass; per frame only the nets are uploaded.
-//!   [`AdaptiveRenderer`] draws per-edge levels that change every frame: the patterns' parts
-//!   are uploaded once (`tessella_core::refine::instanced`), per frame one record per face.
+//!   [`AdaptiveRenderer`], made from a [`tessella_core::refine::Surface`] (topology and scheme,
+//!   no level), draws per-edge levels that change every frame: the patterns' parts are uploaded
+//!   once (`tessella_core::refine::instanced`), per frame one record per face. A device without
+//!   storage buffers in the vertex stage ([`GpuContext::with_downlevel`]) has the renderers
+//!   refused with [`GpuError::NoVertexStorage`]; the evaluator's compute path still works.
 //! - **Displacement:** [`tessella_core::displace`]'s [`Displacement`] (sine, Perlin, height
 //!   map; re-exported here because [`GpuRefineOptions`] and [`PatternRenderer`] take it) in
 //!   both GPU paths (`shaders/displace.wgsl`), with the core's direction rule: hard edges and

@@ -81,7 +81,15 @@ impl PatchBindings {
             )));
         }
         plan.check_frame(frame)?;
-        ctx.check_storage_buffers("the exported patch group", "vertex", PATCH_STORAGE_BUFFERS)?;
+        // The vertex stage may have no storage buffers at all (a downlevel flag).
+        let stage = if visibility.contains(wgpu::ShaderStages::VERTEX) {
+            "vertex"
+        } else if visibility.contains(wgpu::ShaderStages::COMPUTE) {
+            "compute"
+        } else {
+            "fragment"
+        };
+        ctx.check_storage_buffers("the exported patch group", stage, PATCH_STORAGE_BUFFERS)?;
         let basis = plan.options().scheme.basis();
         let edges = crate::canonical::edge_table(
             basis,

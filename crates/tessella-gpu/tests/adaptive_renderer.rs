@@ -7,7 +7,7 @@ mod common;
 
 use common::ctx;
 use std::collections::HashMap;
-use tessella_core::refine::{canonical, Levels, Plan, Spacing};
+use tessella_core::refine::{canonical, Levels, Plan, Spacing, Surface};
 use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Scheme};
 use tessella_gpu::{AdaptiveRenderer, CapturedTriangles, TargetFormats};
 
@@ -30,9 +30,10 @@ fn capture(
     spacing: Spacing,
     lv: &[f32],
 ) -> CapturedTriangles {
-    let plan = Plan::new(mesh, options).unwrap();
-    let frame = plan.frame(mesh).unwrap();
-    let mut r = AdaptiveRenderer::new(ctx(), &plan, &frame, &FORMATS, spacing).unwrap();
+    // The surface alone: the options' level and levels play no part.
+    let surface = Surface::new(mesh, &options.surface_options()).unwrap();
+    let frame = surface.frame(mesh).unwrap();
+    let mut r = AdaptiveRenderer::new(ctx(), &surface, &frame, &FORMATS, spacing).unwrap();
     r.set_levels(lv, None).unwrap();
     let c = r.capture().unwrap();
     assert_eq!(c.positions.len() as u64, 3 * r.triangle_count());
@@ -178,10 +179,10 @@ fn a_deforming_mesh_with_lod_levels_draws_each_frames_cpu_points() {
     use tessella_core::refine::Lod;
     let mesh = samples::creature();
     let options = RefineOptions::new(Scheme::Pn, 1);
-    let plan = Plan::new(&mesh, &options).unwrap();
-    let first = plan.frame(&mesh).unwrap();
+    let surface = Surface::new(&mesh, &options.surface_options()).unwrap();
+    let mut frame = surface.frame(&mesh).unwrap();
     let mut r =
-        AdaptiveRenderer::new(ctx(), &plan, &first, &FORMATS, Spacing::FractionalOdd).unwrap();
+        AdaptiveRenderer::new(ctx(), &surface, &frame, &FORMATS, Spacing::FractionalOdd).unwrap();
     let lod = Lod::Distance {
         near: 1.0,
         far: 6.0,
@@ -201,7 +202,10 @@ fn a_deforming_mesh_with_lod_levels_draws_each_frames_cpu_points() {
             mesh.triangles().to_vec(),
         )
         .unwrap();
-        let frame = plan.frame(&moved).unwrap();
+        // The frame moves to the new positions and normals: its nets are rebuilt in place.
+        surface
+            .update(&mut frame, moved.positions(), Some(moved.normals()))
+            .unwrap();
         let nets = r.update(&frame).unwrap();
         assert_eq!(
             nets,

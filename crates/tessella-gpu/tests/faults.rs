@@ -231,8 +231,14 @@ fn webgpu_default_storage_buffers_suffice_and_fewer_are_refused_clearly() {
     };
     // Both renderers' pipelines (validated when made) fit the 8 storage buffers too.
     PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()).unwrap();
-    tessella_gpu::AdaptiveRenderer::new(&ctx, plan, &frame, &formats, Spacing::FractionalOdd)
-        .unwrap();
+    tessella_gpu::AdaptiveRenderer::new(
+        &ctx,
+        plan.surface(),
+        &frame,
+        &formats,
+        Spacing::FractionalOdd,
+    )
+    .unwrap();
     assert!(ctx.check().is_ok());
 
     let ctx = own_device(|l| wgpu::Limits {
@@ -263,4 +269,79 @@ fn webgpu_default_storage_buffers_suffice_and_fewer_are_refused_clearly() {
     };
     assert!(e.to_string().contains("vertex stage"), "{e}");
     assert!(ctx.check().is_ok(), "the refusals came before any GPU call");
+}
+
+/// A device without storage buffers in the vertex stage (WebGL2, GL ES 3.0: its adapter lacks
+/// `DownlevelFlags::VERTEX_STORAGE`) has every vertex-stage reader refused up front, by name and
+/// with what still works; the compute path still gives the CPU's mesh on it.
+#[test]
+fn a_device_without_vertex_storage_refuses_the_renderers_and_keeps_the_compute_path() {
+    // lavapipe stores in the vertex stage; the capabilities below are a GL ES 3.0 adapter's.
+    let caps = wgpu::DownlevelCapabilities {
+        flags: wgpu::DownlevelFlags::all() - wgpu::DownlevelFlags::VERTEX_STORAGE,
+        ..Default::default()
+    };
+    let ctx = own_device(|l| l).with_downlevel(caps);
+    let mesh = samples::icosphere(1);
+    let refiner = refiner(&mesh, 3);
+    let plan = refiner.plan();
+    let frame = plan.frame(&mesh).unwrap();
+    let formats = TargetFormats {
+        color: wgpu::TextureFormat::Rgba8UnormSrgb,
+        depth: None,
+        samples: 1,
+    };
+    let refusals = [
+        (
+            "the pattern renderer",
+            PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()).map(|_| ()),
+        ),
+        (
+            "the adaptive renderer",
+            tessella_gpu::AdaptiveRenderer::new(
+                &ctx,
+                plan.surface(),
+                &frame,
+                &formats,
+                Spacing::FractionalOdd,
+            )
+            .map(|_| ()),
+        ),
+        (
+            "the exported patch group",
+            tessella_gpu::PatchBindings::new(&ctx, plan, &frame, 0, wgpu::ShaderStages::VERTEX)
+                .map(|_| ()),
+        ),
+    ];
+    for (name, result) in refusals {
+        let Err(e) = result else {
+            panic!("{name} was made on a device without vertex-stage storage buffers");
+        };
+        assert!(
+            matches!(e, GpuError::NoVertexStorage { what } if what == name),
+            "{name}: {e}"
+        );
+        let message = e.to_string();
+        for needle in ["VERTEX_STORAGE", "vertex stage", "compute path still works"] {
+            assert!(message.contains(needle), "{name}: {message}");
+        }
+    }
+    assert!(ctx.check().is_ok(), "the refusals came before any GPU call");
+
+    // The compute path binds no storage buffer in the vertex stage: it still works there, and
+    // so does the exported group bound for an engine's compute shader.
+    tessella_gpu::PatchBindings::new(&ctx, plan, &frame, 0, wgpu::ShaderStages::COMPUTE).unwrap();
+    let gpu = gpu_refine_with(&ctx, &refiner, &GpuRefineOptions::default()).unwrap();
+    let cpu = refiner.refine();
+    assert_eq!(gpu.triangles, cpu.triangles);
+    for (g, c) in gpu.positions.iter().zip(&cpu.positions) {
+        for k in 0..3 {
+            assert!((g[k] - c[k]).abs() < 1e-5, "{g:?} vs {c:?}");
+        }
+    }
+    assert!(ctx.check().is_ok());
+
+    // A context tessella opens knows its adapter's capabilities (lavapipe: with the flag).
+    let own = common::ctx().downlevel().expect("read from the adapter");
+    assert!(own.flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE));
 }

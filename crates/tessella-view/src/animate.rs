@@ -6,7 +6,7 @@
 use crate::render::{scene_uniforms, RenderOptions, Target};
 use crate::save_png;
 use std::path::{Path, PathBuf};
-use tessella_core::refine::Plan;
+use tessella_core::refine::{Plan, Surface};
 use tessella_core::{Mesh, OutputLayout, RefineOptions};
 use tessella_gpu::{AdaptiveRenderer, GpuContext, GpuError, PatternRenderer};
 
@@ -158,16 +158,11 @@ pub fn render_fly_in(
     }
     options.validate()?;
     let target = Target::new(ctx, options.size)?;
-    let plan = Plan::new(
-        mesh,
-        &RefineOptions {
-            levels: None,
-            level: 1,
-            ..refine.clone()
-        },
-    )?;
-    let frame = plan.frame(mesh)?;
-    let mut renderer = AdaptiveRenderer::new(ctx, &plan, &frame, &Target::FORMATS, refine.spacing)?;
+    // The surface alone: the levels come from the screen-space LOD every frame.
+    let surface = Surface::new(mesh, &refine.surface_options())?;
+    let frame = surface.frame(mesh)?;
+    let mut renderer =
+        AdaptiveRenderer::new(ctx, &surface, &frame, &Target::FORMATS, refine.spacing)?;
     let mut stats = FlyInStats {
         zooms: Vec::new(),
         max_levels: Vec::new(),
@@ -191,7 +186,7 @@ pub fn render_fly_in(
             camera: crate::lod_camera(mesh, &view),
             size: [w, h],
         };
-        let (edges, faces) = lod::levels(mesh, plan.topology(), frame.nets(), &screen)?;
+        let (edges, faces) = lod::levels(mesh, surface.topology(), frame.nets(), &screen)?;
         let bytes = renderer.set_levels(&edges, faces.as_deref())?;
         renderer.set_uniforms(&scene_uniforms(mesh, &view, 0.0));
         target.draw(ctx, view.background, |pass| renderer.draw(pass))?;

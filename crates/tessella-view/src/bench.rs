@@ -5,7 +5,7 @@
 use crate::render::{scene_uniforms, RenderOptions, Target};
 use image::RgbaImage;
 use std::time::Instant;
-use tessella_core::refine::{Evaluator, Plan};
+use tessella_core::refine::{Evaluator, Plan, Surface, SurfaceOptions};
 use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
 use tessella_gpu::{
     gpu_refine, AdaptiveRenderer, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput,
@@ -413,9 +413,9 @@ pub fn changing_levels(
     };
     let target = Target::new(ctx, size)?;
     let uniforms = scene_uniforms(mesh, &options, 0.0);
-    let base = Plan::new(mesh, &RefineOptions::new(Scheme::Pn, 1))?;
-    let first = base.frame(mesh)?;
-    let edges = base.topology().edges.len();
+    let surface = Surface::new(mesh, &SurfaceOptions::new(Scheme::Pn))?;
+    let first = surface.frame(mesh)?;
+    let edges = surface.topology().edges.len();
     let frames = frames.max(1);
     let mut rows = Vec::new();
     for spacing in [Spacing::Grid, Spacing::FractionalOdd] {
@@ -449,7 +449,7 @@ pub fn changing_levels(
             }
             last = Some(renderer);
         }
-        let mut adaptive = AdaptiveRenderer::new(ctx, &base, &first, &Target::FORMATS, spacing)?;
+        let mut adaptive = AdaptiveRenderer::new(ctx, &surface, &first, &Target::FORMATS, spacing)?;
         adaptive.set_uniforms(&uniforms);
         let (mut adaptive_ms, mut adaptive_bytes) = (vec![], vec![]);
         for k in 0..=frames {

@@ -12,7 +12,7 @@ use common::ctx;
 use image::RgbaImage;
 use pixels::{crack_pixels, MAGENTA};
 use std::sync::Arc;
-use tessella_core::refine::{Levels, Plan, Spacing};
+use tessella_core::refine::{Levels, Plan, Spacing, Surface, SurfaceOptions};
 use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
 use tessella_gpu::{AdaptiveRenderer, Displacement, PatternRenderer};
 use tessella_view::{scene_uniforms, RenderOptions, Target};
@@ -170,10 +170,10 @@ fn live(
     levels: &[f32],
     view: &RenderOptions,
 ) -> (RgbaImage, usize) {
-    let plan = Plan::new(mesh, &RefineOptions::new(scheme, 1)).unwrap();
-    let frame = plan.frame(mesh).unwrap();
+    let surface = Surface::new(mesh, &SurfaceOptions::new(scheme)).unwrap();
+    let frame = surface.frame(mesh).unwrap();
     let mut renderer =
-        AdaptiveRenderer::new(ctx(), &plan, &frame, &Target::FORMATS, spacing).unwrap();
+        AdaptiveRenderer::new(ctx(), &surface, &frame, &Target::FORMATS, spacing).unwrap();
     renderer.set_levels(levels, None).unwrap();
     renderer.set_uniforms(&scene_uniforms(mesh, view, 0.0));
     let target = Target::new(ctx(), view.size).unwrap();
@@ -232,8 +232,8 @@ fn levels_set_per_frame_draw_the_cpu_surface() {
 #[test]
 fn levels_set_per_frame_leave_no_cracks_and_upload_only_coarse_data() {
     let mesh = samples::icosphere(1);
-    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1)).unwrap();
-    let edges = plan.topology().edges.len();
+    let surface = Surface::new(&mesh, &SurfaceOptions::new(Scheme::Pn)).unwrap();
+    let edges = surface.topology().edges.len();
     let view = RenderOptions {
         size: (256, 256),
         yaw: 23.0,
@@ -241,10 +241,10 @@ fn levels_set_per_frame_leave_no_cracks_and_upload_only_coarse_data() {
         back_color: Some(MAGENTA),
         ..Default::default()
     };
-    let frame = plan.frame(&mesh).unwrap();
+    let frame = surface.frame(&mesh).unwrap();
     for spacing in Spacing::ALL {
         let mut renderer =
-            AdaptiveRenderer::new(ctx(), &plan, &frame, &Target::FORMATS, spacing).unwrap();
+            AdaptiveRenderer::new(ctx(), &surface, &frame, &Target::FORMATS, spacing).unwrap();
         let mut uploads = Vec::new();
         for step in 0..4 {
             // Levels that differ edge by edge and change every frame, low to high.

@@ -20,6 +20,7 @@ pub mod morph;
 mod output;
 mod plan;
 pub mod stream;
+mod surface;
 
 pub use adaptive::{Camera, Levels, Lod, Morph, Spacing, Tile, Tiling};
 pub use evaluate::eval_point;
@@ -27,8 +28,9 @@ pub use evaluator::{CpuEvaluator, Evaluator};
 pub use indices::IndexInt;
 pub use layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE};
 pub use output::{VertexFormat, VertexOutput};
-pub use plan::{Frame, Plan, NO_FACE};
+pub use plan::{Plan, NO_FACE};
 pub use stream::Piece;
+pub use surface::{Frame, Surface, SurfaceOptions};
 
 use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};
@@ -124,6 +126,14 @@ impl RefineOptions {
     pub fn normal_mode(&self) -> NormalMode {
         self.normals
             .unwrap_or_else(|| self.scheme.default_normals())
+    }
+    /// The part of these options that defines the surface (scheme, normals, tags; no level).
+    pub fn surface_options(&self) -> SurfaceOptions {
+        SurfaceOptions {
+            scheme: self.scheme,
+            normals: self.normals,
+            tags: self.tags.clone(),
+        }
     }
 }
 

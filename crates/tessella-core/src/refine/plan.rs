@@ -34,23 +34,22 @@ use super::indices::{IndexInt, IndexJob};
 use super::layout::OutputLayout;
 use super::lod;
 use super::output::VertexOutput;
+pub(crate) use super::surface::Frame;
+use super::surface::Surface;
 use super::{RefineOptions, RefinedMesh};
 use crate::error::{human_bytes, RefineError};
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
 use crate::scheme::{fill_nets, validate_nets, PatchNets};
 use crate::stencil::Stencil;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
 
 /// The origin face of a coarse vertex no triangle uses ([`Plan::origin`]).
 pub const NO_FACE: u32 = u32::MAX;
 
-/// Tells plans apart, so a frame is never evaluated by a plan that did not make it.
-static NEXT_PLAN_ID: AtomicU64 = AtomicU64::new(1);
-
-/// Everything that does not change while a mesh deforms: the options, the topology, the output
-/// layout, the pattern and its stencil, and the refined triangles' indices (built on first
+/// Everything that does not change while a mesh deforms: the options, the [`Surface`]
+/// (topology and scheme, which builds the frames' nets), the output layout, the pattern and its
+/// stencil, and the refined triangles' indices (built on first
 /// use, then kept).
 ///
 /// A plan is made from one mesh and serves every mesh with the same triangles and vertex count
@@ -63,37 +62,13 @@ static NEXT_PLAN_ID: AtomicU64 = AtomicU64::new(1);
 /// `(N+1)(N+2)/2` pattern points.
 #[derive(Debug)]
 pub struct Plan {
-    id: u64,
     options: RefineOptions,
-    triangles: Vec<[u32; 3]>,
-    vertex_count: usize,
-    has_uvs: bool,
-    topology: Topology,
+    surface: Surface,
     layout: OutputLayout,
     pattern: Pattern,
     stencil: Stencil,
     indices: OnceLock<Vec<[u32; 3]>>,
     tiling: Option<Tiling>,
-}
-
-/// One frame of a deforming mesh: its positions and normals and the control nets built from
-/// them. Made by [`Plan::frame`], moved by [`Plan::update`], read by every evaluator.
-#[derive(Debug, Clone)]
-pub struct Frame {
-    plan_id: u64,
-    mesh: Mesh,
-    nets: PatchNets,
-}
-
-impl Frame {
-    /// The coarse mesh of this frame.
-    pub fn mesh(&self) -> &Mesh {
-        &self.mesh
-    }
-    /// The control nets of this frame (what a GPU backend uploads each frame).
-    pub fn nets(&self) -> &PatchNets {
-        &self.nets
-    }
 }
 
 impl Plan {
@@ -255,12 +230,8 @@ impl Plan {
         tiling: Option<Tiling>,
     ) -> Plan {
         Plan {
-            id: NEXT_PLAN_ID.fetch_add(1, Ordering::Relaxed),
             options: options.clone(),
-            triangles: mesh.triangles().to_vec(),
-            vertex_count: mesh.vertex_count(),
-            has_uvs: mesh.uvs().is_some(),
-            topology,
+            surface: Surface::from_parts(mesh, topology, options.surface_options()),
             layout,
             pattern,
             stencil,
@@ -269,39 +240,26 @@ impl Plan {
         }
     }
 
-    /// The first frame: a copy of `mesh` (which must have the plan's topology) and its nets.
+    /// The first frame: a copy of `mesh` (which must have the plan's topology) and its nets
+    /// ([`Surface::frame`]).
     pub fn frame(&self, mesh: &Mesh) -> Result<Frame, RefineError> {
-        self.check_topology(mesh)?;
-        let mut nets = PatchNets::empty(self.options.scheme.basis(), self.normal_mode());
-        self.fill(mesh, &mut nets);
-        Ok(Frame {
-            plan_id: self.id,
-            mesh: mesh.clone(),
-            nets,
-        })
+        self.surface.frame(mesh)
     }
 
-    /// Moves `frame` to new `positions` (and `normals`; `None` recomputes them, see
-    /// [`Mesh::update`]) and rebuilds its nets: O(coarse triangles), no allocation but the
-    /// recomputed normals. On error (wrong vertex count, non-finite positions, zero or
-    /// non-finite normals, a degenerate triangle, a frame of another plan) `frame` is unchanged.
+    /// Moves `frame` to new positions and normals and rebuilds its nets ([`Surface::update`]).
     pub fn update(
         &self,
         frame: &mut Frame,
         positions: &[[f32; 3]],
         normals: Option<&[[f32; 3]]>,
     ) -> Result<(), RefineError> {
-        self.check_frame(frame)?;
-        frame.mesh.update(positions, normals)?;
-        self.fill(&frame.mesh, &mut frame.nets);
-        Ok(())
+        self.surface.update(frame, positions, normals)
     }
 
-    /// Like [`Plan::update`] from a whole mesh of the plan's topology (its UVs are ignored:
-    /// they belong to the plan's first mesh).
+    /// Like [`Plan::update`] from a whole mesh of the plan's topology
+    /// ([`Surface::update_from_mesh`]).
     pub fn update_from_mesh(&self, frame: &mut Frame, mesh: &Mesh) -> Result<(), RefineError> {
-        self.check_topology(mesh)?;
-        self.update(frame, mesh.positions(), Some(mesh.normals()))
+        self.surface.update_from_mesh(frame, mesh)
     }
 
     /// Writes every refined vertex of `frame` into `out` on the CPU (all cores): positions,
@@ -320,7 +278,7 @@ impl Plan {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(), RefineError> {
         self.check_frame(frame)?;
-        let sink = out.sink(self.vertex_count(), self.has_uvs)?;
+        let sink = out.sink(self.vertex_count(), self.surface.has_uvs)?;
         self.vertices(frame, sink, progress);
         Ok(())
     }
@@ -335,7 +293,7 @@ impl Plan {
     fn adaptive_job<'a>(&'a self, frame: &'a Frame) -> Option<AdaptiveJob<'a>> {
         Some(AdaptiveJob {
             mesh: &frame.mesh,
-            topology: &self.topology,
+            topology: &self.surface.topology,
             tiling: self.tiling.as_ref()?,
             nets: &frame.nets,
             weld: self.layout.weld,
@@ -351,8 +309,8 @@ impl Plan {
 
     fn adaptive_index<'a>(&'a self, tiling: &'a Tiling) -> AdaptiveIndex<'a> {
         AdaptiveIndex {
-            triangles: &self.triangles,
-            topology: &self.topology,
+            triangles: &self.surface.triangles,
+            topology: &self.surface.topology,
             tiling,
             weld: self.layout.weld,
         }
@@ -457,8 +415,8 @@ impl Plan {
             }
             return Ok(());
         }
-        let topo = &self.topology;
-        let nv = self.vertex_count;
+        let topo = &self.surface.topology;
+        let nv = self.surface.vertex_count;
         for v in 0..nv {
             (faces[v], bary[v]) = match topo.vertex_owner[v] {
                 Some((f, c)) => (f, l(stencil.corner_point(c as usize))),
@@ -467,7 +425,7 @@ impl Plan {
         }
         let m = self.options.level as usize - 1;
         for (e, &(f, k)) in topo.edge_owner.iter().enumerate() {
-            let forward = self.triangles[f as usize][k as usize] == topo.edges[e][0];
+            let forward = self.surface.triangles[f as usize][k as usize] == topo.edges[e][0];
             for s in 0..m {
                 let at = nv + e * m + s;
                 let p = stencil.edge_points[k as usize][if forward { s } else { m - 1 - s }];
@@ -497,7 +455,7 @@ impl Plan {
         let nv = self.vertex_count();
         resize(&mut out.positions, nv);
         resize(&mut out.normals, nv);
-        match self.has_uvs {
+        match self.surface.has_uvs {
             true => resize(out.uvs.get_or_insert_with(Vec::new), nv),
             false => out.uvs = None,
         }
@@ -507,7 +465,7 @@ impl Plan {
             normals: Some(&mut out.normals),
             uvs: out.uvs.as_deref_mut(),
         }
-        .sink(nv, self.has_uvs)?;
+        .sink(nv, self.surface.has_uvs)?;
         self.vertices(frame, sink, progress);
         match self.indices.get() {
             Some(cached) => {
@@ -534,15 +492,15 @@ impl Plan {
     }
     /// Number of coarse triangles.
     pub fn face_count(&self) -> usize {
-        self.triangles.len()
+        self.surface.triangles.len()
     }
     /// The coarse triangles this plan serves.
     pub fn triangles(&self) -> &[[u32; 3]] {
-        &self.triangles
+        &self.surface.triangles
     }
     /// Number of coarse vertices a frame has.
     pub fn coarse_vertex_count(&self) -> usize {
-        self.vertex_count
+        self.surface.vertex_count
     }
     /// The options.
     pub fn options(&self) -> &RefineOptions {
@@ -566,66 +524,26 @@ impl Plan {
     }
     /// Edges, owners and neighbours of the coarse mesh.
     pub fn topology(&self) -> &Topology {
-        &self.topology
+        &self.surface.topology
+    }
+    /// The surface (topology and scheme) whose nets the plan's frames carry.
+    pub fn surface(&self) -> &Surface {
+        &self.surface
     }
     /// True when frames carry texture coordinates.
     pub fn has_uvs(&self) -> bool {
-        self.has_uvs
+        self.surface.has_uvs
     }
 
-    /// Refuses a frame another plan made.
+    /// Refuses a frame another plan (or surface) made.
     pub fn check_frame(&self, frame: &Frame) -> Result<(), RefineError> {
-        if frame.plan_id != self.id {
-            return Err(RefineError::ForeignFrame);
-        }
-        Ok(())
-    }
-
-    /// Refuses a mesh whose topology is not the plan's.
-    fn check_topology(&self, mesh: &Mesh) -> Result<(), RefineError> {
-        let reason = if mesh.vertex_count() != self.vertex_count {
-            format!(
-                "{} vertices, the plan has {}",
-                mesh.vertex_count(),
-                self.vertex_count
-            )
-        } else if mesh.face_count() != self.triangles.len() {
-            format!(
-                "{} triangles, the plan has {}",
-                mesh.face_count(),
-                self.triangles.len()
-            )
-        } else if let Some(f) =
-            (0..self.triangles.len()).find(|&f| mesh.triangles()[f] != self.triangles[f])
-        {
-            format!(
-                "triangle {f} is {:?}, the plan's is {:?}",
-                mesh.triangles()[f],
-                self.triangles[f]
-            )
-        } else if mesh.uvs().is_some() != self.has_uvs {
-            "texture coordinates differ in presence".to_string()
-        } else {
-            return Ok(());
-        };
-        Err(RefineError::TopologyMismatch { reason })
-    }
-
-    fn fill(&self, mesh: &Mesh, nets: &mut PatchNets) {
-        fill_nets(
-            mesh,
-            Some(&self.topology),
-            &self.options.scheme,
-            self.normal_mode(),
-            self.options.tags.as_deref(),
-            nets,
-        );
+        self.surface.check_frame(frame)
     }
 
     fn job<'a>(&'a self, frame: &'a Frame) -> Job<'a> {
         Job {
             mesh: &frame.mesh,
-            topology: &self.topology,
+            topology: &self.surface.topology,
             layout: &self.layout,
             stencil: &self.stencil,
             nets: &frame.nets,
@@ -634,8 +552,8 @@ impl Plan {
 
     fn index_job(&self) -> IndexJob<'_> {
         IndexJob {
-            triangles: &self.triangles,
-            topology: &self.topology,
+            triangles: &self.surface.triangles,
+            topology: &self.surface.topology,
             layout: &self.layout,
             pattern: &self.pattern,
             stencil: &self.stencil,
