@@ -2,6 +2,11 @@
 trimesh, Open3D and libigl (each when installed), on the same mesh at the same output size.
 
     python python/examples/bench_peers.py [--subdivisions 6] [--level 32] [--repeat 3] [--json]
+    python python/examples/bench_peers.py --bandwidth path/to/tessella [--repeat 5] [--json]
+
+`--bandwidth` checks the yardstick the speed tables divide by: numpy's one-thread
+`ndarray.fill` on 256 MiB and 1 GiB, and `tessella bench --bandwidth-only` run right after it
+in the same process tree, so both see the same machine load.
 
 A level-L refinement pattern (L a power of two) gives exactly the triangles and vertices of
 log2(L) rounds of midpoint (or Loop) subdivision, so the rows compare equal outputs: numpy in,
@@ -127,6 +132,30 @@ def installed(name: str) -> bool:
         return False
 
 
+def numpy_fill(mib: int, repeat: int) -> float:
+    """Bytes per second of numpy's `ndarray.fill` (one thread) on `mib` MiB of float32,
+    median of `repeat` passes after one that faults the pages in."""
+    a = np.empty(mib << 18, dtype=np.float32)
+    a.fill(0.5)
+    times = []
+    for i in range(max(repeat, 3)):
+        start = time.perf_counter()
+        a.fill(1.0 + i)
+        times.append(time.perf_counter() - start)
+    return a.nbytes / sorted(times)[len(times) // 2]
+
+
+def bandwidth(cli: str, repeat: int) -> dict:
+    """numpy's fill and tessella's bandwidth figures, measured one after the other."""
+    numpy = {f"{mib} MiB": numpy_fill(mib, repeat) for mib in (256, 1024)}
+    done = subprocess.run([cli, "bench", "--bandwidth-only", "--json", "--repeat", str(repeat)],
+                          capture_output=True, text=True, check=True)
+    tessella = json.loads(done.stdout)
+    best_numpy = max(numpy.values())
+    return {"numpy_fill_bytes_per_s": numpy, "tessella": tessella,
+            "fill_over_numpy": tessella["fill_bytes_per_s"] / best_numpy}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--subdivisions", type=int, default=6,
@@ -135,8 +164,24 @@ def main() -> None:
     ap.add_argument("--level", type=int, default=32, help="pattern level, a power of two")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", action="store_true", help="print the rows as JSON")
+    ap.add_argument("--bandwidth", metavar="TESSELLA",
+                    help="compare `TESSELLA bench --bandwidth-only` with numpy's fill instead")
     ap.add_argument("--one", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.bandwidth:
+        report = bandwidth(args.bandwidth, args.repeat)
+        if args.json:
+            print(json.dumps(report, indent=2))
+            return
+        t = report["tessella"]
+        for size, rate in report["numpy_fill_bytes_per_s"].items():
+            print(f"numpy ndarray.fill, 1 thread, {size}: {rate / 1e9:.1f} GB/s")
+        print(f"tessella bench, {t['threads']} threads: fill {t['fill_bytes_per_s'] / 1e9:.1f} "
+              f"GB/s (plain {t['fill_plain_bytes_per_s'] / 1e9:.1f}, non-temporal "
+              f"{t['fill_nt_bytes_per_s'] / 1e9:.1f}), copy {t['copy_bytes_per_s'] / 1e9:.1f} "
+              f"GB/s (non-temporal {t['copy_nt_bytes_per_s'] / 1e9:.1f})")
+        print(f"tessella's fill over numpy's: {report['fill_over_numpy']:.2f}")
+        return
     if args.level < 2 or args.level & (args.level - 1):
         raise SystemExit("--level must be a power of two (2, 4, 8, ...)")
     if args.one:

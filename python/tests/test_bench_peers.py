@@ -34,3 +34,21 @@ def test_level_must_be_a_power_of_two():
     done = subprocess.run([sys.executable, str(SCRIPT), "--level", "6"], capture_output=True,
                           text=True, timeout=60)
     assert done.returncode != 0 and "power of two" in done.stderr
+
+
+def test_bandwidth_check_reports_both_fills(cli):
+    """`--bandwidth` runs numpy's fill and `tessella bench --bandwidth-only` in one run: every
+    figure is there and positive, and the fill the tables divide by is the faster of the two
+    fills tessella measured (no speed is asserted: it depends on the machine)."""
+    done = subprocess.run([sys.executable, str(SCRIPT), "--bandwidth", cli, "--repeat", "1",
+                           "--json"], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert set(report["numpy_fill_bytes_per_s"]) == {"256 MiB", "1024 MiB"}
+    assert all(r > 0 for r in report["numpy_fill_bytes_per_s"].values())
+    t = report["tessella"]
+    for key in ("fill_plain_bytes_per_s", "fill_nt_bytes_per_s", "copy_bytes_per_s",
+                "copy_nt_bytes_per_s", "fresh_fill_bytes_per_s"):
+        assert t[key] > 0, key
+    assert t["fill_bytes_per_s"] == max(t["fill_plain_bytes_per_s"], t["fill_nt_bytes_per_s"])
+    assert report["fill_over_numpy"] > 0

@@ -446,6 +446,10 @@ pub struct BenchArgs {
     /// object instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// Measure the memory bandwidth only (fill, copy, fresh memory) and stop: what the peer
+    /// script compares with numpy's own fill.
+    #[arg(long)]
+    pub bandwidth_only: bool,
 }
 
 /// Parses `800x600`.

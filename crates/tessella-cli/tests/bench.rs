@@ -20,11 +20,19 @@ fn bench_json_has_every_section_with_consistent_counts() {
     let bw = &report["bandwidth"];
     for key in [
         "fill_bytes_per_s",
+        "fill_plain_bytes_per_s",
+        "fill_nt_bytes_per_s",
         "copy_bytes_per_s",
+        "copy_nt_bytes_per_s",
         "fresh_fill_bytes_per_s",
     ] {
         assert!(num(&bw[key]) > 1e8, "{key}: {}", bw[key]);
     }
+    // The tables divide by the faster of the two fills.
+    assert_eq!(
+        num(&bw["fill_bytes_per_s"]),
+        num(&bw["fill_plain_bytes_per_s"]).max(num(&bw["fill_nt_bytes_per_s"]))
+    );
     let faces = report["faces"].as_u64().unwrap();
     assert_eq!(faces, 5120);
     // Welded icosphere: V + E (L - 1) + F (L - 1)(L - 2) / 2 vertices, F L² triangles.

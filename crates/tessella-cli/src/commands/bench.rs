@@ -139,15 +139,25 @@ fn one_shot_table(rows: &[OneShotRow], threads: usize) -> String {
     s
 }
 
+/// The bandwidth figures, one line.
+fn bandwidth_line(b: &Bandwidth) -> String {
+    let gb = |x: f64| x / 1e9;
+    format!(
+        "Memory bandwidth, {} threads: fill {:.1} GB/s (plain stores {:.1}, non-temporal {:.1}), copy {:.1} GB/s (read + write; memcpy {:.1}, non-temporal {:.1}), fill of freshly allocated memory {:.1} GB/s (page faults included)",
+        b.threads,
+        gb(b.fill_bytes_per_s),
+        gb(b.fill_plain_bytes_per_s),
+        gb(b.fill_nt_bytes_per_s),
+        gb(b.copy_bytes_per_s.max(b.copy_nt_bytes_per_s)),
+        gb(b.copy_bytes_per_s),
+        gb(b.copy_nt_bytes_per_s),
+        gb(b.fresh_fill_bytes_per_s)
+    )
+}
+
 fn print_tables(report: &Report) {
     let b = &report.bandwidth;
-    println!(
-        "Memory bandwidth, {} threads: fill {:.1} GB/s, copy {:.1} GB/s (read + write), fill of freshly allocated memory {:.1} GB/s (page faults included)",
-        b.threads,
-        b.fill_bytes_per_s / 1e9,
-        b.copy_bytes_per_s / 1e9,
-        b.fresh_fill_bytes_per_s / 1e9
-    );
+    println!("{}", bandwidth_line(b));
     println!();
     println!(
         "One-shot refinement, PN, welded, positions + quadratic normals + indices, into reused buffers and into new arrays (the output bytes against the fresh-memory fill rate); {} ({} coarse triangles); median of {}:",
@@ -202,6 +212,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     let repeat = args.repeat.max(1);
     let bandwidth = Bandwidth::measure(repeat);
+    if args.bandwidth_only {
+        if args.json {
+            println!("{}", serde_json::to_string_pretty(&bandwidth)?);
+        } else {
+            println!("{}", bandwidth_line(&bandwidth));
+        }
+        return Ok(());
+    }
     let one_shot = one_shot(&mesh, &args.levels, repeat, &bandwidth)?;
     let per_frame = bench_frames::roofline(&mesh, &args.levels, repeat, &bandwidth)?;
     let mut deforming = bench_frames::deforming(&name, &mesh, &args.levels, repeat, &bandwidth)?;

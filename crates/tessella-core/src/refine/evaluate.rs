@@ -825,19 +825,23 @@ mod tests {
         assert!(stencil.blocks.all.len() > TILE);
         let block = &stencil.blocks.all;
         let mut seed = 7;
-        for case in 0..4 {
+        for case in 0..5 {
             let mut points: Vec<[f32; 3]> =
                 (0..K).map(|_| [0; 3].map(|_| lcg(&mut seed))).collect();
             let mut normals: Vec<[f32; 3]> = (0..NORMAL_NET_LEN)
                 .map(|_| [0; 3].map(|_| lcg(&mut seed)))
                 .collect();
-            if case >= 2 {
+            if (2..4).contains(&case) {
                 // Vanishing normal net; all control points on a line (parallel derivatives).
                 normals.iter_mut().for_each(|n| *n = [0.0; 3]);
                 points.iter_mut().for_each(|p| *p = [p[0], 2.0 * p[0], 0.0]);
             }
             if case == 3 {
                 points.iter_mut().for_each(|p| *p = [0.0; 3]);
+            }
+            if case == 4 {
+                // A normal net so large that |n|² overflows: 1 / sqrt is 0, the fallback.
+                normals.iter_mut().for_each(|n| *n = n.map(|c| c * 1e30));
             }
             for (mode, reverse) in [
                 (NormalMode::Quadratic, false),
