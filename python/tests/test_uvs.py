@@ -124,3 +124,13 @@ def test_uvs_round_trip_through_converters_and_files(tmp_path):
     np.testing.assert_allclose(np.array(vt, dtype=np.float64), r.uvs, atol=1e-6)
     r.save(tmp_path / "m.vtu")
     np.testing.assert_allclose(meshio.read(tmp_path / "m.vtu").point_data["uv"], r.uvs)
+
+
+def test_uvs_on_six_node_faces_follow_the_corners():
+    from test_fields import icosphere_p2
+
+    v, f6 = icosphere_p2()
+    uv = np.stack([v[:, 0] * 0.5 + 0.5, v[:, 1] ** 2], axis=1)  # mid nodes' uvs unused
+    r = tessella.refine(v, f6, level=4, uvs=uv)
+    assert len(r.uvs) == len(r.vertices)  # mid-edge nodes dropped from both
+    np.testing.assert_allclose(r.uvs, _expected(uv, f6[:, :3], r.face, r.bary), atol=2e-6)
