@@ -154,3 +154,15 @@ pub fn mid_nodes(m: &PyReadonlyArray2<'_, i64>, faces: usize) -> PyResult<Vec<[u
         })
         .collect())
 }
+
+/// Texture coordinates, a float32 `(n, 2)` array (the Python wrapper converts dtypes).
+pub fn uvs(a: &PyReadonlyArray2<'_, f32>) -> PyResult<Vec<[f32; 2]>> {
+    let view = a.as_array();
+    if view.ncols() != 2 {
+        return Err(bad_mesh(format!(
+            "uvs must have shape (n, 2), got {}",
+            py_shape(view.shape())
+        )));
+    }
+    Ok(view.outer_iter().map(|r| [r[0], r[1]]).collect())
+}

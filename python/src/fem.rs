@@ -15,7 +15,7 @@ use arrays::FieldIn;
 /// A named field as it goes out.
 type FieldOut<'py> = (String, Bound<'py, PyArray2<f32>>);
 
-/// `(vertices, faces, normals, face, bary, point_data, cell_data)`.
+/// `(vertices, faces, normals, face, bary, point_data, cell_data, uvs)`.
 type FemArrays<'py> = (
     F32Array<'py>,
     U32Array<'py>,
@@ -24,6 +24,7 @@ type FemArrays<'py> = (
     F32Array<'py>,
     Vec<FieldOut<'py>>,
     Vec<FieldOut<'py>>,
+    Option<F32Array<'py>>,
 );
 
 fn flat_field(name: String, a: PyReadonlyArray2<'_, f32>) -> PyResult<(String, Vec<f32>, usize)> {
@@ -47,7 +48,7 @@ fn field_out(py: Python<'_>, name: String, data: Vec<f32>, width: usize) -> PyRe
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, mids=None, normals=None, *, scheme="quadratic", level=8,
                     alpha=0.75, normals_mode=None, backend="auto", weld=true,
-                    point_data=Vec::new(), cell_data=Vec::new()))]
+                    point_data=Vec::new(), cell_data=Vec::new(), uvs=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn refine_fem<'py>(
     py: Python<'py>,
@@ -63,12 +64,13 @@ pub fn refine_fem<'py>(
     weld: bool,
     point_data: Vec<FieldIn<'py>>,
     cell_data: Vec<FieldIn<'py>>,
+    uvs: Option<PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<FemArrays<'py>> {
     let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
     let backend = options::backend(backend)?;
     let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
     opts.normals = options::normal_mode(normals_mode)?;
-    let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals)?;
+    let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals, uvs)?;
     let point_data = point_data
         .into_iter()
         .map(|(n, a)| flat_field(n, a))
@@ -135,5 +137,6 @@ pub fn refine_fem<'py>(
         arrays::to_numpy(py, bary),
         pd,
         cd,
+        out.uvs.map(|u| arrays::to_numpy(py, u)),
     ))
 }

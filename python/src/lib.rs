@@ -33,8 +33,13 @@ use tessella_io::{MeshView, WriteOptions};
 
 type F32Array<'py> = Bound<'py, PyArray2<f32>>;
 type U32Array<'py> = Bound<'py, PyArray2<u32>>;
-/// `(vertices, faces, normals)` as returned to Python.
-type Arrays<'py> = (F32Array<'py>, U32Array<'py>, F32Array<'py>);
+/// `(vertices, faces, normals, uvs)` as returned to Python (`uvs`: when the input had them).
+type Arrays<'py> = (
+    F32Array<'py>,
+    U32Array<'py>,
+    F32Array<'py>,
+    Option<F32Array<'py>>,
+);
 
 /// Builds a validated mesh from Python arrays (GIL held only for reading them).
 fn mesh_from(
@@ -43,13 +48,25 @@ fn mesh_from(
     faces: &Bound<'_, PyAny>,
     normals: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Mesh> {
+    mesh_with_uvs_from(py, vertices, faces, normals, None)
+}
+
+/// [`mesh_from`] with texture coordinates (`uvs`: float32 `(n, 2)`, checked by the core).
+fn mesh_with_uvs_from(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    normals: Option<&Bound<'_, PyAny>>,
+    uvs: Option<numpy::PyReadonlyArray2<'_, f32>>,
+) -> PyResult<Mesh> {
     let positions = arrays::points(vertices, "vertices")?;
     let triangles = arrays::triangles(faces, "faces")?;
     let normals = match normals {
         Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
         _ => None,
     };
-    py.detach(|| Mesh::new(positions, normals, None, triangles))
+    let uvs = uvs.map(|u| arrays::uvs(&u)).transpose()?;
+    py.detach(|| Mesh::new(positions, normals, uvs, triangles))
         .map_err(errors::mesh_error)
 }
 
@@ -61,8 +78,9 @@ pub(crate) fn mesh_with_mids_from(
     faces: &Bound<'_, PyAny>,
     mids: Option<numpy::PyReadonlyArray2<'_, i64>>,
     normals: Option<&Bound<'_, PyAny>>,
+    uvs: Option<numpy::PyReadonlyArray2<'_, f32>>,
 ) -> PyResult<Mesh> {
-    let mesh = mesh_from(py, vertices, faces, normals)?;
+    let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
     let Some(mids) = mids else {
         return Ok(mesh);
     };
@@ -75,7 +93,7 @@ pub(crate) fn mesh_with_mids_from(
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,
                     normals_mode=None, tags=None, crease_angle=None, backend="auto", weld=true,
-                    displace=None))]
+                    displace=None, uvs=None))]
 #[allow(clippy::too_many_arguments)]
 fn refine<'py>(
     py: Python<'py>,
@@ -91,6 +109,7 @@ fn refine<'py>(
     backend: &str,
     weld: bool,
     displace: Option<&Bound<'py, PyAny>>,
+    uvs: Option<numpy::PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<Arrays<'py>> {
     let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
     let normal_mode = options::normal_mode(normals_mode)?;
@@ -99,7 +118,7 @@ fn refine<'py>(
     let source = tags::source(tags)?;
     let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
     opts.normals = normal_mode;
-    let mesh = mesh_from(py, vertices, faces, normals)?;
+    let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
     let out = py.detach(|| -> PyResult<_> {
         if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
             opts = opts.with_tags(t);
@@ -117,16 +136,18 @@ fn refine<'py>(
         arrays::to_numpy(py, out.positions),
         arrays::to_numpy(py, out.triangles),
         arrays::to_numpy(py, out.normals),
+        out.uvs.map(|u| arrays::to_numpy(py, u)),
     ))
 }
 
-/// What `refine_adaptive` returns: vertices, faces, normals, and the origin (face, bary) when
-/// asked for.
+/// What `refine_adaptive` returns: vertices, faces, normals, the origin (face, bary) when
+/// asked for, and the uvs when the input had them.
 type AdaptiveArrays<'py> = (
     F32Array<'py>,
     U32Array<'py>,
     F32Array<'py>,
     Option<Bound<'py, numpy::PyArray1<i64>>>,
+    Option<F32Array<'py>>,
     Option<F32Array<'py>>,
 );
 
@@ -135,7 +156,7 @@ type AdaptiveArrays<'py> = (
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8.0, alpha=0.75,
                     normals_mode=None, spacing="grid", lod=None, camera=None, size=None,
-                    weld=true, origin=false, backend="cpu"))]
+                    weld=true, origin=false, backend="cpu", uvs=None))]
 #[allow(clippy::too_many_arguments)]
 fn refine_adaptive<'py>(
     py: Python<'py>,
@@ -153,6 +174,7 @@ fn refine_adaptive<'py>(
     weld: bool,
     origin: bool,
     backend: &str,
+    uvs: Option<numpy::PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<AdaptiveArrays<'py>> {
     use tessella_core::refine::{Camera, Levels, Lod, Spacing};
     let value = |e: tessella_core::RefineError| bad_option(e.to_string());
@@ -182,7 +204,12 @@ fn refine_adaptive<'py>(
             "origin=True is not supported with backend=\"gl\"; use backend=\"cpu\"",
         ));
     }
-    let mesh = mesh_from(py, vertices, faces, normals)?;
+    if backend == options::Backend::Gl && uvs.is_some() {
+        return Err(bad_option(
+            "uvs are not carried by backend=\"gl\"; use backend=\"cpu\"",
+        ));
+    }
+    let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
     let (out, from) = py.detach(|| -> PyResult<_> {
         if backend == options::Backend::Gl {
             return Ok((gl::refine(&mesh, &opts)?, None));
@@ -211,6 +238,7 @@ fn refine_adaptive<'py>(
         arrays::to_numpy(py, out.normals),
         face,
         bary,
+        out.uvs.map(|u| arrays::to_numpy(py, u)),
     ))
 }
 
@@ -358,13 +386,14 @@ fn load<'py>(
 ///
 /// ``vertices``/``normals`` are ``(n, 3)`` float arrays, ``faces`` ``(m, 3)`` integers (as for
 /// ``refine``). The file is written to a temporary file in the same folder and renamed, so a
-/// failure never leaves half a file. STL keeps no normals.
+/// failure never leaves half a file. STL keeps no normals. ``uvs`` (float32 ``(n, 2)``) are
+/// written as texture coordinates where the format has them.
 ///
 /// Raises ``ValueError`` for bad arrays (shapes, indices out of range, non-finite positions,
 /// no triangles) or an unknown extension, ``TypeError`` for unsupported dtypes and ``OSError``
 /// when the file cannot be written.
 #[pyfunction]
-#[pyo3(signature = (path, vertices, faces, normals=None, *, ply_ascii=false))]
+#[pyo3(signature = (path, vertices, faces, normals=None, *, ply_ascii=false, uvs=None))]
 fn save(
     py: Python<'_>,
     path: PathBuf,
@@ -372,6 +401,7 @@ fn save(
     faces: &Bound<'_, PyAny>,
     normals: Option<&Bound<'_, PyAny>>,
     ply_ascii: bool,
+    uvs: Option<numpy::PyReadonlyArray2<'_, f32>>,
 ) -> PyResult<()> {
     let positions = arrays::points(vertices, "vertices")?;
     let triangles = arrays::triangles(faces, "faces")?;
@@ -379,10 +409,20 @@ fn save(
         Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
         _ => None,
     };
+    let uvs = uvs.map(|u| arrays::uvs(&u)).transpose()?;
+    if let Some(u) = &uvs {
+        if u.len() != positions.len() {
+            return Err(errors::bad_mesh(format!(
+                "uvs has {} rows, but there are {} vertices",
+                u.len(),
+                positions.len()
+            )));
+        }
+    }
     let view = MeshView {
         positions: &positions,
         normals: normals.as_deref(),
-        uvs: None,
+        uvs: uvs.as_deref(),
         triangles: &triangles,
     };
     py.detach(|| tessella_io::write_mesh(&path, view, &WriteOptions { ply_ascii }))

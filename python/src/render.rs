@@ -132,7 +132,7 @@ pub fn render<'py>(
         }
     };
     drop(point_data);
-    let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals)?;
+    let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals, None)?;
     let picture = py.detach(|| -> PyResult<_> {
         // Without the bar: drawn as wide as asked plus the bar, which is then cut off.
         let bar_cut = match (&field, colorbar) {

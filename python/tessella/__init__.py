@@ -111,6 +111,7 @@ def refine(
     cell_data: Optional[Dict[str, Any]] = None,
     warp: Optional[str] = None,
     scale: float = 1.0,
+    uvs: Any = None,
 ) -> RefinedMesh:
     """Refine a triangle mesh into a curved one.
 
@@ -119,8 +120,12 @@ def refine(
     vertices : array_like, (n, 3) float32/float64, or a mesh object
         Coarse vertex positions. A ``trimesh.Trimesh``, ``pyvista.PolyData`` /
         ``UnstructuredGrid`` (its surface) or ``meshio.Mesh`` here (with ``faces`` left
-        ``None``) gives its vertices, faces, normals, and its point and cell data as
-        ``point_data`` / ``cell_data`` when the other options allow fields.
+        ``None``) gives its vertices, faces, normals, texture coordinates (trimesh's
+        ``visual.uv``, PyVista's active texture coordinates, meshio point data ``"uv"``,
+        ``"uvs"``, ``"texcoords"``, ``"TCoords"`` or ``"obj:vt"``), and its point and cell
+        data as ``point_data`` / ``cell_data``. Options that take no fields (``tags``,
+        ``crease_angle``, ``displace``, ``spacing``, ``lod``, ``camera``, ``size``) refuse an
+        object that has fields (:class:`OptionError`); pass its arrays to refine without them.
     faces : array_like, (m, 3) or (m, 6) integers
         Counter-clockwise triangles (vertex indices). Six columns: second-order (6-node)
         finite elements, the corners then the mid-edge nodes of edges 0-1, 1-2, 2-0 (gmsh, VTK
@@ -235,14 +240,18 @@ def refine(
         (ParaView's "warp by vector"): the curved surface follows the deformed shape.
     scale : float
         The factor of ``warp``.
+    uvs : array_like, UV  #V by 2 floats, optional
+        Texture coordinates, interpolated linearly over each coarse triangle (in its corner
+        order) onto the refined vertices: the result's ``uvs``, ``#RV by 2`` float32. Not with
+        ``backend="gl"``.
 
     Returns
     -------
     RefinedMesh
         ``vertices`` float32 ``(N, 3)``, ``faces`` uint32 ``(M, 3)`` (``M = m * level**2``;
         welded output starts with the ``n`` input vertices, unchanged), unit ``normals``
-        float32 ``(N, 3)``; ``point_data``, ``cell_data`` and ``origin`` (face, bary) when
-        asked for. ``v, f, n = result`` unpacks the three arrays.
+        float32 ``(N, 3)``; ``uvs``, ``point_data``, ``cell_data`` and ``origin`` (face, bary)
+        when asked for. ``v, f, n = result`` unpacks the three arrays.
 
     Raises
     ------
@@ -263,12 +272,14 @@ def refine(
     >>> rv[1]  # (1, 0, 0) moved by 0.1 sin(pi/2 * 1) along its normal (0, 0, 1)
     array([1. , 0. , 0.1], dtype=float32)
     """
+    fields_from = None
     if faces is None and _inputs.is_mesh_object(vertices):
-        vertices, faces, normals, point_data, cell_data = _from_object(
-            vertices, normals, point_data, cell_data,
-            fields_allowed=spacing == "grid" and lod is None and not origin and tags is None
-            and crease_angle is None and displace is None,
+        kind = type(vertices).__name__
+        vertices, faces, normals, point_data, cell_data, uvs, names = _from_object(
+            vertices, normals, point_data, cell_data, uvs,
         )
+        if names:
+            fields_from = f"the {kind}'s point/cell data {names}"
     if faces is None:
         raise MeshError("refine(vertices, faces, ...) needs faces, an (m, 3) integer array (or a mesh object)")
     fem = point_data is not None or cell_data is not None or warp is not None or _six_columns(faces)
@@ -280,18 +291,20 @@ def refine(
     _options.check_conflicts(
         fem=fem, adaptive=adaptive, spacing=spacing, lod=lod, camera=camera, size=size, origin=origin,
         tags=tags, crease_angle=crease_angle, displace=displace, backend=backend_name,
+        uvs=uvs is not None, fields_from=fields_from,
     )
+    uv_rows = None if uvs is None else _uv_rows(uvs)
     if fem:
         return _fields.refine_fem(
             vertices, faces, normals, scheme=scheme, level=level, alpha=alpha,
             normals_mode=normals_mode, backend=backend, weld=weld, point_data=point_data,
-            cell_data=cell_data, warp=warp, scale=scale,
+            cell_data=cell_data, warp=warp, scale=scale, uvs=uv_rows,
         )
     if scheme is None:
         scheme = "pn"
     if adaptive:
         lod_text, camera_text, size_pair = _options.lod_spec(lod, camera, size)
-        v, f, n, face, bary = _tessella.refine_adaptive(
+        v, f, n, face, bary, ruv = _tessella.refine_adaptive(
             vertices,
             faces,
             normals,
@@ -306,9 +319,10 @@ def refine(
             weld=weld,
             origin=origin,
             backend="gl" if backend_name == "gl" else "cpu",
+            uvs=uv_rows,
         )
-        return RefinedMesh(v, f, n, face, bary)
-    v, f, n = _tessella.refine(
+        return RefinedMesh(v, f, n, face, bary, uvs=ruv)
+    v, f, n, ruv = _tessella.refine(
         vertices,
         faces,
         normals,
@@ -321,8 +335,9 @@ def refine(
         backend=backend,
         weld=weld,
         displace=_options.displace_spec(displace),
+        uvs=uv_rows,
     )
-    return RefinedMesh(v, f, n)
+    return RefinedMesh(v, f, n, uvs=ruv)
 
 
 #: The old name of :class:`RefinedMesh` (what ``origin=True`` and fields returned).
@@ -330,24 +345,38 @@ RefineResult = RefinedMesh
 
 
 def _from_object(
-    obj: Any, normals: Any, point_data: Any, cell_data: Any, *, fields_allowed: bool
-) -> Tuple[Any, Any, Any, Any, Any]:
-    """A mesh object's arrays; its fields come along where the options allow fields (and the
-    caller gave none of their own), numeric ones only."""
-    v, f, n, pd, cd = _inputs.arrays(obj)
+    obj: Any, normals: Any, point_data: Any, cell_data: Any, uvs: Any
+) -> Tuple[Any, Any, Any, Any, Any, Any, List[str]]:
+    """A mesh object's arrays and uvs (where the caller gave none of their own), its numeric
+    fields (where the caller gave none), and the names of the fields taken from it."""
+    v, f, n, pd, cd, uv = _inputs.arrays(obj)
     if normals is None:
         normals = n
+    if uvs is None:
+        uvs = uv
     numeric = lambda d: {  # noqa: E731
         k: a for k, a in d.items()
         if np.issubdtype(np.asarray(a).dtype, np.number) and np.asarray(a).ndim in (1, 2)
         and not np.issubdtype(np.asarray(a).dtype, np.complexfloating)
     }
-    if fields_allowed:
-        if point_data is None and numeric(pd):
-            point_data = numeric(pd)
-        if cell_data is None and numeric(cd):
-            cell_data = numeric(cd)
-    return v, f, normals, point_data, cell_data
+    names: List[str] = []
+    if point_data is None and numeric(pd):
+        point_data = numeric(pd)
+        names += sorted(point_data)
+    if cell_data is None and numeric(cd):
+        cell_data = numeric(cd)
+        names += sorted(cell_data)
+    return v, f, normals, point_data, cell_data, uvs, names
+
+
+def _uv_rows(uvs: Any) -> np.ndarray:
+    """``uvs`` as a float32 C-ordered ``(n, 2)`` array (its row count is checked by the core)."""
+    a = np.asarray(uvs)
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise MeshError(f"uvs must have shape (n, 2), got {a.shape}")
+    if not np.issubdtype(a.dtype, np.number) or np.issubdtype(a.dtype, np.complexfloating):
+        raise TypeError(f"uvs must hold real numbers, got dtype {a.dtype}")
+    return np.ascontiguousarray(a, dtype=np.float32)
 
 
 def _six_columns(faces: Any) -> bool:

@@ -60,6 +60,7 @@ def refine_fem(
     cell_data: Optional[Dict[str, Any]],
     warp: Optional[str],
     scale: float,
+    uvs: Optional[np.ndarray] = None,
 ) -> Any:
     from ._result import RefinedMesh
 
@@ -92,7 +93,7 @@ def refine_fem(
             raise OptionError(f"scale must be finite, got {scale}")
         v = v + float(scale) * pd[warp].astype(np.float64)
         normals = None  # the deformed shape's normals, not the undeformed ones
-    rv, rf, rn, face, bary, rpd, rcd = _tessella.refine_fem(
+    rv, rf, rn, face, bary, rpd, rcd, ruv = _tessella.refine_fem(
         v,
         corners,
         mids,
@@ -105,6 +106,7 @@ def refine_fem(
         weld=weld,
         point_data=list(pd.items()),
         cell_data=list(cd.items()),
+        uvs=uvs,
     )
     out_pd = {name: (a[:, 0] if np.asarray(point_data[name]).ndim == 1 else a) for name, a in rpd}
     out_cd = {name: (a[:, 0] if np.asarray(cell_data[name]).ndim == 1 else a) for name, a in rcd}
@@ -117,4 +119,5 @@ def refine_fem(
             rv, rn, face, bary = rv[keep], rn[keep], face[keep], bary[keep]
             rf = remap[rf].astype(np.uint32)
             out_pd = {k: a[keep] for k, a in out_pd.items()}
-    return RefinedMesh(rv, rf, rn, face, bary, point_data=out_pd, cell_data=out_cd)
+            ruv = None if ruv is None else ruv[keep]
+    return RefinedMesh(rv, rf, rn, face, bary, point_data=out_pd, cell_data=out_cd, uvs=ruv)

@@ -2,7 +2,7 @@
 ``pyvista.PolyData`` / ``UnstructuredGrid`` (its surface) and ``meshio.Mesh``.
 
 Objects are recognised by their class names, so none of those packages is imported here.
-Each gives ``(vertices, faces, normals or None, point_data, cell_data)``.
+Each gives ``(vertices, faces, normals or None, point_data, cell_data, uvs or None)``.
 """
 
 from __future__ import annotations
@@ -13,7 +13,10 @@ import numpy as np
 
 from ._errors import MeshError
 
-Arrays = Tuple[Any, Any, Optional[Any], Dict[str, Any], Dict[str, Any]]
+Arrays = Tuple[Any, Any, Optional[Any], Dict[str, Any], Dict[str, Any], Optional[Any]]
+
+#: meshio point data taken as texture coordinates (the first present with 2 columns).
+MESHIO_UV_NAMES = ("uv", "uvs", "UV", "texcoords", "TCoords", "obj:vt")
 
 # Arrays VTK adds on its own (surface extraction's bookkeeping, normals): not user fields.
 _VTK_BOOKKEEPING = ("vtkOriginalPointIds", "vtkOriginalCellIds", "Normals", "TCoords")
@@ -57,7 +60,9 @@ def _from_trimesh(mesh: Any) -> Arrays:
         normals = np.asarray(mesh.vertex_normals)
     point_data = {k: np.asarray(a) for k, a in dict(getattr(mesh, "vertex_attributes", {})).items()}
     cell_data = {k: np.asarray(a) for k, a in dict(getattr(mesh, "face_attributes", {})).items()}
-    return np.asarray(mesh.vertices), np.asarray(mesh.faces), normals, point_data, cell_data
+    uv = getattr(getattr(mesh, "visual", None), "uv", None)  # TextureVisuals only
+    uvs = None if uv is None else np.asarray(uv)
+    return np.asarray(mesh.vertices), np.asarray(mesh.faces), normals, point_data, cell_data, uvs
 
 
 def _from_pyvista(mesh: Any) -> Arrays:
@@ -82,7 +87,9 @@ def _from_pyvista(mesh: Any) -> Arrays:
     cell_data = {
         k: np.asarray(mesh.cell_data[k]) for k in mesh.cell_data.keys() if k not in _VTK_BOOKKEEPING
     }
-    return np.asarray(mesh.points), faces, normals, point_data, cell_data
+    uv = getattr(mesh, "active_texture_coordinates", None)
+    uvs = None if uv is None else np.asarray(uv)
+    return np.asarray(mesh.points), faces, normals, point_data, cell_data, uvs
 
 
 def _from_meshio(mesh: Any) -> Arrays:
@@ -94,4 +101,9 @@ def _from_meshio(mesh: Any) -> Arrays:
         if name in point_data:
             normals = point_data.pop(name)
             break
-    return v, f, normals, point_data, cell_data
+    uvs = None
+    for name in MESHIO_UV_NAMES:
+        if name in point_data and np.ndim(point_data[name]) == 2 and np.shape(point_data[name])[1] == 2:
+            uvs = point_data.pop(name)
+            break
+    return v, f, normals, point_data, cell_data, uvs

@@ -63,7 +63,7 @@ def refine_trimesh(
                 f"normals must be None, 'trimesh' or an (n, 3) array, got {normals!r}"
             )
         normals = mesh.vertex_normals
-    v, f, n = _tessella.refine(
+    v, f, n, _uvs = _tessella.refine(
         mesh.vertices,
         mesh.faces,
         normals,

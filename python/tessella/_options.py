@@ -272,25 +272,34 @@ def check_conflicts(
     crease_angle: Any,
     displace: Any,
     backend: str,
+    uvs: bool = False,
+    fields_from: Optional[str] = None,
 ) -> None:
     """Refuses options that cannot go together, all in one message style:
-    ``"refine(): A cannot be combined with B (why)"``."""
+    ``"refine(): A cannot be combined with B (why)"``. ``fields_from`` names the fields a mesh
+    object brought along (refused like ``point_data=`` rather than dropped)."""
 
     def refuse(a: str, b: str, why: str) -> None:
         raise OptionError(f"refine(): {a} cannot be combined with {b} ({why})")
 
     given = lambda pairs: [name for name, v in pairs if v]  # noqa: E731
     if fem:
+        fields = "point_data=, cell_data=, warp= or 6-node faces"
+        if fields_from is not None:
+            fields = fields_from
+            hint = "; pass the object's arrays (vertices, faces) to refine without its fields"
+        else:
+            hint = ""
         spaced = given([("spacing=", spacing != "grid"), ("lod=", lod is not None),
                         ("camera=", camera is not None), ("size=", size is not None)])
         if spaced:
-            refuse("point_data=, cell_data=, warp= or 6-node faces", spaced[0],
-                   "fields take a whole level on the grid pattern")
+            refuse(fields, spaced[0], "fields take a whole level on the grid pattern" + hint)
         shaped = given([("tags=", tags is not None), ("crease_angle=", crease_angle is not None),
                         ("displace=", displace is not None)])
         if shaped:
-            refuse("point_data=, cell_data=, warp= or 6-node faces", shaped[0],
-                   "fields are carried on the untagged, undisplaced surface")
+            refuse(fields, shaped[0], "fields are carried on the untagged, undisplaced surface" + hint)
+    if uvs and backend == "gl":
+        refuse("uvs=", "backend='gl'", "the GL tessellator does not carry texture coordinates; use backend='cpu'")
     if adaptive:
         shaped = given([("tags=", tags is not None), ("crease_angle=", crease_angle is not None),
                         ("displace=", displace is not None)])

@@ -3,8 +3,9 @@
 Each converter imports its package only when it is called (trimesh, pyvista, meshio are
 optional). Normals travel as the format's own normals where it has them (trimesh's
 ``vertex_normals``, PyVista's active ``"Normals"`` point array, meshio point data
-``"normals"``, as :func:`tessella.write_fem` writes it); the fields as the format's point and
-cell data.
+``"normals"``, as :func:`tessella.write_fem` writes it); texture coordinates likewise
+(trimesh's ``visual.uv``, PyVista's active texture coordinates, meshio point data ``"uv"``);
+the fields as the format's point and cell data.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 
 NORMALS = "Normals"  # PyVista's and VTK's name for point normals
 MESHIO_NORMALS = "normals"  # what write_fem stores
+MESHIO_UVS = "uv"  # what to_meshio and save store (tessella.refine reads it back)
 
 
 def _need(module: str, extra: str) -> Any:
@@ -94,6 +96,8 @@ class RefinedMesh:
             extra.append(f"point_data={sorted(self.point_data)}")
         if self.cell_data:
             extra.append(f"cell_data={sorted(self.cell_data)}")
+        if self.uvs is not None:
+            extra.append("uvs")
         if self.origin is not None:
             extra.append("origin")
         tail = (", " + ", ".join(extra)) if extra else ""
@@ -103,20 +107,24 @@ class RefinedMesh:
 
     def to_trimesh(self) -> Any:
         """A ``trimesh.Trimesh`` (``process=False``: vertices kept exactly, faces int64) with
-        ``vertex_normals``, and the fields as ``vertex_attributes`` / ``face_attributes``."""
+        ``vertex_normals``, the uvs as ``visual.uv`` (a ``TextureVisuals``), and the fields as
+        ``vertex_attributes`` / ``face_attributes``."""
         trimesh = _need("trimesh", "trimesh")
+        visual = None if self.uvs is None else trimesh.visual.TextureVisuals(uv=np.asarray(self.uvs))
         return trimesh.Trimesh(
             vertices=np.asarray(self.vertices),
             faces=np.asarray(self.faces, dtype=np.int64),
             vertex_normals=np.asarray(self.normals),
             vertex_attributes=dict(self.point_data),
             face_attributes=dict(self.cell_data),
+            visual=visual,
             process=False,
         )
 
     def to_pyvista(self) -> Any:
-        """A ``pyvista.PolyData`` with point array ``"Normals"`` (the active normals) and the
-        fields as point and cell data (the first point field is the active scalars)."""
+        """A ``pyvista.PolyData`` with point array ``"Normals"`` (the active normals), the uvs
+        as its active texture coordinates, and the fields as point and cell data (the first
+        point field is the active scalars)."""
         pv = _need("pyvista", "pyvista")
         faces = np.asarray(self.faces, dtype=np.int64)
         cells = np.hstack([np.full((len(faces), 1), 3, dtype=np.int64), faces]).ravel()
@@ -127,15 +135,19 @@ class RefinedMesh:
             mesh.cell_data[name] = np.asarray(a)
         mesh.point_data[NORMALS] = np.asarray(self.normals)
         mesh.point_data.active_normals_name = NORMALS
+        if self.uvs is not None:
+            mesh.active_texture_coordinates = np.asarray(self.uvs)
         if self.point_data:
             mesh.set_active_scalars(next(iter(self.point_data)), preference="point")
         return mesh
 
     def to_meshio(self) -> Any:
-        """A ``meshio.Mesh`` with one ``"triangle"`` block, point data ``"normals"`` and the
-        fields as point and cell data."""
+        """A ``meshio.Mesh`` with one ``"triangle"`` block, point data ``"normals"`` (and
+        ``"uv"`` when there are uvs) and the fields as point and cell data."""
         meshio = _need("meshio", "meshio")
         point_data = {MESHIO_NORMALS: np.asarray(self.normals)}
+        if self.uvs is not None:
+            point_data[MESHIO_UVS] = np.asarray(self.uvs)
         point_data.update({k: np.asarray(a) for k, a in self.point_data.items()})
         cell_data = {k: [np.asarray(a)] for k, a in self.cell_data.items()}
         return meshio.Mesh(
@@ -149,8 +161,9 @@ class RefinedMesh:
         """Write the mesh; the format follows the extension.
 
         ``.obj``, ``.ply``, ``.gltf``, ``.glb``, ``.stl``: tessella's own writers
-        (:func:`tessella.save`; fields are not stored). Anything else (``.vtu``, ``.vtk``,
-        ``.xdmf``, ``.msh``, ...): meshio (:func:`tessella.write_fem`), with normals and
+        (:func:`tessella.save`, with the uvs where the format has texture coordinates; fields
+        are not stored). Anything else (``.vtu``, ``.vtk``, ``.xdmf``, ``.msh``, ...): meshio
+        (:func:`tessella.write_fem`), with normals, the uvs as point data ``"uv"`` and the
         fields. Both write a temporary file and rename it, so a failure leaves no half file.
         """
         from . import _tessella
@@ -158,14 +171,18 @@ class RefinedMesh:
 
         ext = os.path.splitext(os.fspath(path))[1].lower()
         if ext in (".obj", ".ply", ".gltf", ".glb", ".stl"):
-            _tessella.save(os.fspath(path), self.vertices, self.faces, self.normals, **kwargs)
+            uvs = None if self.uvs is None else np.ascontiguousarray(self.uvs, dtype=np.float32)
+            _tessella.save(os.fspath(path), self.vertices, self.faces, self.normals, uvs=uvs, **kwargs)
         else:
+            point_data = dict(self.point_data)
+            if self.uvs is not None:
+                point_data[MESHIO_UVS] = np.asarray(self.uvs)
             write_fem(
                 path,
                 self.vertices,
                 self.faces,
                 self.normals,
-                point_data=self.point_data,
+                point_data=point_data,
                 cell_data=self.cell_data,
                 **kwargs,
             )

@@ -32,7 +32,8 @@ def refine(
     backend: BackendName = "auto",
     weld: bool = True,
     displace: _Displace = None,
-) -> Tuple[_F32, _U32, _F32]: ...
+    uvs: Optional[_F32] = None,
+) -> Tuple[_F32, _U32, _F32, Optional[_F32]]: ...
 def refine_adaptive(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,
@@ -49,7 +50,8 @@ def refine_adaptive(
     weld: bool = True,
     origin: bool = False,
     backend: BackendName = "cpu",
-) -> Tuple[_F32, _U32, _F32, Optional[npt.NDArray[np.int64]], Optional[_F32]]: ...
+    uvs: Optional[_F32] = None,
+) -> Tuple[_F32, _U32, _F32, Optional[npt.NDArray[np.int64]], Optional[_F32], Optional[_F32]]: ...
 def refine_fem(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,
@@ -64,6 +66,7 @@ def refine_fem(
     weld: bool = True,
     point_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
     cell_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
+    uvs: Optional[_F32] = None,
 ) -> Tuple[
     _F32,
     _U32,
@@ -72,6 +75,7 @@ def refine_fem(
     _F32,
     List[Tuple[str, npt.NDArray[np.float32]]],
     List[Tuple[str, npt.NDArray[np.float32]]],
+    Optional[_F32],
 ]: ...
 def render(
     vertices: npt.ArrayLike,
@@ -118,6 +122,7 @@ def save(
     normals: Optional[npt.ArrayLike] = None,
     *,
     ply_ascii: bool = False,
+    uvs: Optional[_F32] = None,
 ) -> None: ...
 def schemes() -> List[SchemeName]: ...
 def backends() -> List[str]: ...
