@@ -4,7 +4,7 @@
 //! are exactly [`Plan::evaluate`]'s vertices and [`Plan::indices`]'s triangles, bit for bit:
 //! each vertex is computed by the same block evaluation on the same owning face.
 
-use super::evaluate::{eval_block, eval_point};
+use super::evaluate::{eval_block, eval_point, Scratch};
 use super::output::{Sink, VertexOutput};
 use super::plan::{Frame, Plan};
 use crate::error::RefineError;
@@ -153,6 +153,7 @@ impl Plan {
                     .into_par_iter()
                     .enumerate()
                     .for_each(|(task, mut sink)| {
+                        let mut scratch = Scratch::take();
                         for le in 0..sink.len() / m {
                             let e = r.start + task * EDGES_PER_TASK + le;
                             let (f, k) = topo.edge_owner[e];
@@ -168,6 +169,7 @@ impl Plan {
                                 &mut sink,
                                 le * m,
                                 !forward,
+                                &mut scratch,
                             );
                             if let (true, Some(uv)) = (want_uvs, face_uvs(f)) {
                                 for s in 0..m {
@@ -188,6 +190,7 @@ impl Plan {
                     .into_par_iter()
                     .enumerate()
                     .for_each(|(task, mut sink)| {
+                        let mut scratch = Scratch::take();
                         for lf in 0..sink.len() / ni {
                             let f = r.start + task * FACES_PER_TASK + lf;
                             eval_block::<K>(
@@ -199,6 +202,7 @@ impl Plan {
                                 &mut sink,
                                 lf * ni,
                                 false,
+                                &mut scratch,
                             );
                             if let (true, Some(uv)) = (want_uvs, face_uvs(f)) {
                                 for (i, &l) in block.barycentric.iter().enumerate() {
