@@ -1,4 +1,5 @@
-//! `tessella.refine_to_file` and `tessella._tessella.refine_file`: refinements written straight
+//! `tessella._tessella._refine_to_file` and `_refine_file` (wrapped by `tessella.refine_to_file`
+//! and `tessella.refine_file`, in `tessella/_batch.py`): refinements written straight
 //! to a file, piece by piece where the plan allows (welded uniform levels), so the output may
 //! be far larger than memory; `max_memory` is then the working set, not a cap on the output.
 //! Errors are mapped by `crate::errors`, as everywhere in the package: `MeshError`,
@@ -108,7 +109,7 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
 /// Refines the mesh file `input` into the file `output` (format by extension); returns the
 /// counts. See `tessella.refine_to_file` for the options.
 #[pyfunction]
-#[pyo3(signature = (input, output, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
+#[pyo3(name = "_refine_file", signature = (input, output, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
                     weld=true, ply_ascii=false, max_memory=1 << 30))]
 #[allow(clippy::too_many_arguments)]
 fn refine_file(
@@ -140,7 +141,7 @@ fn refine_file(
 
 /// Refines arrays into the file `output`; see `tessella.refine_to_file`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8, alpha=0.75,
+#[pyo3(name = "_refine_to_file", signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8, alpha=0.75,
                     normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30))]
 #[allow(clippy::too_many_arguments)]
 fn refine_to_file(

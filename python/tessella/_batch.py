@@ -50,14 +50,14 @@ def refine_to_file(
     bad mesh, ``OptionError`` for bad options, ``OSError`` for what the system refused.
     """
     _check_options(options)
-    return _tessella.refine_to_file(vertices, faces, os.fspath(path), normals, **options)
+    return _tessella._refine_to_file(vertices, faces, os.fspath(path), normals, **options)
 
 
 def refine_file(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
     """Refines the mesh file ``input`` into ``output`` as :func:`refine_to_file` does; raises
     ``FileFormatError`` for a malformed file and ``OSError`` for a missing one."""
     _check_options(options)
-    return _tessella.refine_file(os.fspath(input), os.fspath(output), **options)
+    return _tessella._refine_file(os.fspath(input), os.fspath(output), **options)
 
 
 def _check_options(options: Dict[str, Any]) -> None:

@@ -166,7 +166,7 @@ impl MeshSource for RefinedSource<'_> {
 
     fn triangle_corners(
         &self,
-        each: &mut dyn FnMut(&[[[f32; 3]; 3]]) -> std::io::Result<()>,
+        each: &mut dyn FnMut(&[crate::stream::Corners]) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
         let plan = self.plan;
         let layout = plan.layout();

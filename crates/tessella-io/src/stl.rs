@@ -104,7 +104,10 @@ pub(crate) fn write_header(out: &mut dyn Write, count: u32) -> std::io::Result<(
 }
 
 /// Facet records for triangles given by their corner positions.
-pub(crate) fn write_facets(out: &mut dyn Write, corners: &[[[f32; 3]; 3]]) -> std::io::Result<()> {
+pub(crate) fn write_facets(
+    out: &mut dyn Write,
+    corners: &[crate::stream::Corners],
+) -> std::io::Result<()> {
     crate::encode::write_records(out, corners.len(), 50, |f, out| push_facet(out, corners[f]))
 }
 

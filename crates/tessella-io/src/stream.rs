@@ -17,6 +17,9 @@ pub struct Wanted {
     pub uvs: bool,
 }
 
+/// A triangle given by its three corner positions (what STL stores).
+pub type Corners = [[f32; 3]; 3];
+
 /// A mesh produced in runs: consecutive vertices, consecutive triangles, or the corner
 /// positions of consecutive triangles (for STL). Every call covers the whole mesh, in order.
 pub trait MeshSource: Sync {
@@ -39,7 +42,7 @@ pub trait MeshSource: Sync {
     /// Calls `each` with the corner positions of runs of triangles, all triangles in order.
     fn triangle_corners(
         &self,
-        each: &mut dyn FnMut(&[[[f32; 3]; 3]]) -> std::io::Result<()>,
+        each: &mut dyn FnMut(&[Corners]) -> std::io::Result<()>,
     ) -> std::io::Result<()>;
 }
 
@@ -301,9 +304,9 @@ impl MeshSource for MeshView<'_> {
     }
     fn triangle_corners(
         &self,
-        each: &mut dyn FnMut(&[[[f32; 3]; 3]]) -> std::io::Result<()>,
+        each: &mut dyn FnMut(&[Corners]) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
-        let corners: Vec<[[f32; 3]; 3]> = self
+        let corners: Vec<Corners> = self
             .triangles
             .iter()
             .map(|t| t.map(|i| self.positions[i as usize]))

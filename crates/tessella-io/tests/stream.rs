@@ -29,7 +29,7 @@ fn streamed_files_equal_the_in_memory_files() {
     let meshes = [plain.clone(), with_uvs(&plain)];
     for (m, mesh) in meshes.iter().enumerate() {
         for (scheme, level) in [(Scheme::Pn, 1), (Scheme::Pn, 7), (Scheme::Png1, 4)] {
-            let options = RefineOptions::new(scheme.clone(), level);
+            let options = RefineOptions::new(scheme, level);
             // The independent path: the whole refinement in memory, the ordinary writer.
             let whole = refine(mesh, &options).unwrap();
             let plan = Plan::new(mesh, &options).unwrap();

@@ -148,7 +148,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let failed = rows.iter().filter(|r| r.status == "failed").count();
     eprintln!(
-        "{} refined, {} skipped (already there), {} failed in {:.1} s; manifest: {}",
+        "{} refined, {} skipped (already there), {} failed in {:.2} s; manifest: {}",
         rows.len() - failed,
         skipped.len(),
         failed,

@@ -260,6 +260,7 @@ impl Plan {
                         for (c, &v) in t.iter().enumerate() {
                             map[stencil.corner_point(c) as usize] = v;
                         }
+                        #[allow(clippy::needless_range_loop)] // k indexes four tables
                         for k in 0..3 {
                             let e = topo.face_edges[f][k] as usize;
                             let forward = t[k] == topo.edges[e][0];
@@ -309,7 +310,7 @@ mod tests {
         for mesh in &meshes {
             for scheme in [Scheme::Pn, Scheme::Png1] {
                 for level in [1, 2, 5] {
-                    let plan = Plan::new(mesh, &RefineOptions::new(scheme.clone(), level)).unwrap();
+                    let plan = Plan::new(mesh, &RefineOptions::new(scheme, level)).unwrap();
                     let frame = plan.frame(mesh).unwrap();
                     let n = plan.vertex_count();
                     let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
