@@ -85,6 +85,9 @@ __all__ = [
     "read_fem",
     "write_fem",
     "boundary_faces",
+    "batch",
+    "refine_file",
+    "refine_to_file",
 ]
 
 
@@ -661,5 +664,5 @@ def render(
 
 from ._interop import refine_trimesh, to_trimesh  # noqa: E402
 from ._fem import boundary_faces, read_fem, write_fem  # noqa: E402
-from ._batch import batch, refine_file, refine_to_file  # noqa: E402,F401
+from ._batch import batch, refine_file, refine_to_file  # noqa: E402
 from ._plot import plot  # noqa: E402
