@@ -7,8 +7,10 @@
 //! It consumes tessella-core's tables unchanged: the per-triangle control nets
 //! ([`tessella_core::PatchNets`]) and the pattern's stencil ([`tessella_core::Stencil`]). The
 //! shaders only compute the generic weighted sum `Σ w_k C_k` (`shaders/eval.wgsl`, the twin of
-//! `tessella_core::refine::eval_point`), with the basis size `K` as a uniform, so every scheme
-//! the core knows (flat, Phong, PN, and any later basis) runs on the GPU with no WGSL change.
+//! `tessella_core::refine::eval_point`), with the basis size `K` as a uniform, so on the stencil paths
+//! (compute, `PatternRenderer`) every basis the core knows runs with no WGSL change; the
+//! `AdaptiveRenderer`, whose points move with each frame's levels, computes the weights in its
+//! vertex shader (`shaders/basis.wgsl`: cubic Bernstein and PNG1, twins of the core's).
 //!
 //! - [`GpuContext::new`]`(`[`AdapterChoice`]`)` opens a device (a clear [`GpuError::NoAdapter`]
 //!   when there is none; nothing here panics on a missing GPU); [`GpuContext::from_device`]
