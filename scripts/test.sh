@@ -59,12 +59,9 @@ fi
 # --- The browser: wasm32 builds and the npm package `tessella` (js/) ---
 # Installs what it needs: the wasm32 target (rustup), wasm-bindgen-cli at the version locked in
 # Cargo.lock when `wasm-bindgen --version` differs (js/scripts/build.js), Node packages (npm ci).
-echo "== wasm32: tessella-core and tessella-io build for the browser"
-if ! rustup target list --installed | grep -qx wasm32-unknown-unknown; then
-  rustup target add wasm32-unknown-unknown
-fi
-cargo check --quiet -p tessella-core -p tessella-io --target wasm32-unknown-unknown
-echo "== npm package js/: build the wasm from the Rust sources, test with Node's test runner"
+# tessella-core and tessella-io build for wasm32 as dependencies of the package's wasm (no
+# separate `cargo check` for wasm32: it compiled every dependency once more).
+echo "== npm package js/: build the wasm (core, io, bindings) from the Rust sources, test with Node's test runner"
 if ! command -v node >/dev/null && [ "$(id -u)" = 0 ]; then
   apt-get update -qq && apt-get install -y -qq nodejs npm >/dev/null
 fi

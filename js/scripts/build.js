@@ -48,13 +48,14 @@ if (output('wasm-bindgen', ['--version']) !== `wasm-bindgen ${version}`) {
 for (const [variant, features] of [['simd', '+simd128'], ['scalar', '-simd128']]) {
   // One target folder per variant: RUSTFLAGS differ, and sharing one would rebuild each time.
   const dir = join('target', `wasm-${variant}`);
-  run('cargo', ['build', '--release', '-p', 'tessella-wasm', '--target', target, '--target-dir', dir], {
+  // Profile `wasm` (Cargo.toml): release without cross-crate LTO, more codegen units.
+  run('cargo', ['build', '--profile', 'wasm', '-p', 'tessella-wasm', '--target', target, '--target-dir', dir], {
     RUSTFLAGS: `-C target-feature=${features}`,
   });
   const out = join(js, 'dist', variant);
   rmSync(out, { recursive: true, force: true });
   run('wasm-bindgen', [
-    join(dir, target, 'release', 'tessella_wasm.wasm'),
+    join(dir, target, 'wasm', 'tessella_wasm.wasm'),
     '--target', 'web', '--out-dir', out, '--out-name', 'tessella', '--no-typescript',
   ]);
   const size = statSync(join(out, 'tessella_bg.wasm')).size;

@@ -84,13 +84,23 @@ pub fn position_ids(positions: &[[f32; 3]]) -> Vec<u32> {
         .collect()
 }
 
+/// One face's local edge: `(lo, hi, face, local edge, forward)`.
+type HalfEdge = (u32, u32, u32, u8, bool);
+
 /// Groups the faces' local edges by a key `(lo, hi)`: returns, sorted by key, the runs of
 /// `(lo, hi, face, local edge, forward)` that share a key.
-fn edge_runs(
-    triangles: &[[u32; 3]],
-    key: impl Fn(u32) -> u32 + Sync + Send,
-) -> Vec<(u32, u32, u32, u8, bool)> {
-    let mut half: Vec<(u32, u32, u32, u8, bool)> = triangles
+fn edge_runs(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) -> Vec<HalfEdge> {
+    let half = half_edges(triangles, key);
+    // Stable order inside a run (by face, then local edge) makes the owner the first face.
+    #[cfg(target_arch = "wasm32")]
+    return sorted_by_buckets(half);
+    #[cfg(not(target_arch = "wasm32"))]
+    sorted_in_parallel(half)
+}
+
+/// The faces' local edges in face order, keyed.
+fn half_edges(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) -> Vec<HalfEdge> {
+    triangles
         .par_iter()
         .enumerate()
         .flat_map_iter(|(f, t)| {
@@ -100,10 +110,48 @@ fn edge_runs(
                 (a.min(b), a.max(b), f as u32, k as u8, a < b)
             })
         })
-        .collect();
-    // Stable order inside a run (by face, then local edge) makes the owner the first face.
-    half.par_sort_unstable();
+        .collect()
+}
+
+/// Sorts half-edges by the whole tuple, in parallel (native builds).
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+fn sorted_in_parallel(mut half: Vec<HalfEdge>) -> Vec<HalfEdge> {
+    // Two packed words, the same order as the tuple's (face and local edge are unique, so
+    // `forward` never decides), with fewer field comparisons.
+    half.par_sort_unstable_by_key(|&(lo, hi, f, k, _)| {
+        (
+            ((lo as u64) << 32) | hi as u64,
+            ((f as u64) << 2) | k as u64,
+        )
+    });
     half
+}
+
+/// The same order as [`sorted_in_parallel`] by a counting sort on `lo` (wasm, one thread):
+/// half-edges come in face order, the scatter keeps it, and each bucket (a vertex's few edges)
+/// is then sorted stably by `hi`. A tenth of a one-shot wasm refinement went to the comparison
+/// sort.
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+fn sorted_by_buckets(half: Vec<HalfEdge>) -> Vec<HalfEdge> {
+    let buckets = half.iter().map(|e| e.0 as usize + 1).max().unwrap_or(0);
+    let mut start = vec![0usize; buckets + 1];
+    for e in &half {
+        start[e.0 as usize + 1] += 1;
+    }
+    for i in 1..start.len() {
+        start[i] += start[i - 1];
+    }
+    let mut next = start.clone();
+    let mut out = vec![(0, 0, 0, 0, false); half.len()];
+    for e in half {
+        let at = &mut next[e.0 as usize];
+        out[*at] = e;
+        *at += 1;
+    }
+    for w in start.windows(2) {
+        out[w[0]..w[1]].sort_by_key(|e| e.1);
+    }
+    out
 }
 
 impl Topology {
@@ -248,6 +296,23 @@ fn local_edge(t: [u32; 3], k: u8) -> [u32; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bucket_sort_gives_the_parallel_sorts_order() {
+        // Edges of an icosphere and of a fan around one vertex (one large bucket), keyed by
+        // vertex and by a key that merges vertices.
+        let m = crate::samples::icosphere(2);
+        let fan: Vec<[u32; 3]> = (1..40).map(|i| [0, i, i + 1]).collect();
+        for triangles in [m.triangles(), &fan[..]] {
+            for key in [|v: u32| v, |v: u32| v / 3] {
+                let half = half_edges(triangles, key);
+                let mut want = half.clone();
+                want.sort_unstable();
+                assert_eq!(sorted_in_parallel(half.clone()), want);
+                assert_eq!(sorted_by_buckets(half), want);
+            }
+        }
+    }
 
     /// A closed tetrahedron, consistently oriented outward.
     fn tetra() -> Mesh {
