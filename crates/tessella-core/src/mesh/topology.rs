@@ -299,11 +299,19 @@ mod tests {
 
     #[test]
     fn bucket_sort_gives_the_parallel_sorts_order() {
-        // Edges of an icosphere and of a fan around one vertex (one large bucket), keyed by
-        // vertex and by a key that merges vertices.
-        let m = crate::samples::icosphere(2);
+        // Edges of a 12 x 12 grid of quads (two triangles each, shared edges in both
+        // directions) and of a fan around one vertex (one large bucket), keyed by vertex and by
+        // a key that merges vertices. (Built here: `samples` depends on `mesh`.)
+        let n = 13u32;
+        let grid: Vec<[u32; 3]> = (0..n - 1)
+            .flat_map(|y| (0..n - 1).map(move |x| (x, y)))
+            .flat_map(|(x, y)| {
+                let v = y * n + x;
+                [[v, v + 1, v + n + 1], [v, v + n + 1, v + n]]
+            })
+            .collect();
         let fan: Vec<[u32; 3]> = (1..40).map(|i| [0, i, i + 1]).collect();
-        for triangles in [m.triangles(), &fan[..]] {
+        for triangles in [&grid[..], &fan[..]] {
             for key in [|v: u32| v, |v: u32| v / 3] {
                 let half = half_edges(triangles, key);
                 let mut want = half.clone();
