@@ -17,6 +17,10 @@ type ScopeAnswer = Pin<Box<dyn Future<Output = Option<wgpu::Error>>>>;
 
 /// Polls `future` once: native wgpu answers error scopes and finished maps at once, the web
 /// later.
+/// How long a blocking read-back waits for its map after the device went idle.
+#[cfg(feature = "blocking")]
+const MAP_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(30);
+
 fn poll_now<F: Future + ?Sized>(future: Pin<&mut F>) -> Option<F::Output> {
     match future.poll(&mut Context::from_waker(Waker::noop())) {
         Poll::Ready(value) => Some(value),
@@ -437,20 +441,30 @@ impl GpuContext {
         if let Some(done) = poll_now(mapped.as_mut()) {
             return done;
         }
-        // ...the device's work completes it.
-        self.device
-            .poll(wgpu::PollType::Wait {
-                submission_index: None,
-                timeout: None,
-            })
-            .map_err(|e| GpuError::DeviceLost {
-                reason: e.to_string(),
-            })?;
-        poll_now(mapped.as_mut()).unwrap_or_else(|| {
-            Err(GpuError::Readback(
-                "the buffer was not mapped after the device finished its work".into(),
-            ))
-        })
+        // ...the device's work completes it. Another thread polling the same device may be the
+        // one that runs the map's callback, a moment after our own poll returned: poll again
+        // until the map is done, within a bound.
+        let start = std::time::Instant::now();
+        loop {
+            self.device
+                .poll(wgpu::PollType::Wait {
+                    submission_index: None,
+                    timeout: None,
+                })
+                .map_err(|e| GpuError::DeviceLost {
+                    reason: e.to_string(),
+                })?;
+            if let Some(done) = poll_now(mapped.as_mut()) {
+                return done;
+            }
+            if start.elapsed() > MAP_TIMEOUT {
+                return Err(GpuError::Readback(format!(
+                    "the buffer was not mapped {} s after the device finished its work",
+                    MAP_TIMEOUT.as_secs()
+                )));
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
     }
 
     /// [`GpuContext::map_and_copy`] without blocking. On the web the browser completes the
