@@ -11,8 +11,8 @@ use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tessella_core::refine::Plan;
-use tessella_core::{Mesh, NormalMode, RefineError, RefineOptions, Scheme};
-use tessella_io::{IoError, MeshView, RefinedSource, WriteOptions};
+use tessella_core::{Mesh, NormalMode, RefineOptions, Scheme};
+use tessella_io::{MeshView, RefinedSource, WriteOptions};
 
 /// Adds this module's functions to `m`.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -38,7 +38,7 @@ fn options(
     ply_ascii: bool,
     max_memory: i64,
 ) -> PyResult<Options> {
-    let option = crate::errors::bad_option::<String>;
+    let option = |m: String| crate::errors::bad_option(m);
     let scheme: Scheme = scheme
         .parse()
         .map_err(|e| option(format!("scheme={scheme:?}: {e}")))?;
