@@ -168,30 +168,3 @@ class Refiner:
     def _state(
         self,
     ) -> Tuple[_U32, Dict[str, Any], Optional[Tuple[_F32, Optional[_F32]]]]: ...
-
-def _refine_to_file(
-    vertices: Any,
-    faces: Any,
-    output: str,
-    normals: Any = None,
-    *,
-    scheme: str = "pn",
-    level: int = 8,
-    alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
-    weld: bool = True,
-    ply_ascii: bool = False,
-    max_memory: int = 1 << 30,
-) -> Dict[str, Any]: ...
-def _refine_file(
-    input: str,
-    output: str,
-    *,
-    scheme: str = "pn",
-    level: int = 8,
-    alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
-    weld: bool = True,
-    ply_ascii: bool = False,
-    max_memory: int = 1 << 30,
-) -> Dict[str, Any]: ...
