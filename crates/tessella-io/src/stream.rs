@@ -96,22 +96,22 @@ pub fn check_free_space(path: &Path, need: u64) -> Result<(), IoError> {
     Ok(())
 }
 
-/// Bytes available to this user on the file system of `path`'s folder.
+/// Bytes available to this user on the file system of `path`'s folder; `None` when the system
+/// cannot say (the free-space check is then skipped and a full disk surfaces as a write error).
+#[cfg(unix)]
 fn free_bytes(path: &Path) -> Option<u64> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    #[cfg(unix)]
-    {
-        let stat = rustix::fs::statvfs(dir).ok()?;
-        Some(stat.f_bavail.saturating_mul(stat.f_frsize))
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = dir;
-        None
-    }
+    let stat = rustix::fs::statvfs(dir).ok()?;
+    Some(stat.f_bavail.saturating_mul(stat.f_frsize))
+}
+
+/// No free-space query off Unix: the check is skipped (see the Unix version).
+#[cfg(not(unix))]
+fn free_bytes(_path: &Path) -> Option<u64> {
+    None
 }
 
 /// `41.2 GB`, `512.0 MB`: decimal units, as disks are sold and `df -H` prints.
