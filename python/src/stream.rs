@@ -167,7 +167,7 @@ fn refine_to_file(
         ply_ascii,
         max_memory,
     )?;
-    let mesh = crate::mesh_from(py, vertices, faces, normals)
-        .map_err(|e| crate::errors::bad_mesh(e.to_string()))?;
+    // mesh_from raises the package's own classes already (MeshError, TypeError for dtypes).
+    let mesh = crate::mesh_from(py, vertices, faces, normals)?;
     write(py, &mesh, &output, &o)
 }
