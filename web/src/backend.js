@@ -1,0 +1,26 @@
+// Picks what draws: the WebGPU engine (pkg/, crates/tessella-viewer built by build-web.sh)
+// where the browser gives a WebGPU device, the WebGL2 fallback otherwise. Returns the backend
+// and, for the fallback, why the engine was not used (the page shows it in a banner).
+
+/** `{ core, backend: 'webgpu' | 'webgl2', reason }`; `canvas` must not have a context yet. */
+export async function createBackend(canvas, { allowWebGpu = true } = {}) {
+  let reason;
+  if (!allowWebGpu) reason = 'WebGPU was switched off (?backend=webgl2)';
+  else if (!('gpu' in navigator)) reason = 'this browser has no WebGPU (navigator.gpu is missing)';
+  else {
+    try {
+      const engine = await import('../pkg/tessella_viewer.js');
+      await engine.default();
+      const core = await engine.WebViewer.create(canvas);
+      return { core, backend: 'webgpu', reason: null };
+    } catch (e) {
+      reason = `the WebGPU engine could not start: ${e instanceof Error ? e.message : String(e)}`;
+    }
+  }
+  // A canvas that got a WebGPU context cannot give a WebGL2 one: draw into a fresh canvas.
+  const fresh = canvas.cloneNode(false);
+  canvas.replaceWith(fresh);
+  const { FallbackViewer } = await import('./fallback.js');
+  const core = await FallbackViewer.create(fresh);
+  return { core, backend: 'webgl2', reason, canvas: fresh };
+}
