@@ -67,3 +67,19 @@ if ! command -v node >/dev/null && [ "$(id -u)" = 0 ]; then
 fi
 node -e 'if (+process.versions.node.split(".")[0] < 20) { console.error("the npm package needs Node 20 or later, found " + process.version); process.exit(1) }'
 (cd js && npm ci --no-audit --no-fund && npm run build && npm test)
+
+# --- The viewer's web page (web/): Chromium headless against the page and `tessella render` ---
+# Installs Debian's Chromium when missing (as root), builds the CLI for the reference pictures,
+# builds the site (the engine's wasm through crates/tessella-viewer/build-web.sh; the npm
+# package's wasm from the js/ section above is reused, not rebuilt) and runs the browser tests.
+echo "== web viewer: build the static site, drive it in headless Chromium (WebGPU on SwiftShader, and the WebGL2 fallback)"
+if [ ! -x /usr/bin/chromium ] && [ -z "${CHROMIUM:-}" ]; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+  else
+    echo "the web tests need Chromium: apt-get install -y chromium (as root), or set CHROMIUM" >&2
+    exit 1
+  fi
+fi
+cargo build --quiet -p tessella-cli
+(cd web && npm ci --no-audit --no-fund && npm run build && npm test)

@@ -18,7 +18,7 @@ function formatBytes(n) {
   return `${(n / 1024 / 1024).toFixed(2)} MiB`;
 }
 
-export function bindControls({ state, set, load, getCore, capture, markDirty }) {
+export function bindControls({ state, set, load, getCore, capture }) {
   const form = $('controls');
   const named = [...form.querySelectorAll('[name]')];
   let tagTarget = null;
@@ -77,12 +77,9 @@ export function bindControls({ state, set, load, getCore, capture, markDirty }) 
 
   // Tag editing: the picked edge or vertex, and its sliders.
   const applyTag = guarded(() => {
-    const core = getCore();
-    if (tagTarget?.edge) core.setEdgeSharpness(tagTarget.edge[0], tagTarget.edge[1], Number($('sharpness').value));
-    else if (tagTarget?.vertex !== undefined) core.setVertexTension(tagTarget.vertex, Number($('tension').value), Number($('bias').value));
-    else return;
-    state.tags = core.tagsJson();
-    markDirty();
+    const viewer = window.viewer;
+    if (tagTarget?.edge) viewer.setEdgeSharpness(tagTarget.edge[0], tagTarget.edge[1], Number($('sharpness').value));
+    else if (tagTarget?.vertex !== undefined) viewer.setVertexTension(tagTarget.vertex, Number($('tension').value), Number($('bias').value));
   });
   for (const id of ['sharpness', 'tension', 'bias']) $(id).addEventListener('change', applyTag);
 

@@ -14,7 +14,6 @@ const UNSUPPORTED = {
   displace: 'none',
   animate: 'none',
   tags: '',
-  geomorph: false,
 };
 
 export class FallbackViewer {
@@ -223,7 +222,7 @@ export class FallbackViewer {
 
   #options(params, scheme, forDrawing) {
     const o = { scheme, level: params.level, spacing: params.spacing, alpha: params.alpha };
-    if (params.normals !== '') o.normals = params.normals;
+    if (params.normals !== 'default') o.normals = params.normals;
     if (params.lod !== 'fixed') {
       o.lod = params.lod;
       if (!params.lod.startsWith('tolerance:')) {

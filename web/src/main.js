@@ -2,7 +2,7 @@
 // whichever backend draws (backend.js). Every failure is a message on the page; the previous
 // mesh and parameters stay in effect.
 import { createBackend } from './backend.js';
-import { checkParams, DEFAULTS, fromSearch, toSearch } from './params.js';
+import { checkParams, DEFAULTS, ENGINE_KEYS, fromSearch, toSearch } from './params.js';
 import { sceneCamera, project } from './camera.js';
 import { showMessage, clearMessage, download } from './ui.js';
 import { bindControls } from './controls.js';
@@ -324,6 +324,18 @@ const viewer = {
     if (coarse) coarse.positions.set([x, y, z], 3 * i);
     dirty = true;
   },
+  setEdgeSharpness: (a, b, sharpness) => {
+    core.setEdgeSharpness(a, b, sharpness);
+    state.tags = core.tagsJson();
+    dirty = true;
+    updateUrl();
+  },
+  setVertexTension: (v, tension, bias) => {
+    core.setVertexTension(v, tension, bias);
+    state.tags = core.tagsJson();
+    dirty = true;
+    updateUrl();
+  },
   tagsJson: () => core.tagsJson(),
   exportGlb: () => core.exportGlb(),
   bench: (config) => {
@@ -339,7 +351,6 @@ const controls = bindControls({
   load: (s) => load(s).catch(() => {}),
   getCore: () => core,
   capture,
-  markDirty: () => (dirty = true),
 });
 
 async function start() {
@@ -373,6 +384,8 @@ async function start() {
     showMessage(asError(e).message);
   }
   applySize();
+  // The page's defaults, whatever the engine's own are; then the URL's values one by one.
+  core.set(Object.fromEntries(ENGINE_KEYS.map((k) => [k, state[k]])));
   for (const [key, value] of Object.entries(params)) {
     await set({ [key]: value }).catch(() => {});
   }

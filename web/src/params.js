@@ -4,25 +4,28 @@
 
 export const SCHEMES = ['flat', 'phong', 'pn', 'png1', 'pn-aen', 'st', 'quadratic'];
 export const SPACINGS = ['grid', 'equal', 'fractional-odd', 'fractional-even'];
-export const NORMALS = ['', 'linear', 'quadratic', 'real'];
+export const NORMALS = ['default', 'linear', 'quadratic', 'real'];
 export const ANIMATIONS = ['none', 'twist', 'bend'];
 
-/** `tessella render`'s defaults (crates/tessella-cli/src/args.rs, RenderArgs). */
+/**
+ * The defaults: `tessella render`'s (crates/tessella-cli/src/args.rs, RenderArgs) but for the
+ * level, 8 as the engine's (the CLI renders 16), and geomorphing on as in the engine.
+ */
 export const DEFAULTS = Object.freeze({
   mesh: 'samples/creature.obj',
   scheme: 'pn',
-  level: 16,
+  level: 8,
   spacing: 'grid',
   lod: 'fixed',
   alpha: 0.75,
-  normals: '',
+  normals: 'default',
   wireframe: false,
   displace: 'none',
   yaw: 30,
   pitch: 20,
   zoom: 1,
   pan: [0, 0],
-  geomorph: false,
+  geomorph: true,
   animate: 'none',
   panels: [],
   tags: '',
@@ -75,8 +78,11 @@ export function parseDisplace(value) {
   if (v === 'none' || v === '') return 'none';
   const [kind, rest = ''] = v.split(/:(.*)/s);
   const xs = numbers(rest);
-  if ((kind === 'sine' || kind === 'perlin') && xs.length === 2 && xs.every(Number.isFinite) && xs[1] > 0) return v;
-  throw new Error(`displace must be none, sine:AMPLITUDE,FREQUENCY or perlin:AMPLITUDE,FREQUENCY (finite, frequency > 0), got ${JSON.stringify(v)}`);
+  const arity = kind === 'perlin' ? xs.length === 2 || xs.length === 3 : xs.length === 2;
+  if ((kind === 'sine' || kind === 'perlin') && arity && xs.every(Number.isFinite) && xs[1] > 0) return v;
+  throw new Error(
+    `displace must be none, sine:AMPLITUDE,FREQUENCY or perlin:AMPLITUDE,FREQUENCY[,SEED] (finite, frequency > 0), got ${JSON.stringify(v)}`,
+  );
 }
 
 const CHECKS = {
@@ -90,7 +96,7 @@ const CHECKS = {
   spacing: (v) => oneOf('spacing', v, SPACINGS),
   lod: parseLod,
   alpha: (v) => number('alpha', v),
-  normals: (v) => oneOf('normals', v ?? '', NORMALS),
+  normals: (v) => oneOf('normals', v === '' || v == null ? 'default' : v, NORMALS),
   wireframe: (v) => bool('wireframe', v),
   displace: parseDisplace,
   yaw: (v) => number('yaw', v),

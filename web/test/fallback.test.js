@@ -1,0 +1,137 @@
+// The page in Chromium with WebGPU switched off (no --enable-unsafe-webgpu): the WebGL2
+// fallback draws, says so, loads by URL and by file picker, refuses broken files with the
+// reader's message while the previous mesh stays drawn, and refuses bad parameters.
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { assertClean, capture, count, holes, iou, mask, message, open, start } from './harness.js';
+
+const repo = fileURLToPath(new URL('../../', import.meta.url));
+const corpus = `${repo}tests/corpus/`;
+const expected = JSON.parse(readFileSync(`${corpus}expected.json`, 'utf8'));
+
+let env;
+before(async () => {
+  env = await start({ webgpu: false });
+});
+after(async () => {
+  await env?.close();
+});
+
+test('without WebGPU the fallback draws the mesh given by URL and says which path it uses', async () => {
+  const page = await open(env, '?mesh=samples/icosphere.obj&size=320x240&level=8');
+  assert.equal(await page.evaluate(() => window.viewer.backend), 'webgl2');
+  const banner = await page.locator('#banner').textContent();
+  assert.match(banner, /WebGL2 fallback/);
+  assert.match(await page.locator('#backend').textContent(), /WebGL2/);
+  const img = await capture(page);
+  assert.deepEqual([img.width, img.height], [320, 240]);
+  const m = mask(img);
+  // The icosphere fills a good part of the view and is one solid blob.
+  assert.ok(count(m) > 0.15 * m.length, `only ${count(m)} of ${m.length} pixels are drawn`);
+  assert.equal(holes(m, img.width, img.height), 0);
+  const s = await page.evaluate(() => window.viewer.stats());
+  assert.equal(s.backend, 'webgl2');
+  assert.equal(s.refinedTriangles, s.coarseTriangles * 64);
+  assertClean(assert, page);
+  await page.close();
+});
+
+test('a file from the picker replaces the mesh; scheme, level and wireframe change the picture', async () => {
+  const page = await open(env, '?mesh=samples/icosphere.obj&size=320x240&level=4&scheme=flat');
+  const flat = mask(await capture(page));
+  const coarse = (await page.evaluate(() => window.viewer.stats())).coarseTriangles;
+  await page.evaluate(() => window.viewer.set({ scheme: 'pn' }));
+  const pn = mask(await capture(page));
+  // PN rounds the silhouette: more pixels covered, the shapes close but not equal.
+  assert.ok(count(pn) > count(flat), `pn ${count(pn)} vs flat ${count(flat)}`);
+  assert.ok(iou(pn, flat) > 0.9 && iou(pn, flat) < 0.995, `IoU ${iou(pn, flat)}`);
+  await page.evaluate(() => window.viewer.set({ level: 7 }));
+  assert.equal((await page.evaluate(() => window.viewer.stats())).refinedTriangles, coarse * 49);
+  const plain = await capture(page);
+  await page.evaluate(() => window.viewer.set({ wireframe: true }));
+  const wire = await capture(page);
+  // The wireframe darkens pixels inside the silhouette but leaves the silhouette alone.
+  assert.ok(iou(mask(plain), mask(wire)) > 0.99);
+  assert.ok(darkPixels(wire) > darkPixels(plain) + 500, `${darkPixels(wire)} vs ${darkPixels(plain)}`);
+
+  await page.setInputFiles('#file', `${repo}samples/torus.obj`);
+  await page.waitForFunction((n) => window.viewer.stats().coarseTriangles !== n, coarse);
+  assert.equal(await page.evaluate(() => window.viewer.get().mesh), 'torus.obj');
+  const torus = mask(await capture(page));
+  // A torus has a hole in the middle at pitch 20: background inside its outline.
+  assert.ok(holes(torus, 320, 240) > 100);
+  assertClean(assert, page);
+  await page.close();
+});
+
+test('every broken file of the corpus gives its message and the previous mesh stays drawn', async () => {
+  const page = await open(env, '?mesh=samples/creature.obj&size=200x160&level=4');
+  const before = await capture(page);
+  for (const [name, text] of Object.entries(expected.bad)) {
+    await page.setInputFiles('#file', `${corpus}bad/${name}`);
+    await page.waitForFunction(() => !document.getElementById('message').hidden);
+    const shown = await message(page);
+    assert.ok(shown.includes(text), `${name}: the page says ${JSON.stringify(shown)}, expected ${JSON.stringify(text)}`);
+    assert.match(shown, /previous mesh stays/);
+    await page.evaluate(() => (document.getElementById('message').hidden = true));
+  }
+  const afterwards = await capture(page);
+  assert.ok(Buffer.compare(before.data, afterwards.data) === 0, 'the picture changed after refused files');
+  assert.equal(await page.evaluate(() => window.viewer.get().mesh), 'samples/creature.obj');
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test('NaN typed into a field, bad URL values and what needs WebGPU: a message, nothing changes', async () => {
+  const page = await open(env, '?mesh=samples/icosphere.obj&size=200x160&level=4&zoom=abc');
+  assert.match(await message(page), /zoom must be a positive number/);
+  assert.equal(await page.evaluate(() => window.viewer.get().zoom), 1);
+  const before = await capture(page);
+  await page.fill('input[name=alpha]', 'NaN');
+  await page.dispatchEvent('input[name=alpha]', 'change');
+  assert.match(await message(page), /alpha must be a number/);
+  assert.equal(await page.inputValue('input[name=alpha]'), '0.75');
+  for (const [params, text] of [
+    [{ level: Number.NaN }, /level must be/],
+    [{ lod: 'screen:-3' }, /lod must be/],
+    [{ displace: 'sine:0.05,10' }, /displace needs the WebGPU engine/],
+    [{ level: 4000 }, /more than the WebGL2 fallback draws/],
+  ]) {
+    const err = await page.evaluate((p) => window.viewer.set(p).then(() => null, (e) => e.message), params);
+    assert.match(err ?? '', text);
+    assert.match(await message(page), text);
+  }
+  assert.equal(await page.evaluate(() => window.viewer.get().level), 4);
+  const afterwards = await capture(page);
+  assert.ok(Buffer.compare(before.data, afterwards.data) === 0, 'a refused value changed the picture');
+  assertClean(assert, page);
+  await page.close();
+});
+
+test('the state is in the URL: a copied link opens the same view', async () => {
+  const page = await open(env, '?mesh=samples/torus.obj&size=200x160&level=4');
+  await page.evaluate(() => window.viewer.set({ scheme: 'phong', alpha: 0.5, yaw: -40, wireframe: true }));
+  const link = page.url();
+  assert.match(link, /scheme=phong/);
+  assert.match(link, /alpha=0.5/);
+  assert.match(link, /yaw=-40/);
+  const first = await capture(page);
+  const again = await env.browser.newPage();
+  again.problems = [];
+  await again.goto(link);
+  await again.evaluate(() => window.viewer.ready);
+  const second = await capture(again);
+  assert.ok(Buffer.compare(first.data, second.data) === 0, 'the link gave another picture');
+  assertClean(assert, page);
+  await page.close();
+  await again.close();
+});
+
+/** Pixels much darker than the lit surface: wireframe lines (and the unlit rim). */
+function darkPixels(img) {
+  let n = 0;
+  for (let i = 0; i < img.width * img.height; i++) if (img.data[4 * i] + img.data[4 * i + 1] + img.data[4 * i + 2] < 150) n++;
+  return n;
+}
