@@ -59,4 +59,6 @@ for (const f of samples) cpSync(join(root, 'samples', f), join(dist, 'samples', 
 writeFileSync(join(dist, 'samples', 'index.json'), JSON.stringify(samples, null, 1) + '\n');
 
 const engine = existsSync(join(dist, 'pkg', 'tessella_viewer.js'));
+// The page reads this before importing the engine, so a site without it requests nothing missing.
+writeFileSync(join(dist, 'build.json'), JSON.stringify({ engine }) + '\n');
 console.log(`web/dist: page, ${samples.length} samples, fallback (tessella npm), engine ${engine ? 'pkg/' : 'missing'}`);

@@ -2,11 +2,22 @@
 // where the browser gives a WebGPU device, the WebGL2 fallback otherwise. Returns the backend
 // and, for the fallback, why the engine was not used (the page shows it in a banner).
 
+async function engineBuilt() {
+  try {
+    const r = await fetch('build.json');
+    return r.ok && (await r.json()).engine === true;
+  } catch {
+    return false; // no build record: treat as no engine
+  }
+}
+
 /** `{ core, backend: 'webgpu' | 'webgl2', reason }`; `canvas` must not have a context yet. */
 export async function createBackend(canvas, { allowWebGpu = true } = {}) {
   let reason;
   if (!allowWebGpu) reason = 'WebGPU was switched off (?backend=webgl2)';
   else if (!('gpu' in navigator)) reason = 'this browser has no WebGPU (navigator.gpu is missing)';
+  else if (!(await engineBuilt())) reason = 'this site was built without the WebGPU engine (dist/pkg)';
+  else if ((await navigator.gpu.requestAdapter().catch(() => null)) === null) reason = 'the browser offers no WebGPU adapter';
   else {
     try {
       const engine = await import('../pkg/tessella_viewer.js');

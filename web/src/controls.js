@@ -146,7 +146,7 @@ export function bindControls({ state, set, load, getCore, capture }) {
       for (const input of named) {
         const v = state[input.name];
         if (input.type === 'checkbox') input.checked = Boolean(v);
-        else if (document.activeElement !== input || input.tagName === 'SELECT') input.value = String(v);
+        else input.value = String(v);
       }
       const [lodKind, lodValue] = splitSpec(state.lod);
       $('lod-kind').value = lodKind;
