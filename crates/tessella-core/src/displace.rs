@@ -63,6 +63,9 @@ pub enum DisplaceError {
          {got}; build the frame from the same mesh and output layout"
     )]
     FrameMismatch { expected: u64, got: usize },
+    /// A displacement spec ([`Displacement::parse`]) that says no displacement.
+    #[error("displacement {spec:?}: {reason}")]
+    Spec { spec: String, reason: String },
 }
 
 /// A scalar height field; samples are bilinear and repeat, `v = 0` is the bottom row.
@@ -139,6 +142,79 @@ pub enum Displacement {
 }
 
 impl Displacement {
+    /// Parses a displacement as the CLI's `--displace` and the viewer's `displace` take it:
+    /// `sine:AMP,FREQ`, `perlin:AMP,FREQ[,SEED]`, `heightmap:IMAGE,AMP` (the image read by
+    /// `height_map`, which the file crate provides: the core reads no files), or `none`.
+    ///
+    /// ```
+    /// use tessella_core::displace::Displacement;
+    /// let none = |_: &str| Err("no images here".to_string());
+    /// assert_eq!(Displacement::parse("sine:0.1,20", none)?,
+    ///            Displacement::Sine { amplitude: 0.1, frequency: 20.0 });
+    /// assert_eq!(Displacement::parse("perlin:0.1,4,7", none)?,
+    ///            Displacement::Perlin { amplitude: 0.1, frequency: 4.0, seed: 7 });
+    /// assert!(Displacement::parse("sine:0.1", none).is_err());
+    /// assert!(Displacement::parse("wobble:1", none).is_err());
+    /// assert!(Displacement::parse("heightmap:h.png,1", none).is_err());
+    /// # Ok::<(), tessella_core::DisplaceError>(())
+    /// ```
+    pub fn parse(
+        spec: &str,
+        height_map: impl FnOnce(&str) -> Result<HeightMap, String>,
+    ) -> Result<Displacement, DisplaceError> {
+        let fail = |reason: String| DisplaceError::Spec {
+            spec: spec.to_string(),
+            reason,
+        };
+        if spec.trim() == "none" {
+            return Ok(Displacement::None);
+        }
+        let (kind, rest) = spec.split_once(':').unwrap_or((spec, ""));
+        let parts: Vec<&str> = rest
+            .split(',')
+            .map(str::trim)
+            .filter(|p| !p.is_empty())
+            .collect();
+        let number = |i: usize, what: &str| -> Result<f32, DisplaceError> {
+            let text = parts.get(i).ok_or_else(|| fail(format!("missing {what}")))?;
+            text.parse()
+                .map_err(|_| fail(format!("{what} '{text}' is not a number")))
+        };
+        let displacement = match kind {
+            "sine" => Displacement::Sine {
+                amplitude: number(0, "amplitude")?,
+                frequency: number(1, "frequency")?,
+            },
+            "perlin" => Displacement::Perlin {
+                amplitude: number(0, "amplitude")?,
+                frequency: number(1, "frequency")?,
+                seed: match parts.get(2) {
+                    Some(s) => s
+                        .parse()
+                        .map_err(|_| fail(format!("seed '{s}' is not a whole number")))?,
+                    None => 0,
+                },
+            },
+            "heightmap" => {
+                let path = parts
+                    .first()
+                    .ok_or_else(|| fail("missing the image path".into()))?;
+                let amplitude = number(1, "amplitude")?;
+                Displacement::HeightMap {
+                    amplitude,
+                    map: height_map(path).map_err(fail)?,
+                }
+            }
+            _ => {
+                return Err(fail(format!(
+                    "unknown kind '{kind}'; use sine:AMP,FREQ, perlin:AMP,FREQ[,SEED] or \
+                     heightmap:IMAGE,AMP"
+                )))
+            }
+        };
+        Ok(displacement)
+    }
+
     /// `true` unless [`Displacement::None`].
     pub fn is_some(&self) -> bool {
         !matches!(self, Displacement::None)

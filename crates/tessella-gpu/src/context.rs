@@ -54,6 +54,8 @@ pub struct GpuContext {
     /// its adapter; after [`GpuContext::from_device`] they are unknown (the device is taken to
     /// be WebGPU-compliant) until [`GpuContext::with_downlevel`] gives them.
     downlevel: Option<wgpu::DownlevelCapabilities>,
+    /// The adapter the device came from, when tessella opened it (for a surface's formats).
+    adapter: Option<wgpu::Adapter>,
     /// First error tessella met outside an error scope (a buffer it could not fill) or, on a
     /// device tessella opened itself, an uncaptured error or loss; taken by
     /// [`GpuContext::check`].
@@ -142,7 +144,18 @@ impl GpuContext {
             backends: wgpu::Backends::PRIMARY,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         });
-        let adapters = candidate_adapters(&instance).await;
+        Self::for_surface_async(&instance, None, choice).await
+    }
+
+    /// [`GpuContext::new_async`] on the caller's `instance`, choosing among the adapters that
+    /// can present to `surface` when one is given (a window's, a canvas's: the surface and the
+    /// device must come from the same instance).
+    pub async fn for_surface_async(
+        instance: &wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+        choice: AdapterChoice,
+    ) -> Result<GpuContext, GpuError> {
+        let adapters = candidate_adapters(instance, surface).await;
         let is_software = |a: &wgpu::Adapter| a.get_info().device_type == wgpu::DeviceType::Cpu;
         let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
             wgpu::DeviceType::DiscreteGpu => 0,
@@ -184,8 +197,9 @@ impl GpuContext {
             })?;
         // The device is tessella's own: its uncaptured errors and loss are recorded here (wgpu's
         // default handler would panic), and returned by `check`.
-        let ctx = GpuContext::from_device(device, queue)
+        let mut ctx = GpuContext::from_device(device, queue)
             .with_downlevel(adapter.get_downlevel_capabilities());
+        ctx.adapter = Some(adapter);
         let sink = ctx.fault.clone();
         ctx.device
             .on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
@@ -238,6 +252,7 @@ impl GpuContext {
             info: device.adapter_info(),
             limits: device.limits(),
             downlevel: None,
+            adapter: None,
             device,
             queue,
             fault: Arc::new(Mutex::new(None)),
@@ -265,6 +280,13 @@ impl GpuContext {
     pub fn with_downlevel(mut self, caps: wgpu::DownlevelCapabilities) -> GpuContext {
         self.downlevel = Some(caps);
         self
+    }
+
+    /// The adapter of a device tessella opened ([`GpuContext::new`],
+    /// [`GpuContext::for_surface_async`]); `None` after [`GpuContext::from_device`]. A surface
+    /// asks it for its formats (`wgpu::Surface::get_default_config`).
+    pub fn adapter(&self) -> Option<&wgpu::Adapter> {
+        self.adapter.as_ref()
     }
 
     /// The downlevel capabilities tessella checks against, where known
@@ -642,16 +664,30 @@ impl GpuContext {
     }
 }
 
-/// The adapters worth ranking: every one on native, the browser's one on the web.
+/// The adapters worth ranking (those that can present to `surface`, when given): every one
+/// on native, the browser's one on the web.
 #[cfg(not(target_arch = "wasm32"))]
-async fn candidate_adapters(instance: &wgpu::Instance) -> Vec<wgpu::Adapter> {
-    instance.enumerate_adapters(wgpu::Backends::PRIMARY).await
+async fn candidate_adapters(
+    instance: &wgpu::Instance,
+    surface: Option<&wgpu::Surface<'_>>,
+) -> Vec<wgpu::Adapter> {
+    let mut adapters = instance.enumerate_adapters(wgpu::Backends::PRIMARY).await;
+    if let Some(surface) = surface {
+        adapters.retain(|a| a.is_surface_supported(surface));
+    }
+    adapters
 }
 
 #[cfg(target_arch = "wasm32")]
-async fn candidate_adapters(instance: &wgpu::Instance) -> Vec<wgpu::Adapter> {
+async fn candidate_adapters(
+    instance: &wgpu::Instance,
+    surface: Option<&wgpu::Surface<'_>>,
+) -> Vec<wgpu::Adapter> {
     instance
-        .request_adapter(&wgpu::RequestAdapterOptions::default())
+        .request_adapter(&wgpu::RequestAdapterOptions {
+            compatible_surface: surface,
+            ..Default::default()
+        })
         .await
         .into_iter()
         .collect()

@@ -54,7 +54,7 @@
 //! ```
 
 use crate::{RawEdge, RawMesh};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tessella_core::tags::{EdgeTag, TagBuilder, TagError, Tags, VertexTag};
@@ -93,49 +93,82 @@ pub enum TagSourceError {
     Json { origin: String, error: JsonTagError },
 }
 
-#[derive(Deserialize)]
+/// A sidecar tags file as data (format in the module docs): what [`from_json`] reads and
+/// [`TagFile::to_json`] writes, keyed by the mesh's vertex indices. The interactive viewer
+/// edits one and saves it for the CLI.
+///
+/// ```
+/// use tessella_io::tags::{TagFile, TagFileEdge};
+/// let mut file = TagFile::default();
+/// file.edges.push(TagFileEdge { vertices: [0, 1], sharpness: 1.0, kappa: 0.0 });
+/// let text = file.to_json();
+/// assert_eq!(TagFile::parse(&text)?, file);
+/// let mesh = tessella_core::samples::tetrahedron();
+/// assert_eq!(tessella_io::tags::from_json(&mesh, &text)?.edge_count(), 1);
+/// # Ok::<(), tessella_io::tags::JsonTagError>(())
+/// ```
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct JsonFile {
+pub struct TagFile {
     #[serde(default)]
-    edges: Vec<JsonEdge>,
+    pub edges: Vec<TagFileEdge>,
     #[serde(default)]
-    vertices: Vec<JsonVertex>,
+    pub vertices: Vec<TagFileVertex>,
 }
 
-#[derive(Deserialize)]
+/// One edge of a [`TagFile`]: its two vertex indices and tags.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct JsonEdge {
-    vertices: [u32; 2],
+pub struct TagFileEdge {
+    pub vertices: [u32; 2],
     #[serde(default)]
-    sharpness: f32,
+    pub sharpness: f32,
     #[serde(default)]
-    kappa: f32,
+    pub kappa: f32,
 }
 
-#[derive(Deserialize)]
+/// One vertex of a [`TagFile`]: its index and tags.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct JsonVertex {
-    index: u32,
+pub struct TagFileVertex {
+    pub index: u32,
     #[serde(flatten)]
-    tag: VertexTag,
+    pub tag: VertexTag,
+}
+
+impl TagFile {
+    /// Reads the JSON text (no check against a mesh: [`TagFile::tags`] does that).
+    pub fn parse(text: &str) -> Result<TagFile, JsonTagError> {
+        serde_json::from_str(text).map_err(|e| JsonTagError::Json(e.to_string()))
+    }
+
+    /// The JSON text, in the format [`from_json`] and `tessella refine --tags` read.
+    pub fn to_json(&self) -> String {
+        // Plain data of numbers and arrays: serialising cannot fail (non-finite numbers are
+        // written as null, which `parse` then refuses).
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// The tags these entries set on `mesh`, checked.
+    pub fn tags(&self, mesh: &Mesh) -> Result<Tags, JsonTagError> {
+        let mut tags = TagBuilder::new(mesh);
+        for e in &self.edges {
+            let tag = EdgeTag {
+                sharpness: e.sharpness,
+                kappa: e.kappa,
+            };
+            tags.set_edge(e.vertices, tag)?;
+        }
+        for v in &self.vertices {
+            tags.set_vertex(v.index, v.tag)?;
+        }
+        Ok(tags.finish())
+    }
 }
 
 /// Tags from a sidecar JSON file's text (format in the module docs).
 pub fn from_json(mesh: &Mesh, text: &str) -> Result<Tags, JsonTagError> {
-    let file: JsonFile =
-        serde_json::from_str(text).map_err(|e| JsonTagError::Json(e.to_string()))?;
-    let mut tags = TagBuilder::new(mesh);
-    for e in file.edges {
-        let tag = EdgeTag {
-            sharpness: e.sharpness,
-            kappa: e.kappa,
-        };
-        tags.set_edge(e.vertices, tag)?;
-    }
-    for v in file.vertices {
-        tags.set_vertex(v.index, v.tag)?;
-    }
-    Ok(tags.finish())
+    TagFile::parse(text)?.tags(mesh)
 }
 
 /// Vertex property names that are tags, in [`VertexTag`] order.

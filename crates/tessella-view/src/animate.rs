@@ -3,7 +3,8 @@
 //! [`PatternRenderer::update`] uploads them (GMR section 3.1), never a refined vertex buffer.
 //! The fly-in changes the levels every frame instead, drawn by one [`AdaptiveRenderer`].
 
-use crate::render::{scene_uniforms, RenderOptions, Target};
+use crate::render::Target;
+use crate::scene::{scene_uniforms, RenderOptions};
 use crate::save_png;
 use std::path::{Path, PathBuf};
 use tessella_core::refine::{Plan, Surface};

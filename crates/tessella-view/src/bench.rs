@@ -2,7 +2,8 @@
 //! experiment (a static fully refined vertex buffer vs the instanced pattern). Rows carry the
 //! adapter's label; software adapters are marked as such, their numbers say nothing about GPUs.
 
-use crate::render::{scene_uniforms, RenderOptions, Target};
+use crate::render::Target;
+use crate::scene::{scene_uniforms, RenderOptions};
 use image::RgbaImage;
 use std::time::Instant;
 use tessella_core::refine::{Evaluator, Plan, Surface, SurfaceOptions};

@@ -10,6 +10,8 @@ pub(crate) const FOV_Y_DEGREES: f32 = 30.0;
 pub(crate) struct Camera {
     pub view_proj: Mat4,
     pub eye: Vec3,
+    /// The point looked at: the framed centre, moved by the pan.
+    pub target: Vec3,
     /// Unit direction towards the light: a key light above-left of the viewer.
     pub light_dir: Vec3,
 }
@@ -27,13 +29,15 @@ pub(crate) fn bounding_sphere(points: &[[f32; 3]]) -> (Vec3, f32) {
 
 impl Camera {
     /// Frames the sphere `(center, radius)`: `yaw` turns about +Y, `pitch` raises the eye,
-    /// `zoom > 1` moves closer.
+    /// `zoom > 1` moves closer, `pan` moves the point looked at (and the eye with it) along
+    /// the view's right and up axes by `pan × radius`.
     pub fn framing(
         center: Vec3,
         radius: f32,
         yaw: f32,
         pitch: f32,
         zoom: f32,
+        pan: [f32; 2],
         aspect: f32,
     ) -> Camera {
         let fov_y = FOV_Y_DEGREES.to_radians();
@@ -46,12 +50,19 @@ impl Camera {
             pitch.sin(),
             pitch.cos() * yaw.cos(),
         );
-        let eye = center + dir * distance;
         let up = if dir.y.abs() > 0.999 {
             Vec3::Z
         } else {
             Vec3::Y
         };
+        let center = if pan == [0.0, 0.0] {
+            center
+        } else {
+            let right = (-dir).cross(up).normalize();
+            let view_up = right.cross(-dir);
+            center + (right * pan[0] + view_up * pan[1]) * radius
+        };
+        let eye = center + dir * distance;
         let view = look_at_rh(eye, center, up);
         let near = (distance - radius * 1.5).max(distance * 0.01);
         let far = distance + radius * 1.5;
@@ -63,6 +74,7 @@ impl Camera {
         Camera {
             view_proj: proj * view,
             eye,
+            target: center,
             light_dir,
         }
     }
@@ -102,7 +114,7 @@ mod tests {
     fn framed_sphere_projects_inside_the_view() {
         let (c, r) = (Vec3::new(1.0, 2.0, 3.0), 2.0);
         for (yaw, pitch, aspect) in [(0.0, 0.0, 1.0), (45.0, 30.0, 2.0), (200.0, -60.0, 0.5)] {
-            let cam = Camera::framing(c, r, yaw, pitch, 1.0, aspect);
+            let cam = Camera::framing(c, r, yaw, pitch, 1.0, [0.0, 0.0], aspect);
             let centre = cam.view_proj * c.extend(1.0);
             let ndc = centre.truncate() / centre.w;
             assert!(ndc.x.abs() < 1e-4 && ndc.y.abs() < 1e-4 && ndc.z > 0.0 && ndc.z < 1.0);
@@ -114,5 +126,18 @@ mod tests {
                 assert!(q.z > 0.0 && q.z < 1.0, "{q:?}");
             }
         }
+    }
+
+    #[test]
+    fn pan_moves_the_centre_off_the_middle_of_the_view() {
+        let (c, r) = (Vec3::new(1.0, 2.0, 3.0), 2.0);
+        let cam = Camera::framing(c, r, 30.0, 20.0, 1.0, [0.25, -0.5], 1.0);
+        // The panned target is in the middle; the sphere's centre left of and above it.
+        let t = cam.view_proj * cam.target.extend(1.0);
+        assert!((t.x / t.w).abs() < 1e-4 && (t.y / t.w).abs() < 1e-4);
+        let p = cam.view_proj * c.extend(1.0);
+        let (x, y) = (p.x / p.w, p.y / p.w);
+        assert!(x < -0.01 && y > 0.01, "{x} {y}");
+        assert!((cam.target.distance(c) - r * (0.25f32.hypot(0.5))).abs() < 1e-4);
     }
 }

@@ -19,18 +19,28 @@
 //! # Ok::<(), tessella_gpu::GpuError>(())
 //! ```
 
+//!
+//! The view itself ([`RenderOptions`], [`scene_uniforms`], [`lod_camera`], [`panel_widths`]) is
+//! in `scene.rs` and never blocks, so it builds for the web (the interactive viewer,
+//! `tessella-viewer`, uses this very camera); the pictures, animations and benchmarks wait for
+//! the GPU and are the default `blocking` feature.
+
+#[cfg(feature = "blocking")]
 pub mod animate;
+#[cfg(feature = "blocking")]
 pub mod bench;
 mod camera;
 pub mod colormap;
 pub mod font;
+#[cfg(feature = "blocking")]
 mod render;
+mod scene;
 
 pub use colormap::{Colormap, FieldColors};
 pub use image::RgbaImage;
-pub use render::{
-    lod_camera, panel_widths, render, render_compare, scene_uniforms, RenderOptions, Target,
-};
+#[cfg(feature = "blocking")]
+pub use render::{read_texture, render, render_compare, Target};
+pub use scene::{clear_color, lod_camera, panel_widths, scene_uniforms, RenderOptions};
 pub use tessella_gpu::{GpuError, PatternRenderer};
 
 /// Writes `image` as a PNG to a temporary file beside `path`, then renames it into place, so

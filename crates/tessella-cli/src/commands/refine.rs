@@ -288,10 +288,9 @@ fn levels(args: &RefineArgs, scheme: tessella_core::Scheme) -> anyhow::Result<Re
         SpacingArg::FractionalEven => Spacing::FractionalEven,
     };
     let level = args.level;
-    let whole =
-        level.is_finite() && level >= 0.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
-    let options =
-        RefineOptions::new(scheme, if whole { level as u32 } else { 1 }).with_spacing(spacing);
+    let options = RefineOptions::new(scheme, 1)
+        .with_spacing(spacing)
+        .with_uniform_level(level);
     if let Some(spec) = &args.lod {
         let camera = args.camera.as_deref().map(Camera::parse).transpose()?;
         let lod = Lod::parse(spec, camera, args.size.map(|(w, h)| [w, h]))?;
@@ -305,12 +304,9 @@ fn levels(args: &RefineArgs, scheme: tessella_core::Scheme) -> anyhow::Result<Re
     if !level.is_finite() || level < 0.0 {
         anyhow::bail!("--level {level}: levels must be finite numbers above 0");
     }
-    match (spacing, whole) {
-        (Spacing::Grid, true) => Ok(options),
-        // A fractional grid level geomorphs: the grid of ⌈level⌉ segments, its new points
-        // blended towards the coarser level (docs/formulas.md, "Geomorphing grid patterns").
-        _ => Ok(options.with_levels(Levels::Uniform(level as f32))),
-    }
+    // A fractional grid level geomorphs: the grid of ⌈level⌉ segments, its new points blended
+    // towards the coarser level (docs/formulas.md, "Geomorphing grid patterns").
+    Ok(options)
 }
 
 /// The CPU refinement, with a progress bar, then the displacement (shared directions on hard

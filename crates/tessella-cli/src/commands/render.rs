@@ -150,13 +150,9 @@ fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Resul
         SpacingArg::FractionalEven => Spacing::FractionalEven,
     };
     let level = args.level;
-    let whole =
-        level.is_finite() && level >= 0.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
-    let options = RefineOptions::new(
-        tessella_core::Scheme::Pn,
-        if whole { level as u32 } else { 1 },
-    )
-    .with_spacing(spacing);
+    let options = RefineOptions::new(tessella_core::Scheme::Pn, 1)
+        .with_spacing(spacing)
+        .with_uniform_level(level);
     if let Some(spec) = &args.lod {
         let camera = match args.camera.as_deref() {
             Some(text) => Camera::parse(text)?,
@@ -172,10 +168,7 @@ fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Resul
     if !level.is_finite() || level <= 0.0 {
         anyhow::bail!("--level {level}: levels must be finite numbers above 0");
     }
-    match (spacing, whole) {
-        (Spacing::Grid, true) => Ok(options),
-        // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
-        // Above the tessellator's maximum (64; 63 for fractional-odd) levels are clamped.
-        _ => Ok(options.with_levels(Levels::Uniform(level as f32))),
-    }
+    // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
+    // Above the tessellator's maximum (64; 63 for fractional-odd) levels are clamped.
+    Ok(options)
 }

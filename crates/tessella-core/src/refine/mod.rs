@@ -88,6 +88,35 @@ impl RefineOptions {
         self.levels = Some(levels);
         self
     }
+    /// Sets one level for every edge as the CLI's `--level`, Python's `level=` and the viewer
+    /// take it (the caller has checked it is finite and positive): a whole level with
+    /// [`Spacing::Grid`] is the classic integer refinement, bit for bit; anything else (a
+    /// fractional level, a tessellator spacing) becomes [`Levels::Uniform`], which geomorphs on
+    /// the grid and is clamped to a tessellator spacing's range. Call after
+    /// [`RefineOptions::with_spacing`].
+    ///
+    /// ```
+    /// use tessella_core::refine::{Levels, Spacing};
+    /// use tessella_core::{RefineOptions, Scheme};
+    /// let whole = RefineOptions::new(Scheme::Pn, 1).with_uniform_level(6.0);
+    /// assert_eq!((whole.level, whole.levels), (6, None));
+    /// let morph = RefineOptions::new(Scheme::Pn, 1).with_uniform_level(5.5);
+    /// assert_eq!(morph.levels, Some(Levels::Uniform(5.5)));
+    /// let odd = RefineOptions::new(Scheme::Pn, 1)
+    ///     .with_spacing(Spacing::FractionalOdd)
+    ///     .with_uniform_level(3.0);
+    /// assert_eq!(odd.levels, Some(Levels::Uniform(3.0)));
+    /// ```
+    pub fn with_uniform_level(mut self, level: f64) -> Self {
+        let whole =
+            level.is_finite() && level >= 0.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
+        self.level = if whole { level as u32 } else { 1 };
+        self.levels = match (self.spacing, whole) {
+            (Spacing::Grid, true) => None,
+            _ => Some(Levels::Uniform(level as f32)),
+        };
+        self
+    }
     /// Sets the size cap in bytes.
     pub fn with_max_output_bytes(mut self, bytes: u64) -> Self {
         self.max_output_bytes = bytes;

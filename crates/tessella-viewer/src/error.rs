@@ -1,0 +1,26 @@
+//! The viewer's one error type: every message says what was refused and why; the viewer's
+//! state is left as it was before the call that failed.
+
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum ViewerError {
+    /// A parameter's value (the message starts with its name, as the contract says).
+    #[error("{name}: {message}")]
+    Param { name: &'static str, message: String },
+    #[error(transparent)]
+    Gpu(#[from] tessella_gpu::GpuError),
+    #[error(transparent)]
+    Refine(#[from] tessella_core::RefineError),
+    #[error(transparent)]
+    Mesh(#[from] tessella_core::MeshError),
+    #[error(transparent)]
+    Displace(#[from] tessella_core::DisplaceError),
+    #[error(transparent)]
+    Io(#[from] tessella_io::IoError),
+    #[error("tags: {0}")]
+    Tags(String),
+    /// A call that makes no sense in the viewer's state (no such sample, vertex, edge...).
+    #[error("{0}")]
+    Refused(String),
+}
