@@ -176,7 +176,9 @@ impl Displacement {
             .filter(|p| !p.is_empty())
             .collect();
         let number = |i: usize, what: &str| -> Result<f32, DisplaceError> {
-            let text = parts.get(i).ok_or_else(|| fail(format!("missing {what}")))?;
+            let text = parts
+                .get(i)
+                .ok_or_else(|| fail(format!("missing {what}")))?;
             text.parse()
                 .map_err(|_| fail(format!("{what} '{text}' is not a number")))
         };

@@ -4,8 +4,8 @@
 //! The fly-in changes the levels every frame instead, drawn by one [`AdaptiveRenderer`].
 
 use crate::render::Target;
-use crate::scene::{scene_uniforms, RenderOptions};
 use crate::save_png;
+use crate::scene::{scene_uniforms, RenderOptions};
 use std::path::{Path, PathBuf};
 use tessella_core::refine::{Plan, Surface};
 use tessella_core::{Mesh, OutputLayout, RefineOptions};

@@ -171,4 +171,3 @@ pub(crate) fn srgb_to_linear(c: u8) -> f32 {
         ((c + 0.055) / 1.055).powf(2.4)
     }
 }
-

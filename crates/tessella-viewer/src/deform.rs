@@ -76,7 +76,11 @@ mod tests {
         let (lo, hi) = mesh.bounds();
         let x0 = 0.5 * (lo[0] + hi[0]);
         let height = hi[1] - lo[1];
-        for ((q, m), (&orig, &normal)) in p.iter().zip(&n).zip(mesh.positions().iter().zip(mesh.normals())) {
+        for ((q, m), (&orig, &normal)) in p
+            .iter()
+            .zip(&n)
+            .zip(mesh.positions().iter().zip(mesh.normals()))
+        {
             // Normals stay unit and a point on the axis stays at its arc length from the
             // bottom: distance from the arc's centre is preserved.
             let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();

@@ -115,7 +115,15 @@ pub const KEYS: [&str; 17] = [
 ];
 
 /// Keys whose change only moves the camera or the per-frame work: no surface rebuild.
-const VIEW_ONLY: [&str; 7] = ["wireframe", "yaw", "pitch", "zoom", "pan", "animate", "mesh"];
+const VIEW_ONLY: [&str; 7] = [
+    "wireframe",
+    "yaw",
+    "pitch",
+    "zoom",
+    "pan",
+    "animate",
+    "mesh",
+];
 
 fn bad(name: &'static str, message: impl Into<String>) -> ViewerError {
     ViewerError::Param {
@@ -255,8 +263,10 @@ impl Params {
                         p.displacement = Displacement::None;
                     } else {
                         let no_files = |_: &str| {
-                            Err("height maps need an image file; the viewer takes sine and perlin"
-                                .to_string())
+                            Err(
+                                "height maps need an image file; the viewer takes sine and perlin"
+                                    .to_string(),
+                            )
                         };
                         let d = Displacement::parse(spec, no_files)
                             .map_err(|e| bad("displace", e.to_string()))?;
@@ -443,7 +453,10 @@ mod tests {
             (json!({"lod": "screen:-1"}), "lod"),
             (json!({"lod": "fast"}), "lod"),
             (json!({"displace": "wobble:1"}), "displace"),
-            (json!({"displace": "sine:0.1,10", "spacing": "fractional-odd"}), "displace"),
+            (
+                json!({"displace": "sine:0.1,10", "spacing": "fractional-odd"}),
+                "displace",
+            ),
             (json!({"displace": "sine:NaN,10"}), "displace"),
             (json!({"pan": [1]}), "pan"),
             (json!({"wireframe": "maybe"}), "wireframe"),

@@ -78,15 +78,32 @@ mod tests {
 
     #[test]
     fn a_ray_through_a_triangle_picks_its_nearest_corner_and_edge() {
-        let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -5.0]];
+        let positions = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, -5.0],
+        ];
         let triangles = [[0, 1, 2], [3, 1, 2]];
         // Near corner 1, near the edge 1-2 (x + y close to 1).
-        let hit = pick(&positions, &triangles, Vec3::new(0.7, 0.25, 3.0), Vec3::NEG_Z).unwrap();
+        let hit = pick(
+            &positions,
+            &triangles,
+            Vec3::new(0.7, 0.25, 3.0),
+            Vec3::NEG_Z,
+        )
+        .unwrap();
         assert_eq!((hit.face, hit.vertex, hit.edge), (0, 1, [1, 2]));
         // Pointing away: nothing.
         assert!(pick(&positions, &triangles, Vec3::new(0.2, 0.2, 3.0), Vec3::Z).is_none());
         // Outside both triangles.
-        assert!(pick(&positions, &triangles, Vec3::new(2.0, 2.0, 3.0), Vec3::NEG_Z).is_none());
+        assert!(pick(
+            &positions,
+            &triangles,
+            Vec3::new(2.0, 2.0, 3.0),
+            Vec3::NEG_Z
+        )
+        .is_none());
     }
 
     #[test]

@@ -30,7 +30,10 @@ impl Presenter {
         height: u32,
     ) -> Result<Presenter, ViewerError> {
         let adapter = ctx.adapter().ok_or_else(|| {
-            ViewerError::Refused("the device's adapter is unknown: open it with GpuContext::for_surface_async".into())
+            ViewerError::Refused(
+                "the device's adapter is unknown: open it with GpuContext::for_surface_async"
+                    .into(),
+            )
         })?;
         let mut config = surface
             .get_default_config(adapter, width.max(1), height.max(1))

@@ -188,7 +188,14 @@ impl Viewer {
             ..self.params.clone()
         };
         let tags = TagFile::default();
-        let panels = build_panels(&self.ctx, &self.formats, &mesh, raw.as_ref(), &params, &tags)?;
+        let panels = build_panels(
+            &self.ctx,
+            &self.formats,
+            &mesh,
+            raw.as_ref(),
+            &params,
+            &tags,
+        )?;
         self.stats = Stats::new(&self.ctx, mesh.face_count());
         self.rest = mesh.clone();
         self.model = Model { mesh, raw };
@@ -403,11 +410,8 @@ impl Viewer {
         }
         self.ctx.submit(encoder)?;
         self.ctx.check()?;
-        self.stats.frame(
-            &self.panels,
-            uploaded,
-            crate::clock::now_ms() - start,
-        );
+        self.stats
+            .frame(&self.panels, uploaded, crate::clock::now_ms() - start);
         Ok(())
     }
 
@@ -475,7 +479,12 @@ impl Viewer {
     /// Sets the sharpness of the coarse edge between vertices `a` and `b` (0 removes the tag)
     /// and rebuilds the surfaces at once; refused for an edge that is not one, or a value
     /// outside `0..=1`.
-    pub fn set_edge_sharpness(&mut self, a: u32, b: u32, sharpness: f32) -> Result<(), ViewerError> {
+    pub fn set_edge_sharpness(
+        &mut self,
+        a: u32,
+        b: u32,
+        sharpness: f32,
+    ) -> Result<(), ViewerError> {
         if !(0.0..=1.0).contains(&sharpness) {
             return Err(ViewerError::Tags(format!(
                 "edge sharpness must be within 0..=1, got {sharpness}"
@@ -498,7 +507,12 @@ impl Viewer {
 
     /// Sets vertex `v`'s tension and bias (keeping its sharpness and crease) and rebuilds the
     /// surfaces at once.
-    pub fn set_vertex_tension(&mut self, v: u32, tension: f32, bias: f32) -> Result<(), ViewerError> {
+    pub fn set_vertex_tension(
+        &mut self,
+        v: u32,
+        tension: f32,
+        bias: f32,
+    ) -> Result<(), ViewerError> {
         let mut tags = self.tags.clone();
         match tags.vertices.iter_mut().find(|t| t.index == v) {
             Some(t) => {
@@ -540,7 +554,10 @@ impl Viewer {
             .panels
             .first()
             .ok_or_else(|| ViewerError::Refused("nothing to export".into()))?;
-        let mut options = panel.options.clone().with_max_output_bytes(MAX_EXPORT_BYTES);
+        let mut options = panel
+            .options
+            .clone()
+            .with_max_output_bytes(MAX_EXPORT_BYTES);
         if let Some(spec) = &self.params.lod {
             let (_, width) = self.layout()?[0];
             let camera = lod_camera(&self.model.mesh, &self.view(width));
@@ -556,9 +573,7 @@ impl Viewer {
                 refiner.topology(),
                 refiner.layout(),
             );
-            self.params
-                .displacement
-                .apply(&mut refined, &frame)?;
+            self.params.displacement.apply(&mut refined, &frame)?;
         }
         Ok(tessella_io::write_mesh_bytes(
             tessella_io::Format::Glb,
@@ -581,4 +596,3 @@ impl Viewer {
         self.params.to_json()
     }
 }
-
