@@ -33,9 +33,9 @@ test('URL strings become typed values', () => {
 });
 
 test('the URL holds what differs from the defaults and reads back the same', () => {
-  const state = { ...structuredClone(DEFAULTS), scheme: 'png1', level: 8, wireframe: true, yaw: -15, panels: ['flat', 'pn'], mesh: 'samples/torus.obj' };
+  const state = { ...structuredClone(DEFAULTS), scheme: 'png1', level: 12, wireframe: true, yaw: -15, panels: ['flat', 'pn'], mesh: 'samples/torus.obj' };
   const q = toSearch(state);
-  assert.equal(q, 'mesh=samples%2Ftorus.obj&scheme=png1&level=8&wireframe=1&yaw=-15&panels=flat%2Cpn');
+  assert.equal(q, 'mesh=samples%2Ftorus.obj&scheme=png1&level=12&wireframe=1&yaw=-15&panels=flat%2Cpn');
   const back = { ...structuredClone(DEFAULTS), ...checkParams(fromSearch(q)) };
   assert.deepEqual(back, state);
   assert.equal(toSearch(DEFAULTS), '');

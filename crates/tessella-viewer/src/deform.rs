@@ -46,13 +46,12 @@ pub fn bend(mesh: &Mesh, degrees: f32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
     (positions, normals)
 }
 
+/// A deformed frame's positions and normals, one each per coarse vertex.
+pub type PositionsNormals = (Vec<[f32; 3]>, Vec<[f32; 3]>);
+
 /// The positions and normals of `rest` under `animation` at `time_ms`: the angle swings as
 /// `max × sin(2π t / PERIOD_MS)`. `None` for [`Animation::None`].
-pub fn at(
-    rest: &Mesh,
-    animation: Animation,
-    time_ms: f64,
-) -> Option<(Vec<[f32; 3]>, Vec<[f32; 3]>)> {
+pub fn at(rest: &Mesh, animation: Animation, time_ms: f64) -> Option<PositionsNormals> {
     let swing = (time_ms / PERIOD_MS * std::f64::consts::TAU).sin() as f32;
     match animation {
         Animation::None => None,

@@ -108,8 +108,28 @@ mod tests {
 
     #[test]
     fn rays_unproject_through_the_projected_point() {
-        let proj = Mat4::perspective_rh(0.8, 1.5, 0.5, 20.0);
-        let view = Mat4::look_at_rh(Vec3::new(1.0, 2.0, 6.0), Vec3::ZERO, Vec3::Y);
+        // A right-handed perspective onto depth 0..=1 (fov 0.8 rad, aspect 1.5, near 0.5,
+        // far 20) and a rotated, shifted view.
+        let (f, near, far) = (1.0 / (0.4f32).tan(), 0.5f32, 20.0f32);
+        let proj = Mat4::from_cols_array(&[
+            f / 1.5,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            f,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            far / (near - far),
+            -1.0,
+            0.0,
+            0.0,
+            near * far / (near - far),
+            0.0,
+        ]);
+        let view = Mat4::from_translation(Vec3::new(-0.5, 0.3, -6.0)) * Mat4::from_rotation_y(0.4);
         let m = proj * view;
         let point = Vec3::new(0.3, -0.2, 0.4);
         let clip = m * point.extend(1.0);
