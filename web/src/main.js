@@ -369,8 +369,10 @@ async function start() {
     $('banner').textContent = `Drawing with the WebGL2 fallback (CPU refinement in wasm): ${reason}. Displacement, tags and animation need WebGPU.`;
   }
   bindPointer();
+  // Resizing the canvas inside the observer's callback changes the observed layout again
+  // (the browser reports a "ResizeObserver loop" error): resize on the next frame instead.
   new ResizeObserver(() => {
-    if (state.size === 'auto') applySize();
+    if (state.size === 'auto') requestAnimationFrame(() => applySize());
   }).observe($('view'));
   await controls.fillSamples();
 
