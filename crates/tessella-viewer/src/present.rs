@@ -1,6 +1,13 @@
 //! A viewer drawn onto a presentable surface: a browser canvas (WebGPU) or a native window.
 //! The surface is configured in its preferred format and viewed in that format's sRGB twin,
 //! so the colours are `tessella render`'s whatever the canvas's own format.
+//!
+//! Where the surface allows copies into its textures, the viewer draws into a texture of its
+//! own (the sRGB format) and copies that into the surface's texture: Chromium's WebGPU on
+//! SwiftShader resolves multisampled sRGB into a canvas's sRGB *view* without encoding (the
+//! picture comes out in linear values, darker; checked with a plain-JS page: a 4× MSAA clear of
+//! 0.2 resolved into the canvas's `rgba8unorm-srgb` view reads back 51, resolved into an own
+//! `rgba8unorm-srgb` texture and copied, 124). A copy moves the encoded bytes as they are.
 
 use crate::error::ViewerError;
 use crate::viewer::Viewer;
@@ -10,6 +17,10 @@ use tessella_gpu::GpuContext;
 pub struct Presenter {
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
+    /// Whether frames are drawn into `staging` and copied into the surface's texture.
+    copy: bool,
+    /// The viewer's own colour texture at the surface's size (only when `copy`).
+    staging: Option<wgpu::Texture>,
 }
 
 impl std::fmt::Debug for Presenter {
@@ -44,7 +55,21 @@ impl Presenter {
                 ))
             })?;
         config.view_formats = vec![config.format.add_srgb_suffix()];
-        let presenter = Presenter { surface, config };
+        // A WebGPU canvas always takes COPY_DST (the spec allows any usage); natively ask.
+        let copy = cfg!(target_arch = "wasm32")
+            || surface
+                .get_capabilities(adapter)
+                .usages
+                .contains(wgpu::TextureUsages::COPY_DST);
+        if copy {
+            config.usage |= wgpu::TextureUsages::COPY_DST;
+        }
+        let presenter = Presenter {
+            surface,
+            config,
+            copy,
+            staging: None,
+        };
         presenter.configure(ctx)?;
         Ok(presenter)
     }
@@ -63,6 +88,35 @@ impl Presenter {
         self.config.width = width.max(1);
         self.config.height = height.max(1);
         self.configure(ctx)
+    }
+
+    /// The own colour texture at the surface's current size, made again after a resize.
+    fn staging(&mut self, ctx: &GpuContext) -> Result<wgpu::Texture, ViewerError> {
+        let size = (self.config.width, self.config.height);
+        if let Some(t) = &self.staging {
+            if (t.width(), t.height()) == size {
+                return Ok(t.clone());
+            }
+        }
+        let format = self.view_format();
+        let made = ctx.scoped(|| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("viewer: frame before the surface copy"),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        })?;
+        self.staging = Some(made.clone());
+        Ok(made)
     }
 
     /// Draws `viewer`'s frame at `time_ms` into the surface's next texture and presents it.
@@ -95,11 +149,32 @@ impl Presenter {
                 ));
             }
         };
-        let view = texture.texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(self.view_format()),
-            ..Default::default()
-        });
-        viewer.draw(&view, time_ms)?;
+        if self.copy {
+            let staging = self.staging(ctx)?;
+            let view = staging.create_view(&Default::default());
+            viewer.draw(&view, time_ms)?;
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("viewer: copy into the surface"),
+                });
+            encoder.copy_texture_to_texture(
+                staging.as_image_copy(),
+                texture.texture.as_image_copy(),
+                wgpu::Extent3d {
+                    width: self.config.width,
+                    height: self.config.height,
+                    depth_or_array_layers: 1,
+                },
+            );
+            ctx.submit(encoder)?;
+        } else {
+            let view = texture.texture.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(self.view_format()),
+                ..Default::default()
+            });
+            viewer.draw(&view, time_ms)?;
+        }
         ctx.queue.present(texture);
         Ok(true)
     }
