@@ -69,11 +69,12 @@ impl GlContext {
         let display = Self::display(&egl)?;
         egl.initialize(display)
             .map_err(|e| no_driver(format!("eglInitialize failed ({e})")))?;
-        let made = Self::make_context(&egl, display);
-        let (context, gl) = match made {
-            Ok(x) => x,
-            Err(e) => return Err(after_cleanup(e, egl.terminate(display), "eglTerminate")),
-        };
+        // The display is not terminated on failure, nor when a context is dropped: EGL gives
+        // every caller in the process the *same* display for the same platform, and
+        // eglTerminate is not reference-counted, so one context terminating it broke every
+        // other context of the process (tests on parallel threads failed to make theirs
+        // current). The driver releases the display when the process ends.
+        let (context, gl) = Self::make_context(&egl, display)?;
         // SAFETY: the context is current on this thread.
         let info = unsafe {
             DriverInfo {
@@ -222,7 +223,8 @@ fn error_name(code: u32) -> &'static str {
 impl Drop for GlContext {
     fn drop(&mut self) {
         // A drop has no caller to return a failed release to (and the driver frees what is
-        // left when the process ends), so a failure is reported on stderr, once per step.
+        // left when the process ends), so a failure is reported on stderr, once per step. The
+        // display stays initialised: other contexts of the process share it (see `with_library`).
         let steps = [
             (
                 "eglMakeCurrent",
@@ -232,7 +234,6 @@ impl Drop for GlContext {
                 "eglDestroyContext",
                 self.egl.destroy_context(self.display, self.context),
             ),
-            ("eglTerminate", self.egl.terminate(self.display)),
         ];
         for (step, result) in steps {
             if let Err(e) = result {
