@@ -17,9 +17,8 @@ use tessella_gpu::GpuContext;
 pub struct Presenter {
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
-    /// Whether frames are drawn into `staging` and copied into the surface's texture.
-    copy: bool,
-    /// The viewer's own colour texture at the surface's size (only when `copy`).
+    /// The viewer's own colour texture at the surface's size, copied into the surface's
+    /// texture each frame; `None` where the surface takes no copies (drawn into directly).
     staging: Option<wgpu::Texture>,
 }
 
@@ -64,18 +63,23 @@ impl Presenter {
         if copy {
             config.usage |= wgpu::TextureUsages::COPY_DST;
         }
-        let presenter = Presenter {
+        let mut presenter = Presenter {
             surface,
             config,
-            copy,
             staging: None,
         };
         presenter.configure(ctx)?;
         Ok(presenter)
     }
 
-    fn configure(&self, ctx: &GpuContext) -> Result<(), ViewerError> {
-        Ok(ctx.scoped(|| self.surface.configure(&ctx.device, &self.config))?)
+    /// Configures the surface at the current size and, where it takes copies, makes the own
+    /// colour texture of that size.
+    fn configure(&mut self, ctx: &GpuContext) -> Result<(), ViewerError> {
+        ctx.scoped(|| self.surface.configure(&ctx.device, &self.config))?;
+        if self.config.usage.contains(wgpu::TextureUsages::COPY_DST) {
+            self.staging = Some(self.make_staging(ctx)?);
+        }
+        Ok(())
     }
 
     /// The format the viewer draws in: the surface's, as sRGB.
@@ -90,16 +94,11 @@ impl Presenter {
         self.configure(ctx)
     }
 
-    /// The own colour texture at the surface's current size, made again after a resize.
-    fn staging(&mut self, ctx: &GpuContext) -> Result<wgpu::Texture, ViewerError> {
+    /// The own colour texture at the surface's current size.
+    fn make_staging(&self, ctx: &GpuContext) -> Result<wgpu::Texture, ViewerError> {
         let size = (self.config.width, self.config.height);
-        if let Some(t) = &self.staging {
-            if (t.width(), t.height()) == size {
-                return Ok(t.clone());
-            }
-        }
         let format = self.view_format();
-        let made = ctx.scoped(|| {
+        Ok(ctx.scoped(|| {
             ctx.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("viewer: frame before the surface copy"),
                 size: wgpu::Extent3d {
@@ -114,9 +113,7 @@ impl Presenter {
                 usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
                 view_formats: &[],
             })
-        })?;
-        self.staging = Some(made.clone());
-        Ok(made)
+        })?)
     }
 
     /// Draws `viewer`'s frame at `time_ms` into the surface's next texture and presents it.
@@ -149,8 +146,7 @@ impl Presenter {
                 ));
             }
         };
-        if self.copy {
-            let staging = self.staging(ctx)?;
+        if let Some(staging) = &self.staging {
             let view = staging.create_view(&Default::default());
             viewer.draw(&view, time_ms)?;
             let mut encoder = ctx
