@@ -58,7 +58,6 @@ for (const backend of ['webgl2', 'webgpu']) {
   const skip = backend === 'webgpu' && noEngine ? 'TESSELLA_WEB_NO_ENGINE=1: the site was built without the engine' : false;
   describe(`${backend} against tessella render`, { skip }, () => {
     let env;
-    const shading = new Map();
     before(async () => {
       if (backend === 'webgpu' && !engineBuilt) throw new Error('dist/pkg has no engine: npm run build (or TESSELLA_WEB_NO_ENGINE=1)');
       env = await start({ webgpu: backend === 'webgpu' });
@@ -78,16 +77,11 @@ for (const backend of ['webgl2', 'webgpu']) {
         console.log(`${backend} ${c.mesh} ${c.scheme}: IoU ${overlap.toFixed(4)}, differing ${(100 * diff).toFixed(2)}% of the silhouette`);
         assert.ok(count(b) > 0.05 * b.length, 'the reference picture is nearly empty');
         assert.ok(overlap >= MIN_IOU, `silhouette IoU ${overlap} < ${MIN_IOU}`);
+        // The shading, beyond the silhouette: this caught the engine resolving into the
+        // canvas's sRGB view, which SwiftShader leaves unencoded (tessella-viewer's present.rs).
+        assert.ok(diff <= MAX_DIFFERING, `${(100 * diff).toFixed(2)}% of the pixels differ by more than ${COLOR_THRESHOLD}`);
         assertClean(assert, page);
         await page.close();
-        shading.set(c, diff);
-      });
-      // The shading, apart from the silhouette: this caught the engine resolving into the
-      // canvas's sRGB view, which SwiftShader leaves unencoded (crates/tessella-viewer present.rs).
-      test(`${c.mesh} ${c.scheme}: shading within ${COLOR_THRESHOLD}/255`, () => {
-        const diff = shading.get(c);
-        assert.ok(diff !== undefined, 'the picture test did not run');
-        assert.ok(diff <= MAX_DIFFERING, `${(100 * diff).toFixed(2)}% of the pixels differ by more than ${COLOR_THRESHOLD}`);
       });
     }
   });

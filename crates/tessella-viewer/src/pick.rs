@@ -108,29 +108,17 @@ mod tests {
 
     #[test]
     fn rays_unproject_through_the_projected_point() {
-        // A right-handed perspective onto depth 0..=1 (fov 0.8 rad, aspect 1.5, near 0.5,
-        // far 20) and a rotated, shifted view.
-        let (f, near, far) = (1.0 / (0.4f32).tan(), 0.5f32, 20.0f32);
-        let proj = Mat4::from_cols_array(&[
-            f / 1.5,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            f,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            far / (near - far),
-            -1.0,
-            0.0,
-            0.0,
-            near * far / (near - far),
-            0.0,
-        ]);
-        let view = Mat4::from_translation(Vec3::new(-0.5, 0.3, -6.0)) * Mat4::from_rotation_y(0.4);
-        let m = proj * view;
+        // The camera the viewer draws with (tessella render's), turned and zoomed.
+        let options = tessella_view::RenderOptions {
+            size: (300, 200),
+            yaw: 40.0,
+            pitch: 20.0,
+            zoom: 1.3,
+            ..Default::default()
+        };
+        let uniforms =
+            tessella_view::scene_uniforms(&tessella_core::samples::icosphere(1), &options, 0.0);
+        let m = Mat4::from_cols_array_2d(&uniforms.view_proj);
         let point = Vec3::new(0.3, -0.2, 0.4);
         let clip = m * point.extend(1.0);
         let (o, d) = ray(&m, [clip.x / clip.w, clip.y / clip.w]).unwrap();

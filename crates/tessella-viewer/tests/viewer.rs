@@ -64,6 +64,17 @@ fn covered(a: &RgbaImage) -> usize {
     a.pixels().filter(|p| p.0[..3] != [255, 255, 255]).count()
 }
 
+/// `tessella render`'s picture of the first sample (icosphere(1)), PN level 8, with `view`.
+fn pn8_reference(view: RenderOptions) -> RgbaImage {
+    render(
+        &ctx(),
+        &samples::icosphere(1),
+        &RefineOptions::new(Scheme::Pn, 8),
+        &view,
+    )
+    .unwrap()
+}
+
 #[test]
 fn the_viewer_draws_what_tessella_render_draws() {
     let size = (192, 160);
@@ -74,19 +85,13 @@ fn the_viewer_draws_what_tessella_render_draws() {
     )
     .unwrap();
     let picture = frame(&mut v, 0.0);
-    let reference = render(
-        &ctx(),
-        &samples::icosphere(1),
-        &RefineOptions::new(Scheme::Pn, 8),
-        &RenderOptions {
-            size,
-            yaw: 40.0,
-            pitch: 10.0,
-            zoom: 1.2,
-            ..RenderOptions::default()
-        },
-    )
-    .unwrap();
+    let reference = pn8_reference(RenderOptions {
+        size,
+        yaw: 40.0,
+        pitch: 10.0,
+        zoom: 1.2,
+        ..RenderOptions::default()
+    });
     let total = (size.0 * size.1) as usize;
     assert!(covered(&picture) > total / 5, "the picture is nearly blank");
     // Same camera, pipeline and target formats: at most a few pixels differ (rounding).
@@ -95,20 +100,14 @@ fn the_viewer_draws_what_tessella_render_draws() {
     // Wireframe too, and the silhouette of another camera.
     set(&mut v, json!({"wireframe": true, "yaw": -70, "zoom": 0.8})).unwrap();
     let wire = frame(&mut v, 0.0);
-    let reference = render(
-        &ctx(),
-        &samples::icosphere(1),
-        &RefineOptions::new(Scheme::Pn, 8),
-        &RenderOptions {
-            size,
-            yaw: -70.0,
-            pitch: 10.0,
-            zoom: 0.8,
-            wireframe: true,
-            ..RenderOptions::default()
-        },
-    )
-    .unwrap();
+    let reference = pn8_reference(RenderOptions {
+        size,
+        yaw: -70.0,
+        pitch: 10.0,
+        zoom: 0.8,
+        wireframe: true,
+        ..RenderOptions::default()
+    });
     let diff = differing(&wire, &reference, 2);
     assert!(
         diff <= total / 1000,
