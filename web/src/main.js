@@ -394,6 +394,12 @@ async function start() {
   const problem = $('message').hidden ? null : $('message').textContent;
   await load(mesh).catch(() => {});
   if (problem && $('message').hidden) showMessage(problem);
+  // The first picture is drawn before `ready` resolves, so stats() then describe a drawn frame.
+  try {
+    drawFrame(performance.now());
+  } catch (e) {
+    showMessage(`drawing failed: ${asError(e).message}`);
+  }
   requestAnimationFrame(loop);
 }
 
