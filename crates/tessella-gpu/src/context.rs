@@ -15,12 +15,12 @@ type ScopeAnswer = Pin<Box<dyn Future<Output = Option<wgpu::Error>> + Send>>;
 #[cfg(target_arch = "wasm32")]
 type ScopeAnswer = Pin<Box<dyn Future<Output = Option<wgpu::Error>>>>;
 
-/// Polls `future` once: native wgpu answers error scopes and finished maps at once, the web
-/// later.
-/// How long a blocking read-back waits for its map after the device went idle.
-#[cfg(feature = "blocking")]
+/// How long a native read-back waits for its map after the device went idle.
+#[cfg(not(target_arch = "wasm32"))]
 const MAP_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(30);
 
+/// Polls `future` once: native wgpu answers error scopes and finished maps at once, the web
+/// later.
 fn poll_now<F: Future + ?Sized>(future: Pin<&mut F>) -> Option<F::Output> {
     match future.poll(&mut Context::from_waker(Waker::noop())) {
         Poll::Ready(value) => Some(value),
@@ -506,6 +506,73 @@ impl GpuContext {
         Ok(bytes)
     }
 
+    /// Resolves once the GPU has finished every submission made so far, then returns any error
+    /// those submissions met. On the web the browser answers (the page's thread is never
+    /// blocked); natively this drives the device itself and so waits, which lets one async
+    /// body (a benchmark, say) run the same in a browser and under a native blocking executor.
+    pub async fn work_done_async(&self) -> Result<(), GpuError> {
+        let done = MapDone::default();
+        let sink = done.clone();
+        self.queue
+            .on_submitted_work_done(move || sink.finish(Ok(())));
+        self.drive(&done)?;
+        done.await.map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.check_async().await
+    }
+
+    /// [`GpuContext::map_and_copy_async`] that natively drives the device until the map is
+    /// done (waiting, as [`GpuContext::work_done_async`] does); on the web the same as it.
+    pub async fn map_and_copy_driven_async(
+        &self,
+        staging: &wgpu::Buffer,
+    ) -> Result<Vec<u8>, GpuError> {
+        let done = MapDone::default();
+        let sink = done.clone();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| sink.finish(r));
+        self.drive(&done)?;
+        done.await.map_err(|e| GpuError::Readback(e.to_string()))?;
+        let bytes = staging
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .to_vec();
+        staging.unmap();
+        self.check_async().await?;
+        Ok(bytes)
+    }
+
+    /// Natively, polls the device until `done`'s callback has run (another thread polling
+    /// the same device may be the one that runs it, just after our poll returns: poll again,
+    /// within a bound). On the web the browser runs callbacks: nothing to do.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn drive(&self, done: &MapDone) -> Result<(), GpuError> {
+        let start = std::time::Instant::now();
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::DeviceLost {
+                reason: e.to_string(),
+            })?;
+        while !done.is_finished() {
+            if start.elapsed() > MAP_TIMEOUT {
+                return Err(GpuError::Readback(format!(
+                    "the device's callback did not run {} s after its work finished",
+                    MAP_TIMEOUT.as_secs()
+                )));
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            self.device
+                .poll(wgpu::PollType::Poll)
+                .map_err(|e| GpuError::DeviceLost {
+                    reason: e.to_string(),
+                })?;
+        }
+        Ok(())
+    }
+
+    #[cfg(target_arch = "wasm32")]
+    fn drive(&self, _done: &MapDone) -> Result<(), GpuError> {
+        Ok(())
+    }
+
     /// Records into `encoder` a copy of `len` bytes of `buffer` (which needs `COPY_SRC`) from
     /// byte `offset` into a new staging buffer, returned for [`GpuContext::map_and_copy`] /
     /// [`GpuContext::map_and_copy_async`] once the encoder is submitted. `offset` and `len`
@@ -704,6 +771,15 @@ struct MapState {
 }
 
 impl MapDone {
+    #[cfg(not(target_arch = "wasm32"))]
+    fn is_finished(&self) -> bool {
+        self.0
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .result
+            .is_some()
+    }
+
     fn finish(&self, result: Result<(), wgpu::BufferAsyncError>) {
         let mut state = self.0.lock().unwrap_or_else(|p| p.into_inner());
         state.result = Some(result);

@@ -3,9 +3,9 @@
 //! [`PatternRenderer::update`] uploads them (GMR section 3.1), never a refined vertex buffer.
 //! The fly-in changes the levels every frame instead, drawn by one [`AdaptiveRenderer`].
 
-use crate::render::Target;
 use crate::save_png;
 use crate::scene::{scene_uniforms, RenderOptions};
+use crate::target::Target;
 use std::path::{Path, PathBuf};
 use tessella_core::refine::{Plan, Surface};
 use tessella_core::{Mesh, OutputLayout, RefineOptions};

@@ -1,17 +1,23 @@
-//! Benchmarks for `tessella bench`: CPU vs GPU refinement throughput, and the GMR Figure 7
-//! experiment (a static fully refined vertex buffer vs the instanced pattern). Rows carry the
+//! Benchmarks for `tessella bench` and the viewer's `bench()`: CPU vs GPU refinement
+//! throughput, the GMR Figure 7 experiment (a static fully refined vertex buffer vs the
+//! instanced pattern), frame time per scheme, and levels that move every frame. Rows carry the
 //! adapter's label; software adapters are marked as such, their numbers say nothing about GPUs.
+//!
+//! The frame-timed experiments are `async` (`*_async`): in a browser nothing may block the
+//! page, so each frame is awaited with [`GpuContext::work_done_async`]. Natively that call
+//! waits for the device, and the blocking forms (the `blocking` feature) run the same bodies
+//! with `pollster`: one implementation times both.
 
-use crate::render::Target;
 use crate::scene::{scene_uniforms, RenderOptions};
+use crate::target::Target;
 use image::RgbaImage;
-use std::time::Instant;
 use tessella_core::refine::{Evaluator, Plan, Surface, SurfaceOptions};
-use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
+use tessella_core::{samples, Mesh, RefineOptions, Scheme};
 use tessella_gpu::{
-    gpu_refine, AdaptiveRenderer, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput,
+    AdaptiveRenderer, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput, IndexWidth,
     PatternRenderer,
 };
+use web_time::Instant;
 
 /// One row of [`refine_throughput`].
 #[derive(Debug, Clone, PartialEq)]
@@ -28,6 +34,7 @@ pub struct RefineRow {
 }
 
 /// Times CPU and GPU refinement of `mesh` with `scheme` at each level (median of `repeats`).
+#[cfg(feature = "blocking")]
 pub fn refine_throughput(
     ctx: &GpuContext,
     mesh: &Mesh,
@@ -37,7 +44,7 @@ pub fn refine_throughput(
 ) -> Result<Vec<RefineRow>, GpuError> {
     let mut rows = Vec::new();
     for &level in levels {
-        let refiner = Refiner::new(mesh, &RefineOptions::new(scheme, level))?;
+        let refiner = tessella_core::Refiner::new(mesh, &RefineOptions::new(scheme, level))?;
         let mut cpu = Vec::new();
         let mut gpu = Vec::new();
         for _ in 0..repeats.max(1) {
@@ -45,7 +52,7 @@ pub fn refine_throughput(
             std::hint::black_box(refiner.refine());
             cpu.push(t.elapsed().as_secs_f64() * 1e3);
             let t = Instant::now();
-            std::hint::black_box(gpu_refine(ctx, &refiner)?);
+            std::hint::black_box(tessella_gpu::gpu_refine(ctx, &refiner)?);
             gpu.push(t.elapsed().as_secs_f64() * 1e3);
         }
         rows.push(RefineRow {
@@ -111,23 +118,40 @@ impl Default for Figure7Config {
     }
 }
 
-/// One row of [`figure7`].
+/// One row of [`figure7_async`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Figure7Row {
     pub adapter: String,
     pub faces: usize,
     pub level: u32,
-    /// (a) static vertex buffer of the fully refined, welded mesh.
-    pub static_ms: f64,
+    /// (a) static vertex buffer of the fully refined, welded mesh: its median frame time, or
+    /// `None` when it was not drawn ([`Figure7Row::static_note`] says why: it does not fit the
+    /// device, which is the paper's point at large sizes).
+    pub static_ms: Option<f64>,
     pub static_vertices: u64,
+    /// What the static buffer takes (vertices and indices), drawn or not.
     pub static_bytes: u64,
+    pub static_note: Option<String>,
     /// (b) the instanced pattern plus per-triangle nets.
     pub pattern_ms: f64,
     pub pattern_vertices: u64,
     pub pattern_bytes: u64,
     /// Fraction of pixels where the two pictures differ by more than 12 levels in a channel:
     /// both draw the same surface, so this stays near 0 (edges may round differently).
-    pub pictures_differ: f64,
+    /// `None` when the static buffer was not drawn.
+    pub pictures_differ: Option<f64>,
+}
+
+impl Figure7Row {
+    /// Pattern frame time over the static buffer's (the goal is within 1.5×).
+    pub fn frame_ratio(&self) -> Option<f64> {
+        self.static_ms.map(|s| self.pattern_ms / s)
+    }
+
+    /// Pattern footprint over the static buffer's (the goal is at most 1/`faces`).
+    pub fn footprint_ratio(&self) -> f64 {
+        self.pattern_bytes as f64 / self.static_bytes.max(1) as f64
+    }
 }
 
 /// The first `faces` triangles of a subdivided icosphere, vertices compacted: a closed-ish
@@ -143,13 +167,24 @@ pub fn mesh_with_faces(faces: usize) -> Result<Mesh, GpuError> {
 /// GMR Figure 7 redone: frame time and GPU footprint of (a) a static refined vertex buffer
 /// (written by [`GpuEvaluator`]) and (b) the instanced pattern, for each coarse triangle count
 /// and level. Both pictures are compared, so a row also says that both drew the same surface.
+#[cfg(feature = "blocking")]
 pub fn figure7(ctx: &GpuContext, config: &Figure7Config) -> Result<Vec<Figure7Row>, GpuError> {
+    pollster::block_on(figure7_async(ctx, config))
+}
+
+/// [`figure7`] without blocking: the browser's form.
+pub async fn figure7_async(
+    ctx: &GpuContext,
+    config: &Figure7Config,
+) -> Result<Vec<Figure7Row>, GpuError> {
     let mut rows = Vec::new();
     let options = RenderOptions {
         size: config.size,
         ..Default::default()
     };
+    options.validate()?;
     let target = Target::new(ctx, config.size)?;
+    let bg = options.background;
     for &faces in &config.faces {
         let mesh = mesh_with_faces(faces)?;
         for &level in &config.levels {
@@ -158,23 +193,32 @@ pub fn figure7(ctx: &GpuContext, config: &Figure7Config) -> Result<Vec<Figure7Ro
             let renderer =
                 PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
             renderer.set_uniforms(&scene_uniforms(&mesh, &options, 0.0));
-            let bg = options.background;
             // (b) pattern.
-            let pattern_ms = time_frames(config.frames, || {
-                target.draw(ctx, bg, |pass| renderer.draw(pass))
-            })?;
-            let pattern_picture = target.read(ctx)?;
-            // (a) static buffer of the refined mesh, evaluated once.
+            let pattern_ms =
+                time_draws(ctx, &target, bg, config.frames, &|pass| renderer.draw(pass)).await?;
+            let pattern_picture = target.read_async(ctx).await?;
+            // (a) static buffer of the refined mesh, evaluated once, where it fits.
             let mut gpu = GpuEvaluator::new(ctx, &plan)?;
-            gpu.evaluate(&plan, &frame, GpuOutput::Own)?;
-            let (indices, format) = gpu.index_buffer(&plan)?;
-            let indices = indices.clone();
-            let vertices = gpu
-                .vertex_buffer()
-                .ok_or_else(|| GpuError::Readback("no vertex buffer".into()))?;
-            let count = plan.triangle_count() as u32 * 3;
-            let static_ms = time_frames(config.frames, || {
-                target.draw(ctx, bg, |pass| {
+            let index_bytes = IndexWidth::for_plan(&plan).buffer_bytes(&plan);
+            let static_bytes = gpu.vertex_bytes() + index_bytes;
+            let limit = ctx.limits.max_buffer_size;
+            let (static_ms, static_note, pictures_differ) = if gpu.vertex_bytes().max(index_bytes)
+                > limit
+            {
+                let note = format!(
+                        "not drawn: its vertices ({} bytes) or indices ({index_bytes} bytes) exceed the device's {limit}-byte buffer limit",
+                        gpu.vertex_bytes()
+                    );
+                (None, Some(note), None)
+            } else {
+                gpu.evaluate(&plan, &frame, GpuOutput::Own)?;
+                let (indices, format) = gpu.index_buffer(&plan)?;
+                let indices = indices.clone();
+                let vertices = gpu
+                    .vertex_buffer()
+                    .ok_or_else(|| GpuError::Readback("no vertex buffer".into()))?;
+                let count = plan.triangle_count() as u32 * 3;
+                let ms = time_draws(ctx, &target, bg, config.frames, &|pass| {
                     renderer.draw_refined(
                         pass,
                         vertices.slice(..),
@@ -183,19 +227,26 @@ pub fn figure7(ctx: &GpuContext, config: &Figure7Config) -> Result<Vec<Figure7Ro
                         count,
                     )
                 })
-            })?;
-            let static_picture = target.read(ctx)?;
+                .await?;
+                let static_picture = target.read_async(ctx).await?;
+                (
+                    Some(ms),
+                    None,
+                    Some(differing(&pattern_picture, &static_picture)),
+                )
+            };
             rows.push(Figure7Row {
                 adapter: ctx.adapter_label(),
                 faces: mesh.face_count(),
                 level,
                 static_ms,
                 static_vertices: plan.vertex_count() as u64,
-                static_bytes: vertices.size() + indices.size(),
+                static_bytes,
+                static_note,
                 pattern_ms,
                 pattern_vertices: renderer.pattern_vertex_count(),
                 pattern_bytes: renderer.byte_size(),
-                pictures_differ: differing(&pattern_picture, &static_picture),
+                pictures_differ,
             });
         }
     }
@@ -212,31 +263,43 @@ fn differing(a: &RgbaImage, b: &RgbaImage) -> f64 {
     bad as f64 / (a.width() * a.height()).max(1) as f64
 }
 
-/// Markdown table of [`figure7`] rows.
+/// Markdown table of [`figure7_async`] rows, with the two ratios the paper's claim is about.
 pub fn figure7_table(rows: &[Figure7Row]) -> String {
     let mut s = String::from(
-        "| adapter | coarse triangles | level | static VBO ms | static VBO vertices | static VBO bytes | pattern ms | pattern vertices | pattern bytes | pixels differing |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| adapter | coarse triangles | level | static VBO ms | static VBO vertices | static VBO bytes | pattern ms | pattern vertices | pattern bytes | frame time pattern/static | footprint pattern/static (goal ≤ 1/triangles) | pixels differing |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
+    let or_dash = |v: Option<String>| v.unwrap_or_else(|| "—".into());
     for r in rows {
         s += &format!(
-            "| {} | {} | {} | {:.2} | {} | {} | {:.2} | {} | {} | {:.1}% |\n",
+            "| {} | {} | {} | {} | {} | {} | {:.2} | {} | {} | {} | {:.5} ({:.5}) | {} |\n",
             r.adapter,
             r.faces,
             r.level,
-            r.static_ms,
+            or_dash(r.static_ms.map(|v| format!("{v:.2}"))),
             r.static_vertices,
             r.static_bytes,
             r.pattern_ms,
             r.pattern_vertices,
             r.pattern_bytes,
-            100.0 * r.pictures_differ
+            or_dash(r.frame_ratio().map(|v| format!("{v:.2}x"))),
+            r.footprint_ratio(),
+            1.0 / r.faces.max(1) as f64,
+            or_dash(r.pictures_differ.map(|v| format!("{:.1}%", 100.0 * v)))
+        );
+    }
+    for r in rows.iter().filter(|r| r.static_note.is_some()) {
+        s += &format!(
+            "\n{} triangles, level {}: static buffer {}\n",
+            r.faces,
+            r.level,
+            r.static_note.as_deref().unwrap_or_default()
         );
     }
     s
 }
 
-/// One row of [`scheme_frame_times`].
+/// One row of [`scheme_frame_times_async`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SchemeRow {
     pub adapter: String,
@@ -249,7 +312,22 @@ pub struct SchemeRow {
 }
 
 /// Frame time of the instanced pattern per scheme (e.g. PN vs PNG1: 10 vs 21 control points).
+#[cfg(feature = "blocking")]
 pub fn scheme_frame_times(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    schemes: &[Scheme],
+    level: u32,
+    frames: u32,
+    size: (u32, u32),
+) -> Result<Vec<SchemeRow>, GpuError> {
+    pollster::block_on(scheme_frame_times_async(
+        ctx, mesh, schemes, level, frames, size,
+    ))
+}
+
+/// [`scheme_frame_times`] without blocking.
+pub async fn scheme_frame_times_async(
     ctx: &GpuContext,
     mesh: &Mesh,
     schemes: &[Scheme],
@@ -270,9 +348,10 @@ pub fn scheme_frame_times(
         let renderer =
             PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
         renderer.set_uniforms(&uniforms);
-        let frame_ms = time_frames(frames, || {
-            target.draw(ctx, options.background, |pass| renderer.draw(pass))
-        })?;
+        let frame_ms = time_draws(ctx, &target, options.background, frames, &|pass| {
+            renderer.draw(pass)
+        })
+        .await?;
         rows.push(SchemeRow {
             adapter: ctx.adapter_label(),
             scheme: scheme.name().to_string(),
@@ -285,7 +364,7 @@ pub fn scheme_frame_times(
     Ok(rows)
 }
 
-/// Markdown table of [`scheme_frame_times`] rows.
+/// Markdown table of [`scheme_frame_times_async`] rows.
 pub fn scheme_table(rows: &[SchemeRow]) -> String {
     let mut s = String::from("| adapter | scheme | K | coarse triangles | level | frame ms |\n|---|---|---:|---:|---:|---:|\n");
     for r in rows {
@@ -297,16 +376,20 @@ pub fn scheme_table(rows: &[SchemeRow]) -> String {
     s
 }
 
-/// Median milliseconds of `frames` calls, after one warm-up call.
-fn time_frames(
+/// Median milliseconds of `frames` frames drawn by `record` into `target`, each awaited until
+/// the GPU has finished it, after one warm-up frame.
+async fn time_draws(
+    ctx: &GpuContext,
+    target: &Target,
+    background: [u8; 4],
     frames: u32,
-    mut frame: impl FnMut() -> Result<(), GpuError>,
+    record: &dyn Fn(&mut wgpu::RenderPass<'_>),
 ) -> Result<f64, GpuError> {
-    frame()?;
+    target.draw_async(ctx, background, record).await?;
     let mut times = Vec::new();
     for _ in 0..frames.max(1) {
         let t = Instant::now();
-        frame()?;
+        target.draw_async(ctx, background, record).await?;
         times.push(t.elapsed().as_secs_f64() * 1e3);
     }
     Ok(median(&mut times))
@@ -321,7 +404,21 @@ fn median(v: &mut [f64]) -> f64 {
 /// about the same triangle count: `(uniform_ms, mixed_ms, uniform_triangles,
 /// mixed_triangles, mixed_draws)`. The mixed plan has per-edge fractional-odd levels spread
 /// over `[1, √3·level]` (one draw per distinct tile); the uniform one is the grid at `level`.
+#[cfg(feature = "blocking")]
 pub fn mixed_pattern_frame_times(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    level: u32,
+    frames: u32,
+    size: (u32, u32),
+) -> Result<(f64, f64, usize, usize, usize), GpuError> {
+    pollster::block_on(mixed_pattern_frame_times_async(
+        ctx, mesh, level, frames, size,
+    ))
+}
+
+/// [`mixed_pattern_frame_times`] without blocking.
+pub async fn mixed_pattern_frame_times_async(
     ctx: &GpuContext,
     mesh: &Mesh,
     level: u32,
@@ -357,15 +454,16 @@ pub fn mixed_pattern_frame_times(
         let renderer =
             PatternRenderer::new(ctx, plan, &frame, &Target::FORMATS, &Displacement::None)?;
         renderer.set_uniforms(&uniforms);
-        let ms = time_frames(frames, || {
-            target.draw(ctx, options.background, |pass| renderer.draw(pass))
-        })?;
+        let ms = time_draws(ctx, &target, options.background, frames, &|pass| {
+            renderer.draw(pass)
+        })
+        .await?;
         out.push((ms, plan.triangle_count(), renderer.draw_count()));
     }
     Ok((out[0].0, out[1].0, out[0].1, out[1].1, out[1].2))
 }
 
-/// One row of [`changing_levels`]: per frame when the levels change every frame.
+/// One row of [`changing_levels_async`]: per frame when the levels change every frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChangingLevelsRow {
     pub adapter: String,
@@ -400,7 +498,19 @@ fn moving_levels(edges: usize, top: f32, frame: u32) -> Vec<f32> {
 /// What a frame costs when the levels change every frame (a camera flying, a LOD updating):
 /// rebuilding the adaptive plan and its renderer each frame against one [`AdaptiveRenderer`]
 /// fed new levels; and, levels fixed, the draw of each (PN, per-edge levels up to `top`).
+#[cfg(feature = "blocking")]
 pub fn changing_levels(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    top: f32,
+    frames: u32,
+    size: (u32, u32),
+) -> Result<Vec<ChangingLevelsRow>, GpuError> {
+    pollster::block_on(changing_levels_async(ctx, mesh, top, frames, size))
+}
+
+/// [`changing_levels`] without blocking.
+pub async fn changing_levels_async(
     ctx: &GpuContext,
     mesh: &Mesh,
     top: f32,
@@ -428,7 +538,7 @@ pub fn changing_levels(
                     faces: None,
                 })
         };
-        let draw = |r: &dyn Fn(&mut wgpu::RenderPass<'_>)| target.draw(ctx, options.background, r);
+        let bg = options.background;
         let (mut rebuild_ms, mut rebuild_bytes, mut triangles) = (vec![], vec![], vec![]);
         let (mut rebuild_setup_ms, mut set_levels_ms) = (vec![], vec![]);
         let mut last = None;
@@ -440,7 +550,9 @@ pub fn changing_levels(
                 PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
             renderer.set_uniforms(&uniforms);
             let setup = t.elapsed().as_secs_f64() * 1e3;
-            draw(&|pass| renderer.draw(pass))?;
+            target
+                .draw_async(ctx, bg, |pass| renderer.draw(pass))
+                .await?;
             // Frame 0 warms up.
             if k > 0 {
                 rebuild_setup_ms.push(setup);
@@ -457,7 +569,9 @@ pub fn changing_levels(
             let t = Instant::now();
             let bytes = adaptive.set_levels(&moving_levels(edges, top, k), None)?;
             let setup = t.elapsed().as_secs_f64() * 1e3;
-            draw(&|pass| adaptive.draw(pass))?;
+            target
+                .draw_async(ctx, bg, |pass| adaptive.draw(pass))
+                .await?;
             if k > 0 {
                 set_levels_ms.push(setup);
                 adaptive_ms.push(t.elapsed().as_secs_f64() * 1e3);
@@ -466,8 +580,10 @@ pub fn changing_levels(
         }
         // The last frame's levels, drawn again by both.
         let pattern = last.expect("at least one frame");
-        let pattern_draw_ms = time_frames(frames, || draw(&|pass| pattern.draw(pass)))?;
-        let adaptive_draw_ms = time_frames(frames, || draw(&|pass| adaptive.draw(pass)))?;
+        let pattern_draw_ms =
+            time_draws(ctx, &target, bg, frames, &|pass| pattern.draw(pass)).await?;
+        let adaptive_draw_ms =
+            time_draws(ctx, &target, bg, frames, &|pass| adaptive.draw(pass)).await?;
         rows.push(ChangingLevelsRow {
             adapter: ctx.adapter_label(),
             spacing: spacing.name().to_string(),
@@ -486,7 +602,7 @@ pub fn changing_levels(
     Ok(rows)
 }
 
-/// Markdown table of [`changing_levels`] rows.
+/// Markdown table of [`changing_levels_async`] rows.
 pub fn changing_levels_table(rows: &[ChangingLevelsRow]) -> String {
     let mut s = String::from(
         "| adapter | spacing | coarse triangles | triangles | rebuild: frame ms (new plan + renderer) | bytes uploaded | adaptive: frame ms (set_levels) | bytes uploaded | frame speed-up | levels speed-up | draw ms: pattern / adaptive |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",

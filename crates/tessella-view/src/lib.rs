@@ -27,7 +27,6 @@
 
 #[cfg(feature = "blocking")]
 pub mod animate;
-#[cfg(feature = "blocking")]
 pub mod bench;
 mod camera;
 pub mod colormap;
@@ -35,12 +34,16 @@ pub mod font;
 #[cfg(feature = "blocking")]
 mod render;
 mod scene;
+mod target;
 
 pub use colormap::{Colormap, FieldColors};
 pub use image::RgbaImage;
 #[cfg(feature = "blocking")]
-pub use render::{read_texture, render, render_compare, Target};
+pub use render::{render, render_compare};
 pub use scene::{clear_color, lod_camera, panel_widths, scene_uniforms, RenderOptions};
+#[cfg(feature = "blocking")]
+pub use target::read_texture;
+pub use target::Target;
 pub use tessella_gpu::{GpuError, PatternRenderer};
 
 /// Writes `image` as a PNG to a temporary file beside `path`, then renames it into place, so

@@ -2,16 +2,12 @@
 //! [`PatternRenderer`], framed by [`crate::scene`]'s camera. Blocks (the `blocking` feature).
 
 use crate::colormap;
-use crate::scene::{clear_color, panel_widths, scene_uniforms, RenderOptions};
+use crate::scene::{panel_widths, scene_uniforms, RenderOptions};
+use crate::target::Target;
 use image::RgbaImage;
 use tessella_core::refine::Plan;
 use tessella_core::{Mesh, RefineOptions};
-use tessella_gpu::{GpuContext, GpuError, PatternRenderer, TargetFormats};
-
-const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Multisampling smooths silhouettes, which is what the pictures are about.
-const SAMPLES: u32 = 4;
+use tessella_gpu::{GpuContext, GpuError, PatternRenderer};
 
 /// Renders `mesh` refined with `refine` (scheme, level, normals; `weld` does not matter here).
 ///
@@ -136,150 +132,4 @@ pub fn render_compare(
         Some(bar) => colormap::with_bar(&row, bar),
         None => row,
     })
-}
-
-/// An offscreen multisampled colour target with depth, resolved for readback.
-pub struct Target {
-    color: wgpu::TextureView,
-    resolve: wgpu::Texture,
-    resolve_view: wgpu::TextureView,
-    depth: wgpu::TextureView,
-}
-
-impl Target {
-    /// What [`PatternRenderer`]s drawing into this target are made for.
-    pub const FORMATS: TargetFormats = TargetFormats {
-        color: COLOR_FORMAT,
-        depth: Some(DEPTH_FORMAT),
-        samples: SAMPLES,
-    };
-
-    /// Makes the textures (`size` within 1..=8192 per side).
-    pub fn new(ctx: &GpuContext, size: (u32, u32)) -> Result<Target, GpuError> {
-        ctx.scoped(|| Target::make(ctx, size))
-    }
-
-    fn make(ctx: &GpuContext, size: (u32, u32)) -> Target {
-        let texture = |label, format, samples, usage| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: samples,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let color = texture("color", COLOR_FORMAT, SAMPLES, attach);
-        let resolve = texture(
-            "resolve",
-            COLOR_FORMAT,
-            1,
-            attach | wgpu::TextureUsages::COPY_SRC,
-        );
-        let depth = texture("depth", DEPTH_FORMAT, SAMPLES, attach);
-        Target {
-            color: color.create_view(&Default::default()),
-            resolve_view: resolve.create_view(&Default::default()),
-            resolve,
-            depth: depth.create_view(&Default::default()),
-        }
-    }
-
-    /// Clears to `background`, lets `record` draw into the pass, submits and waits: any error
-    /// wgpu reports for the frame is returned.
-    pub fn draw(
-        &self,
-        ctx: &GpuContext,
-        background: [u8; 4],
-        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
-    ) -> Result<(), GpuError> {
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = self.begin(&mut encoder, background);
-            record(&mut pass);
-        }
-        ctx.submit_and_wait(encoder)
-    }
-
-    fn begin<'e>(
-        &'e self,
-        encoder: &'e mut wgpu::CommandEncoder,
-        background: [u8; 4],
-    ) -> wgpu::RenderPass<'e> {
-        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("draw"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.color,
-                depth_slice: None,
-                resolve_target: Some(&self.resolve_view),
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear_color(background)),
-                    store: wgpu::StoreOp::Discard,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        })
-    }
-
-    /// Copies the resolved picture back.
-    pub fn read(&self, ctx: &GpuContext) -> Result<RgbaImage, GpuError> {
-        read_texture(ctx, &self.resolve)
-    }
-}
-
-/// Copies a single-sampled RGBA8 texture (`COPY_SRC` usage) back to the CPU, waiting for it.
-pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<RgbaImage, GpuError> {
-    let (w, h) = (texture.width(), texture.height());
-    let row = w as u64 * 4;
-    let padded = row.div_ceil(256) * 256;
-    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("picture"),
-        size: padded * h as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded as u32),
-                rows_per_image: Some(h),
-            },
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
-    ctx.submit_and_wait(encoder)?;
-    let bytes = ctx.map_and_copy(&staging)?;
-    let mut pixels = Vec::with_capacity((row * h as u64) as usize);
-    for y in 0..h as usize {
-        let start = y * padded as usize;
-        pixels.extend_from_slice(&bytes[start..start + row as usize]);
-    }
-    RgbaImage::from_raw(w, h, pixels)
-        .ok_or_else(|| GpuError::Readback("picture size mismatch".into()))
 }

@@ -1,0 +1,198 @@
+//! The offscreen target the pictures and benchmarks draw into: multisampled colour with
+//! depth, resolved into a texture that can be read back. Drawing and reading have a blocking
+//! form (the `blocking` feature) and an async one that also runs in a browser.
+
+use crate::scene::clear_color;
+use image::RgbaImage;
+use tessella_gpu::{GpuContext, GpuError, TargetFormats};
+
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Multisampling smooths silhouettes, which is what the pictures are about.
+const SAMPLES: u32 = 4;
+
+/// An offscreen multisampled colour target with depth, resolved for readback.
+pub struct Target {
+    color: wgpu::TextureView,
+    resolve: wgpu::Texture,
+    resolve_view: wgpu::TextureView,
+    depth: wgpu::TextureView,
+}
+
+impl Target {
+    /// What [`tessella_gpu::PatternRenderer`]s drawing into this target are made for.
+    pub const FORMATS: TargetFormats = TargetFormats {
+        color: COLOR_FORMAT,
+        depth: Some(DEPTH_FORMAT),
+        samples: SAMPLES,
+    };
+
+    /// Makes the textures (`size` within 1..=8192 per side).
+    pub fn new(ctx: &GpuContext, size: (u32, u32)) -> Result<Target, GpuError> {
+        ctx.scoped(|| Target::make(ctx, size))
+    }
+
+    fn make(ctx: &GpuContext, size: (u32, u32)) -> Target {
+        let texture = |label, format, samples, usage| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let color = texture("color", COLOR_FORMAT, SAMPLES, attach);
+        let resolve = texture(
+            "resolve",
+            COLOR_FORMAT,
+            1,
+            attach | wgpu::TextureUsages::COPY_SRC,
+        );
+        let depth = texture("depth", DEPTH_FORMAT, SAMPLES, attach);
+        Target {
+            color: color.create_view(&Default::default()),
+            resolve_view: resolve.create_view(&Default::default()),
+            resolve,
+            depth: depth.create_view(&Default::default()),
+        }
+    }
+
+    /// Clears to `background`, lets `record` draw into the pass, submits and waits: any error
+    /// wgpu reports for the frame is returned.
+    #[cfg(feature = "blocking")]
+    pub fn draw(
+        &self,
+        ctx: &GpuContext,
+        background: [u8; 4],
+        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
+    ) -> Result<(), GpuError> {
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = self.begin(&mut encoder, background);
+            record(&mut pass);
+        }
+        ctx.submit_and_wait(encoder)
+    }
+
+    /// [`Target::draw`] without blocking the web's thread: resolves when the GPU has finished
+    /// the frame (natively it waits, see [`GpuContext::work_done_async`]).
+    pub async fn draw_async(
+        &self,
+        ctx: &GpuContext,
+        background: [u8; 4],
+        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
+    ) -> Result<(), GpuError> {
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = self.begin(&mut encoder, background);
+            record(&mut pass);
+        }
+        ctx.submit(encoder)?;
+        ctx.work_done_async().await
+    }
+
+    fn begin<'e>(
+        &'e self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        background: [u8; 4],
+    ) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("draw"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.color,
+                depth_slice: None,
+                resolve_target: Some(&self.resolve_view),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear_color(background)),
+                    store: wgpu::StoreOp::Discard,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
+    /// Copies the resolved picture back.
+    #[cfg(feature = "blocking")]
+    pub fn read(&self, ctx: &GpuContext) -> Result<RgbaImage, GpuError> {
+        read_texture(ctx, &self.resolve)
+    }
+
+    /// [`Target::read`] without blocking the web's thread.
+    pub async fn read_async(&self, ctx: &GpuContext) -> Result<RgbaImage, GpuError> {
+        let (staging, padded) = record_copy(ctx, &self.resolve)?;
+        let bytes = ctx.map_and_copy_driven_async(&staging).await?;
+        unpad(&self.resolve, padded, &bytes)
+    }
+}
+
+/// Copies a single-sampled RGBA8 texture (`COPY_SRC` usage) back to the CPU, waiting for it.
+#[cfg(feature = "blocking")]
+pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<RgbaImage, GpuError> {
+    let (staging, padded) = record_copy(ctx, texture)?;
+    let bytes = ctx.map_and_copy(&staging)?;
+    unpad(texture, padded, &bytes)
+}
+
+/// Submits a copy of `texture` into a new staging buffer with rows padded to 256 bytes;
+/// returns the buffer and the padded row length.
+fn record_copy(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<(wgpu::Buffer, u64), GpuError> {
+    let (w, h) = (texture.width(), texture.height());
+    let padded = (w as u64 * 4).div_ceil(256) * 256;
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("picture"),
+        size: padded * h as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &staging,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded as u32),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.submit(encoder)?;
+    Ok((staging, padded))
+}
+
+/// The picture of `texture` from its padded rows.
+fn unpad(texture: &wgpu::Texture, padded: u64, bytes: &[u8]) -> Result<RgbaImage, GpuError> {
+    let (w, h) = (texture.width(), texture.height());
+    let row = w as usize * 4;
+    let mut pixels = Vec::with_capacity(row * h as usize);
+    for y in 0..h as usize {
+        let start = y * padded as usize;
+        pixels.extend_from_slice(&bytes[start..start + row]);
+    }
+    RgbaImage::from_raw(w, h, pixels)
+        .ok_or_else(|| GpuError::Readback("picture size mismatch".into()))
+}
