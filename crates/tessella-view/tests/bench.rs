@@ -87,3 +87,26 @@ fn changing_levels_are_timed_rebuilt_and_adaptive() {
     }
     assert!(table.contains("| fractional-odd |"));
 }
+
+#[test]
+fn figure7_says_when_the_static_buffer_does_not_fit() {
+    // The device's limit as tessella reads it, lowered: the row is still made, not drawn.
+    let mut small = ctx().clone();
+    small.limits.max_buffer_size = 40_000;
+    let config = Figure7Config {
+        faces: vec![100],
+        levels: vec![8],
+        frames: 1,
+        size: (32, 32),
+        scheme: Scheme::Pn,
+    };
+    let rows = figure7(&small, &config).unwrap();
+    let r = &rows[0];
+    assert!(r.static_bytes > 40_000);
+    assert!(r.static_ms.is_none() && r.pictures_differ.is_none());
+    let note = r.static_note.as_deref().unwrap();
+    assert!(note.contains("40000-byte buffer limit"), "{note}");
+    assert!(r.pattern_ms > 0.0);
+    let table = figure7_table(&rows);
+    assert!(table.contains("| — |") && table.contains(note), "{table}");
+}

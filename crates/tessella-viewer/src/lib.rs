@@ -19,9 +19,12 @@
 //!   and save as the CLI's tags JSON ([`Viewer::tags_json`]).
 //! - Every call returns a `Result`; on error the previous mesh, parameters and surfaces stay.
 //!
+//! [`bench`] is the viewer's benchmark (GMR's Figure 7 and the scheme tables) on its device.
+//!
 //! In the browser, `web.rs` (wasm32 only) is the `WebViewer` of `CONTRACT.md`, built by
 //! `build-web.sh`. `docs/viewer.md` says what is drawn and what crosses the bus.
 
+pub mod bench;
 pub mod clock;
 pub mod deform;
 pub mod error;

@@ -174,10 +174,24 @@ impl WebViewer {
         self.viewer.export_glb().map_err(js)
     }
 
-    /// Not built yet (CONTRACT.md): a rejected promise saying so.
-    pub fn bench(&self, _config: JsValue) -> js_sys::Promise {
-        js_sys::Promise::reject(&JsValue::from(JsError::new(
-            "bench: the Figure 7 benchmark is not built yet in this viewer",
-        )))
+    /// The benchmark (`crate::bench`, CONTRACT.md) on this viewer's device: resolves to its
+    /// report, rejects on a bad configuration or a device error. `config` may be
+    /// `undefined` (the papers' sizes). The page keeps running meanwhile: every frame is
+    /// awaited, never waited for.
+    pub fn bench(&self, config: JsValue) -> js_sys::Promise {
+        let ctx = self.viewer.context().clone();
+        let parsed = if config.is_undefined() {
+            Ok(serde_json::Value::Null)
+        } else {
+            to_json(&config).map_err(JsValue::from)
+        };
+        wasm_bindgen_futures::future_to_promise(async move {
+            let config =
+                crate::bench::BenchConfig::from_json(&parsed?).map_err(|e| JsValue::from(js(e)))?;
+            let report = crate::bench::run(&ctx, &config)
+                .await
+                .map_err(|e| JsValue::from(js(e)))?;
+            from_json(&report).map_err(JsValue::from)
+        })
     }
 }
