@@ -1,5 +1,6 @@
 // Writes the whole static site to web/dist/:
 //   dist/index.html, style.css, src/      the page
+//   dist/bench.html                       the benchmark page (Figure 7)
 //   dist/pkg/                             the WebGPU engine (crates/tessella-viewer/build-web.sh)
 //   dist/tessella/                        the npm package `tessella` (js/), for the WebGL2 fallback
 //   dist/samples/ + samples/index.json    the bundled sample meshes (samples/)
@@ -25,7 +26,7 @@ rmSync(dist, { recursive: true, force: true });
 mkdirSync(dist, { recursive: true });
 
 // The page itself.
-for (const name of ['index.html', 'style.css', 'src']) {
+for (const name of ['index.html', 'bench.html', 'style.css', 'src']) {
   cpSync(join(web, name), join(dist, name), { recursive: true });
 }
 

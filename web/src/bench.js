@@ -1,0 +1,127 @@
+// The benchmark page: GMR's Figure 7, the PNG1 paper's scheme table and levels moving every
+// frame, run by the WebGPU engine's bench() on this browser's device. The form's fields (and
+// the same names in the URL: ?faces=10,100&levels=8,16&frames=3&run=1) are bench()'s
+// configuration; the report shows as tables and as JSON, and is `window.bench.report`.
+import { createBackend } from './backend.js';
+import { showMessage, clearMessage, download } from './ui.js';
+
+const $ = (id) => document.getElementById(id);
+const form = $('config');
+const LISTS = ['faces', 'levels', 'schemeFaces', 'schemeLevels'];
+
+/** The form as bench()'s configuration; a malformed field throws, naming it. */
+function readConfig() {
+  const field = (name) => form.elements[name].value.trim();
+  const numbers = (name) =>
+    field(name)
+      .split(',')
+      .map((t) => {
+        const n = Number(t.trim());
+        if (t.trim() === '' || !Number.isFinite(n)) throw new Error(`${name}: ${JSON.stringify(field(name))} is not a list of numbers`);
+        return n;
+      });
+  const size = /^(\d+)x(\d+)$/.exec(field('size'));
+  if (!size) throw new Error(`size: ${JSON.stringify(field('size'))} is not WIDTHxHEIGHT`);
+  const config = {
+    frames: Number(field('frames')),
+    size: [+size[1], +size[2]],
+    scheme: field('scheme'),
+    movingTop: Number(field('movingTop')),
+    parts: field('parts').split(',').map((p) => p.trim()).filter(Boolean),
+  };
+  for (const name of LISTS) config[name] = numbers(name);
+  return config;
+}
+
+/** The report's Markdown (headings, pipe tables, lines) as DOM nodes, text set as text. */
+function renderMarkdown(markdown) {
+  const out = document.createDocumentFragment();
+  let table = null;
+  for (const line of markdown.split('\n')) {
+    if (line.startsWith('|')) {
+      const cells = line.slice(1, -1).split('|').map((c) => c.trim());
+      if (cells.every((c) => /^-+:?$/.test(c))) continue; // the rule under the header
+      const header = table === null;
+      if (header) table = out.appendChild(document.createElement('table'));
+      const row = table.appendChild(document.createElement('tr'));
+      for (const c of cells) {
+        const cell = row.appendChild(document.createElement(header ? 'th' : 'td'));
+        cell.textContent = c;
+        if (!header && /^[\d.]+(x|%)?$|^—$/.test(c)) cell.className = 'num';
+      }
+      continue;
+    }
+    table = null;
+    if (line.startsWith('## ')) out.appendChild(document.createElement('h2')).textContent = line.slice(3);
+    else if (line.trim()) out.appendChild(document.createElement('p')).textContent = line;
+  }
+  return out;
+}
+
+let core = null;
+let running = false;
+
+async function run(config = readConfig()) {
+  if (!core) throw new Error('the benchmark needs the WebGPU engine, which did not start');
+  if (running) throw new Error('a benchmark is running already');
+  running = true;
+  $('run').disabled = true;
+  $('status').textContent = 'running… (each frame is awaited; this can take minutes on a CPU adapter)';
+  const start = performance.now();
+  try {
+    const report = await core.bench(config);
+    bench.report = report;
+    $('tables').replaceChildren(renderMarkdown(report.markdown));
+    $('json').textContent = JSON.stringify(report, null, 1);
+    $('save').disabled = false;
+    $('status').textContent = `done in ${((performance.now() - start) / 1000).toFixed(1)} s on ${report.adapter}`;
+    clearMessage();
+    return report;
+  } catch (e) {
+    const message = e instanceof Error ? e.message : String(e);
+    $('status').textContent = 'failed';
+    showMessage(message);
+    throw e;
+  } finally {
+    running = false;
+    $('run').disabled = false;
+  }
+}
+
+const bench = { ready: null, run, report: null };
+window.bench = bench;
+
+async function start() {
+  const query = new URLSearchParams(location.search);
+  for (const [k, v] of query) if (form.elements[k]) form.elements[k].value = v;
+  // The engine opens its device for a canvas; nothing is drawn on it here.
+  const canvas = document.createElement('canvas');
+  canvas.width = canvas.height = 8;
+  canvas.hidden = true;
+  document.body.appendChild(canvas);
+  const made = await createBackend(canvas);
+  $('backend').textContent = made.backend === 'webgpu' ? 'WebGPU' : 'no WebGPU';
+  $('backend').className = `badge ${made.backend}`;
+  if (made.backend !== 'webgpu') {
+    $('status').textContent = '';
+    showMessage(`the benchmark needs the WebGPU engine: ${made.reason}`);
+    return;
+  }
+  core = made.core;
+  $('adapter').textContent = core.adapter();
+  $('status').textContent = 'ready';
+  $('run').disabled = false;
+  form.addEventListener('submit', (e) => {
+    e.preventDefault();
+    run().catch(() => {}); // shown on the page by run()
+  });
+  $('save').addEventListener('click', () => {
+    if (bench.report) download('tessella-bench.json', JSON.stringify(bench.report, null, 1), 'application/json');
+  });
+  if (query.get('run') === '1') await run().catch(() => {});
+}
+
+bench.ready = start().catch((e) => {
+  showMessage(`the benchmark page could not start: ${e instanceof Error ? e.message : String(e)}`);
+  throw e;
+});
