@@ -11,19 +11,32 @@ async function engineBuilt() {
   }
 }
 
-/** `{ core, backend: 'webgpu' | 'webgl2', reason }`; `canvas` must not have a context yet. */
+/**
+ * What the browser says of its WebGPU adapter ("vendor architecture device", from
+ * `GPUAdapterInfo`; wgpu sees only the description, which browsers usually leave empty).
+ */
+function describe(info) {
+  const parts = [info?.vendor, info?.architecture, info?.device, info?.description].filter((p) => p);
+  return parts.length > 0 ? parts.join(' ') : 'an adapter the browser does not name';
+}
+
+/**
+ * `{ core, backend: 'webgpu' | 'webgl2', reason, adapterInfo }`; `canvas` must not have a
+ * context yet. `adapterInfo` (WebGPU only) is the browser's own description of its adapter.
+ */
 export async function createBackend(canvas, { allowWebGpu = true } = {}) {
   let reason;
+  let adapter = null;
   if (!allowWebGpu) reason = 'WebGPU was switched off (?backend=webgl2)';
   else if (!('gpu' in navigator)) reason = 'this browser has no WebGPU (navigator.gpu is missing)';
   else if (!(await engineBuilt())) reason = 'this site was built without the WebGPU engine (dist/pkg)';
-  else if ((await navigator.gpu.requestAdapter().catch(() => null)) === null) reason = 'the browser offers no WebGPU adapter';
+  else if ((adapter = await navigator.gpu.requestAdapter().catch(() => null)) === null) reason = 'the browser offers no WebGPU adapter';
   else {
     try {
       const engine = await import('../pkg/tessella_viewer.js');
       await engine.default();
       const core = await engine.WebViewer.create(canvas);
-      return { core, backend: 'webgpu', reason: null };
+      return { core, backend: 'webgpu', reason: null, adapterInfo: describe(adapter.info) };
     } catch (e) {
       reason = `the WebGPU engine could not start: ${e instanceof Error ? e.message : String(e)}`;
     }

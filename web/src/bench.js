@@ -59,6 +59,7 @@ function renderMarkdown(markdown) {
 }
 
 let core = null;
+let adapterInfo = null;
 let running = false;
 
 async function run(config = readConfig()) {
@@ -70,11 +71,14 @@ async function run(config = readConfig()) {
   const start = performance.now();
   try {
     const report = await core.bench(config);
+    // wgpu sees only the adapter's description, which browsers usually leave empty.
+    report.browserAdapter = adapterInfo;
+    report.markdown = `Browser's adapter: ${adapterInfo}\n\n${report.markdown}`;
     bench.report = report;
     $('tables').replaceChildren(renderMarkdown(report.markdown));
     $('json').textContent = JSON.stringify(report, null, 1);
     $('save').disabled = false;
-    $('status').textContent = `done in ${((performance.now() - start) / 1000).toFixed(1)} s on ${report.adapter}`;
+    $('status').textContent = `done in ${((performance.now() - start) / 1000).toFixed(1)} s on ${report.adapter}, ${adapterInfo}`;
     clearMessage();
     return report;
   } catch (e) {
@@ -108,7 +112,8 @@ async function start() {
     return;
   }
   core = made.core;
-  $('adapter').textContent = core.adapter();
+  adapterInfo = made.adapterInfo;
+  $('adapter').textContent = `${core.adapter()}: ${adapterInfo}`;
   $('status').textContent = 'ready';
   $('run').disabled = false;
   form.addEventListener('submit', (e) => {

@@ -355,7 +355,7 @@ const controls = bindControls({
 
 async function start() {
   const query = fromSearch(location.search);
-  const { core: c, backend, reason, canvas: fresh } = await createBackend(canvas, {
+  const { core: c, backend, reason, canvas: fresh, adapterInfo } = await createBackend(canvas, {
     allowWebGpu: query.backend !== 'webgl2',
   });
   core = c;
@@ -363,7 +363,7 @@ async function start() {
   viewer.backend = backend;
   $('backend').textContent = backend === 'webgpu' ? 'WebGPU' : 'WebGL2 fallback';
   $('backend').className = `badge ${backend}`;
-  $('adapter').textContent = core.adapter();
+  $('adapter').textContent = adapterInfo ? `${core.adapter()}: ${adapterInfo}` : core.adapter();
   if (reason) {
     $('banner').hidden = false;
     $('banner').textContent = `Drawing with the WebGL2 fallback (CPU refinement in wasm): ${reason}. Displacement, tags and animation need WebGPU.`;

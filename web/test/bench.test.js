@@ -40,7 +40,9 @@ describe('the benchmark on WebGPU', { skip }, () => {
       return [r, frames];
     });
     assert.ok(frames >= 3, `only ${frames} animation frames while the benchmark ran`);
-    assert.match(report.adapter, /\S/);
+    assert.match(report.adapter, /^\S.* \(BrowserWebGpu/);
+    assert.match(report.browserAdapter, /\S/);
+    assert.ok(report.markdown.startsWith(`Browser's adapter: ${report.browserAdapter}`));
     assert.equal(report.figure7.length, 2);
     for (const [row, faces] of report.figure7.map((r, i) => [r, [10, 40][i]])) {
       assert.equal(row.faces, faces);

@@ -333,10 +333,16 @@ impl GpuContext {
     }
 
     /// "name (backend)", with "software" added for CPU adapters: the label for benchmark rows.
+    /// Browsers may keep the name to themselves (an empty description): "unnamed adapter".
     pub fn adapter_label(&self) -> String {
+        let name = self.info.name.trim();
         format!(
             "{} ({:?}{})",
-            self.info.name,
+            if name.is_empty() {
+                "unnamed adapter"
+            } else {
+                name
+            },
             self.info.backend,
             if self.is_software() { ", software" } else { "" }
         )
