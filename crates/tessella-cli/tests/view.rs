@@ -1,0 +1,324 @@
+//! `tessella view`: the input mapping, the refusals without a display, and the window's picture
+//! under a virtual X server (xvfb-run) against `tessella render`'s.
+#![cfg(feature = "view")]
+
+#[path = "../src/commands/view_input.rs"]
+#[allow(dead_code)]
+mod view_input;
+
+use serde_json::{Map, Value};
+use std::path::Path;
+use std::process::{Command, Output};
+use tessella_core::{samples, Scheme};
+use tessella_viewer::{Animation, Params};
+use view_input::{Action, Key, Modifiers};
+
+const NONE: Modifiers = Modifiers {
+    shift: false,
+    alt: false,
+};
+const SHIFT: Modifiers = Modifiers {
+    shift: true,
+    alt: false,
+};
+const ALT: Modifiers = Modifiers {
+    shift: false,
+    alt: true,
+};
+
+/// The parameters after `changes`, which `Viewer::set` must accept as they are.
+fn after(p: &Params, changes: &Map<String, Value>) -> Params {
+    p.apply(changes)
+        .unwrap_or_else(|e| panic!("{changes:?} refused: {e}"))
+}
+
+fn press(p: &Params, key: Key, m: Modifiers) -> Params {
+    match view_input::key(p, key, m, 600) {
+        Some(Action::Set(changes)) => after(p, &changes),
+        other => panic!("{key:?}: {other:?}"),
+    }
+}
+
+fn close(a: f32, b: f32) -> bool {
+    (a - b).abs() < 1e-4
+}
+
+#[test]
+fn dragging_orbits_and_pans_as_the_page_does() {
+    let p = Params::default();
+    // Right by 10 pixels: yaw down by 4 degrees; down by 5: pitch up by 2.
+    let q = after(&p, &view_input::orbit(&p, 10.0, 5.0));
+    assert!(close(q.yaw, p.yaw - 4.0), "{}", q.yaw);
+    assert!(close(q.pitch, p.pitch + 2.0), "{}", q.pitch);
+    assert_eq!(q.pan, p.pan);
+    // The pitch stops short of the poles.
+    let q = after(&p, &view_input::orbit(&p, 0.0, 1000.0));
+    assert!(close(q.pitch, 89.0), "{}", q.pitch);
+    let q = after(&p, &view_input::orbit(&p, 0.0, -1000.0));
+    assert!(close(q.pitch, -89.0), "{}", q.pitch);
+    // Panning 60 pixels of 600 at zoom 1: a fifth of the framed radius, the mesh follows.
+    let q = after(&p, &view_input::pan(&p, 60.0, -60.0, 600));
+    assert!(
+        close(q.pan[0], -0.2) && close(q.pan[1], -0.2),
+        "{:?}",
+        q.pan
+    );
+    assert_eq!((q.yaw, q.pitch), (p.yaw, p.pitch));
+    // Zoomed in twice as far, the same drag pans half as much.
+    let z = Params {
+        zoom: 2.0,
+        ..p.clone()
+    };
+    let q = after(&z, &view_input::pan(&z, 60.0, 0.0, 600));
+    assert!(close(q.pan[0], -0.1), "{:?}", q.pan);
+    // The wheel away from the user zooms in, towards zooms out, within bounds.
+    assert!(after(&p, &view_input::wheel(&p, 1.0)).zoom > p.zoom);
+    assert!(after(&p, &view_input::wheel(&p, -1.0)).zoom < p.zoom);
+    assert!(close(after(&p, &view_input::wheel(&p, 1000.0)).zoom, 200.0));
+    assert!(close(after(&p, &view_input::wheel(&p, -1000.0)).zoom, 0.05));
+}
+
+#[test]
+fn keys_change_the_parameters_the_page_changes() {
+    let p = Params::default();
+    assert!(close(press(&p, Key::Left, NONE).yaw, p.yaw + 5.0));
+    assert!(close(press(&p, Key::Right, SHIFT).yaw, p.yaw - 20.0));
+    assert!(close(press(&p, Key::Up, NONE).pitch, p.pitch - 5.0));
+    assert!(close(press(&p, Key::Down, NONE).pitch, p.pitch + 5.0));
+    // Alt + arrows pan, leaving the orbit alone.
+    let q = press(&p, Key::Left, ALT);
+    assert!(q.pan[0] > 0.0 && q.pan[1] == 0.0, "{:?}", q.pan);
+    assert_eq!(q.yaw, p.yaw);
+    let q = press(&p, Key::Up, ALT);
+    assert!(q.pan[1] < 0.0 && q.pan[0] == 0.0, "{:?}", q.pan);
+    assert!(close(press(&p, Key::Char('+'), NONE).zoom, 1.1));
+    assert!(close(press(&p, Key::Char('='), NONE).zoom, 1.1));
+    assert!(close(press(&p, Key::Char('-'), NONE).zoom, 1.0 / 1.1));
+    let wire = press(&p, Key::Char('w'), NONE);
+    assert!(wire.wireframe);
+    assert!(!press(&wire, Key::Char('w'), NONE).wireframe);
+    // Levels: whole steps, from a fractional level too, never below 1.
+    assert_eq!(press(&p, Key::Char(']'), NONE).level, 9.0);
+    assert_eq!(press(&p, Key::Char('['), NONE).level, 7.0);
+    let frac = Params {
+        level: 5.5,
+        ..p.clone()
+    };
+    assert_eq!(press(&frac, Key::Char(']'), NONE).level, 6.0);
+    assert_eq!(press(&frac, Key::Char('['), NONE).level, 5.0);
+    let one = Params {
+        level: 1.0,
+        ..p.clone()
+    };
+    assert_eq!(press(&one, Key::Char('['), NONE).level, 1.0);
+    // Schemes: 1..7 pick one (ending side-by-side panels), Tab steps and wraps.
+    let panels = Params {
+        panels: vec![Scheme::Flat, Scheme::Pn],
+        ..p.clone()
+    };
+    let q = press(&panels, Key::Char('1'), NONE);
+    assert_eq!(q.scheme, Scheme::Flat);
+    assert!(q.panels.is_empty());
+    assert_eq!(press(&p, Key::Char('7'), NONE).scheme, Scheme::Quadratic);
+    assert_eq!(press(&p, Key::Char('4'), NONE).scheme, Scheme::Png1);
+    assert_eq!(view_input::key(&p, Key::Char('8'), NONE, 600), None);
+    assert_eq!(press(&p, Key::Tab, NONE).scheme, Scheme::Png1);
+    assert!(matches!(
+        press(&p, Key::Tab, SHIFT).scheme,
+        Scheme::Phong { .. }
+    ));
+    let last = press(&p, Key::Char('7'), NONE);
+    assert_eq!(press(&last, Key::Tab, NONE).scheme, Scheme::Flat);
+    // The twist animation toggles.
+    let twist = press(&p, Key::Char('a'), NONE);
+    assert_eq!(twist.animate, Animation::Twist);
+    assert_eq!(press(&twist, Key::Char('a'), NONE).animate, Animation::None);
+    for (key, action) in [
+        (Key::Char('s'), Action::Screenshot),
+        (Key::Char('q'), Action::Quit),
+        (Key::Escape, Action::Quit),
+    ] {
+        assert_eq!(view_input::key(&p, key, NONE, 600), Some(action));
+    }
+    assert_eq!(view_input::key(&p, Key::Char('x'), NONE, 600), None);
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// `tessella ARGS` without any display.
+fn headless(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tessella"))
+        .args(args)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("the binary runs")
+}
+
+#[test]
+fn without_a_display_it_says_so_and_exits_1() {
+    for args in [&["view"][..], &["view", "--frames", "1", "--level", "3"]] {
+        let out = headless(args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains("neither DISPLAY nor WAYLAND_DISPLAY is set"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn bad_files_and_parameters_are_refused_before_a_window_opens() {
+    let dir = tempfile::tempdir().unwrap();
+    let broken = dir.path().join("broken.obj");
+    std::fs::write(&broken, "v 0 0 0\nf 1 2 3\n").unwrap();
+    let broken = broken.to_str().unwrap();
+    // The CLI's usual message: the one `tessella render` gives for the same file.
+    let render = headless(&["render", broken, "-o", "x.png"]);
+    let view = headless(&["view", broken]);
+    assert_eq!(view.status.code(), Some(1));
+    assert_eq!(stderr(&view), stderr(&render));
+    assert!(stderr(&view).contains("broken.obj"), "{}", stderr(&view));
+    let missing = headless(&["view", "no/such/mesh.obj"]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(
+        stderr(&missing).contains("mesh.obj"),
+        "{}",
+        stderr(&missing)
+    );
+    for (args, message) in [
+        (&["view", "--level", "0"][..], "level: must be above 0"),
+        (&["view", "--animate", "spin"], "animate: unknown animation"),
+        (
+            &["view", "--displace", "sine:0.1,5", "--lod", "screen:4"],
+            "displace:",
+        ),
+    ] {
+        let out = headless(args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains(message), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+/// `xvfb-run` on the PATH, or why the window test cannot run.
+fn xvfb_run() -> Option<std::path::PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join("xvfb-run"))
+        .find(|p| p.is_file())
+}
+
+fn run(command: &mut Command) -> Output {
+    let out = command.output().expect("the command runs");
+    assert!(
+        out.status.success(),
+        "{command:?}: {}\n{}",
+        out.status,
+        stderr(&out)
+    );
+    assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
+    out
+}
+
+/// Pixels that are not the white background.
+fn mask(picture: &image::RgbaImage) -> Vec<bool> {
+    picture.pixels().map(|p| p.0[..3] != [255; 3]).collect()
+}
+
+fn iou(a: &[bool], b: &[bool]) -> f64 {
+    let both = a.iter().zip(b).filter(|(x, y)| **x && **y).count();
+    let either = a.iter().zip(b).filter(|(x, y)| **x || **y).count();
+    both as f64 / either.max(1) as f64
+}
+
+/// The window's screenshot of `mesh` (or the first sample when `None`) against `tessella
+/// render`'s picture of `reference` with the same scheme, level, camera and size.
+fn compare_window_with_render(dir: &Path, xvfb: &Path, mesh: Option<&Path>, reference: &Path) {
+    let camera = [
+        "--size", "320x240", "--yaw", "40", "--pitch", "15", "--scheme", "pn", "--level", "8",
+    ];
+    let shot = dir.join("window.png");
+    let mut view = Command::new(xvfb);
+    view.args(["-a", "-s", "-screen 0 1024x768x24"])
+        .arg(env!("CARGO_BIN_EXE_tessella"))
+        .arg("view");
+    if let Some(mesh) = mesh {
+        view.arg(mesh);
+    }
+    view.args(["--frames", "3", "--screenshot"])
+        .arg(&shot)
+        .args(camera);
+    run(&mut view);
+    let rendered = dir.join("render.png");
+    run(Command::new(env!("CARGO_BIN_EXE_tessella"))
+        .arg("render")
+        .arg(reference)
+        .arg("-o")
+        .arg(&rendered)
+        .args(camera));
+    // Nothing but the two pictures: the screenshot's temporary file was renamed away.
+    let mut names: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".png") || n.ends_with(".tmp"))
+        .collect();
+    names.sort();
+    assert_eq!(names, ["render.png", "window.png"]);
+    let window = image::open(&shot).unwrap().to_rgba8();
+    let render = image::open(&rendered).unwrap().to_rgba8();
+    std::fs::remove_file(&shot).unwrap();
+    std::fs::remove_file(&rendered).unwrap();
+    assert_eq!(window.dimensions(), (320, 240));
+    assert_eq!(render.dimensions(), (320, 240));
+    let (a, b) = (mask(&window), mask(&render));
+    let covered = a.iter().filter(|x| **x).count();
+    assert!(
+        covered > a.len() / 10,
+        "the window's picture is nearly blank"
+    );
+    let overlap = iou(&a, &b);
+    assert!(overlap > 0.99, "silhouette IoU {overlap}");
+    // The colours too (a swapped red and blue would pass the silhouette).
+    let differing = window
+        .pixels()
+        .zip(render.pixels())
+        .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 48))
+        .count();
+    assert!(
+        differing <= a.len() / 50,
+        "{differing} of {} pixels differ in colour",
+        a.len()
+    );
+}
+
+#[test]
+fn the_window_draws_what_tessella_render_draws() {
+    let Some(xvfb) = xvfb_run() else {
+        if std::env::var("TESSELLA_NO_DISPLAY_TESTS").as_deref() == Ok("1") {
+            eprintln!(
+                "skipped: xvfb-run is not installed and TESSELLA_NO_DISPLAY_TESTS=1 says to go \
+                 without the window tests"
+            );
+            return;
+        }
+        panic!(
+            "xvfb-run is not installed: run scripts/test.sh (it installs xvfb as root), or \
+             apt-get install -y xvfb xauth; TESSELLA_NO_DISPLAY_TESTS=1 skips this test"
+        );
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let creature = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/creature.obj");
+    compare_window_with_render(dir.path(), &xvfb, Some(&creature), &creature);
+    // No file: the first bundled sample.
+    let first = dir.path().join("first.ply");
+    let mesh = samples::by_name(tessella_viewer::FIRST_SAMPLE).unwrap();
+    tessella_io::write_mesh(&first, (&mesh).into(), &Default::default()).unwrap();
+    compare_window_with_render(dir.path(), &xvfb, None, &first);
+}
