@@ -173,6 +173,23 @@ fn without_a_display_it_says_so_and_exits_1() {
 }
 
 #[test]
+fn a_display_nobody_answers_on_is_an_error_not_a_panic() {
+    let out = Command::new(env!("CARGO_BIN_EXE_tessella"))
+        .args(["view", "--frames", "1"])
+        .env("DISPLAY", ":7391")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("the binary runs");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("error: cannot open a window (DISPLAY=:7391, WAYLAND_DISPLAY unset)"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
 fn bad_files_and_parameters_are_refused_before_a_window_opens() {
     let dir = tempfile::tempdir().unwrap();
     let broken = dir.path().join("broken.obj");
@@ -284,13 +301,18 @@ fn compare_window_with_render(dir: &Path, xvfb: &Path, mesh: Option<&Path>, refe
         "the window's picture is nearly blank"
     );
     let overlap = iou(&a, &b);
-    assert!(overlap > 0.99, "silhouette IoU {overlap}");
     // The colours too (a swapped red and blue would pass the silhouette).
     let differing = window
         .pixels()
         .zip(render.pixels())
         .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 48))
         .count();
+    eprintln!(
+        "{}: silhouette IoU {overlap:.5}, {differing} of {} pixels differ in colour",
+        reference.display(),
+        a.len()
+    );
+    assert!(overlap > 0.99, "silhouette IoU {overlap}");
     assert!(
         differing <= a.len() / 50,
         "{differing} of {} pixels differ in colour",

@@ -43,7 +43,8 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         None => None,
     };
     check_display()?;
-    let event_loop = EventLoop::new().map_err(|e| anyhow!("cannot open a window: {e}"))?;
+    let event_loop =
+        EventLoop::new().map_err(|e| anyhow!("cannot open a window ({}): {e}", displays()))?;
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
         backends: wgpu::Backends::PRIMARY,
         ..wgpu::InstanceDescriptor::new_with_display_handle(Box::new(
@@ -116,6 +117,16 @@ fn check_display() -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// "DISPLAY=:0, WAYLAND_DISPLAY unset", for messages.
+fn displays() -> String {
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .map(|name| match std::env::var_os(name) {
+            Some(v) => format!("{name}={}", v.to_string_lossy()),
+            None => format!("{name} unset"),
+        })
+        .join(", ")
 }
 
 /// What the window is opened with.
