@@ -224,14 +224,6 @@ fn bad_files_and_parameters_are_refused_before_a_window_opens() {
     }
 }
 
-/// `xvfb-run` on the PATH, or why the window test cannot run.
-fn xvfb_run() -> Option<std::path::PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|d| d.join("xvfb-run"))
-        .find(|p| p.is_file())
-}
-
 fn run(command: &mut Command) -> Output {
     let out = command.output().expect("the command runs");
     assert!(
@@ -255,12 +247,90 @@ fn iou(a: &[bool], b: &[bool]) -> f64 {
     both as f64 / either.max(1) as f64
 }
 
+/// One virtual X server at a time: `xvfb-run -a` started twice at once may pick one number.
+static XVFB: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// `program` on the PATH.
+fn on_path(program: &str) -> Option<std::path::PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join(program))
+        .find(|p| p.is_file())
+}
+
+/// The window tests' tool `program`, or `None` (the test skips, saying why) where
+/// `TESSELLA_NO_DISPLAY_TESTS=1` says to go without; a missing tool otherwise fails the test.
+fn display_tool(program: &str) -> Option<std::path::PathBuf> {
+    if let Some(path) = on_path(program) {
+        return Some(path);
+    }
+    if std::env::var("TESSELLA_NO_DISPLAY_TESTS").as_deref() == Ok("1") {
+        eprintln!(
+            "skipped: {program} is not installed and TESSELLA_NO_DISPLAY_TESTS=1 says to go \
+             without the window tests"
+        );
+        return None;
+    }
+    panic!(
+        "{program} is not installed: run scripts/test.sh (it installs xvfb and xdotool as \
+         root), or apt-get install -y xvfb xauth xdotool; TESSELLA_NO_DISPLAY_TESTS=1 skips \
+         this test"
+    );
+}
+
+/// `tessella render`'s picture of `mesh` with `args`.
+fn render(dir: &Path, mesh: &Path, args: &[&str]) -> image::RgbaImage {
+    let path = dir.join("render.png");
+    run(Command::new(env!("CARGO_BIN_EXE_tessella"))
+        .arg("render")
+        .arg(mesh)
+        .arg("-o")
+        .arg(&path)
+        .args(args));
+    let picture = image::open(&path).unwrap().to_rgba8();
+    std::fs::remove_file(&path).unwrap();
+    picture
+}
+
+/// Asserts two pictures of one view agree: the silhouettes (IoU above 0.99) and the colours.
+fn assert_same_view(what: &str, window: &image::RgbaImage, render: &image::RgbaImage) {
+    assert_eq!(window.dimensions(), render.dimensions(), "{what}");
+    let (a, b) = (mask(window), mask(render));
+    let covered = a.iter().filter(|x| **x).count();
+    assert!(
+        covered > a.len() / 10,
+        "{what}: the window's picture is nearly blank"
+    );
+    let overlap = iou(&a, &b);
+    // A swapped red and blue would pass the silhouette.
+    let differing = window
+        .pixels()
+        .zip(render.pixels())
+        .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 48))
+        .count();
+    eprintln!(
+        "{what}: silhouette IoU {overlap:.5}, {differing} of {} pixels differ in colour",
+        a.len()
+    );
+    assert!(overlap > 0.99, "{what}: silhouette IoU {overlap}");
+    assert!(
+        differing <= a.len() / 50,
+        "{what}: {differing} of {} pixels differ in colour",
+        a.len()
+    );
+}
+
+const CAMERA: [&str; 10] = [
+    "--size", "320x240", "--yaw", "40", "--pitch", "15", "--scheme", "pn", "--level", "8",
+];
+
+fn creature() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/creature.obj")
+}
+
 /// The window's screenshot of `mesh` (or the first sample when `None`) against `tessella
 /// render`'s picture of `reference` with the same scheme, level, camera and size.
 fn compare_window_with_render(dir: &Path, xvfb: &Path, mesh: Option<&Path>, reference: &Path) {
-    let camera = [
-        "--size", "320x240", "--yaw", "40", "--pitch", "15", "--scheme", "pn", "--level", "8",
-    ];
     let shot = dir.join("window.png");
     let mut view = Command::new(xvfb);
     view.args(["-a", "-s", "-screen 0 1024x768x24"])
@@ -271,76 +341,77 @@ fn compare_window_with_render(dir: &Path, xvfb: &Path, mesh: Option<&Path>, refe
     }
     view.args(["--frames", "3", "--screenshot"])
         .arg(&shot)
-        .args(camera);
+        .args(CAMERA);
     run(&mut view);
-    let rendered = dir.join("render.png");
-    run(Command::new(env!("CARGO_BIN_EXE_tessella"))
-        .arg("render")
-        .arg(reference)
-        .arg("-o")
-        .arg(&rendered)
-        .args(camera));
-    // Nothing but the two pictures: the screenshot's temporary file was renamed away.
-    let mut names: Vec<_> = std::fs::read_dir(dir)
+    // Nothing but the picture: the screenshot's temporary file was renamed into place.
+    let names: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
         .filter(|n| n.ends_with(".png") || n.ends_with(".tmp"))
         .collect();
-    names.sort();
-    assert_eq!(names, ["render.png", "window.png"]);
+    assert_eq!(names, ["window.png"]);
     let window = image::open(&shot).unwrap().to_rgba8();
-    let render = image::open(&rendered).unwrap().to_rgba8();
     std::fs::remove_file(&shot).unwrap();
-    std::fs::remove_file(&rendered).unwrap();
     assert_eq!(window.dimensions(), (320, 240));
-    assert_eq!(render.dimensions(), (320, 240));
-    let (a, b) = (mask(&window), mask(&render));
-    let covered = a.iter().filter(|x| **x).count();
-    assert!(
-        covered > a.len() / 10,
-        "the window's picture is nearly blank"
-    );
-    let overlap = iou(&a, &b);
-    // The colours too (a swapped red and blue would pass the silhouette).
-    let differing = window
-        .pixels()
-        .zip(render.pixels())
-        .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 48))
-        .count();
-    eprintln!(
-        "{}: silhouette IoU {overlap:.5}, {differing} of {} pixels differ in colour",
-        reference.display(),
-        a.len()
-    );
-    assert!(overlap > 0.99, "silhouette IoU {overlap}");
-    assert!(
-        differing <= a.len() / 50,
-        "{differing} of {} pixels differ in colour",
-        a.len()
-    );
+    let render = render(dir, reference, &CAMERA);
+    assert_same_view(&reference.display().to_string(), &window, &render);
 }
 
 #[test]
 fn the_window_draws_what_tessella_render_draws() {
-    let Some(xvfb) = xvfb_run() else {
-        if std::env::var("TESSELLA_NO_DISPLAY_TESTS").as_deref() == Ok("1") {
-            eprintln!(
-                "skipped: xvfb-run is not installed and TESSELLA_NO_DISPLAY_TESTS=1 says to go \
-                 without the window tests"
-            );
-            return;
-        }
-        panic!(
-            "xvfb-run is not installed: run scripts/test.sh (it installs xvfb as root), or \
-             apt-get install -y xvfb xauth; TESSELLA_NO_DISPLAY_TESTS=1 skips this test"
-        );
+    let _one = XVFB.lock().unwrap_or_else(|p| p.into_inner());
+    let Some(xvfb) = display_tool("xvfb-run") else {
+        return;
     };
     let dir = tempfile::tempdir().unwrap();
-    let creature = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/creature.obj");
-    compare_window_with_render(dir.path(), &xvfb, Some(&creature), &creature);
+    compare_window_with_render(dir.path(), &xvfb, Some(&creature()), &creature());
     // No file: the first bundled sample.
     let first = dir.path().join("first.ply");
     let mesh = samples::by_name(tessella_viewer::FIRST_SAMPLE).unwrap();
     tessella_io::write_mesh(&first, (&mesh).into(), &Default::default()).unwrap();
     compare_window_with_render(dir.path(), &xvfb, None, &first);
+}
+
+/// Keys typed into the window (xdotool) reach the viewer: `w` wireframe, `]` a level up, `s`
+/// a screenshot, `q` quits; the screenshot is `tessella render --wireframe --level 9`'s view.
+#[test]
+fn keys_typed_into_the_window_change_the_view() {
+    let _one = XVFB.lock().unwrap_or_else(|p| p.into_inner());
+    let (Some(xvfb), Some(_)) = (display_tool("xvfb-run"), display_tool("xdotool")) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("keys.png");
+    // Waits on the window and the file rather than sleeping a fixed time; gives up after 60 s.
+    let script = r#"
+        "$TESSELLA" view "$MESH" --screenshot "$SHOT" "$@" & pid=$!
+        wid=$(timeout 60 xdotool search --sync --name "^tessella view" | head -n 1)
+        [ -n "$wid" ] || { echo "no window appeared" >&2; kill $pid; exit 1; }
+        xdotool windowfocus --sync "$wid"
+        xdotool key --window "$wid" w bracketright s
+        for i in $(seq 600); do [ -s "$SHOT" ] && break; sleep 0.1; done
+        xdotool key --window "$wid" q
+        wait $pid
+    "#;
+    let out = run(Command::new(&xvfb)
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 1024x768x24",
+            "bash",
+            "-c",
+            script,
+            "keys",
+        ])
+        .args(CAMERA)
+        .env("TESSELLA", env!("CARGO_BIN_EXE_tessella"))
+        .env("MESH", creature())
+        .env("SHOT", &shot));
+    assert!(shot.is_file(), "no screenshot: {}", stderr(&out));
+    let window = image::open(&shot).unwrap().to_rgba8();
+    let mut args = CAMERA.to_vec();
+    args[9] = "9";
+    args.push("--wireframe");
+    let render = render(dir.path(), &creature(), &args);
+    assert_same_view("after w ] s", &window, &render);
 }
