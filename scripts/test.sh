@@ -9,13 +9,13 @@ cd "$(dirname "$0")/.."
 bash scripts/setup-vulkan.sh
 bash scripts/setup-gl.sh
 # `tessella view`'s window tests (crates/tessella-cli/tests/view.rs) run under a virtual X server
-# and type keys into the window with xdotool.
-if { ! command -v xvfb-run >/dev/null || ! command -v xdotool >/dev/null; } && [ "${TESSELLA_NO_DISPLAY_TESTS:-}" != 1 ]; then
+# type keys into the window (xdotool) and read what it shows (xwd, in x11-apps).
+if { ! command -v xvfb-run >/dev/null || ! command -v xdotool >/dev/null || ! command -v xwd >/dev/null; } && [ "${TESSELLA_NO_DISPLAY_TESTS:-}" != 1 ]; then
   if [ "$(id -u)" = 0 ]; then
-    echo "== installing Xvfb (a virtual X server) and xdotool for the window tests"
-    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq xvfb xauth xdotool >/dev/null
+    echo "== installing Xvfb (a virtual X server), xdotool and xwd for the window tests"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq xvfb xauth xdotool x11-apps >/dev/null
   else
-    echo "the window tests need xvfb-run and xdotool: apt-get install -y xvfb xauth xdotool (as root), or set TESSELLA_NO_DISPLAY_TESTS=1" >&2
+    echo "the window tests need xvfb-run and xdotool: apt-get install -y xvfb xauth xdotool x11-apps (as root), or set TESSELLA_NO_DISPLAY_TESTS=1" >&2
     exit 1
   fi
 fi

@@ -141,6 +141,12 @@ fn keys_change_the_parameters_the_page_changes() {
         assert_eq!(view_input::key(&p, key, NONE, 600), Some(action));
     }
     assert_eq!(view_input::key(&p, Key::Char('x'), NONE, 600), None);
+    // Held down, the camera keys repeat; the others act once.
+    assert!(view_input::repeats(Key::Left) && view_input::repeats(Key::Char('-')));
+    for k in ['w', 's', ']', '1', 'a', 'q'] {
+        assert!(!view_input::repeats(Key::Char(k)), "{k}");
+    }
+    assert!(!view_input::repeats(Key::Tab));
 }
 
 fn stderr(o: &Output) -> String {
@@ -272,8 +278,8 @@ fn display_tool(program: &str) -> Option<std::path::PathBuf> {
         return None;
     }
     panic!(
-        "{program} is not installed: run scripts/test.sh (it installs xvfb and xdotool as \
-         root), or apt-get install -y xvfb xauth xdotool; TESSELLA_NO_DISPLAY_TESTS=1 skips \
+        "{program} is not installed: run scripts/test.sh (it installs xvfb, xdotool and xwd as \
+         root), or apt-get install -y xvfb xauth xdotool x11-apps; TESSELLA_NO_DISPLAY_TESTS=1 skips \
          this test"
     );
 }
@@ -377,7 +383,11 @@ fn the_window_draws_what_tessella_render_draws() {
 #[test]
 fn keys_typed_into_the_window_change_the_view() {
     let _one = XVFB.lock().unwrap_or_else(|p| p.into_inner());
-    let (Some(xvfb), Some(_)) = (display_tool("xvfb-run"), display_tool("xdotool")) else {
+    let (Some(xvfb), Some(_), Some(_)) = (
+        display_tool("xvfb-run"),
+        display_tool("xdotool"),
+        display_tool("xwd"),
+    ) else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -390,6 +400,12 @@ fn keys_typed_into_the_window_change_the_view() {
         xdotool windowfocus --sync "$wid"
         xdotool key --window "$wid" w bracketright s
         for i in $(seq 600); do [ -s "$SHOT" ] && break; sleep 0.1; done
+        # The title changes after a frame of the new level is presented; then read the window.
+        for i in $(seq 600); do xdotool getwindowname "$wid" | grep -q "level 9 " && break; sleep 0.1; done
+        title=$(xdotool getwindowname "$wid")
+        case "$title" in *"level 9 "*) ;; *) echo "the title is $title" >&2; kill $pid; exit 1;; esac
+        sleep 0.5
+        xwd -id "$wid" -silent > "$XWD"
         xdotool key --window "$wid" q
         wait $pid
     "#;
@@ -406,7 +422,8 @@ fn keys_typed_into_the_window_change_the_view() {
         .args(CAMERA)
         .env("TESSELLA", env!("CARGO_BIN_EXE_tessella"))
         .env("MESH", creature())
-        .env("SHOT", &shot));
+        .env("SHOT", &shot)
+        .env("XWD", dir.path().join("window.xwd")));
     assert!(shot.is_file(), "no screenshot: {}", stderr(&out));
     let window = image::open(&shot).unwrap().to_rgba8();
     let mut args = CAMERA.to_vec();
@@ -414,4 +431,28 @@ fn keys_typed_into_the_window_change_the_view() {
     args.push("--wireframe");
     let render = render(dir.path(), &creature(), &args);
     assert_same_view("after w ] s", &window, &render);
+    // What the window shows: lavapipe presented the frame to the X server.
+    let shown = read_xwd(&std::fs::read(dir.path().join("window.xwd")).unwrap());
+    assert_same_view("the window on the X server", &shown, &render);
+}
+
+/// An `xwd` dump of a TrueColor window (32 bits a pixel) as RGBA.
+fn read_xwd(bytes: &[u8]) -> image::RgbaImage {
+    let word = |i: usize| u32::from_be_bytes(bytes[4 * i..4 * i + 4].try_into().unwrap());
+    let (header, width, height) = (word(0) as usize, word(4), word(5));
+    let (little, bits, stride) = (word(7) == 0, word(11), word(12) as usize);
+    let masks = [word(14), word(15), word(16)];
+    assert_eq!(bits, 32, "xwd: {bits} bits a pixel");
+    let pixels = &bytes[header + 12 * word(19) as usize..];
+    image::RgbaImage::from_fn(width, height, |x, y| {
+        let at = y as usize * stride + 4 * x as usize;
+        let raw: [u8; 4] = pixels[at..at + 4].try_into().unwrap();
+        let v = if little {
+            u32::from_le_bytes(raw)
+        } else {
+            u32::from_be_bytes(raw)
+        };
+        let channel = |m: u32| ((v & m) >> m.trailing_zeros()) as u8;
+        image::Rgba([channel(masks[0]), channel(masks[1]), channel(masks[2]), 255])
+    })
 }

@@ -448,7 +448,9 @@ impl ApplicationHandler for App {
             }
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
                 // Shift+Tab and shifted arrows keep their keys; `+` arrives as its character.
-                if let Some(key) = key_of(&event.logical_key) {
+                let key =
+                    key_of(&event.logical_key).filter(|&k| !event.repeat || view_input::repeats(k));
+                if let Some(key) = key {
                     if let Err(e) = self.key(event_loop, key) {
                         self.fail(event_loop, e);
                     }

@@ -79,6 +79,15 @@ fn step_scheme(p: &Params, step: isize) -> &'static str {
     all[(here + step).rem_euclid(all.len() as isize) as usize].name()
 }
 
+/// Whether a held `key` acts again on each repeat: the camera keys do; toggles, steps,
+/// screenshots and quitting act once per press.
+pub fn repeats(key: Key) -> bool {
+    matches!(
+        key,
+        Key::Left | Key::Right | Key::Up | Key::Down | Key::Char('+' | '=' | '-')
+    )
+}
+
 /// What `key` does with modifiers `m` to parameters `p` in a view `height` pixels high; `None`
 /// for keys without a meaning.
 pub fn key(p: &Params, key: Key, m: Modifiers, height: u32) -> Option<Action> {
