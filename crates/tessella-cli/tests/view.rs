@@ -379,7 +379,8 @@ fn the_window_draws_what_tessella_render_draws() {
 }
 
 /// Keys typed into the window (xdotool) reach the viewer: `w` wireframe, `]` a level up, `s`
-/// a screenshot, `q` quits; the screenshot is `tessella render --wireframe --level 9`'s view.
+/// a screenshot, `q` quits; the screenshot and the window as the X server shows it (xwd) are
+/// `tessella render --wireframe --level 9`'s view, and again after the window is resized.
 #[test]
 fn keys_typed_into_the_window_change_the_view() {
     let _one = XVFB.lock().unwrap_or_else(|p| p.into_inner());
@@ -406,6 +407,11 @@ fn keys_typed_into_the_window_change_the_view() {
         case "$title" in *"level 9 "*) ;; *) echo "the title is $title" >&2; kill $pid; exit 1;; esac
         sleep 0.5
         xwd -id "$wid" -silent > "$XWD"
+        # Resized, the window draws at its new size.
+        mv "$SHOT" "$FIRST"
+        xdotool windowsize --sync "$wid" 400 300
+        xdotool key --window "$wid" s
+        for i in $(seq 600); do [ -s "$SHOT" ] && break; sleep 0.1; done
         xdotool key --window "$wid" q
         wait $pid
     "#;
@@ -423,17 +429,23 @@ fn keys_typed_into_the_window_change_the_view() {
         .env("TESSELLA", env!("CARGO_BIN_EXE_tessella"))
         .env("MESH", creature())
         .env("SHOT", &shot)
+        .env("FIRST", dir.path().join("first.png"))
         .env("XWD", dir.path().join("window.xwd")));
-    assert!(shot.is_file(), "no screenshot: {}", stderr(&out));
-    let window = image::open(&shot).unwrap().to_rgba8();
+    let first = dir.path().join("first.png");
+    assert!(first.is_file(), "no screenshot: {}", stderr(&out));
+    let window = image::open(&first).unwrap().to_rgba8();
     let mut args = CAMERA.to_vec();
     args[9] = "9";
     args.push("--wireframe");
-    let render = render(dir.path(), &creature(), &args);
-    assert_same_view("after w ] s", &window, &render);
+    let reference = render(dir.path(), &creature(), &args);
+    assert_same_view("after w ] s", &window, &reference);
     // What the window shows: lavapipe presented the frame to the X server.
     let shown = read_xwd(&std::fs::read(dir.path().join("window.xwd")).unwrap());
-    assert_same_view("the window on the X server", &shown, &render);
+    assert_same_view("the window on the X server", &shown, &reference);
+    let resized = image::open(&shot).unwrap().to_rgba8();
+    args[1] = "400x300";
+    let bigger = render(dir.path(), &creature(), &args);
+    assert_same_view("resized to 400x300", &resized, &bigger);
 }
 
 /// An `xwd` dump of a TrueColor window (32 bits a pixel) as RGBA.
