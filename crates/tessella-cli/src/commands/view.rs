@@ -25,6 +25,8 @@ use winit::window::{Window, WindowId};
 const TITLE_EVERY_MS: f64 = 500.0;
 /// Frames in a row the surface may withhold a texture before `--frames` gives up.
 const MAX_MISSED_FRAMES: u32 = 200;
+/// Interactively, redraws asked for at once after the surface withheld a texture.
+const RETRIES: u32 = 3;
 
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     // Everything that can be wrong with the arguments is found before a window opens.
@@ -250,7 +252,11 @@ impl App {
                     "the window gave no texture to draw into {MAX_MISSED_FRAMES} times in a row"
                 );
             }
-            r.window.request_redraw();
+            // Retry soon (an outdated surface was just reconfigured), but not forever while
+            // the window is hidden: showing it again asks for a redraw.
+            if frames.is_some() || r.missed <= RETRIES {
+                r.window.request_redraw();
+            }
             return Ok(false);
         }
         r.missed = 0;
