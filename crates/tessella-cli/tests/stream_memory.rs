@@ -2,6 +2,7 @@
 //! (getrusage of the finished child) beyond what the binary takes to start stays far below the
 //! file's size, and the file has the bytes of the in-memory refinement and writer. Alone in its
 //! test binary, so no other test's child counts towards the peak.
+
 use std::process::Command;
 use tessella_core::{refine, samples, RefineOptions, Scheme};
 
