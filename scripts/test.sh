@@ -8,6 +8,17 @@ cd "$(dirname "$0")/.."
 
 bash scripts/setup-vulkan.sh
 bash scripts/setup-gl.sh
+# `tessella view`'s window tests (crates/tessella-cli/tests/view.rs) run under a virtual X server
+# type keys into the window (xdotool) and read what it shows (xwd, in x11-apps).
+if { ! command -v xvfb-run >/dev/null || ! command -v xdotool >/dev/null || ! command -v xwd >/dev/null; } && [ "${TESSELLA_NO_DISPLAY_TESTS:-}" != 1 ]; then
+  if [ "$(id -u)" = 0 ]; then
+    echo "== installing Xvfb (a virtual X server), xdotool and xwd for the window tests"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq xvfb xauth xdotool x11-apps >/dev/null
+  else
+    echo "the window tests need xvfb-run and xdotool: apt-get install -y xvfb xauth xdotool x11-apps (as root), or set TESSELLA_NO_DISPLAY_TESTS=1" >&2
+    exit 1
+  fi
+fi
 
 echo "== cargo fmt"
 cargo fmt --all -- --check
@@ -16,8 +27,8 @@ cargo clippy --workspace --all-targets --quiet -- -D warnings
 echo "== cargo test"
 cargo test --workspace
 echo "== CPU-only CLI: builds without the gpu feature, no wgpu in its tree, refines and displaces"
-if cargo tree -p tessella-cli --no-default-features -e normal | grep -q wgpu; then
-  echo "wgpu is in the dependency tree of the CPU-only CLI" >&2
+if cargo tree -p tessella-cli --no-default-features -e normal | grep -qE 'wgpu|winit'; then
+  echo "wgpu or winit is in the dependency tree of the CPU-only CLI" >&2
   exit 1
 fi
 # Its own target folder, so the GPU-enabled binary the tests use is not replaced.
@@ -32,6 +43,11 @@ if target/cpu-only/debug/tessella render samples/icosphere.obj -o "$cpu_only/x.p
 fi
 grep -q "built without GPU support" "$cpu_only/err" || { cat "$cpu_only/err" >&2; exit 1; }
 test ! -e "$cpu_only/x.png" || { echo "the CPU-only render left a file" >&2; exit 1; }
+if target/cpu-only/debug/tessella view 2>"$cpu_only/err"; then
+  echo "the CPU-only binary opened a viewer" >&2
+  exit 1
+fi
+grep -q "built without them" "$cpu_only/err" || { cat "$cpu_only/err" >&2; exit 1; }
 rm -rf "$cpu_only"
 echo "== example: an application's own device, buffers and pipeline (tessella-gpu/examples/deform.rs)"
 frames=$(mktemp -d)

@@ -54,6 +54,12 @@ pub enum Command {
     /// Render frames of a coarse mesh twisting over time, re-uploading only the coarse control
     /// nets per frame, and report the bytes uploaded against a full refined vertex buffer.
     Animate(AnimateArgs),
+    /// Open the interactive viewer in a window: drag to orbit (shift or right button: pan),
+    /// wheel or +/- to zoom, arrows orbit (alt: pan), w wireframe, 1-7 or Tab the scheme,
+    /// [ and ] the level, a the twist animation, s a screenshot, Esc or q quits.
+    ///
+    /// Example: tessella view samples/creature.obj --scheme png1 --level 6
+    View(ViewArgs),
     /// Measure refinement throughput and print a Markdown table.
     Bench(BenchArgs),
 }
@@ -328,6 +334,64 @@ pub struct AnimateArgs {
     /// Frame size, WIDTHxHEIGHT.
     #[arg(long, default_value = "400x400", value_parser = parse_size)]
     pub size: (u32, u32),
+}
+
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// Mesh file (.obj, .ply, .gltf, .glb, .stl); default: the first bundled sample.
+    pub input: Option<PathBuf>,
+    /// Surface built over each coarse triangle.
+    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
+    pub scheme: SchemeArg,
+    /// Segments per coarse edge; fractional with a tessellator --spacing (grid: geomorphed).
+    #[arg(short, long, default_value_t = 8.0, allow_negative_numbers = true)]
+    pub level: f64,
+    /// How levels divide each edge: grid, equal, fractional-odd, fractional-even.
+    #[arg(long, value_enum, default_value = "grid")]
+    pub spacing: SpacingArg,
+    /// Per-edge levels from the current camera, every frame: `screen:PX`,
+    /// `distance:NEAR,FAR,MAX` or `tolerance:D`.
+    #[arg(long, value_name = "SPEC")]
+    pub lod: Option<String>,
+    /// Phong shape factor.
+    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
+    pub alpha: f32,
+    /// How normals are made (default: the scheme's own).
+    #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
+    pub normals: Option<NormalsArg>,
+    /// Window size, WIDTHxHEIGHT (pixels).
+    #[arg(long, default_value = "800x600", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Camera orbit about the vertical axis, degrees.
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    pub yaw: f32,
+    /// Camera elevation, degrees.
+    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+    pub pitch: f32,
+    /// 1 frames the whole mesh; larger values move closer.
+    #[arg(long, default_value_t = 1.0)]
+    pub zoom: f32,
+    /// Overlay the refinement pattern's edges.
+    #[arg(long)]
+    pub wireframe: bool,
+    /// Side-by-side panels, one per scheme, e.g. `flat,pn,png1` (overrides --scheme).
+    #[arg(long, value_parser = scheme_parser(), value_delimiter = ',')]
+    pub compare: Vec<SchemeArg>,
+    /// Displacement: `sine:AMP,FREQ` or `perlin:AMP,FREQ[,SEED]`.
+    #[arg(long, value_name = "SPEC")]
+    pub displace: Option<String>,
+    /// Sidecar tags JSON, as for `refine --tags`.
+    #[arg(long, value_name = "FILE")]
+    pub tags: Option<PathBuf>,
+    /// Deformation played over time: none, twist or bend.
+    #[arg(long, default_value = "none")]
+    pub animate: String,
+    /// Draw this many frames, then exit (with --screenshot: save the last one first).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Where screenshots go (`s`, or the last of --frames); default tessella-view-N.png.
+    #[arg(long, value_name = "PNG")]
+    pub screenshot: Option<PathBuf>,
 }
 
 /// Creases and shape tags, for `--scheme st` (all tags) and `--scheme png1` (sharp edges).

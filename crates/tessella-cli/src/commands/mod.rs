@@ -23,6 +23,10 @@ mod render;
 mod render_gl;
 mod samples;
 mod tags;
+#[cfg(feature = "view")]
+mod view;
+#[cfg(feature = "view")]
+mod view_input;
 
 use crate::args::{Cli, Command};
 
@@ -43,6 +47,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Render(_) => Err(no_gpu("render")),
         #[cfg(not(feature = "gpu"))]
         Command::Animate(_) => Err(no_gpu("animate")),
+        #[cfg(feature = "view")]
+        Command::View(args) => view::run(&args),
+        #[cfg(not(feature = "view"))]
+        Command::View(_) => Err(anyhow::anyhow!(
+            "view needs the GPU and a window, and this tessella was built without them; \
+             rebuild with the `view` feature (cargo build -p tessella-cli --features view)"
+        )),
         Command::Bench(args) => bench::run(&args),
     }
 }
