@@ -23,8 +23,9 @@ function describe(info) {
 /**
  * `{ core, backend: 'webgpu' | 'webgl2', reason, adapterInfo }`; `canvas` must not have a
  * context yet. `adapterInfo` (WebGPU only) is the browser's own description of its adapter.
+ * With `fallback: false` there is no WebGL2 fallback: `{ core: null, backend: 'none', reason }`.
  */
-export async function createBackend(canvas, { allowWebGpu = true } = {}) {
+export async function createBackend(canvas, { allowWebGpu = true, fallback = true } = {}) {
   let reason;
   let adapter = null;
   if (!allowWebGpu) reason = 'WebGPU was switched off (?backend=webgl2)';
@@ -41,6 +42,7 @@ export async function createBackend(canvas, { allowWebGpu = true } = {}) {
       reason = `the WebGPU engine could not start: ${e instanceof Error ? e.message : String(e)}`;
     }
   }
+  if (!fallback) return { core: null, backend: 'none', reason };
   // A canvas that got a WebGPU context cannot give a WebGL2 one: draw into a fresh canvas.
   const fresh = canvas.cloneNode(false);
   canvas.replaceWith(fresh);

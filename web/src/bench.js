@@ -103,7 +103,7 @@ async function start() {
   canvas.width = canvas.height = 8;
   canvas.hidden = true;
   document.body.appendChild(canvas);
-  const made = await createBackend(canvas);
+  const made = await createBackend(canvas, { fallback: false });
   $('backend').textContent = made.backend === 'webgpu' ? 'WebGPU' : 'no WebGPU';
   $('backend').className = `badge ${made.backend}`;
   if (made.backend !== 'webgpu') {
