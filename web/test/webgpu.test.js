@@ -136,6 +136,13 @@ describe('the WebGPU engine in the page', { skip }, () => {
     assert.match(await message(page), /previous mesh stays/);
     assert.ok(!differs(before, await capture(page)));
     assert.equal((await page.evaluate(() => window.viewer.stats())).coarseTriangles, s.coarseTriangles);
+    // More than the device holds: refused with the reason, the previous surface still drawn.
+    const err = await page.evaluate(() => window.viewer.set({ level: 4000 }).then(() => null, (e) => e.message));
+    console.log(`# level 4000 on WebGPU: ${err}`);
+    assert.match(err ?? '', /level 4000 is more than this device can draw/);
+    assert.match(await message(page), /level 4000 is more than this device can draw/);
+    assert.equal(await page.evaluate(() => window.viewer.get().level), 4);
+    assert.ok(!differs(before, await capture(page)), 'a refused level changed the picture');
     assert.deepEqual(page.problems, []);
     await page.close();
   });
