@@ -15,7 +15,7 @@ for (let i = 0; i < args.length; i += 2) {
     process.exit(2);
   }
   if (key === '--json') json = value;
-  else query.set(key.slice(2), value);
+  else if (key !== '--run') query.set(key.slice(2), value); // this script runs it, once
 }
 
 const env = await start({ webgpu: true });

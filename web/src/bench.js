@@ -12,21 +12,21 @@ const LISTS = ['faces', 'levels', 'schemeFaces', 'schemeLevels'];
 /** The form as bench()'s configuration; a malformed field throws, naming it. */
 function readConfig() {
   const field = (name) => form.elements[name].value.trim();
-  const numbers = (name) =>
-    field(name)
-      .split(',')
-      .map((t) => {
-        const n = Number(t.trim());
-        if (t.trim() === '' || !Number.isFinite(n)) throw new Error(`${name}: ${JSON.stringify(field(name))} is not a list of numbers`);
-        return n;
-      });
+  const integer = (name, text) => {
+    const n = Number(text.trim());
+    if (text.trim() === '' || !Number.isInteger(n)) throw new Error(`bench: ${name}: ${JSON.stringify(field(name))} is not a whole number or a list of them`);
+    return n;
+  };
+  const numbers = (name) => field(name).split(',').map((t) => integer(name, t));
   const size = /^(\d+)x(\d+)$/.exec(field('size'));
-  if (!size) throw new Error(`size: ${JSON.stringify(field('size'))} is not WIDTHxHEIGHT`);
+  if (!size) throw new Error(`bench: size: ${JSON.stringify(field('size'))} is not WIDTHxHEIGHT`);
+  const movingTop = Number(field('movingTop'));
+  if (field('movingTop') === '' || !Number.isFinite(movingTop)) throw new Error(`bench: movingTop: ${JSON.stringify(field('movingTop'))} is not a number`);
   const config = {
-    frames: Number(field('frames')),
+    frames: integer('frames', field('frames')),
     size: [+size[1], +size[2]],
     scheme: field('scheme'),
-    movingTop: Number(field('movingTop')),
+    movingTop,
     parts: field('parts').split(',').map((p) => p.trim()).filter(Boolean),
   };
   for (const name of LISTS) config[name] = numbers(name);
@@ -62,7 +62,8 @@ let core = null;
 let adapterInfo = null;
 let running = false;
 
-async function run(config = readConfig()) {
+/** Runs bench() with `config` (default: the form's); the outcome is shown on the page too. */
+async function run(config) {
   if (!core) throw new Error('the benchmark needs the WebGPU engine, which did not start');
   if (running) throw new Error('a benchmark is running already');
   running = true;
@@ -70,7 +71,7 @@ async function run(config = readConfig()) {
   $('status').textContent = 'running… (each frame is awaited; this can take minutes on a CPU adapter)';
   const start = performance.now();
   try {
-    const report = await core.bench(config);
+    const report = await core.bench(config ?? readConfig());
     // wgpu sees only the adapter's description, which browsers usually leave empty.
     report.browserAdapter = adapterInfo;
     report.markdown = `Browser's adapter: ${adapterInfo}\n\n${report.markdown}`;
@@ -97,7 +98,10 @@ window.bench = bench;
 
 async function start() {
   const query = new URLSearchParams(location.search);
-  for (const [k, v] of query) if (form.elements[k]) form.elements[k].value = v;
+  for (const [k, v] of query) {
+    const input = form.elements.namedItem(k);
+    if (input instanceof HTMLInputElement) input.value = v;
+  }
   // The engine opens its device for a canvas; nothing is drawn on it here.
   const canvas = document.createElement('canvas');
   canvas.width = canvas.height = 8;

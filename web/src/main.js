@@ -22,6 +22,7 @@ const state = { ...structuredClone(DEFAULTS), size: 'auto' };
 let core = null;
 let canvas = $('canvas');
 let dirty = true;
+let benching = false; // viewer.bench() runs: the page draws nothing meanwhile
 let coarse = null; // the coarse mesh's positions/indices as the page read them (for dragging)
 let fps = { frames: 0, since: performance.now(), value: 0 };
 
@@ -144,7 +145,7 @@ function drawFrame(time) {
 
 function loop(time) {
   try {
-    const moving = state.animate !== 'none' || dirty;
+    const moving = !benching && (state.animate !== 'none' || dirty);
     if (moving) drawFrame(time);
   } catch (e) {
     showMessage(`drawing failed: ${asError(e).message}`);
@@ -338,9 +339,16 @@ const viewer = {
   },
   tagsJson: () => core.tagsJson(),
   exportGlb: () => core.exportGlb(),
-  bench: (config) => {
+  bench: async (config) => {
     if (typeof core.bench !== 'function') throw new Error('this engine has no Figure 7 benchmark');
-    return core.bench(config);
+    // The page's own frames would share the GPU with the timed ones: none while it runs.
+    benching = true;
+    try {
+      return await core.bench(config);
+    } finally {
+      benching = false;
+      dirty = true;
+    }
   },
 };
 window.viewer = viewer;

@@ -4,7 +4,7 @@
 // says the benchmark needs it. Needs dist/pkg (the engine); TESSELLA_WEB_NO_ENGINE=1 skips.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { assertClean, message, open, start } from './harness.js';
+import { assertClean, capture, count, mask, message, open, start } from './harness.js';
 
 const skip = process.env.TESSELLA_WEB_NO_ENGINE === '1' ? 'TESSELLA_WEB_NO_ENGINE=1: the site was built without the engine' : false;
 const SMALL = 'faces=10,40&levels=8&frames=2&size=96x96&schemeFaces=20&schemeLevels=4&movingTop=6';
@@ -76,6 +76,11 @@ describe('the benchmark on WebGPU', { skip }, () => {
     const page = await openBench(env, `${SMALL.replace('levels=8', 'levels=0')}&run=1`);
     await page.waitForFunction(() => document.getElementById('status').textContent === 'failed');
     assert.match(await message(page), /bench: level 0/);
+    await page.fill('input[name=faces]', '10.5');
+    await page.click('#run');
+    await page.waitForFunction(() => document.getElementById('message').textContent.includes('faces'));
+    assert.match(await message(page), /bench: faces: "10.5" is not a whole number/);
+    await page.fill('input[name=faces]', '10');
     const again = await page.evaluate(() =>
       window.bench.run({ faces: [10], levels: [4], frames: 1, size: [32, 32], parts: ['figure7'] }).then((r) => r.figure7.length),
     );
@@ -85,7 +90,7 @@ describe('the benchmark on WebGPU', { skip }, () => {
     await page.close();
   });
 
-  test('viewer.bench() in the viewer page gives the same report', async () => {
+  test('viewer.bench() in the viewer page runs the parts asked for, then the page draws again', async () => {
     const page = await open(env, '?mesh=samples/icosphere.obj&size=160x120');
     const report = await page.evaluate(() =>
       window.viewer.bench({ faces: [10], levels: [4], frames: 1, size: [32, 32], parts: ['figure7', 'schemes'], schemeFaces: [20], schemeLevels: [4] }),
@@ -94,6 +99,8 @@ describe('the benchmark on WebGPU', { skip }, () => {
     assert.equal(report.figure7[0].patternVertices, 15);
     assert.equal(report.schemes.length, 1);
     assert.deepEqual(report.moving, []);
+    const m = mask(await capture(page));
+    assert.ok(count(m) > 0.1 * m.length, 'the page draws again after the benchmark');
     assertClean(assert, page);
     await page.close();
   });

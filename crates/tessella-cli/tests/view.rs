@@ -413,6 +413,9 @@ fn keys_typed_into_the_window_change_the_view() {
         xdotool key --window "$wid" s
         for i in $(seq 600); do [ -s "$SHOT" ] && break; sleep 0.1; done
         xdotool key --window "$wid" q
+        # Bounded: a window that missed the q fails the test instead of hanging it.
+        for i in $(seq 300); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+        if kill -0 $pid 2>/dev/null; then echo "the window did not quit on q" >&2; kill $pid; exit 1; fi
         wait $pid
     "#;
     let out = run(Command::new(&xvfb)

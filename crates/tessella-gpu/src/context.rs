@@ -332,6 +332,19 @@ impl GpuContext {
         self.info.device_type == wgpu::DeviceType::Cpu
     }
 
+    /// A context on the same device whose errors are its own: the errors and unanswered
+    /// error scopes of tessella's calls through it are not seen by this context's
+    /// [`GpuContext::check`], nor this one's by it. For work that runs beside other work on one
+    /// device (a benchmark beside a viewer's frames), so each failure is reported to its own
+    /// caller. The device's uncaptured errors and loss still go to this context.
+    pub fn with_own_errors(&self) -> GpuContext {
+        GpuContext {
+            fault: Arc::new(Mutex::new(None)),
+            pending: Arc::new(Mutex::new(Vec::new())),
+            ..self.clone()
+        }
+    }
+
     /// "name (backend)", with "software" added for CPU adapters: the label for benchmark rows.
     /// Browsers may keep the name to themselves (an empty description): "unnamed adapter".
     pub fn adapter_label(&self) -> String {

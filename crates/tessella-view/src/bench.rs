@@ -143,15 +143,24 @@ pub struct Figure7Row {
 }
 
 impl Figure7Row {
-    /// Pattern frame time over the static buffer's (the goal is within 1.5×).
+    /// Pattern frame time over the static buffer's (the goal is within 1.5×); `None` when the
+    /// static buffer was not drawn or either time read 0 (a browser's clock is coarse).
     pub fn frame_ratio(&self) -> Option<f64> {
-        self.static_ms.map(|s| self.pattern_ms / s)
+        self.static_ms.and_then(|s| ratio(self.pattern_ms, s))
     }
 
     /// Pattern footprint over the static buffer's (the goal is at most 1/`faces`).
     pub fn footprint_ratio(&self) -> f64 {
         self.pattern_bytes as f64 / self.static_bytes.max(1) as f64
     }
+}
+
+/// `a / b` where both are positive and the quotient finite; `None` otherwise (a time that read
+/// 0 on a coarse clock), so no report carries an infinity or a NaN.
+pub fn ratio(a: f64, b: f64) -> Option<f64> {
+    (a > 0.0 && b > 0.0)
+        .then(|| a / b)
+        .filter(|r| r.is_finite())
 }
 
 /// The first `faces` triangles of a subdivided icosphere, vertices compacted: a closed-ish
@@ -217,7 +226,12 @@ pub async fn figure7_async(
                 let vertices = gpu
                     .vertex_buffer()
                     .ok_or_else(|| GpuError::Readback("no vertex buffer".into()))?;
-                let count = plan.triangle_count() as u32 * 3;
+                let count = u32::try_from(plan.triangle_count() * 3).map_err(|_| {
+                    GpuError::BadOption(format!(
+                        "{} refined triangles are more than one draw indexes",
+                        plan.triangle_count()
+                    ))
+                })?;
                 let ms = time_draws(ctx, &target, bg, config.frames, &|pass| {
                     renderer.draw_refined(
                         pass,
@@ -604,12 +618,13 @@ pub async fn changing_levels_async(
 
 /// Markdown table of [`changing_levels_async`] rows.
 pub fn changing_levels_table(rows: &[ChangingLevelsRow]) -> String {
+    let or_dash = |v: Option<String>| v.unwrap_or_else(|| "—".into());
     let mut s = String::from(
         "| adapter | spacing | coarse triangles | triangles | rebuild: frame ms (new plan + renderer) | bytes uploaded | adaptive: frame ms (set_levels) | bytes uploaded | frame speed-up | levels speed-up | draw ms: pattern / adaptive |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         s += &format!(
-            "| {} | {} | {} | {} | {:.2} ({:.2}) | {} | {:.2} ({:.3}) | {} | {:.1}x | {:.0}x | {:.2} / {:.2} |\n",
+            "| {} | {} | {} | {} | {:.2} ({:.2}) | {} | {:.2} ({:.3}) | {} | {} | {} | {:.2} / {:.2} |\n",
             r.adapter,
             r.spacing,
             r.faces,
@@ -620,8 +635,8 @@ pub fn changing_levels_table(rows: &[ChangingLevelsRow]) -> String {
             r.adaptive_ms,
             r.set_levels_ms,
             r.adaptive_bytes,
-            r.rebuild_ms / r.adaptive_ms,
-            r.rebuild_setup_ms / r.set_levels_ms,
+            or_dash(ratio(r.rebuild_ms, r.adaptive_ms).map(|v| format!("{v:.1}x"))),
+            or_dash(ratio(r.rebuild_setup_ms, r.set_levels_ms).map(|v| format!("{v:.0}x"))),
             r.pattern_draw_ms,
             r.adaptive_draw_ms
         );

@@ -110,3 +110,13 @@ fn figure7_says_when_the_static_buffer_does_not_fit() {
     let table = figure7_table(&rows);
     assert!(table.contains("| — |") && table.contains(note), "{table}");
 }
+
+#[test]
+fn ratios_of_a_time_that_read_zero_are_left_out() {
+    use tessella_view::bench::ratio;
+    assert_eq!(ratio(3.0, 1.5), Some(2.0));
+    assert_eq!(ratio(1.0, 0.0), None);
+    assert_eq!(ratio(0.0, 1.0), None);
+    assert_eq!(ratio(f64::NAN, 1.0), None);
+    assert_eq!(ratio(f64::MAX, f64::MIN_POSITIVE), None);
+}

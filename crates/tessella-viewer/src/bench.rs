@@ -12,7 +12,7 @@ use tessella_core::Scheme;
 use tessella_gpu::GpuContext;
 use tessella_view::bench::{
     changing_levels_async, changing_levels_table, figure7_async, figure7_table, mesh_with_faces,
-    scheme_frame_times_async, Figure7Config,
+    ratio, scheme_frame_times_async, Figure7Config,
 };
 
 /// What to run; every field has the papers' value as its default.
@@ -57,10 +57,13 @@ impl Default for BenchConfig {
 
 const PARTS: [&str; 3] = ["figure7", "schemes", "moving"];
 
-/// The largest values accepted: a benchmark that would run for hours is refused up front.
+/// The largest values accepted, each and all together: a benchmark that would run for
+/// hours is refused up front.
 const MAX_FACES: usize = 100_000;
 const MAX_LEVEL: u32 = 256;
 const MAX_FRAMES: u32 = 1000;
+/// Triangles drawn by the whole run (the defaults draw about 5e8).
+const MAX_TRIANGLES: f64 = 2e10;
 
 fn bad(message: String) -> ViewerError {
     ViewerError::Param {
@@ -89,6 +92,21 @@ impl BenchConfig {
         let levels = self.levels.iter().chain(&self.scheme_levels);
         if let Some(l) = levels.clone().find(|&&l| l == 0 || l > MAX_LEVEL) {
             return Err(bad(format!("level {l}: give 1..={MAX_LEVEL}")));
+        }
+        // Each field may be in range and the whole still far too much to draw.
+        let drawn = |faces: &[usize], levels: &[u32], draws: f64| {
+            let sum = |v: &mut dyn Iterator<Item = f64>| v.sum::<f64>();
+            sum(&mut faces.iter().map(|&f| f as f64))
+                * sum(&mut levels.iter().map(|&l| (l as f64).powi(2)))
+                * draws
+        };
+        let triangles = (drawn(&self.faces, &self.levels, 2.0)
+            + drawn(&self.scheme_faces, &self.scheme_levels, 3.0))
+            * (self.frames as f64 + 1.0);
+        if triangles > MAX_TRIANGLES {
+            return Err(bad(format!(
+                "about {triangles:.1e} triangles to draw in all: give at most {MAX_TRIANGLES:.0e} (fewer faces, levels or frames)"
+            )));
         }
         if self.frames == 0 || self.frames > MAX_FRAMES {
             return Err(bad(format!(
@@ -181,10 +199,12 @@ pub async fn run(ctx: &GpuContext, config: &BenchConfig) -> Result<Value, Viewer
                 )
                 .await?;
                 let [flat, pn, png1] = [0, 1, 2].map(|i| rows[i].frame_ms);
+                let (pn_over_flat, png1_rate) = (ratio(pn, flat), ratio(pn, png1));
+                let shown = |r: Option<f64>| r.map_or("—".into(), |r| format!("{r:.2}x"));
                 markdown += &format!(
-                    "| {faces} | {level} | {flat:.2} | {pn:.2} | {png1:.2} | {:.2}x | {:.2}x |\n",
-                    pn / flat,
-                    pn / png1
+                    "| {faces} | {level} | {flat:.2} | {pn:.2} | {png1:.2} | {} | {} |\n",
+                    shown(pn_over_flat),
+                    shown(png1_rate)
                 );
                 schemes.push(json!({
                     "faces": faces,
@@ -192,8 +212,8 @@ pub async fn run(ctx: &GpuContext, config: &BenchConfig) -> Result<Value, Viewer
                     "flatMs": flat,
                     "pnMs": pn,
                     "png1Ms": png1,
-                    "pnOverFlat": pn / flat,
-                    "png1RateOverPn": pn / png1,
+                    "pnOverFlat": pn_over_flat,
+                    "png1RateOverPn": png1_rate,
                 }));
             }
         }

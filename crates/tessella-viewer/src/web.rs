@@ -179,7 +179,8 @@ impl WebViewer {
     /// `undefined` (the papers' sizes). The page keeps running meanwhile: every frame is
     /// awaited, never waited for.
     pub fn bench(&self, config: JsValue) -> js_sys::Promise {
-        let ctx = self.viewer.context().clone();
+        // Its own error lists: a late error of the viewer's frames is not the benchmark's.
+        let ctx = self.viewer.context().with_own_errors();
         let parsed = if config.is_undefined() {
             Ok(serde_json::Value::Null)
         } else {

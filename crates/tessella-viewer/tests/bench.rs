@@ -23,6 +23,11 @@ fn bad_configurations_are_refused_by_name() {
         (json!({"scheme": "loop"}), "scheme"),
         (json!({"movingTop": 1000}), "movingTop"),
         (json!({"levls": [8]}), "unknown field"),
+        // Each field in range, the whole far too much to draw.
+        (
+            json!({"faces": [100000], "levels": [256], "frames": 1000}),
+            "triangles to draw in all",
+        ),
     ] {
         let e = BenchConfig::from_json(&config).unwrap_err().to_string();
         assert!(

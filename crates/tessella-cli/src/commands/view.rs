@@ -310,8 +310,12 @@ impl App {
             Some(Action::Set(changes)) => set(r, &changes),
             Some(Action::Quit) => event_loop.exit(),
             Some(Action::Screenshot) => {
+                // A screenshot that cannot be written (a read-only folder) is reported; the
+                // window stays open.
                 let time_ms = r.start.elapsed().as_secs_f64() * 1000.0;
-                self.save_screenshot(time_ms)?;
+                if let Err(e) = self.save_screenshot(time_ms) {
+                    eprintln!("error: {e:#}");
+                }
             }
             None => {}
         }
