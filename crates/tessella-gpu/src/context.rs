@@ -516,11 +516,7 @@ impl GpuContext {
         let sink = done.clone();
         staging.map_async(wgpu::MapMode::Read, .., move |r| sink.finish(r));
         done.await.map_err(|e| GpuError::Readback(e.to_string()))?;
-        let bytes = staging
-            .get_mapped_range(..)
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .to_vec();
-        staging.unmap();
+        let bytes = take_mapped(staging)?;
         self.check()?;
         Ok(bytes)
     }
@@ -550,11 +546,7 @@ impl GpuContext {
         staging.map_async(wgpu::MapMode::Read, .., move |r| sink.finish(r));
         self.drive(&done)?;
         done.await.map_err(|e| GpuError::Readback(e.to_string()))?;
-        let bytes = staging
-            .get_mapped_range(..)
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .to_vec();
-        staging.unmap();
+        let bytes = take_mapped(staging)?;
         self.check_async().await?;
         Ok(bytes)
     }
@@ -777,6 +769,16 @@ async fn candidate_adapters(
         .await
         .into_iter()
         .collect()
+}
+
+/// The bytes of a mapped `staging` buffer, which is then unmapped.
+fn take_mapped(staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    let bytes = staging
+        .get_mapped_range(..)
+        .map_err(|e| GpuError::Readback(e.to_string()))?
+        .to_vec();
+    staging.unmap();
+    Ok(bytes)
 }
 
 /// The answer of one `map_async`, as a future (wgpu gives a callback).

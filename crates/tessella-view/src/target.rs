@@ -75,12 +75,7 @@ impl Target {
         background: [u8; 4],
         record: impl FnOnce(&mut wgpu::RenderPass<'_>),
     ) -> Result<(), GpuError> {
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = self.begin(&mut encoder, background);
-            record(&mut pass);
-        }
-        ctx.submit_and_wait(encoder)
+        ctx.submit_and_wait(self.record(ctx, background, record))
     }
 
     /// [`Target::draw`] without blocking the web's thread: resolves when the GPU has finished
@@ -91,13 +86,23 @@ impl Target {
         background: [u8; 4],
         record: impl FnOnce(&mut wgpu::RenderPass<'_>),
     ) -> Result<(), GpuError> {
+        ctx.submit(self.record(ctx, background, record))?;
+        ctx.work_done_async().await
+    }
+
+    /// An encoder holding one frame: the cleared target and what `record` draws into it.
+    fn record(
+        &self,
+        ctx: &GpuContext,
+        background: [u8; 4],
+        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
+    ) -> wgpu::CommandEncoder {
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = self.begin(&mut encoder, background);
             record(&mut pass);
         }
-        ctx.submit(encoder)?;
-        ctx.work_done_async().await
+        encoder
     }
 
     fn begin<'e>(
