@@ -456,10 +456,14 @@ impl ApplicationHandler for App {
                     alt: m.state().alt_key(),
                 };
             }
-            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+            WindowEvent::KeyboardInput {
+                event,
+                is_synthetic,
+                ..
+            } if event.state == ElementState::Pressed => {
                 // Shift+Tab and shifted arrows keep their keys; `+` arrives as its character.
-                let key =
-                    key_of(&event.logical_key).filter(|&k| !event.repeat || view_input::repeats(k));
+                let key = key_of(&event.logical_key)
+                    .filter(|&k| view_input::acts(k, event.repeat, is_synthetic));
                 if let Some(key) = key {
                     if let Err(e) = self.key(event_loop, key) {
                         self.fail(event_loop, e);

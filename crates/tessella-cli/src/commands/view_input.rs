@@ -88,6 +88,14 @@ pub fn repeats(key: Key) -> bool {
     )
 }
 
+/// Whether a key press acts. `synthetic` presses are the window system's report of keys that
+/// were already held when the window gained focus (winit sends one for each): the person
+/// pressed them for another window, or the press itself is on its way as a real event too, so
+/// acting on both would step a level twice. Repeats act only for keys that `repeats`.
+pub fn acts(key: Key, repeat: bool, synthetic: bool) -> bool {
+    !synthetic && (!repeat || repeats(key))
+}
+
 /// What `key` does with modifiers `m` to parameters `p` in a view `height` pixels high; `None`
 /// for keys without a meaning.
 pub fn key(p: &Params, key: Key, m: Modifiers, height: u32) -> Option<Action> {
