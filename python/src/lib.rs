@@ -425,7 +425,7 @@ fn save(
         uvs: uvs.as_deref(),
         triangles: &triangles,
     };
-    py.detach(|| tessella_io::write_mesh(&path, view, &WriteOptions { ply_ascii }))
+    py.detach(|| tessella_io::write_mesh(&path, view, &WriteOptions { ply_ascii, ..Default::default() }))
         .map_err(errors::io_error)
 }
 

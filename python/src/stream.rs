@@ -66,7 +66,7 @@ fn options(
     }
     Ok(Options {
         refine,
-        write: WriteOptions { ply_ascii },
+        write: WriteOptions { ply_ascii, ..Default::default() },
         max_memory,
     })
 }

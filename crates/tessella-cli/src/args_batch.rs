@@ -15,6 +15,8 @@ pub struct BatchArgs {
     pub jobs: Option<usize>,
     /// Output extension: ply, obj, glb, gltf or stl.
     pub format: String,
+    /// `fsync` each output before it gets its name, instead of flushing them all at the end.
+    pub sync_each: bool,
     /// The refine options; `output` is the output folder, `input` the first input.
     pub refine: RefineArgs,
 }
@@ -32,6 +34,7 @@ impl FromArgMatches for BatchArgs {
                 .get_one::<String>("format")
                 .cloned()
                 .unwrap_or_else(|| "ply".into()),
+            sync_each: matches.get_flag("sync-each"),
             refine: RefineArgs::from_arg_matches(matches)?,
         })
     }
@@ -68,6 +71,16 @@ impl Args for BatchArgs {
                     .long("format")
                     .default_value("ply")
                     .help("Output format: ply, obj, glb, gltf or stl"),
+            )
+            .arg(
+                Arg::new("sync-each")
+                    .long("sync-each")
+                    .action(ArgAction::SetTrue)
+                    .help(
+                        "Flush each output to the disk before it gets its name (default: all \
+                         at once when the batch ends; a killed batch leaves whole files either \
+                         way, a power cut before the end may not)",
+                    ),
             )
     }
     fn augment_args_for_update(cmd: Command) -> Command {

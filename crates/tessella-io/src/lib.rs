@@ -43,8 +43,9 @@
 //! [`tessella_core::MeshError`]. Readers never panic on bad input.
 //!
 //! ## Writing is atomic
-//! [`write_mesh`] writes through [`write_atomic`]: a temporary file in the target's folder is
-//! renamed over the target only once it is complete, so a failure leaves the old file (or none).
+//! [`write_mesh`] writes through [`write_atomic`]: an unnamed file in the target's folder (Linux's
+//! `O_TMPFILE`; elsewhere a named temporary file) gets the target's name only once it is
+//! complete, so a failure leaves the old file (or none), and so does a killed process on Linux.
 
 mod atomic;
 mod encode;
@@ -62,7 +63,9 @@ pub mod stl;
 pub mod stream;
 pub mod tags;
 
-pub use atomic::write_atomic;
+pub use atomic::{
+    sync_folder, write_atomic, write_atomic_with, Durability, TEMP_PREFIX, TEMP_SUFFIX,
+};
 pub use error::IoError;
 pub use format::Format;
 pub use height_map::read_height_map;
@@ -78,6 +81,9 @@ use std::path::Path;
 pub struct WriteOptions {
     /// Write `.ply` as ascii instead of binary little-endian.
     pub ply_ascii: bool,
+    /// Whether the file is flushed to the disk before it gets its name (the default), or left
+    /// in the system's cache for a later [`sync_folder`] (many files at once).
+    pub durability: Durability,
 }
 
 /// Reads what a mesh file holds, picking the format by extension. Checks that there are
@@ -237,7 +243,7 @@ pub fn write_mesh_with_scalars(
                 });
             }
             let binary = format == Format::Glb;
-            write_atomic(path, |out| {
+            write_atomic_with(path, options.durability, |out| {
                 gltf::write_with_scalars(out, &mesh, scalars, binary)
             })
         }
@@ -265,7 +271,7 @@ pub fn write_mesh(path: &Path, mesh: MeshView, options: &WriteOptions) -> Result
         format => format,
     };
     mesh.check(path)?;
-    write_atomic(path, |out| match format {
+    write_atomic_with(path, options.durability, |out| match format {
         Format::Obj => obj::write(out, &mesh),
         Format::Ply => ply::write(out, &mesh, false),
         Format::PlyAscii => ply::write(out, &mesh, true),

@@ -146,7 +146,7 @@ pub fn write_streamed(
         });
     }
     check_free_space(path, expected_bytes(path, source, options)?)?;
-    crate::write_atomic(path, |out| {
+    crate::write_atomic_with(path, options.durability, |out| {
         let mut out = Counted { out, progress };
         match format {
             Format::Ply => ply(&mut out, source, false),

@@ -123,3 +123,45 @@ fn written_files_get_the_permissions_of_a_plain_create() {
     let mode = |p: &std::path::Path| fs::metadata(p).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode(&atomic), mode(&plain));
 }
+
+/// On Linux the file has no name while it is written (O_TMPFILE), so a process killed at that
+/// point, even by SIGKILL, leaves nothing in the folder; the name appears with the whole file.
+#[cfg(target_os = "linux")]
+#[test]
+fn while_it_is_written_the_file_has_no_name() {
+    let dir = tempfile::tempdir().unwrap();
+    for (path, old) in [
+        (dir.path().join("new.ply"), None),
+        (dir.path().join("old.ply"), Some("old")),
+    ] {
+        if let Some(old) = old {
+            fs::write(&path, old).unwrap();
+        }
+        let before = entries(dir.path());
+        write_atomic(&path, |w| {
+            w.write_all(&[7u8; 200_000])?;
+            w.flush()?;
+            // Written and flushed, not yet finished: the folder is as it was.
+            assert_eq!(entries(dir.path()), before);
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(fs::read(&path).unwrap(), vec![7u8; 200_000]);
+    }
+    assert_eq!(entries(dir.path()), ["new.ply", "old.ply"]);
+}
+
+/// Cached writes (a batch's) land whole as well, and `sync_folder` flushes them.
+#[test]
+fn cached_writes_land_whole_and_sync_folder_flushes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.bin");
+    tessella_io::write_atomic_with(&path, tessella_io::Durability::Cached, |w| {
+        w.write_all(b"cached")
+    })
+    .unwrap();
+    assert_eq!(fs::read(&path).unwrap(), b"cached");
+    tessella_io::sync_folder(dir.path()).unwrap();
+    let err = tessella_io::sync_folder(&dir.path().join("missing")).unwrap_err();
+    assert!(err.to_string().contains("missing"), "{err}");
+}

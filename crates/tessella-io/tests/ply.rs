@@ -39,7 +39,15 @@ fn ascii_round_trip_keeps_every_bit() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("sample.ply");
     let sample = Sample::new();
-    write_mesh(&path, sample.view(), &WriteOptions { ply_ascii: true }).unwrap();
+    write_mesh(
+        &path,
+        sample.view(),
+        &WriteOptions {
+            ply_ascii: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let text = fs::read_to_string(&path).unwrap();
     assert!(text.starts_with("ply\nformat ascii 1.0\n"), "{text}");
     assert!(text.contains("\n3 0 1 2\n"), "{text}");
@@ -57,7 +65,15 @@ fn positions_only_round_trip() {
     };
     for ascii in [false, true] {
         let path = dir.path().join(format!("bare_{ascii}.ply"));
-        write_mesh(&path, view, &WriteOptions { ply_ascii: ascii }).unwrap();
+        write_mesh(
+            &path,
+            view,
+            &WriteOptions {
+                ply_ascii: ascii,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert_same(&read_raw(&path).unwrap(), &sample, false, false);
     }
 }

@@ -43,7 +43,10 @@ fn streamed_files_equal_the_in_memory_files() {
                 ("d.glb", false),
                 ("e.stl", false),
             ] {
-                let opts = WriteOptions { ply_ascii: ascii };
+                let opts = WriteOptions {
+                    ply_ascii: ascii,
+                    ..Default::default()
+                };
                 let want = dir.path().join(format!("want-{name}"));
                 let got = dir.path().join(format!("got-{name}"));
                 write_mesh(&want, MeshView::from(&whole), &opts).unwrap();

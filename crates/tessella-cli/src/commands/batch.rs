@@ -1,8 +1,10 @@
 //! `tessella batch`: refine many files with the same options, on all cores, resumable.
 //!
-//! Outputs that exist are complete (every write is a temporary file renamed into place), so a
-//! killed batch resumes by skipping them. Temporary files a killed run left in the output
-//! folder are removed when the next run starts. `manifest.jsonl` in the output folder gets one
+//! Outputs that exist are complete (every write gets its name only once it is whole), so a
+//! killed batch resumes by skipping them. Outputs are left in the system's cache and flushed to
+//! the disk together when the batch ends (`--sync-each`: one `fsync` per file instead). Named
+//! temporary files a killed run left in the output folder (only where the system has no
+//! unnamed files) are removed when the next run starts. `manifest.jsonl` in the output folder gets one
 //! row per input as each finishes.
 
 use super::refine::refine_file;
@@ -15,7 +17,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
-use tessella_io::Format;
+use tessella_io::{Durability, Format};
 
 /// The manifest's file name in the output folder.
 pub const MANIFEST: &str = "manifest.jsonl";
@@ -125,11 +127,17 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs.unwrap_or(0))
         .build()?;
+    // One flush of the whole file system at the end costs far less than one per small file,
+    // and a killed process loses nothing either way: the kernel keeps what was written.
+    let durability = match args.sync_each {
+        true => Durability::Synced,
+        false => Durability::Cached,
+    };
     let started = Instant::now();
     let rows: Vec<Row> = pool.install(|| {
         todo.into_par_iter()
             .map(|(input, output)| {
-                let row = refine_one(&args.refine, &input, &output);
+                let row = refine_one(&args.refine, &input, &output, durability);
                 if let Some(e) = &row.error {
                     bar.suspend(|| eprintln!("failed: {e}"));
                 }
@@ -146,6 +154,11 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
             .collect()
     });
     bar.finish_and_clear();
+    if durability == Durability::Cached {
+        tessella_io::sync_folder(out_dir).map_err(|e| {
+            anyhow::anyhow!("the outputs are written but not flushed to the disk: {e}")
+        })?;
+    }
     let failed = rows.iter().filter(|r| r.status == "failed").count();
     eprintln!(
         "{} refined, {} skipped (already there), {} failed in {:.2} s; manifest: {}",
@@ -182,7 +195,7 @@ fn files_bar(total: u64) -> indicatif::ProgressBar {
 }
 
 /// Refines one file into its row; errors (and panics) become the row's message.
-fn refine_one(options: &RefineArgs, input: &Path, output: &Path) -> Row {
+fn refine_one(options: &RefineArgs, input: &Path, output: &Path, durability: Durability) -> Row {
     let args = RefineArgs {
         input: input.to_path_buf(),
         output: output.to_path_buf(),
@@ -194,12 +207,14 @@ fn refine_one(options: &RefineArgs, input: &Path, output: &Path) -> Row {
         .map_or(Ok(()), std::fs::create_dir_all)
         .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", output.display()))
         .and_then(|()| {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| refine_file(&args, false)))
-                .unwrap_or_else(|_| {
-                    Err(anyhow::anyhow!(
-                        "internal error (a panic); please report it"
-                    ))
-                })
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                refine_file(&args, false, durability)
+            }))
+            .unwrap_or_else(|_| {
+                Err(anyhow::anyhow!(
+                    "internal error (a panic); please report it"
+                ))
+            })
         });
     let seconds = Some(start.elapsed().as_secs_f64());
     match made {
@@ -319,7 +334,9 @@ fn remove_stale_temporaries(dir: &Path) {
         let name = entry.file_name().to_string_lossy().into_owned();
         if path.is_dir() {
             remove_stale_temporaries(&path);
-        } else if name.starts_with(".tessella-") && name.ends_with(".tmp") {
+        } else if name.starts_with(tessella_io::TEMP_PREFIX)
+            && name.ends_with(tessella_io::TEMP_SUFFIX)
+        {
             if let Err(e) = std::fs::remove_file(&path) {
                 eprintln!("note: cannot remove the stale {}: {e}", path.display());
             }

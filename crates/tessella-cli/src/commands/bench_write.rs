@@ -70,6 +70,7 @@ pub fn writers(
         let path = dir.path().join(file);
         let options = WriteOptions {
             ply_ascii: file == "ascii.ply",
+            ..Default::default()
         };
         let start = Instant::now();
         tessella_io::write_mesh(&path, view, &options)?;

@@ -8,10 +8,10 @@ use std::time::Instant;
 use tessella_core::displace::{DisplaceFrame, Displacement};
 use tessella_core::refine::{Camera, Levels, Lod, Spacing};
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
-use tessella_io::{Format, MeshView, WriteOptions};
+use tessella_io::{Durability, Format, MeshView, WriteOptions};
 
 pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
-    let done = refine_file(args, true)?;
+    let done = refine_file(args, true, Durability::Synced)?;
     eprintln!(
         "{} -> {}: {} triangles -> {} vertices, {} triangles ({}) in {:.1} ms",
         args.input.display(),
@@ -44,8 +44,13 @@ pub struct Refined {
     pub streamed: bool,
 }
 
-/// Refines `args.input` into `args.output`; `bars`: show progress bars (on a terminal).
-pub fn refine_file(args: &RefineArgs, bars: bool) -> anyhow::Result<Refined> {
+/// Refines `args.input` into `args.output`; `bars`: show progress bars (on a terminal);
+/// `durability`: whether the output is flushed to the disk before it gets its name.
+pub fn refine_file(
+    args: &RefineArgs,
+    bars: bool,
+    durability: Durability,
+) -> anyhow::Result<Refined> {
     // Refuse an unknown output format, or an output that is the input, before doing any work.
     Format::from_path(&args.output)?;
     if same_file(&args.input, &args.output) {
@@ -79,7 +84,7 @@ pub fn refine_file(args: &RefineArgs, bars: bool) -> anyhow::Result<Refined> {
     drop(raw);
 
     if streams(args, &options, &fields) {
-        return stream::refine(args, mesh, options, bars);
+        return stream::refine(args, mesh, options, bars, durability);
     }
     let backend = backend::choose(args, &mesh)?;
 
@@ -118,6 +123,7 @@ pub fn refine_file(args: &RefineArgs, bars: bool) -> anyhow::Result<Refined> {
             &scalars,
             &WriteOptions {
                 ply_ascii: args.ply_ascii,
+                durability,
             },
         )?;
     }
@@ -190,6 +196,7 @@ mod stream {
         mesh: Mesh,
         mut options: RefineOptions,
         bars: bool,
+        durability: tessella_io::Durability,
     ) -> anyhow::Result<Refined> {
         options.max_output_bytes = u64::MAX;
         let start = Instant::now();
@@ -200,6 +207,7 @@ mod stream {
             .context("a welded uniform plan is evaluated in pieces")?;
         let write = WriteOptions {
             ply_ascii: args.ply_ascii,
+            durability,
         };
         let total = expected_bytes(&args.output, &source, &write)?;
         let bar = match bars {
