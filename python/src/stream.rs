@@ -18,7 +18,24 @@ use tessella_io::{MeshView, RefinedSource, WriteOptions};
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine_file, m)?)?;
     m.add_function(wrap_pyfunction!(refine_to_file, m)?)?;
+    m.add_function(wrap_pyfunction!(sync_folder, m)?)?;
     Ok(())
+}
+
+/// Flushes every file of the file system holding `path` to the disk (`syncfs`): the one flush
+/// after a batch of files written with `sync=False`.
+#[pyfunction]
+#[pyo3(name = "_sync_folder")]
+fn sync_folder(py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    py.detach(|| tessella_io::sync_folder(&path))
+        .map_err(crate::errors::io_error)
+}
+
+fn durability(sync: bool) -> tessella_io::Durability {
+    match sync {
+        true => tessella_io::Durability::Synced,
+        false => tessella_io::Durability::Cached,
+    }
 }
 
 /// The options both functions take.
@@ -37,6 +54,7 @@ fn options(
     weld: bool,
     ply_ascii: bool,
     max_memory: i64,
+    sync: bool,
 ) -> PyResult<Options> {
     let option = |m: String| crate::errors::bad_option(m);
     let scheme: Scheme = scheme
@@ -66,7 +84,10 @@ fn options(
     }
     Ok(Options {
         refine,
-        write: WriteOptions { ply_ascii, ..Default::default() },
+        write: WriteOptions {
+            ply_ascii,
+            durability: durability(sync),
+        },
         max_memory,
     })
 }
@@ -110,7 +131,7 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
 /// counts. See `tessella.refine_to_file` for the options.
 #[pyfunction]
 #[pyo3(name = "_refine_file", signature = (input, output, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
-                    weld=true, ply_ascii=false, max_memory=1 << 30))]
+                    weld=true, ply_ascii=false, max_memory=1 << 30, sync=true))]
 #[allow(clippy::too_many_arguments)]
 fn refine_file(
     py: Python<'_>,
@@ -123,6 +144,7 @@ fn refine_file(
     weld: bool,
     ply_ascii: bool,
     max_memory: i64,
+    sync: bool,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
         scheme,
@@ -132,6 +154,7 @@ fn refine_file(
         weld,
         ply_ascii,
         max_memory,
+        sync,
     )?;
     let mesh = py
         .detach(|| tessella_io::read_mesh(&input))
@@ -142,7 +165,7 @@ fn refine_file(
 /// Refines arrays into the file `output`; see `tessella.refine_to_file`.
 #[pyfunction]
 #[pyo3(name = "_refine_to_file", signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8, alpha=0.75,
-                    normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30))]
+                    normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30, sync=true))]
 #[allow(clippy::too_many_arguments)]
 fn refine_to_file(
     py: Python<'_>,
@@ -157,6 +180,7 @@ fn refine_to_file(
     weld: bool,
     ply_ascii: bool,
     max_memory: i64,
+    sync: bool,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
         scheme,
@@ -166,6 +190,7 @@ fn refine_to_file(
         weld,
         ply_ascii,
         max_memory,
+        sync,
     )?;
     // mesh_from raises the package's own classes already (MeshError, TypeError for dtypes).
     let mesh = crate::mesh_from(py, vertices, faces, normals)?;

@@ -88,6 +88,7 @@ __all__ = [
     "batch",
     "refine_file",
     "refine_to_file",
+    "sync_folder",
 ]
 
 
@@ -664,5 +665,5 @@ def render(
 
 from ._interop import refine_trimesh, to_trimesh  # noqa: E402
 from ._fem import boundary_faces, read_fem, write_fem  # noqa: E402
-from ._batch import batch, refine_file, refine_to_file  # noqa: E402
+from ._batch import batch, refine_file, refine_to_file, sync_folder  # noqa: E402
 from ._plot import plot  # noqa: E402

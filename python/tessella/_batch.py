@@ -28,7 +28,7 @@ MANIFEST = "manifest.jsonl"
 #: Extensions of the mesh files a folder is searched for.
 MESH_EXTENSIONS = (".obj", ".ply", ".gltf", ".glb", ".stl")
 #: The options :func:`refine_to_file`, :func:`batch` and :mod:`tessella.dask` pass on.
-OPTIONS = ("scheme", "level", "alpha", "normals_mode", "weld", "ply_ascii", "max_memory")
+OPTIONS = ("scheme", "level", "alpha", "normals_mode", "weld", "ply_ascii", "max_memory", "sync")
 
 
 def refine_to_file(
@@ -43,10 +43,13 @@ def refine_to_file(
     has the bytes :func:`tessella.save` writes for the whole refinement. Soup (``weld=False``)
     is refined whole and refused beyond ``max_memory``. The free disk space is checked first
     (``OSError``: "needs 41.2 GB, the disk has 12.0 GB free"), and the file is written to a
-    temporary file renamed into place, so a failed run leaves nothing at ``path``.
+    file without a name that gets ``path``'s only when it is whole (Linux; elsewhere a
+    temporary file renamed into place), so a failed or killed run leaves nothing at ``path``.
 
     Options: ``scheme`` (``"pn"``), ``level`` (8), ``alpha`` (0.75), ``normals_mode``,
-    ``weld`` (True), ``ply_ascii`` (False), ``max_memory`` (bytes). Raises ``MeshError`` for a
+    ``weld`` (True), ``ply_ascii`` (False), ``max_memory`` (bytes), ``sync`` (True: the file
+    is flushed to the disk before it gets its name; False leaves that to the system, or to one
+    :func:`sync_folder` after many files, as :func:`batch` does). Raises ``MeshError`` for a
     bad mesh, ``OptionError`` for bad options, ``OSError`` for what the system refused.
     """
     _check_options(options)
@@ -58,6 +61,12 @@ def refine_file(input: PathLike, output: PathLike, **options: Any) -> Dict[str, 
     ``FileFormatError`` for a malformed file and ``OSError`` for a missing one."""
     _check_options(options)
     return _tessella._refine_file(os.fspath(input), os.fspath(output), **options)
+
+
+def sync_folder(path: PathLike) -> None:
+    """Flushes every file of the file system that holds ``path`` to the disk (Linux's
+    ``syncfs``): the one flush after many files written with ``sync=False``."""
+    _tessella._sync_folder(os.fspath(path))
 
 
 def _check_options(options: Dict[str, Any]) -> None:
@@ -131,7 +140,7 @@ def refine_row(input: str, output: str, **options: Any) -> Dict[str, Any]:
 
 
 def skipped_row(input: str, output: str) -> Dict[str, Any]:
-    """The row of an input whose output exists (complete: outputs are renamed into place)."""
+    """The row of an input whose output exists (complete: outputs get their names whole)."""
     return _row(input, output, "skipped")
 
 
@@ -157,7 +166,12 @@ def _split_options(options: Dict[str, Any]) -> Tuple[str, bool, Dict[str, Any]]:
 
 
 def batch(
-    paths: Iterable[PathLike], out_dir: PathLike, *, jobs: Optional[int] = None, **options: Any
+    paths: Iterable[PathLike],
+    out_dir: PathLike,
+    *,
+    jobs: Optional[int] = None,
+    sync_each: bool = False,
+    **options: Any,
 ) -> List[Dict[str, Any]]:
     """Refines every mesh file named by ``paths`` (files, folders, glob patterns) into
     ``out_dir`` with the options of :func:`refine_to_file`, ``jobs`` files at once (default:
@@ -166,10 +180,13 @@ def batch(
 
     ``format="ply"`` picks the outputs' format; outputs that exist are skipped unless
     ``force=True``, so a killed batch resumes where it stopped. A file that fails gets a
-    ``"failed"`` row with its error and the batch goes on. Raises ``OptionError`` for bad
-    inputs or options before anything is refined.
+    ``"failed"`` row with its error and the batch goes on. The outputs are flushed to the disk
+    together when the batch ends (``sync_each=True``: each one before it gets its name); a
+    killed batch leaves whole files either way. Raises ``OptionError`` for bad inputs or
+    options before anything is refined.
     """
     ext, force, options = _split_options(options)
+    options["sync"] = sync_each
     pairs = expand(paths, out_dir, ext)
     os.makedirs(os.fspath(out_dir), exist_ok=True)
     remove_stale_temporaries(out_dir)
@@ -192,4 +209,6 @@ def batch(
         # The refinement releases the GIL: threads run files side by side.
         with ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
             rows.extend(pool.map(one, todo))
+    if not sync_each:
+        sync_folder(out_dir)
     return rows

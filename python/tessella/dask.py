@@ -3,8 +3,10 @@
 :func:`refine_files` is :func:`tessella.batch` with one Dask task per file: the same
 outputs, the same manifest rows, the same skipping of outputs that exist. A worker that dies
 while it refines a file has the file retried on another worker (Dask reschedules the tasks of
-lost workers); its half-written temporary file is removed when the run ends, and outputs are
-only ever renamed into place complete, so nothing partial is left.
+lost workers); outputs get their names only when they are whole (on Linux a half-written file
+has no name at all; elsewhere its temporary file is removed when the run ends), so nothing
+partial is left. Outputs are flushed to the disk once at the end, by every worker
+(``syncfs``), not one ``fsync`` per file; ``sync_each=True`` flushes each file instead.
 
 On one machine, ``client=None`` makes a ``LocalCluster``. On a real cluster, start a scheduler
 and workers (``dask scheduler`` on one machine, ``dask worker tcp://HOST:8786`` on each of the
@@ -42,6 +44,7 @@ from ._batch import (
     refine_row,
     remove_stale_temporaries,
     skipped_row,
+    sync_folder,
 )
 
 __all__ = ["refine_files", "refine_partition"]
@@ -63,6 +66,7 @@ def refine_files(
     client: Any = None,
     *,
     retries: int = 2,
+    sync_each: bool = False,
     **options: Any,
 ) -> List[Dict[str, Any]]:
     """Refines every mesh file named by ``paths`` (files, folders, glob patterns) into
@@ -77,6 +81,7 @@ def refine_files(
     """
     distributed = _distributed()
     ext, force, options = _split_options(options)
+    options["sync"] = sync_each
     pairs = expand(paths, out_dir, ext)
     os.makedirs(os.fspath(out_dir), exist_ok=True)
     remove_stale_temporaries(out_dir)
@@ -112,6 +117,9 @@ def refine_files(
                 manifest.write(json.dumps(row) + "\n")
                 manifest.flush()
                 rows.append(row)
+        if not sync_each:
+            # Each worker flushes what it wrote (on a shared file system, its own cache).
+            client.run(sync_folder, os.fspath(out_dir))
     finally:
         if own_cluster is not None:
             client.close()
@@ -128,8 +136,11 @@ def refine_partition(
     (``bag.map_partitions(refine_partition, out_dir, level=4)``). Items are paths, or
     ``(name, bytes)`` pairs: a file's name (its extension says its format) and contents, for
     workers that do not see the inputs' file system. Outputs that exist are skipped unless
-    ``force=True``."""
+    ``force=True``. The partition's outputs are flushed to the disk together at its end
+    (``sync_each=True``: each one as it is written)."""
+    sync_each = bool(options.pop("sync_each", False))
     ext, force, options = _split_options(options)
+    options["sync"] = sync_each
     rows: List[Dict[str, Any]] = []
     for item in items:
         if isinstance(item, tuple):
@@ -151,4 +162,6 @@ def refine_partition(
                 rows.append(skipped_row(input, output))
             else:
                 rows.append(refine_row(input, output, **options))
+    if not sync_each and any(r["status"] == "ok" for r in rows):
+        sync_folder(out_dir)
     return rows

@@ -72,6 +72,19 @@ def test_refine_to_file_errors_are_typed_and_leave_nothing(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+
+def test_unsynced_writes_land_whole_and_sync_folder_flushes_them(tmp_path):
+    v, f = icosphere(2)
+    tessella.refine_to_file(v, f, tmp_path / "synced.ply", v, level=6)
+    tessella.refine_to_file(v, f, tmp_path / "cached.ply", v, level=6, sync=False)
+    assert (tmp_path / "cached.ply").read_bytes() == (tmp_path / "synced.ply").read_bytes()
+    tessella.sync_folder(tmp_path)
+    with pytest.raises(FileNotFoundError):
+        tessella.sync_folder(tmp_path / "missing")
+    with pytest.raises(TypeError):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", sync="yes")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cached.ply", "synced.ply"]
+
 PEAK_SCRIPT = """
 import resource, sys
 sys.path.insert(0, {tests!r})

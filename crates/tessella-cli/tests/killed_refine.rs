@@ -45,10 +45,16 @@ fn a_refine_killed_while_writing_leaves_nothing() {
             .unwrap();
         let start = Instant::now();
         while !writes_in(child.id(), &out_dir) && start.elapsed() < Duration::from_secs(120) {
-            assert!(child.try_wait().unwrap().is_none(), "{mode}: finished first");
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "{mode}: finished first"
+            );
             std::thread::sleep(Duration::from_millis(2));
         }
-        assert!(writes_in(child.id(), &out_dir), "{mode}: never started writing");
+        assert!(
+            writes_in(child.id(), &out_dir),
+            "{mode}: never started writing"
+        );
         child.kill().unwrap();
         child.wait().unwrap();
         assert_eq!(names(&out_dir), Vec::<String>::new(), "{mode}");
