@@ -425,8 +425,17 @@ fn save(
         uvs: uvs.as_deref(),
         triangles: &triangles,
     };
-    py.detach(|| tessella_io::write_mesh(&path, view, &WriteOptions { ply_ascii, ..Default::default() }))
-        .map_err(errors::io_error)
+    py.detach(|| {
+        tessella_io::write_mesh(
+            &path,
+            view,
+            &WriteOptions {
+                ply_ascii,
+                ..Default::default()
+            },
+        )
+    })
+    .map_err(errors::io_error)
 }
 
 /// Names of the schemes this build has: ``["flat", "phong", "pn", "png1", "pn-aen", "st"]``.
