@@ -158,13 +158,16 @@ def test_dask_cluster_survives_a_killed_worker(tmp_path):
         assert len(pids) == 2
         killed = []
 
+        out_real = os.path.realpath(out)
+
         def writing(pid):
-            """The temporary output file worker `pid` holds open, if any."""
+            """The output file worker `pid` holds open in the output folder, if any: unnamed
+            (`/out/#123 (deleted)`, Linux's O_TMPFILE) or a named temporary file."""
             try:
                 links = [os.readlink(f"/proc/{pid}/fd/{fd}") for fd in os.listdir(f"/proc/{pid}/fd")]
             except OSError:
                 return None
-            return next((l for l in links if ".tessella-" in l), None)
+            return next((l for l in links if l.startswith(out_real + os.sep)), None)
 
         def kill_one_worker_mid_run():
             deadline = time.time() + 120
@@ -182,8 +185,8 @@ def test_dask_cluster_survives_a_killed_worker(tmp_path):
         rows = tessella.dask.refine_files([src], out, client, level=level)
         killer.join()
     assert killed, "no worker was caught writing"
-    # The killed worker left its temporary file behind when it died (nothing cleans up after
-    # SIGKILL); the run removed it.
+    # The killed worker's file had no name (O_TMPFILE) and went with it; where the system
+    # has no unnamed files, its named temporary file stays behind and the run removes it.
     by_input = {Path(r["input"]).relative_to(src).as_posix(): r for r in rows}
     assert len(rows) == len(good) + 2
     assert by_input["garbage.obj"]["status"] == "failed"
