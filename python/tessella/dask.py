@@ -1,8 +1,8 @@
 """Refining many mesh files on a Dask cluster (``pip install tessella[dask]``).
 
-:func:`refine_files` is :func:`tessella.batch` with one Dask task per file: the same
+:func:`refine_files` is :func:`tessella.batch` on Dask, a few files per task: the same
 outputs, the same manifest rows, the same skipping of outputs that exist. A worker that dies
-while it refines a file has the file retried on another worker (Dask reschedules the tasks of
+while it refines a file has its task retried on another worker (Dask reschedules the tasks of
 lost workers); outputs get their names only when they are whole (on Linux a half-written file
 has no name at all; elsewhere its temporary file is removed when the run ends), so nothing
 partial is left. Outputs are flushed to the disk once at the end, by every worker
@@ -46,6 +46,7 @@ from ._batch import (
     skipped_row,
     sync_folder,
 )
+from ._errors import OptionError
 
 __all__ = ["refine_files", "refine_partition"]
 
@@ -67,6 +68,7 @@ def refine_files(
     *,
     retries: int = 2,
     sync_each: bool = False,
+    files_per_task: Optional[int] = None,
     **options: Any,
 ) -> List[Dict[str, Any]]:
     """Refines every mesh file named by ``paths`` (files, folders, glob patterns) into
@@ -78,7 +80,14 @@ def refine_files(
     A file whose task fails for another reason than a bad file (a worker lost ``retries``
     times over and more, per Dask's ``allowed-failures``) gets a ``"failed"`` row naming the
     cause; files that cannot be refined get their error, as in :func:`tessella.batch`.
+
+    Files go to the workers ``files_per_task`` at a time (default: about four tasks per worker
+    thread), since a Dask task costs a few milliseconds, more than a small file's refinement;
+    ``files_per_task=1`` gives one task per file. A task retried after a lost worker refines
+    all its files again (each output is replaced whole).
     """
+    if files_per_task is not None and (not isinstance(files_per_task, int) or files_per_task < 1):
+        raise OptionError(f"files_per_task={files_per_task!r}: give a whole number of 1 or more")
     distributed = _distributed()
     ext, force, options = _split_options(options)
     options["sync"] = sync_each
@@ -99,24 +108,21 @@ def refine_files(
             for row in rows:
                 manifest.write(json.dumps(row) + "\n")
             manifest.flush()
-            futures = client.map(
-                refine_row,
-                [i for i, _ in todo],
-                [o for _, o in todo],
-                pure=False,
-                retries=retries,
-                **options,
-            )
-            pair_of = {f.key: p for f, p in zip(futures, todo)}
+            per_task = files_per_task or _files_per_task(client, len(todo))
+            chunks = [todo[k : k + per_task] for k in range(0, len(todo), per_task)]
+            futures = client.map(_refine_rows, chunks, pure=False, retries=retries, **options)
+            chunk_of = {f.key: c for f, c in zip(futures, chunks)}
             for future in distributed.as_completed(futures):
                 try:
-                    row = future.result()
+                    done = future.result()
                 except Exception as e:  # the task itself failed: a lost worker, a dead cluster
-                    row = _row(*pair_of[future.key], "failed")
-                    row["error"] = f"{type(e).__name__}: {e}"
-                manifest.write(json.dumps(row) + "\n")
+                    done = [_row(*pair, "failed") for pair in chunk_of[future.key]]
+                    for row in done:
+                        row["error"] = f"{type(e).__name__}: {e}"
+                for row in done:
+                    manifest.write(json.dumps(row) + "\n")
+                rows.extend(done)
                 manifest.flush()
-                rows.append(row)
         if not sync_each:
             # Each worker flushes what it wrote (on a shared file system, its own cache).
             client.run(sync_folder, os.fspath(out_dir))
@@ -127,6 +133,18 @@ def refine_files(
     # Every task has ended: what is left of temporary files was a lost worker's.
     remove_stale_temporaries(out_dir)
     return rows
+
+
+def _refine_rows(pairs: List[Tuple[str, str]], **options: Any) -> List[Dict[str, Any]]:
+    """One task: the rows of refining each ``(input, output)`` pair in turn."""
+    return [refine_row(i, o, **options) for i, o in pairs]
+
+
+def _files_per_task(client: Any, files: int) -> int:
+    """About four tasks per worker thread: few enough that Dask's cost per task stays small
+    next to the files' work, enough that a slow or lost worker's share is small."""
+    threads = sum(client.nthreads().values()) or 1
+    return max(1, -(-files // (4 * threads)))
 
 
 def refine_partition(

@@ -217,3 +217,29 @@ def test_dask_bag_partitions_of_paths_and_bytes(tmp_path):
     for (name, faces), row in zip(good, rows):
         assert row["triangles"] == faces * 4
         assert Path(row["output"]).exists()
+
+
+def test_dask_files_per_task_gives_the_same_files_and_rows(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    import tessella.dask
+
+    src = tmp_path / "in"
+    good = write_folder(src, 5)
+    # Independent of Dask: tessella.batch in this process.
+    want = {r["input"]: r for r in tessella.batch([src], tmp_path / "want", level=3)}
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=2,
+                            dashboard_address=None) as client:
+        for per_task in (1, 3, 100, None):
+            out = tmp_path / f"out-{per_task}"
+            rows = tessella.dask.refine_files([src], out, client, level=3, files_per_task=per_task)
+            assert sorted(r["input"] for r in rows) == sorted(want), per_task
+            for row in rows:
+                w = want[row["input"]]
+                assert (row["status"], row["triangles"]) == (w["status"], w["triangles"]), row
+                if row["status"] == "ok":
+                    got = Path(row["output"]).read_bytes()
+                    assert got == Path(w["output"]).read_bytes(), row["input"]
+            manifest = (out / "manifest.jsonl").read_text().splitlines()
+            assert len(manifest) == len(good) + 2
+        with pytest.raises(OptionError, match="files_per_task"):
+            tessella.dask.refine_files([src], tmp_path / "bad", client, files_per_task=0)
