@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 SCRIPT = Path(__file__).resolve().parents[1] / "examples" / "bench_peers.py"
 
 
@@ -47,8 +49,11 @@ def test_bandwidth_check_reports_both_fills(cli):
     assert set(report["numpy_fill_bytes_per_s"]) == {"256 MiB", "1024 MiB"}
     assert all(r > 0 for r in report["numpy_fill_bytes_per_s"].values())
     t = report["tessella"]
-    for key in ("fill_plain_bytes_per_s", "fill_nt_bytes_per_s", "copy_bytes_per_s",
+    for key in ("fill_plain_bytes_per_s", "fill_nt_bytes_per_s",
+                "fill_plain_one_thread_bytes_per_s", "copy_bytes_per_s",
                 "copy_nt_bytes_per_s", "fresh_fill_bytes_per_s"):
         assert t[key] > 0, key
     assert t["fill_bytes_per_s"] == max(t["fill_plain_bytes_per_s"], t["fill_nt_bytes_per_s"])
     assert report["fill_over_numpy"] > 0
+    assert report["one_thread_fill_over_numpy"] == pytest.approx(
+        t["fill_plain_one_thread_bytes_per_s"] / max(report["numpy_fill_bytes_per_s"].values()))

@@ -22,6 +22,7 @@ fn bench_json_has_every_section_with_consistent_counts() {
         "fill_bytes_per_s",
         "fill_plain_bytes_per_s",
         "fill_nt_bytes_per_s",
+        "fill_plain_one_thread_bytes_per_s",
         "copy_bytes_per_s",
         "copy_nt_bytes_per_s",
         "fresh_fill_bytes_per_s",

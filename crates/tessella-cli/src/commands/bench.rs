@@ -143,11 +143,12 @@ fn one_shot_table(rows: &[OneShotRow], threads: usize) -> String {
 fn bandwidth_line(b: &Bandwidth) -> String {
     let gb = |x: f64| x / 1e9;
     format!(
-        "Memory bandwidth, {} threads: fill {:.1} GB/s (plain stores {:.1}, non-temporal {:.1}), copy {:.1} GB/s (read + write; memcpy {:.1}, non-temporal {:.1}), fill of freshly allocated memory {:.1} GB/s (page faults included)",
+        "Memory bandwidth, {} threads: fill {:.1} GB/s (plain stores {:.1}, non-temporal {:.1}; plain, 1 thread {:.1}), copy {:.1} GB/s (read + write; memcpy {:.1}, non-temporal {:.1}), fill of freshly allocated memory {:.1} GB/s (page faults included)",
         b.threads,
         gb(b.fill_bytes_per_s),
         gb(b.fill_plain_bytes_per_s),
         gb(b.fill_nt_bytes_per_s),
+        gb(b.fill_plain_one_thread_bytes_per_s),
         gb(b.copy_bytes_per_s.max(b.copy_nt_bytes_per_s)),
         gb(b.copy_bytes_per_s),
         gb(b.copy_nt_bytes_per_s),

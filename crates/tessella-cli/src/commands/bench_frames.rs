@@ -40,6 +40,9 @@ pub struct Bandwidth {
     /// Bytes per second written with non-temporal stores (no read for ownership; on
     /// platforms without them, the plain fill again).
     pub fill_nt_bytes_per_s: f64,
+    /// Bytes per second written with plain vector stores by one thread: the like-for-like
+    /// figure for a one-thread peer (numpy's `ndarray.fill`), which checks this measurement.
+    pub fill_plain_one_thread_bytes_per_s: f64,
     /// Bytes per second moved by `copy_from_slice` (the C library's `memcpy`), reads and
     /// writes both counted (as STREAM's Copy).
     pub copy_bytes_per_s: f64,
@@ -123,6 +126,7 @@ impl Bandwidth {
             dst.par_chunks_mut(chunk)
                 .for_each(|c| c.fill(std::hint::black_box(value)))
         });
+        let fill_one = time(&mut |value| dst.fill(std::hint::black_box(value)));
         let fill_nt = time(&mut |value| {
             dst.par_chunks_mut(chunk)
                 .for_each(|c| streaming::fill(c, std::hint::black_box(value)))
@@ -163,6 +167,7 @@ impl Bandwidth {
             fill_bytes_per_s: plain.max(nt),
             fill_plain_bytes_per_s: plain,
             fill_nt_bytes_per_s: nt,
+            fill_plain_one_thread_bytes_per_s: rate(BANDWIDTH_BYTES, fill_one),
             copy_bytes_per_s: rate(2 * BANDWIDTH_BYTES, copy),
             copy_nt_bytes_per_s: rate(2 * BANDWIDTH_BYTES, copy_nt),
             fresh_fill_bytes_per_s: rate(BANDWIDTH_BYTES, fresh),
