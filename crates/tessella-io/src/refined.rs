@@ -1,6 +1,7 @@
 //! A refinement as a [`MeshSource`]: the plan's [`Piece`]s evaluated one after the other into
 //! a few reused buffers, the next piece computed on another thread while the last is written,
-//! so memory holds a few pieces whatever the output's size.
+//! so memory holds a few pieces whatever the output's size. An output that fits in one piece's
+//! budget (a small file) is evaluated on the writer's thread, with no thread started.
 
 use crate::stream::{MeshSource, Wanted};
 use crate::MeshView;
@@ -108,6 +109,17 @@ impl MeshSource for RefinedSource<'_> {
             uvs: want.uvs && self.plan.has_uvs(),
         };
         let pieces = self.plan.pieces(self.piece_vertices);
+        // The whole output within one piece's budget (a small file, as in a batch of many):
+        // its few pieces (corners, edges, interiors) are evaluated here in turn, with no
+        // thread to start and one buffer reused.
+        if self.plan.vertex_count() <= self.piece_vertices {
+            let mut buffers = Buffers::default();
+            for piece in &pieces {
+                buffers.fill(self.plan, self.frame, piece, want)?;
+                each(buffers.view(want))?;
+            }
+            return Ok(());
+        }
         // Full buffers go to the writer, empty ones come back; three exist in all.
         let (full_tx, full_rx) = mpsc::sync_channel::<std::io::Result<Buffers>>(1);
         let (empty_tx, empty_rx) = mpsc::channel::<Buffers>();

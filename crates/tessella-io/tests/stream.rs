@@ -34,15 +34,19 @@ fn streamed_files_equal_the_in_memory_files() {
             let whole = refine(mesh, &options).unwrap();
             let plan = Plan::new(mesh, &options).unwrap();
             let frame = plan.frame(mesh).unwrap();
-            // The smallest budget: pieces of 1024 vertices, many per file.
-            let source = RefinedSource::new(&plan, &frame, 0).unwrap();
-            for (name, ascii) in [
+            // The smallest budget: pieces of 1024 vertices, many per file, evaluated on a
+            // thread of their own; and one the whole output fits in, evaluated in turn.
+            let files = [
                 ("a.ply", false),
                 ("b.ply", true),
                 ("c.obj", false),
                 ("d.glb", false),
                 ("e.stl", false),
-            ] {
+            ];
+            for (budget, (name, ascii)) in
+                [0, 1 << 30].into_iter().flat_map(|b| files.map(|f| (b, f)))
+            {
+                let source = RefinedSource::new(&plan, &frame, budget).unwrap();
                 let opts = WriteOptions {
                     ply_ascii: ascii,
                     ..Default::default()
@@ -55,7 +59,8 @@ fn streamed_files_equal_the_in_memory_files() {
                 let (want, got) = (std::fs::read(&want).unwrap(), std::fs::read(&got).unwrap());
                 assert!(
                     want == got,
-                    "mesh {m} {scheme:?} level {level} {name} (ascii {ascii}): {} bytes vs {}",
+                    "mesh {m} {scheme:?} level {level} budget {budget} {name} (ascii {ascii}): \
+                     {} bytes vs {}",
                     got.len(),
                     want.len()
                 );
