@@ -233,6 +233,58 @@ fn interleaved_output_holds_the_same_bits_and_leaves_other_floats_alone() {
     }
 }
 
+/// Separate arrays of more than 64 MiB are written with streaming stores (whole cache lines,
+/// plain stores at the ends of each run); an interleaved buffer never is. Both must hold the
+/// same bits, edges stored against their owner's direction included.
+#[test]
+fn outputs_past_the_streaming_size_hold_the_same_bits_as_plain_stores() {
+    let mesh = samples::icosphere_4k();
+    for weld in [true, false] {
+        let options = RefineOptions::new(Scheme::Pn, 40).with_weld(weld);
+        let plan = Plan::new(&mesh, &options).unwrap();
+        let frame = plan.frame(&mesh).unwrap();
+        let n = plan.vertex_count();
+        assert!(
+            n * 24 > 64 << 20,
+            "{n} vertices stay under the streaming size"
+        );
+        let (mut p, mut nr) = (vec![[f32::NAN; 3]; n], vec![[f32::NAN; 3]; n]);
+        plan.evaluate(
+            &frame,
+            VertexOutput::Separate {
+                positions: &mut p,
+                normals: Some(&mut nr),
+                uvs: None,
+            },
+        )
+        .unwrap();
+        let format = VertexFormat::POSITION_NORMAL;
+        let mut data = vec![f32::NAN; n * format.stride];
+        plan.evaluate(
+            &frame,
+            VertexOutput::Interleaved {
+                data: &mut data,
+                format,
+            },
+        )
+        .unwrap();
+        for v in 0..n {
+            let bits = |a: &[f32]| a.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let at = &data[v * 6..(v + 1) * 6];
+            assert_eq!(
+                bits(&p[v]),
+                bits(&at[..3]),
+                "weld {weld} vertex {v} position"
+            );
+            assert_eq!(
+                bits(&nr[v]),
+                bits(&at[3..]),
+                "weld {weld} vertex {v} normal"
+            );
+        }
+    }
+}
+
 #[test]
 fn positions_only_output_skips_normals_but_keeps_positions() {
     let mesh = samples::icosphere(1);

@@ -4,6 +4,7 @@
 
 use super::canonical::{self, EdgeWeights};
 use super::layout::OutputLayout;
+use super::nontemporal;
 use super::output::Sink;
 use crate::basis::NORMAL_NET_LEN;
 use crate::mesh::{Mesh, Topology};
@@ -224,17 +225,21 @@ fn accumulate<const C: usize>(
 /// at a time so the loop vectorises. `ok[i]` is false where the vector could not be normalised
 /// (zero, tiny or not finite): those points take the scalar fallback. Returns whether all
 /// `n` were normalised (summed in the same loop, so no second pass over `ok`).
+///
+/// Runs over whole vectors, the padding lanes past `n` included (their sums are zero, they
+/// count as neither good nor bad): a loop of exactly `n` left a scalar remainder of up to 15
+/// points per tile, and tiles of a level-16 face hold 105.
 #[inline(always)]
 fn normalize_tile(v: &mut [[f32; TILE]; 3], n: usize, ok: &mut [bool; TILE]) -> bool {
     let [x, y, z] = v;
     let mut bad = 0u32;
-    for i in 0..n.min(TILE) {
+    for i in 0..(n.div_ceil(LANES) * LANES).min(TILE) {
         let rcp = 1.0 / ((x[i] * x[i]) + (y[i] * y[i]) + (z[i] * z[i])).sqrt();
         // `&`, not `&&`, and a count, not a flag: branch-free, so the loop vectorises.
         // `is_finite() && rcp > 0`: two compares (NaN fails both).
         let good = (rcp > 0.0) & (rcp < f32::INFINITY);
         ok[i] = good;
-        bad += u32::from(!good);
+        bad += u32::from(!good & (i < n));
         let rcp = if good { rcp } else { 0.0 };
         x[i] *= rcp;
         y[i] *= rcp;
@@ -336,6 +341,8 @@ pub(crate) struct Scratch {
     d2: [[f32; TILE]; 3],
     unit: [[f32; TILE]; 3],
     ok: [bool; TILE],
+    /// A tile as points, on its way to a streaming sink.
+    stage: [[f32; 3]; TILE],
     spread_points: [[[f32; LANES]; 3]; MAX_CONTROLS],
     spread_normals: [[[f32; LANES]; 3]; NORMAL_NET_LEN],
 }
@@ -348,6 +355,7 @@ impl Scratch {
             d2: [[0.0; TILE]; 3],
             unit: [[0.0; TILE]; 3],
             ok: [true; TILE],
+            stage: [[0.0; 3]; TILE],
             spread_points: [[[0.0; LANES]; 3]; MAX_CONTROLS],
             spread_normals: [[[0.0; LANES]; 3]; NORMAL_NET_LEN],
         })
@@ -486,6 +494,7 @@ fn eval_block_body<const K: usize>(
         d2,
         unit,
         ok,
+        stage,
         spread_points,
         spread_normals,
     } = scratch;
@@ -525,8 +534,19 @@ fn eval_block_body<const K: usize>(
             };
         }
         let first = slot(start);
-        sink.put_tile(first, reverse, n, pos, want_normals.then_some(&*unit));
+        sink.put_tile(
+            first,
+            reverse,
+            n,
+            pos,
+            want_normals.then_some(&*unit),
+            stage,
+        );
         if !all_ok {
+            if sink.streams() {
+                // The fallbacks rewrite slots just streamed: order them after those stores.
+                nontemporal::fence();
+            }
             let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
             for i in (0..n).filter(|&i| !ok[i]) {
                 // Parallel derivatives or a vanishing normal: the scalar path's fallbacks.
@@ -546,6 +566,11 @@ fn eval_block_body<const K: usize>(
                 sink.set_normal(slot(start + i), normal.into());
             }
         }
+    }
+    if sink.streams() {
+        // Streamed lines are weakly ordered: make them land before the task ends and another
+        // thread (or the caller) reads them.
+        nontemporal::fence();
     }
 }
 
@@ -843,11 +868,13 @@ mod tests {
                 // A normal net so large that |n|² overflows: 1 / sqrt is 0, the fallback.
                 normals.iter_mut().for_each(|n| *n = n.map(|c| c * 1e30));
             }
-            for (mode, reverse) in [
-                (NormalMode::Quadratic, false),
-                (NormalMode::Real, false),
-                (NormalMode::Quadratic, true),
-                (NormalMode::Real, true),
+            for (mode, reverse, stream) in [
+                (NormalMode::Quadratic, false, false),
+                (NormalMode::Real, false, false),
+                (NormalMode::Quadratic, true, false),
+                (NormalMode::Real, true, false),
+                (NormalMode::Quadratic, false, true),
+                (NormalMode::Real, true, true),
             ] {
                 let n = block.len();
                 let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
@@ -858,7 +885,9 @@ mod tests {
                         uvs: None,
                     }
                     .sink(n, false)
-                    .unwrap();
+                    .unwrap()
+                    .streaming(stream);
+                    assert_eq!(sink.streams(), stream);
                     run(block, &stencil, &points, &normals, mode, &mut sink, reverse);
                 }
                 for (i, &p) in block.points.iter().enumerate() {
@@ -866,7 +895,8 @@ mod tests {
                         eval_point::<K>(stencil.row(p as usize), &points, &normals, mode);
                     let bits = |v: [f32; 3]| v.map(f32::to_bits);
                     let at = if reverse { n - 1 - i } else { i };
-                    let what = format!("case {case} {mode:?} reverse {reverse} point {i}");
+                    let what =
+                        format!("case {case} {mode:?} reverse {reverse} stream {stream} point {i}");
                     assert_eq!(bits(pos[at]), bits(want_p), "{what}");
                     assert_eq!(bits(nrm[at]), bits(want_n), "{what}");
                 }

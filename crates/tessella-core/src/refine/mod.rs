@@ -17,6 +17,7 @@ pub mod instanced;
 mod layout;
 pub mod lod;
 pub mod morph;
+mod nontemporal;
 mod output;
 mod plan;
 pub mod stream;

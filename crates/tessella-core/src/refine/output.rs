@@ -2,6 +2,7 @@
 //! interleaved vertex buffer with a stride (what engines upload). OpenSubdiv's
 //! `BufferDescriptor` (offset, length, stride) is the same idea.
 
+use super::nontemporal;
 use crate::error::RefineError;
 
 /// The layout of one interleaved vertex, in `f32`s: `stride` floats per vertex, the position
@@ -127,10 +128,13 @@ impl<'a> VertexOutput<'a> {
                         return short("uvs", u.len(), vertices);
                     }
                 }
+                let arrays = 1 + usize::from(normals.is_some());
+                let bytes = vertices.saturating_mul(arrays * std::mem::size_of::<[f32; 3]>());
                 Ok(Sink::Separate {
                     positions: &mut positions[..vertices],
                     normals: normals.map(|n| &mut n[..vertices]),
                     uvs: uvs.map(|u| &mut u[..vertices]),
+                    stream: bytes > nontemporal::STREAM_ABOVE_BYTES,
                 })
             }
             VertexOutput::Interleaved { data, format } => {
@@ -155,6 +159,9 @@ pub(crate) enum Sink<'a> {
         positions: &'a mut [[f32; 3]],
         normals: Option<&'a mut [[f32; 3]]>,
         uvs: Option<&'a mut [[f32; 2]]>,
+        /// Whether tiles go out with streaming stores ([`nontemporal`]): the whole output is
+        /// larger than the last-level cache.
+        stream: bool,
     },
     Interleaved {
         data: &'a mut [f32],
@@ -190,6 +197,7 @@ impl<'a> Sink<'a> {
                 positions,
                 normals,
                 uvs,
+                stream,
             } => {
                 let (p0, p1) = positions.split_at_mut(mid);
                 let (n0, n1) = split_option(normals, mid);
@@ -199,11 +207,13 @@ impl<'a> Sink<'a> {
                         positions: p0,
                         normals: n0,
                         uvs: u0,
+                        stream,
                     },
                     Sink::Separate {
                         positions: p1,
                         normals: n1,
                         uvs: u1,
+                        stream,
                     },
                 )
             }
@@ -214,6 +224,31 @@ impl<'a> Sink<'a> {
                     Sink::Interleaved { data: d1, format },
                 )
             }
+        }
+    }
+
+    /// Whether [`Sink::put_tile`] writes with streaming stores, which [`nontemporal::fence`]
+    /// must order before the slots are written again or handed to another thread.
+    pub fn streams(&self) -> bool {
+        matches!(self, Sink::Separate { stream: true, .. })
+    }
+
+    /// The same slots, streamed or not whatever their size (tests of both paths on small data).
+    #[cfg(test)]
+    pub fn streaming(self, stream: bool) -> Self {
+        match self {
+            Sink::Separate {
+                positions,
+                normals,
+                uvs,
+                ..
+            } => Sink::Separate {
+                positions,
+                normals,
+                uvs,
+                stream,
+            },
+            interleaved => interleaved,
         }
     }
 
@@ -236,7 +271,8 @@ impl<'a> Sink<'a> {
     /// Writes `n` points given as component arrays (`pos[c][i]`, and normals likewise) to
     /// slots `first + i`, or `first - i` when `reverse`. One match for the whole run, then a
     /// plain loop: the per-point attribute writes of [`Sink::set_position`] cost more than the
-    /// arithmetic once the sums are vectorised.
+    /// arithmetic once the sums are vectorised. A streaming sink interleaves into `stage` (in
+    /// L1) and streams that out.
     #[inline(always)]
     pub fn put_tile<const T: usize>(
         &mut self,
@@ -245,6 +281,7 @@ impl<'a> Sink<'a> {
         n: usize,
         pos: &[[f32; T]; 3],
         normals: Option<&[[f32; T]; 3]>,
+        stage: &mut [[f32; 3]; T],
     ) {
         let n = n.min(T);
         let at = |a: &[[f32; T]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
@@ -255,11 +292,29 @@ impl<'a> Sink<'a> {
             Sink::Separate {
                 positions,
                 normals: out_normals,
+                stream: false,
                 ..
             } => {
                 interleave(&mut positions[lo..lo + n], pos, reverse);
                 if let (Some(out), Some(nrm)) = (out_normals, normals) {
                     interleave(&mut out[lo..lo + n], nrm, reverse);
+                }
+            }
+            Sink::Separate {
+                positions,
+                normals: out_normals,
+                stream: true,
+                ..
+            } => {
+                let stage = &mut stage[..n];
+                interleave(stage, pos, reverse);
+                nontemporal::copy(
+                    positions[lo..lo + n].as_flattened_mut(),
+                    stage.as_flattened(),
+                );
+                if let (Some(out), Some(nrm)) = (out_normals, normals) {
+                    interleave(stage, nrm, reverse);
+                    nontemporal::copy(out[lo..lo + n].as_flattened_mut(), stage.as_flattened());
                 }
             }
             Sink::Interleaved { data, format } => {
