@@ -2,6 +2,7 @@
 trimesh, Open3D and libigl (each when installed), on the same mesh at the same output size.
 
     python python/examples/bench_peers.py [--subdivisions 6] [--level 32] [--repeat 3] [--json]
+                                          [--no-huge-pages]
     python python/examples/bench_peers.py --bandwidth path/to/tessella [--repeat 5] [--json]
 
 `--bandwidth` checks the yardstick the speed tables divide by: numpy's one-thread
@@ -13,6 +14,11 @@ log2(L) rounds of midpoint (or Loop) subdivision, so the rows compare equal outp
 numpy out, welded. Every case runs in a fresh process, so its peak memory (the process's peak
 resident size above what it held once its input was ready) is its own. Nothing here is
 asserted: the numbers depend on the machine, and the table says which one.
+
+A second table puts tessella into fresh memory (what a first call gets) and into reused memory
+(later calls write into the memory the previous result freed, `tessella.set_memory_reuse`)
+against the fresh-memory bound: its output bytes over numpy's fill of as many freshly allocated
+bytes, measured in the same process.
 """
 
 from __future__ import annotations
@@ -108,14 +114,69 @@ def run_case(name: str, subdivisions: int, level: int, repeat: int) -> dict:
         times.append(time.perf_counter() - t0)
     arrays = result
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    return {
+    output_bytes = int(sum(a.nbytes for a in arrays))
+    row = {
         "case": name,
         "seconds": float(np.median(times)),
         "vertices": int(len(arrays[0])),
         "triangles": int(len(arrays[1])),
-        "output_bytes": int(sum(a.nbytes for a in arrays)),
+        "output_bytes": output_bytes,
         "peak_bytes": int(peak - before),
     }
+    if name.startswith("tessella"):
+        del arrays, result
+        row.update(fresh_and_reused(run, output_bytes, repeat))
+    return row
+
+
+def fresh_and_reused(run, output_bytes: int, repeat: int) -> dict:
+    """tessella's calls into fresh memory (what a first call gets: the kept memory released
+    before each) and into the memory the previous result freed (each result dropped before
+    the next call, as a conversion loop does), and numpy's fill of as many fresh bytes, all
+    in this process and each the median of `repeat`."""
+    import tessella
+
+    fresh, reused = [], []
+    for _ in range(repeat):
+        tessella.release_memory()
+        t0 = time.perf_counter()
+        result = run()
+        fresh.append(time.perf_counter() - t0)
+        del result
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        result = run()
+        reused.append(time.perf_counter() - t0)
+        del result
+    tessella.release_memory()
+    return {
+        "fresh_seconds": float(np.median(fresh)),
+        "reused_seconds": float(np.median(reused)),
+        "fresh_fill_bytes_per_s": fresh_fill(output_bytes, repeat),
+    }
+
+
+def set_huge_pages(on: bool) -> None:
+    """numpy's advice of transparent huge pages for large arrays (on by default on Linux), which
+    tessella follows for its own new result buffers."""
+    try:
+        from numpy._core import multiarray
+    except ImportError:  # numpy 1.x
+        from numpy.core import multiarray
+    multiarray._set_madvise_hugepage(on)
+
+
+def fresh_fill(nbytes: int, repeat: int) -> float:
+    """numpy's fill of `nbytes` of freshly allocated memory (page faults included): the
+    bound for one call that returns that many bytes in new arrays. Median of `repeat`."""
+    rates = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        a = np.empty(nbytes // 4, np.float32)
+        a.fill(1.0)
+        rates.append(a.nbytes / (time.perf_counter() - t0))
+        del a
+    return float(np.median(rates))
 
 
 CASES = ["tessella pn", "tessella flat", "libigl upsample", "trimesh midpoint",
@@ -169,8 +230,13 @@ def main() -> None:
     ap.add_argument("--json", action="store_true", help="print the rows as JSON")
     ap.add_argument("--bandwidth", metavar="TESSELLA",
                     help="compare `TESSELLA bench --bandwidth-only` with numpy's fill instead")
+    ap.add_argument("--no-huge-pages", action="store_true",
+                    help="turn numpy's huge-page advice off in every case (tessella follows it): "
+                         "fresh memory in 4 KiB pages")
     ap.add_argument("--one", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.no_huge_pages:
+        set_huge_pages(False)
     if args.bandwidth:
         report = bandwidth(args.bandwidth, args.repeat)
         if args.json:
@@ -201,6 +267,8 @@ def main() -> None:
             continue
         cmd = [sys.executable, __file__, "--one", case, "--subdivisions",
                str(args.subdivisions), "--level", str(args.level), "--repeat", str(args.repeat)]
+        if args.no_huge_pages:
+            cmd.append("--no-huge-pages")
         done = subprocess.run(cmd, capture_output=True, text=True)
         if done.returncode != 0:
             print(f"{case}: failed: {done.stderr.strip().splitlines()[-1:]}", file=sys.stderr)
@@ -213,8 +281,8 @@ def main() -> None:
     peers = [r for r in rows if not r["case"].startswith("tessella")]
     fastest = min(peers, key=lambda r: r["seconds"]) if peers else None
     print(f"{faces} coarse triangles to level {args.level} "
-          f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores), "
-          f"median of {args.repeat}:\n")
+          f"({platform.processor() or platform.machine()}, {os.cpu_count()} cores, huge pages "
+          f"{'off' if args.no_huge_pages else 'as numpy advises'}), median of {args.repeat}:\n")
     print("| library | vertices | triangles | seconds | M vertices/s | peak memory / output |"
           + (f" vs {fastest['case']} |" if fastest else ""))
     print("|---|---:|---:|---:|---:|---:|" + ("---:|" if fastest else ""))
@@ -224,6 +292,22 @@ def main() -> None:
                 f"{r['peak_bytes'] / r['output_bytes']:.2f} |")
         if fastest:
             line += f" {fastest['seconds'] / r['seconds']:.1f}x |"
+        print(line)
+    print("\nInto fresh memory and into reused memory, against the fresh-memory bound (output "
+          "bytes over numpy's fill of as many freshly allocated bytes, same process), median of "
+          f"{args.repeat}:\n")
+    print("| library | fresh memory (s) | bound (s) | of the bound | reused memory (s) "
+          "| reused over the bound |" + (f" fresh, vs {fastest['case']} |" if fastest else ""))
+    print("|---|---:|---:|---:|---:|---:|" + ("---:|" if fastest else ""))
+    for r in rows:
+        if "fresh_fill_bytes_per_s" not in r:
+            continue
+        bound = r["output_bytes"] / r["fresh_fill_bytes_per_s"]
+        line = (f"| {r['case']} | {r['fresh_seconds']:.4f} | {bound:.4f} | "
+                f"{bound / r['fresh_seconds']:.0%} | {r['reused_seconds']:.4f} | "
+                f"{bound / r['reused_seconds']:.1f}x |")
+        if fastest:
+            line += f" {fastest['seconds'] / r['fresh_seconds']:.1f}x |"
         print(line)
 
 

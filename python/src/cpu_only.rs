@@ -29,7 +29,7 @@ pub fn refine(
     if backend == Backend::Gl {
         return Err(bad_option(crate::options::NO_GL));
     }
-    let mut mesh = refiner.refine();
+    let mut mesh = crate::pool::refine(refiner);
     if displacement.is_some() {
         let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
         displacement

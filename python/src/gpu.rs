@@ -104,7 +104,7 @@ fn on_gpu(
 
 /// Refines and displaces on the CPU (the reference the GPU path is tested against).
 fn on_cpu(refiner: &Refiner, displacement: &Displacement) -> PyResult<RefinedMesh> {
-    let mut out = refiner.refine();
+    let mut out = crate::pool::refine(refiner);
     if displacement.is_some() {
         let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
         displacement

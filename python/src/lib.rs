@@ -17,6 +17,7 @@ mod gpu;
 #[path = "cpu_only.rs"]
 mod gpu;
 mod options;
+mod pool;
 mod refiner;
 mod render;
 mod stream;
@@ -119,6 +120,7 @@ fn refine<'py>(
     let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
     opts.normals = normal_mode;
     let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
+    pool::follow_numpy(py);
     let out = py.detach(|| -> PyResult<_> {
         if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
             opts = opts.with_tags(t);
@@ -133,10 +135,10 @@ fn refine<'py>(
     }
     let out = out.mesh;
     Ok((
-        arrays::to_numpy(py, out.positions),
-        arrays::to_numpy(py, out.triangles),
-        arrays::to_numpy(py, out.normals),
-        out.uvs.map(|u| arrays::to_numpy(py, u)),
+        pool::to_numpy(py, out.positions)?,
+        pool::to_numpy(py, out.triangles)?,
+        pool::to_numpy(py, out.normals)?,
+        out.uvs.map(|u| pool::to_numpy(py, u)).transpose()?,
     ))
 }
 
@@ -520,6 +522,7 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
     stream::register(m)?;
+    pool::register(m)?;
     m.add_function(wrap_pyfunction!(schemes, m)?)?;
     m.add_function(wrap_pyfunction!(backends, m)?)?;
     m.add_function(wrap_pyfunction!(gpu_info, m)?)?;

@@ -89,6 +89,9 @@ __all__ = [
     "refine_file",
     "refine_to_file",
     "sync_folder",
+    "release_memory",
+    "set_memory_reuse",
+    "reusable_bytes",
 ]
 
 
@@ -666,4 +669,5 @@ def render(
 from ._interop import refine_trimesh, to_trimesh  # noqa: E402
 from ._fem import boundary_faces, read_fem, write_fem  # noqa: E402
 from ._batch import batch, refine_file, refine_to_file, sync_folder  # noqa: E402
+from ._memory import release_memory, reusable_bytes, set_memory_reuse  # noqa: E402
 from ._plot import plot  # noqa: E402

@@ -32,6 +32,27 @@ def test_every_case_has_tessellas_output_size():
     assert "trimesh midpoint" in rows
 
 
+def test_fresh_and_reused_memory_are_put_against_the_fresh_memory_bound():
+    """tessella's rows have their calls into fresh and into reused memory and the numpy
+    fresh-memory fill measured in their process; the peers' rows have none; the text report
+    prints that table."""
+    args = [sys.executable, str(SCRIPT), "--subdivisions", "2", "--level", "8", "--repeat", "2"]
+    done = subprocess.run(args + ["--json"], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    rows = {r["case"]: r for r in json.loads(done.stdout)["rows"]}
+    for name, row in rows.items():
+        keys = {"fresh_seconds", "reused_seconds", "fresh_fill_bytes_per_s"}
+        assert (keys <= set(row)) == name.startswith("tessella"), name
+    pn = rows["tessella pn"]
+    assert pn["fresh_seconds"] > 0 and pn["reused_seconds"] > 0
+    assert pn["fresh_fill_bytes_per_s"] > 0
+    text = subprocess.run(args, capture_output=True, text=True, timeout=600)
+    assert text.returncode == 0, text.stderr
+    table = text.stdout.split("against the fresh-memory bound")[1].splitlines()
+    assert any(line.startswith("| tessella pn |") for line in table)
+    assert not any(line.startswith("| trimesh") for line in table), "peers have no bound row"
+
+
 def test_level_must_be_a_power_of_two():
     done = subprocess.run([sys.executable, str(SCRIPT), "--level", "6"], capture_output=True,
                           text=True, timeout=60)
