@@ -230,6 +230,8 @@ def main() -> None:
     ap.add_argument("--json", action="store_true", help="print the rows as JSON")
     ap.add_argument("--bandwidth", metavar="TESSELLA",
                     help="compare `TESSELLA bench --bandwidth-only` with numpy's fill instead")
+    ap.add_argument("--cases", help="comma-separated cases to run (default: all installed): "
+                    + ", ".join(CASES))
     ap.add_argument("--no-huge-pages", action="store_true",
                     help="turn numpy's huge-page advice off in every case (tessella follows it): "
                          "fresh memory in 4 KiB pages")
@@ -260,8 +262,14 @@ def main() -> None:
     if args.one:
         print(json.dumps(run_case(args.one, args.subdivisions, args.level, args.repeat)))
         return
+    cases = CASES
+    if args.cases:
+        cases = [c.strip() for c in args.cases.split(",")]
+        unknown = sorted(set(cases) - set(CASES))
+        if unknown:
+            raise SystemExit(f"unknown cases {unknown}; known: {', '.join(CASES)}")
     rows = []
-    for case in CASES:
+    for case in cases:
         if not installed(case):
             print(f"{case}: not installed, skipped", file=sys.stderr)
             continue

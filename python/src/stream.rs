@@ -31,13 +31,6 @@ fn sync_folder(py: Python<'_>, path: PathBuf) -> PyResult<()> {
         .map_err(crate::errors::io_error)
 }
 
-fn durability(sync: bool) -> tessella_io::Durability {
-    match sync {
-        true => tessella_io::Durability::Synced,
-        false => tessella_io::Durability::Cached,
-    }
-}
-
 /// The options both functions take.
 struct Options {
     refine: RefineOptions,
@@ -86,7 +79,7 @@ fn options(
         refine,
         write: WriteOptions {
             ply_ascii,
-            durability: durability(sync),
+            durability: tessella_io::Durability::synced_if(sync),
         },
         max_memory,
     })

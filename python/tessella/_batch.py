@@ -155,13 +155,23 @@ def remove_stale_temporaries(out_dir: PathLike) -> None:
             pass  # its writer finished (renamed it) or removed it meanwhile
 
 
-def _split_options(options: Dict[str, Any]) -> Tuple[str, bool, Dict[str, Any]]:
+def _split_options(
+    options: Dict[str, Any], sync_each: bool
+) -> Tuple[str, bool, Dict[str, Any]]:
+    """The output format, ``force`` and the per-file options of a batch's ``**options``; the
+    per-file ``sync`` is the batch's ``sync_each`` (a batch flushes its files itself)."""
     options = dict(options)
     ext = str(options.pop("format", "ply")).lstrip(".").lower()
     force = bool(options.pop("force", False))
     if "." + ext not in MESH_EXTENSIONS:
         raise OptionError(f"format={ext!r}: give ply, obj, glb, gltf or stl")
+    if "sync" in options:
+        raise OptionError(
+            "sync= is refine_to_file's; a batch flushes its files together at the end, or "
+            "each one as it is written with sync_each=True"
+        )
     _check_options(options)
+    options["sync"] = bool(sync_each)
     return ext, force, options
 
 
@@ -185,8 +195,7 @@ def batch(
     killed batch leaves whole files either way. Raises ``OptionError`` for bad inputs or
     options before anything is refined.
     """
-    ext, force, options = _split_options(options)
-    options["sync"] = sync_each
+    ext, force, options = _split_options(options, sync_each)
     pairs = expand(paths, out_dir, ext)
     os.makedirs(os.fspath(out_dir), exist_ok=True)
     remove_stale_temporaries(out_dir)

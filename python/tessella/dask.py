@@ -89,8 +89,7 @@ def refine_files(
     if files_per_task is not None and (not isinstance(files_per_task, int) or files_per_task < 1):
         raise OptionError(f"files_per_task={files_per_task!r}: give a whole number of 1 or more")
     distributed = _distributed()
-    ext, force, options = _split_options(options)
-    options["sync"] = sync_each
+    ext, force, options = _split_options(options, sync_each)
     pairs = expand(paths, out_dir, ext)
     os.makedirs(os.fspath(out_dir), exist_ok=True)
     remove_stale_temporaries(out_dir)
@@ -148,7 +147,11 @@ def _files_per_task(client: Any, files: int) -> int:
 
 
 def refine_partition(
-    items: Iterable[Union[PathLike, Tuple[str, bytes]]], out_dir: PathLike, **options: Any
+    items: Iterable[Union[PathLike, Tuple[str, bytes]]],
+    out_dir: PathLike,
+    *,
+    sync_each: bool = False,
+    **options: Any,
 ) -> List[Dict[str, Any]]:
     """Refines one partition of a ``dask.bag`` into ``out_dir`` and returns its manifest rows
     (``bag.map_partitions(refine_partition, out_dir, level=4)``). Items are paths, or
@@ -156,9 +159,7 @@ def refine_partition(
     workers that do not see the inputs' file system. Outputs that exist are skipped unless
     ``force=True``. The partition's outputs are flushed to the disk together at its end
     (``sync_each=True``: each one as it is written)."""
-    sync_each = bool(options.pop("sync_each", False))
-    ext, force, options = _split_options(options)
-    options["sync"] = sync_each
+    ext, force, options = _split_options(options, sync_each)
     rows: List[Dict[str, Any]] = []
     for item in items:
         if isinstance(item, tuple):

@@ -1,6 +1,8 @@
 """tessella.refine writes into memory that earlier calls' arrays freed, never into memory an
 array or view still uses, and gives the same bits as into fresh memory."""
 
+import os
+import subprocess
 import sys
 
 import numpy as np
@@ -122,24 +124,34 @@ def vm_flags(addr):
     raise AssertionError(f"no mapping holds {addr:#x}")
 
 
+# Run in a fresh process: the allocator may serve a buffer from memory an earlier array used
+# (and numpy or tessella advised), so only a process with no history shows the call's own advice.
+HUGE_PAGE_PROBE = """
+import sys
+sys.path.insert(0, {tests!r})
+try:
+    from numpy._core import multiarray
+except ImportError:  # numpy 1.x
+    from numpy.core import multiarray
+multiarray._set_madvise_hugepage({on})
+import tessella
+from test_memory_reuse import address, sphere, vm_flags
+v, f = sphere()
+r = tessella.refine(v, f, level=48)  # 1.5M vertices: 17 MB of positions
+assert r.vertices.nbytes > 8 << 20
+# The middle of the buffer: the advice covers its whole 2 MiB pages, so the first page (with
+# the allocator's header) is a mapping of its own.
+print("hg" in vm_flags(address(r.vertices) + r.vertices.nbytes // 2))
+"""
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="madvise is Linux's")
 def test_new_buffers_take_numpys_huge_page_advice():
-    try:
-        from numpy._core import multiarray
-    except ImportError:  # numpy 1.x
-        from numpy.core import multiarray
-    before = multiarray._get_madvise_hugepage()
-    v, f = sphere()
-    try:
-        for on in [True, False]:
-            multiarray._set_madvise_hugepage(on)
-            tessella.release_memory()
-            r = tessella.refine(v, f, level=48)  # 1.5M vertices: 17 MB of positions
-            assert r.vertices.nbytes > 8 << 20
-            # The middle of the buffer: the advice covers its whole 2 MiB pages, so the first
-            # page (with the allocator's header) is a mapping of its own.
-            middle = address(r.vertices) + r.vertices.nbytes // 2
-            assert ("hg" in vm_flags(middle)) == on, on
-            del r
-    finally:
-        multiarray._set_madvise_hugepage(before)
+    tests = os.path.dirname(os.path.abspath(__file__))
+    for on in [True, False]:
+        done = subprocess.run(
+            [sys.executable, "-c", HUGE_PAGE_PROBE.format(tests=tests, on=on)],
+            capture_output=True, text=True, timeout=120,
+        )
+        assert done.returncode == 0, done.stderr
+        assert done.stdout.strip() == str(on), (on, done.stdout)

@@ -141,6 +141,13 @@ def test_batch_reports_broken_files_and_resumes(tmp_path):
         tessella.batch([tmp_path / "nothing"], out)
     with pytest.raises(OptionError, match="format"):
         tessella.batch([src], out, format="fbx")
+    # A batch flushes its files itself: sync= is refused, pointing to sync_each.
+    from tessella.dask import refine_partition
+
+    with pytest.raises(OptionError, match="sync_each"):
+        tessella.batch([src], out, sync=False)
+    with pytest.raises(OptionError, match="sync_each"):
+        refine_partition([src], out, sync=True)
     assert temporaries(out) == []
 
 

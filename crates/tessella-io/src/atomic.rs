@@ -20,6 +20,22 @@ pub enum Durability {
     Cached,
 }
 
+impl Durability {
+    /// [`Durability::Synced`] when `sync`, else [`Durability::Cached`].
+    ///
+    /// ```
+    /// use tessella_io::Durability;
+    /// assert_eq!(Durability::synced_if(true), Durability::Synced);
+    /// assert_eq!(Durability::synced_if(false), Durability::Cached);
+    /// ```
+    pub fn synced_if(sync: bool) -> Durability {
+        match sync {
+            true => Durability::Synced,
+            false => Durability::Cached,
+        }
+    }
+}
+
 /// Writes `path` through `write`: the bytes go to a file without a name in the same folder
 /// (Linux's `O_TMPFILE`), which is given `path`'s name only when everything succeeded, so a
 /// process killed half-way, even by SIGKILL, leaves no file behind. Where the system has no
@@ -57,12 +73,7 @@ pub fn write_atomic_with(
     let dir = folder_of(path);
     #[cfg(target_os = "linux")]
     if let Some(file) = unnamed::create(dir) {
-        let mut out = BufWriter::new(file);
-        write(&mut out).map_err(failed)?;
-        let file = out.into_inner().map_err(|e| failed(e.into_error()))?;
-        if durability == Durability::Synced {
-            file.sync_all().map_err(failed)?;
-        }
+        let file = fill(file, durability, write, |f| f).map_err(failed)?;
         // Dropped without a name on any error: the kernel frees it.
         return unnamed::publish(&file, dir, path).map_err(failed);
     }
@@ -75,15 +86,27 @@ pub fn write_atomic_with(
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     let temp = builder.tempfile_in(dir).map_err(failed)?;
-    let mut out = BufWriter::new(temp);
-    write(&mut out).map_err(failed)?;
-    let temp = out.into_inner().map_err(|e| failed(e.into_error()))?;
-    if durability == Durability::Synced {
-        temp.as_file().sync_all().map_err(failed)?;
-    }
+    let temp = fill(temp, durability, write, |t| t.as_file()).map_err(failed)?;
     // Dropping the returned temp file (inside the error) deletes it.
     temp.persist(path).map_err(|e| failed(e.error))?;
     Ok(())
+}
+
+/// Writes `target` through `write`, buffered, and flushes it to the disk when `durability`
+/// says so; `file` gives the [`File`] to flush. Returns the target for naming.
+fn fill<W: Write>(
+    target: W,
+    durability: Durability,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    file: impl Fn(&W) -> &File,
+) -> std::io::Result<W> {
+    let mut out = BufWriter::new(target);
+    write(&mut out)?;
+    let target = out.into_inner().map_err(|e| e.into_error())?;
+    if durability == Durability::Synced {
+        file(&target).sync_all()?;
+    }
+    Ok(target)
 }
 
 /// Flushes every file of the file system that holds `dir` to the disk (Linux's `syncfs`;

@@ -129,10 +129,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
         .build()?;
     // One flush of the whole file system at the end costs far less than one per small file,
     // and a killed process loses nothing either way: the kernel keeps what was written.
-    let durability = match args.sync_each {
-        true => Durability::Synced,
-        false => Durability::Cached,
-    };
+    let durability = Durability::synced_if(args.sync_each);
     let started = Instant::now();
     let rows: Vec<Row> = pool.install(|| {
         todo.into_par_iter()
