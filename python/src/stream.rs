@@ -90,10 +90,11 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
     tessella_io::Format::from_path(output).map_err(crate::errors::io_error)?;
     let start = Instant::now();
     let mut refine = o.refine.clone();
-    let streams = refine.weld
-        && !output
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
+    // Welded and soup refinements stream; `.gltf` (a JSON file with its buffer beside it) is
+    // written whole.
+    let streams = !output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
     refine.max_output_bytes = if streams { u64::MAX } else { o.max_memory };
     let (vertices, triangles) = py.detach(|| -> Result<(usize, usize), PyErr> {
         let plan = Plan::new(mesh, &refine).map_err(crate::errors::refine_error)?;

@@ -39,13 +39,15 @@ def temporaries(root: Path):
     return sorted(str(p) for p in root.rglob(".tessella-*"))
 
 
+@pytest.mark.parametrize("weld", [True, False])
 @pytest.mark.parametrize("name", ["a.ply", "b.obj", "c.glb", "d.stl"])
-def test_streamed_file_has_the_bytes_of_the_whole_refinement(tmp_path, name):
+def test_streamed_file_has_the_bytes_of_the_whole_refinement(tmp_path, name, weld):
     v, f = icosphere(2)
     # Independent path: the whole refinement in memory, written by tessella.save.
-    rv, rf, rn = tessella.refine(v, f, v, level=9, scheme="pn")
+    rv, rf, rn = tessella.refine(v, f, v, level=9, scheme="pn", weld=weld)
     tessella.save(str(tmp_path / ("want-" + name)), rv, rf, None if name.endswith(".stl") else rn)
-    done = tessella.refine_to_file(v, f, tmp_path / name, v, level=9, scheme="pn", max_memory=1 << 20)
+    done = tessella.refine_to_file(v, f, tmp_path / name, v, level=9, scheme="pn", weld=weld,
+                                   max_memory=1 << 20)
     assert done["streamed"] and done["triangles"] == len(f) * 81 == len(rf)
     assert done["vertices"] == len(rv)
     assert (tmp_path / name).read_bytes() == (tmp_path / ("want-" + name)).read_bytes()
@@ -63,9 +65,9 @@ def test_refine_to_file_errors_are_typed_and_leave_nothing(tmp_path):
         tessella.refine_to_file(v, np.array([[0, 1, 99]]), tmp_path / "x.ply")
     with pytest.raises(FileFormatError, match="extension"):
         tessella.refine_to_file(v, f, tmp_path / "x.fbx")
-    # Soup is refined whole, and capped by max_memory.
+    # .gltf is written whole, and capped by max_memory.
     with pytest.raises(OptionError, match="limit"):
-        tessella.refine_to_file(v, f, tmp_path / "x.ply", level=200, weld=False, max_memory=1 << 20)
+        tessella.refine_to_file(v, f, tmp_path / "x.gltf", level=200, weld=False, max_memory=1 << 20)
     with pytest.raises(FileNotFoundError):
         tessella.refine_file(tmp_path / "missing.obj", tmp_path / "x.ply")
     assert issubclass(OptionError, TessellaError) and issubclass(TessellaError, ValueError)

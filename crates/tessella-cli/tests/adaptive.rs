@@ -221,11 +221,15 @@ fn bad_levels_are_refused_with_a_message_and_no_file() {
         ),
         (vec!["--lod", "wobbly:3"], "expected tolerance"),
         (vec!["--camera", "0,0,3,0,0,0,45"], "add --lod"),
-        // In memory (soup) the output is capped by --max-memory; streamed (welded) it is not,
-        // but 32-bit indices still bound it.
+        // In memory (--in-memory) the output is capped by --max-memory; streamed (welded or
+        // soup) it is not, but 32-bit indices still bound it.
+        (
+            vec!["--level", "100000", "--max-memory", "1MiB", "--in-memory"],
+            "limit",
+        ),
         (
             vec!["--level", "100000", "--max-memory", "1MiB", "--soup"],
-            "limit",
+            "32-bit indices",
         ),
         (
             vec!["--level", "100000", "--max-memory", "1MiB"],

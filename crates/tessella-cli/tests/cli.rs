@@ -131,18 +131,28 @@ fn bad_input_fails_cleanly_and_leaves_no_output() {
             vec![s(&good).into(), "--level".into(), "0".into()],
             "level 0",
         ),
-        // Streamed (welded) outputs have no size cap, only the 32-bit index range.
+        // Streamed outputs (welded or soup) have no size cap, only the 32-bit index range.
         (
             vec![s(&good).into(), "--level".into(), "200000".into()],
             "32-bit indices",
         ),
-        // Outputs made in memory (soup) are capped by --max-memory.
+        (
+            vec![
+                s(&good).into(),
+                "--level".into(),
+                "200000".into(),
+                "--soup".into(),
+            ],
+            "32-bit indices",
+        ),
+        // Outputs made in memory (here asked for; adaptive, displaced, ...) are capped by
+        // --max-memory.
         (
             vec![
                 s(&good).into(),
                 "--level".into(),
                 "64".into(),
-                "--soup".into(),
+                "--in-memory".into(),
                 "--max-memory".into(),
                 "1MiB".into(),
             ],

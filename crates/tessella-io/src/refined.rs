@@ -12,7 +12,7 @@ use tessella_core::refine::{Frame, Piece, Plan, VertexOutput};
 /// Bytes of one vertex in the piece buffers (position, normal, uv).
 const VERTEX_BYTES: usize = 32;
 
-/// A welded uniform refinement of `frame`, produced piece by piece.
+/// A uniform refinement of `frame` (welded or not), produced piece by piece.
 pub struct RefinedSource<'a> {
     plan: &'a Plan,
     frame: &'a Frame,
@@ -21,7 +21,7 @@ pub struct RefinedSource<'a> {
 
 impl<'a> RefinedSource<'a> {
     /// A source whose buffers (three pieces in flight) stay within about `budget` bytes, or
-    /// `None` when the plan cannot be evaluated in pieces (soup or adaptive plans).
+    /// `None` when the plan cannot be evaluated in pieces (adaptive plans).
     pub fn new(plan: &'a Plan, frame: &'a Frame, budget: u64) -> Option<RefinedSource<'a>> {
         if !plan.evaluates_in_pieces() {
             return None;
@@ -195,6 +195,26 @@ impl MeshSource for RefinedSource<'_> {
         let (mut triangles, mut interiors, mut edges) =
             (Vec::new(), Buffers::default(), Buffers::default());
         let mut out = Vec::new();
+        if !layout.weld {
+            // Unwelded: a run of faces' patterns holds every corner of its triangles.
+            for start in (0..faces).step_by(step) {
+                let end = (start + step).min(faces);
+                triangles.resize((end - start) * per_face, [0u32; 3]);
+                plan.write_face_indices(start..end, &mut triangles)
+                    .map_err(std::io::Error::other)?;
+                let piece = Piece::Faces(start..end);
+                interiors.fill(plan, self.frame, &piece, positions_only)?;
+                let first = plan.piece_vertices(&piece).start;
+                out.clear();
+                out.extend(
+                    triangles
+                        .iter()
+                        .map(|t| t.map(|v| interiors.positions[v as usize - first])),
+                );
+                each(&out)?;
+            }
+            return Ok(());
+        }
         for start in (0..faces).step_by(step) {
             let end = (start + step).min(faces);
             triangles.resize((end - start) * per_face, [0u32; 3]);

@@ -28,8 +28,14 @@ fn streamed_files_equal_the_in_memory_files() {
     let plain = samples::icosphere(2);
     let meshes = [plain.clone(), with_uvs(&plain)];
     for (m, mesh) in meshes.iter().enumerate() {
-        for (scheme, level) in [(Scheme::Pn, 1), (Scheme::Pn, 7), (Scheme::Png1, 4)] {
-            let options = RefineOptions::new(scheme, level);
+        for (scheme, level, weld) in [
+            (Scheme::Pn, 1, true),
+            (Scheme::Pn, 7, true),
+            (Scheme::Png1, 4, true),
+            (Scheme::Pn, 7, false),
+            (Scheme::Png1, 1, false),
+        ] {
+            let options = RefineOptions::new(scheme, level).with_weld(weld);
             // The independent path: the whole refinement in memory, the ordinary writer.
             let whole = refine(mesh, &options).unwrap();
             let plan = Plan::new(mesh, &options).unwrap();
@@ -59,8 +65,8 @@ fn streamed_files_equal_the_in_memory_files() {
                 let (want, got) = (std::fs::read(&want).unwrap(), std::fs::read(&got).unwrap());
                 assert!(
                     want == got,
-                    "mesh {m} {scheme:?} level {level} budget {budget} {name} (ascii {ascii}): \
-                     {} bytes vs {}",
+                    "mesh {m} {scheme:?} level {level} weld {weld} budget {budget} {name} \
+                     (ascii {ascii}): {} bytes vs {}",
                     got.len(),
                     want.len()
                 );

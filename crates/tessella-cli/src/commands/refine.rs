@@ -155,8 +155,8 @@ fn describe(options: &RefineOptions, plan: &tessella_core::refine::Plan) -> Stri
     format!("{}, {level}", options.scheme.name())
 }
 
-/// Whether this refinement is written piece by piece (bounded memory, any size): welded
-/// uniform grid levels on the CPU, without displacement, per-vertex fields or origins, to a
+/// Whether this refinement is written piece by piece (bounded memory, any size): uniform grid
+/// levels on the CPU, welded or not, without displacement, per-vertex fields or origins, to a
 /// format the streamed writer knows. Everything else is refined in memory, within
 /// `--max-memory`.
 fn streams(
@@ -170,7 +170,6 @@ fn streams(
     );
     let format = Format::from_path(&args.output).ok();
     cpu && !args.in_memory
-        && options.weld
         && options.uniform_grid_level() == Some(options.level)
         && options.levels.is_none()
         && args.displace.is_none()

@@ -783,6 +783,18 @@ impl Job<'_> {
     }
 
     fn soup<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
+        self.soup_faces::<K>(0, sink, progress);
+    }
+
+    /// The unwelded vertices of faces `first..` (as many as `sink` holds whole patterns for)
+    /// into `sink`: each face's whole pattern, corners and edge points exact as in the welded
+    /// layout. [`Job::soup`] is the run from face 0; a streamed soup's pieces are the others.
+    pub fn soup_faces<const K: usize>(
+        &self,
+        first: usize,
+        sink: Sink,
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
         let mesh = self.mesh;
         let np = self.stencil.len();
         let want_uvs = sink.wants_uvs();
@@ -798,7 +810,7 @@ impl Job<'_> {
                 let mut scratch = Scratch::take();
                 let faces = sink.len() / np;
                 for lf in 0..faces {
-                    let f = task * FACES_PER_TASK + lf;
+                    let f = first + task * FACES_PER_TASK + lf;
                     let base = lf * np;
                     self.block::<K>(
                         &self.stencil.blocks.all,

@@ -540,7 +540,7 @@ impl Plan {
         self.surface.check_frame(frame)
     }
 
-    fn job<'a>(&'a self, frame: &'a Frame) -> Job<'a> {
+    pub(crate) fn job<'a>(&'a self, frame: &'a Frame) -> Job<'a> {
         Job {
             mesh: &frame.mesh,
             topology: &self.surface.topology,

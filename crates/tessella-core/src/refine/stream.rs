@@ -1,6 +1,7 @@
 //! Refinement in pieces, for outputs larger than memory: the welded layout (corners | edges |
-//! interiors) cut into runs of whole corners, edges or faces, each evaluated on its own into a
-//! small buffer, and the triangles of any range of faces. Concatenated in order, the pieces
+//! interiors) cut into runs of whole corners, edges or faces, or the unwelded one into runs of
+//! whole faces, each evaluated on its own into a small buffer, and the triangles of any range
+//! of faces. Concatenated in order, the pieces
 //! are exactly [`Plan::evaluate`]'s vertices and [`Plan::indices`]'s triangles, bit for bit:
 //! each vertex is computed by the same block evaluation on the same owning face.
 
@@ -17,26 +18,28 @@ const CORNERS_PER_TASK: usize = 1024;
 const EDGES_PER_TASK: usize = 64;
 const FACES_PER_TASK: usize = 32;
 
-/// A run of consecutive output vertices made of whole elements of the welded layout.
+/// A run of consecutive output vertices made of whole elements of the layout.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Piece {
-    /// Coarse vertices (one output vertex each).
+    /// Coarse vertices (one output vertex each). Welded.
     Corners(Range<usize>),
-    /// Unique edges (`level - 1` output vertices each).
+    /// Unique edges (`level - 1` output vertices each). Welded.
     Edges(Range<usize>),
-    /// Faces' interior points (`(N-1)(N-2)/2` output vertices each).
+    /// Faces' interior points (`(N-1)(N-2)/2` output vertices each). Welded.
     Interiors(Range<usize>),
+    /// Faces' whole patterns (`(N+1)(N+2)/2` output vertices each). Unwelded (soup).
+    Faces(Range<usize>),
 }
 
 impl Plan {
-    /// Whether this plan can be evaluated in [`Piece`]s: welded uniform grid plans (soup and
-    /// adaptive plans are evaluated whole).
+    /// Whether this plan can be evaluated in [`Piece`]s: uniform grid plans, welded or soup
+    /// (adaptive plans are evaluated whole).
     pub fn evaluates_in_pieces(&self) -> bool {
-        self.tiling().is_none() && self.layout().weld
+        self.tiling().is_none()
     }
 
-    /// The welded output cut into pieces of at most `max_vertices` vertices (or one element,
-    /// when an element alone is larger), in output order. Empty when the plan does not
+    /// The output cut into pieces of at most `max_vertices` vertices (or one element, when an
+    /// element alone is larger), in output order. Empty when the plan does not
     /// [`Plan::evaluates_in_pieces`].
     pub fn pieces(&self, max_vertices: usize) -> Vec<Piece> {
         if !self.evaluates_in_pieces() {
@@ -55,9 +58,13 @@ impl Plan {
                 out.push(make(start..(start + step).min(count)));
             }
         };
-        cut(self.coarse_vertex_count(), 1, Piece::Corners);
-        cut(self.topology().edges.len(), m, Piece::Edges);
-        cut(self.face_count(), ni, Piece::Interiors);
+        if self.layout().weld {
+            cut(self.coarse_vertex_count(), 1, Piece::Corners);
+            cut(self.topology().edges.len(), m, Piece::Edges);
+            cut(self.face_count(), ni, Piece::Interiors);
+        } else {
+            cut(self.face_count(), self.pattern().points.len(), Piece::Faces);
+        }
         out
     }
 
@@ -70,6 +77,7 @@ impl Plan {
             Piece::Corners(r) => (0, 1, r),
             Piece::Edges(r) => (layout.edge_base as usize, m, r),
             Piece::Interiors(r) => (layout.interior_base as usize, ni, r),
+            Piece::Faces(r) => (0, self.pattern().points.len(), r),
         };
         base + r.start * per..base + r.end * per
     }
@@ -86,15 +94,17 @@ impl Plan {
         let limit = match piece {
             Piece::Corners(_) => self.coarse_vertex_count(),
             Piece::Edges(_) => self.topology().edges.len(),
-            Piece::Interiors(_) => self.face_count(),
+            Piece::Interiors(_) | Piece::Faces(_) => self.face_count(),
         };
         let range = match piece {
-            Piece::Corners(r) | Piece::Edges(r) | Piece::Interiors(r) => r,
+            Piece::Corners(r) | Piece::Edges(r) | Piece::Interiors(r) | Piece::Faces(r) => r,
         };
-        if !self.evaluates_in_pieces() || range.start > range.end || range.end > limit {
+        let of_layout = matches!(piece, Piece::Faces(_)) != self.layout().weld;
+        if !self.evaluates_in_pieces() || !of_layout || range.start > range.end || range.end > limit
+        {
             return Err(RefineError::BadLevels(format!(
-                "{piece:?} is not a piece of this plan (welded uniform grid plans only, \
-                 ranges within the mesh)"
+                "{piece:?} is not a piece of this plan (uniform grid plans only: corners, \
+                 edges and interiors when welded, faces when not; ranges within the mesh)"
             )));
         }
         let sink = out.sink(self.piece_vertices(piece).len(), self.has_uvs())?;
@@ -116,6 +126,7 @@ impl Plan {
                 .map(|uv| mesh.triangles()[f].map(|v| uv[v as usize]))
         };
         match piece.clone() {
+            Piece::Faces(r) => self.job(frame).soup_faces::<K>(r.start, sink, &|_| {}),
             Piece::Corners(r) => sink
                 .chunks(CORNERS_PER_TASK)
                 .into_par_iter()
@@ -308,9 +319,15 @@ mod tests {
     fn pieces_concatenate_to_the_whole_evaluation() {
         let meshes = [samples::icosphere(1), samples::tetrahedron()];
         for mesh in &meshes {
-            for scheme in [Scheme::Pn, Scheme::Png1] {
+            for (scheme, weld) in [
+                (Scheme::Pn, true),
+                (Scheme::Png1, true),
+                (Scheme::Pn, false),
+                (Scheme::Png1, false),
+            ] {
                 for level in [1, 2, 5] {
-                    let plan = Plan::new(mesh, &RefineOptions::new(scheme, level)).unwrap();
+                    let options = RefineOptions::new(scheme, level).with_weld(weld);
+                    let plan = Plan::new(mesh, &options).unwrap();
                     let frame = plan.frame(mesh).unwrap();
                     let n = plan.vertex_count();
                     let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
@@ -327,7 +344,9 @@ mod tests {
                         let (mut p2, mut n2) = (Vec::new(), Vec::new());
                         for piece in plan.pieces(max) {
                             let len = plan.piece_vertices(&piece).len();
-                            assert!(len <= max.max(level as usize * level as usize));
+                            // One element may be larger: an edge, or a face's pattern.
+                            let element = plan.pattern().points.len();
+                            assert!(len <= max.max(element));
                             let (mut p, mut q) = (vec![[0.0f32; 3]; len], vec![[0.0f32; 3]; len]);
                             plan.evaluate_piece(
                                 &frame,
@@ -345,8 +364,9 @@ mod tests {
                         let bits = |v: &[[f32; 3]]| -> Vec<[u32; 3]> {
                             v.iter().map(|p| p.map(f32::to_bits)).collect()
                         };
-                        assert_eq!(bits(&p2), bits(&pos), "{scheme:?} level {level} max {max}");
-                        assert_eq!(bits(&n2), bits(&nrm), "{scheme:?} level {level} max {max}");
+                        let what = format!("{scheme:?} weld {weld} level {level} max {max}");
+                        assert_eq!(bits(&p2), bits(&pos), "{what}");
+                        assert_eq!(bits(&n2), bits(&nrm), "{what}");
                     }
                     let per = plan.pattern().triangles.len();
                     let mut tris = Vec::new();
@@ -379,7 +399,35 @@ mod tests {
             .is_err());
         let mut t = vec![[0u32; 3]; 16];
         assert!(plan.write_face_indices(3..5, &mut t).is_err());
+        // Pieces of the other layout: faces of a welded plan, interiors of a soup.
+        let mut p = vec![[0.0f32; 3]; 15];
+        fn positions(p: &mut [[f32; 3]]) -> VertexOutput<'_> {
+            VertexOutput::Separate {
+                positions: p,
+                normals: None,
+                uvs: None,
+            }
+        }
+        assert!(plan
+            .evaluate_piece(&frame, &Piece::Faces(0..1), positions(&mut p))
+            .is_err());
         let soup = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4).with_weld(false)).unwrap();
-        assert!(soup.pieces(100).is_empty());
+        let soup_frame = soup.frame(&mesh).unwrap();
+        assert!(soup
+            .pieces(100)
+            .iter()
+            .all(|p| matches!(p, Piece::Faces(_))));
+        assert!(soup
+            .evaluate_piece(&soup_frame, &Piece::Interiors(0..1), positions(&mut p))
+            .is_err());
+        assert!(soup
+            .evaluate_piece(&soup_frame, &Piece::Faces(3..5), positions(&mut p))
+            .is_err());
+        // An adaptive (tessellator-spaced) plan is evaluated whole.
+        let spaced = RefineOptions::new(Scheme::Pn, 4)
+            .with_spacing(crate::refine::adaptive::Spacing::FractionalOdd);
+        let adaptive = Plan::new(&mesh, &spaced).unwrap();
+        assert!(adaptive.tiling().is_some());
+        assert!(!adaptive.evaluates_in_pieces() && adaptive.pieces(100).is_empty());
     }
 }
