@@ -225,21 +225,17 @@ fn accumulate<const C: usize>(
 /// at a time so the loop vectorises. `ok[i]` is false where the vector could not be normalised
 /// (zero, tiny or not finite): those points take the scalar fallback. Returns whether all
 /// `n` were normalised (summed in the same loop, so no second pass over `ok`).
-///
-/// Runs over whole vectors, the padding lanes past `n` included (their sums are zero, they
-/// count as neither good nor bad): a loop of exactly `n` left a scalar remainder of up to 15
-/// points per tile, and tiles of a level-16 face hold 105.
 #[inline(always)]
 fn normalize_tile(v: &mut [[f32; TILE]; 3], n: usize, ok: &mut [bool; TILE]) -> bool {
     let [x, y, z] = v;
     let mut bad = 0u32;
-    for i in 0..(n.div_ceil(LANES) * LANES).min(TILE) {
+    for i in 0..n.min(TILE) {
         let rcp = 1.0 / ((x[i] * x[i]) + (y[i] * y[i]) + (z[i] * z[i])).sqrt();
         // `&`, not `&&`, and a count, not a flag: branch-free, so the loop vectorises.
         // `is_finite() && rcp > 0`: two compares (NaN fails both).
         let good = (rcp > 0.0) & (rcp < f32::INFINITY);
         ok[i] = good;
-        bad += u32::from(!good & (i < n));
+        bad += u32::from(!good);
         let rcp = if good { rcp } else { 0.0 };
         x[i] *= rcp;
         y[i] *= rcp;
