@@ -90,33 +90,36 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
     tessella_io::Format::from_path(output).map_err(crate::errors::io_error)?;
     let start = Instant::now();
     let mut refine = o.refine.clone();
-    // Welded and soup refinements stream; `.gltf` (a JSON file with its buffer beside it) is
-    // written whole.
-    let streams = !output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
-    refine.max_output_bytes = if streams { u64::MAX } else { o.max_memory };
-    let (vertices, triangles) = py.detach(|| -> Result<(usize, usize), PyErr> {
+    // Every uniform refinement streams (welded or soup, to any format): max_memory is the
+    // working set, not a cap on the output.
+    refine.max_output_bytes = u64::MAX;
+    let (vertices, triangles, streamed) = py.detach(|| -> Result<_, PyErr> {
         let plan = Plan::new(mesh, &refine).map_err(crate::errors::refine_error)?;
         let frame = plan.frame(mesh).map_err(crate::errors::refine_error)?;
         let counts = (plan.vertex_count(), plan.triangle_count());
-        let written = match RefinedSource::new(&plan, &frame, o.max_memory).filter(|_| streams) {
+        let source = RefinedSource::new(&plan, &frame, o.max_memory);
+        let streamed = source.is_some();
+        let written = match source {
             Some(source) => tessella_io::write_streamed(output, &source, &o.write, &|_| {}),
+            // A plan that cannot be cut into pieces (none of refine_to_file's options make
+            // one): whole, within max_memory.
             None => {
+                let mut capped = refine.clone();
+                capped.max_output_bytes = o.max_memory;
                 let whole =
-                    tessella_core::refine(mesh, &refine).map_err(crate::errors::refine_error)?;
+                    tessella_core::refine(mesh, &capped).map_err(crate::errors::refine_error)?;
                 tessella_io::write_mesh(output, MeshView::from(&whole), &o.write)
             }
         };
         written.map_err(crate::errors::io_error)?;
-        Ok(counts)
+        Ok((counts.0, counts.1, streamed))
     })?;
     let row = PyDict::new(py);
     row.set_item("output", output)?;
     row.set_item("input_triangles", mesh.face_count())?;
     row.set_item("vertices", vertices)?;
     row.set_item("triangles", triangles)?;
-    row.set_item("streamed", streams)?;
+    row.set_item("streamed", streamed)?;
     row.set_item("seconds", start.elapsed().as_secs_f64())?;
     Ok(row.unbind())
 }

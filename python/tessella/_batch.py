@@ -41,8 +41,7 @@ def refine_to_file(
     Uniform refinements, welded or soup (``weld=False``), are written piece by piece: memory
     holds a few pieces of about ``max_memory / 8`` bytes (default ``max_memory`` 1 GiB)
     whatever the level, and the file has the bytes :func:`tessella.save` writes for the whole
-    refinement. A ``.gltf`` (JSON beside its buffer) is refined whole and refused beyond
-    ``max_memory``. The free disk space is checked first
+    refinement, in any format (``.gltf`` gets its buffer base64-encoded as it comes). The free disk space is checked first
     (``OSError``: "needs 41.2 GB, the disk has 12.0 GB free"), and the file is written to a
     file without a name that gets ``path``'s only when it is whole (Linux; elsewhere a
     temporary file renamed into place), so a failed or killed run leaves nothing at ``path``.

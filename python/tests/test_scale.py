@@ -40,7 +40,7 @@ def temporaries(root: Path):
 
 
 @pytest.mark.parametrize("weld", [True, False])
-@pytest.mark.parametrize("name", ["a.ply", "b.obj", "c.glb", "d.stl"])
+@pytest.mark.parametrize("name", ["a.ply", "b.obj", "c.glb", "d.stl", "e.gltf"])
 def test_streamed_file_has_the_bytes_of_the_whole_refinement(tmp_path, name, weld):
     v, f = icosphere(2)
     # Independent path: the whole refinement in memory, written by tessella.save.
@@ -65,9 +65,6 @@ def test_refine_to_file_errors_are_typed_and_leave_nothing(tmp_path):
         tessella.refine_to_file(v, np.array([[0, 1, 99]]), tmp_path / "x.ply")
     with pytest.raises(FileFormatError, match="extension"):
         tessella.refine_to_file(v, f, tmp_path / "x.fbx")
-    # .gltf is written whole, and capped by max_memory.
-    with pytest.raises(OptionError, match="limit"):
-        tessella.refine_to_file(v, f, tmp_path / "x.gltf", level=200, weld=False, max_memory=1 << 20)
     with pytest.raises(FileNotFoundError):
         tessella.refine_file(tmp_path / "missing.obj", tmp_path / "x.ply")
     assert issubclass(OptionError, TessellaError) and issubclass(TessellaError, ValueError)

@@ -304,36 +304,80 @@ impl Displacement {
         if !self.is_some() {
             return Ok(());
         }
+        let shared = frame.shared();
+        self.apply_range(
+            0,
+            &mut out.positions,
+            &out.normals,
+            out.uvs.as_deref(),
+            frame,
+            &shared,
+        )
+    }
+
+    /// Displaces the output vertices `first..first + positions.len()` (a piece of the output,
+    /// in layout order, with its own `normals` and `uvs`) exactly as [`Displacement::apply`]
+    /// displaces them in the whole output: what a refinement written piece by piece uses.
+    /// `shared` is the frame's [`DisplaceFrame::shared`], built once for all pieces.
+    pub fn apply_range(
+        &self,
+        first: usize,
+        positions: &mut [[f32; 3]],
+        normals: &[[f32; 3]],
+        uvs: Option<&[[f32; 2]]>,
+        frame: &DisplaceFrame,
+        shared: &SharedSlots,
+    ) -> Result<(), DisplaceError> {
+        self.validate(uvs.is_some())?;
+        let n = positions.len();
+        let end = first.saturating_add(n);
+        if normals.len() != n
+            || uvs.is_some_and(|u| u.len() != n)
+            || end as u64 > frame.vertex_count
+        {
+            return Err(DisplaceError::FrameMismatch {
+                expected: frame.vertex_count,
+                got: end,
+            });
+        }
+        if !self.is_some() {
+            return Ok(());
+        }
         let perm = match self {
             Displacement::Perlin { seed, .. } => permutation(*seed),
             _ => [0; 512],
         };
-        let uv_of = |i: usize| out.uvs.as_ref().map_or([0.0; 2], |u| u[i]);
-        let moved = |i: usize, dir: [f32; 3]| {
-            let p = out.positions[i];
+        let uv_of = |i: usize| uvs.map_or([0.0; 2], |u| u[i]);
+        let moved = |p: [f32; 3], i: usize, dir: [f32; 3]| {
             let d = self.offset_with(&perm, p, uv_of(i));
             [p[0] + d * dir[0], p[1] + d * dir[1], p[2] + d * dir[2]]
         };
         // Shared directions first, from the undisplaced positions.
-        let shared: Vec<(usize, [f32; 3])> = frame
-            .shared_slots()
-            .into_par_iter()
-            .map(|(slot, face, l)| {
-                let dir = frame.faces[face].direction(l, out.normals[slot]);
-                (slot, moved(slot, dir))
+        let lo = shared.0.partition_point(|s| s.0 < first);
+        let hi = shared.0.partition_point(|s| s.0 < end);
+        let moved_shared: Vec<(usize, [f32; 3])> = shared.0[lo..hi]
+            .par_iter()
+            .map(|&(slot, face, l)| {
+                let i = slot - first;
+                let dir = frame.faces[face].direction(l, normals[i]);
+                (i, moved(positions[i], i, dir))
             })
             .collect();
-        let displaced: Vec<[f32; 3]> = (0..out.positions.len())
-            .into_par_iter()
-            .map(|i| moved(i, out.normals[i]))
-            .collect();
-        out.positions = displaced;
-        for (slot, p) in shared {
-            out.positions[slot] = p;
+        positions
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, p)| *p = moved(*p, i, normals[i]));
+        for (i, p) in moved_shared {
+            positions[i] = p;
         }
         Ok(())
     }
 }
+
+/// The output vertices that move along a direction shared by the faces around them (split
+/// corners and edges), sorted by output slot: `(slot, face, l)`. See [`DisplaceFrame::shared`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SharedSlots(Vec<(usize, usize, [f32; 3])>);
 
 /// What displacement needs to know about one coarse face: the position means of its corners
 /// and which of its corners and edges are split. The GPU uploads one per face (10 floats:
@@ -549,6 +593,14 @@ impl DisplaceFrame {
     /// its own normal).
     pub fn has_splits(&self) -> bool {
         self.faces.iter().any(|f| f.mask != 0)
+    }
+
+    /// The output vertices that take a shared direction, sorted by slot, for
+    /// [`Displacement::apply_range`].
+    pub fn shared(&self) -> SharedSlots {
+        let mut slots = self.shared_slots();
+        slots.sort_unstable_by_key(|s| s.0);
+        SharedSlots(slots)
     }
 
     /// The output vertices that may take a shared direction: `(slot, face, l)`, with `l` as the

@@ -42,7 +42,7 @@ pub mod tags;
 pub mod tessellator;
 
 pub use basis::Basis;
-pub use displace::{DisplaceError, DisplaceFrame, Displacement, HeightMap};
+pub use displace::{DisplaceError, DisplaceFrame, Displacement, HeightMap, SharedSlots};
 pub use error::{MeshError, RefineError};
 pub use mesh::{Mesh, Topology, TopologyReport};
 pub use names::{Backend, Named, UnknownName};

@@ -8,15 +8,25 @@ use crate::MeshView;
 use std::collections::HashMap;
 use std::sync::mpsc;
 use tessella_core::refine::{Frame, Piece, Plan, VertexOutput};
+use tessella_core::{DisplaceError, DisplaceFrame, Displacement, SharedSlots};
 
 /// Bytes of one vertex in the piece buffers (position, normal, uv).
 const VERTEX_BYTES: usize = 32;
 
-/// A uniform refinement of `frame` (welded or not), produced piece by piece.
+/// A uniform refinement of `frame` (welded or not), produced piece by piece, displaced when
+/// asked ([`RefinedSource::displaced`]).
 pub struct RefinedSource<'a> {
     plan: &'a Plan,
     frame: &'a Frame,
     piece_vertices: usize,
+    displace: Option<Displace<'a>>,
+}
+
+/// A displacement and what it needs of the mesh, built once for every piece.
+struct Displace<'a> {
+    displacement: &'a Displacement,
+    frame: DisplaceFrame,
+    shared: SharedSlots,
 }
 
 impl<'a> RefinedSource<'a> {
@@ -32,7 +42,26 @@ impl<'a> RefinedSource<'a> {
             plan,
             frame,
             piece_vertices,
+            displace: None,
         })
+    }
+
+    /// The same source with every vertex displaced by `displacement`: the positions
+    /// [`Displacement::apply`] gives the whole refinement, piece by piece. Errors when the
+    /// displacement needs texture coordinates the mesh lacks.
+    pub fn displaced(
+        mut self,
+        displacement: &'a Displacement,
+    ) -> Result<RefinedSource<'a>, DisplaceError> {
+        displacement.validate(self.plan.has_uvs())?;
+        let frame = DisplaceFrame::new(self.frame.mesh(), self.plan.topology(), self.plan.layout());
+        let shared = frame.shared();
+        self.displace = Some(Displace {
+            displacement,
+            frame,
+            shared,
+        });
+        Ok(self)
     }
 
     /// Faces per run of triangles: about a piece's worth of bytes.
@@ -51,14 +80,25 @@ struct Buffers {
 }
 
 impl Buffers {
+    /// Evaluates `piece` (displaced when `displace` is given: that needs the normals, and the
+    /// uvs when the mesh has them, whatever `want` says).
     fn fill(
         &mut self,
         plan: &Plan,
         frame: &Frame,
         piece: &Piece,
         want: Wanted,
+        displace: Option<&Displace>,
     ) -> std::io::Result<()> {
-        let n = plan.piece_vertices(piece).len();
+        let want = match displace {
+            Some(_) => Wanted {
+                normals: true,
+                uvs: plan.has_uvs(),
+            },
+            None => want,
+        };
+        let range = plan.piece_vertices(piece);
+        let n = range.len();
         self.positions.resize(n, [0.0; 3]);
         self.normals
             .resize(if want.normals { n } else { 0 }, [0.0; 3]);
@@ -72,7 +112,20 @@ impl Buffers {
                 uvs: want.uvs.then_some(&mut self.uvs[..]),
             },
         )
-        .map_err(std::io::Error::other)
+        .map_err(std::io::Error::other)?;
+        if let Some(d) = displace {
+            d.displacement
+                .apply_range(
+                    range.start,
+                    &mut self.positions,
+                    &self.normals,
+                    want.uvs.then_some(&self.uvs[..]),
+                    &d.frame,
+                    &d.shared,
+                )
+                .map_err(std::io::Error::other)?;
+        }
+        Ok(())
     }
 
     fn view(&self, want: Wanted) -> MeshView<'_> {
@@ -115,7 +168,7 @@ impl MeshSource for RefinedSource<'_> {
         if self.plan.vertex_count() <= self.piece_vertices {
             let mut buffers = Buffers::default();
             for piece in &pieces {
-                buffers.fill(self.plan, self.frame, piece, want)?;
+                buffers.fill(self.plan, self.frame, piece, want, self.displace.as_ref())?;
                 each(buffers.view(want))?;
             }
             return Ok(());
@@ -137,7 +190,8 @@ impl MeshSource for RefinedSource<'_> {
                     let Ok(mut buffers) = empty_rx.recv() else {
                         return;
                     };
-                    let filled = buffers.fill(self.plan, self.frame, piece, want);
+                    let filled =
+                        buffers.fill(self.plan, self.frame, piece, want, self.displace.as_ref());
                     if full_tx.send(filled.map(|()| buffers)).is_err() {
                         return;
                     }
@@ -188,7 +242,7 @@ impl MeshSource for RefinedSource<'_> {
             normals: false,
             uvs: false,
         };
-        let corners = self.frame.mesh().positions();
+        let displace = self.displace.as_ref();
         let per_face = plan.pattern().triangles.len();
         let faces = plan.face_count();
         let step = self.faces_per_run();
@@ -203,7 +257,7 @@ impl MeshSource for RefinedSource<'_> {
                 plan.write_face_indices(start..end, &mut triangles)
                     .map_err(std::io::Error::other)?;
                 let piece = Piece::Faces(start..end);
-                interiors.fill(plan, self.frame, &piece, positions_only)?;
+                interiors.fill(plan, self.frame, &piece, positions_only, displace)?;
                 let first = plan.piece_vertices(&piece).start;
                 out.clear();
                 out.extend(
@@ -215,13 +269,19 @@ impl MeshSource for RefinedSource<'_> {
             }
             return Ok(());
         }
+        // The coarse vertices' output positions (displaced, when displacing), a few per
+        // coarse vertex.
+        let mut corners = Buffers::default();
+        let coarse = Piece::Corners(0..plan.coarse_vertex_count());
+        corners.fill(plan, self.frame, &coarse, positions_only, displace)?;
+        let corners = corners.positions;
         for start in (0..faces).step_by(step) {
             let end = (start + step).min(faces);
             triangles.resize((end - start) * per_face, [0u32; 3]);
             plan.write_face_indices(start..end, &mut triangles)
                 .map_err(std::io::Error::other)?;
             let interior_piece = Piece::Interiors(start..end);
-            interiors.fill(plan, self.frame, &interior_piece, positions_only)?;
+            interiors.fill(plan, self.frame, &interior_piece, positions_only, displace)?;
             let interior_first = plan.piece_vertices(&interior_piece).start;
             // The run's edges, evaluated in runs of consecutive edge numbers.
             let mut unique: Vec<usize> = topology.face_edges[start..end]
@@ -244,6 +304,7 @@ impl MeshSource for RefinedSource<'_> {
                     self.frame,
                     &Piece::Edges(unique[i]..unique[j - 1] + 1),
                     positions_only,
+                    displace,
                 )?;
                 for (k, &e) in unique[i..j].iter().enumerate() {
                     edge_slot.insert(e, edge_positions.len());

@@ -153,11 +153,7 @@ pub fn write_streamed(
             Format::PlyAscii => ply(&mut out, source, true),
             Format::Obj => obj(&mut out, source),
             Format::Glb => glb(&mut out, source),
-            Format::Gltf => Err(std::io::Error::new(
-                std::io::ErrorKind::Unsupported,
-                "streamed output is written as .ply, .obj, .glb or .stl; .gltf embeds its \
-                 buffer as text, write .glb instead",
-            )),
+            Format::Gltf => gltf(&mut out, source),
             Format::Stl => stl(&mut out, source),
         }
     })
@@ -223,12 +219,11 @@ fn obj(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {
     source.triangles(&mut |run| crate::obj::write_faces(out, run, uvs, normals))
 }
 
-fn glb(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {
-    use crate::encode::{write_le, write_records};
+/// The glTF shape of `source`: its counts, attributes and the positions' bounds (one pass).
+fn gltf_shape(source: &dyn MeshSource) -> std::io::Result<crate::gltf::Shape> {
     use glam::Vec3;
     // The bounds, folded point by point in file order as `tessella_core::mesh::bounds` does.
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    let only = |normals, uvs| Wanted { normals, uvs };
     source.vertices(only(false, false), &mut |run| {
         for p in run.positions {
             lo = lo.min(Vec3::from(*p));
@@ -236,15 +231,26 @@ fn glb(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {
         }
         Ok(())
     })?;
-    let shape = crate::gltf::Shape {
+    Ok(crate::gltf::Shape {
         vertices: source.vertex_count(),
         triangles: source.triangle_count(),
         normals: source.has_normals(),
         uvs: source.has_uvs(),
         bounds: (lo.into(), hi.into()),
-    };
-    let (doc, bin_len) = crate::gltf::glb_document(&shape);
-    crate::gltf::write_glb_header(out, &doc, bin_len)?;
+    })
+}
+
+fn only(normals: bool, uvs: bool) -> Wanted {
+    Wanted { normals, uvs }
+}
+
+/// The glTF buffer of `source` (positions, normals, uvs, triangles), a pass per attribute.
+fn gltf_buffer(
+    out: &mut dyn Write,
+    source: &dyn MeshSource,
+    shape: &crate::gltf::Shape,
+) -> std::io::Result<()> {
+    use crate::encode::{write_le, write_records};
     source.vertices(only(false, false), &mut |run| write_le(out, run.positions))?;
     if shape.normals {
         source.vertices(only(true, false), &mut |run| {
@@ -261,8 +267,22 @@ fn glb(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {
             })
         })?;
     }
-    source.triangles(&mut |run| write_le(out, run))?;
+    source.triangles(&mut |run| write_le(out, run))
+}
+
+fn glb(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {
+    let shape = gltf_shape(source)?;
+    let (doc, bin_len) = crate::gltf::glb_document(&shape);
+    crate::gltf::write_glb_header(out, &doc, bin_len)?;
+    gltf_buffer(out, source, &shape)?;
     crate::gltf::write_glb_padding(out, bin_len)
+}
+
+/// `.gltf`: the JSON text with the buffer base64-encoded into it as the pieces come.
+fn gltf(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {
+    let shape = gltf_shape(source)?;
+    let doc = crate::gltf::gltf_document(&shape);
+    crate::gltf::write_gltf_text(out, &doc, |encoder| gltf_buffer(encoder, source, &shape))
 }
 
 fn stl(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {

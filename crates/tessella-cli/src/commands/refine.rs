@@ -156,8 +156,8 @@ fn describe(options: &RefineOptions, plan: &tessella_core::refine::Plan) -> Stri
 }
 
 /// Whether this refinement is written piece by piece (bounded memory, any size): uniform grid
-/// levels on the CPU, welded or not, without displacement, per-vertex fields or origins, to a
-/// format the streamed writer knows. Everything else is refined in memory, within
+/// levels on the CPU, welded or not, displaced or not, without per-vertex fields or origins,
+/// to a format the streamed writer knows. Everything else is refined in memory, within
 /// `--max-memory`.
 fn streams(
     args: &RefineArgs,
@@ -172,10 +172,9 @@ fn streams(
     cpu && !args.in_memory
         && options.uniform_grid_level() == Some(options.level)
         && options.levels.is_none()
-        && args.displace.is_none()
         && !args.write_origin
         && fields.is_empty()
-        && !matches!(format, Some(Format::Gltf) | None)
+        && format.is_some()
 }
 
 /// The streamed path: `--max-memory` is the working set, not a cap on the output.
@@ -202,8 +201,12 @@ mod stream {
         let plan = Plan::new(&mesh, &options)
             .with_context(|| format!("cannot refine {}", args.input.display()))?;
         let frame = plan.frame(&mesh)?;
-        let source = RefinedSource::new(&plan, &frame, args.max_memory)
-            .context("a welded uniform plan is evaluated in pieces")?;
+        let displacement = super::super::displace::parse(args.displace.as_deref())?;
+        let mut source = RefinedSource::new(&plan, &frame, args.max_memory)
+            .context("a uniform plan is evaluated in pieces")?;
+        if displacement.is_some() {
+            source = source.displaced(&displacement)?;
+        }
         let write = WriteOptions {
             ply_ascii: args.ply_ascii,
             durability,

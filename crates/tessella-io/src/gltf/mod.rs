@@ -17,7 +17,9 @@ mod read;
 mod write;
 
 pub use read::{read, read_with, Buffers};
-pub(crate) use write::{glb_document, write_glb_header, write_glb_padding, Shape};
+pub(crate) use write::{
+    glb_document, gltf_document, write_glb_header, write_glb_padding, write_gltf_text, Shape,
+};
 pub use write::{write, write_with_scalars};
 
 /// Flips a texture coordinate between glTF's and OBJ/PLY's conventions (an involution).

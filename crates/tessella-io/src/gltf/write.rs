@@ -163,21 +163,40 @@ pub fn write_with_scalars(
         write_buffer(out, mesh, scalars)?;
         write_glb_padding(out, bin_len)
     } else {
-        let uri = format!("data:application/octet-stream;base64,{PLACEHOLDER}");
-        let (doc, _) = document(mesh, scalars, Some(uri));
-        let text = serde_json::to_string_pretty(&doc).map_err(std::io::Error::other)?;
-        let (head, tail) = text
-            .split_once(PLACEHOLDER)
-            .ok_or_else(|| std::io::Error::other("glTF writer lost its buffer placeholder"))?;
-        out.write_all(head.as_bytes())?;
-        {
-            let mut encoder = base64::write::EncoderWriter::new(&mut *out, &STANDARD);
-            write_buffer(&mut encoder, mesh, scalars)?;
-            encoder.finish()?;
-        }
-        out.write_all(tail.as_bytes())?;
-        out.write_all(b"\n")
+        let (doc, _) = document(mesh, scalars, Some(embedded_uri()));
+        write_gltf_text(out, &doc, |encoder| write_buffer(encoder, mesh, scalars))
     }
+}
+
+/// The buffer's URI in a `.gltf`'s JSON: base64 data, written in later by [`write_gltf_text`].
+fn embedded_uri() -> String {
+    format!("data:application/octet-stream;base64,{PLACEHOLDER}")
+}
+
+/// The `.gltf` document of a mesh of `shape` without extra scalars, its buffer embedded.
+pub(crate) fn gltf_document(shape: &Shape) -> Value {
+    document_for(shape, &[], Some(embedded_uri())).0
+}
+
+/// Writes `doc` as JSON text with the buffer's bytes, from `buffer`, base64-encoded into the
+/// URI on the fly (never held whole).
+pub(crate) fn write_gltf_text(
+    out: &mut dyn Write,
+    doc: &Value,
+    buffer: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let text = serde_json::to_string_pretty(doc).map_err(std::io::Error::other)?;
+    let (head, tail) = text
+        .split_once(PLACEHOLDER)
+        .ok_or_else(|| std::io::Error::other("glTF writer lost its buffer placeholder"))?;
+    out.write_all(head.as_bytes())?;
+    {
+        let mut encoder = base64::write::EncoderWriter::new(&mut *out, &STANDARD);
+        buffer(&mut encoder)?;
+        encoder.finish()?;
+    }
+    out.write_all(tail.as_bytes())?;
+    out.write_all(b"\n")
 }
 
 /// The GLB document of a mesh of `shape` without extra scalars, and its buffer's length.
