@@ -212,12 +212,13 @@ fn refine_adaptive<'py>(
         ));
     }
     let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
+    pool::follow_numpy(py);
     let (out, from) = py.detach(|| -> PyResult<_> {
         if backend == options::Backend::Gl {
             return Ok((gl::refine(&mesh, &opts)?, None));
         }
         let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
-        let out = refiner.refine();
+        let out = pool::refine(&refiner);
         let from = origin.then(|| refiner.plan().origin());
         Ok((out, from))
     })?;
@@ -235,12 +236,12 @@ fn refine_adaptive<'py>(
         None => (None, None),
     };
     Ok((
-        arrays::to_numpy(py, out.positions),
-        arrays::to_numpy(py, out.triangles),
-        arrays::to_numpy(py, out.normals),
+        pool::to_numpy(py, out.positions)?,
+        pool::to_numpy(py, out.triangles)?,
+        pool::to_numpy(py, out.normals)?,
         face,
         bary,
-        out.uvs.map(|u| arrays::to_numpy(py, u)),
+        out.uvs.map(|u| pool::to_numpy(py, u)).transpose()?,
     ))
 }
 

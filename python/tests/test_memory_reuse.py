@@ -48,6 +48,22 @@ def test_freed_arrays_are_written_again_with_the_same_bits():
         assert np.array_equal(got.view(np.uint32), w.view(np.uint32))
 
 
+def test_the_origin_and_spacing_paths_reuse_memory_too():
+    v, f = sphere()
+    for options in [dict(origin=True), dict(spacing="fractional-odd", level=23.0)]:
+        kwargs = dict(level=24, **options) if "spacing" not in options else options
+        first = tessella.refine(v, f, **kwargs)
+        want = [a.copy() for a in first[:3]]
+        addresses = {address(a) for a in first[:3]}
+        del first
+        again = tessella.refine(v, f, **kwargs)
+        assert {address(a) for a in again[:3]} == addresses, options
+        for got, w in zip(again[:3], want):
+            assert np.array_equal(got.view(np.uint32), w.view(np.uint32)), options
+        del again
+        tessella.release_memory()
+
+
 def test_memory_still_in_use_is_never_handed_out():
     v, f = sphere()
     first = tessella.refine(v, f, level=24)
