@@ -207,7 +207,23 @@ fn weights_dual(l: [f64; 3]) -> [Dual; PNG1_LEN] {
 
 /// Evaluates a PNG1 net in f64 at `l`: `(position, Du, Dv)`.
 pub fn eval_f64(net: &[DVec3; PNG1_LEN], l: [f64; 3]) -> (DVec3, DVec3, DVec3) {
-    let w = weights_dual(l);
+    eval_with(net, &weights_dual(l))
+}
+
+/// The weights (value and derivatives) at the edge midpoints `(½, ½, 0)`, `(0, ½, ½)`,
+/// `(½, 0, ½)`, computed once: every net's smoothed normals evaluate there
+/// ([`eval_f64_at_mid`]), and the rational weights cost more than the sum.
+static MID_WEIGHTS: std::sync::LazyLock<[[Dual; PNG1_LEN]; 3]> = std::sync::LazyLock::new(|| {
+    [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]].map(weights_dual)
+});
+
+/// [`eval_f64`] at the midpoint of edge `k` (`k` to `k + 1`), with weights computed once: the
+/// same bits as `eval_f64(net, mid)`.
+pub fn eval_f64_at_mid(net: &[DVec3; PNG1_LEN], k: usize) -> (DVec3, DVec3, DVec3) {
+    eval_with(net, &MID_WEIGHTS[k])
+}
+
+fn eval_with(net: &[DVec3; PNG1_LEN], w: &[Dual; PNG1_LEN]) -> (DVec3, DVec3, DVec3) {
     let (mut p, mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for (wk, c) in w.iter().zip(net) {
         p += wk.v * *c;
@@ -221,6 +237,23 @@ pub fn eval_f64(net: &[DVec3; PNG1_LEN], l: [f64; 3]) -> (DVec3, DVec3, DVec3) {
 mod tests {
     use super::*;
     use crate::basis::Basis;
+
+    #[test]
+    fn midpoint_evaluation_with_weights_kept_equals_eval_f64_bit_for_bit() {
+        let net: [DVec3; PNG1_LEN] =
+            std::array::from_fn(|i| DVec3::new(i as f64 * 0.37, (i * i) as f64 * 0.011, -0.5));
+        let mids = [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]];
+        let bits = |(p, du, dv): (DVec3, DVec3, DVec3)| {
+            [p, du, dv].map(|v| v.to_array().map(f64::to_bits))
+        };
+        for (k, mid) in mids.into_iter().enumerate() {
+            assert_eq!(
+                bits(eval_f64_at_mid(&net, k)),
+                bits(eval_f64(&net, mid)),
+                "edge {k}"
+            );
+        }
+    }
 
     #[test]
     fn weights_sum_to_one_and_match_finite_differences() {

@@ -85,9 +85,57 @@ fn tangent_point(a: DVec3, n: DVec3, x: DVec3) -> DVec3 {
     }
 }
 
+/// A segment `s0 → s1` in a plane with unit normal `n`, as a frame `(t, n × t / |t|)` at `s0`:
+/// the pieces of the similarity [`transfer`] builds, kept so that the four transfers of an
+/// edge set up three frames instead of eight (the same operations, so the same bits).
+struct SegmentFrame {
+    s0: DVec3,
+    t: DVec3,
+    m: DVec3,
+    len: f64,
+}
+
+impl SegmentFrame {
+    fn new(s0: DVec3, s1: DVec3, n: DVec3) -> SegmentFrame {
+        let t = s1 - s0;
+        let len = t.length();
+        // Unused when the segment is degenerate (`len == 0`): the transfer translates then.
+        let m = if len == 0.0 {
+            DVec3::ZERO
+        } else {
+            n.cross(t) / len
+        };
+        SegmentFrame { s0, t, m, len }
+    }
+
+    /// `x` in this frame: its offset from `s0` and its coordinates `(ξ, η)` along `t` and `m`,
+    /// in units of the segment's length.
+    fn coords(&self, x: DVec3) -> (DVec3, f64, f64) {
+        let r = x - self.s0;
+        if self.len == 0.0 {
+            return (r, 0.0, 0.0);
+        }
+        (
+            r,
+            r.dot(self.t) / (self.len * self.len),
+            r.dot(self.m) / self.len,
+        )
+    }
+
+    /// The point with coordinates `coords` (from `from`) in this frame: the similarity carrying
+    /// `from`'s segment onto this one, or a translation when either segment is degenerate.
+    fn place(&self, from: &SegmentFrame, (r, xi, eta): (DVec3, f64, f64)) -> DVec3 {
+        if from.len == 0.0 || self.len == 0.0 {
+            return self.s0 + r;
+        }
+        self.s0 + xi * self.t + (eta * self.len) * self.m
+    }
+}
+
 /// The similarity carrying segment `s0 → s1` (in the plane with unit normal `ns`) onto
 /// `d0 → d1` (in the plane with unit normal `nd`), frames `(t, n × t, n)` onto each other,
-/// applied to `x`.
+/// applied to `x`. The plain form of what [`SegmentFrame`] computes in parts.
+#[cfg(test)]
 fn transfer(x: DVec3, s0: DVec3, s1: DVec3, ns: DVec3, d0: DVec3, d1: DVec3, nd: DVec3) -> DVec3 {
     let ts = s1 - s0;
     let td = d1 - d0;
@@ -143,10 +191,16 @@ pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) ->
             }
         }
 
-        let mut centre_a = transfer(f_a, pa, e_a, na, e_a, e_b, nm);
-        let mut cross_a = transfer(f_a, pa, e_a, na, e_b, pb, nb);
-        let mut centre_b = transfer(f_b, e_b, pb, nb, e_a, e_b, nm);
-        let mut cross_b = transfer(f_b, e_b, pb, nb, pa, e_a, na);
+        // Version a maps from a → e_a (a's plane), version b from e_b → b (b's plane); each
+        // onto the middle segment and onto the other end's segment.
+        let at_a = SegmentFrame::new(pa, e_a, na);
+        let at_b = SegmentFrame::new(e_b, pb, nb);
+        let middle = SegmentFrame::new(e_a, e_b, nm);
+        let (in_a, in_b) = (at_a.coords(f_a), at_b.coords(f_b));
+        let mut centre_a = middle.place(&at_a, in_a);
+        let mut cross_a = at_b.place(&at_a, in_a);
+        let mut centre_b = middle.place(&at_b, in_b);
+        let mut cross_b = at_a.place(&at_b, in_b);
         if let Some(kappa) = edge.sharp {
             let shift = kappa * n_t;
             centre_a += shift;
@@ -170,10 +224,9 @@ pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) ->
 /// `2 n_e = 4 M_e - (Na + Nb)` with `M_e` the unit surface normal at the edge's midpoint, so the
 /// net reproduces the surface normal exactly at corners and edge midpoints.
 pub fn smoothed_normal_net(net: &[DVec3; PNG1_LEN], n: [DVec3; 3]) -> [DVec3; NORMAL_NET_LEN] {
-    let mids = [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]];
     let mut out = [n[0], n[1], n[2], DVec3::ZERO, DVec3::ZERO, DVec3::ZERO];
     for k in 0..3 {
-        let (_, du, dv) = eval_f64(net, mids[k]);
+        let (_, du, dv) = crate::basis::png1::eval_f64_at_mid(net, k);
         let (a, b) = (n[k], n[(k + 1) % 3]);
         // A degenerate midpoint (Du ∥ Dv) falls back on the mean of the end normals.
         let m = du
@@ -183,4 +236,38 @@ pub fn smoothed_normal_net(net: &[DVec3; PNG1_LEN], n: [DVec3; 3]) -> [DVec3; NO
         out[3 + k] = 4.0 * m - (a + b);
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The frames give the plain similarity's bits, degenerate segments (a translation)
+    /// included.
+    #[test]
+    fn segment_frames_give_the_plain_transfer_bit_for_bit() {
+        let mut seed = 11u32;
+        let mut r = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f64 / (1u32 << 24) as f64 * 2.0 - 1.0
+        };
+        for case in 0..200 {
+            let mut v = || DVec3::new(r(), r(), r());
+            let (x, s0, d0) = (v(), v(), v());
+            let mut s1 = v();
+            let mut d1 = v();
+            if case % 7 == 0 {
+                s1 = s0;
+            }
+            if case % 11 == 0 {
+                d1 = d0;
+            }
+            let (ns, nd) = (v().normalize(), v().normalize());
+            let (from, to) = (SegmentFrame::new(s0, s1, ns), SegmentFrame::new(d0, d1, nd));
+            let got = to.place(&from, from.coords(x));
+            let want = transfer(x, s0, s1, ns, d0, d1, nd);
+            let bits = |p: DVec3| p.to_array().map(f64::to_bits);
+            assert_eq!(bits(got), bits(want), "case {case}");
+        }
+    }
 }
