@@ -96,7 +96,6 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
     let (vertices, triangles, streamed) = py.detach(|| -> Result<_, PyErr> {
         let plan = Plan::new(mesh, &refine).map_err(crate::errors::refine_error)?;
         let frame = plan.frame(mesh).map_err(crate::errors::refine_error)?;
-        let counts = (plan.vertex_count(), plan.triangle_count());
         let source = RefinedSource::new(&plan, &frame, o.max_memory);
         let streamed = source.is_some();
         let written = match source {
@@ -112,7 +111,7 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
             }
         };
         written.map_err(crate::errors::io_error)?;
-        Ok((counts.0, counts.1, streamed))
+        Ok((plan.vertex_count(), plan.triangle_count(), streamed))
     })?;
     let row = PyDict::new(py);
     row.set_item("output", output)?;

@@ -52,6 +52,20 @@ fn evaluate(plan: &Plan, frame: &Frame) -> RefinedMesh {
     out
 }
 
+/// Evaluates a frame into one interleaved buffer of `format`, every float `fill` first.
+fn evaluate_interleaved(plan: &Plan, frame: &Frame, format: VertexFormat, fill: f32) -> Vec<f32> {
+    let mut data = vec![fill; plan.vertex_count() * format.stride];
+    plan.evaluate(
+        frame,
+        VertexOutput::Interleaved {
+            data: &mut data,
+            format,
+        },
+    )
+    .unwrap();
+    data
+}
+
 /// Every output vertex of every face against the f64 reference of `mesh` (the deformed
 /// frame's own mesh, built independently with `Mesh::new`). Positions must match on every face
 /// that uses a vertex; normals on at least one (real normals differ across a coarse edge, where
@@ -198,15 +212,7 @@ fn interleaved_output_holds_the_same_bits_and_leaves_other_floats_alone() {
             normal: Some(7),
             uv: Some(0),
         };
-        let mut data = vec![-7.5f32; n * format.stride];
-        plan.evaluate(
-            &frame,
-            VertexOutput::Interleaved {
-                data: &mut data,
-                format,
-            },
-        )
-        .unwrap();
+        let data = evaluate_interleaved(&plan, &frame, format, -7.5);
         for v in 0..n {
             let at = &data[v * 10..(v + 1) * 10];
             assert_eq!(
@@ -248,26 +254,9 @@ fn outputs_past_the_streaming_size_hold_the_same_bits_as_plain_stores() {
             n * 24 > 64 << 20,
             "{n} vertices stay under the streaming size"
         );
-        let (mut p, mut nr) = (vec![[f32::NAN; 3]; n], vec![[f32::NAN; 3]; n]);
-        plan.evaluate(
-            &frame,
-            VertexOutput::Separate {
-                positions: &mut p,
-                normals: Some(&mut nr),
-                uvs: None,
-            },
-        )
-        .unwrap();
-        let format = VertexFormat::POSITION_NORMAL;
-        let mut data = vec![f32::NAN; n * format.stride];
-        plan.evaluate(
-            &frame,
-            VertexOutput::Interleaved {
-                data: &mut data,
-                format,
-            },
-        )
-        .unwrap();
+        let separate = evaluate(&plan, &frame);
+        let (p, nr) = (separate.positions, separate.normals);
+        let data = evaluate_interleaved(&plan, &frame, VertexFormat::POSITION_NORMAL, f32::NAN);
         for v in 0..n {
             let bits = |a: &[f32]| a.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             let at = &data[v * 6..(v + 1) * 6];

@@ -6,6 +6,7 @@
 use crate::stream::{MeshSource, Wanted};
 use crate::MeshView;
 use std::collections::HashMap;
+use std::ops::Range;
 use std::sync::mpsc;
 use tessella_core::refine::{Frame, Piece, Plan, VertexOutput};
 use tessella_core::{DisplaceError, DisplaceFrame, Displacement, SharedSlots};
@@ -69,7 +70,28 @@ impl<'a> RefinedSource<'a> {
         let per_face = self.plan.pattern().triangles.len().max(1);
         (self.piece_vertices * VERTEX_BYTES / 12 / per_face).max(1)
     }
+
+    /// The refined triangles in runs of whole coarse faces (about a piece's worth of bytes
+    /// each): `each(faces, their triangles)`, in output order.
+    fn face_runs(&self, each: &mut FaceRun<'_>) -> std::io::Result<()> {
+        let per_face = self.plan.pattern().triangles.len();
+        let faces = self.plan.face_count();
+        let step = self.faces_per_run();
+        let mut run = Vec::new();
+        for start in (0..faces).step_by(step) {
+            let end = (start + step).min(faces);
+            run.resize((end - start) * per_face, [0u32; 3]);
+            self.plan
+                .write_face_indices(start..end, &mut run)
+                .map_err(std::io::Error::other)?;
+            each(start..end, &run)?;
+        }
+        Ok(())
+    }
 }
+
+/// What [`RefinedSource::face_runs`] hands each run to: the faces and their triangles.
+type FaceRun<'a> = dyn FnMut(Range<usize>, &[[u32; 3]]) -> std::io::Result<()> + 'a;
 
 /// One evaluated piece: positions, and normals and uvs when asked for.
 #[derive(Default)]
@@ -215,19 +237,7 @@ impl MeshSource for RefinedSource<'_> {
         &self,
         each: &mut dyn FnMut(&[[u32; 3]]) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
-        let per_face = self.plan.pattern().triangles.len();
-        let faces = self.plan.face_count();
-        let step = self.faces_per_run();
-        let mut run = Vec::new();
-        for start in (0..faces).step_by(step) {
-            let end = (start + step).min(faces);
-            run.resize((end - start) * per_face, [0u32; 3]);
-            self.plan
-                .write_face_indices(start..end, &mut run)
-                .map_err(std::io::Error::other)?;
-            each(&run)?;
-        }
-        Ok(())
+        self.face_runs(&mut |_, run| each(run))
     }
 
     fn triangle_corners(
@@ -243,20 +253,12 @@ impl MeshSource for RefinedSource<'_> {
             uvs: false,
         };
         let displace = self.displace.as_ref();
-        let per_face = plan.pattern().triangles.len();
-        let faces = plan.face_count();
-        let step = self.faces_per_run();
-        let (mut triangles, mut interiors, mut edges) =
-            (Vec::new(), Buffers::default(), Buffers::default());
+        let (mut interiors, mut edges) = (Buffers::default(), Buffers::default());
         let mut out = Vec::new();
         if !layout.weld {
             // Unwelded: a run of faces' patterns holds every corner of its triangles.
-            for start in (0..faces).step_by(step) {
-                let end = (start + step).min(faces);
-                triangles.resize((end - start) * per_face, [0u32; 3]);
-                plan.write_face_indices(start..end, &mut triangles)
-                    .map_err(std::io::Error::other)?;
-                let piece = Piece::Faces(start..end);
+            return self.face_runs(&mut |faces, triangles| {
+                let piece = Piece::Faces(faces);
                 interiors.fill(plan, self.frame, &piece, positions_only, displace)?;
                 let first = plan.piece_vertices(&piece).start;
                 out.clear();
@@ -265,9 +267,8 @@ impl MeshSource for RefinedSource<'_> {
                         .iter()
                         .map(|t| t.map(|v| interiors.positions[v as usize - first])),
                 );
-                each(&out)?;
-            }
-            return Ok(());
+                each(&out)
+            });
         }
         // The coarse vertices' output positions (displaced, when displacing), a few per
         // coarse vertex.
@@ -275,11 +276,8 @@ impl MeshSource for RefinedSource<'_> {
         let coarse = Piece::Corners(0..plan.coarse_vertex_count());
         corners.fill(plan, self.frame, &coarse, positions_only, displace)?;
         let corners = corners.positions;
-        for start in (0..faces).step_by(step) {
-            let end = (start + step).min(faces);
-            triangles.resize((end - start) * per_face, [0u32; 3]);
-            plan.write_face_indices(start..end, &mut triangles)
-                .map_err(std::io::Error::other)?;
+        self.face_runs(&mut |faces, triangles| {
+            let Range { start, end } = faces;
             let interior_piece = Piece::Interiors(start..end);
             interiors.fill(plan, self.frame, &interior_piece, positions_only, displace)?;
             let interior_first = plan.piece_vertices(&interior_piece).start;
@@ -327,8 +325,7 @@ impl MeshSource for RefinedSource<'_> {
             };
             out.clear();
             out.extend(triangles.iter().map(|t| t.map(at)));
-            each(&out)?;
-        }
-        Ok(())
+            each(&out)
+        })
     }
 }
