@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tessella_core::refine::Plan;
 use tessella_core::{Mesh, NormalMode, RefineOptions, Scheme};
-use tessella_io::{MeshView, RefinedSource, WriteOptions};
+use tessella_io::{RefinedSource, WriteOptions};
 
 /// Adds this module's functions to `m`.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -85,34 +85,44 @@ fn options(
     })
 }
 
-/// Refines `mesh` into `output`: streamed when the plan allows, else whole within the budget.
-fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py<PyDict>> {
+/// What goes into the file beside the refined mesh: per-vertex fields of the coarse mesh
+/// (one value per coarse vertex each) and, with `origin`, each vertex's coarse face and
+/// barycentrics (PLY only).
+struct Extras {
+    fields: Vec<(String, Vec<f32>)>,
+    origin: bool,
+}
+
+/// Refines `mesh` into `output`, piece by piece: every plan these functions make (uniform
+/// levels, welded or soup) streams, so `max_memory` is the working set, not a cap.
+fn write(
+    py: Python<'_>,
+    mesh: &Mesh,
+    output: &Path,
+    o: &Options,
+    extras: &Extras,
+) -> PyResult<Py<PyDict>> {
     tessella_io::Format::from_path(output).map_err(crate::errors::io_error)?;
     let start = Instant::now();
     let mut refine = o.refine.clone();
-    // Every uniform refinement streams (welded or soup, to any format): max_memory is the
-    // working set, not a cap on the output.
     refine.max_output_bytes = u64::MAX;
-    let (vertices, triangles, streamed) = py.detach(|| -> Result<_, PyErr> {
+    let (vertices, triangles) = py.detach(|| -> Result<_, PyErr> {
         let plan = Plan::new(mesh, &refine).map_err(crate::errors::refine_error)?;
         let frame = plan.frame(mesh).map_err(crate::errors::refine_error)?;
-        let source = RefinedSource::new(&plan, &frame, o.max_memory);
-        let streamed = source.is_some();
-        let written = match source {
-            Some(source) => tessella_io::write_streamed(output, &source, &o.write, &|_| {}),
-            // A plan that cannot be cut into pieces (none of refine_to_file's options make
-            // one): whole, within max_memory.
-            None => {
-                let mut capped = refine.clone();
-                capped.max_output_bytes = o.max_memory;
-                let whole =
-                    tessella_core::refine(mesh, &capped).map_err(crate::errors::refine_error)?;
-                tessella_io::write_mesh(output, MeshView::from(&whole), &o.write)
-            }
-        };
-        written.map_err(crate::errors::io_error)?;
-        Ok((plan.vertex_count(), plan.triangle_count(), streamed))
+        let mut source = RefinedSource::new(&plan, &frame, o.max_memory).ok_or_else(|| {
+            crate::errors::bad_option("only uniform levels are written to files piece by piece")
+        })?;
+        source = source
+            .with_fields(&extras.fields)
+            .map_err(|e| crate::errors::bad_mesh(e.to_string()))?;
+        if extras.origin {
+            source = source.with_origin();
+        }
+        tessella_io::write_streamed(output, &source, &o.write, &|_| {})
+            .map_err(crate::errors::io_error)?;
+        Ok((plan.vertex_count(), plan.triangle_count()))
     })?;
+    let streamed = true;
     let row = PyDict::new(py);
     row.set_item("output", output)?;
     row.set_item("input_triangles", mesh.face_count())?;
@@ -127,7 +137,7 @@ fn write(py: Python<'_>, mesh: &Mesh, output: &Path, o: &Options) -> PyResult<Py
 /// counts. See `tessella.refine_to_file` for the options.
 #[pyfunction]
 #[pyo3(name = "_refine_file", signature = (input, output, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
-                    weld=true, ply_ascii=false, max_memory=1 << 30, sync=true))]
+                    weld=true, ply_ascii=false, max_memory=1 << 30, sync=true, origin=false))]
 #[allow(clippy::too_many_arguments)]
 fn refine_file(
     py: Python<'_>,
@@ -141,6 +151,7 @@ fn refine_file(
     ply_ascii: bool,
     max_memory: i64,
     sync: bool,
+    origin: bool,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
         scheme,
@@ -152,16 +163,22 @@ fn refine_file(
         max_memory,
         sync,
     )?;
-    let mesh = py
-        .detach(|| tessella_io::read_mesh(&input))
+    let (mesh, fields) = py
+        .detach(|| tessella_io::read_mesh_with_fields(&input))
         .map_err(|e| crate::errors::read_error(e, &input))?;
-    write(py, &mesh, &output, &o)
+    // The file's fields go where the output holds them, as `tessella refine` does.
+    let fields = match tessella_io::holds_vertex_scalars(&output) {
+        true => fields.into_iter().collect(),
+        false => Vec::new(),
+    };
+    write(py, &mesh, &output, &o, &Extras { fields, origin })
 }
 
 /// Refines arrays into the file `output`; see `tessella.refine_to_file`.
 #[pyfunction]
 #[pyo3(name = "_refine_to_file", signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8, alpha=0.75,
-                    normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30, sync=true))]
+                    normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30, sync=true, origin=false,
+                    point_data=Vec::new()))]
 #[allow(clippy::too_many_arguments)]
 fn refine_to_file(
     py: Python<'_>,
@@ -177,6 +194,8 @@ fn refine_to_file(
     ply_ascii: bool,
     max_memory: i64,
     sync: bool,
+    origin: bool,
+    point_data: Vec<(String, numpy::PyReadonlyArray1<'_, f32>)>,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
         scheme,
@@ -190,5 +209,9 @@ fn refine_to_file(
     )?;
     // mesh_from raises the package's own classes already (MeshError, TypeError for dtypes).
     let mesh = crate::mesh_from(py, vertices, faces, normals)?;
-    write(py, &mesh, &output, &o)
+    let fields = point_data
+        .iter()
+        .map(|(name, values)| Ok((name.clone(), values.as_slice()?.to_vec())))
+        .collect::<PyResult<_>>()?;
+    write(py, &mesh, &output, &o, &Extras { fields, origin })
 }

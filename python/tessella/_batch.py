@@ -28,36 +28,71 @@ MANIFEST = "manifest.jsonl"
 #: Extensions of the mesh files a folder is searched for.
 MESH_EXTENSIONS = (".obj", ".ply", ".gltf", ".glb", ".stl")
 #: The options :func:`refine_to_file`, :func:`batch` and :mod:`tessella.dask` pass on.
-OPTIONS = ("scheme", "level", "alpha", "normals_mode", "weld", "ply_ascii", "max_memory", "sync")
+OPTIONS = (
+    "scheme", "level", "alpha", "normals_mode", "weld", "ply_ascii", "max_memory", "sync", "origin",
+)
 
 
 def refine_to_file(
-    vertices: Any, faces: Any, path: PathLike, normals: Any = None, **options: Any
+    vertices: Any,
+    faces: Any,
+    path: PathLike,
+    normals: Any = None,
+    *,
+    point_data: Optional[Dict[str, Any]] = None,
+    **options: Any,
 ) -> Dict[str, Any]:
-    """Refines a mesh straight into the file ``path`` (``.ply``, ``.obj``, ``.glb``, ``.stl``;
-    ``.gltf`` is written whole) and returns its counts (``vertices``, ``triangles``,
+    """Refines a mesh straight into the file ``path`` (``.ply``, ``.obj``, ``.glb``,
+    ``.gltf``, ``.stl``) and returns its counts (``vertices``, ``triangles``,
     ``input_triangles``, ``streamed``, ``seconds``).
 
-    Uniform refinements, welded or soup (``weld=False``), are written piece by piece: memory
-    holds a few pieces of about ``max_memory / 8`` bytes (default ``max_memory`` 1 GiB)
-    whatever the level, and the file has the bytes :func:`tessella.save` writes for the whole
-    refinement, in any format (``.gltf`` gets its buffer base64-encoded as it comes). The free disk space is checked first
-    (``OSError``: "needs 41.2 GB, the disk has 12.0 GB free"), and the file is written to a
-    file without a name that gets ``path``'s only when it is whole (Linux; elsewhere a
-    temporary file renamed into place), so a failed or killed run leaves nothing at ``path``.
+    The refinement (uniform levels, welded or soup: ``weld=False``) is written piece by piece:
+    memory holds a few pieces of about ``max_memory / 8`` bytes (default ``max_memory`` 1 GiB)
+    whatever the level, and the file has the bytes the whole refinement gets in memory, in any
+    format (``.gltf`` gets its buffer base64-encoded as it comes). The free disk space is
+    checked first (``OSError``: "needs 41.2 GB, the disk has 12.0 GB free"), and the file is
+    written to a file without a name that gets ``path``'s only when it is whole (Linux;
+    elsewhere a temporary file renamed into place), so a failed or killed run leaves nothing
+    at ``path``.
+
+    ``point_data`` (name to one value per coarse vertex, shape ``(n,)``) is carried to every
+    refined vertex as :func:`tessella.refine` carries it (linear on each face) and written as
+    PLY vertex properties or glTF ``_NAME`` attributes, piece by piece too; other formats
+    refuse it (``FileFormatError``), as they refuse ``origin=True``, which writes each
+    vertex's coarse face and barycentrics (PLY ``face``, ``bary1..3``).
 
     Options: ``scheme`` (``"pn"``), ``level`` (8), ``alpha`` (0.75), ``normals_mode``,
     ``weld`` (True), ``ply_ascii`` (False), ``max_memory`` (bytes), ``sync`` (True: the file
     is flushed to the disk before it gets its name; False leaves that to the system, or to one
-    :func:`sync_folder` after many files, as :func:`batch` does). Raises ``MeshError`` for a
-    bad mesh, ``OptionError`` for bad options, ``OSError`` for what the system refused.
+    :func:`sync_folder` after many files, as :func:`batch` does), ``origin`` (False). Raises
+    ``MeshError`` for a bad mesh or field, ``OptionError`` for bad options, ``OSError`` for
+    what the system refused.
     """
     _check_options(options)
-    return _tessella._refine_to_file(vertices, faces, os.fspath(path), normals, **options)
+    fields = []
+    if point_data:
+        from ._fields import _field_rows
+        from ._errors import MeshError
+        import numpy as np
+
+        count = len(np.asarray(vertices))
+        for name, values in dict(point_data).items():
+            rows = _field_rows(name, values, count, "vertex")
+            if rows.shape[1] != 1:
+                raise MeshError(
+                    f"field {name!r} has {rows.shape[1]} components; a file holds one value a "
+                    f"vertex per field: pass each component as a field of its own"
+                )
+            fields.append((str(name), np.ascontiguousarray(rows[:, 0])))
+    return _tessella._refine_to_file(
+        vertices, faces, os.fspath(path), normals, point_data=fields, **options
+    )
 
 
 def refine_file(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
-    """Refines the mesh file ``input`` into ``output`` as :func:`refine_to_file` does; raises
+    """Refines the mesh file ``input`` into ``output`` as :func:`refine_to_file` does, with the
+    file's per-vertex fields (PLY vertex properties, glTF ``_NAME`` attributes) carried into
+    outputs that hold them (PLY, glTF), as ``tessella refine`` does; raises
     ``FileFormatError`` for a malformed file and ``OSError`` for a missing one."""
     _check_options(options)
     return _tessella._refine_file(os.fspath(input), os.fspath(output), **options)

@@ -53,6 +53,59 @@ def test_streamed_file_has_the_bytes_of_the_whole_refinement(tmp_path, name, wel
     assert (tmp_path / name).read_bytes() == (tmp_path / ("want-" + name)).read_bytes()
 
 
+def read_ply_vertices(path: Path) -> np.ndarray:
+    """The vertex records of a binary PLY as a structured array, read here with numpy alone."""
+    data = path.read_bytes()
+    head, _, body = data.partition(b"end_header\n")
+    fields, count, in_vertex = [], 0, False
+    for line in head.decode().splitlines():
+        words = line.split()
+        if words[:2] == ["element", "vertex"]:
+            count, in_vertex = int(words[2]), True
+        elif words[:1] == ["element"]:
+            in_vertex = False
+        elif in_vertex and words[:1] == ["property"]:
+            fields.append((words[2], {"float": "<f4", "int": "<i4"}[words[1]]))
+    return np.frombuffer(body, dtype=np.dtype(fields), count=count)
+
+
+@pytest.mark.parametrize("weld", [True, False])
+def test_fields_and_origins_stream_into_the_file(tmp_path, weld):
+    v, f = icosphere(2)
+    temperature = (v[:, 0] + 2 * v[:, 1]).astype(np.float64)
+    height = v[:, 2].astype(np.float32)
+    # Independent path: the whole refinement in memory, its fields and origins.
+    whole = tessella.refine(v, f, v, level=9, weld=weld, origin=True,
+                            point_data={"temperature": temperature, "height": height})
+    done = tessella.refine_to_file(v, f, tmp_path / "a.ply", v, level=9, weld=weld, origin=True,
+                                   max_memory=1 << 20,
+                                   point_data={"temperature": temperature, "height": height})
+    assert done["streamed"] and done["vertices"] == len(whole.vertices)
+    got = read_ply_vertices(tmp_path / "a.ply")
+    assert got.dtype.names[-6:] == ("temperature", "height", "face", "bary1", "bary2", "bary3")
+    xyz = np.stack([got["x"], got["y"], got["z"]], axis=1)
+    np.testing.assert_array_equal(xyz, whole.vertices)
+    for name in ("temperature", "height"):
+        np.testing.assert_array_equal(got[name], whole.point_data[name].reshape(-1))
+    faces, bary = whole.origin
+    np.testing.assert_array_equal(got["face"], faces)
+    np.testing.assert_array_equal(np.stack([got["bary1"], got["bary2"], got["bary3"]], 1), bary)
+    # A file read back carries its fields into the next file (PLY to glTF here).
+    again = tessella.refine_file(tmp_path / "a.ply", tmp_path / "b.gltf", level=2)
+    assert again["streamed"]
+    assert b'"_temperature"' in (tmp_path / "b.gltf").read_bytes()
+    # Formats without fields or origins refuse them, leaving nothing.
+    with pytest.raises(FileFormatError, match="cannot hold per-vertex fields"):
+        tessella.refine_to_file(v, f, tmp_path / "c.obj", point_data={"t": temperature})
+    with pytest.raises(FileFormatError, match="origins"):
+        tessella.refine_to_file(v, f, tmp_path / "c.glb", origin=True)
+    with pytest.raises(MeshError, match="components"):
+        tessella.refine_to_file(v, f, tmp_path / "c.ply", point_data={"t": np.zeros((len(v), 2))})
+    with pytest.raises(MeshError, match="rows"):
+        tessella.refine_to_file(v, f, tmp_path / "c.ply", point_data={"t": np.zeros(3)})
+    assert not list(tmp_path.glob("c.*"))
+
+
 def test_refine_to_file_errors_are_typed_and_leave_nothing(tmp_path):
     v, f = icosphere(0)
     with pytest.raises(OptionError, match="level"):

@@ -95,6 +95,49 @@ fn linear_field_passes_through_ply_and_gltf() {
     check_round_trip(dir.path(), "in4.ply", "out4.glb", &[]);
 }
 
+/// Fields and origins are written piece by piece (here with the smallest budget: many
+/// pieces) into the bytes the whole refinement gets in memory, welded and soup, PLY and glTF.
+#[test]
+fn streamed_fields_and_origins_equal_the_in_memory_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.ply");
+    write_input(&input);
+    let cases: [(&str, &[&str]); 5] = [
+        ("a.ply", &[]),
+        ("b.ply", &["--write-origin"]),
+        ("c.ply", &["--write-origin", "--soup", "--ply-ascii"]),
+        ("d.glb", &[]),
+        ("e.gltf", &["--soup"]),
+    ];
+    for (name, extra) in cases {
+        let mut files = Vec::new();
+        for how in ["--in-memory", "--max-memory=1MiB"] {
+            let output = dir.path().join(format!("{how}-{name}"));
+            let mut args = vec![
+                "refine",
+                input.to_str().unwrap(),
+                "-o",
+                output.to_str().unwrap(),
+                "--level",
+                "9",
+                how,
+            ];
+            args.extend(extra);
+            let out = tessella(&args);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            files.push(std::fs::read(&output).unwrap());
+        }
+        assert!(
+            files[0] == files[1],
+            "{name} {extra:?}: streamed and in-memory differ"
+        );
+    }
+}
+
 #[test]
 fn gltf_names_fields_with_an_underscore() {
     let dir = tempfile::tempdir().unwrap();

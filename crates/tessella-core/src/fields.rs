@@ -79,6 +79,18 @@ fn check(
     Ok(())
 }
 
+/// Checks point data of `mesh` as [`interpolate_point_data`] does (`mesh.vertex_count() ×
+/// width` finite values, width 1 or more), for callers that interpolate it piece by piece
+/// with [`interpolate_into`].
+pub fn check_point_data(
+    mesh: &Mesh,
+    name: &str,
+    data: &[f32],
+    width: usize,
+) -> Result<(), FieldError> {
+    check(name, data, width, mesh.vertex_count(), "vertex")
+}
+
 /// Point data of `mesh` (the plan's first mesh, or any mesh of its topology: mid-edge nodes are
 /// read from it) at every refined vertex of `plan`, `width` values each, in output order.
 ///
@@ -107,14 +119,32 @@ pub fn interpolate_with_origin(
     width: usize,
 ) -> Vec<f32> {
     let mut out = vec![0.0f32; faces.len() * width];
+    interpolate_into(mesh, 0, faces, bary, data, width, &mut out);
+    out
+}
+
+/// [`interpolate_with_origin`] for a run of refined vertices that starts at output vertex
+/// `first` (a piece of a streamed refinement: [`Plan::write_piece_origin`]), into `out`
+/// (`faces.len() × width` values).
+pub fn interpolate_into(
+    mesh: &Mesh,
+    first: usize,
+    faces: &[u32],
+    bary: &[[f32; 3]],
+    data: &[f32],
+    width: usize,
+    out: &mut [f32],
+) {
     let value = |v: u32, c: usize| data[v as usize * width + c] as f64;
-    for (v, ((&f, l), dst)) in faces
+    for (i, ((&f, l), dst)) in faces
         .iter()
         .zip(bary)
         .zip(out.chunks_mut(width))
         .enumerate()
     {
         if f == NO_FACE {
+            // Only coarse vertices have no face, and they come first: output vertex = input.
+            let v = first + i;
             dst.copy_from_slice(&data[v * width..(v + 1) * width]);
             continue;
         }
@@ -140,7 +170,6 @@ pub fn interpolate_with_origin(
             }
         }
     }
-    out
 }
 
 /// The coarse face of every refined triangle of `plan`, in output order.

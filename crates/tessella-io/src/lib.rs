@@ -183,6 +183,22 @@ pub fn read_mesh(path: &Path) -> Result<tessella_core::Mesh, IoError> {
     validate(path, read_raw(path)?)
 }
 
+/// [`read_mesh`] with the file's per-vertex fields ([`RawMesh::vertex_scalars`]: PLY vertex
+/// properties, glTF `_NAME` attributes), by name.
+pub fn read_mesh_with_fields(
+    path: &Path,
+) -> Result<
+    (
+        tessella_core::Mesh,
+        std::collections::BTreeMap<String, Vec<f32>>,
+    ),
+    IoError,
+> {
+    let mut raw = read_raw(path)?;
+    let fields = std::mem::take(&mut raw.vertex_scalars);
+    Ok((validate(path, raw)?, fields))
+}
+
 fn validate(path: &Path, raw: RawMesh) -> Result<tessella_core::Mesh, IoError> {
     tessella_core::Mesh::new(raw.positions, raw.normals, raw.uvs, raw.triangles).map_err(|source| {
         IoError::Mesh {
@@ -223,23 +239,16 @@ pub fn write_mesh_with_scalars(
         Format::Gltf | Format::Glb => {
             // The same name and length checks as PLY's.
             mesh.check(path)?;
+            let names: Vec<&str> = scalars.iter().map(|(name, _)| *name).collect();
+            check_vertex_extras(path, format, &names, false)?;
             let n = mesh.positions.len();
-            for (i, (name, values)) in scalars.iter().enumerate() {
-                let message = if name.is_empty() || name.chars().any(char::is_whitespace) {
-                    format!("vertex attribute {name:?} is not a name without whitespace")
-                } else if scalars[..i].iter().any(|(other, _)| other == name) {
-                    format!("vertex attribute {name:?} is given twice")
-                } else if values.len() != n {
-                    format!(
-                        "vertex attribute {name:?} has {} values for {n} vertices",
-                        values.len()
-                    )
-                } else {
-                    continue;
-                };
+            if let Some((name, values)) = scalars.iter().find(|(_, v)| v.len() != n) {
                 return Err(IoError::BadMesh {
                     path: path.to_path_buf(),
-                    message,
+                    message: format!(
+                        "vertex attribute {name:?} has {} values for {n} vertices",
+                        values.len()
+                    ),
                 });
             }
             let binary = format == Format::Glb;
@@ -247,19 +256,69 @@ pub fn write_mesh_with_scalars(
                 gltf::write_with_scalars(out, &mesh, scalars, binary)
             })
         }
-        _ => Err(IoError::Unsupported {
-            path: path.to_path_buf(),
-            format: format.name(),
-            message: format!(
-                "it cannot hold per-vertex fields ({}); write .ply, .gltf or .glb",
-                scalars
-                    .iter()
-                    .map(|(n, _)| *n)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        }),
+        _ => {
+            let names: Vec<&str> = scalars.iter().map(|(name, _)| *name).collect();
+            check_vertex_extras(path, format, &names, false)
+        }
     }
+}
+
+/// Whether a file of `format` can hold per-vertex scalars named `names` (and, with `origin`,
+/// each vertex's origin): PLY property names are ascii without whitespace, distinct, not one
+/// of the standard properties; glTF attribute names are without whitespace and distinct; the
+/// other formats hold neither. The checks of [`write_mesh_with_scalars`],
+/// [`ply::write_file_with`] and the streamed writer, lengths aside.
+pub(crate) fn check_vertex_extras(
+    path: &Path,
+    format: Format,
+    names: &[&str],
+    origin: bool,
+) -> Result<(), IoError> {
+    let unsupported = |message: String| IoError::Unsupported {
+        path: path.to_path_buf(),
+        format: format.name(),
+        message,
+    };
+    let ply = matches!(format, Format::Ply | Format::PlyAscii);
+    if origin && !ply {
+        return Err(unsupported(
+            "it cannot hold the vertices' origins; write .ply".into(),
+        ));
+    }
+    if names.is_empty() {
+        return Ok(());
+    }
+    let (what, reserved): (&str, &[&str]) = match format {
+        Format::Ply | Format::PlyAscii => ("vertex property", ply::RESERVED),
+        Format::Gltf | Format::Glb => ("vertex attribute", &[]),
+        _ => {
+            return Err(unsupported(format!(
+                "it cannot hold per-vertex fields ({}); write .ply, .gltf or .glb",
+                names.join(", ")
+            )))
+        }
+    };
+    for (i, name) in names.iter().enumerate() {
+        let bad_name =
+            name.is_empty() || name.chars().any(char::is_whitespace) || (ply && !name.is_ascii());
+        let message = if bad_name {
+            match ply {
+                true => {
+                    format!("{what} {name:?} is not a PLY property name (ascii, no whitespace)")
+                }
+                false => format!("{what} {name:?} is not a name without whitespace"),
+            }
+        } else if reserved.contains(name) || names[..i].contains(name) {
+            format!("{what} {name:?} is given twice")
+        } else {
+            continue;
+        };
+        return Err(IoError::BadMesh {
+            path: path.to_path_buf(),
+            message,
+        });
+    }
+    Ok(())
 }
 
 /// Writes `mesh` in the format named by `path`'s extension, atomically (see [`write_atomic`]).

@@ -323,6 +323,11 @@ fn read_edges(path: &Path, element: &ElementDef, rows: &[Row]) -> Result<Vec<Raw
         .collect()
 }
 
+/// The vertex properties tessella writes itself: no extra scalar may take their names.
+pub(crate) const RESERVED: &[&str] = &[
+    "x", "y", "z", "nx", "ny", "nz", "u", "v", "face", "bary1", "bary2", "bary3",
+];
+
 /// Where each vertex comes from: its coarse face and barycentric coordinates in that face's
 /// corner order (`tessella_core::refine::Plan::origin`), written as the vertex properties
 /// `int face` and `float bary1, bary2, bary3`.
@@ -373,18 +378,9 @@ pub fn write_file_with(
             )));
         }
     }
-    let reserved = [
-        "x", "y", "z", "nx", "ny", "nz", "u", "v", "face", "bary1", "bary2", "bary3",
-    ];
-    for (i, (name, values)) in scalars.iter().enumerate() {
-        if name.is_empty() || name.chars().any(|c| c.is_whitespace() || !c.is_ascii()) {
-            return Err(bad(format!(
-                "vertex property {name:?} is not a PLY property name (ascii, no whitespace)"
-            )));
-        }
-        if reserved.contains(name) || scalars[..i].iter().any(|(other, _)| other == name) {
-            return Err(bad(format!("vertex property {name:?} is given twice")));
-        }
+    let names: Vec<&str> = scalars.iter().map(|(name, _)| *name).collect();
+    crate::check_vertex_extras(path, crate::Format::Ply, &names, origin.is_some())?;
+    for (name, values) in scalars {
         if values.len() != n {
             return Err(bad(format!(
                 "vertex property {name:?} has {} values for {n} vertices",

@@ -2,12 +2,15 @@
 //! a few reused buffers, the next piece computed on another thread while the last is written,
 //! so memory holds a few pieces whatever the output's size. An output that fits in one piece's
 //! budget (a small file) is evaluated on the writer's thread, with no thread started.
+//! Per-vertex fields and origins, when asked for, are computed piece by piece too.
 
-use crate::stream::{MeshSource, Wanted};
+use crate::ply::{Origin, VertexScalars};
+use crate::stream::{MeshSource, VertexRun, Wanted};
 use crate::MeshView;
 use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::mpsc;
+use tessella_core::fields::FieldError;
 use tessella_core::refine::{Frame, Piece, Plan, VertexOutput};
 use tessella_core::{DisplaceError, DisplaceFrame, Displacement, SharedSlots};
 
@@ -15,12 +18,15 @@ use tessella_core::{DisplaceError, DisplaceFrame, Displacement, SharedSlots};
 const VERTEX_BYTES: usize = 32;
 
 /// A uniform refinement of `frame` (welded or not), produced piece by piece, displaced when
-/// asked ([`RefinedSource::displaced`]).
+/// asked ([`RefinedSource::displaced`]), with per-vertex fields
+/// ([`RefinedSource::with_fields`]) and origins ([`RefinedSource::with_origin`]) when asked.
 pub struct RefinedSource<'a> {
     plan: &'a Plan,
     frame: &'a Frame,
     piece_vertices: usize,
     displace: Option<Displace<'a>>,
+    fields: &'a [(String, Vec<f32>)],
+    origin: bool,
 }
 
 /// A displacement and what it needs of the mesh, built once for every piece.
@@ -44,7 +50,31 @@ impl<'a> RefinedSource<'a> {
             frame,
             piece_vertices,
             displace: None,
+            fields: &[],
+            origin: false,
         })
+    }
+
+    /// The same source with per-vertex fields of the coarse mesh (`(name, one value per
+    /// coarse vertex)`) carried to every refined vertex, linear on each coarse face (quadratic
+    /// on second-order faces), as [`tessella_core::fields::interpolate_point_data`] does for
+    /// a whole refinement. Errors name a field of the wrong length or with a NaN or infinity.
+    pub fn with_fields(
+        mut self,
+        fields: &'a [(String, Vec<f32>)],
+    ) -> Result<RefinedSource<'a>, FieldError> {
+        for (name, values) in fields {
+            tessella_core::fields::check_point_data(self.frame.mesh(), name, values, 1)?;
+        }
+        self.fields = fields;
+        Ok(self)
+    }
+
+    /// The same source with each vertex's origin (its coarse face and barycentrics,
+    /// [`Plan::origin`]) in the vertex runs: PLY's `face`, `bary1..3` properties.
+    pub fn with_origin(mut self) -> RefinedSource<'a> {
+        self.origin = true;
+        self
     }
 
     /// The same source with every vertex displaced by `displacement`: the positions
@@ -93,29 +123,30 @@ impl<'a> RefinedSource<'a> {
 /// What [`RefinedSource::face_runs`] hands each run to: the faces and their triangles.
 type FaceRun<'a> = dyn FnMut(Range<usize>, &[[u32; 3]]) -> std::io::Result<()> + 'a;
 
-/// One evaluated piece: positions, and normals and uvs when asked for.
+/// One evaluated piece: positions, and normals, uvs, origins and fields when asked for.
 #[derive(Default)]
 struct Buffers {
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
     uvs: Vec<[f32; 2]>,
+    faces: Vec<u32>,
+    bary: Vec<[f32; 3]>,
+    fields: Vec<Vec<f32>>,
 }
 
 impl Buffers {
-    /// Evaluates `piece` (displaced when `displace` is given: that needs the normals, and the
-    /// uvs when the mesh has them, whatever `want` says).
-    fn fill(
-        &mut self,
-        plan: &Plan,
-        frame: &Frame,
-        piece: &Piece,
-        want: Wanted,
-        displace: Option<&Displace>,
-    ) -> std::io::Result<()> {
+    /// Evaluates `piece` of `source` (displaced when the source displaces: that needs the
+    /// normals, and the uvs when the mesh has them, whatever `want` says).
+    fn fill(&mut self, source: &RefinedSource, piece: &Piece, want: Wanted) -> std::io::Result<()> {
+        let (plan, frame, displace) = (source.plan, source.frame, source.displace.as_ref());
+        if want.extras {
+            self.fill_extras(source, piece)?;
+        }
         let want = match displace {
             Some(_) => Wanted {
                 normals: true,
                 uvs: plan.has_uvs(),
+                extras: want.extras,
             },
             None => want,
         };
@@ -150,12 +181,70 @@ impl Buffers {
         Ok(())
     }
 
+    /// The origins of `piece`'s vertices, and its fields interpolated there.
+    fn fill_extras(&mut self, source: &RefinedSource, piece: &Piece) -> std::io::Result<()> {
+        if !source.origin && source.fields.is_empty() {
+            return Ok(());
+        }
+        let plan = source.plan;
+        let range = plan.piece_vertices(piece);
+        let n = range.len();
+        self.faces.resize(n, 0);
+        self.bary.resize(n, [0.0; 3]);
+        plan.write_piece_origin(piece, &mut self.faces, &mut self.bary)
+            .map_err(std::io::Error::other)?;
+        self.fields.resize_with(source.fields.len(), Vec::new);
+        for ((_, values), out) in source.fields.iter().zip(&mut self.fields) {
+            out.resize(n, 0.0);
+            tessella_core::fields::interpolate_into(
+                source.frame.mesh(),
+                range.start,
+                &self.faces,
+                &self.bary,
+                values,
+                1,
+                out,
+            );
+        }
+        Ok(())
+    }
+
     fn view(&self, want: Wanted) -> MeshView<'_> {
         MeshView {
             positions: &self.positions,
             normals: want.normals.then_some(&self.normals[..]),
             uvs: want.uvs.then_some(&self.uvs[..]),
             triangles: &[],
+        }
+    }
+
+    /// The fields of the last piece filled with extras, named as `source` names them.
+    fn scalars<'b>(&'b self, source: &'b RefinedSource, want: Wanted) -> Vec<(&'b str, &'b [f32])> {
+        match want.extras {
+            true => source
+                .fields
+                .iter()
+                .zip(&self.fields)
+                .map(|((name, _), values)| (name.as_str(), values.as_slice()))
+                .collect(),
+            false => Vec::new(),
+        }
+    }
+
+    /// The run `each` gets: the piece's view, and its extras when asked for.
+    fn run<'b>(
+        &'b self,
+        source: &RefinedSource,
+        want: Wanted,
+        scalars: &'b VertexScalars<'b>,
+    ) -> VertexRun<'b> {
+        VertexRun {
+            mesh: self.view(want),
+            scalars,
+            origin: (want.extras && source.origin).then_some(Origin {
+                faces: &self.faces,
+                bary: &self.bary,
+            }),
         }
     }
 }
@@ -173,15 +262,22 @@ impl MeshSource for RefinedSource<'_> {
     fn has_uvs(&self) -> bool {
         self.plan.has_uvs()
     }
+    fn scalar_names(&self) -> Vec<&str> {
+        self.fields.iter().map(|(name, _)| name.as_str()).collect()
+    }
+    fn has_origin(&self) -> bool {
+        self.origin
+    }
 
     fn vertices(
         &self,
         want: Wanted,
-        each: &mut dyn FnMut(MeshView<'_>) -> std::io::Result<()>,
+        each: &mut dyn FnMut(VertexRun<'_>) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
         let want = Wanted {
             normals: want.normals,
             uvs: want.uvs && self.plan.has_uvs(),
+            extras: want.extras,
         };
         let pieces = self.plan.pieces(self.piece_vertices);
         // The whole output within one piece's budget (a small file, as in a batch of many):
@@ -190,8 +286,9 @@ impl MeshSource for RefinedSource<'_> {
         if self.plan.vertex_count() <= self.piece_vertices {
             let mut buffers = Buffers::default();
             for piece in &pieces {
-                buffers.fill(self.plan, self.frame, piece, want, self.displace.as_ref())?;
-                each(buffers.view(want))?;
+                buffers.fill(self, piece, want)?;
+                let scalars = buffers.scalars(self, want);
+                each(buffers.run(self, want, &scalars))?;
             }
             return Ok(());
         }
@@ -212,8 +309,7 @@ impl MeshSource for RefinedSource<'_> {
                     let Ok(mut buffers) = empty_rx.recv() else {
                         return;
                     };
-                    let filled =
-                        buffers.fill(self.plan, self.frame, piece, want, self.displace.as_ref());
+                    let filled = buffers.fill(self, piece, want);
                     if full_tx.send(filled.map(|()| buffers)).is_err() {
                         return;
                     }
@@ -222,7 +318,8 @@ impl MeshSource for RefinedSource<'_> {
             // Ends when the evaluating thread has sent every piece and hung up.
             for filled in full_rx.iter() {
                 let buffers = filled?;
-                each(buffers.view(want))?;
+                let scalars = buffers.scalars(self, want);
+                each(buffers.run(self, want, &scalars))?;
                 // Refused once the evaluator has sent its last piece and gone: the buffer is
                 // then dropped, and the pieces still queued are written all the same.
                 if let Err(mpsc::SendError(unused)) = empty_tx.send(buffers) {
@@ -251,15 +348,15 @@ impl MeshSource for RefinedSource<'_> {
         let positions_only = Wanted {
             normals: false,
             uvs: false,
+            extras: false,
         };
-        let displace = self.displace.as_ref();
         let (mut interiors, mut edges) = (Buffers::default(), Buffers::default());
         let mut out = Vec::new();
         if !layout.weld {
             // Unwelded: a run of faces' patterns holds every corner of its triangles.
             return self.face_runs(&mut |faces, triangles| {
                 let piece = Piece::Faces(faces);
-                interiors.fill(plan, self.frame, &piece, positions_only, displace)?;
+                interiors.fill(self, &piece, positions_only)?;
                 let first = plan.piece_vertices(&piece).start;
                 out.clear();
                 out.extend(
@@ -274,12 +371,12 @@ impl MeshSource for RefinedSource<'_> {
         // coarse vertex.
         let mut corners = Buffers::default();
         let coarse = Piece::Corners(0..plan.coarse_vertex_count());
-        corners.fill(plan, self.frame, &coarse, positions_only, displace)?;
+        corners.fill(self, &coarse, positions_only)?;
         let corners = corners.positions;
         self.face_runs(&mut |faces, triangles| {
             let Range { start, end } = faces;
             let interior_piece = Piece::Interiors(start..end);
-            interiors.fill(plan, self.frame, &interior_piece, positions_only, displace)?;
+            interiors.fill(self, &interior_piece, positions_only)?;
             let interior_first = plan.piece_vertices(&interior_piece).start;
             // The run's edges, evaluated in runs of consecutive edge numbers.
             let mut unique: Vec<usize> = topology.face_edges[start..end]
@@ -298,11 +395,9 @@ impl MeshSource for RefinedSource<'_> {
                     j += 1;
                 }
                 edges.fill(
-                    plan,
-                    self.frame,
+                    self,
                     &Piece::Edges(unique[i]..unique[j - 1] + 1),
                     positions_only,
-                    displace,
                 )?;
                 for (k, &e) in unique[i..j].iter().enumerate() {
                     edge_slot.insert(e, edge_positions.len());

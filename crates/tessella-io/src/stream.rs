@@ -6,6 +6,7 @@
 //! source. The bytes are those of [`crate::write_mesh`] for the same mesh: the writers share
 //! their record encoders.
 
+use crate::ply::{Origin, VertexScalars};
 use crate::{Format, IoError, MeshView, WriteOptions};
 use std::io::Write;
 use std::path::Path;
@@ -15,6 +16,18 @@ use std::path::Path;
 pub struct Wanted {
     pub normals: bool,
     pub uvs: bool,
+    /// The per-vertex scalars ([`MeshSource::scalar_names`]) and, where the source has them,
+    /// the origins ([`MeshSource::has_origin`]).
+    pub extras: bool,
+}
+
+/// One run of consecutive vertices: a [`MeshView`] without triangles, and, when the pass
+/// asked for [`Wanted::extras`], the run's per-vertex scalars (in
+/// [`MeshSource::scalar_names`] order) and origins.
+pub struct VertexRun<'a> {
+    pub mesh: MeshView<'a>,
+    pub scalars: &'a VertexScalars<'a>,
+    pub origin: Option<Origin<'a>>,
 }
 
 /// A triangle given by its three corner positions (what STL stores).
@@ -27,12 +40,22 @@ pub trait MeshSource: Sync {
     fn triangle_count(&self) -> u64;
     fn has_normals(&self) -> bool;
     fn has_uvs(&self) -> bool;
-    /// Calls `each` with runs of vertices (a [`MeshView`] with positions, the attributes in
-    /// `want`, and no triangles) that together are all vertices in order.
+    /// The names of the per-vertex scalars the vertex runs carry when asked (PLY vertex
+    /// properties, glTF `_NAME` attributes); none unless the source says otherwise.
+    fn scalar_names(&self) -> Vec<&str> {
+        Vec::new()
+    }
+    /// Whether the vertex runs carry each vertex's origin (coarse face and barycentrics, PLY
+    /// only) when asked.
+    fn has_origin(&self) -> bool {
+        false
+    }
+    /// Calls `each` with runs of vertices (positions, the attributes in `want`) that together
+    /// are all vertices in order.
     fn vertices(
         &self,
         want: Wanted,
-        each: &mut dyn FnMut(MeshView<'_>) -> std::io::Result<()>,
+        each: &mut dyn FnMut(VertexRun<'_>) -> std::io::Result<()>,
     ) -> std::io::Result<()>;
     /// Calls `each` with runs of triangles that together are all triangles in order.
     fn triangles(
@@ -62,7 +85,11 @@ pub fn expected_bytes(
     options: &WriteOptions,
 ) -> Result<u64, IoError> {
     let (v, t) = (source.vertex_count(), source.triangle_count());
-    let floats = 3 + 3 * u64::from(source.has_normals()) + 2 * u64::from(source.has_uvs());
+    let floats = 3
+        + 3 * u64::from(source.has_normals())
+        + 2 * u64::from(source.has_uvs())
+        + source.scalar_names().len() as u64
+        + 4 * u64::from(source.has_origin());
     Ok(match format_of(path, options)? {
         Format::Ply => 300 + v * 4 * floats + t * 13,
         // About 10 characters per number and separator (shortest round-trip text).
@@ -145,6 +172,7 @@ pub fn write_streamed(
             message: "the mesh has no triangles".into(),
         });
     }
+    crate::check_vertex_extras(path, format, &source.scalar_names(), source.has_origin())?;
     check_free_space(path, expected_bytes(path, source, options)?)?;
     crate::write_atomic_with(path, options.durability, |out| {
         let mut out = Counted { out, progress };
@@ -185,15 +213,17 @@ fn all(source: &dyn MeshSource) -> Wanted {
     Wanted {
         normals: source.has_normals(),
         uvs: source.has_uvs(),
+        extras: true,
     }
 }
 
 fn ply(out: &mut dyn Write, source: &dyn MeshSource, ascii: bool) -> std::io::Result<()> {
     let counts = (source.vertex_count(), source.triangle_count());
     let has = (source.has_normals(), source.has_uvs());
-    crate::ply::write_header(out, counts, has, &[], false, ascii)?;
+    let names = source.scalar_names();
+    crate::ply::write_header(out, counts, has, &names, source.has_origin(), ascii)?;
     source.vertices(all(source), &mut |run| {
-        crate::ply::write_vertices(out, &run, ascii, &[], None)
+        crate::ply::write_vertices(out, &run.mesh, ascii, run.scalars, run.origin)
     })?;
     source.triangles(&mut |run| crate::ply::write_faces(out, run, ascii))
 }
@@ -201,33 +231,43 @@ fn ply(out: &mut dyn Write, source: &dyn MeshSource, ascii: bool) -> std::io::Re
 fn obj(out: &mut dyn Write, source: &dyn MeshSource) -> std::io::Result<()> {
     use crate::obj::{write_floats, HEADER};
     out.write_all(HEADER)?;
-    let only = |normals, uvs| Wanted { normals, uvs };
     source.vertices(only(false, false), &mut |run| {
-        write_floats(out, b"v", run.positions)
+        write_floats(out, b"v", run.mesh.positions)
     })?;
     if source.has_uvs() {
         source.vertices(only(false, true), &mut |run| {
-            write_floats(out, b"vt", run.uvs.unwrap_or_default())
+            write_floats(out, b"vt", run.mesh.uvs.unwrap_or_default())
         })?;
     }
     if source.has_normals() {
         source.vertices(only(true, false), &mut |run| {
-            write_floats(out, b"vn", run.normals.unwrap_or_default())
+            write_floats(out, b"vn", run.mesh.normals.unwrap_or_default())
         })?;
     }
     let (uvs, normals) = (source.has_uvs(), source.has_normals());
     source.triangles(&mut |run| crate::obj::write_faces(out, run, uvs, normals))
 }
 
-/// The glTF shape of `source`: its counts, attributes and the positions' bounds (one pass).
+/// The glTF shape of `source`: its counts, attributes, and the bounds of its positions and
+/// scalars (one pass).
 fn gltf_shape(source: &dyn MeshSource) -> std::io::Result<crate::gltf::Shape> {
     use glam::Vec3;
-    // The bounds, folded point by point in file order as `tessella_core::mesh::bounds` does.
+    // The bounds, folded point by point in file order as `tessella_core::mesh::bounds` and
+    // the in-memory writer do.
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    source.vertices(only(false, false), &mut |run| {
-        for p in run.positions {
+    let names = source.scalar_names();
+    let mut ranges = vec![(f32::INFINITY, f32::NEG_INFINITY); names.len()];
+    let want = Wanted {
+        extras: !names.is_empty(),
+        ..only(false, false)
+    };
+    source.vertices(want, &mut |run| {
+        for p in run.mesh.positions {
             lo = lo.min(Vec3::from(*p));
             hi = hi.max(Vec3::from(*p));
+        }
+        for ((_, values), range) in run.scalars.iter().zip(&mut ranges) {
+            *range = crate::gltf::fold_range(*range, values);
         }
         Ok(())
     })?;
@@ -237,11 +277,16 @@ fn gltf_shape(source: &dyn MeshSource) -> std::io::Result<crate::gltf::Shape> {
         normals: source.has_normals(),
         uvs: source.has_uvs(),
         bounds: (lo.into(), hi.into()),
+        scalars: names.iter().map(|n| n.to_string()).zip(ranges).collect(),
     })
 }
 
 fn only(normals: bool, uvs: bool) -> Wanted {
-    Wanted { normals, uvs }
+    Wanted {
+        normals,
+        uvs,
+        extras: false,
+    }
 }
 
 /// The glTF buffer of `source` (positions, normals, uvs, triangles), a pass per attribute.
@@ -251,21 +296,31 @@ fn gltf_buffer(
     shape: &crate::gltf::Shape,
 ) -> std::io::Result<()> {
     use crate::encode::{write_le, write_records};
-    source.vertices(only(false, false), &mut |run| write_le(out, run.positions))?;
+    source.vertices(only(false, false), &mut |run| {
+        write_le(out, run.mesh.positions)
+    })?;
     if shape.normals {
         source.vertices(only(true, false), &mut |run| {
-            write_le(out, run.normals.unwrap_or_default())
+            write_le(out, run.mesh.normals.unwrap_or_default())
         })?;
     }
     if shape.uvs {
         source.vertices(only(false, true), &mut |run| {
-            let uvs = run.uvs.unwrap_or_default();
+            let uvs = run.mesh.uvs.unwrap_or_default();
             write_records(out, uvs.len(), 8, |i, out| {
                 crate::gltf::flip_v(uvs[i])
                     .iter()
                     .for_each(|x| out.extend_from_slice(&x.to_le_bytes()))
             })
         })?;
+    }
+    // One pass a scalar: the buffer holds each attribute whole, one after the other.
+    let extras = Wanted {
+        extras: true,
+        ..only(false, false)
+    };
+    for k in 0..shape.scalars.len() {
+        source.vertices(extras, &mut |run| write_le(out, run.scalars[k].1))?;
     }
     source.triangles(&mut |run| write_le(out, run))
 }
@@ -309,11 +364,15 @@ impl MeshSource for MeshView<'_> {
     fn vertices(
         &self,
         _want: Wanted,
-        each: &mut dyn FnMut(MeshView<'_>) -> std::io::Result<()>,
+        each: &mut dyn FnMut(VertexRun<'_>) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
-        each(MeshView {
-            triangles: &[],
-            ..*self
+        each(VertexRun {
+            mesh: MeshView {
+                triangles: &[],
+                ..*self
+            },
+            scalars: &[],
+            origin: None,
         })
     }
     fn triangles(

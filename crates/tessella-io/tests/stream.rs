@@ -3,7 +3,9 @@
 
 use tessella_core::refine::Plan;
 use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
-use tessella_io::stream::{check_free_space, expected_bytes, Corners, MeshSource, Wanted};
+use tessella_io::stream::{
+    check_free_space, expected_bytes, Corners, MeshSource, VertexRun, Wanted,
+};
 use tessella_io::{write_mesh, write_streamed, MeshView, RefinedSource, WriteOptions};
 
 /// An icosphere with texture coordinates from its positions (any UVs will do).
@@ -84,6 +86,148 @@ fn streamed_files_equal_the_in_memory_files() {
                 }
             }
         }
+    }
+}
+
+/// Per-vertex fields and origins written piece by piece equal the whole refinement's
+/// (`interpolate_point_data`, `Plan::origin`) written in memory: PLY (binary and ascii, with
+/// and without origins) and glTF (binary and text), welded and soup, pieces of 1024 vertices
+/// and one piece for all. Formats that hold no fields write the same file as without them.
+#[test]
+fn streamed_fields_and_origins_equal_the_in_memory_files() {
+    use tessella_core::fields::interpolate_point_data;
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = with_uvs(&samples::icosphere(2));
+    let fields: Vec<(String, Vec<f32>)> = vec![
+        (
+            "temperature".into(),
+            mesh.positions().iter().map(|p| p[0] + 2.0 * p[1]).collect(),
+        ),
+        (
+            "pressure".into(),
+            mesh.positions().iter().map(|p| p[2] * p[2] - 0.5).collect(),
+        ),
+    ];
+    for (scheme, level, weld) in [
+        (Scheme::Pn, 7, true),
+        (Scheme::Png1, 1, true),
+        (Scheme::Pn, 5, false),
+    ] {
+        let options = RefineOptions::new(scheme, level).with_weld(weld);
+        let whole = refine(&mesh, &options).unwrap();
+        let plan = Plan::new(&mesh, &options).unwrap();
+        let frame = plan.frame(&mesh).unwrap();
+        let refined: Vec<(String, Vec<f32>)> = fields
+            .iter()
+            .map(|(n, v)| {
+                (
+                    n.clone(),
+                    interpolate_point_data(&mesh, &plan, n, v, 1).unwrap(),
+                )
+            })
+            .collect();
+        let scalars: Vec<(&str, &[f32])> = refined
+            .iter()
+            .map(|(n, v)| (n.as_str(), v.as_slice()))
+            .collect();
+        let (faces, bary) = plan.origin();
+        let origin = tessella_io::ply::Origin {
+            faces: &faces,
+            bary: &bary,
+        };
+        for budget in [0, 1 << 30] {
+            let what = format!("{scheme:?} level {level} weld {weld} budget {budget}");
+            let source = || {
+                RefinedSource::new(&plan, &frame, budget)
+                    .unwrap()
+                    .with_fields(&fields)
+                    .unwrap()
+            };
+            for (name, ascii, with_origin) in [
+                ("a.ply", false, false),
+                ("b.ply", true, false),
+                ("c.ply", false, true),
+                ("d.ply", true, true),
+                ("e.glb", false, false),
+                ("f.gltf", false, false),
+            ] {
+                let opts = WriteOptions {
+                    ply_ascii: ascii,
+                    ..Default::default()
+                };
+                let (want, got) = (
+                    dir.path().join(format!("want-{name}")),
+                    dir.path().join(format!("got-{name}")),
+                );
+                let view = MeshView::from(&whole);
+                let streamed = match with_origin {
+                    true => {
+                        tessella_io::ply::write_file_with(
+                            &want,
+                            view,
+                            &scalars,
+                            Some(origin),
+                            ascii,
+                        )
+                        .unwrap();
+                        source().with_origin()
+                    }
+                    false => {
+                        tessella_io::write_mesh_with_scalars(&want, view, &scalars, &opts).unwrap();
+                        source()
+                    }
+                };
+                write_streamed(&got, &streamed, &opts, &|_| {}).unwrap();
+                let (want, got) = (std::fs::read(&want).unwrap(), std::fs::read(&got).unwrap());
+                assert!(
+                    want == got,
+                    "{what} {name} (origin {with_origin}): {} bytes vs {}",
+                    got.len(),
+                    want.len()
+                );
+            }
+        }
+    }
+    // Formats without per-vertex fields, or without origins, refuse them as the in-memory
+    // writer does, and leave nothing behind.
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 3)).unwrap();
+    let frame = plan.frame(&mesh).unwrap();
+    let source = RefinedSource::new(&plan, &frame, 0).unwrap();
+    for (name, source) in [
+        ("x.obj", source.with_fields(&fields).unwrap()),
+        (
+            "x.stl",
+            RefinedSource::new(&plan, &frame, 0)
+                .unwrap()
+                .with_fields(&fields)
+                .unwrap(),
+        ),
+        (
+            "x.glb",
+            RefinedSource::new(&plan, &frame, 0).unwrap().with_origin(),
+        ),
+    ] {
+        let path = dir.path().join(name);
+        let err = write_streamed(&path, &source, &WriteOptions::default(), &|_| {}).unwrap_err();
+        let message = err.to_string();
+        assert!(message.contains("cannot hold"), "{name}: {message}");
+        assert!(!path.exists());
+    }
+    // A field of the wrong length, or with a NaN, is refused, naming it.
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 3)).unwrap();
+    let frame = plan.frame(&mesh).unwrap();
+    for bad in [vec![1.0; 5], {
+        let mut v = vec![0.0; mesh.vertex_count()];
+        v[3] = f32::NAN;
+        v
+    }] {
+        let fields = [("bad".to_string(), bad)];
+        let err = RefinedSource::new(&plan, &frame, 0)
+            .unwrap()
+            .with_fields(&fields)
+            .err()
+            .expect("refused");
+        assert!(err.to_string().contains("bad"), "{err}");
     }
 }
 
@@ -238,7 +382,7 @@ impl MeshSource for FailsAtTriangles<'_> {
     fn vertices(
         &self,
         want: Wanted,
-        each: &mut dyn FnMut(MeshView<'_>) -> std::io::Result<()>,
+        each: &mut dyn FnMut(VertexRun<'_>) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
         self.0.vertices(want, each)
     }

@@ -80,11 +80,11 @@ pub fn refine_file(
     }
     // Per-vertex fields (PLY vertex properties, glTF `_NAME` attributes) go through
     // refinement with the coarse faces' shape functions.
-    let fields = std::mem::take(&mut raw.vertex_scalars);
+    let fields = kept_fields(std::mem::take(&mut raw.vertex_scalars), &args.output);
     drop(raw);
 
-    if streams(args, &options, &fields) {
-        return stream::refine(args, mesh, options, bars, durability);
+    if streams(args, &options) {
+        return stream::refine(args, mesh, options, &fields, bars, durability);
     }
     let backend = backend::choose(args, &mesh)?;
 
@@ -99,7 +99,7 @@ pub fn refine_file(
     };
     let elapsed = start.elapsed();
 
-    let fields = refine_fields(&mesh, refiner.plan(), &fields, &args.output)?;
+    let fields = refine_fields(&mesh, refiner.plan(), &fields)?;
     let scalars: Vec<(&str, &[f32])> = fields
         .iter()
         .map(|(n, v)| (n.as_str(), v.as_slice()))
@@ -156,14 +156,10 @@ fn describe(options: &RefineOptions, plan: &tessella_core::refine::Plan) -> Stri
 }
 
 /// Whether this refinement is written piece by piece (bounded memory, any size): uniform grid
-/// levels on the CPU, welded or not, displaced or not, without per-vertex fields or origins,
-/// to a format the streamed writer knows. Everything else is refined in memory, within
-/// `--max-memory`.
-fn streams(
-    args: &RefineArgs,
-    options: &RefineOptions,
-    fields: &std::collections::BTreeMap<String, Vec<f32>>,
-) -> bool {
+/// levels on the CPU, welded or not, displaced or not, with per-vertex fields and origins or
+/// without, to a format the streamed writer knows. Everything else (adaptive levels, the GPU
+/// backends) is refined in memory, within `--max-memory`.
+fn streams(args: &RefineArgs, options: &RefineOptions) -> bool {
     let cpu = matches!(
         args.backend,
         tessella_core::Backend::Auto | tessella_core::Backend::Cpu
@@ -172,8 +168,6 @@ fn streams(
     cpu && !args.in_memory
         && options.uniform_grid_level() == Some(options.level)
         && options.levels.is_none()
-        && !args.write_origin
-        && fields.is_empty()
         && format.is_some()
 }
 
@@ -193,6 +187,7 @@ mod stream {
         args: &RefineArgs,
         mesh: Mesh,
         mut options: RefineOptions,
+        fields: &[(String, Vec<f32>)],
         bars: bool,
         durability: tessella_io::Durability,
     ) -> anyhow::Result<Refined> {
@@ -206,6 +201,10 @@ mod stream {
             .context("a uniform plan is evaluated in pieces")?;
         if displacement.is_some() {
             source = source.displaced(&displacement)?;
+        }
+        source = source.with_fields(fields)?;
+        if args.write_origin {
+            source = source.with_origin();
         }
         let write = WriteOptions {
             ply_ascii: args.ply_ascii,
@@ -232,26 +231,31 @@ mod stream {
     }
 }
 
-/// The input's per-vertex fields at the refined vertices (`fields::interpolate_point_data`:
-/// linear on each coarse face), or none, with a note, when `output`'s format cannot hold them.
-fn refine_fields(
-    mesh: &tessella_core::Mesh,
-    plan: &tessella_core::refine::Plan,
-    fields: &std::collections::BTreeMap<String, Vec<f32>>,
+/// The input's per-vertex fields, by name, or none, with a note, when `output`'s format
+/// cannot hold them.
+fn kept_fields(
+    fields: std::collections::BTreeMap<String, Vec<f32>>,
     output: &std::path::Path,
-) -> anyhow::Result<Vec<(String, Vec<f32>)>> {
-    if fields.is_empty() {
-        return Ok(Vec::new());
-    }
-    if !tessella_io::holds_vertex_scalars(output) {
+) -> Vec<(String, Vec<f32>)> {
+    if !fields.is_empty() && !tessella_io::holds_vertex_scalars(output) {
         let names: Vec<&str> = fields.keys().map(String::as_str).collect();
         eprintln!(
             "note: {} cannot hold per-vertex fields; {} not written (write .ply, .gltf or .glb to keep them)",
             output.display(),
             names.join(", ")
         );
-        return Ok(Vec::new());
+        return Vec::new();
     }
+    fields.into_iter().collect()
+}
+
+/// The fields at the refined vertices (`fields::interpolate_point_data`: linear on each
+/// coarse face).
+fn refine_fields(
+    mesh: &tessella_core::Mesh,
+    plan: &tessella_core::refine::Plan,
+    fields: &[(String, Vec<f32>)],
+) -> anyhow::Result<Vec<(String, Vec<f32>)>> {
     fields
         .iter()
         .map(|(name, values)| {

@@ -34,6 +34,7 @@ use super::indices::{IndexInt, IndexJob};
 use super::layout::OutputLayout;
 use super::lod;
 use super::output::VertexOutput;
+use super::stream::Piece;
 pub(crate) use super::surface::Frame;
 use super::surface::Surface;
 use super::{RefineOptions, RefinedMesh};
@@ -405,39 +406,23 @@ impl Plan {
             self.adaptive_index(tiling).origin(faces, bary);
             return Ok(());
         }
-        let l = |p: u32| self.pattern.points[p as usize].map(|x| x as f32);
-        let stencil = &self.stencil;
-        if !self.layout.weld {
-            let np = self.pattern.points.len();
-            for (i, (f, b)) in faces[..n].iter_mut().zip(&mut bary[..n]).enumerate() {
-                *f = (i / np) as u32;
-                *b = l((i % np) as u32);
-            }
-            return Ok(());
-        }
-        let topo = &self.surface.topology;
-        let nv = self.surface.vertex_count;
-        for v in 0..nv {
-            (faces[v], bary[v]) = match topo.vertex_owner[v] {
-                Some((f, c)) => (f, l(stencil.corner_point(c as usize))),
-                None => (NO_FACE, [1.0, 0.0, 0.0]),
-            };
-        }
-        let m = self.options.level as usize - 1;
-        for (e, &(f, k)) in topo.edge_owner.iter().enumerate() {
-            let forward = self.surface.triangles[f as usize][k as usize] == topo.edges[e][0];
-            for s in 0..m {
-                let at = nv + e * m + s;
-                let p = stencil.edge_points[k as usize][if forward { s } else { m - 1 - s }];
-                (faces[at], bary[at]) = (f, l(p));
-            }
-        }
-        let ni = stencil.interior_points.len();
-        let base = self.layout.interior_base as usize;
-        for f in 0..self.face_count() {
-            for (i, &p) in stencil.interior_points.iter().enumerate() {
-                (faces[base + f * ni + i], bary[base + f * ni + i]) = (f as u32, l(p));
-            }
+        // The whole layout as three pieces (welded) or one (soup): one code path for both.
+        let (nv, ne, nf) = (
+            self.coarse_vertex_count(),
+            self.surface.topology.edges.len(),
+            self.face_count(),
+        );
+        let pieces = match self.layout.weld {
+            true => vec![
+                Piece::Corners(0..nv),
+                Piece::Edges(0..ne),
+                Piece::Interiors(0..nf),
+            ],
+            false => vec![Piece::Faces(0..nf)],
+        };
+        for piece in &pieces {
+            let r = self.piece_vertices(piece);
+            self.write_piece_origin(piece, &mut faces[r.clone()], &mut bary[r])?;
         }
         Ok(())
     }

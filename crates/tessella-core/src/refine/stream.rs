@@ -7,7 +7,7 @@
 
 use super::evaluate::{eval_block, eval_point, Scratch};
 use super::output::{Sink, VertexOutput};
-use super::plan::{Frame, Plan};
+use super::plan::{Frame, Plan, NO_FACE};
 use crate::error::RefineError;
 use crate::pattern::Pattern;
 use rayon::prelude::*;
@@ -91,6 +91,19 @@ impl Plan {
         out: VertexOutput<'_>,
     ) -> Result<(), RefineError> {
         self.check_frame(frame)?;
+        self.check_piece(piece)?;
+        let sink = out.sink(self.piece_vertices(piece).len(), self.has_uvs())?;
+        match frame.nets().basis.len() {
+            10 => self.piece_k::<10>(frame, piece, sink),
+            21 => self.piece_k::<21>(frame, piece, sink),
+            k => unreachable!("no evaluator for a basis of {k} points"),
+        }
+        Ok(())
+    }
+
+    /// Errors unless `piece` is one of this plan's: a uniform plan, the layout's kind of
+    /// piece, a range within the mesh.
+    fn check_piece(&self, piece: &Piece) -> Result<(), RefineError> {
         let limit = match piece {
             Piece::Corners(_) => self.coarse_vertex_count(),
             Piece::Edges(_) => self.topology().edges.len(),
@@ -107,11 +120,70 @@ impl Plan {
                  edges and interiors when welded, faces when not; ranges within the mesh)"
             )));
         }
-        let sink = out.sink(self.piece_vertices(piece).len(), self.has_uvs())?;
-        match frame.nets().basis.len() {
-            10 => self.piece_k::<10>(frame, piece, sink),
-            21 => self.piece_k::<21>(frame, piece, sink),
-            k => unreachable!("no evaluator for a basis of {k} points"),
+        Ok(())
+    }
+
+    /// [`Plan::origin`] for the vertices of `piece` only: `faces` and `bary` hold
+    /// [`Plan::piece_vertices`]`.len()` slots each, and get the values `origin` has there.
+    pub fn write_piece_origin(
+        &self,
+        piece: &Piece,
+        faces: &mut [u32],
+        bary: &mut [[f32; 3]],
+    ) -> Result<(), RefineError> {
+        self.check_piece(piece)?;
+        let n = self.piece_vertices(piece).len();
+        for (what, got) in [("origin faces", faces.len()), ("barycentrics", bary.len())] {
+            if got != n {
+                return Err(RefineError::OutputTooSmall {
+                    what: what.into(),
+                    got,
+                    need: n,
+                });
+            }
+        }
+        let (stencil, topo) = (self.stencil(), self.topology());
+        let l = |p: u32| self.pattern().points[p as usize].map(|x| x as f32);
+        let slots = faces.iter_mut().zip(bary.iter_mut());
+        match piece.clone() {
+            Piece::Faces(r) => {
+                let np = self.pattern().points.len();
+                for (i, (f, b)) in slots.enumerate() {
+                    (*f, *b) = ((r.start + i / np) as u32, l((i % np) as u32));
+                }
+            }
+            Piece::Corners(r) => {
+                for (v, (f, b)) in r.zip(slots) {
+                    (*f, *b) = match topo.vertex_owner[v] {
+                        Some((face, c)) => (face, l(stencil.corner_point(c as usize))),
+                        None => (NO_FACE, [1.0, 0.0, 0.0]),
+                    };
+                }
+            }
+            Piece::Edges(r) => {
+                let m = self.layout().level as usize - 1;
+                let mut slots = slots;
+                for e in r {
+                    let (face, k) = topo.edge_owner[e];
+                    let forward = self.triangles()[face as usize][k as usize] == topo.edges[e][0];
+                    for s in 0..m {
+                        let p =
+                            stencil.edge_points[k as usize][if forward { s } else { m - 1 - s }];
+                        let (f, b) = slots.next().expect("m slots an edge");
+                        (*f, *b) = (face, l(p));
+                    }
+                }
+            }
+            Piece::Interiors(r) => {
+                let interior = &stencil.interior_points;
+                let mut slots = slots;
+                for face in r {
+                    for &p in interior {
+                        let (f, b) = slots.next().expect("the interior's slots");
+                        (*f, *b) = (face as u32, l(p));
+                    }
+                }
+            }
         }
         Ok(())
     }
@@ -340,8 +412,10 @@ mod tests {
                         },
                     )
                     .unwrap();
+                    let (faces, bary) = plan.origin();
                     for max in [1, 7, 1000] {
                         let (mut p2, mut n2) = (Vec::new(), Vec::new());
+                        let (mut f2, mut b2) = (Vec::new(), Vec::new());
                         for piece in plan.pieces(max) {
                             let len = plan.piece_vertices(&piece).len();
                             // One element may be larger: an edge, or a face's pattern.
@@ -360,6 +434,10 @@ mod tests {
                             .unwrap();
                             p2.extend(p);
                             n2.extend(q);
+                            let (mut f, mut b) = (vec![0u32; len], vec![[0.0f32; 3]; len]);
+                            plan.write_piece_origin(&piece, &mut f, &mut b).unwrap();
+                            f2.extend(f);
+                            b2.extend(b);
                         }
                         let bits = |v: &[[f32; 3]]| -> Vec<[u32; 3]> {
                             v.iter().map(|p| p.map(f32::to_bits)).collect()
@@ -367,6 +445,7 @@ mod tests {
                         let what = format!("{scheme:?} weld {weld} level {level} max {max}");
                         assert_eq!(bits(&p2), bits(&pos), "{what}");
                         assert_eq!(bits(&n2), bits(&nrm), "{what}");
+                        assert_eq!((&f2, bits(&b2)), (&faces, bits(&bary)), "{what}");
                     }
                     let per = plan.pattern().triangles.len();
                     let mut tris = Vec::new();
@@ -399,6 +478,16 @@ mod tests {
             .is_err());
         let mut t = vec![[0u32; 3]; 16];
         assert!(plan.write_face_indices(3..5, &mut t).is_err());
+        // Origins: one slot per vertex of the piece, neither more nor fewer.
+        let edges = Piece::Edges(0..2);
+        let (mut f, mut b) = (vec![0u32; 6], vec![[0.0f32; 3]; 6]);
+        assert!(plan.write_piece_origin(&edges, &mut f, &mut b).is_ok());
+        assert!(plan
+            .write_piece_origin(&edges, &mut f[..5], &mut b[..5])
+            .is_err());
+        assert!(plan
+            .write_piece_origin(&Piece::Edges(5..7), &mut f, &mut b)
+            .is_err());
         // Pieces of the other layout: faces of a welded plan, interiors of a soup.
         let mut p = vec![[0.0f32; 3]; 15];
         fn positions(p: &mut [[f32; 3]]) -> VertexOutput<'_> {

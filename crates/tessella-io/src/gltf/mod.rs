@@ -18,7 +18,8 @@ mod write;
 
 pub use read::{read, read_with, Buffers};
 pub(crate) use write::{
-    glb_document, gltf_document, write_glb_header, write_glb_padding, write_gltf_text, Shape,
+    fold_range, glb_document, gltf_document, write_glb_header, write_glb_padding, write_gltf_text,
+    Shape,
 };
 pub use write::{write, write_with_scalars};
 

@@ -28,8 +28,23 @@ fn document(mesh: &MeshView, scalars: &VertexScalars, uri: Option<String>) -> (V
         normals: mesh.normals.is_some(),
         uvs: mesh.uvs.is_some(),
         bounds: tessella_core::mesh::bounds(mesh.positions),
+        scalars: scalars
+            .iter()
+            .map(|(name, values)| {
+                let range = fold_range((f32::INFINITY, f32::NEG_INFINITY), values);
+                (name.to_string(), range)
+            })
+            .collect(),
     };
-    document_for(&shape, scalars, uri)
+    document_for(&shape, uri)
+}
+
+/// `(lo, hi)` widened by `values`, one value after the other (a streamed writer folds its
+/// runs in file order and gets the same bits as one fold over the whole array).
+pub(crate) fn fold_range((lo, hi): (f32, f32), values: &[f32]) -> (f32, f32) {
+    values
+        .iter()
+        .fold((lo, hi), |(lo, hi), &x| (lo.min(x), hi.max(x)))
 }
 
 /// What the JSON document says about a mesh: its sizes, attributes and position bounds.
@@ -39,10 +54,12 @@ pub(crate) struct Shape {
     pub normals: bool,
     pub uvs: bool,
     pub bounds: ([f32; 3], [f32; 3]),
+    /// Extra per-vertex scalars: each name and its values' `(min, max)`.
+    pub scalars: Vec<(String, (f32, f32))>,
 }
 
 /// The JSON document for a mesh of `shape` and the byte length of its single buffer.
-fn document_for(shape: &Shape, scalars: &VertexScalars, uri: Option<String>) -> (Value, u64) {
+fn document_for(shape: &Shape, uri: Option<String>) -> (Value, u64) {
     let n = shape.vertices;
     let (mut views, mut accessors) = (Vec::new(), Vec::new());
     let mut offset = 0u64;
@@ -80,12 +97,8 @@ fn document_for(shape: &Shape, scalars: &VertexScalars, uri: Option<String>) -> 
         );
         attributes.insert("TEXCOORD_0".into(), json!(uv));
     }
-    for (name, values) in scalars {
-        let (lo, hi) = values
-            .iter()
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &x| {
-                (lo.min(x), hi.max(x))
-            });
+    for (name, (lo, hi)) in &shape.scalars {
+        let (lo, hi) = (*lo, *hi);
         let mut accessor = json!({"componentType": FLOAT, "count": n, "type": "SCALAR"});
         if lo <= hi {
             accessor["min"] = json!([lo]);
@@ -173,9 +186,9 @@ fn embedded_uri() -> String {
     format!("data:application/octet-stream;base64,{PLACEHOLDER}")
 }
 
-/// The `.gltf` document of a mesh of `shape` without extra scalars, its buffer embedded.
+/// The `.gltf` document of a mesh of `shape`, its buffer embedded.
 pub(crate) fn gltf_document(shape: &Shape) -> Value {
-    document_for(shape, &[], Some(embedded_uri())).0
+    document_for(shape, Some(embedded_uri())).0
 }
 
 /// Writes `doc` as JSON text with the buffer's bytes, from `buffer`, base64-encoded into the
@@ -199,9 +212,9 @@ pub(crate) fn write_gltf_text(
     out.write_all(b"\n")
 }
 
-/// The GLB document of a mesh of `shape` without extra scalars, and its buffer's length.
+/// The GLB document of a mesh of `shape`, and its buffer's length.
 pub(crate) fn glb_document(shape: &Shape) -> (Value, u64) {
-    document_for(shape, &[], None)
+    document_for(shape, None)
 }
 
 /// The file header, the JSON chunk and the BIN chunk's header, for a buffer of `bin_len`
