@@ -41,7 +41,7 @@ struct Options {
 #[allow(clippy::too_many_arguments)]
 fn options(
     scheme: &str,
-    level: i64,
+    (level, spacing, lod): (f64, &str, Option<&str>),
     alpha: f64,
     normals_mode: Option<&str>,
     weld: bool,
@@ -49,6 +49,7 @@ fn options(
     max_memory: i64,
     sync: bool,
 ) -> PyResult<Options> {
+    use tessella_core::refine::{Levels, Lod, Spacing};
     let option = |m: String| crate::errors::bad_option(m);
     let scheme: Scheme = scheme
         .parse()
@@ -56,10 +57,12 @@ fn options(
     if !alpha.is_finite() {
         return Err(option(format!("alpha={alpha}: give a finite number")));
     }
-    let level = u32::try_from(level)
-        .ok()
-        .filter(|&l| l >= 1)
-        .ok_or_else(|| option(format!("level={level}: give a whole number of 1 or more")))?;
+    if !(level.is_finite() && level >= 1.0) {
+        return Err(option(format!("level={level}: give a number of 1 or more")));
+    }
+    let spacing: Spacing = spacing
+        .parse()
+        .map_err(|e| option(format!("spacing={spacing:?}: {e}")))?;
     let max_memory = u64::try_from(max_memory)
         .ok()
         .filter(|&b| b >= 1 << 20)
@@ -68,7 +71,16 @@ fn options(
                 "max_memory={max_memory}: give at least 1 MiB (in bytes)"
             ))
         })?;
-    let mut refine = RefineOptions::new(scheme.with_alpha(alpha as f32), level).with_weld(weld);
+    // Whole grid levels are the classic refinement; a fractional level or a tessellator
+    // spacing makes an adaptive plan, as `tessella.refine` does; `lod` sets a level per edge.
+    let mut refine = RefineOptions::new(scheme.with_alpha(alpha as f32), 1)
+        .with_weld(weld)
+        .with_spacing(spacing)
+        .with_uniform_level(level);
+    if let Some(spec) = lod {
+        let lod = Lod::parse(spec, None, None).map_err(|e| option(format!("lod={spec:?}: {e}")))?;
+        refine = refine.with_levels(Levels::Lod(lod));
+    }
     if let Some(name) = normals_mode {
         let mode: NormalMode = name
             .parse()
@@ -93,8 +105,8 @@ struct Extras {
     origin: bool,
 }
 
-/// Refines `mesh` into `output`, piece by piece: every plan these functions make (uniform
-/// levels, welded or soup) streams, so `max_memory` is the working set, not a cap.
+/// Refines `mesh` into `output`, piece by piece, so `max_memory` is the working set, not a
+/// cap on the output.
 fn write(
     py: Python<'_>,
     mesh: &Mesh,
@@ -109,10 +121,7 @@ fn write(
     let (vertices, triangles) = py.detach(|| -> Result<_, PyErr> {
         let plan = Plan::new(mesh, &refine).map_err(crate::errors::refine_error)?;
         let frame = plan.frame(mesh).map_err(crate::errors::refine_error)?;
-        let mut source = RefinedSource::new(&plan, &frame, o.max_memory).ok_or_else(|| {
-            crate::errors::bad_option("only uniform levels are written to files piece by piece")
-        })?;
-        source = source
+        let mut source = RefinedSource::new(&plan, &frame, o.max_memory)
             .with_fields(&extras.fields)
             .map_err(|e| crate::errors::bad_mesh(e.to_string()))?;
         if extras.origin {
@@ -136,15 +145,15 @@ fn write(
 /// Refines the mesh file `input` into the file `output` (format by extension); returns the
 /// counts. See `tessella.refine_to_file` for the options.
 #[pyfunction]
-#[pyo3(name = "_refine_file", signature = (input, output, *, scheme="pn", level=8, alpha=0.75, normals_mode=None,
-                    weld=true, ply_ascii=false, max_memory=1 << 30, sync=true, origin=false))]
+#[pyo3(name = "_refine_file", signature = (input, output, *, scheme="pn", level=8.0, alpha=0.75, normals_mode=None,
+                    weld=true, ply_ascii=false, max_memory=1 << 30, sync=true, origin=false, spacing="grid", lod=None))]
 #[allow(clippy::too_many_arguments)]
 fn refine_file(
     py: Python<'_>,
     input: PathBuf,
     output: PathBuf,
     scheme: &str,
-    level: i64,
+    level: f64,
     alpha: f64,
     normals_mode: Option<&str>,
     weld: bool,
@@ -152,10 +161,12 @@ fn refine_file(
     max_memory: i64,
     sync: bool,
     origin: bool,
+    spacing: &str,
+    lod: Option<&str>,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
         scheme,
-        level,
+        (level, spacing, lod),
         alpha,
         normals_mode,
         weld,
@@ -176,9 +187,9 @@ fn refine_file(
 
 /// Refines arrays into the file `output`; see `tessella.refine_to_file`.
 #[pyfunction]
-#[pyo3(name = "_refine_to_file", signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8, alpha=0.75,
+#[pyo3(name = "_refine_to_file", signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8.0, alpha=0.75,
                     normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30, sync=true, origin=false,
-                    point_data=Vec::new()))]
+                    spacing="grid", lod=None, point_data=Vec::new()))]
 #[allow(clippy::too_many_arguments)]
 fn refine_to_file(
     py: Python<'_>,
@@ -187,7 +198,7 @@ fn refine_to_file(
     output: PathBuf,
     normals: Option<&Bound<'_, PyAny>>,
     scheme: &str,
-    level: i64,
+    level: f64,
     alpha: f64,
     normals_mode: Option<&str>,
     weld: bool,
@@ -195,11 +206,13 @@ fn refine_to_file(
     max_memory: i64,
     sync: bool,
     origin: bool,
+    spacing: &str,
+    lod: Option<&str>,
     point_data: Vec<(String, numpy::PyReadonlyArray1<'_, f32>)>,
 ) -> PyResult<Py<PyDict>> {
     let o = options(
         scheme,
-        level,
+        (level, spacing, lod),
         alpha,
         normals_mode,
         weld,

@@ -30,6 +30,7 @@ MESH_EXTENSIONS = (".obj", ".ply", ".gltf", ".glb", ".stl")
 #: The options :func:`refine_to_file`, :func:`batch` and :mod:`tessella.dask` pass on.
 OPTIONS = (
     "scheme", "level", "alpha", "normals_mode", "weld", "ply_ascii", "max_memory", "sync", "origin",
+    "spacing", "lod",
 )
 
 
@@ -46,7 +47,8 @@ def refine_to_file(
     ``.gltf``, ``.stl``) and returns its counts (``vertices``, ``triangles``,
     ``input_triangles``, ``streamed``, ``seconds``).
 
-    The refinement (uniform levels, welded or soup: ``weld=False``) is written piece by piece:
+    The refinement (uniform or adaptive levels, welded or soup: ``weld=False``) is written
+    piece by piece:
     memory holds a few pieces of about ``max_memory / 8`` bytes (default ``max_memory`` 1 GiB)
     whatever the level, and the file has the bytes the whole refinement gets in memory, in any
     format (``.gltf`` gets its buffer base64-encoded as it comes). The free disk space is
@@ -64,7 +66,10 @@ def refine_to_file(
     Options: ``scheme`` (``"pn"``), ``level`` (8), ``alpha`` (0.75), ``normals_mode``,
     ``weld`` (True), ``ply_ascii`` (False), ``max_memory`` (bytes), ``sync`` (True: the file
     is flushed to the disk before it gets its name; False leaves that to the system, or to one
-    :func:`sync_folder` after many files, as :func:`batch` does), ``origin`` (False). Raises
+    :func:`sync_folder` after many files, as :func:`batch` does), ``origin`` (False),
+    ``spacing`` (``"grid"``; ``"equal"``, ``"fractional-odd"``, ``"fractional-even"``: the
+    hardware tessellator's, where ``level`` may be fractional, as a fractional grid level
+    may) and ``lod`` (``"tolerance:D"``: a level per edge, as :func:`tessella.refine`). Raises
     ``MeshError`` for a bad mesh or field, ``OptionError`` for bad options, ``OSError`` for
     what the system refused.
     """

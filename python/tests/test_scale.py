@@ -106,12 +106,33 @@ def test_fields_and_origins_stream_into_the_file(tmp_path, weld):
     assert not list(tmp_path.glob("c.*"))
 
 
+@pytest.mark.parametrize("levels", [
+    {"level": 5.5},
+    {"level": 4.3, "spacing": "fractional-odd"},
+    {"level": 1, "lod": "tolerance:0.002"},
+])
+def test_adaptive_refinements_stream_into_the_file(tmp_path, levels):
+    v, f = icosphere(2)
+    # Independent path: the whole adaptive refinement in memory, written by tessella.save.
+    whole = tessella.refine(v, f, v, **levels)
+    tessella.save(str(tmp_path / "want.ply"), whole.vertices, whole.faces, whole.normals)
+    done = tessella.refine_to_file(v, f, tmp_path / "got.ply", v, max_memory=1 << 20, **levels)
+    assert done["streamed"] and done["vertices"] == len(whole.vertices)
+    assert (tmp_path / "got.ply").read_bytes() == (tmp_path / "want.ply").read_bytes()
+
+
 def test_refine_to_file_errors_are_typed_and_leave_nothing(tmp_path):
     v, f = icosphere(0)
     with pytest.raises(OptionError, match="level"):
         tessella.refine_to_file(v, f, tmp_path / "x.ply", level=0)
     with pytest.raises(OptionError, match="scheme"):
         tessella.refine_to_file(v, f, tmp_path / "x.ply", scheme="nope")
+    with pytest.raises(OptionError, match="spacing"):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", spacing="wobbly")
+    with pytest.raises(OptionError, match="lod"):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", lod="screen:4")
+    with pytest.raises(OptionError, match="level"):
+        tessella.refine_to_file(v, f, tmp_path / "x.ply", level=float("nan"))
     with pytest.raises(OptionError, match="unknown option"):
         tessella.refine_to_file(v, f, tmp_path / "x.ply", colour="red")
     with pytest.raises(MeshError):

@@ -243,6 +243,7 @@ fn bad_levels_are_refused_with_a_message_and_no_file() {
                 "equal",
                 "--max-memory",
                 "1KiB",
+                "--in-memory",
             ],
             "limit",
         ),

@@ -4,6 +4,7 @@
 //! test binary, so no other test's child counts towards the peak.
 
 use std::process::Command;
+use tessella_core::refine::Spacing;
 use tessella_core::{refine, samples, RefineOptions, Scheme};
 
 /// The largest resident size of any finished child of this process, in bytes (Linux: KiB).
@@ -46,9 +47,14 @@ fn a_streamed_file_many_times_the_budget_is_written_in_bounded_memory() {
     assert!(o.status.success());
     let startup = children_peak_bytes();
     let level = 24;
-    // Welded (corners, edges, interiors) and soup (whole faces), both streamed; measured
-    // before any in-memory run below raises the children's peak.
-    let layouts: [(&str, &[&str]); 2] = [("welded", &[]), ("soup", &["--soup"])];
+    // Welded (corners, edges, interiors), soup (whole faces) and an adaptive plan (a
+    // tessellator spacing: tiles of several sizes), all streamed; measured before any
+    // in-memory run below raises the children's peak.
+    let layouts: [(&str, &[&str]); 3] = [
+        ("welded", &[]),
+        ("soup", &["--soup"]),
+        ("adaptive", &["--spacing", "fractional-odd"]),
+    ];
     let mut smallest = u64::MAX;
     for (name, extra) in layouts {
         let output = dir.path().join(format!("{name}.ply"));
@@ -75,7 +81,12 @@ fn a_streamed_file_many_times_the_budget_is_written_in_bounded_memory() {
         // And this process's own refinement of the mesh as read from the file (reading
         // normalises the normals again: the last bit can move), through the library's writer.
         let mesh = tessella_io::read_mesh(&input).unwrap();
-        let options = RefineOptions::new(Scheme::Pn, level).with_weld(extra.is_empty());
+        let options = match name {
+            "adaptive" => RefineOptions::new(Scheme::Pn, 1)
+                .with_spacing(Spacing::FractionalOdd)
+                .with_uniform_level(level as f64),
+            _ => RefineOptions::new(Scheme::Pn, level).with_weld(name == "welded"),
+        };
         let whole = refine(&mesh, &options).unwrap();
         let library = dir.path().join(format!("{name}-library.ply"));
         tessella_io::write_mesh(&library, (&whole).into(), &Default::default()).unwrap();

@@ -63,6 +63,12 @@ pub enum DisplaceError {
          {got}; build the frame from the same mesh and output layout"
     )]
     FrameMismatch { expected: u64, got: usize },
+    /// Displacement follows the uniform output layout; adaptive plans have another.
+    #[error(
+        "displacement works with uniform grid levels; adaptive plans (fractional levels, \
+         tessellator spacings, LOD) are not displaced"
+    )]
+    Adaptive,
     /// A displacement spec ([`Displacement::parse`]) that says no displacement.
     #[error("displacement {spec:?}: {reason}")]
     Spec { spec: String, reason: String },

@@ -7,7 +7,6 @@
 use crate::ply::{Origin, VertexScalars};
 use crate::stream::{MeshSource, VertexRun, Wanted};
 use crate::MeshView;
-use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::mpsc;
 use tessella_core::fields::FieldError;
@@ -37,22 +36,19 @@ struct Displace<'a> {
 }
 
 impl<'a> RefinedSource<'a> {
-    /// A source whose buffers (three pieces in flight) stay within about `budget` bytes, or
-    /// `None` when the plan cannot be evaluated in pieces (adaptive plans).
-    pub fn new(plan: &'a Plan, frame: &'a Frame, budget: u64) -> Option<RefinedSource<'a>> {
-        if !plan.evaluates_in_pieces() {
-            return None;
-        }
+    /// A source whose buffers (three pieces in flight) stay within about `budget` bytes:
+    /// uniform and adaptive plans, welded or soup.
+    pub fn new(plan: &'a Plan, frame: &'a Frame, budget: u64) -> RefinedSource<'a> {
         // Three pieces in flight and the encoders' blocks: an eighth of the budget each.
         let piece_vertices = (budget / 8 / VERTEX_BYTES as u64).clamp(1024, 1 << 24) as usize;
-        Some(RefinedSource {
+        RefinedSource {
             plan,
             frame,
             piece_vertices,
             displace: None,
             fields: &[],
             origin: false,
-        })
+        }
     }
 
     /// The same source with per-vertex fields of the coarse mesh (`(name, one value per
@@ -79,11 +75,14 @@ impl<'a> RefinedSource<'a> {
 
     /// The same source with every vertex displaced by `displacement`: the positions
     /// [`Displacement::apply`] gives the whole refinement, piece by piece. Errors when the
-    /// displacement needs texture coordinates the mesh lacks.
+    /// displacement needs texture coordinates the mesh lacks, and for adaptive plans.
     pub fn displaced(
         mut self,
         displacement: &'a Displacement,
     ) -> Result<RefinedSource<'a>, DisplaceError> {
+        if self.plan.tiling().is_some() {
+            return Err(DisplaceError::Adaptive);
+        }
         displacement.validate(self.plan.has_uvs())?;
         let frame = DisplaceFrame::new(self.frame.mesh(), self.plan.topology(), self.plan.layout());
         let shared = frame.shared();
@@ -95,26 +94,16 @@ impl<'a> RefinedSource<'a> {
         Ok(self)
     }
 
-    /// Faces per run of triangles: about a piece's worth of bytes.
-    fn faces_per_run(&self) -> usize {
-        let per_face = self.plan.pattern().triangles.len().max(1);
-        (self.piece_vertices * VERTEX_BYTES / 12 / per_face).max(1)
-    }
-
     /// The refined triangles in runs of whole coarse faces (about a piece's worth of bytes
     /// each): `each(faces, their triangles)`, in output order.
     fn face_runs(&self, each: &mut FaceRun<'_>) -> std::io::Result<()> {
-        let per_face = self.plan.pattern().triangles.len();
-        let faces = self.plan.face_count();
-        let step = self.faces_per_run();
         let mut run = Vec::new();
-        for start in (0..faces).step_by(step) {
-            let end = (start + step).min(faces);
-            run.resize((end - start) * per_face, [0u32; 3]);
+        for faces in self.plan.face_runs(self.piece_vertices * VERTEX_BYTES / 12) {
+            run.resize(self.plan.face_triangles(faces.clone()).len(), [0u32; 3]);
             self.plan
-                .write_face_indices(start..end, &mut run)
+                .write_face_indices(faces.clone(), &mut run)
                 .map_err(std::io::Error::other)?;
-            each(start..end, &run)?;
+            each(faces, &run)?;
         }
         Ok(())
     }
@@ -344,7 +333,6 @@ impl MeshSource for RefinedSource<'_> {
         let plan = self.plan;
         let layout = plan.layout();
         let topology = plan.topology();
-        let m = layout.level as usize - 1;
         let positions_only = Wanted {
             normals: false,
             uvs: false,
@@ -373,6 +361,9 @@ impl MeshSource for RefinedSource<'_> {
         let coarse = Piece::Corners(0..plan.coarse_vertex_count());
         corners.fill(self, &coarse, positions_only)?;
         let corners = corners.positions;
+        // Where the edges' and the interiors' vertices start in the output.
+        let edge_first = plan.coarse_vertex_count();
+        let interior_start = plan.piece_vertices(&Piece::Interiors(0..0)).start;
         self.face_runs(&mut |faces, triangles| {
             let Range { start, end } = faces;
             let interior_piece = Piece::Interiors(start..end);
@@ -386,34 +377,29 @@ impl MeshSource for RefinedSource<'_> {
                 .collect();
             unique.sort_unstable();
             unique.dedup();
-            let mut edge_slot = HashMap::with_capacity(unique.len());
-            let mut edge_positions: Vec<[f32; 3]> = Vec::with_capacity(unique.len() * m);
+            // Each run of consecutive edges is one piece: its output vertices, consecutive
+            // too, sit at `offset..` of `edge_positions` (sorted by first vertex).
+            let mut spans: Vec<(usize, usize)> = Vec::new();
+            let mut edge_positions: Vec<[f32; 3]> = Vec::new();
             let mut i = 0;
-            while i < unique.len() && m > 0 {
+            while i < unique.len() {
                 let mut j = i + 1;
                 while j < unique.len() && unique[j] == unique[j - 1] + 1 {
                     j += 1;
                 }
-                edges.fill(
-                    self,
-                    &Piece::Edges(unique[i]..unique[j - 1] + 1),
-                    positions_only,
-                )?;
-                for (k, &e) in unique[i..j].iter().enumerate() {
-                    edge_slot.insert(e, edge_positions.len());
-                    edge_positions.extend_from_slice(&edges.positions[k * m..(k + 1) * m]);
-                }
+                let piece = Piece::Edges(unique[i]..unique[j - 1] + 1);
+                edges.fill(self, &piece, positions_only)?;
+                spans.push((plan.piece_vertices(&piece).start, edge_positions.len()));
+                edge_positions.extend_from_slice(&edges.positions);
                 i = j;
             }
-            let (edge_base, interior_base) =
-                (layout.edge_base as usize, layout.interior_base as usize);
             let at = |v: u32| -> [f32; 3] {
                 let v = v as usize;
-                if v < edge_base {
+                if v < edge_first {
                     corners[v]
-                } else if v < interior_base {
-                    let (e, s) = ((v - edge_base) / m, (v - edge_base) % m);
-                    edge_positions[edge_slot[&e] + s]
+                } else if v < interior_start {
+                    let (first, offset) = spans[spans.partition_point(|&(f, _)| f <= v) - 1];
+                    edge_positions[offset + v - first]
                 } else {
                     interiors.positions[v - interior_first]
                 }

@@ -1,7 +1,7 @@
 //! Streamed writes against the in-memory writers: the same bytes for every format, with and
 //! without texture coordinates, however small the pieces; refusals leave nothing behind.
 
-use tessella_core::refine::Plan;
+use tessella_core::refine::{Levels, Plan, Spacing};
 use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
 use tessella_io::stream::{
     check_free_space, expected_bytes, Corners, MeshSource, VertexRun, Wanted,
@@ -24,20 +24,41 @@ fn with_uvs(mesh: &Mesh) -> Mesh {
     .unwrap()
 }
 
+/// The number of unique edges of `mesh`.
+fn plain_edges(mesh: &Mesh) -> usize {
+    tessella_core::mesh::Topology::new(mesh).edges.len()
+}
+
 #[test]
 fn streamed_files_equal_the_in_memory_files() {
     let dir = tempfile::tempdir().unwrap();
     let plain = samples::icosphere(2);
     let meshes = [plain.clone(), with_uvs(&plain)];
     for (m, mesh) in meshes.iter().enumerate() {
-        for (scheme, level, weld) in [
+        // Uniform levels, and adaptive plans: a fractional level on a tessellator spacing
+        // and the screen-size LOD (a level per edge).
+        let uniform = [
             (Scheme::Pn, 1, true),
             (Scheme::Pn, 7, true),
             (Scheme::Png1, 4, true),
             (Scheme::Pn, 7, false),
             (Scheme::Png1, 1, false),
-        ] {
-            let options = RefineOptions::new(scheme, level).with_weld(weld);
+        ]
+        .map(|(scheme, level, weld)| RefineOptions::new(scheme, level).with_weld(weld));
+        let adaptive = [(Scheme::Pn, true), (Scheme::Png1, false)].map(|(scheme, weld)| {
+            RefineOptions::new(scheme, 1)
+                .with_spacing(Spacing::FractionalEven)
+                .with_uniform_level(5.3)
+                .with_weld(weld)
+        });
+        let lod = RefineOptions::new(Scheme::Pn, 1).with_levels(Levels::PerEdge {
+            edges: (0..plain_edges(mesh))
+                .map(|e| 1.0 + (e % 6) as f32)
+                .collect(),
+            faces: None,
+        });
+        for options in uniform.into_iter().chain(adaptive).chain([lod]) {
+            let (scheme, level, weld) = (options.scheme, options.level, options.weld);
             // The independent path: the whole refinement in memory, the ordinary writer.
             let whole = refine(mesh, &options).unwrap();
             let plan = Plan::new(mesh, &options).unwrap();
@@ -55,7 +76,7 @@ fn streamed_files_equal_the_in_memory_files() {
             for (budget, (name, ascii)) in
                 [0, 1 << 30].into_iter().flat_map(|b| files.map(|f| (b, f)))
             {
-                let source = RefinedSource::new(&plan, &frame, budget).unwrap();
+                let source = RefinedSource::new(&plan, &frame, budget);
                 let opts = WriteOptions {
                     ply_ascii: ascii,
                     ..Default::default()
@@ -139,7 +160,6 @@ fn streamed_fields_and_origins_equal_the_in_memory_files() {
             let what = format!("{scheme:?} level {level} weld {weld} budget {budget}");
             let source = || {
                 RefinedSource::new(&plan, &frame, budget)
-                    .unwrap()
                     .with_fields(&fields)
                     .unwrap()
             };
@@ -192,20 +212,16 @@ fn streamed_fields_and_origins_equal_the_in_memory_files() {
     // writer does, and leave nothing behind.
     let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 3)).unwrap();
     let frame = plan.frame(&mesh).unwrap();
-    let source = RefinedSource::new(&plan, &frame, 0).unwrap();
+    let source = RefinedSource::new(&plan, &frame, 0);
     for (name, source) in [
         ("x.obj", source.with_fields(&fields).unwrap()),
         (
             "x.stl",
             RefinedSource::new(&plan, &frame, 0)
-                .unwrap()
                 .with_fields(&fields)
                 .unwrap(),
         ),
-        (
-            "x.glb",
-            RefinedSource::new(&plan, &frame, 0).unwrap().with_origin(),
-        ),
+        ("x.glb", RefinedSource::new(&plan, &frame, 0).with_origin()),
     ] {
         let path = dir.path().join(name);
         let err = write_streamed(&path, &source, &WriteOptions::default(), &|_| {}).unwrap_err();
@@ -223,7 +239,6 @@ fn streamed_fields_and_origins_equal_the_in_memory_files() {
     }] {
         let fields = [("bad".to_string(), bad)];
         let err = RefinedSource::new(&plan, &frame, 0)
-            .unwrap()
             .with_fields(&fields)
             .err()
             .expect("refused");
@@ -279,7 +294,6 @@ fn streamed_displaced_files_equal_the_in_memory_files() {
             for budget in [0, 1 << 30] {
                 for name in ["a.ply", "b.obj", "c.glb", "d.stl", "e.gltf"] {
                     let source = RefinedSource::new(&plan, &frame, budget)
-                        .unwrap()
                         .displaced(displacement)
                         .unwrap();
                     let opts = WriteOptions::default();
@@ -304,9 +318,23 @@ fn streamed_displaced_files_equal_the_in_memory_files() {
         map: HeightMap::new(1, 1, vec![1.0]).unwrap(),
     };
     assert!(RefinedSource::new(&plan, &frame, 0)
-        .unwrap()
         .displaced(&needs_uvs)
         .is_err());
+    // Displacement follows the uniform layout: an adaptive plan is refused, with why.
+    let spaced = RefineOptions::new(Scheme::Pn, 1)
+        .with_spacing(Spacing::FractionalOdd)
+        .with_uniform_level(3.0);
+    let plan = Plan::new(&mesh, &spaced).unwrap();
+    let frame = plan.frame(&mesh).unwrap();
+    let sine = Displacement::Sine {
+        amplitude: 0.1,
+        frequency: 2.0,
+    };
+    let err = RefinedSource::new(&plan, &frame, 0)
+        .displaced(&sine)
+        .err()
+        .expect("refused");
+    assert!(err.to_string().contains("uniform grid levels"), "{err}");
 }
 
 #[test]
@@ -327,7 +355,7 @@ fn failed_streamed_writes_leave_nothing_behind() {
     let mesh = samples::icosphere(1);
     let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 3)).unwrap();
     let frame = plan.frame(&mesh).unwrap();
-    let source = RefinedSource::new(&plan, &frame, 1 << 20).unwrap();
+    let source = RefinedSource::new(&plan, &frame, 1 << 20);
     let opts = WriteOptions::default();
     // A source that fails half-way, after the header and the vertices went out, in every
     // format: the error comes back and no file is left.

@@ -83,7 +83,7 @@ pub fn refine_file(
     let fields = kept_fields(std::mem::take(&mut raw.vertex_scalars), &args.output);
     drop(raw);
 
-    if streams(args, &options) {
+    if streams(args) {
         return stream::refine(args, mesh, options, &fields, bars, durability);
     }
     let backend = backend::choose(args, &mesh)?;
@@ -155,20 +155,17 @@ fn describe(options: &RefineOptions, plan: &tessella_core::refine::Plan) -> Stri
     format!("{}, {level}", options.scheme.name())
 }
 
-/// Whether this refinement is written piece by piece (bounded memory, any size): uniform grid
-/// levels on the CPU, welded or not, displaced or not, with per-vertex fields and origins or
-/// without, to a format the streamed writer knows. Everything else (adaptive levels, the GPU
-/// backends) is refined in memory, within `--max-memory`.
-fn streams(args: &RefineArgs, options: &RefineOptions) -> bool {
+/// Whether this refinement is written piece by piece (bounded memory, any size): every CPU
+/// refinement, uniform or adaptive, welded or not, displaced or not, with per-vertex fields
+/// and origins or without, to a format the streamed writer knows. The GPU backends (and
+/// `--in-memory`) refine the whole mesh in memory, within `--max-memory`.
+fn streams(args: &RefineArgs) -> bool {
     let cpu = matches!(
         args.backend,
         tessella_core::Backend::Auto | tessella_core::Backend::Cpu
     );
     let format = Format::from_path(&args.output).ok();
-    cpu && !args.in_memory
-        && options.uniform_grid_level() == Some(options.level)
-        && options.levels.is_none()
-        && format.is_some()
+    cpu && !args.in_memory && format.is_some()
 }
 
 /// The streamed path: `--max-memory` is the working set, not a cap on the output.
@@ -197,8 +194,7 @@ mod stream {
             .with_context(|| format!("cannot refine {}", args.input.display()))?;
         let frame = plan.frame(&mesh)?;
         let displacement = super::super::displace::parse(args.displace.as_deref())?;
-        let mut source = RefinedSource::new(&plan, &frame, args.max_memory)
-            .context("a uniform plan is evaluated in pieces")?;
+        let mut source = RefinedSource::new(&plan, &frame, args.max_memory);
         if displacement.is_some() {
             source = source.displaced(&displacement)?;
         }

@@ -21,6 +21,7 @@
 
 use super::canonical::{self, EdgeWeights};
 use super::output::Sink;
+use super::stream::Piece;
 use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::{Pattern, PointClass};
@@ -29,6 +30,7 @@ use crate::stencil::Stencil;
 use crate::tessellator::{self, TessLevels};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::ops::Range;
 use std::sync::Arc;
 
 /// How a level divides a coarse edge.
@@ -729,76 +731,112 @@ impl AdaptiveJob<'_> {
     }
 
     fn vertices_k<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
-        let tiling = self.tiling;
-        let mesh = self.mesh;
-        let topo = self.topology;
-        let pid = &topo.position_ids;
-        let nf = mesh.face_count();
+        let (nv, ne, nf) = (
+            self.mesh.vertex_count(),
+            self.topology.edges.len(),
+            self.mesh.face_count(),
+        );
         if !self.weld {
-            let lens = (0..nf).map(|f| tiling.tile(f).pattern.points.len());
-            runs(sink, lens)
-                .into_par_iter()
-                .enumerate()
-                .for_each(|(f, mut sink)| {
-                    let tile = tiling.tile(f);
-                    let t = mesh.triangles()[f];
-                    for p in 0..tile.pattern.points.len() as u32 {
-                        self.full_point::<K>(tile, f, p, &mut sink, p as usize);
-                    }
-                    for c in 0..3 {
-                        sink.set_position(
-                            tile.corners[c] as usize,
-                            mesh.positions()[t[c] as usize],
-                        );
-                    }
-                    for k in 0..3 {
-                        let fwd = canonical::forward(t, k, pid);
-                        for (s, &p) in tile.edges[k].iter().enumerate() {
-                            let at = (s + 1, p);
-                            self.edge_point::<K>(tile, f, k, fwd, at, &mut sink, p as usize);
-                        }
-                    }
-                    progress(1);
-                });
-            return;
+            return self.faces_k::<K>(0..nf, sink, progress);
         }
-        let nv = mesh.vertex_count();
-        let (mut corners, rest) = sink.split_at(nv);
-        let edge_total = (tiling.face_offset[0] - nv as u64) as usize;
+        let (corners, rest) = sink.split_at(nv);
+        let edge_total = (self.tiling.face_offset[0] - nv as u64) as usize;
         let (edges, interiors) = rest.split_at(edge_total);
-        for v in 0..nv {
+        self.corners_k::<K>(0..nv, corners);
+        self.edges_k::<K>(0..ne, edges);
+        self.interiors_k::<K>(0..nf, interiors, progress);
+    }
+
+    /// The vertices of one piece of the layout (`sink` holds just that piece's slots).
+    pub fn piece(&self, piece: &Piece, sink: Sink) {
+        match self.nets.basis.len() {
+            10 => self.piece_k::<10>(piece, sink),
+            21 => self.piece_k::<21>(piece, sink),
+            k => unreachable!("no evaluator for a basis of {k} points"),
+        }
+    }
+
+    fn piece_k<const K: usize>(&self, piece: &Piece, sink: Sink) {
+        match piece.clone() {
+            Piece::Corners(r) => self.corners_k::<K>(r, sink),
+            Piece::Edges(r) => self.edges_k::<K>(r, sink),
+            Piece::Interiors(r) => self.interiors_k::<K>(r, sink, &|_| {}),
+            Piece::Faces(r) => self.faces_k::<K>(r, sink, &|_| {}),
+        }
+    }
+
+    /// Soup: the whole patterns of faces `r`, one after the other.
+    fn faces_k<const K: usize>(
+        &self,
+        r: Range<usize>,
+        sink: Sink,
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
+        let (tiling, mesh, pid) = (self.tiling, self.mesh, &self.topology.position_ids);
+        let lens = r.clone().map(|f| tiling.tile(f).pattern.points.len());
+        runs(sink, lens)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(i, mut sink)| {
+                let f = r.start + i;
+                let tile = tiling.tile(f);
+                let t = mesh.triangles()[f];
+                for p in 0..tile.pattern.points.len() as u32 {
+                    self.full_point::<K>(tile, f, p, &mut sink, p as usize);
+                }
+                for c in 0..3 {
+                    sink.set_position(tile.corners[c] as usize, mesh.positions()[t[c] as usize]);
+                }
+                for k in 0..3 {
+                    let fwd = canonical::forward(t, k, pid);
+                    for (s, &p) in tile.edges[k].iter().enumerate() {
+                        let at = (s + 1, p);
+                        self.edge_point::<K>(tile, f, k, fwd, at, &mut sink, p as usize);
+                    }
+                }
+                progress(1);
+            });
+    }
+
+    /// Welded: coarse vertices `r`, evaluated on their owner faces.
+    fn corners_k<const K: usize>(&self, r: Range<usize>, mut corners: Sink) {
+        let (tiling, mesh, topo) = (self.tiling, self.mesh, self.topology);
+        for (i, v) in r.enumerate() {
             match topo.vertex_owner[v] {
                 Some((f, c)) => {
                     let tile = tiling.tile(f as usize);
-                    self.full_point::<K>(
-                        tile,
-                        f as usize,
-                        tile.corners[c as usize],
-                        &mut corners,
-                        v,
-                    );
+                    let p = tile.corners[c as usize];
+                    self.full_point::<K>(tile, f as usize, p, &mut corners, i);
                 }
                 None => {
                     if corners.wants_normals() {
-                        corners.set_normal(v, mesh.normals()[v]);
+                        corners.set_normal(i, mesh.normals()[v]);
                     }
                     if let (true, Some(uv)) = (corners.wants_uvs(), mesh.uvs()) {
-                        corners.set_uv(v, uv[v]);
+                        corners.set_uv(i, uv[v]);
                     }
                 }
             }
-            corners.set_position(v, mesh.positions()[v]);
+            corners.set_position(i, mesh.positions()[v]);
         }
-        let lens = tiling.edge_segments.iter().map(|&s| s as usize - 1);
+    }
+
+    /// Welded: the inner points of unique edges `r`, from their lower vertex index.
+    fn edges_k<const K: usize>(&self, r: Range<usize>, edges: Sink) {
+        let (tiling, mesh, topo) = (self.tiling, self.mesh, self.topology);
+        let lens = r
+            .clone()
+            .map(|e| tiling.edge_segments[e].max(1) as usize - 1);
         runs(edges, lens)
             .into_par_iter()
             .enumerate()
-            .for_each(|(e, mut sink)| {
+            .for_each(|(i, mut sink)| {
+                let e = r.start + i;
                 let (f, k) = topo.edge_owner[e];
                 let (f, k) = (f as usize, k as usize);
                 let tile = tiling.tile(f);
                 let t = mesh.triangles()[f];
-                let fwd = canonical::forward(t, k, pid);
+                let fwd = canonical::forward(t, k, &topo.position_ids);
                 let by_index = t[k] == topo.edges[e][0];
                 let m = tile.edges[k].len();
                 for (s, &p) in tile.edges[k].iter().enumerate() {
@@ -806,11 +844,22 @@ impl AdaptiveJob<'_> {
                     self.edge_point::<K>(tile, f, k, fwd, (s + 1, p), &mut sink, slot);
                 }
             });
-        let lens = (0..nf).map(|f| tiling.tile(f).interior.len());
+    }
+
+    /// Welded: the interior points of faces `r`.
+    fn interiors_k<const K: usize>(
+        &self,
+        r: Range<usize>,
+        interiors: Sink,
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
+        let tiling = self.tiling;
+        let lens = r.clone().map(|f| tiling.tile(f).interior.len());
         runs(interiors, lens)
             .into_par_iter()
             .enumerate()
-            .for_each(|(f, mut sink)| {
+            .for_each(|(i, mut sink)| {
+                let f = r.start + i;
                 let tile = tiling.tile(f);
                 for (i, &p) in tile.interior.iter().enumerate() {
                     self.full_point::<K>(tile, f, p, &mut sink, i);
@@ -861,10 +910,21 @@ impl AdaptiveIndex<'_> {
 
     /// Writes every refined triangle.
     pub fn indices<I: super::IndexInt>(&self, out: &mut [[I; 3]], progress: &(dyn Fn(u64) + Sync)) {
+        self.face_indices(0..self.triangles.len(), out, progress);
+    }
+
+    /// Writes the refined triangles of faces `faces` (from `triangle_offset[faces.start]` to
+    /// `triangle_offset[faces.end]`) into `out`, exactly that long.
+    pub fn face_indices<I: super::IndexInt>(
+        &self,
+        faces: Range<usize>,
+        out: &mut [[I; 3]],
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
         let tiling = self.tiling;
-        let mut chunks = Vec::with_capacity(self.triangles.len());
+        let mut chunks = Vec::with_capacity(faces.len());
         let mut rest = out;
-        for f in 0..self.triangles.len() {
+        for f in faces.clone() {
             let n = tiling.tile(f).pattern.triangles.len();
             let (head, tail) = rest.split_at_mut(n);
             chunks.push(head);
@@ -873,7 +933,8 @@ impl AdaptiveIndex<'_> {
         chunks
             .into_par_iter()
             .enumerate()
-            .for_each_init(Vec::new, |map, (f, tris)| {
+            .for_each_init(Vec::new, |map, (i, tris)| {
+                let f = faces.start + i;
                 self.slots(f, map);
                 for (dst, src) in tris.iter_mut().zip(&tiling.tile(f).pattern.triangles) {
                     *dst = src.map(|p| I::from_index(map[p as usize]));
@@ -882,30 +943,53 @@ impl AdaptiveIndex<'_> {
             });
     }
 
-    /// Each output vertex's face and barycentrics (see `Plan::origin`).
-    pub fn origin(&self, faces: &mut [u32], bary: &mut [[f32; 3]]) {
-        let mut map = Vec::new();
-        // A shared (welded) vertex is named by its owner face, as the uniform layout does.
-        for f in 0..self.triangles.len() {
-            self.slots(f, &mut map);
-            let tile = self.tiling.tile(f);
-            for (p, &slot) in map.iter().enumerate() {
-                let l = tile.pattern.points[p].map(|x| x as f32);
-                let owner = match tile.pattern.classes[p] {
-                    PointClass::Interior { .. } => true,
-                    _ if !self.weld => true,
-                    PointClass::Corner { corner } => {
-                        let v = self.triangles[f][corner as usize] as usize;
-                        self.topology.vertex_owner[v].map(|(o, _)| o as usize) == Some(f)
+    /// Each output vertex of `piece`'s face and barycentrics (see `Plan::origin`): a shared
+    /// (welded) vertex is named by the face that owns (evaluates) it, as in the uniform layout.
+    pub fn piece_origin(&self, piece: &Piece, faces: &mut [u32], bary: &mut [[f32; 3]]) {
+        let (topo, tiling) = (self.topology, self.tiling);
+        let l = |f: usize, p: u32| tiling.tile(f).pattern.points[p as usize].map(|x| x as f32);
+        let mut slots = faces.iter_mut().zip(bary.iter_mut());
+        let mut put = |face: u32, b: [f32; 3]| {
+            let (f, slot) = slots.next().expect("a slot for each vertex of the piece");
+            (*f, *slot) = (face, b);
+        };
+        match piece.clone() {
+            Piece::Corners(r) => {
+                for v in r {
+                    match topo.vertex_owner[v] {
+                        Some((f, c)) => put(
+                            f,
+                            l(f as usize, tiling.tile(f as usize).corners[c as usize]),
+                        ),
+                        None => put(super::NO_FACE, [1.0, 0.0, 0.0]),
                     }
-                    PointClass::Edge { edge, .. } => {
-                        let e = self.topology.face_edges[f][edge as usize] as usize;
-                        self.topology.edge_owner[e].0 as usize == f
+                }
+            }
+            Piece::Edges(r) => {
+                for e in r {
+                    let (f, k) = topo.edge_owner[e];
+                    let (fu, k) = (f as usize, k as usize);
+                    let points = &tiling.tile(fu).edges[k];
+                    let by_index = self.triangles[fu][k] == topo.edges[e][0];
+                    let m = points.len();
+                    for j in 0..m {
+                        let s = if by_index { j } else { m - 1 - j };
+                        put(f, l(fu, points[s]));
                     }
-                };
-                if owner {
-                    faces[slot as usize] = f as u32;
-                    bary[slot as usize] = l;
+                }
+            }
+            Piece::Interiors(r) => {
+                for f in r {
+                    for &p in &tiling.tile(f).interior {
+                        put(f as u32, l(f, p));
+                    }
+                }
+            }
+            Piece::Faces(r) => {
+                for f in r {
+                    for p in 0..tiling.tile(f).pattern.points.len() as u32 {
+                        put(f as u32, l(f, p));
+                    }
                 }
             }
         }

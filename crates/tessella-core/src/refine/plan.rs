@@ -34,7 +34,6 @@ use super::indices::{IndexInt, IndexJob};
 use super::layout::OutputLayout;
 use super::lod;
 use super::output::VertexOutput;
-use super::stream::Piece;
 pub(crate) use super::surface::Frame;
 use super::surface::Surface;
 use super::{RefineOptions, RefinedMesh};
@@ -291,7 +290,7 @@ impl Plan {
         }
     }
 
-    fn adaptive_job<'a>(&'a self, frame: &'a Frame) -> Option<AdaptiveJob<'a>> {
+    pub(super) fn adaptive_job<'a>(&'a self, frame: &'a Frame) -> Option<AdaptiveJob<'a>> {
         Some(AdaptiveJob {
             mesh: &frame.mesh,
             topology: &self.surface.topology,
@@ -308,7 +307,7 @@ impl Plan {
         }
     }
 
-    fn adaptive_index<'a>(&'a self, tiling: &'a Tiling) -> AdaptiveIndex<'a> {
+    pub(super) fn adaptive_index<'a>(&'a self, tiling: &'a Tiling) -> AdaptiveIndex<'a> {
         AdaptiveIndex {
             triangles: &self.surface.triangles,
             topology: &self.surface.topology,
@@ -400,27 +399,8 @@ impl Plan {
                 });
             }
         }
-        if let Some(tiling) = &self.tiling {
-            faces[..n].fill(NO_FACE);
-            bary[..n].fill([1.0, 0.0, 0.0]);
-            self.adaptive_index(tiling).origin(faces, bary);
-            return Ok(());
-        }
-        // The whole layout as three pieces (welded) or one (soup): one code path for both.
-        let (nv, ne, nf) = (
-            self.coarse_vertex_count(),
-            self.surface.topology.edges.len(),
-            self.face_count(),
-        );
-        let pieces = match self.layout.weld {
-            true => vec![
-                Piece::Corners(0..nv),
-                Piece::Edges(0..ne),
-                Piece::Interiors(0..nf),
-            ],
-            false => vec![Piece::Faces(0..nf)],
-        };
-        for piece in &pieces {
+        // The whole layout as pieces: one code path for the whole and for streamed pieces.
+        for piece in &self.pieces(usize::MAX) {
             let r = self.piece_vertices(piece);
             self.write_piece_origin(piece, &mut faces[r.clone()], &mut bary[r])?;
         }

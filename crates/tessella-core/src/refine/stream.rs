@@ -31,55 +31,123 @@ pub enum Piece {
     Faces(Range<usize>),
 }
 
+/// The kinds of element a layout is made of, in output order.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Corners,
+    Edges,
+    Interiors,
+    Faces,
+}
+
+impl Kind {
+    fn of(piece: &Piece) -> (Kind, &Range<usize>) {
+        match piece {
+            Piece::Corners(r) => (Kind::Corners, r),
+            Piece::Edges(r) => (Kind::Edges, r),
+            Piece::Interiors(r) => (Kind::Interiors, r),
+            Piece::Faces(r) => (Kind::Faces, r),
+        }
+    }
+
+    fn piece(self, r: Range<usize>) -> Piece {
+        match self {
+            Kind::Corners => Piece::Corners(r),
+            Kind::Edges => Piece::Edges(r),
+            Kind::Interiors => Piece::Interiors(r),
+            Kind::Faces => Piece::Faces(r),
+        }
+    }
+}
+
 impl Plan {
-    /// Whether this plan can be evaluated in [`Piece`]s: uniform grid plans, welded or soup
-    /// (adaptive plans are evaluated whole).
-    pub fn evaluates_in_pieces(&self) -> bool {
-        self.tiling().is_none()
+    /// The kinds of element this plan's layout is made of, in output order.
+    fn kinds(&self) -> &'static [Kind] {
+        match self.layout().weld {
+            true => &[Kind::Corners, Kind::Edges, Kind::Interiors],
+            false => &[Kind::Faces],
+        }
+    }
+
+    /// How many elements of `kind` there are.
+    fn element_count(&self, kind: Kind) -> usize {
+        match kind {
+            Kind::Corners => self.coarse_vertex_count(),
+            Kind::Edges => self.topology().edges.len(),
+            Kind::Interiors | Kind::Faces => self.face_count(),
+        }
+    }
+
+    /// The first output vertex of element `i` of `kind` (`i` = the count: the end of them
+    /// all). Uniform plans: a base and a fixed size; adaptive ones: the tiling's offsets.
+    fn element_start(&self, kind: Kind, i: usize) -> usize {
+        let layout = self.layout();
+        if let Some(tiling) = self.tiling() {
+            return match kind {
+                Kind::Corners => i,
+                Kind::Edges => match tiling.edge_offset.get(i) {
+                    Some(&at) => at as usize,
+                    None => tiling.face_offset[0] as usize,
+                },
+                Kind::Interiors | Kind::Faces => tiling.face_offset[i] as usize,
+            };
+        }
+        let (base, per) = match kind {
+            Kind::Corners => (0, 1),
+            Kind::Edges => (layout.edge_base as usize, layout.level as usize - 1),
+            Kind::Interiors => (
+                layout.interior_base as usize,
+                Pattern::interior_count(layout.level) as usize,
+            ),
+            Kind::Faces => (0, self.pattern().points.len()),
+        };
+        base + i * per
     }
 
     /// The output cut into pieces of at most `max_vertices` vertices (or one element, when an
-    /// element alone is larger), in output order. Empty when the plan does not
-    /// [`Plan::evaluates_in_pieces`].
+    /// element alone is larger), in output order; uniform and adaptive plans, welded or soup.
     pub fn pieces(&self, max_vertices: usize) -> Vec<Piece> {
-        if !self.evaluates_in_pieces() {
-            return Vec::new();
-        }
         let max = max_vertices.max(1);
-        let m = self.layout().level as usize - 1;
-        let ni = Pattern::interior_count(self.layout().level) as usize;
         let mut out = Vec::new();
-        let mut cut = |count: usize, per: usize, make: fn(Range<usize>) -> Piece| {
-            if per == 0 {
-                return;
+        for &kind in self.kinds() {
+            let count = self.element_count(kind);
+            let at = |i: usize| self.element_start(kind, i);
+            if at(count) == at(0) {
+                continue; // no vertices of this kind (edges at level 1)
             }
-            let step = (max / per).max(1);
-            for start in (0..count).step_by(step) {
-                out.push(make(start..(start + step).min(count)));
-            }
-        };
-        if self.layout().weld {
-            cut(self.coarse_vertex_count(), 1, Piece::Corners);
-            cut(self.topology().edges.len(), m, Piece::Edges);
-            cut(self.face_count(), ni, Piece::Interiors);
-        } else {
-            cut(self.face_count(), self.pattern().points.len(), Piece::Faces);
+            out.extend(
+                greedy_runs(count, max, at)
+                    .into_iter()
+                    .map(|r| kind.piece(r)),
+            );
         }
         out
     }
 
+    /// Runs of whole coarse faces with at most `max_triangles` refined triangles each (or
+    /// one face, when a face alone has more), in order: how a writer takes the triangles.
+    pub fn face_runs(&self, max_triangles: usize) -> Vec<Range<usize>> {
+        let per = self.pattern().triangles.len();
+        let at = |f: usize| match self.tiling() {
+            Some(tiling) => tiling.triangle_offset[f] as usize,
+            None => f * per,
+        };
+        greedy_runs(self.face_count(), max_triangles.max(1), at)
+    }
+
     /// The output vertices `piece` covers.
     pub fn piece_vertices(&self, piece: &Piece) -> Range<usize> {
-        let layout = self.layout();
-        let m = layout.level as usize - 1;
-        let ni = Pattern::interior_count(layout.level) as usize;
-        let (base, per, r) = match piece {
-            Piece::Corners(r) => (0, 1, r),
-            Piece::Edges(r) => (layout.edge_base as usize, m, r),
-            Piece::Interiors(r) => (layout.interior_base as usize, ni, r),
-            Piece::Faces(r) => (0, self.pattern().points.len(), r),
+        let (kind, r) = Kind::of(piece);
+        self.element_start(kind, r.start)..self.element_start(kind, r.end)
+    }
+
+    /// The refined triangles of faces `faces`, in output order.
+    pub fn face_triangles(&self, faces: Range<usize>) -> Range<usize> {
+        let at = |f: usize| match self.tiling() {
+            Some(tiling) => tiling.triangle_offset[f] as usize,
+            None => f * self.pattern().triangles.len(),
         };
-        base + r.start * per..base + r.end * per
+        at(faces.start)..at(faces.end)
     }
 
     /// Writes the vertices of `piece` (from [`Plan::pieces`]) into `out`, which holds
@@ -93,6 +161,10 @@ impl Plan {
         self.check_frame(frame)?;
         self.check_piece(piece)?;
         let sink = out.sink(self.piece_vertices(piece).len(), self.has_uvs())?;
+        if let Some(job) = self.adaptive_job(frame) {
+            job.piece(piece, sink);
+            return Ok(());
+        }
         match frame.nets().basis.len() {
             10 => self.piece_k::<10>(frame, piece, sink),
             21 => self.piece_k::<21>(frame, piece, sink),
@@ -104,20 +176,12 @@ impl Plan {
     /// Errors unless `piece` is one of this plan's: a uniform plan, the layout's kind of
     /// piece, a range within the mesh.
     fn check_piece(&self, piece: &Piece) -> Result<(), RefineError> {
-        let limit = match piece {
-            Piece::Corners(_) => self.coarse_vertex_count(),
-            Piece::Edges(_) => self.topology().edges.len(),
-            Piece::Interiors(_) | Piece::Faces(_) => self.face_count(),
-        };
-        let range = match piece {
-            Piece::Corners(r) | Piece::Edges(r) | Piece::Interiors(r) | Piece::Faces(r) => r,
-        };
-        let of_layout = matches!(piece, Piece::Faces(_)) != self.layout().weld;
-        if !self.evaluates_in_pieces() || !of_layout || range.start > range.end || range.end > limit
-        {
+        let (kind, range) = Kind::of(piece);
+        let limit = self.element_count(kind);
+        if !self.kinds().contains(&kind) || range.start > range.end || range.end > limit {
             return Err(RefineError::BadLevels(format!(
-                "{piece:?} is not a piece of this plan (uniform grid plans only: corners, \
-                 edges and interiors when welded, faces when not; ranges within the mesh)"
+                "{piece:?} is not a piece of this plan (corners, edges and interiors when \
+                 welded, faces when not; ranges within the mesh)"
             )));
         }
         Ok(())
@@ -141,6 +205,10 @@ impl Plan {
                     need: n,
                 });
             }
+        }
+        if let Some(tiling) = self.tiling() {
+            self.adaptive_index(tiling).piece_origin(piece, faces, bary);
+            return Ok(());
         }
         let (stencil, topo) = (self.stencil(), self.topology());
         let l = |p: u32| self.pattern().points[p as usize].map(|x| x as f32);
@@ -298,28 +366,32 @@ impl Plan {
         }
     }
 
-    /// Writes the refined triangles of coarse faces `faces` (`level²` each, in the order of
-    /// [`Plan::indices`]) into `out`, exactly that long. Uniform grid plans, welded or soup.
+    /// Writes the refined triangles of coarse faces `faces` ([`Plan::face_triangles`], in the
+    /// order of [`Plan::indices`]) into `out`, exactly that long.
     pub fn write_face_indices(
         &self,
         faces: Range<usize>,
         out: &mut [[u32; 3]],
     ) -> Result<(), RefineError> {
         let per_face = self.pattern().triangles.len();
-        if self.tiling().is_some() || faces.start > faces.end || faces.end > self.face_count() {
+        if faces.start > faces.end || faces.end > self.face_count() {
             return Err(RefineError::BadLevels(format!(
-                "faces {faces:?}: triangles by face range need a uniform grid plan and faces \
-                 within the mesh's {}",
+                "faces {faces:?}: not a range of the mesh's {} faces",
                 self.face_count()
             )));
         }
-        let need = faces.len() * per_face;
+        let need = self.face_triangles(faces.clone()).len();
         if out.len() != need {
             return Err(RefineError::OutputTooSmall {
                 what: "triangles".into(),
                 got: out.len(),
                 need,
             });
+        }
+        if let Some(tiling) = self.tiling() {
+            self.adaptive_index(tiling)
+                .face_indices(faces, out, &|_| {});
+            return Ok(());
         }
         let (topo, stencil, pattern, layout) = (
             self.topology(),
@@ -371,6 +443,31 @@ impl Plan {
     }
 }
 
+/// `0..count` cut into consecutive runs whose span `at(end) - at(start)` stays within `max`
+/// (a run of one element may be larger), `at` being non-decreasing.
+fn greedy_runs(count: usize, max: usize, at: impl Fn(usize) -> usize) -> Vec<Range<usize>> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start < count {
+        let mut end = start + 1;
+        // Doubling, then halving: long runs of small elements in O(log) steps.
+        let mut step = 1;
+        while end + step <= count && at(end + step) - at(start) <= max {
+            end += step;
+            step *= 2;
+        }
+        while step > 0 {
+            if end + step <= count && at(end + step) - at(start) <= max {
+                end += step;
+            }
+            step /= 2;
+        }
+        out.push(start..end);
+        start = end;
+    }
+    out
+}
+
 /// Barycentric interpolation of a face's UVs, the same arithmetic as the whole evaluation.
 #[inline(always)]
 fn interpolate_uv(l: [f32; 3], uv: &[[f32; 2]; 3]) -> [f32; 2] {
@@ -383,6 +480,7 @@ fn interpolate_uv(l: [f32; 3], uv: &[[f32; 2]; 3]) -> [f32; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::refine::{Levels, Spacing};
     use crate::{samples, RefineOptions, Scheme};
 
     /// Pieces of every size, concatenated, against the whole evaluation and the whole index
@@ -397,8 +495,23 @@ mod tests {
                 (Scheme::Pn, false),
                 (Scheme::Png1, false),
             ] {
-                for level in [1, 2, 5] {
-                    let options = RefineOptions::new(scheme, level).with_weld(weld);
+                // Uniform levels, then adaptive plans: a fractional level on a tessellator
+                // spacing, and a level per edge (edges of different lengths in one piece).
+                let ne = crate::mesh::Topology::new(mesh).edges.len();
+                let per_edge = Levels::PerEdge {
+                    edges: (0..ne).map(|e| 1.0 + (e % 4) as f32).collect(),
+                    faces: None,
+                };
+                let adaptive = [
+                    RefineOptions::new(scheme, 1)
+                        .with_spacing(Spacing::FractionalOdd)
+                        .with_uniform_level(3.4),
+                    RefineOptions::new(scheme, 1).with_levels(per_edge),
+                ];
+                let uniform = [1, 2, 5].map(|level| RefineOptions::new(scheme, level));
+                for options in uniform.into_iter().chain(adaptive) {
+                    let options = options.with_weld(weld);
+                    let level = options.level;
                     let plan = Plan::new(mesh, &options).unwrap();
                     let frame = plan.frame(mesh).unwrap();
                     let n = plan.vertex_count();
@@ -419,8 +532,8 @@ mod tests {
                         for piece in plan.pieces(max) {
                             let len = plan.piece_vertices(&piece).len();
                             // One element may be larger: an edge, or a face's pattern.
-                            let element = plan.pattern().points.len();
-                            assert!(len <= max.max(element));
+                            let (_, r) = Kind::of(&piece);
+                            assert!(len <= max || r.len() == 1, "{piece:?}: {len}");
                             let (mut p, mut q) = (vec![[0.0f32; 3]; len], vec![[0.0f32; 3]; len]);
                             plan.evaluate_piece(
                                 &frame,
@@ -447,16 +560,16 @@ mod tests {
                         assert_eq!(bits(&n2), bits(&nrm), "{what}");
                         assert_eq!((&f2, bits(&b2)), (&faces, bits(&bary)), "{what}");
                     }
-                    let per = plan.pattern().triangles.len();
-                    let mut tris = Vec::new();
-                    let faces = plan.face_count();
-                    for start in (0..faces).step_by(3) {
-                        let end = (start + 3).min(faces);
-                        let mut t = vec![[0u32; 3]; (end - start) * per];
-                        plan.write_face_indices(start..end, &mut t).unwrap();
-                        tris.extend(t);
+                    for max in [1, 50, usize::MAX] {
+                        let mut tris = Vec::new();
+                        for run in plan.face_runs(max) {
+                            let mut t = vec![[0u32; 3]; plan.face_triangles(run.clone()).len()];
+                            assert!(t.len() <= max || run.len() == 1);
+                            plan.write_face_indices(run, &mut t).unwrap();
+                            tris.extend(t);
+                        }
+                        assert_eq!(tris, plan.indices());
                     }
-                    assert_eq!(tris, plan.indices());
                 }
             }
         }
@@ -512,11 +625,15 @@ mod tests {
         assert!(soup
             .evaluate_piece(&soup_frame, &Piece::Faces(3..5), positions(&mut p))
             .is_err());
-        // An adaptive (tessellator-spaced) plan is evaluated whole.
-        let spaced = RefineOptions::new(Scheme::Pn, 4)
-            .with_spacing(crate::refine::adaptive::Spacing::FractionalOdd);
+        // An adaptive plan's pieces are checked against its own element counts.
+        let spaced = RefineOptions::new(Scheme::Pn, 1)
+            .with_spacing(Spacing::FractionalOdd)
+            .with_uniform_level(4.0);
         let adaptive = Plan::new(&mesh, &spaced).unwrap();
-        assert!(adaptive.tiling().is_some());
-        assert!(!adaptive.evaluates_in_pieces() && adaptive.pieces(100).is_empty());
+        assert!(adaptive.tiling().is_some() && !adaptive.pieces(100).is_empty());
+        let frame = adaptive.frame(&mesh).unwrap();
+        assert!(adaptive
+            .evaluate_piece(&frame, &Piece::Interiors(3..5), positions(&mut p))
+            .is_err());
     }
 }
