@@ -81,9 +81,11 @@ def refine_files(
     times over and more, per Dask's ``allowed-failures``) gets a ``"failed"`` row naming the
     cause; files that cannot be refined get their error, as in :func:`tessella.batch`.
 
-    Files go to the workers ``files_per_task`` at a time (default: about four tasks per worker
-    thread), since a Dask task costs a few milliseconds, more than a small file's refinement;
-    ``files_per_task=1`` gives one task per file. A task retried after a lost worker refines
+    Files go to the workers ``files_per_task`` at a time, since a Dask task costs a few
+    milliseconds, more than a small file's refinement. The default gives each worker thread
+    one to four tasks, more when the estimated output (the inputs' size times the level
+    squared) is large enough that each task still writes about 16 MB; ``files_per_task=1``
+    gives one task per file. A task retried after a lost worker refines
     all its files again (each output is replaced whole).
     """
     if files_per_task is not None and (not isinstance(files_per_task, int) or files_per_task < 1):
@@ -107,7 +109,7 @@ def refine_files(
             for row in rows:
                 manifest.write(json.dumps(row) + "\n")
             manifest.flush()
-            per_task = files_per_task or _files_per_task(client, len(todo))
+            per_task = files_per_task or _files_per_task(client, todo, options.get("level", 8))
             chunks = [todo[k : k + per_task] for k in range(0, len(todo), per_task)]
             futures = client.map(_refine_rows, chunks, pure=False, retries=retries, **options)
             chunk_of = {f.key: c for f, c in zip(futures, chunks)}
@@ -139,11 +141,30 @@ def _refine_rows(pairs: List[Tuple[str, str]], **options: Any) -> List[Dict[str,
     return [refine_row(i, o, **options) for i, o in pairs]
 
 
-def _files_per_task(client: Any, files: int) -> int:
-    """About four tasks per worker thread: few enough that Dask's cost per task stays small
-    next to the files' work, enough that a slow or lost worker's share is small."""
+#: The output a task should have to write at least, estimated: a Dask task costs a few
+#: milliseconds, and 16 MB takes tens of milliseconds to refine and write, so a smaller task
+#: would be mostly Dask's cost.
+TASK_BYTES = 16 << 20
+
+
+def _files_per_task(client: Any, todo: List[Tuple[str, str]], level: Any) -> int:
+    """Files per task: one task per worker thread at least, four at most (so that a slow or
+    lost worker's share stays small), and within that as many as keep each task's output
+    near :data:`TASK_BYTES`, estimated from the inputs' sizes: a refined file is about its
+    input's size times the level squared (each coarse triangle becomes level² of them)."""
     threads = sum(client.nthreads().values()) or 1
-    return max(1, -(-files // (4 * threads)))
+    inputs = 0
+    for input, _ in todo:
+        try:
+            inputs += os.path.getsize(input)
+        except OSError:
+            pass  # refining it will say why
+    try:
+        scale = max(float(level), 1.0) ** 2
+    except (TypeError, ValueError):
+        scale = 64.0  # refining will refuse the level
+    tasks = max(threads, min(4 * threads, int(inputs * scale // TASK_BYTES)))
+    return max(1, -(-len(todo) // tasks))
 
 
 def refine_partition(

@@ -323,3 +323,26 @@ def test_dask_files_per_task_gives_the_same_files_and_rows(tmp_path):
             assert len(manifest) == len(good) + 2
         with pytest.raises(OptionError, match="files_per_task"):
             tessella.dask.refine_files([src], tmp_path / "bad", client, files_per_task=0)
+
+
+def test_dask_default_task_size_follows_the_estimated_output(tmp_path):
+    pytest.importorskip("distributed")
+    from tessella.dask import TASK_BYTES, _files_per_task
+
+    class Client:  # what _files_per_task asks of a client: its workers' threads
+        def nthreads(self):
+            return {"a": 1, "b": 1}
+
+    small = tmp_path / "small.ply"
+    small.write_bytes(b"x" * 8000)
+    todo = [(str(small), "out")] * 200  # 1.6 MB of inputs
+    # 1.6 MB x 4² = 26 MB of output: under two tasks' worth, so one task per thread.
+    assert _files_per_task(Client(), todo, 4) == 100
+    # x 8² = 102 MB: six tasks of about 16 MB.
+    assert _files_per_task(Client(), todo, 8) == -(-200 // int(200 * 8000 * 64 // TASK_BYTES))
+    # x 16² = 410 MB: capped at four tasks per thread.
+    assert _files_per_task(Client(), todo, 16.0) == 25
+    # Missing inputs count for nothing (refining them reports them); a bad level counts as
+    # the default level 8 (refining refuses it).
+    assert _files_per_task(Client(), [("missing", "out")] * 10, 4) == 5
+    assert _files_per_task(Client(), todo, "x") == _files_per_task(Client(), todo, 8)
