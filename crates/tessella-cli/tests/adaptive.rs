@@ -225,7 +225,7 @@ fn bad_levels_are_refused_with_a_message_and_no_file() {
         // soup) it is not, but 32-bit indices still bound it.
         (
             vec!["--level", "100000", "--max-memory", "1MiB", "--in-memory"],
-            "limit",
+            "without --in-memory the CPU writes it piece by piece",
         ),
         (
             vec!["--level", "100000", "--max-memory", "1MiB", "--soup"],

@@ -3,7 +3,6 @@
 use super::tags;
 use crate::args::{RefineArgs, SpacingArg};
 use crate::progress;
-use anyhow::Context;
 use std::time::Instant;
 use tessella_core::displace::{DisplaceFrame, Displacement};
 use tessella_core::refine::{Camera, Levels, Lod, Spacing};
@@ -89,8 +88,19 @@ pub fn refine_file(
     let backend = backend::choose(args, &mesh)?;
 
     let start = Instant::now();
-    let refiner = Refiner::new(&mesh, &options)
-        .with_context(|| format!("cannot refine {}", args.input.display()))?;
+    let refiner = Refiner::new(&mesh, &options).map_err(|e| {
+        // Only this path holds the whole output: say which one does not.
+        let hint = match e {
+            tessella_core::RefineError::TooLarge { .. } => match args.backend {
+                tessella_core::Backend::Auto | tessella_core::Backend::Cpu => {
+                    "; without --in-memory the CPU writes it piece by piece, within --max-memory"
+                }
+                _ => "; --backend cpu writes it piece by piece, within --max-memory",
+            },
+            _ => "",
+        };
+        anyhow::Error::new(e).context(format!("cannot refine {}{hint}", args.input.display()))
+    })?;
     // Adaptive and tessellator plans too: the GPU compute path writes the CPU's layout.
     let refined = if args.backend == tessella_core::Backend::Gl {
         super::refine_gl::refine(args, &mesh, &options)?
