@@ -1,4 +1,5 @@
-//! A refinement as a [`MeshSource`]: the plan's [`Piece`]s evaluated one after the other into
+//! A refinement (uniform or adaptive, welded or soup) as a [`MeshSource`]: the plan's
+//! [`Piece`]s evaluated one after the other into
 //! a few reused buffers, the next piece computed on another thread while the last is written,
 //! so memory holds a few pieces whatever the output's size. An output that fits in one piece's
 //! budget (a small file) is evaluated on the writer's thread, with no thread started.
@@ -13,16 +14,20 @@ use tessella_core::fields::FieldError;
 use tessella_core::refine::{Frame, Piece, Plan, VertexOutput};
 use tessella_core::{DisplaceError, DisplaceFrame, Displacement, SharedSlots};
 
-/// Bytes of one vertex in the piece buffers (position, normal, uv).
+/// Bytes of one vertex in the piece buffers (position, normal, uv), before fields and origins.
 const VERTEX_BYTES: usize = 32;
+/// Bytes of one vertex's origin (face, barycentrics) and of one field value.
+const ORIGIN_BYTES: usize = 16;
+const FIELD_BYTES: usize = 4;
 
-/// A uniform refinement of `frame` (welded or not), produced piece by piece, displaced when
+/// A refinement of `frame` (uniform or adaptive, welded or not), produced piece by piece,
+/// displaced when
 /// asked ([`RefinedSource::displaced`]), with per-vertex fields
 /// ([`RefinedSource::with_fields`]) and origins ([`RefinedSource::with_origin`]) when asked.
 pub struct RefinedSource<'a> {
     plan: &'a Plan,
     frame: &'a Frame,
-    piece_vertices: usize,
+    budget: u64,
     displace: Option<Displace<'a>>,
     fields: &'a [(String, Vec<f32>)],
     origin: bool,
@@ -39,12 +44,10 @@ impl<'a> RefinedSource<'a> {
     /// A source whose buffers (three pieces in flight) stay within about `budget` bytes:
     /// uniform and adaptive plans, welded or soup.
     pub fn new(plan: &'a Plan, frame: &'a Frame, budget: u64) -> RefinedSource<'a> {
-        // Three pieces in flight and the encoders' blocks: an eighth of the budget each.
-        let piece_vertices = (budget / 8 / VERTEX_BYTES as u64).clamp(1024, 1 << 24) as usize;
         RefinedSource {
             plan,
             frame,
-            piece_vertices,
+            budget,
             displace: None,
             fields: &[],
             origin: false,
@@ -94,11 +97,25 @@ impl<'a> RefinedSource<'a> {
         Ok(self)
     }
 
+    /// Bytes of one vertex in the piece buffers, with this source's fields and origins.
+    fn vertex_bytes(&self) -> usize {
+        VERTEX_BYTES + FIELD_BYTES * self.fields.len() + if self.origin { ORIGIN_BYTES } else { 0 }
+    }
+
+    /// Vertices per piece: three pieces in flight and the encoders' blocks, an eighth of the
+    /// budget each.
+    fn piece_vertices(&self) -> usize {
+        (self.budget / 8 / self.vertex_bytes() as u64).clamp(1024, 1 << 24) as usize
+    }
+
     /// The refined triangles in runs of whole coarse faces (about a piece's worth of bytes
     /// each): `each(faces, their triangles)`, in output order.
     fn face_runs(&self, each: &mut FaceRun<'_>) -> std::io::Result<()> {
         let mut run = Vec::new();
-        for faces in self.plan.face_runs(self.piece_vertices * VERTEX_BYTES / 12) {
+        for faces in self
+            .plan
+            .face_runs(self.piece_vertices() * VERTEX_BYTES / 12)
+        {
             run.resize(self.plan.face_triangles(faces.clone()).len(), [0u32; 3]);
             self.plan
                 .write_face_indices(faces.clone(), &mut run)
@@ -268,11 +285,11 @@ impl MeshSource for RefinedSource<'_> {
             uvs: want.uvs && self.plan.has_uvs(),
             extras: want.extras,
         };
-        let pieces = self.plan.pieces(self.piece_vertices);
+        let pieces = self.plan.pieces(self.piece_vertices());
         // The whole output within one piece's budget (a small file, as in a batch of many):
         // its few pieces (corners, edges, interiors) are evaluated here in turn, with no
         // thread to start and one buffer reused.
-        if self.plan.vertex_count() <= self.piece_vertices {
+        if self.plan.vertex_count() <= self.piece_vertices() {
             let mut buffers = Buffers::default();
             for piece in &pieces {
                 buffers.fill(self, piece, want)?;

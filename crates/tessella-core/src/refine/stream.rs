@@ -1,9 +1,10 @@
 //! Refinement in pieces, for outputs larger than memory: the welded layout (corners | edges |
 //! interiors) cut into runs of whole corners, edges or faces, or the unwelded one into runs of
 //! whole faces, each evaluated on its own into a small buffer, and the triangles of any range
-//! of faces. Concatenated in order, the pieces
-//! are exactly [`Plan::evaluate`]'s vertices and [`Plan::indices`]'s triangles, bit for bit:
-//! each vertex is computed by the same block evaluation on the same owning face.
+//! of faces; uniform plans and adaptive ones (whose elements differ in size: the tiling's
+//! offsets say where each starts). Concatenated in order, the pieces are exactly
+//! [`Plan::evaluate`]'s vertices and [`Plan::indices`]'s triangles, bit for bit: each vertex
+//! is computed by the same evaluation on the same owning face.
 
 use super::evaluate::{eval_block, eval_point, Scratch};
 use super::output::{Sink, VertexOutput};
@@ -23,11 +24,13 @@ const FACES_PER_TASK: usize = 32;
 pub enum Piece {
     /// Coarse vertices (one output vertex each). Welded.
     Corners(Range<usize>),
-    /// Unique edges (`level - 1` output vertices each). Welded.
+    /// Unique edges (`level - 1` output vertices each; adaptive: segments - 1). Welded.
     Edges(Range<usize>),
-    /// Faces' interior points (`(N-1)(N-2)/2` output vertices each). Welded.
+    /// Faces' interior points (`(N-1)(N-2)/2` output vertices each; adaptive: the face's
+    /// tile's). Welded.
     Interiors(Range<usize>),
-    /// Faces' whole patterns (`(N+1)(N+2)/2` output vertices each). Unwelded (soup).
+    /// Faces' whole patterns (`(N+1)(N+2)/2` output vertices each; adaptive: the face's
+    /// tile's). Unwelded (soup).
     Faces(Range<usize>),
 }
 
