@@ -16,6 +16,22 @@ fn tessella(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
+/// `tessella refine INPUT -o OUTPUT ARGS...`, which must succeed.
+fn refine_ok(input: &Path, output: &Path, args: &[&str]) {
+    let files = [
+        "refine",
+        input.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+    ];
+    let out = tessella(&[&files[..], args].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn t_of(p: [f32; 3]) -> f64 {
     1.0 + 2.0 * p[0] as f64 - 3.0 * p[1] as f64 + 0.5 * p[2] as f64
 }
@@ -39,22 +55,10 @@ fn check_round_trip(dir: &Path, input: &str, output: &str, extra: &[&str]) {
         "{} keeps the fields",
         input.display()
     );
-    let mut args = vec![
-        "refine",
-        input.to_str().unwrap(),
-        "-o",
-        output.to_str().unwrap(),
-        "--scheme",
-        "flat",
-        "--level",
-        "5",
-    ];
-    args.extend(extra);
-    let out = tessella(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    refine_ok(
+        &input,
+        &output,
+        &[&["--scheme", "flat", "--level", "5"], extra].concat(),
     );
     let raw = read_raw(&output).unwrap();
     let n = raw.positions.len();
@@ -113,22 +117,7 @@ fn streamed_fields_and_origins_equal_the_in_memory_files() {
         let mut files = Vec::new();
         for how in ["--in-memory", "--max-memory=1MiB"] {
             let output = dir.path().join(format!("{how}-{name}"));
-            let mut args = vec![
-                "refine",
-                input.to_str().unwrap(),
-                "-o",
-                output.to_str().unwrap(),
-                "--level",
-                "9",
-                how,
-            ];
-            args.extend(extra);
-            let out = tessella(&args);
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            refine_ok(&input, &output, &[&["--level", "9", how], extra].concat());
             files.push(std::fs::read(&output).unwrap());
         }
         assert!(
