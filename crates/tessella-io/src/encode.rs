@@ -90,6 +90,64 @@ pub fn write_records(
     Ok(())
 }
 
+/// Writes `count` records of exactly `record_bytes` bytes each (binary records: a PLY vertex
+/// or face, an STL facet), record `i` written by `encode(i, slot)` into its own slot of a
+/// block, in parallel blocks written in order. Storing into fixed slots costs a few
+/// instructions a value; appending to a `Vec` (what [`write_records`] does for text, whose
+/// records vary in length) checks and grows the length at every value.
+pub fn write_fixed_records(
+    out: &mut dyn Write,
+    count: usize,
+    record_bytes: usize,
+    encode: impl Fn(usize, &mut [u8]) + Sync,
+) -> std::io::Result<()> {
+    let record_bytes = record_bytes.max(1);
+    let per_block = (BLOCK_BYTES / record_bytes).max(1);
+    let per_round = per_block * 2 * rayon::current_num_threads().max(1);
+    let mut blocks: Vec<Vec<u8>> = Vec::new();
+    for round in (0..count).step_by(per_round) {
+        let end = (round + per_round).min(count);
+        let starts: Vec<usize> = (round..end).step_by(per_block).collect();
+        blocks.resize_with(starts.len().max(blocks.len()), Vec::new);
+        blocks[..starts.len()]
+            .par_iter_mut()
+            .zip(&starts)
+            .for_each(|(block, &start)| {
+                let n = (start + per_block).min(end) - start;
+                // Every byte of every slot is written below: the zeros are only filled once.
+                block.resize(n * record_bytes, 0);
+                for (j, slot) in block.chunks_exact_mut(record_bytes).enumerate() {
+                    encode(start + j, slot);
+                }
+            });
+        for block in &blocks[..starts.len()] {
+            out.write_all(block)?;
+        }
+    }
+    Ok(())
+}
+
+/// Fills a record slot with 4-byte little-endian words, one `put` at a time (panics if the
+/// record holds more words than the slot: a writer's size bug).
+pub struct Words<'a>(std::slice::ChunksExactMut<'a, u8>);
+
+impl<'a> Words<'a> {
+    pub fn new(slot: &'a mut [u8]) -> Words<'a> {
+        Words(slot.chunks_exact_mut(4))
+    }
+    #[inline(always)]
+    pub fn put(&mut self, bytes: [u8; 4]) {
+        self.0
+            .next()
+            .expect("the record's size counts every word")
+            .copy_from_slice(&bytes);
+    }
+    #[inline(always)]
+    pub fn floats<const N: usize>(&mut self, values: [f32; N]) {
+        values.iter().for_each(|x| self.put(x.to_le_bytes()));
+    }
+}
+
 /// Appends the shortest decimal text that reads back as the same `f32` (`1`, `0.5`, `1e-7`;
 /// exponents as `e-7`/`e+20`, which every OBJ and PLY reader parses). NaN and infinities, which
 /// the writers refuse before they start, would print as `NaN`, `inf`, `-inf`.

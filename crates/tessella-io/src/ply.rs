@@ -467,6 +467,29 @@ pub(crate) fn write_vertices(
         + scalars.len()
         + 4 * usize::from(origin.is_some());
     let record_bytes = if ascii { 16 * floats } else { 4 * floats };
+    if !ascii {
+        // Binary: every property is one 4-byte word, stored into the record's slot.
+        return crate::encode::write_fixed_records(
+            out,
+            mesh.positions.len(),
+            record_bytes,
+            |v, slot| {
+                let mut w = crate::encode::Words::new(slot);
+                w.floats(mesh.positions[v]);
+                if let Some(normals) = mesh.normals {
+                    w.floats(normals[v]);
+                }
+                if let Some(uvs) = mesh.uvs {
+                    w.floats(uvs[v]);
+                }
+                scalars.iter().for_each(|(_, s)| w.put(s[v].to_le_bytes()));
+                if let Some(o) = origin {
+                    w.put((o.faces[v] as i32).to_le_bytes());
+                    w.floats(o.bary[v]);
+                }
+            },
+        );
+    }
     crate::encode::write_records(out, mesh.positions.len(), record_bytes, |v, out| {
         let mut first = true;
         let mut separate = |out: &mut Vec<u8>| {
@@ -514,21 +537,21 @@ pub(crate) fn write_faces(
     triangles: &[[u32; 3]],
     ascii: bool,
 ) -> std::io::Result<()> {
-    let face_bytes = if ascii { 40 } else { 13 };
-    crate::encode::write_records(out, triangles.len(), face_bytes, |f, out| {
-        let t = triangles[f];
-        if ascii {
-            out.push(b'3');
-            for i in t {
-                out.push(b' ');
-                crate::encode::push_int(out, i);
-            }
-            out.push(b'\n');
-        } else {
-            out.push(3);
-            t.iter()
-                .for_each(|i| out.extend_from_slice(&i.to_le_bytes()));
+    if !ascii {
+        // A count byte, then three 4-byte indices.
+        return crate::encode::write_fixed_records(out, triangles.len(), 13, |f, slot| {
+            let (count, indices) = slot.split_at_mut(1);
+            count[0] = 3;
+            let mut w = crate::encode::Words::new(indices);
+            triangles[f].iter().for_each(|i| w.put(i.to_le_bytes()));
+        });
+    }
+    crate::encode::write_records(out, triangles.len(), 40, |f, out| {
+        out.push(b'3');
+        for i in triangles[f] {
+            out.push(b' ');
+            crate::encode::push_int(out, i);
         }
-    })?;
-    Ok(())
+        out.push(b'\n');
+    })
 }

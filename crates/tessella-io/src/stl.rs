@@ -79,8 +79,8 @@ fn prepare(bytes: &mut Vec<u8>) {
 pub fn write(out: &mut dyn Write, mesh: &MeshView) -> std::io::Result<()> {
     let count = check_count(mesh.triangles.len() as u64)?;
     write_header(out, count)?;
-    crate::encode::write_records(out, mesh.triangles.len(), 50, |f, out| {
-        push_facet(out, mesh.triangles[f].map(|i| mesh.positions[i as usize]))
+    crate::encode::write_fixed_records(out, mesh.triangles.len(), FACET_BYTES, |f, slot| {
+        put_facet(slot, mesh.triangles[f].map(|i| mesh.positions[i as usize]))
     })
 }
 
@@ -108,17 +108,23 @@ pub(crate) fn write_facets(
     out: &mut dyn Write,
     corners: &[crate::stream::Corners],
 ) -> std::io::Result<()> {
-    crate::encode::write_records(out, corners.len(), 50, |f, out| push_facet(out, corners[f]))
+    crate::encode::write_fixed_records(out, corners.len(), FACET_BYTES, |f, slot| {
+        put_facet(slot, corners[f])
+    })
 }
 
-/// One facet: the geometric normal, the three corners, a zero attribute byte count.
-fn push_facet(out: &mut Vec<u8>, corners: [[f32; 3]; 3]) {
+/// Bytes of one facet record: four vectors of three floats, two bytes of attribute count.
+const FACET_BYTES: usize = 50;
+
+/// One facet into its slot: the geometric normal, the three corners, a zero attribute byte
+/// count.
+fn put_facet(slot: &mut [u8], corners: [[f32; 3]; 3]) {
     let [a, b, c] = corners.map(glam::Vec3::from);
     let normal = (b - a).cross(c - a).normalize_or_zero();
+    let (vectors, attribute) = slot.split_at_mut(48);
+    let mut w = crate::encode::Words::new(vectors);
     for v in [normal, a, b, c] {
-        v.to_array()
-            .iter()
-            .for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
+        w.floats(v.to_array());
     }
-    out.extend_from_slice(&[0, 0]); // attribute byte count
+    attribute.copy_from_slice(&[0, 0]);
 }

@@ -92,11 +92,16 @@ type HalfEdge = (u32, u32, u32, u8, bool);
 fn edge_runs(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) -> Vec<HalfEdge> {
     let half = half_edges(triangles, key);
     // Stable order inside a run (by face, then local edge) makes the owner the first face.
-    #[cfg(target_arch = "wasm32")]
-    return sorted_by_buckets(half);
-    #[cfg(not(target_arch = "wasm32"))]
+    // One thread (wasm) or a small mesh (a parallel sort's set-up costs more than the linear
+    // sort there: a tenth of a batch of small files went to it): the counting sort.
+    if cfg!(target_arch = "wasm32") || half.len() <= SORT_IN_PARALLEL_FROM {
+        return sorted_by_buckets(half);
+    }
     sorted_in_parallel(half)
 }
+
+/// Half-edges from which the comparison sort runs in parallel (native builds).
+const SORT_IN_PARALLEL_FROM: usize = 1 << 16;
 
 /// The faces' local edges in face order, keyed.
 fn half_edges(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) -> Vec<HalfEdge> {
@@ -113,8 +118,7 @@ fn half_edges(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) ->
         .collect()
 }
 
-/// Sorts half-edges by the whole tuple, in parallel (native builds).
-#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+/// Sorts half-edges by the whole tuple, in parallel (native builds, large meshes).
 fn sorted_in_parallel(mut half: Vec<HalfEdge>) -> Vec<HalfEdge> {
     // Two packed words, the same order as the tuple's (face and local edge are unique, so
     // `forward` never decides), with fewer field comparisons.
@@ -127,11 +131,11 @@ fn sorted_in_parallel(mut half: Vec<HalfEdge>) -> Vec<HalfEdge> {
     half
 }
 
-/// The same order as [`sorted_in_parallel`] by a counting sort on `lo` (wasm, one thread):
+/// The same order as [`sorted_in_parallel`] by a counting sort on `lo` (wasm, one thread, and
+/// small meshes):
 /// half-edges come in face order, the scatter keeps it, and each bucket (a vertex's few edges)
 /// is then sorted stably by `hi`. A tenth of a one-shot wasm refinement went to the comparison
 /// sort.
-#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
 fn sorted_by_buckets(half: Vec<HalfEdge>) -> Vec<HalfEdge> {
     let buckets = half.iter().map(|e| e.0 as usize + 1).max().unwrap_or(0);
     let mut start = vec![0usize; buckets + 1];
