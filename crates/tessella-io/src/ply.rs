@@ -16,6 +16,7 @@
 use crate::{IoError, MeshView, RawEdge, RawMesh};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{ElementDef, Property, PropertyAccess, PropertyAccessResult, PropertyType};
+use smallvec::SmallVec;
 use std::collections::BTreeMap;
 use std::io::{BufRead, Write};
 use std::path::Path;
@@ -23,14 +24,19 @@ use std::path::Path;
 const FORMAT: &str = "PLY";
 
 /// One element of the payload: scalar values and lists in header order. Cheaper than
-/// `ply_rs_bw::ply::DefaultElement`, which keeps a map with owned names per element.
+/// `ply_rs_bw::ply::DefaultElement`, which keeps a map with owned names per element; held
+/// inline for the usual sizes (a vertex's few properties, a triangle's one list of three), since
+/// allocating per row was most of a small file's reading.
 #[derive(Debug, Default)]
 struct Row {
-    scalars: Vec<f64>,
-    lists: Vec<Vec<f64>>,
+    scalars: SmallVec<[f64; 12]>,
+    lists: SmallVec<[List; 1]>,
 }
 
-fn list<T: Copy + Into<f64>>(values: Vec<T>) -> Vec<f64> {
+/// One list property's values.
+type List = SmallVec<[f64; 4]>;
+
+fn list<T: Copy + Into<f64>>(values: Vec<T>) -> List {
     values.into_iter().map(Into::into).collect()
 }
 
@@ -55,7 +61,7 @@ impl PropertyAccess for Row {
             Property::ListInt(v) => self.lists.push(list(v)),
             Property::ListUInt(v) => self.lists.push(list(v)),
             Property::ListFloat(v) => self.lists.push(list(v)),
-            Property::ListDouble(v) => self.lists.push(v),
+            Property::ListDouble(v) => self.lists.push(v.into()),
         }
         PropertyAccessResult::Set
     }

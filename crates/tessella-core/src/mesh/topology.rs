@@ -100,21 +100,27 @@ fn edge_runs(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) -> 
     sorted_in_parallel(half)
 }
 
-/// Half-edges from which the comparison sort runs in parallel (native builds).
+/// Half-edges from which they are made and sorted in parallel (native builds).
 const SORT_IN_PARALLEL_FROM: usize = 1 << 16;
 
-/// The faces' local edges in face order, keyed.
+/// The faces' local edges in face order, keyed (in parallel for large meshes only: for a
+/// few hundred faces, collecting across threads costs more than the loop).
 fn half_edges(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) -> Vec<HalfEdge> {
+    let key = &key;
+    let of_face = |(f, t): (usize, &[u32; 3])| {
+        let t = *t;
+        (0..3).map(move |k| {
+            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+            (a.min(b), a.max(b), f as u32, k as u8, a < b)
+        })
+    };
+    if triangles.len() * 3 <= SORT_IN_PARALLEL_FROM {
+        return triangles.iter().enumerate().flat_map(of_face).collect();
+    }
     triangles
         .par_iter()
         .enumerate()
-        .flat_map_iter(|(f, t)| {
-            let key = &key;
-            (0..3).map(move |k| {
-                let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
-                (a.min(b), a.max(b), f as u32, k as u8, a < b)
-            })
-        })
+        .flat_map_iter(of_face)
         .collect()
 }
 
