@@ -115,7 +115,11 @@ fn half_edges(triangles: &[[u32; 3]], key: impl Fn(u32) -> u32 + Sync + Send) ->
         })
     };
     if triangles.len() * 3 <= SORT_IN_PARALLEL_FROM {
-        return triangles.iter().enumerate().flat_map(of_face).collect();
+        let mut half = Vec::with_capacity(triangles.len() * 3);
+        for face in triangles.iter().enumerate() {
+            half.extend(of_face(face));
+        }
+        return half;
     }
     triangles
         .par_iter()
@@ -189,9 +193,17 @@ impl Topology {
             }
         }
 
-        // Edges by position.
+        // Edges by position: the same runs when no two vertices share a position (each
+        // vertex is then its position's first), as in most meshes.
         let position_ids = position_ids(mesh.positions());
-        let half = edge_runs(triangles, |v| position_ids[v as usize]);
+        let distinct = position_ids
+            .iter()
+            .enumerate()
+            .all(|(v, &p)| p as usize == v);
+        let half = match distinct {
+            true => half,
+            false => edge_runs(triangles, |v| position_ids[v as usize]),
+        };
         let mut neighbors = vec![[NO_NEIGHBOR; 3]; triangles.len()];
         let mut report = TopologyReport {
             vertices: nv,
