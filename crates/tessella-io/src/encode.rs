@@ -65,29 +65,11 @@ pub fn write_records(
     record_bytes: usize,
     encode: impl Fn(usize, &mut Vec<u8>) + Sync,
 ) -> std::io::Result<()> {
-    let per_block = (BLOCK_BYTES / record_bytes.max(1)).max(1);
-    // A round encodes a few blocks per thread at once, then writes them in order.
-    let per_round = per_block * 2 * rayon::current_num_threads().max(1);
-    let mut blocks: Vec<Vec<u8>> = Vec::new();
-    for round in (0..count).step_by(per_round) {
-        let end = (round + per_round).min(count);
-        let starts: Vec<usize> = (round..end).step_by(per_block).collect();
-        blocks.resize_with(starts.len().max(blocks.len()), Vec::new);
-        blocks[..starts.len()]
-            .par_iter_mut()
-            .zip(&starts)
-            .for_each(|(block, &start)| {
-                block.clear();
-                block.reserve(per_block * record_bytes);
-                for i in start..(start + per_block).min(end) {
-                    encode(i, block);
-                }
-            });
-        for block in &blocks[..starts.len()] {
-            out.write_all(block)?;
-        }
-    }
-    Ok(())
+    in_blocks(out, count, record_bytes, |block, records| {
+        block.clear();
+        block.reserve(records.len() * record_bytes);
+        records.for_each(|i| encode(i, block));
+    })
 }
 
 /// Writes `count` records of exactly `record_bytes` bytes each (binary records: a PLY vertex
@@ -102,7 +84,25 @@ pub fn write_fixed_records(
     encode: impl Fn(usize, &mut [u8]) + Sync,
 ) -> std::io::Result<()> {
     let record_bytes = record_bytes.max(1);
-    let per_block = (BLOCK_BYTES / record_bytes).max(1);
+    in_blocks(out, count, record_bytes, |block, records| {
+        // Every byte of every slot is written below: the zeros are only filled once.
+        block.resize(records.len() * record_bytes, 0);
+        for (i, slot) in records.zip(block.chunks_exact_mut(record_bytes)) {
+            encode(i, slot);
+        }
+    })
+}
+
+/// The rounds both record writers share: blocks of about [`BLOCK_BYTES`] (records of about
+/// `record_bytes`), a few per thread filled at once by `fill(block, its records)`, then
+/// written in order; the blocks' memory is reused from round to round.
+fn in_blocks(
+    out: &mut dyn Write,
+    count: usize,
+    record_bytes: usize,
+    fill: impl Fn(&mut Vec<u8>, std::ops::Range<usize>) + Sync,
+) -> std::io::Result<()> {
+    let per_block = (BLOCK_BYTES / record_bytes.max(1)).max(1);
     let per_round = per_block * 2 * rayon::current_num_threads().max(1);
     let mut blocks: Vec<Vec<u8>> = Vec::new();
     for round in (0..count).step_by(per_round) {
@@ -112,14 +112,7 @@ pub fn write_fixed_records(
         blocks[..starts.len()]
             .par_iter_mut()
             .zip(&starts)
-            .for_each(|(block, &start)| {
-                let n = (start + per_block).min(end) - start;
-                // Every byte of every slot is written below: the zeros are only filled once.
-                block.resize(n * record_bytes, 0);
-                for (j, slot) in block.chunks_exact_mut(record_bytes).enumerate() {
-                    encode(start + j, slot);
-                }
-            });
+            .for_each(|(block, &start)| fill(block, start..(start + per_block).min(end)));
         for block in &blocks[..starts.len()] {
             out.write_all(block)?;
         }
