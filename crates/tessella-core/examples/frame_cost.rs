@@ -1,5 +1,6 @@
 //! Per-frame evaluation for instruction counting and timing:
-//! `cargo run --release --example frame_cost -p tessella-core -- SCHEME NORMALS LEVEL FRAMES`.
+//! `cargo run --release --example frame_cost -p tessella-core -- SCHEME NORMALS LEVEL FRAMES
+//! [SUBDIVISIONS]`.
 //!
 //! Runs `Plan::evaluate` (positions + normals into reused buffers) FRAMES times on the
 //! 5120-triangle icosphere. Under `valgrind --tool=callgrind` the difference between two
@@ -16,7 +17,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let normals: NormalMode = arg(1, "quadratic").parse()?;
     let level: u32 = arg(2, "32").parse()?;
     let frames: usize = arg(3, "4").parse()?;
-    let mesh = samples::icosphere_4k();
+    // The 5120-triangle icosphere (4 subdivisions) unless told: fewer keep a frame in cache.
+    let mesh = samples::icosphere(arg(4, "4").parse()?);
     let options = RefineOptions::new(scheme, level).with_normals(normals);
     let plan = Plan::new(&mesh, &options)?;
     let frame = plan.frame(&mesh)?;

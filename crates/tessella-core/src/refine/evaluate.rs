@@ -3,8 +3,8 @@
 //! blocks (corners, edges, interiors, triangles) so threads never share a slot.
 
 use super::canonical::{self, EdgeWeights};
+use super::edge_groups::{eval_edges, EdgeRun};
 use super::layout::OutputLayout;
-use super::nontemporal;
 use super::output::Sink;
 use crate::basis::NORMAL_NET_LEN;
 use crate::mesh::{Mesh, Topology};
@@ -54,7 +54,7 @@ pub fn eval_point<const K: usize>(
 }
 
 /// Control points of the cubic basis ([`crate::basis::CUBIC_ORDER`]).
-const CUBIC_LEN: usize = 10;
+pub(super) const CUBIC_LEN: usize = 10;
 
 /// `Du` and `Dv` of a cubic patch as quadratic nets, weighted like the normal net
 /// (`l1², l2², l3², l1 l2, l2 l3, l3 l1`): the derivative of a cubic Bézier triangle along
@@ -62,9 +62,17 @@ const CUBIC_LEN: usize = 10;
 /// slot is twice its normal weight. Six weights per derivative instead of ten, and real
 /// normals cost about what quadratic ones do.
 #[inline(always)]
-fn cubic_derivative_nets(p: &[[f32; 3]; CUBIC_LEN]) -> ([[f32; 3]; 6], [[f32; 3]; 6]) {
+pub(super) fn cubic_derivative_nets(p: &[[f32; 3]; CUBIC_LEN]) -> ([[f32; 3]; 6], [[f32; 3]; 6]) {
     // Storage order: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111.
-    let d = |s: f32, a: usize, b: usize| [0, 1, 2].map(|c| s * (p[a][c] - p[b][c]));
+    // Written out, not `[0, 1, 2].map(..)`: an array's `map` stayed a call in the
+    // target-feature copies of the evaluator.
+    let d = |s: f32, a: usize, b: usize| {
+        [
+            s * (p[a][0] - p[b][0]),
+            s * (p[a][1] - p[b][1]),
+            s * (p[a][2] - p[b][2]),
+        ]
+    };
     (
         [
             d(3.0, 3, 0),
@@ -88,7 +96,7 @@ fn cubic_derivative_nets(p: &[[f32; 3]; CUBIC_LEN]) -> ([[f32; 3]; 6], [[f32; 3]
 /// The unit normal from the accumulated derivatives (`Real`) or the normal net, with the
 /// fallbacks described at [`eval_point`].
 #[inline(always)]
-fn finish_normal<const K: usize>(
+pub(super) fn finish_normal<const K: usize>(
     mode: NormalMode,
     du: Vec3,
     dv: Vec3,
@@ -118,7 +126,7 @@ fn finish_normal<const K: usize>(
 }
 
 #[inline(always)]
-fn combine<const K: usize>(w: &[f32; K], c: &[[f32; 3]; K]) -> Vec3 {
+pub(super) fn combine<const K: usize>(w: &[f32; K], c: &[[f32; 3]; K]) -> Vec3 {
     let (mut x, mut y, mut z) = (0.0f32, 0.0f32, 0.0f32);
     for k in 0..K {
         x += w[k] * c[k][0];
@@ -130,19 +138,19 @@ fn combine<const K: usize>(w: &[f32; K], c: &[[f32; 3]; K]) -> Vec3 {
 
 /// Points per tile of [`eval_block`]: the four accumulator arrays (12 KiB) stay in L1, and
 /// the per-tile set-up is spread over enough points (64 spent 9 instructions a point on it).
-const TILE: usize = 256;
+pub(super) const TILE: usize = 256;
 
 /// Points summed together by [`accumulate`]: their running sums stay in registers (six
 /// 8-wide vectors for x, y, z) over all control points, enough independent additions to hide
 /// the adder's latency.
-const LANES: usize = BLOCK_LANES;
+pub(super) const LANES: usize = BLOCK_LANES;
 const _: () = assert!(TILE.is_multiple_of(LANES), "tiles hold whole vectors");
 
 /// The weights `k` of the tile's vector `v` in a weight-major block: the points
 /// `start + v * LANES..` of row `k`. `check_tile` has made sure the tile's vectors lie within
 /// the rows (the last one padded with zeros).
 #[inline(always)]
-fn lane_weights(weights: &[f32], at: usize) -> &[f32; LANES] {
+pub(super) fn lane_weights(weights: &[f32], at: usize) -> &[f32; LANES] {
     debug_assert!(at + LANES <= weights.len());
     // SAFETY: `check_tile` bounds every `at` passed here (k * stride + start + v * LANES, with
     // start + vectors * LANES <= stride and rows * stride <= weights.len()). A checked slice
@@ -162,86 +170,140 @@ fn check_tile(weights: &[f32], rows: usize, stride: usize, start: usize, n: usiz
     vectors
 }
 
-/// Control points spread over whole vectors (`[k][c][lane]`), made once per block: the sums
-/// then multiply by a vector in memory (on AVX2 one instruction with the load folded in)
-/// instead of broadcasting every control point again for every vector of points, which spilled
-/// registers.
-type Spread<const C: usize> = [[[f32; LANES]; 3]; C];
-
-/// Spreads `controls` into `out` in place (a spread made and moved by value cost 25
-/// instructions a vertex on the 15-point edges of level 16).
+/// Accumulates `Σ_k w[k*stride + i] c[k]` for the tile's points `start..start+n` into `acc`,
+/// summing over `k` in order from zero for every point (the order [`combine`] uses, so the
+/// same bits). Works in whole vectors: a short last vector sums the weights' zero padding into
+/// slots past `n`, which nobody reads. `G` vectors are summed side by side (see
+/// [`accumulate_group`]), each control point broadcast once per group. One vector at a time
+/// (`G = 1`, the AVX2 and SSE2 copies), the control points are first spread over whole
+/// vectors in `spread`, so the multiply takes its operand from memory: on AVX2, which has no
+/// broadcast operand, that is one instruction where a broadcast and a multiply are two
+/// (callgrind: 2-3 instructions a vertex).
 #[inline(always)]
-fn spread_into<'a, const C: usize>(
-    controls: &[[f32; 3]],
-    out: &'a mut [[[f32; LANES]; 3]],
-) -> &'a Spread<C> {
-    let out: &mut Spread<C> = (&mut out[..C])
-        .try_into()
-        .expect("room for C control points");
-    for (s, c) in out.iter_mut().zip(controls) {
-        for (lanes, &v) in s.iter_mut().zip(c) {
-            *lanes = [v; LANES];
+fn accumulate<const C: usize, const G: usize>(
+    weights: &[f32],
+    stride: usize,
+    start: usize,
+    n: usize,
+    controls: &[[f32; 3]; C],
+    spread: &mut [[[f32; LANES]; 3]; MAX_CONTROLS],
+    acc: &mut [[f32; TILE]; 3],
+) {
+    let vectors = check_tile(weights, C, stride, start, n);
+    if G == 1 {
+        for (s, c) in spread.iter_mut().zip(controls) {
+            *s = [[c[0]; LANES], [c[1]; LANES], [c[2]; LANES]];
         }
+        let spread = &*spread;
+        for v in 0..vectors {
+            accumulate_group::<C, 1>(weights, stride, start, v, |k| spread[k], acc);
+        }
+        return;
     }
-    out
+    let lanes = |k: usize| {
+        let [x, y, z] = controls[k];
+        [[x; LANES], [y; LANES], [z; LANES]]
+    };
+    let mut v = 0;
+    while v + G <= vectors {
+        accumulate_group::<C, G>(weights, stride, start, v, lanes, acc);
+        v += G;
+    }
+    if G > 2 && v + 2 <= vectors {
+        accumulate_group::<C, 2>(weights, stride, start, v, lanes, acc);
+        v += 2;
+    }
+    while v < vectors {
+        accumulate_group::<C, 1>(weights, stride, start, v, lanes, acc);
+        v += 1;
+    }
 }
 
 /// The most control points of a patch (PNG1's quartic net).
 const MAX_CONTROLS: usize = 21;
 
-/// Accumulates `Σ_k w[k*stride + i] c[k]` for the tile's points `start..start+n` into `acc`,
-/// summing over `k` in order from zero for every point (the order [`combine`] uses, so the
-/// same bits). Works in whole vectors: a short last vector sums the weights' zero padding into
-/// slots past `n`, which nobody reads.
+/// [`accumulate`] for the tile's vectors `v..v + G`, control point `k` as `lanes(k)` (its
+/// coordinates, each repeated over a vector). Each point's sum is one chain of dependent
+/// additions (the order is fixed, for the bits), so one vector's three chains leave the adders
+/// waiting on their latency; `G` vectors give `3 G` independent chains, and each control
+/// point, loaded once, serves all of them.
 #[inline(always)]
-fn accumulate<const C: usize>(
+fn accumulate_group<const C: usize, const G: usize>(
     weights: &[f32],
     stride: usize,
     start: usize,
-    n: usize,
-    controls: &Spread<C>,
+    v: usize,
+    lanes: impl Fn(usize) -> [[f32; LANES]; 3],
     acc: &mut [[f32; TILE]; 3],
 ) {
-    let vectors = check_tile(weights, C, stride, start, n);
-    for v in 0..vectors {
-        let (mut x, mut y, mut z) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
-        for (k, [cx, cy, cz]) in controls.iter().enumerate() {
-            let w = lane_weights(weights, k * stride + start + v * LANES);
+    let mut x = [[0.0f32; LANES]; G];
+    let mut y = [[0.0f32; LANES]; G];
+    let mut z = [[0.0f32; LANES]; G];
+    for k in 0..C {
+        let [cx, cy, cz] = lanes(k);
+        for g in 0..G {
+            let w = lane_weights(weights, k * stride + start + (v + g) * LANES);
             for l in 0..LANES {
-                x[l] += w[l] * cx[l];
-                y[l] += w[l] * cy[l];
-                z[l] += w[l] * cz[l];
+                x[g][l] += w[l] * cx[l];
+                y[g][l] += w[l] * cy[l];
+                z[g][l] += w[l] * cz[l];
             }
         }
-        let i = v * LANES;
-        acc[0][i..i + LANES].copy_from_slice(&x);
-        acc[1][i..i + LANES].copy_from_slice(&y);
-        acc[2][i..i + LANES].copy_from_slice(&z);
+    }
+    for g in 0..G {
+        let i = (v + g) * LANES;
+        acc[0][i..i + LANES].copy_from_slice(&x[g]);
+        acc[1][i..i + LANES].copy_from_slice(&y[g]);
+        acc[2][i..i + LANES].copy_from_slice(&z[g]);
     }
 }
 
-/// Normalises the tile's `n` vectors in place, exactly as `Vec3::normalize_or_zero` does per
-/// vector (the same operations in the same order, so the same bits), but one component array
-/// at a time so the loop vectorises. `ok[i]` is false where the vector could not be normalised
-/// (zero, tiny or not finite): those points take the scalar fallback. Returns whether all
-/// `n` were normalised (summed in the same loop, so no second pass over `ok`).
+/// Normalises the tile's vectors at `from..from + vectors * LANES` in place, exactly as
+/// `Vec3::normalize_or_zero` does per vector (the same operations in the same order, so the
+/// same bits), one component array at a time and in whole vectors so the loop vectorises with
+/// no scalar remainder. `ok[i]` is false where the vector could not be normalised (zero, tiny
+/// or not finite): those points take the scalar fallback. Only the first `len` are points;
+/// the padding lanes after them neither fail nor get a fallback. Returns whether all passed.
 #[inline(always)]
-fn normalize_tile(v: &mut [[f32; TILE]; 3], n: usize, ok: &mut [bool; TILE]) -> bool {
-    let [x, y, z] = v;
-    let mut bad = 0u32;
-    for i in 0..n.min(TILE) {
-        let rcp = 1.0 / ((x[i] * x[i]) + (y[i] * y[i]) + (z[i] * z[i])).sqrt();
-        // `&`, not `&&`, and a count, not a flag: branch-free, so the loop vectorises.
-        // `is_finite() && rcp > 0`: two compares (NaN fails both).
-        let good = (rcp > 0.0) & (rcp < f32::INFINITY);
-        ok[i] = good;
-        bad += u32::from(!good);
-        let rcp = if good { rcp } else { 0.0 };
-        x[i] *= rcp;
-        y[i] *= rcp;
-        z[i] *= rcp;
+pub(super) fn normalize_vectors(
+    v: &mut [[f32; TILE]; 3],
+    from: usize,
+    vectors: usize,
+    len: usize,
+    ok: &mut [bool; TILE],
+) -> bool {
+    assert!(from + vectors * LANES <= TILE, "whole vectors of the tile");
+    // Lane by lane, reduced once at the end: a count per vector compiled to byte shuffles.
+    let mut passed = [true; LANES];
+    for vector in 0..vectors {
+        let at = from + vector * LANES;
+        let lanes = |c: &[f32; TILE]| -> [f32; LANES] {
+            c[at..at + LANES].try_into().expect("a whole vector")
+        };
+        // Three loads, not `each_ref().map(..)`: that stayed a call, a fifth of the time.
+        let (x, y, z) = (lanes(&v[0]), lanes(&v[1]), lanes(&v[2]));
+        let mut good = [false; LANES];
+        let mut out = [[0.0f32; LANES]; 3];
+        for l in 0..LANES {
+            let rcp = 1.0 / ((x[l] * x[l]) + (y[l] * y[l]) + (z[l] * z[l])).sqrt();
+            // `&`, not `&&`: branch-free, so the loop vectorises. `is_finite() && rcp > 0`:
+            // two compares (NaN fails both).
+            let fine = (rcp > 0.0) & (rcp < f32::INFINITY);
+            let rcp = if fine { rcp } else { 0.0 };
+            good[l] = fine | (vector * LANES + l >= len);
+            out[0][l] = x[l] * rcp;
+            out[1][l] = y[l] * rcp;
+            out[2][l] = z[l] * rcp;
+        }
+        for (c, o) in v.iter_mut().zip(&out) {
+            c[at..at + LANES].copy_from_slice(o);
+        }
+        ok[at..at + LANES].copy_from_slice(&good);
+        for l in 0..LANES {
+            passed[l] &= good[l];
+        }
     }
-    bad == 0
+    passed.iter().all(|&p| p)
 }
 
 /// The unit normal `Du × Dv / |Du × Dv|` of one point, as `Vec3::cross` and
@@ -249,7 +311,7 @@ fn normalize_tile(v: &mut [[f32; TILE]; 3], n: usize, ok: &mut [bool; TILE]) -> 
 /// (nearly) parallel (the test [`finish_normal`] makes) or the cross product cannot be
 /// normalised, and the point takes the scalar fallback.
 #[inline(always)]
-fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f32; 3], bool) {
+pub(super) fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f32; 3], bool) {
     let x = ay * bz - by * az;
     let y = az * bx - bz * ax;
     let z = ax * by - bx * ay;
@@ -262,85 +324,58 @@ fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f32; 3], bool
     ([x * rcp, y * rcp, z * rcp], good)
 }
 
-/// [`unit_cross`] of the tile's summed derivatives `du`, `dv` into `unit` and `ok`.
+/// [`unit_cross`] of the tile's derivatives at `from..from + vectors * LANES`; only the first
+/// `len` are points (the padding neither fails nor gets a fallback). Returns whether all passed.
 #[inline(always)]
-fn cross_tile(
+pub(super) fn cross_vectors(
     du: &[[f32; TILE]; 3],
     dv: &[[f32; TILE]; 3],
-    n: usize,
+    from: usize,
+    vectors: usize,
+    len: usize,
     unit: &mut [[f32; TILE]; 3],
     ok: &mut [bool; TILE],
 ) -> bool {
-    let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
-    let mut bad = 0u32;
-    for i in 0..n.min(TILE) {
-        let (u, good) = unit_cross(at(du, i), at(dv, i));
-        ok[i] = good;
-        bad += u32::from(!good);
-        unit[0][i] = u[0];
-        unit[1][i] = u[1];
-        unit[2][i] = u[2];
-    }
-    bad == 0
-}
-
-/// Real normals of a cubic patch for the tile's points, in one pass: `Du` and `Dv` summed from
-/// the derivative nets with the normal weights (16 points at a time, in registers), then
-/// [`unit_cross`]; `ok[i]` false where a fallback is needed.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn real_normals_tile(
-    weights: &[f32],
-    stride: usize,
-    start: usize,
-    n: usize,
-    du_net: &[[f32; 3]; NORMAL_NET_LEN],
-    dv_net: &[[f32; 3]; NORMAL_NET_LEN],
-    unit: &mut [[f32; TILE]; 3],
-    ok: &mut [bool; TILE],
-) -> bool {
-    let vectors = check_tile(weights, NORMAL_NET_LEN, stride, start, n);
-    let mut bad = 0u32;
-    for v in 0..vectors {
-        let mut a = [[0.0f32; LANES]; 3];
-        let mut b = [[0.0f32; LANES]; 3];
-        for j in 0..NORMAL_NET_LEN {
-            let w = lane_weights(weights, j * stride + start + v * LANES);
-            let (u, d) = (du_net[j], dv_net[j]);
-            for l in 0..LANES {
-                for c in 0..3 {
-                    a[c][l] += w[l] * u[c];
-                    b[c][l] += w[l] * d[c];
-                }
-            }
-        }
-        let i = v * LANES;
+    let mut passed = [true; LANES];
+    for vector in 0..vectors {
+        let at = from + vector * LANES;
+        let lanes = |c: &[f32; TILE]| -> [f32; LANES] {
+            c[at..at + LANES].try_into().expect("a whole vector")
+        };
+        let a = [lanes(&du[0]), lanes(&du[1]), lanes(&du[2])];
+        let b = [lanes(&dv[0]), lanes(&dv[1]), lanes(&dv[2])];
+        let mut good = [false; LANES];
+        let mut out = [[0.0f32; LANES]; 3];
         for l in 0..LANES {
-            let (u, good) = unit_cross([a[0][l], a[1][l], a[2][l]], [b[0][l], b[1][l], b[2][l]]);
-            // Padding lanes past `n` are not points: they neither fail nor get a fallback.
-            let good = good | (i + l >= n);
-            ok[i + l] = good;
-            bad += u32::from(!good);
-            unit[0][i + l] = u[0];
-            unit[1][i + l] = u[1];
-            unit[2][i + l] = u[2];
+            let (u, fine) = unit_cross([a[0][l], a[1][l], a[2][l]], [b[0][l], b[1][l], b[2][l]]);
+            good[l] = fine | (vector * LANES + l >= len);
+            out[0][l] = u[0];
+            out[1][l] = u[1];
+            out[2][l] = u[2];
+        }
+        for (c, o) in unit.iter_mut().zip(&out) {
+            c[at..at + LANES].copy_from_slice(o);
+        }
+        ok[at..at + LANES].copy_from_slice(&good);
+        for l in 0..LANES {
+            passed[l] &= good[l];
         }
     }
-    bad == 0
+    passed.iter().all(|&p| p)
 }
 
 /// The working arrays of [`eval_block`], one per parallel task and reused for all its blocks:
 /// made per call, zeroing them cost more instructions than the evaluation itself.
 pub(crate) struct Scratch {
-    pos: [[f32; TILE]; 3],
-    d1: [[f32; TILE]; 3],
-    d2: [[f32; TILE]; 3],
-    unit: [[f32; TILE]; 3],
-    ok: [bool; TILE],
+    pub(super) pos: [[f32; TILE]; 3],
+    pub(super) d1: [[f32; TILE]; 3],
+    pub(super) d2: [[f32; TILE]; 3],
+    pub(super) unit: [[f32; TILE]; 3],
+    pub(super) ok: [bool; TILE],
     /// A tile as points, on its way to a streaming sink.
-    stage: [[f32; 3]; TILE],
-    spread_points: [[[f32; LANES]; 3]; MAX_CONTROLS],
-    spread_normals: [[[f32; LANES]; 3]; NORMAL_NET_LEN],
+    pub(super) stage: [[f32; 3]; TILE],
+    /// Control points spread over whole vectors (`[k][c][lane]`), see [`accumulate`].
+    spread: [[[f32; LANES]; 3]; MAX_CONTROLS],
 }
 
 impl Scratch {
@@ -352,8 +387,7 @@ impl Scratch {
             unit: [[0.0; TILE]; 3],
             ok: [true; TILE],
             stage: [[0.0; 3]; TILE],
-            spread_points: [[[0.0; LANES]; 3]; MAX_CONTROLS],
-            spread_normals: [[[0.0; LANES]; 3]; NORMAL_NET_LEN],
+            spread: [[[0.0; LANES]; 3]; MAX_CONTROLS],
         })
     }
 }
@@ -435,14 +469,14 @@ pub(crate) fn eval_block<const K: usize>(
         };
         return;
     }
-    eval_block_body::<K>(
+    eval_block_body::<K, 1>(
         block, stencil, points, normals, mode, sink, base, reverse, scratch,
     );
 }
 
 /// Defines `$name`: [`eval_block_body`] compiled with the target feature `$feature`.
 macro_rules! eval_block_for {
-    ($name:ident, $feature:literal) => {
+    ($name:ident, $feature:literal, $group:literal) => {
         #[doc = concat!("[`eval_block_body`] compiled for `", $feature, "`.")]
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
@@ -458,18 +492,18 @@ macro_rules! eval_block_for {
             reverse: bool,
             scratch: &mut Scratch,
         ) {
-            eval_block_body::<K>(
+            eval_block_body::<K, $group>(
                 block, stencil, points, normals, mode, sink, base, reverse, scratch,
             );
         }
     };
 }
-eval_block_for!(eval_block_avx512, "avx512f");
-eval_block_for!(eval_block_avx2, "avx2");
+eval_block_for!(eval_block_avx512, "avx512f", 4);
+eval_block_for!(eval_block_avx2, "avx2", 1);
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn eval_block_body<const K: usize>(
+pub(super) fn eval_block_body<const K: usize, const G: usize>(
     block: &Block,
     stencil: &Stencil,
     points: &[[f32; 3]],
@@ -491,42 +525,59 @@ fn eval_block_body<const K: usize>(
         unit,
         ok,
         stage,
-        spread_points,
-        spread_normals,
+        spread,
     } = scratch;
-    let derivative_nets = (mode == NormalMode::Real && K == CUBIC_LEN)
-        .then(|| cubic_derivative_nets(points[..].try_into().expect("cubic patch")));
-    let spread_points = spread_into::<K>(points, spread_points);
-    let spread_normals = if want_normals && mode != NormalMode::Real {
-        spread_into::<NORMAL_NET_LEN>(normals, spread_normals)
+    let normals: &[[f32; 3]; NORMAL_NET_LEN] = if want_normals && mode != NormalMode::Real {
+        normals.try_into().expect("normal net has 6 entries")
     } else {
-        &*spread_normals
+        &[[0.0; 3]; NORMAL_NET_LEN]
     };
+    // Real normals of a cubic: `Du` and `Dv` summed from the derivative nets with the normal
+    // weights (six terms each instead of ten).
+    let derivative_nets = (want_normals && mode == NormalMode::Real && K == CUBIC_LEN)
+        .then(|| cubic_derivative_nets(points[..].try_into().expect("cubic patch")));
     for start in (0..len).step_by(TILE) {
         let n = TILE.min(len - start);
-        accumulate(&block.value, block.stride, start, n, spread_points, pos);
+        let vectors = n.div_ceil(LANES);
+        accumulate::<K, G>(&block.value, block.stride, start, n, points, spread, pos);
         let mut all_ok = true;
         if want_normals {
             all_ok = if mode == NormalMode::Real {
                 if let Some((du_net, dv_net)) = &derivative_nets {
-                    real_normals_tile(
+                    accumulate::<NORMAL_NET_LEN, G>(
                         &block.normal,
                         block.stride,
                         start,
                         n,
                         du_net,
+                        spread,
+                        d1,
+                    );
+                    accumulate::<NORMAL_NET_LEN, G>(
+                        &block.normal,
+                        block.stride,
+                        start,
+                        n,
                         dv_net,
-                        unit,
-                        ok,
-                    )
+                        spread,
+                        d2,
+                    );
                 } else {
-                    accumulate(&block.du, block.stride, start, n, spread_points, d1);
-                    accumulate(&block.dv, block.stride, start, n, spread_points, d2);
-                    cross_tile(d1, d2, n, unit, ok)
+                    accumulate::<K, G>(&block.du, block.stride, start, n, points, spread, d1);
+                    accumulate::<K, G>(&block.dv, block.stride, start, n, points, spread, d2);
                 }
+                cross_vectors(d1, d2, 0, vectors, n, unit, ok)
             } else {
-                accumulate(&block.normal, block.stride, start, n, spread_normals, unit);
-                normalize_tile(unit, n, ok)
+                accumulate::<NORMAL_NET_LEN, G>(
+                    &block.normal,
+                    block.stride,
+                    start,
+                    n,
+                    normals,
+                    spread,
+                    unit,
+                );
+                normalize_vectors(unit, 0, vectors, n, ok)
             };
         }
         let first = slot(start);
@@ -534,39 +585,22 @@ fn eval_block_body<const K: usize>(
             first,
             reverse,
             n,
+            0,
             pos,
             want_normals.then_some(&*unit),
             stage,
         );
         if !all_ok {
-            if sink.streams() {
-                // The fallbacks rewrite slots just streamed: order them after those stores.
-                nontemporal::fence();
-            }
-            let at = |a: &[[f32; TILE]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
             for i in (0..n).filter(|&i| !ok[i]) {
-                // Parallel derivatives or a vanishing normal: the scalar path's fallbacks.
+                // Parallel derivatives or a vanishing normal: the scalar path's fallbacks,
+                // from the derivatives summed above (the same sums `eval_point` makes).
                 let p = block.points[start + i] as usize;
-                let (du, dv) = match &derivative_nets {
-                    // Not kept by real_normals_tile: summed again, in the same order.
-                    Some((du_net, dv_net)) => {
-                        let q: &[f32; NORMAL_NET_LEN] = stencil.row(p)
-                            [3 * K..3 * K + NORMAL_NET_LEN]
-                            .try_into()
-                            .expect("normal weights");
-                        (combine(q, du_net), combine(q, dv_net))
-                    }
-                    None => (Vec3::from(at(d1, i)), Vec3::from(at(d2, i))),
-                };
+                let du = Vec3::new(d1[0][i], d1[1][i], d1[2][i]);
+                let dv = Vec3::new(d2[0][i], d2[1][i], d2[2][i]);
                 let normal = finish_normal::<K>(mode, du, dv, stencil.row(p), points, normals);
                 sink.set_normal(slot(start + i), normal.into());
             }
         }
-    }
-    if sink.streams() {
-        // Streamed lines are weakly ordered: make them land before the task ends and another
-        // thread (or the caller) reads them.
-        nontemporal::fence();
     }
 }
 
@@ -641,26 +675,28 @@ impl Job<'_> {
     }
 
     fn welded<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
-        let topo = self.topology;
-        let mesh = self.mesh;
         let m = self.layout.level as usize - 1;
-        let ni = Pattern::interior_count(self.layout.level) as usize;
-        let nv = mesh.vertex_count();
-        let ne = topo.edges.len();
+        let nv = self.mesh.vertex_count();
+        let ne = self.topology.edges.len();
         let (corners, rest) = sink.split_at(nv);
         let (edges, interiors) = rest.split_at(ne * m);
-        let want_normals = corners.wants_normals();
-        let want_uvs = corners.wants_uvs();
+        self.corners::<K>(0, corners);
+        self.edges::<K>(0, edges);
+        self.interiors::<K>(0, interiors, progress);
+    }
 
-        // Corners: the input position exactly; the normal of the owning patch.
-        corners
-            .chunks(CORNERS_PER_TASK)
+    /// The welded layout's corner vertices `first..` (as many as `sink` holds): the input
+    /// position exactly; the normal of the owning patch.
+    pub fn corners<const K: usize>(&self, first: usize, sink: Sink) {
+        let (mesh, topo) = (self.mesh, self.topology);
+        let want_normals = sink.wants_normals();
+        let want_uvs = sink.wants_uvs();
+        sink.chunks(CORNERS_PER_TASK)
             .into_par_iter()
             .enumerate()
             .for_each(|(task, mut sink)| {
-                let first = task * CORNERS_PER_TASK;
                 for i in 0..sink.len() {
-                    let v = first + i;
+                    let v = first + task * CORNERS_PER_TASK + i;
                     sink.set_position(i, mesh.positions()[v]);
                     if want_normals {
                         let normal = match topo.vertex_owner[v] {
@@ -685,53 +721,83 @@ impl Job<'_> {
                     }
                 }
             });
+    }
 
-        // Edges: evaluated on the owning face, stored from the lower vertex index to the higher.
-        if m > 0 {
-            edges
-                .chunks(m * EDGES_PER_TASK)
-                .into_par_iter()
-                .enumerate()
-                .for_each(|(task, mut sink)| {
-                    let mut scratch = Scratch::take();
-                    for le in 0..sink.len() / m {
-                        let e = task * EDGES_PER_TASK + le;
-                        let (f, k) = topo.edge_owner[e];
-                        let (f, k) = (f as usize, k as usize);
-                        let forward = mesh.triangles()[f][k] == topo.edges[e][0];
-                        self.block::<K>(
-                            &self.stencil.blocks.edges[k],
-                            f,
-                            &mut sink,
-                            le * m,
-                            !forward,
-                            &mut scratch,
-                        );
-                        if let (true, Some(face_uv)) = (want_uvs, self.face_uvs(f)) {
-                            let l = &self.stencil.blocks.edges[k].barycentric;
-                            for s in 0..m {
-                                let i = if forward { s } else { m - 1 - s };
-                                sink.set_uv(le * m + s, interpolate_uv(l[i], &face_uv));
-                            }
-                        }
-                    }
-                });
-        }
-
-        // Interiors: per face, in pattern order.
-        if ni == 0 {
-            progress(mesh.face_count() as u64);
+    /// The welded layout's edge points of coarse edges `first..` (as many as `sink` holds
+    /// whole edges for): evaluated on the owning face, stored from the lower vertex index to
+    /// the higher, several edges at a time ([`eval_edges`]).
+    pub fn edges<const K: usize>(&self, first: usize, sink: Sink) {
+        let (mesh, topo) = (self.mesh, self.topology);
+        let m = self.layout.level as usize - 1;
+        if m == 0 {
             return;
         }
-        interiors
-            .chunks(ni * FACES_PER_TASK)
+        let want_uvs = sink.wants_uvs();
+        sink.chunks(m * EDGES_PER_TASK)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(task, mut sink)| {
+                let mut scratch = Scratch::take();
+                let edge = |le: usize| first + task * EDGES_PER_TASK + le;
+                let runs: Vec<EdgeRun> = (0..sink.len() / m)
+                    .map(|le| {
+                        let e = edge(le);
+                        let (f, k) = topo.edge_owner[e];
+                        let (f, k) = (f as usize, k as usize);
+                        EdgeRun {
+                            block: &self.stencil.blocks.edges[k],
+                            points: self.nets.patch_points(f),
+                            normals: self.nets.patch_normals(f),
+                            base: le * m,
+                            reverse: mesh.triangles()[f][k] != topo.edges[e][0],
+                        }
+                    })
+                    .collect();
+                eval_edges::<K>(
+                    &runs,
+                    self.stencil,
+                    self.nets.normal_mode,
+                    &mut sink,
+                    &mut scratch,
+                );
+                if want_uvs {
+                    for (le, run) in runs.iter().enumerate() {
+                        let f = topo.edge_owner[edge(le)].0 as usize;
+                        let Some(face_uv) = self.face_uvs(f) else {
+                            continue;
+                        };
+                        let l = &run.block.barycentric;
+                        for s in 0..m {
+                            let i = if run.reverse { m - 1 - s } else { s };
+                            sink.set_uv(le * m + s, interpolate_uv(l[i], &face_uv));
+                        }
+                    }
+                }
+            });
+    }
+
+    /// The welded layout's interior points of faces `first..` (as many as `sink` holds whole
+    /// interiors for), per face in pattern order. `progress` receives the faces done.
+    pub fn interiors<const K: usize>(
+        &self,
+        first: usize,
+        sink: Sink,
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
+        let ni = Pattern::interior_count(self.layout.level) as usize;
+        if ni == 0 {
+            progress(self.mesh.face_count() as u64);
+            return;
+        }
+        let want_uvs = sink.wants_uvs();
+        sink.chunks(ni * FACES_PER_TASK)
             .into_par_iter()
             .enumerate()
             .for_each(|(task, mut sink)| {
                 let mut scratch = Scratch::take();
                 let faces = sink.len() / ni;
                 for lf in 0..faces {
-                    let f = task * FACES_PER_TASK + lf;
+                    let f = first + task * FACES_PER_TASK + lf;
                     self.block::<K>(
                         &self.stencil.blocks.interior,
                         f,
@@ -949,10 +1015,17 @@ mod tests {
         });
         // The baseline code as well, whatever the machine dispatches to.
         check::<10>(Basis::Cubic, |b, s, p, n, m, sink, r| {
-            eval_block_body::<10>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+            eval_block_body::<10, 1>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
         });
         check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
-            eval_block_body::<21>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+            eval_block_body::<21, 1>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+        });
+        // And summing several vectors side by side (the AVX-512 choice), on any machine.
+        check::<10>(Basis::Cubic, |b, s, p, n, m, sink, r| {
+            eval_block_body::<10, 4>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+        });
+        check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
+            eval_block_body::<21, 4>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
         });
     }
 }

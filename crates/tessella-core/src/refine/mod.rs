@@ -10,6 +10,7 @@
 
 pub mod adaptive;
 pub mod canonical;
+mod edge_groups;
 mod evaluate;
 mod evaluator;
 mod indices;

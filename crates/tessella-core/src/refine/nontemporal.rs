@@ -5,51 +5,115 @@
 //! a two-thread fill ran at 29 GB/s with plain stores and 39 GB/s with streaming ones. Outputs
 //! that fit in the cache keep plain stores: the caller reads the vertices next, from cache.
 //!
-//! Only the whole 64-byte lines of a run are streamed; the partial lines at either end are
-//! written with plain stores, so neighbouring runs (another thread's, or the next tile's)
-//! never stream into the same line. The values and their order are the same either way: only
-//! how the bytes travel to memory changes.
+//! Only whole 64-byte lines are streamed. A run's last partial line is held back
+//! ([`LineCarry`]) until the next run completes it; a partial line nobody completes (the end
+//! of a task's slots, whose line another thread may share) is written with plain stores. The
+//! values are the same either way: only how the bytes travel to memory changes.
 
 /// Outputs of more bytes than this are written with streaming stores: twice the 32 MiB
 /// last-level cache of the machine this was measured on, where a frame of 63 MB still ran
 /// faster with plain stores (part of it stays cached from the frame before) and one of 98 MB
 /// already ran faster streamed.
-pub(crate) const STREAM_ABOVE_BYTES: usize = 64 << 20;
+pub(crate) const STREAM_ABOVE_BYTES: usize = 32 << 20;
 
 /// Bytes in a cache line.
-#[cfg(target_arch = "x86_64")]
 const LINE: usize = 64;
+/// `f32`s in a cache line.
+const LINE_FLOATS: usize = LINE / 4;
 
-/// `dst.copy_from_slice(src)`, with the whole cache lines of `dst` written by streaming
-/// stores where the target has them. Call [`fence`] before another thread may read `dst`.
+/// A streamed array's last line, not yet written: the floats of a run that stopped short of a
+/// line's end. The next run usually continues where this one stopped (a task writes its
+/// blocks in slot order), so the line is completed and streamed whole then, instead of being
+/// written in two parts with plain stores, each of which would first read the line. One per
+/// streamed array of a sink; [`LineCarry::flush`] writes what is left with plain stores.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LineCarry {
+    /// Index (in the array) of the line's first float: always the start of a cache line.
+    start: usize,
+    len: usize,
+    buf: [f32; LINE_FLOATS],
+}
+
+impl LineCarry {
+    pub const fn new() -> LineCarry {
+        LineCarry {
+            start: 0,
+            len: 0,
+            buf: [0.0; LINE_FLOATS],
+        }
+    }
+
+    /// True when nothing is held back.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// `dst[at..at + src.len()] = src`: the whole cache lines with streaming stores, a run's
+    /// first partial line with plain ones, its last partial line held back for the next run
+    /// (written once that run completes it, or by [`LineCarry::flush`]). `dst` must be the
+    /// same array at every call until the flush. Call [`fence`] after the flush before another
+    /// thread may read `dst`.
+    #[inline(always)]
+    pub fn write(&mut self, dst: &mut [f32], at: usize, src: &[f32]) {
+        assert!(at + src.len() <= dst.len(), "a run within the array");
+        if self.len > 0 && self.start + self.len != at {
+            self.flush(dst);
+        }
+        let (mut at, mut src) = (at, src);
+        if self.len > 0 {
+            let take = (LINE_FLOATS - self.len).min(src.len());
+            self.buf[self.len..self.len + take].copy_from_slice(&src[..take]);
+            self.len += take;
+            (at, src) = (at + take, &src[take..]);
+            if self.len < LINE_FLOATS {
+                return;
+            }
+            let line = self.buf;
+            stream_lines(&mut dst[self.start..self.start + LINE_FLOATS], &line);
+            self.len = 0;
+        } else {
+            // f32s are 4-byte aligned, so the distance to the next line is whole floats.
+            let misalign = (dst.as_ptr() as usize + 4 * at) % LINE;
+            let head = ((LINE - misalign) % LINE / 4).min(src.len());
+            dst[at..at + head].copy_from_slice(&src[..head]);
+            (at, src) = (at + head, &src[head..]);
+        }
+        let whole = src.len() / LINE_FLOATS * LINE_FLOATS;
+        stream_lines(&mut dst[at..at + whole], &src[..whole]);
+        let rest = src.len() - whole;
+        if rest > 0 {
+            self.start = at + whole;
+            self.len = rest;
+            self.buf[..rest].copy_from_slice(&src[whole..]);
+        }
+    }
+
+    /// Writes the held-back floats with plain stores.
+    #[inline(always)]
+    pub fn flush(&mut self, dst: &mut [f32]) {
+        if self.len > 0 {
+            dst[self.start..self.start + self.len].copy_from_slice(&self.buf[..self.len]);
+            self.len = 0;
+        }
+    }
+}
+
+/// `dst.copy_from_slice(src)` where `dst` is whole cache lines (starts on a line, a multiple
+/// of 16 floats long), with streaming stores where the target has them.
 #[inline(always)]
-pub(crate) fn copy(dst: &mut [f32], src: &[f32]) {
+fn stream_lines(dst: &mut [f32], src: &[f32]) {
     assert_eq!(dst.len(), src.len(), "copy between runs of one length");
+    debug_assert_eq!(dst.as_ptr() as usize % LINE, 0);
+    debug_assert_eq!(dst.len() % LINE_FLOATS, 0);
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_loadu_ps, _mm_stream_ps};
-        const FLOATS: usize = LINE / 4;
-        // f32s are 4-byte aligned, so the distance to the next line is whole floats.
-        let misalign = dst.as_ptr() as usize % LINE;
-        let head = ((LINE - misalign) % LINE / 4).min(dst.len());
-        let lines = (dst.len() - head) / FLOATS;
-        let end = head + lines * FLOATS;
-        dst[..head].copy_from_slice(&src[..head]);
-        for line in 0..lines {
-            let at = head + line * FLOATS;
-            for q in (0..FLOATS).step_by(4) {
-                // SAFETY: `at + q + 4 <= end <= len` for both slices, and `dst + at` is the
-                // start of a cache line, so every `dst + at + q` is 16-byte aligned as
-                // `_mm_stream_ps` requires; SSE is part of x86-64.
-                unsafe {
-                    _mm_stream_ps(
-                        dst.as_mut_ptr().add(at + q),
-                        _mm_loadu_ps(src.as_ptr().add(at + q)),
-                    )
-                };
-            }
+        for q in (0..dst.len()).step_by(4) {
+            // SAFETY: `q + 4 <= len` for both slices (the length is whole lines), and `dst`
+            // starts on a cache line, so every `dst + q` is 16-byte aligned as
+            // `_mm_stream_ps` requires; SSE is part of x86-64.
+            unsafe { _mm_stream_ps(dst.as_mut_ptr().add(q), _mm_loadu_ps(src.as_ptr().add(q))) };
         }
-        dst[end..].copy_from_slice(&src[end..]);
     }
     #[cfg(not(target_arch = "x86_64"))]
     dst.copy_from_slice(src);
@@ -71,16 +135,29 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_offset_and_length_copies_the_same_values() {
-        let src: Vec<f32> = (0..200).map(|i| i as f32 * 0.5 - 7.0).collect();
+    fn runs_in_any_order_write_the_same_values() {
+        let src: Vec<f32> = (0..400).map(|i| i as f32 * 0.5 - 7.0).collect();
         for offset in 0..20 {
-            for len in [0, 1, 3, 15, 16, 17, 31, 32, 33, 100, 180] {
-                let mut dst = vec![-1.0f32; 220];
-                copy(&mut dst[offset..offset + len], &src[..len]);
+            // Consecutive runs (the usual case), a gap, a jump back, and runs within a line.
+            for runs in [
+                vec![(0, 37), (37, 100), (137, 3), (140, 60)],
+                vec![(0, 5), (5, 4), (9, 2), (50, 90), (11, 39)],
+                vec![(200, 100), (0, 200), (300, 17)],
+                vec![(0, 317)],
+            ] {
+                let mut dst = vec![-1.0f32; 360];
+                let end = runs.iter().map(|&(a, n)| a + n).max().unwrap();
+                let mut carry = LineCarry::new();
+                let array = &mut dst[offset..offset + end];
+                for &(at, n) in &runs {
+                    carry.write(array, at, &src[at..at + n]);
+                }
+                carry.flush(array);
                 fence();
-                assert_eq!(&dst[offset..offset + len], &src[..len], "{offset} {len}");
+                assert!(carry.is_empty());
+                assert_eq!(&dst[offset..offset + end], &src[..end], "{offset} {runs:?}");
                 assert!(dst[..offset].iter().all(|&x| x == -1.0));
-                assert!(dst[offset + len..].iter().all(|&x| x == -1.0));
+                assert!(dst[offset + end..].iter().all(|&x| x == -1.0));
             }
         }
     }

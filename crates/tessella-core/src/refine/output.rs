@@ -134,7 +134,7 @@ impl<'a> VertexOutput<'a> {
                     positions: &mut positions[..vertices],
                     normals: normals.map(|n| &mut n[..vertices]),
                     uvs: uvs.map(|u| &mut u[..vertices]),
-                    stream: bytes > nontemporal::STREAM_ABOVE_BYTES,
+                    stream: (bytes > nontemporal::STREAM_ABOVE_BYTES).then(Streams::new),
                 })
             }
             VertexOutput::Interleaved { data, format } => {
@@ -159,14 +159,71 @@ pub(crate) enum Sink<'a> {
         positions: &'a mut [[f32; 3]],
         normals: Option<&'a mut [[f32; 3]]>,
         uvs: Option<&'a mut [[f32; 2]]>,
-        /// Whether tiles go out with streaming stores ([`nontemporal`]): the whole output is
-        /// larger than the last-level cache.
-        stream: bool,
+        /// Present when tiles go out with streaming stores ([`nontemporal`]): the whole
+        /// output is larger than the last-level cache. The sink writes what it holds back when
+        /// it is dropped.
+        stream: Option<Streams>,
     },
     Interleaved {
         data: &'a mut [f32],
         format: VertexFormat,
     },
+}
+
+/// The lines a streaming [`Sink`] holds back, one per streamed array.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Streams {
+    positions: nontemporal::LineCarry,
+    normals: nontemporal::LineCarry,
+    /// Lines were streamed since the last [`nontemporal::fence`]: a plain store to a slot
+    /// must wait for them (streaming stores may pass later plain ones).
+    unfenced: bool,
+}
+
+impl Streams {
+    fn new() -> Streams {
+        Streams {
+            positions: nontemporal::LineCarry::new(),
+            normals: nontemporal::LineCarry::new(),
+            unfenced: false,
+        }
+    }
+
+    /// Makes a plain store to `array` safe: writes its held-back line, and orders the
+    /// streamed lines before the store.
+    fn before_plain_store(
+        carry: &mut nontemporal::LineCarry,
+        unfenced: &mut bool,
+        array: &mut [f32],
+    ) {
+        carry.flush(array);
+        if std::mem::take(unfenced) {
+            nontemporal::fence();
+        }
+    }
+    fn is_empty(&self) -> bool {
+        self.positions.is_empty() && self.normals.is_empty()
+    }
+}
+
+impl Drop for Sink<'_> {
+    /// Writes the lines held back and orders the streamed stores before the sink's slots are
+    /// read by anyone (the thread that joins this task, or the caller).
+    fn drop(&mut self) {
+        if let Sink::Separate {
+            positions,
+            normals,
+            stream: Some(streams),
+            ..
+        } = self
+        {
+            streams.positions.flush(positions.as_flattened_mut());
+            if let Some(normals) = normals {
+                streams.normals.flush(normals.as_flattened_mut());
+            }
+            nontemporal::fence();
+        }
+    }
 }
 
 impl<'a> Sink<'a> {
@@ -190,35 +247,43 @@ impl<'a> Sink<'a> {
         }
     }
 
-    /// Slots `..mid` and `mid..`.
-    pub fn split_at(self, mid: usize) -> (Sink<'a>, Sink<'a>) {
-        match self {
+    /// Slots `..mid` and `mid..`. Only before anything was written (a sink holds back
+    /// nothing then).
+    pub fn split_at(mut self, mid: usize) -> (Sink<'a>, Sink<'a>) {
+        match &mut self {
             Sink::Separate {
                 positions,
                 normals,
                 uvs,
                 stream,
             } => {
-                let (p0, p1) = positions.split_at_mut(mid);
-                let (n0, n1) = split_option(normals, mid);
-                let (u0, u1) = split_option(uvs, mid);
+                assert!(
+                    stream.as_ref().is_none_or(Streams::is_empty),
+                    "split before writing"
+                );
+                let streaming = stream.is_some();
+                let (p0, p1) = std::mem::take(positions).split_at_mut(mid);
+                let (n0, n1) = split_option(normals.take(), mid);
+                let (u0, u1) = split_option(uvs.take(), mid);
+                let stream = || streaming.then(Streams::new);
                 (
                     Sink::Separate {
                         positions: p0,
                         normals: n0,
                         uvs: u0,
-                        stream,
+                        stream: stream(),
                     },
                     Sink::Separate {
                         positions: p1,
                         normals: n1,
                         uvs: u1,
-                        stream,
+                        stream: stream(),
                     },
                 )
             }
             Sink::Interleaved { data, format } => {
-                let (d0, d1) = data.split_at_mut(mid * format.stride);
+                let format = *format;
+                let (d0, d1) = std::mem::take(data).split_at_mut(mid * format.stride);
                 (
                     Sink::Interleaved { data: d0, format },
                     Sink::Interleaved { data: d1, format },
@@ -227,29 +292,26 @@ impl<'a> Sink<'a> {
         }
     }
 
-    /// Whether [`Sink::put_tile`] writes with streaming stores, which [`nontemporal::fence`]
-    /// must order before the slots are written again or handed to another thread.
+    /// Whether [`Sink::put_tile`] writes with streaming stores.
+    #[cfg(test)]
     pub fn streams(&self) -> bool {
-        matches!(self, Sink::Separate { stream: true, .. })
+        matches!(
+            self,
+            Sink::Separate {
+                stream: Some(_),
+                ..
+            }
+        )
     }
 
     /// The same slots, streamed or not whatever their size (tests of both paths on small data).
     #[cfg(test)]
-    pub fn streaming(self, stream: bool) -> Self {
-        match self {
-            Sink::Separate {
-                positions,
-                normals,
-                uvs,
-                ..
-            } => Sink::Separate {
-                positions,
-                normals,
-                uvs,
-                stream,
-            },
-            interleaved => interleaved,
+    pub fn streaming(mut self, on: bool) -> Self {
+        if let Sink::Separate { stream, .. } = &mut self {
+            assert!(stream.as_ref().is_none_or(Streams::is_empty));
+            *stream = on.then(Streams::new);
         }
+        self
     }
 
     /// Consecutive runs of `size` slots (the last may be shorter), for parallel work.
@@ -268,23 +330,25 @@ impl<'a> Sink<'a> {
         out
     }
 
-    /// Writes `n` points given as component arrays (`pos[c][i]`, and normals likewise) to
-    /// slots `first + i`, or `first - i` when `reverse`. One match for the whole run, then a
+    /// Writes `n` points given as component arrays (`pos[c][from + i]`, and normals likewise)
+    /// to slots `first + i`, or `first - i` when `reverse`. One match for the whole run, then a
     /// plain loop: the per-point attribute writes of [`Sink::set_position`] cost more than the
     /// arithmetic once the sums are vectorised. A streaming sink interleaves into `stage` (in
     /// L1) and streams that out.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub fn put_tile<const T: usize>(
         &mut self,
         first: usize,
         reverse: bool,
         n: usize,
+        from: usize,
         pos: &[[f32; T]; 3],
         normals: Option<&[[f32; T]; 3]>,
         stage: &mut [[f32; 3]; T],
     ) {
-        let n = n.min(T);
-        let at = |a: &[[f32; T]; 3], i: usize| [a[0][i], a[1][i], a[2][i]];
+        let n = n.min(T - from);
+        let at = |a: &[[f32; T]; 3], i: usize| [a[0][from + i], a[1][from + i], a[2][from + i]];
         // The slots as one ascending range, and where point i goes within it.
         let lo = if reverse { first + 1 - n } else { first };
         let index = |i: usize| if reverse { n - 1 - i } else { i };
@@ -292,29 +356,31 @@ impl<'a> Sink<'a> {
             Sink::Separate {
                 positions,
                 normals: out_normals,
-                stream: false,
+                stream: None,
                 ..
             } => {
-                interleave(&mut positions[lo..lo + n], pos, reverse);
+                interleave(&mut positions[lo..lo + n], pos, from, reverse);
                 if let (Some(out), Some(nrm)) = (out_normals, normals) {
-                    interleave(&mut out[lo..lo + n], nrm, reverse);
+                    interleave(&mut out[lo..lo + n], nrm, from, reverse);
                 }
             }
             Sink::Separate {
                 positions,
                 normals: out_normals,
-                stream: true,
+                stream: Some(streams),
                 ..
             } => {
                 let stage = &mut stage[..n];
-                interleave(stage, pos, reverse);
-                nontemporal::copy(
-                    positions[lo..lo + n].as_flattened_mut(),
-                    stage.as_flattened(),
-                );
+                streams.unfenced = true;
+                interleave(stage, pos, from, reverse);
+                let flat = stage.as_flattened();
+                streams
+                    .positions
+                    .write(positions.as_flattened_mut(), 3 * lo, flat);
                 if let (Some(out), Some(nrm)) = (out_normals, normals) {
-                    interleave(stage, nrm, reverse);
-                    nontemporal::copy(out[lo..lo + n].as_flattened_mut(), stage.as_flattened());
+                    interleave(stage, nrm, from, reverse);
+                    let flat = stage.as_flattened();
+                    streams.normals.write(out.as_flattened_mut(), 3 * lo, flat);
                 }
             }
             Sink::Interleaved { data, format } => {
@@ -334,7 +400,15 @@ impl<'a> Sink<'a> {
     #[inline(always)]
     pub fn set_position(&mut self, i: usize, p: [f32; 3]) {
         match self {
-            Sink::Separate { positions, .. } => positions[i] = p,
+            Sink::Separate {
+                positions, stream, ..
+            } => {
+                if let Some(st) = stream {
+                    let array = positions.as_flattened_mut();
+                    Streams::before_plain_store(&mut st.positions, &mut st.unfenced, array);
+                }
+                positions[i] = p;
+            }
             Sink::Interleaved { data, format } => {
                 let at = i * format.stride + format.position;
                 data[at..at + 3].copy_from_slice(&p);
@@ -346,8 +420,15 @@ impl<'a> Sink<'a> {
         match self {
             Sink::Separate {
                 normals: Some(normals),
+                stream,
                 ..
-            } => normals[i] = n,
+            } => {
+                if let Some(st) = stream {
+                    let array = normals.as_flattened_mut();
+                    Streams::before_plain_store(&mut st.normals, &mut st.unfenced, array);
+                }
+                normals[i] = n;
+            }
             Sink::Interleaved {
                 data,
                 format:
@@ -384,14 +465,18 @@ impl<'a> Sink<'a> {
     }
 }
 
-/// Writes component arrays `a[c][i]` as the points `out[i]` (`out[len - 1 - i]` when
+/// Writes component arrays `a[c][from + i]` as the points `out[i]` (`out[len - 1 - i]` when
 /// `reverse`). A loop per direction with plain indices, so the compiler turns it into vector
 /// shuffles and stores (one loop with a computed index stays scalar: 16 instructions a point).
 #[inline(always)]
-fn interleave<const T: usize>(out: &mut [[f32; 3]], a: &[[f32; T]; 3], reverse: bool) {
-    let n = out.len().min(T);
+fn interleave<const T: usize>(out: &mut [[f32; 3]], a: &[[f32; T]; 3], from: usize, reverse: bool) {
+    let n = out.len().min(T - from);
     let out = &mut out[..n];
-    let [x, y, z] = a;
+    let (x, y, z) = (
+        &a[0][from..from + n],
+        &a[1][from..from + n],
+        &a[2][from..from + n],
+    );
     if reverse {
         for i in 0..n {
             out[n - 1 - i] = [x[i], y[i], z[i]];

@@ -6,7 +6,6 @@
 //! [`Plan::evaluate`]'s vertices and [`Plan::indices`]'s triangles, bit for bit: each vertex
 //! is computed by the same evaluation on the same owning face.
 
-use super::evaluate::{eval_block, eval_point, Scratch};
 use super::output::{Sink, VertexOutput};
 use super::plan::{Frame, Plan, NO_FACE};
 use crate::error::RefineError;
@@ -14,9 +13,7 @@ use crate::pattern::Pattern;
 use rayon::prelude::*;
 use std::ops::Range;
 
-/// Elements per parallel task inside a piece.
-const CORNERS_PER_TASK: usize = 1024;
-const EDGES_PER_TASK: usize = 64;
+/// Faces per parallel task when writing a piece's triangles.
 const FACES_PER_TASK: usize = 32;
 
 /// A run of consecutive output vertices made of whole elements of the layout.
@@ -260,112 +257,12 @@ impl Plan {
     }
 
     fn piece_k<const K: usize>(&self, frame: &Frame, piece: &Piece, sink: Sink) {
-        let (mesh, nets, stencil, topo) =
-            (frame.mesh(), frame.nets(), self.stencil(), self.topology());
-        let want_normals = sink.wants_normals();
-        let want_uvs = sink.wants_uvs();
-        let face_uvs = |f: usize| {
-            mesh.uvs()
-                .map(|uv| mesh.triangles()[f].map(|v| uv[v as usize]))
-        };
+        let job = self.job(frame);
         match piece.clone() {
-            Piece::Faces(r) => self.job(frame).soup_faces::<K>(r.start, sink, &|_| {}),
-            Piece::Corners(r) => sink
-                .chunks(CORNERS_PER_TASK)
-                .into_par_iter()
-                .enumerate()
-                .for_each(|(task, mut sink)| {
-                    for i in 0..sink.len() {
-                        let v = r.start + task * CORNERS_PER_TASK + i;
-                        sink.set_position(i, mesh.positions()[v]);
-                        if want_normals {
-                            let normal = match topo.vertex_owner[v] {
-                                Some((f, c)) => {
-                                    let row =
-                                        stencil.row(stencil.corner_point(c as usize) as usize);
-                                    let f = f as usize;
-                                    eval_point::<K>(
-                                        row,
-                                        nets.patch_points(f),
-                                        nets.patch_normals(f),
-                                        nets.normal_mode,
-                                    )
-                                    .1
-                                }
-                                None => mesh.normals()[v],
-                            };
-                            sink.set_normal(i, normal);
-                        }
-                        if want_uvs {
-                            sink.set_uv(i, mesh.uvs().expect("checked: the mesh has uvs")[v]);
-                        }
-                    }
-                }),
-            Piece::Edges(r) => {
-                let m = self.layout().level as usize - 1;
-                sink.chunks(m * EDGES_PER_TASK)
-                    .into_par_iter()
-                    .enumerate()
-                    .for_each(|(task, mut sink)| {
-                        let mut scratch = Scratch::take();
-                        for le in 0..sink.len() / m {
-                            let e = r.start + task * EDGES_PER_TASK + le;
-                            let (f, k) = topo.edge_owner[e];
-                            let (f, k) = (f as usize, k as usize);
-                            let forward = mesh.triangles()[f][k] == topo.edges[e][0];
-                            let block = &stencil.blocks.edges[k];
-                            eval_block::<K>(
-                                block,
-                                stencil,
-                                nets.patch_points(f),
-                                nets.patch_normals(f),
-                                nets.normal_mode,
-                                &mut sink,
-                                le * m,
-                                !forward,
-                                &mut scratch,
-                            );
-                            if let (true, Some(uv)) = (want_uvs, face_uvs(f)) {
-                                for s in 0..m {
-                                    let i = if forward { s } else { m - 1 - s };
-                                    sink.set_uv(
-                                        le * m + s,
-                                        interpolate_uv(block.barycentric[i], &uv),
-                                    );
-                                }
-                            }
-                        }
-                    });
-            }
-            Piece::Interiors(r) => {
-                let ni = Pattern::interior_count(self.layout().level) as usize;
-                let block = &stencil.blocks.interior;
-                sink.chunks(ni * FACES_PER_TASK)
-                    .into_par_iter()
-                    .enumerate()
-                    .for_each(|(task, mut sink)| {
-                        let mut scratch = Scratch::take();
-                        for lf in 0..sink.len() / ni {
-                            let f = r.start + task * FACES_PER_TASK + lf;
-                            eval_block::<K>(
-                                block,
-                                stencil,
-                                nets.patch_points(f),
-                                nets.patch_normals(f),
-                                nets.normal_mode,
-                                &mut sink,
-                                lf * ni,
-                                false,
-                                &mut scratch,
-                            );
-                            if let (true, Some(uv)) = (want_uvs, face_uvs(f)) {
-                                for (i, &l) in block.barycentric.iter().enumerate() {
-                                    sink.set_uv(lf * ni + i, interpolate_uv(l, &uv));
-                                }
-                            }
-                        }
-                    });
-            }
+            Piece::Faces(r) => job.soup_faces::<K>(r.start, sink, &|_| {}),
+            Piece::Corners(r) => job.corners::<K>(r.start, sink),
+            Piece::Edges(r) => job.edges::<K>(r.start, sink),
+            Piece::Interiors(r) => job.interiors::<K>(r.start, sink, &|_| {}),
         }
     }
 
@@ -469,15 +366,6 @@ fn greedy_runs(count: usize, max: usize, at: impl Fn(usize) -> usize) -> Vec<Ran
         start = end;
     }
     out
-}
-
-/// Barycentric interpolation of a face's UVs, the same arithmetic as the whole evaluation.
-#[inline(always)]
-fn interpolate_uv(l: [f32; 3], uv: &[[f32; 2]; 3]) -> [f32; 2] {
-    [
-        l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0],
-        l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1],
-    ]
 }
 
 #[cfg(test)]

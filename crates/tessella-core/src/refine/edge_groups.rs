@@ -1,0 +1,387 @@
+//! The points inside coarse edges, several edges at a time. An edge holds `level - 1` points,
+//! one or a few vectors: evaluated one edge at a time (as [`super::evaluate::eval_block`]
+//! does for a face's interior), each of its sums is one chain of dependent additions and the
+//! adders wait on their latency, and every edge pays the block's set-up. Here `G` edges (of
+//! different faces, each with its own control points) are summed side by side: `3 G`
+//! independent chains, the control points broadcast straight from the patch's net.
+//!
+//! Each point's sums are the same operations in the same order as [`super::evaluate::eval_point`]
+//! (start from zero, add `w_k C_k` for `k` in order; normalise as glam does), so the bits are
+//! the same as every other path's: an edge point gets the same bits from both of its faces'
+//! evaluations (welded output evaluates it once, on the owning face).
+
+use super::evaluate::{
+    cross_vectors, cubic_derivative_nets, finish_normal, lane_weights, normalize_vectors, Scratch,
+    CUBIC_LEN, LANES, TILE,
+};
+use super::output::Sink;
+use crate::basis::NORMAL_NET_LEN;
+use crate::scheme::NormalMode;
+use crate::stencil::{Block, Stencil};
+use glam::Vec3;
+
+/// One coarse edge to evaluate: the owning face's edge block, its patch, and where its
+/// points go.
+#[derive(Clone, Copy)]
+pub(crate) struct EdgeRun<'a> {
+    pub block: &'a Block,
+    pub points: &'a [[f32; 3]],
+    pub normals: &'a [[f32; 3]],
+    /// The sink slot of the edge's first point (in ascending slot order).
+    pub base: usize,
+    /// The points go in descending slot order (the edge is stored against its owner's
+    /// direction).
+    pub reverse: bool,
+}
+
+/// Evaluates every run of `runs` into `sink` (see [`eval_edges_body`]), with the code compiled
+/// for the widest vectors the CPU has, as [`super::evaluate::eval_block`] chooses.
+pub(crate) fn eval_edges<const K: usize>(
+    runs: &[EdgeRun],
+    stencil: &Stencil,
+    mode: NormalMode,
+    sink: &mut Sink,
+    scratch: &mut Scratch,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU was just checked to have AVX-512F, the only feature enabled there.
+        unsafe { eval_edges_avx512::<K>(runs, stencil, mode, sink, scratch) };
+        return;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU was just checked to have AVX2, the only feature the function enables.
+        unsafe { eval_edges_avx2::<K>(runs, stencil, mode, sink, scratch) };
+        return;
+    }
+    eval_edges_body::<K, 1>(runs, stencil, mode, sink, scratch);
+}
+
+/// [`eval_edges_body`] compiled for AVX-512: four edges side by side (twelve accumulators of
+/// the 32 registers).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn eval_edges_avx512<const K: usize>(
+    runs: &[EdgeRun],
+    stencil: &Stencil,
+    mode: NormalMode,
+    sink: &mut Sink,
+    scratch: &mut Scratch,
+) {
+    eval_edges_body::<K, 4>(runs, stencil, mode, sink, scratch);
+}
+
+/// [`eval_edges_body`] compiled for AVX2: one edge at a time (its 16 points already fill six
+/// of the 16 registers).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn eval_edges_avx2<const K: usize>(
+    runs: &[EdgeRun],
+    stencil: &Stencil,
+    mode: NormalMode,
+    sink: &mut Sink,
+    scratch: &mut Scratch,
+) {
+    eval_edges_body::<K, 1>(runs, stencil, mode, sink, scratch);
+}
+
+/// Evaluates every run of `runs` into `sink`, `G` at a time where the runs are short enough
+/// for `G` of them to share one tile (all edge blocks of a stencil have one length). Equal,
+/// bit for bit, to [`super::evaluate::eval_point`] on each point.
+#[inline(always)]
+pub(crate) fn eval_edges_body<const K: usize, const G: usize>(
+    runs: &[EdgeRun],
+    stencil: &Stencil,
+    mode: NormalMode,
+    sink: &mut Sink,
+    scratch: &mut Scratch,
+) {
+    let Some(first) = runs.first() else { return };
+    let vectors = first.block.len().div_ceil(LANES);
+    let mut groups = runs.chunks_exact(G);
+    if G > 1 && G * vectors * LANES <= TILE {
+        for group in groups.by_ref() {
+            let group: &[EdgeRun; G] = group.try_into().expect("chunks of G");
+            eval_group::<K, G>(group, stencil, mode, sink, scratch);
+        }
+    }
+    let rest = if G > 1 && G * vectors * LANES <= TILE {
+        groups.remainder()
+    } else {
+        runs
+    };
+    for run in rest {
+        if vectors * LANES <= TILE {
+            eval_group::<K, 1>(
+                std::slice::from_ref(run).try_into().expect("one run"),
+                stencil,
+                mode,
+                sink,
+                scratch,
+            );
+        } else {
+            super::evaluate::eval_block_body::<K, 1>(
+                run.block,
+                stencil,
+                run.points,
+                run.normals,
+                mode,
+                sink,
+                run.base,
+                run.reverse,
+                scratch,
+            );
+        }
+    }
+}
+
+/// `Σ_k w_g[k] c_g[k]` for each run `g` of the group, vector by vector, into the tile at
+/// `g * vectors * LANES`: `weights(g)` weight-major with `stride` floats a control point,
+/// `controls(g)` its control points. (Closures, not arrays built with `map`: an array's `map`
+/// stayed a call in the vectorised code.)
+#[inline(always)]
+fn accumulate_runs<'a, const C: usize, const G: usize>(
+    weights: impl Fn(usize) -> &'a [f32],
+    stride: usize,
+    vectors: usize,
+    controls: impl Fn(usize) -> &'a [[f32; 3]; C],
+    acc: &mut [[f32; TILE]; 3],
+) {
+    assert!(
+        vectors * LANES <= stride && (0..G).all(|g| C * stride <= weights(g).len()),
+        "stencil rows are padded to whole vectors"
+    );
+    for v in 0..vectors {
+        let mut x = [[0.0f32; LANES]; G];
+        let mut y = [[0.0f32; LANES]; G];
+        let mut z = [[0.0f32; LANES]; G];
+        for k in 0..C {
+            for g in 0..G {
+                let w = lane_weights(weights(g), k * stride + v * LANES);
+                let [cx, cy, cz] = controls(g)[k];
+                for l in 0..LANES {
+                    x[g][l] += w[l] * cx;
+                    y[g][l] += w[l] * cy;
+                    z[g][l] += w[l] * cz;
+                }
+            }
+        }
+        for g in 0..G {
+            let i = (g * vectors + v) * LANES;
+            acc[0][i..i + LANES].copy_from_slice(&x[g]);
+            acc[1][i..i + LANES].copy_from_slice(&y[g]);
+            acc[2][i..i + LANES].copy_from_slice(&z[g]);
+        }
+    }
+}
+
+/// Evaluates the `G` runs of one group: positions, then normals (the sink's kind), then each
+/// run's points into its slots, then the scalar fallbacks of any normal that failed.
+#[inline(always)]
+fn eval_group<const K: usize, const G: usize>(
+    runs: &[EdgeRun; G],
+    stencil: &Stencil,
+    mode: NormalMode,
+    sink: &mut Sink,
+    scratch: &mut Scratch,
+) {
+    let len = runs[0].block.len();
+    let stride = runs[0].block.stride;
+    assert!(
+        runs.iter()
+            .all(|r| r.block.len() == len && r.block.stride == stride),
+        "edge blocks of one stencil have one length"
+    );
+    let vectors = len.div_ceil(LANES);
+    let span = vectors * LANES;
+    let points = |g: usize| -> &[[f32; 3]; K] {
+        runs[g]
+            .points
+            .try_into()
+            .expect("patch has K control points")
+    };
+    let Scratch {
+        pos,
+        d1,
+        d2,
+        unit,
+        ok,
+        stage,
+        ..
+    } = scratch;
+    accumulate_runs::<K, G>(|g| &runs[g].block.value, stride, vectors, points, pos);
+    let want_normals = sink.wants_normals();
+    let mut all_ok = true;
+    if want_normals {
+        if mode == NormalMode::Real {
+            if K == CUBIC_LEN {
+                let mut nets = [([[0.0f32; 3]; NORMAL_NET_LEN], [[0.0f32; 3]; NORMAL_NET_LEN]); G];
+                for (g, net) in nets.iter_mut().enumerate() {
+                    *net = cubic_derivative_nets(points(g)[..].try_into().expect("cubic patch"));
+                }
+                let normal = |g: usize| &runs[g].block.normal[..];
+                accumulate_runs::<NORMAL_NET_LEN, G>(normal, stride, vectors, |g| &nets[g].0, d1);
+                accumulate_runs::<NORMAL_NET_LEN, G>(normal, stride, vectors, |g| &nets[g].1, d2);
+            } else {
+                accumulate_runs::<K, G>(|g| &runs[g].block.du, stride, vectors, points, d1);
+                accumulate_runs::<K, G>(|g| &runs[g].block.dv, stride, vectors, points, d2);
+            }
+            for g in 0..G {
+                all_ok &= cross_vectors(d1, d2, g * span, vectors, len, unit, ok);
+            }
+        } else {
+            let net = |g: usize| -> &[[f32; 3]; NORMAL_NET_LEN] {
+                runs[g]
+                    .normals
+                    .try_into()
+                    .expect("normal net has 6 entries")
+            };
+            accumulate_runs::<NORMAL_NET_LEN, G>(
+                |g| &runs[g].block.normal,
+                stride,
+                vectors,
+                net,
+                unit,
+            );
+            for g in 0..G {
+                all_ok &= normalize_vectors(unit, g * span, vectors, len, ok);
+            }
+        }
+    }
+    for (g, run) in runs.iter().enumerate() {
+        let first = if run.reverse {
+            run.base + len - 1
+        } else {
+            run.base
+        };
+        sink.put_tile(
+            first,
+            run.reverse,
+            len,
+            g * span,
+            pos,
+            want_normals.then_some(&*unit),
+            stage,
+        );
+    }
+    if !all_ok {
+        for (g, run) in runs.iter().enumerate() {
+            for i in (0..len).filter(|&i| !ok[g * span + i]) {
+                // Parallel derivatives or a vanishing normal: the scalar path's fallbacks,
+                // from the derivatives summed above (the same sums `eval_point` makes).
+                let t = g * span + i;
+                let p = run.block.points[i] as usize;
+                let du = Vec3::new(d1[0][t], d1[1][t], d1[2][t]);
+                let dv = Vec3::new(d2[0][t], d2[1][t], d2[2][t]);
+                let normal =
+                    finish_normal::<K>(mode, du, dv, stencil.row(p), points(g), run.normals);
+                let slot = if run.reverse {
+                    run.base + len - 1 - i
+                } else {
+                    run.base + i
+                };
+                sink.set_normal(slot, normal.into());
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::basis::Basis;
+    use crate::pattern::Pattern;
+    use crate::refine::evaluate::eval_point;
+    use crate::refine::output::VertexOutput;
+
+    fn lcg(seed: &mut u64) -> f32 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((*seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+
+    /// Six edges (a full group of four and two left over), each of its own patch, forward and
+    /// reversed, some with vanishing normal nets or collinear control points (the fallbacks):
+    /// every point has the bits of [`eval_point`], for each way of running them.
+    fn check<const K: usize>(basis: Basis, level: u32) {
+        let stencil = Stencil::new(&Pattern::uniform(level), basis);
+        let len = stencil.blocks.edges[0].len();
+        let mut seed = 11;
+        type Patch = (Vec<[f32; 3]>, Vec<[f32; 3]>);
+        let nets: Vec<Patch> = (0..6)
+            .map(|i| {
+                let mut points: Vec<[f32; 3]> =
+                    (0..K).map(|_| [0; 3].map(|_| lcg(&mut seed))).collect();
+                let mut normals: Vec<[f32; 3]> = (0..NORMAL_NET_LEN)
+                    .map(|_| [0; 3].map(|_| lcg(&mut seed)))
+                    .collect();
+                if i == 2 || i == 5 {
+                    normals.iter_mut().for_each(|n| *n = [0.0; 3]);
+                    points.iter_mut().for_each(|p| *p = [p[0], 2.0 * p[0], 0.0]);
+                }
+                (points, normals)
+            })
+            .collect();
+        let runs: Vec<EdgeRun> = nets
+            .iter()
+            .enumerate()
+            .map(|(i, (points, normals))| EdgeRun {
+                block: &stencil.blocks.edges[i % 3],
+                points,
+                normals,
+                base: i * len,
+                reverse: i % 2 == 1,
+            })
+            .collect();
+        type Run = fn(&[EdgeRun], &Stencil, NormalMode, &mut Sink, &mut Scratch);
+        let ways: [(&str, Run); 3] = [
+            ("dispatched", eval_edges::<K>),
+            ("four at a time", eval_edges_body::<K, 4>),
+            ("one at a time", eval_edges_body::<K, 1>),
+        ];
+        for (way, run) in ways {
+            for mode in [NormalMode::Quadratic, NormalMode::Real] {
+                for stream in [false, true] {
+                    let n = runs.len() * len;
+                    let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+                    {
+                        let mut sink = VertexOutput::Separate {
+                            positions: &mut pos,
+                            normals: Some(&mut nrm),
+                            uvs: None,
+                        }
+                        .sink(n, false)
+                        .unwrap()
+                        .streaming(stream);
+                        run(&runs, &stencil, mode, &mut sink, &mut Scratch::new());
+                    }
+                    for (i, r) in runs.iter().enumerate() {
+                        for (s, &p) in r.block.points.iter().enumerate() {
+                            let (want_p, want_n) =
+                                eval_point::<K>(stencil.row(p as usize), r.points, r.normals, mode);
+                            let slot = r.base + if r.reverse { len - 1 - s } else { s };
+                            let bits = |v: [f32; 3]| v.map(f32::to_bits);
+                            let what = format!(
+                                "{way} level {level} {mode:?} stream {stream} edge {i} point {s}"
+                            );
+                            assert_eq!(bits(pos[slot]), bits(want_p), "{what}");
+                            assert_eq!(bits(nrm[slot]), bits(want_n), "{what}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn edge_groups_equal_point_evaluation_bit_for_bit() {
+        // Level 24: two vectors an edge, four edges a tile. Level 80: five vectors, too many
+        // for four edges a tile (one at a time). Level 300: longer than a tile (by blocks).
+        for level in [3, 24, 80, 300] {
+            check::<10>(Basis::Cubic, level);
+            check::<21>(Basis::Png1, level);
+        }
+    }
+}
