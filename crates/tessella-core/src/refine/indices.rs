@@ -10,6 +10,9 @@ use rayon::prelude::*;
 /// Coarse faces per parallel task.
 const FACES_PER_TASK: usize = 32;
 
+/// A pattern point that is not inside the face (a corner or an edge point).
+const NOT_INTERIOR: u32 = u32::MAX;
+
 /// An index type of the output: `u32`, or `u16` when every vertex index fits.
 pub trait IndexInt: Copy + Default + Send + Sync + 'static {
     /// The largest vertex count this type can address.
@@ -63,10 +66,30 @@ impl IndexJob<'_> {
         let ni = Pattern::interior_count(self.layout.level) as usize;
         let per_face = n * n;
         let points = self.pattern.points.len();
+        // Most triangles (nine in ten at level 32) have interior points only, whose vertices
+        // are the face's interior base plus a fixed offset: those are one add per index, which
+        // vectorises. The others (touching a corner or an edge) look their points up in a map
+        // of the face's corner and edge vertices.
+        let mut interior_of = vec![NOT_INTERIOR; points];
+        for (i, &p) in self.stencil.interior_points.iter().enumerate() {
+            interior_of[p as usize] = i as u32;
+        }
+        let template: Vec<[u32; 3]> = (self.pattern.triangles.iter())
+            .map(|t| {
+                [
+                    interior_of[t[0] as usize],
+                    interior_of[t[1] as usize],
+                    interior_of[t[2] as usize],
+                ]
+            })
+            .collect();
+        let boundary: Vec<usize> = (0..template.len())
+            .filter(|&t| template[t].contains(&NOT_INTERIOR))
+            .collect();
         out.par_chunks_mut(per_face * FACES_PER_TASK)
             .enumerate()
             .for_each(|(task, tris)| {
-                // Pattern point -> output vertex, rebuilt for each face.
+                // Pattern point -> output vertex of the face's corners and edges.
                 let mut map = vec![0u32; points];
                 for (lf, face_tris) in tris.chunks_mut(per_face).enumerate() {
                     let f = task * FACES_PER_TASK + lf;
@@ -83,12 +106,29 @@ impl IndexJob<'_> {
                             map[p as usize] = (base + if forward { s } else { m - 1 - s }) as u32;
                         }
                     }
-                    let base = self.layout.interior_base as usize + f * ni;
-                    for (i, &p) in self.stencil.interior_points.iter().enumerate() {
-                        map[p as usize] = (base + i) as u32;
+                    let base = (self.layout.interior_base as usize + f * ni) as u32;
+                    // Every triangle as if interior (the others' values are overwritten next).
+                    for (dst, tm) in face_tris.iter_mut().zip(&template) {
+                        *dst = [
+                            I::from_index(base.wrapping_add(tm[0])),
+                            I::from_index(base.wrapping_add(tm[1])),
+                            I::from_index(base.wrapping_add(tm[2])),
+                        ];
                     }
-                    for (dst, src) in face_tris.iter_mut().zip(&self.pattern.triangles) {
-                        *dst = src.map(|p| I::from_index(map[p as usize]));
+                    for &b in &boundary {
+                        let (src, tm) = (self.pattern.triangles[b], template[b]);
+                        let vertex = |j: usize| {
+                            if tm[j] == NOT_INTERIOR {
+                                map[src[j] as usize]
+                            } else {
+                                base + tm[j]
+                            }
+                        };
+                        face_tris[b] = [
+                            I::from_index(vertex(0)),
+                            I::from_index(vertex(1)),
+                            I::from_index(vertex(2)),
+                        ];
                     }
                 }
                 progress((tris.len() / per_face) as u64);
