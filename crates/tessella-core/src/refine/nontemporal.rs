@@ -104,7 +104,7 @@ impl LineCarry {
 fn stream_lines(dst: &mut [f32], src: &[f32]) {
     assert_eq!(dst.len(), src.len(), "copy between runs of one length");
     // An empty run may start anywhere: it stores nothing.
-    debug_assert!(dst.is_empty() || dst.as_ptr() as usize % LINE == 0);
+    debug_assert!(dst.is_empty() || (dst.as_ptr() as usize).is_multiple_of(LINE));
     debug_assert_eq!(dst.len() % LINE_FLOATS, 0);
     #[cfg(target_arch = "x86_64")]
     {
