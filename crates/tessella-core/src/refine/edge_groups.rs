@@ -11,14 +11,13 @@
 //! evaluations (welded output evaluates it once, on the owning face).
 
 use super::evaluate::{
-    cross_vectors, cubic_derivative_nets, finish_normal, lane_weights, normalize_vectors, Scratch,
-    CUBIC_LEN, LANES, TILE,
+    compiled_for, cross_vectors, cubic_derivative_nets, fallback_normals, lane_weights,
+    normalize_vectors, Scratch, CUBIC_LEN, LANES, TILE,
 };
 use super::output::Sink;
 use crate::basis::NORMAL_NET_LEN;
 use crate::scheme::NormalMode;
 use crate::stencil::{Block, Stencil};
-use glam::Vec3;
 
 /// One coarse edge to evaluate: the owning face's edge block, its patch, and where its
 /// points go.
@@ -58,33 +57,27 @@ pub(crate) fn eval_edges<const K: usize>(
     eval_edges_body::<K, 1>(runs, stencil, mode, sink, scratch);
 }
 
-/// [`eval_edges_body`] compiled for AVX-512: four edges side by side (twelve accumulators of
-/// the 32 registers).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn eval_edges_avx512<const K: usize>(
-    runs: &[EdgeRun],
-    stencil: &Stencil,
-    mode: NormalMode,
-    sink: &mut Sink,
-    scratch: &mut Scratch,
-) {
-    eval_edges_body::<K, 4>(runs, stencil, mode, sink, scratch);
+macro_rules! eval_edges_for {
+    ($name:ident, $feature:literal, $group:literal) => {
+        compiled_for!(
+            $name,
+            eval_edges_body,
+            $feature,
+            $group,
+            (
+                runs: &[EdgeRun],
+                stencil: &Stencil,
+                mode: NormalMode,
+                sink: &mut Sink,
+                scratch: &mut Scratch,
+            )
+        );
+    };
 }
-
-/// [`eval_edges_body`] compiled for AVX2: one edge at a time (its 16 points already fill six
-/// of the 16 registers).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn eval_edges_avx2<const K: usize>(
-    runs: &[EdgeRun],
-    stencil: &Stencil,
-    mode: NormalMode,
-    sink: &mut Sink,
-    scratch: &mut Scratch,
-) {
-    eval_edges_body::<K, 1>(runs, stencil, mode, sink, scratch);
-}
+// AVX-512: four edges side by side (twelve accumulators of the 32 registers); AVX2: one edge at
+// a time (its 16 points already fill six of the 16 registers).
+eval_edges_for!(eval_edges_avx512, "avx512f", 4);
+eval_edges_for!(eval_edges_avx2, "avx2", 1);
 
 /// Evaluates every run of `runs` into `sink`, `G` at a time where the runs are short enough
 /// for `G` of them to share one tile (all edge blocks of a stencil have one length). Equal,
@@ -206,7 +199,6 @@ fn eval_group<const K: usize, const G: usize>(
         d1,
         d2,
         unit,
-        ok,
         stage,
         ..
     } = scratch;
@@ -228,7 +220,7 @@ fn eval_group<const K: usize, const G: usize>(
                 accumulate_runs::<K, G>(|g| &runs[g].block.dv, stride, vectors, points, d2);
             }
             for g in 0..G {
-                all_ok &= cross_vectors(d1, d2, g * span, vectors, len, unit, ok);
+                all_ok &= cross_vectors(d1, d2, g * span, vectors, len, unit);
             }
         } else {
             let net = |g: usize| -> &[[f32; 3]; NORMAL_NET_LEN] {
@@ -245,7 +237,7 @@ fn eval_group<const K: usize, const G: usize>(
                 unit,
             );
             for g in 0..G {
-                all_ok &= normalize_vectors(unit, g * span, vectors, len, ok);
+                all_ok &= normalize_vectors(unit, g * span, vectors, len);
             }
         }
     }
@@ -267,22 +259,23 @@ fn eval_group<const K: usize, const G: usize>(
     }
     if !all_ok {
         for (g, run) in runs.iter().enumerate() {
-            for i in (0..len).filter(|&i| !ok[g * span + i]) {
-                // Parallel derivatives or a vanishing normal: the scalar path's fallbacks,
-                // from the derivatives summed above (the same sums `eval_point` makes).
-                let t = g * span + i;
-                let p = run.block.points[i] as usize;
-                let du = Vec3::new(d1[0][t], d1[1][t], d1[2][t]);
-                let dv = Vec3::new(d2[0][t], d2[1][t], d2[2][t]);
-                let normal =
-                    finish_normal::<K>(mode, du, dv, stencil.row(p), points(g), run.normals);
-                let slot = if run.reverse {
-                    run.base + len - 1 - i
-                } else {
-                    run.base + i
-                };
-                sink.set_normal(slot, normal.into());
-            }
+            fallback_normals::<K>(
+                (d1, d2, unit),
+                g * span,
+                len,
+                &run.block.points,
+                stencil,
+                mode,
+                (points(g), run.normals),
+                sink,
+                |i| {
+                    if run.reverse {
+                        run.base + len - 1 - i
+                    } else {
+                        run.base + i
+                    }
+                },
+            );
         }
     }
 }
@@ -293,36 +286,21 @@ mod tests {
     use crate::basis::Basis;
     use crate::pattern::Pattern;
     use crate::refine::evaluate::eval_point;
+    use crate::refine::evaluate::tests::test_patch;
     use crate::refine::output::VertexOutput;
 
-    fn lcg(seed: &mut u64) -> f32 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((*seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
-    }
-
     /// Six edges (a full group of four and two left over), each of its own patch, forward and
-    /// reversed, some with vanishing normal nets or collinear control points (the fallbacks):
+    /// reversed, some with vanishing or overflowing normal nets or collinear control points
+    /// (the fallbacks):
     /// every point has the bits of [`eval_point`], for each way of running them.
     fn check<const K: usize>(basis: Basis, level: u32) {
         let stencil = Stencil::new(&Pattern::uniform(level), basis);
         let len = stencil.blocks.edges[0].len();
         let mut seed = 11;
         type Patch = (Vec<[f32; 3]>, Vec<[f32; 3]>);
-        let nets: Vec<Patch> = (0..6)
-            .map(|i| {
-                let mut points: Vec<[f32; 3]> =
-                    (0..K).map(|_| [0; 3].map(|_| lcg(&mut seed))).collect();
-                let mut normals: Vec<[f32; 3]> = (0..NORMAL_NET_LEN)
-                    .map(|_| [0; 3].map(|_| lcg(&mut seed)))
-                    .collect();
-                if i == 2 || i == 5 {
-                    normals.iter_mut().for_each(|n| *n = [0.0; 3]);
-                    points.iter_mut().for_each(|p| *p = [p[0], 2.0 * p[0], 0.0]);
-                }
-                (points, normals)
-            })
+        let nets: Vec<Patch> = [0, 1, 2, 0, 4, 3]
+            .into_iter()
+            .map(|case| test_patch::<K>(&mut seed, case))
             .collect();
         let runs: Vec<EdgeRun> = nets
             .iter()

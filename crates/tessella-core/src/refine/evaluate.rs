@@ -13,6 +13,7 @@ use crate::scheme::{NormalMode, PatchNets};
 use crate::stencil::{Block, Stencil, BLOCK_LANES};
 use glam::Vec3;
 use rayon::prelude::*;
+use smallvec::SmallVec;
 
 /// Faces per parallel task: large enough to amortise scheduling, small enough to balance.
 const FACES_PER_TASK: usize = 32;
@@ -239,16 +240,31 @@ fn accumulate_group<const C: usize, const G: usize>(
     let mut x = [[0.0f32; LANES]; G];
     let mut y = [[0.0f32; LANES]; G];
     let mut z = [[0.0f32; LANES]; G];
-    for k in 0..C {
-        let [cx, cy, cz] = lanes(k);
-        for g in 0..G {
-            let w = lane_weights(weights, k * stride + start + (v + g) * LANES);
-            for l in 0..LANES {
-                x[g][l] += w[l] * cx[l];
-                y[g][l] += w[l] * cy[l];
-                z[g][l] += w[l] * cz[l];
-            }
-        }
+    // Two control points a pass, in order: LLVM kept the ten-point loop rolled, and its
+    // counting was a fifth of the sum's instructions.
+    let mut k = 0;
+    while k + 2 <= C {
+        add_control::<G>(
+            weights,
+            k * stride + start + v * LANES,
+            lanes(k),
+            [&mut x, &mut y, &mut z],
+        );
+        add_control::<G>(
+            weights,
+            (k + 1) * stride + start + v * LANES,
+            lanes(k + 1),
+            [&mut x, &mut y, &mut z],
+        );
+        k += 2;
+    }
+    if k < C {
+        add_control::<G>(
+            weights,
+            k * stride + start + v * LANES,
+            lanes(k),
+            [&mut x, &mut y, &mut z],
+        );
     }
     for g in 0..G {
         let i = (v + g) * LANES;
@@ -258,58 +274,131 @@ fn accumulate_group<const C: usize, const G: usize>(
     }
 }
 
+/// Adds one control point's terms `w[l] c` to the `G` vectors' sums, the weights of vector `g`
+/// at `at + g * LANES`. A function, not a closure: a closure is compiled without the caller's
+/// target features and stayed a call, five times slower.
+#[inline(always)]
+fn add_control<const G: usize>(
+    weights: &[f32],
+    at: usize,
+    [cx, cy, cz]: [[f32; LANES]; 3],
+    [x, y, z]: [&mut [[f32; LANES]; G]; 3],
+) {
+    for g in 0..G {
+        let w = lane_weights(weights, at + g * LANES);
+        for l in 0..LANES {
+            x[g][l] += w[l] * cx[l];
+            y[g][l] += w[l] * cy[l];
+            z[g][l] += w[l] * cz[l];
+        }
+    }
+}
+
 /// Normalises the tile's vectors at `from..from + vectors * LANES` in place, exactly as
 /// `Vec3::normalize_or_zero` does per vector (the same operations in the same order, so the
 /// same bits), one component array at a time and in whole vectors so the loop vectorises with
-/// no scalar remainder. `ok[i]` is false where the vector could not be normalised (zero, tiny
-/// or not finite): those points take the scalar fallback. Only the first `len` are points;
-/// the padding lanes after them neither fail nor get a fallback. Returns whether all passed.
+/// no scalar remainder. Returns whether every point could be normalised; one that could not
+/// (zero, tiny or not finite) is left zero or NaN, and [`fallback_normals`] finds it by that.
+/// Only the first `len` are points: the padding lanes after them do not count.
 #[inline(always)]
 pub(super) fn normalize_vectors(
     v: &mut [[f32; TILE]; 3],
     from: usize,
     vectors: usize,
     len: usize,
-    ok: &mut [bool; TILE],
 ) -> bool {
     assert!(from + vectors * LANES <= TILE, "whole vectors of the tile");
-    // Lane by lane, reduced once at the end: a count per vector compiled to byte shuffles.
-    let mut passed = [true; LANES];
+    let mut failed = [0u32; LANES];
     for vector in 0..vectors {
         let at = from + vector * LANES;
-        let lanes = |c: &[f32; TILE]| -> [f32; LANES] {
-            c[at..at + LANES].try_into().expect("a whole vector")
-        };
         // Three loads, not `each_ref().map(..)`: that stayed a call, a fifth of the time.
-        let (x, y, z) = (lanes(&v[0]), lanes(&v[1]), lanes(&v[2]));
-        let mut good = [false; LANES];
+        let (x, y, z) = (lanes(&v[0], at), lanes(&v[1], at), lanes(&v[2], at));
+        let mut good = [0u32; LANES];
         let mut out = [[0.0f32; LANES]; 3];
         for l in 0..LANES {
             let rcp = 1.0 / ((x[l] * x[l]) + (y[l] * y[l]) + (z[l] * z[l])).sqrt();
-            // `&`, not `&&`: branch-free, so the loop vectorises. `is_finite() && rcp > 0`:
-            // two compares (NaN fails both).
-            let fine = (rcp > 0.0) & (rcp < f32::INFINITY);
+            let fine = stands(rcp);
+            good[l] = if fine { u32::MAX } else { 0 };
             let rcp = if fine { rcp } else { 0.0 };
-            good[l] = fine | (vector * LANES + l >= len);
             out[0][l] = x[l] * rcp;
             out[1][l] = y[l] * rcp;
             out[2][l] = z[l] * rcp;
         }
-        for (c, o) in v.iter_mut().zip(&out) {
-            c[at..at + LANES].copy_from_slice(o);
-        }
-        ok[at..at + LANES].copy_from_slice(&good);
-        for l in 0..LANES {
-            passed[l] &= good[l];
-        }
+        store_vector(v, at, &out, &good, points_of(vector, len), &mut failed);
     }
-    passed.iter().all(|&p| p)
+    failed.iter().all(|&f| f == 0)
+}
+
+/// `is_finite() && rcp > 0`, glam's test of a reciprocal length, as two float compares
+/// (`<= MAX` is `< INFINITY`; NaN fails both). Written with `< INFINITY`, LLVM turned the pair
+/// into a class test of the bits: fourteen integer instructions a vector instead of two.
+#[inline(always)]
+fn stands(rcp: f32) -> bool {
+    (rcp > 0.0) & (rcp <= f32::MAX)
+}
+
+/// The `LANES` floats of a component array at `at`.
+#[inline(always)]
+fn lanes(c: &[f32; TILE], at: usize) -> [f32; LANES] {
+    c[at..at + LANES].try_into().expect("a whole vector")
+}
+
+/// `KEEP[LANES - n..][..LANES]`: `n` lanes of ones, then zeros (the padding after a run's
+/// last point).
+const KEEP: [u32; 2 * LANES] = {
+    let mut k = [0; 2 * LANES];
+    let mut l = 0;
+    while l < LANES {
+        k[l] = u32::MAX;
+        l += 1;
+    }
+    k
+};
+
+/// Which lanes of vector `vector` hold points of a run of `len`: a mask per lane, all ones
+/// but in the last vector.
+#[inline(always)]
+fn points_of(vector: usize, len: usize) -> &'static [u32; LANES] {
+    let n = len.saturating_sub(vector * LANES).min(LANES);
+    KEEP[LANES - n..2 * LANES - n]
+        .try_into()
+        .expect("a whole vector")
+}
+
+/// Stores a vector of unit normals at `at` and marks, lane by lane in `failed`, the points
+/// (lanes of `keep`) whose normal did not stand (`!good`). Reduced once per tile by the
+/// caller: a count per vector compiled to byte shuffles.
+#[inline(always)]
+fn store_vector(
+    dst: &mut [[f32; TILE]; 3],
+    at: usize,
+    out: &[[f32; LANES]; 3],
+    good: &[u32; LANES],
+    keep: &[u32; LANES],
+    failed: &mut [u32; LANES],
+) {
+    for (c, o) in dst.iter_mut().zip(out) {
+        c[at..at + LANES].copy_from_slice(o);
+    }
+    for l in 0..LANES {
+        failed[l] |= !good[l] & keep[l];
+    }
+}
+
+/// Whether the normal at tile slot `t` stood: a normalised vector has length about 1, one
+/// that failed [`normalize_vectors`] or [`cross_vectors`] was scaled by zero (zero, or NaN
+/// where it was not finite).
+#[inline(always)]
+fn stood(unit: &[[f32; TILE]; 3], t: usize) -> bool {
+    let [x, y, z] = [unit[0][t], unit[1][t], unit[2][t]];
+    x * x + y * y + z * z > 0.5
 }
 
 /// The unit normal `Du × Dv / |Du × Dv|` of one point, as `Vec3::cross` and
 /// `normalize_or_zero` compute it, and whether it stands: false where the derivatives are
 /// (nearly) parallel (the test [`finish_normal`] makes) or the cross product cannot be
-/// normalised, and the point takes the scalar fallback.
+/// normalised, and the point takes the scalar fallback (the normal returned is then zero or
+/// NaN, see [`stood`]).
 #[inline(always)]
 pub(super) fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f32; 3], bool) {
     let x = ay * bz - by * az;
@@ -319,13 +408,13 @@ pub(super) fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f3
     let a2 = (ax * ax) + (ay * ay) + (az * az);
     let b2 = (bx * bx) + (by * by) + (bz * bz);
     let rcp = 1.0 / c2.sqrt();
-    let good = (c2 > 1e-12 * a2 * b2) & (rcp > 0.0) & (rcp < f32::INFINITY);
+    let good = (c2 > 1e-12 * a2 * b2) & stands(rcp);
     let rcp = if good { rcp } else { 0.0 };
     ([x * rcp, y * rcp, z * rcp], good)
 }
 
 /// [`unit_cross`] of the tile's derivatives at `from..from + vectors * LANES`; only the first
-/// `len` are points (the padding neither fails nor gets a fallback). Returns whether all passed.
+/// `len` are points (the padding does not count). Returns whether all stood.
 #[inline(always)]
 pub(super) fn cross_vectors(
     du: &[[f32; TILE]; 3],
@@ -334,34 +423,55 @@ pub(super) fn cross_vectors(
     vectors: usize,
     len: usize,
     unit: &mut [[f32; TILE]; 3],
-    ok: &mut [bool; TILE],
 ) -> bool {
-    let mut passed = [true; LANES];
+    let mut failed = [0u32; LANES];
     for vector in 0..vectors {
         let at = from + vector * LANES;
-        let lanes = |c: &[f32; TILE]| -> [f32; LANES] {
-            c[at..at + LANES].try_into().expect("a whole vector")
-        };
-        let a = [lanes(&du[0]), lanes(&du[1]), lanes(&du[2])];
-        let b = [lanes(&dv[0]), lanes(&dv[1]), lanes(&dv[2])];
-        let mut good = [false; LANES];
+        let a = [lanes(&du[0], at), lanes(&du[1], at), lanes(&du[2], at)];
+        let b = [lanes(&dv[0], at), lanes(&dv[1], at), lanes(&dv[2], at)];
+        let mut good = [0u32; LANES];
         let mut out = [[0.0f32; LANES]; 3];
         for l in 0..LANES {
             let (u, fine) = unit_cross([a[0][l], a[1][l], a[2][l]], [b[0][l], b[1][l], b[2][l]]);
-            good[l] = fine | (vector * LANES + l >= len);
+            good[l] = if fine { u32::MAX } else { 0 };
             out[0][l] = u[0];
             out[1][l] = u[1];
             out[2][l] = u[2];
         }
-        for (c, o) in unit.iter_mut().zip(&out) {
-            c[at..at + LANES].copy_from_slice(o);
-        }
-        ok[at..at + LANES].copy_from_slice(&good);
-        for l in 0..LANES {
-            passed[l] &= good[l];
-        }
+        store_vector(unit, at, &out, &good, points_of(vector, len), &mut failed);
     }
-    passed.iter().all(|&p| p)
+    failed.iter().all(|&f| f == 0)
+}
+
+/// A tile of vectors, one array per component.
+pub(super) type TileVectors = [[f32; TILE]; 3];
+
+/// The scalar path's fallbacks for the normals among the tile's `len` points at `from..` that
+/// did not stand (parallel derivatives, a vanishing normal), from the derivatives summed into
+/// the tile (the same sums `eval_point` makes); point `i` is stencil row `rows[i]` and goes to
+/// sink slot `slot(i)`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn fallback_normals<const K: usize>(
+    scratch: (&TileVectors, &TileVectors, &TileVectors),
+    from: usize,
+    len: usize,
+    rows: &[u32],
+    stencil: &Stencil,
+    mode: NormalMode,
+    (points, normals): (&[[f32; 3]; K], &[[f32; 3]]),
+    sink: &mut Sink,
+    slot: impl Fn(usize) -> usize,
+) {
+    let (d1, d2, unit) = scratch;
+    for i in (0..len).filter(|&i| !stood(unit, from + i)) {
+        let t = from + i;
+        let du = Vec3::new(d1[0][t], d1[1][t], d1[2][t]);
+        let dv = Vec3::new(d2[0][t], d2[1][t], d2[2][t]);
+        let row = stencil.row(rows[i] as usize);
+        let normal = finish_normal::<K>(mode, du, dv, row, points, normals);
+        sink.set_normal(slot(i), normal.into());
+    }
 }
 
 /// The working arrays of [`eval_block`], one per parallel task and reused for all its blocks:
@@ -371,7 +481,6 @@ pub(crate) struct Scratch {
     pub(super) d1: [[f32; TILE]; 3],
     pub(super) d2: [[f32; TILE]; 3],
     pub(super) unit: [[f32; TILE]; 3],
-    pub(super) ok: [bool; TILE],
     /// A tile as points, on its way to a streaming sink.
     pub(super) stage: [[f32; 3]; TILE],
     /// Control points spread over whole vectors (`[k][c][lane]`), see [`accumulate`].
@@ -385,7 +494,6 @@ impl Scratch {
             d1: [[0.0; TILE]; 3],
             d2: [[0.0; TILE]; 3],
             unit: [[0.0; TILE]; 3],
-            ok: [true; TILE],
             stage: [[0.0; 3]; TILE],
             spread: [[[0.0; LANES]; 3]; MAX_CONTROLS],
         })
@@ -474,30 +582,44 @@ pub(crate) fn eval_block<const K: usize>(
     );
 }
 
-/// Defines `$name`: [`eval_block_body`] compiled with the target feature `$feature`.
-macro_rules! eval_block_for {
-    ($name:ident, $feature:literal, $group:literal) => {
-        #[doc = concat!("[`eval_block_body`] compiled for `", $feature, "`.")]
+/// Defines `$name`: `$body::<K, $group>` (a kernel written once, `$group` vectors side by side)
+/// compiled with the target feature `$feature`, taking and passing on the arguments listed.
+macro_rules! compiled_for {
+    ($name:ident, $body:ident, $feature:literal, $group:literal, ($($arg:ident: $ty:ty),* $(,)?)) => {
+        #[doc = concat!("[`", stringify!($body), "`] compiled for `", $feature, "`.")]
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
         #[allow(clippy::too_many_arguments)]
-        unsafe fn $name<const K: usize>(
-            block: &Block,
-            stencil: &Stencil,
-            points: &[[f32; 3]],
-            normals: &[[f32; 3]],
-            mode: NormalMode,
-            sink: &mut Sink,
-            base: usize,
-            reverse: bool,
-            scratch: &mut Scratch,
-        ) {
-            eval_block_body::<K, $group>(
-                block, stencil, points, normals, mode, sink, base, reverse, scratch,
-            );
+        unsafe fn $name<const K: usize>($($arg: $ty),*) {
+            $body::<K, $group>($($arg),*);
         }
     };
 }
+pub(super) use compiled_for;
+
+macro_rules! eval_block_for {
+    ($name:ident, $feature:literal, $group:literal) => {
+        compiled_for!(
+            $name,
+            eval_block_body,
+            $feature,
+            $group,
+            (
+                block: &Block,
+                stencil: &Stencil,
+                points: &[[f32; 3]],
+                normals: &[[f32; 3]],
+                mode: NormalMode,
+                sink: &mut Sink,
+                base: usize,
+                reverse: bool,
+                scratch: &mut Scratch,
+            )
+        );
+    };
+}
+// AVX-512: four vectors side by side (twelve accumulators of the 32 registers); AVX2: one (16
+// registers).
 eval_block_for!(eval_block_avx512, "avx512f", 4);
 eval_block_for!(eval_block_avx2, "avx2", 1);
 
@@ -523,7 +645,6 @@ pub(super) fn eval_block_body<const K: usize, const G: usize>(
         d1,
         d2,
         unit,
-        ok,
         stage,
         spread,
     } = scratch;
@@ -566,7 +687,7 @@ pub(super) fn eval_block_body<const K: usize, const G: usize>(
                     accumulate::<K, G>(&block.du, block.stride, start, n, points, spread, d1);
                     accumulate::<K, G>(&block.dv, block.stride, start, n, points, spread, d2);
                 }
-                cross_vectors(d1, d2, 0, vectors, n, unit, ok)
+                cross_vectors(d1, d2, 0, vectors, n, unit)
             } else {
                 accumulate::<NORMAL_NET_LEN, G>(
                     &block.normal,
@@ -577,7 +698,7 @@ pub(super) fn eval_block_body<const K: usize, const G: usize>(
                     spread,
                     unit,
                 );
-                normalize_vectors(unit, 0, vectors, n, ok)
+                normalize_vectors(unit, 0, vectors, n)
             };
         }
         let first = slot(start);
@@ -591,15 +712,17 @@ pub(super) fn eval_block_body<const K: usize, const G: usize>(
             stage,
         );
         if !all_ok {
-            for i in (0..n).filter(|&i| !ok[i]) {
-                // Parallel derivatives or a vanishing normal: the scalar path's fallbacks,
-                // from the derivatives summed above (the same sums `eval_point` makes).
-                let p = block.points[start + i] as usize;
-                let du = Vec3::new(d1[0][i], d1[1][i], d1[2][i]);
-                let dv = Vec3::new(d2[0][i], d2[1][i], d2[2][i]);
-                let normal = finish_normal::<K>(mode, du, dv, stencil.row(p), points, normals);
-                sink.set_normal(slot(start + i), normal.into());
-            }
+            fallback_normals::<K>(
+                (d1, d2, unit),
+                0,
+                n,
+                &block.points[start..],
+                stencil,
+                mode,
+                (points, &normals[..]),
+                sink,
+                |i| slot(start + i),
+            );
         }
     }
 }
@@ -629,11 +752,14 @@ impl Job<'_> {
     /// `progress` receives the number of faces done, adding up to the face count.
     pub fn vertices(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
         debug_assert_eq!(sink.len() as u64, self.layout.vertex_count);
-        match self.nets.basis.len() {
+        // Enter the thread pool once a frame: called from outside it, each of the frame's
+        // parallel passes (corners, edges, interiors) would hand its work to the pool and put
+        // this thread to sleep until done. From inside, they run on the pool's own threads.
+        rayon::scope(|_| match self.nets.basis.len() {
             10 => self.vertices_k::<10>(sink, progress),
             21 => self.vertices_k::<21>(sink, progress),
             k => unreachable!("no evaluator for a basis of {k} points"),
-        }
+        })
     }
 
     fn vertices_k<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
@@ -739,7 +865,8 @@ impl Job<'_> {
             .for_each(|(task, mut sink)| {
                 let mut scratch = Scratch::take();
                 let edge = |le: usize| first + task * EDGES_PER_TASK + le;
-                let runs: Vec<EdgeRun> = (0..sink.len() / m)
+                // On the stack: a `Vec` per task was 2% of a level-16 frame.
+                let runs: SmallVec<[EdgeRun; EDGES_PER_TASK]> = (0..sink.len() / m)
                     .map(|le| {
                         let e = edge(le);
                         let (f, k) = topo.edge_owner[e];
@@ -899,7 +1026,7 @@ impl Job<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::basis::Basis;
     use crate::refine::output::VertexOutput;
@@ -910,6 +1037,31 @@ mod tests {
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         ((*seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+
+    /// A patch's control points and normal net for the bit-for-bit tests. Case 0 or 1: random;
+    /// 2: a vanishing normal net and all control points on a line (parallel derivatives);
+    /// 3: as 2 with every control point at the origin; 4: random, with a normal net so large
+    /// that |n|² overflows (1 / sqrt is 0). Cases 2-4 take the scalar fallbacks.
+    pub(in crate::refine) fn test_patch<const K: usize>(
+        seed: &mut u64,
+        case: usize,
+    ) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+        let mut points: Vec<[f32; 3]> = (0..K).map(|_| [0; 3].map(|_| lcg(seed))).collect();
+        let mut normals: Vec<[f32; 3]> = (0..NORMAL_NET_LEN)
+            .map(|_| [0; 3].map(|_| lcg(seed)))
+            .collect();
+        if (2..4).contains(&case) {
+            normals.iter_mut().for_each(|n| *n = [0.0; 3]);
+            points.iter_mut().for_each(|p| *p = [p[0], 2.0 * p[0], 0.0]);
+        }
+        if case == 3 {
+            points.iter_mut().for_each(|p| *p = [0.0; 3]);
+        }
+        if case == 4 {
+            normals.iter_mut().for_each(|n| *n = n.map(|c| c * 1e30));
+        }
+        (points, normals)
     }
 
     /// Runs every block point through `run` and through [`eval_point`]: same bits for
@@ -925,23 +1077,7 @@ mod tests {
         let block = &stencil.blocks.all;
         let mut seed = 7;
         for case in 0..5 {
-            let mut points: Vec<[f32; 3]> =
-                (0..K).map(|_| [0; 3].map(|_| lcg(&mut seed))).collect();
-            let mut normals: Vec<[f32; 3]> = (0..NORMAL_NET_LEN)
-                .map(|_| [0; 3].map(|_| lcg(&mut seed)))
-                .collect();
-            if (2..4).contains(&case) {
-                // Vanishing normal net; all control points on a line (parallel derivatives).
-                normals.iter_mut().for_each(|n| *n = [0.0; 3]);
-                points.iter_mut().for_each(|p| *p = [p[0], 2.0 * p[0], 0.0]);
-            }
-            if case == 3 {
-                points.iter_mut().for_each(|p| *p = [0.0; 3]);
-            }
-            if case == 4 {
-                // A normal net so large that |n|² overflows: 1 / sqrt is 0, the fallback.
-                normals.iter_mut().for_each(|n| *n = n.map(|c| c * 1e30));
-            }
+            let (points, normals) = test_patch::<K>(&mut seed, case);
             for (mode, reverse, stream) in [
                 (NormalMode::Quadratic, false, false),
                 (NormalMode::Real, false, false),

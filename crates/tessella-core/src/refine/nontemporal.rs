@@ -99,7 +99,9 @@ impl LineCarry {
 }
 
 /// `dst.copy_from_slice(src)` where `dst` is whole cache lines (starts on a line, a multiple
-/// of 16 floats long), with streaming stores where the target has them.
+/// of 16 floats long), with streaming stores where the target has them: one 64-byte store a
+/// line with AVX-512, two with AVX, four with SSE. (LLVM does not merge streaming stores, so
+/// the width is chosen here; the check is a cached flag, once per run of lines.)
 #[inline(always)]
 fn stream_lines(dst: &mut [f32], src: &[f32]) {
     assert_eq!(dst.len(), src.len(), "copy between runs of one length");
@@ -108,16 +110,69 @@ fn stream_lines(dst: &mut [f32], src: &[f32]) {
     debug_assert_eq!(dst.len() % LINE_FLOATS, 0);
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::{_mm_loadu_ps, _mm_stream_ps};
-        for q in (0..dst.len()).step_by(4) {
-            // SAFETY: `q + 4 <= len` for both slices (the length is whole lines), and `dst`
-            // starts on a cache line, so every `dst + q` is 16-byte aligned as
-            // `_mm_stream_ps` requires; SSE is part of x86-64.
-            unsafe { _mm_stream_ps(dst.as_mut_ptr().add(q), _mm_loadu_ps(src.as_ptr().add(q))) };
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F; the lengths and alignment are checked above.
+            unsafe { stream_lines_avx512(dst, src) };
+            return;
         }
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the CPU has AVX; the lengths and alignment are checked above.
+            unsafe { stream_lines_avx(dst, src) };
+            return;
+        }
+        stream_lines_sse(dst, src);
     }
     #[cfg(not(target_arch = "x86_64"))]
     dst.copy_from_slice(src);
+}
+
+/// [`stream_lines`] a quarter line at a time (SSE, part of x86-64).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn stream_lines_sse(dst: &mut [f32], src: &[f32]) {
+    use std::arch::x86_64::{_mm_loadu_ps, _mm_stream_ps};
+    assert_eq!(dst.len(), src.len(), "copy between runs of one length");
+    debug_assert!(dst.is_empty() || (dst.as_ptr() as usize).is_multiple_of(LINE));
+    for q in (0..dst.len() / 4 * 4).step_by(4) {
+        // SAFETY: `q + 4 <= len` for both slices, and `dst` starts on a cache line (a
+        // multiple of 16 floats long), so every `dst + q` is 16-byte aligned as
+        // `_mm_stream_ps` requires.
+        unsafe { _mm_stream_ps(dst.as_mut_ptr().add(q), _mm_loadu_ps(src.as_ptr().add(q))) };
+    }
+}
+
+/// [`stream_lines`] a line at a time. Safety: the CPU has AVX-512F, `dst` starts on a cache
+/// line and both slices are the same whole number of lines long.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn stream_lines_avx512(dst: &mut [f32], src: &[f32]) {
+    use std::arch::x86_64::{_mm512_loadu_ps, _mm512_stream_ps};
+    for q in (0..dst.len()).step_by(LINE_FLOATS) {
+        // SAFETY: `q + 16 <= len` for both, `dst + q` starts a line (64-byte aligned).
+        unsafe {
+            _mm512_stream_ps(
+                dst.as_mut_ptr().add(q),
+                _mm512_loadu_ps(src.as_ptr().add(q)),
+            )
+        };
+    }
+}
+
+/// [`stream_lines`] half a line at a time. Safety: as [`stream_lines_avx512`], with AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+unsafe fn stream_lines_avx(dst: &mut [f32], src: &[f32]) {
+    use std::arch::x86_64::{_mm256_loadu_ps, _mm256_stream_ps};
+    for q in (0..dst.len()).step_by(LINE_FLOATS) {
+        // SAFETY: `q + 16 <= len` for both, `dst + q` starts a line (64-byte aligned).
+        unsafe {
+            let (d, s) = (dst.as_mut_ptr().add(q), src.as_ptr().add(q));
+            _mm256_stream_ps(d, _mm256_loadu_ps(s));
+            _mm256_stream_ps(d.add(8), _mm256_loadu_ps(s.add(8)));
+        }
+    }
 }
 
 /// Orders this thread's streaming stores before its later stores (`sfence`): after it, the
@@ -134,6 +189,33 @@ pub(crate) fn fence() {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each width the CPU has copies whole lines exactly (the dispatch takes only the widest).
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn every_width_copies_whole_lines() {
+        let src: Vec<f32> = (0..5 * LINE_FLOATS).map(|i| i as f32 - 3.5).collect();
+        type Copy = fn(&mut [f32], &[f32]);
+        let mut widths: Vec<(&str, Copy)> = vec![("sse", stream_lines_sse)];
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the CPU has AVX (checked); the test's slices are whole aligned lines.
+            widths.push(("avx", |d, s| unsafe { stream_lines_avx(d, s) }));
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F (checked); the slices are whole aligned lines.
+            widths.push(("avx512", |d, s| unsafe { stream_lines_avx512(d, s) }));
+        }
+        for (name, copy) in widths {
+            let mut buf = vec![-1.0f32; 7 * LINE_FLOATS];
+            let skip = buf.as_ptr().align_offset(LINE);
+            let dst = &mut buf[skip..skip + src.len()];
+            copy(dst, &src);
+            fence();
+            assert_eq!(dst, &src[..], "{name}");
+            assert!(buf[..skip].iter().all(|&x| x == -1.0), "{name}");
+            assert!(buf[skip + src.len()..].iter().all(|&x| x == -1.0), "{name}");
+        }
+    }
 
     #[test]
     fn runs_in_any_order_write_the_same_values() {

@@ -221,7 +221,10 @@ impl Drop for Sink<'_> {
             if let Some(normals) = normals {
                 streams.normals.flush(normals.as_flattened_mut());
             }
-            nontemporal::fence();
+            // Only after streaming stores: the shells `split_at` empties streamed nothing.
+            if streams.unfenced {
+                nontemporal::fence();
+            }
         }
     }
 }
@@ -370,16 +373,19 @@ impl<'a> Sink<'a> {
                 stream: Some(streams),
                 ..
             } => {
-                let stage = &mut stage[..n];
+                // Whole vectors into the stage (the tile is padded to them), so no scalar
+                // remainder; reversed, the run's points are the stage's last `n`.
+                let m = n.next_multiple_of(VECTOR).min(T - from);
+                let points = if reverse { m - n..m } else { 0..n };
                 streams.unfenced = true;
-                interleave(stage, pos, from, reverse);
-                let flat = stage.as_flattened();
+                interleave(&mut stage[..m], pos, from, reverse);
+                let flat = stage[points.clone()].as_flattened();
                 streams
                     .positions
                     .write(positions.as_flattened_mut(), 3 * lo, flat);
                 if let (Some(out), Some(nrm)) = (out_normals, normals) {
-                    interleave(stage, nrm, from, reverse);
-                    let flat = stage.as_flattened();
+                    interleave(&mut stage[..m], nrm, from, reverse);
+                    let flat = stage[points].as_flattened();
                     streams.normals.write(out.as_flattened_mut(), 3 * lo, flat);
                 }
             }
@@ -487,6 +493,9 @@ fn interleave<const T: usize>(out: &mut [[f32; 3]], a: &[[f32; T]; 3], from: usi
         }
     }
 }
+
+/// Points in the widest vector the evaluator fills (the tiles are padded to whole ones).
+const VECTOR: usize = 16;
 
 fn split_option<T>(s: Option<&mut [T]>, mid: usize) -> (Option<&mut [T]>, Option<&mut [T]>) {
     match s {
