@@ -648,6 +648,9 @@ pub(super) fn eval_block_body<const K: usize, const G: usize>(
         stage,
         spread,
     } = scratch;
+    // The patch's normal net: what the quadratic normals sum, and what the fallback of a real
+    // normal with parallel derivatives uses (as `eval_point` does).
+    let patch_normals = normals;
     let normals: &[[f32; 3]; NORMAL_NET_LEN] = if want_normals && mode != NormalMode::Real {
         normals.try_into().expect("normal net has 6 entries")
     } else {
@@ -719,7 +722,7 @@ pub(super) fn eval_block_body<const K: usize, const G: usize>(
                 &block.points[start..],
                 stencil,
                 mode,
-                (points, &normals[..]),
+                (points, patch_normals),
                 sink,
                 |i| slot(start + i),
             );
@@ -1042,7 +1045,8 @@ pub(super) mod tests {
     /// A patch's control points and normal net for the bit-for-bit tests. Case 0 or 1: random;
     /// 2: a vanishing normal net and all control points on a line (parallel derivatives);
     /// 3: as 2 with every control point at the origin; 4: random, with a normal net so large
-    /// that |n|² overflows (1 / sqrt is 0). Cases 2-4 take the scalar fallbacks.
+    /// that |n|² overflows (1 / sqrt is 0); 5: control points on a line with a random normal
+    /// net (real normals fall back to the net). Cases 2-5 take the scalar fallbacks.
     pub(in crate::refine) fn test_patch<const K: usize>(
         seed: &mut u64,
         case: usize,
@@ -1061,6 +1065,11 @@ pub(super) mod tests {
         if case == 4 {
             normals.iter_mut().for_each(|n| *n = n.map(|c| c * 1e30));
         }
+        if case == 5 {
+            // Collinear control points (parallel derivatives) with a normal net that stands:
+            // real normals fall back to the net.
+            points.iter_mut().for_each(|p| *p = [p[0], 2.0 * p[0], 0.0]);
+        }
         (points, normals)
     }
 
@@ -1076,7 +1085,7 @@ pub(super) mod tests {
         assert!(stencil.blocks.all.len() > TILE);
         let block = &stencil.blocks.all;
         let mut seed = 7;
-        for case in 0..5 {
+        for case in 0..6 {
             let (points, normals) = test_patch::<K>(&mut seed, case);
             for (mode, reverse, stream) in [
                 (NormalMode::Quadratic, false, false),
@@ -1163,5 +1172,16 @@ pub(super) mod tests {
         check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
             eval_block_body::<21, 4>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
         });
+        // The AVX2 copy where the CPU has it (a machine with AVX-512 dispatches past it).
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY (both): the CPU has AVX2, checked just above.
+            check::<10>(Basis::Cubic, |b, s, p, n, m, sink, r| unsafe {
+                eval_block_avx2::<10>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+            });
+            check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| unsafe {
+                eval_block_avx2::<21>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+            });
+        }
     }
 }

@@ -105,9 +105,13 @@ impl LineCarry {
 #[inline(always)]
 fn stream_lines(dst: &mut [f32], src: &[f32]) {
     assert_eq!(dst.len(), src.len(), "copy between runs of one length");
-    // An empty run may start anywhere: it stores nothing.
-    debug_assert!(dst.is_empty() || (dst.as_ptr() as usize).is_multiple_of(LINE));
-    debug_assert_eq!(dst.len() % LINE_FLOATS, 0);
+    // Checked in release too (once per run of lines): the stores below rely on both. An empty
+    // run may start anywhere: it stores nothing.
+    assert!(
+        dst.len().is_multiple_of(LINE_FLOATS)
+            && (dst.is_empty() || (dst.as_ptr() as usize).is_multiple_of(LINE)),
+        "whole cache lines"
+    );
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {
@@ -131,24 +135,27 @@ fn stream_lines(dst: &mut [f32], src: &[f32]) {
 #[inline(always)]
 fn stream_lines_sse(dst: &mut [f32], src: &[f32]) {
     use std::arch::x86_64::{_mm_loadu_ps, _mm_stream_ps};
-    assert_eq!(dst.len(), src.len(), "copy between runs of one length");
-    debug_assert!(dst.is_empty() || (dst.as_ptr() as usize).is_multiple_of(LINE));
-    for q in (0..dst.len() / 4 * 4).step_by(4) {
-        // SAFETY: `q + 4 <= len` for both slices, and `dst` starts on a cache line (a
-        // multiple of 16 floats long), so every `dst + q` is 16-byte aligned as
-        // `_mm_stream_ps` requires.
+    assert!(
+        dst.is_empty() || (dst.as_ptr() as usize).is_multiple_of(16),
+        "aligned stores"
+    );
+    let whole = dst.len().min(src.len()) / 4 * 4;
+    for q in (0..whole).step_by(4) {
+        // SAFETY: `q + 4 <= len` for both slices, and `dst` is 16-byte aligned (checked), so
+        // every `dst + q` is too, as `_mm_stream_ps` requires.
         unsafe { _mm_stream_ps(dst.as_mut_ptr().add(q), _mm_loadu_ps(src.as_ptr().add(q))) };
     }
 }
 
-/// [`stream_lines`] a line at a time. Safety: the CPU has AVX-512F, `dst` starts on a cache
-/// line and both slices are the same whole number of lines long.
+/// [`stream_lines`] a line at a time (the whole lines of the shorter slice). Safety: the CPU
+/// has AVX-512F and `dst` starts on a cache line.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 #[inline]
 unsafe fn stream_lines_avx512(dst: &mut [f32], src: &[f32]) {
     use std::arch::x86_64::{_mm512_loadu_ps, _mm512_stream_ps};
-    for q in (0..dst.len()).step_by(LINE_FLOATS) {
+    let whole = dst.len().min(src.len()) / LINE_FLOATS * LINE_FLOATS;
+    for q in (0..whole).step_by(LINE_FLOATS) {
         // SAFETY: `q + 16 <= len` for both, `dst + q` starts a line (64-byte aligned).
         unsafe {
             _mm512_stream_ps(
@@ -165,7 +172,8 @@ unsafe fn stream_lines_avx512(dst: &mut [f32], src: &[f32]) {
 #[inline]
 unsafe fn stream_lines_avx(dst: &mut [f32], src: &[f32]) {
     use std::arch::x86_64::{_mm256_loadu_ps, _mm256_stream_ps};
-    for q in (0..dst.len()).step_by(LINE_FLOATS) {
+    let whole = dst.len().min(src.len()) / LINE_FLOATS * LINE_FLOATS;
+    for q in (0..whole).step_by(LINE_FLOATS) {
         // SAFETY: `q + 16 <= len` for both, `dst + q` starts a line (64-byte aligned).
         unsafe {
             let (d, s) = (dst.as_mut_ptr().add(q), src.as_ptr().add(q));

@@ -2,6 +2,7 @@
 //! interleaved vertex buffer with a stride (what engines upload). OpenSubdiv's
 //! `BufferDescriptor` (offset, length, stride) is the same idea.
 
+use super::evaluate::LANES;
 use super::nontemporal;
 use crate::error::RefineError;
 
@@ -375,7 +376,7 @@ impl<'a> Sink<'a> {
             } => {
                 // Whole vectors into the stage (the tile is padded to them), so no scalar
                 // remainder; reversed, the run's points are the stage's last `n`.
-                let m = n.next_multiple_of(VECTOR).min(T - from);
+                let m = n.next_multiple_of(LANES).min(T - from);
                 let points = if reverse { m - n..m } else { 0..n };
                 streams.unfenced = true;
                 interleave(&mut stage[..m], pos, from, reverse);
@@ -493,9 +494,6 @@ fn interleave<const T: usize>(out: &mut [[f32; 3]], a: &[[f32; T]; 3], from: usi
         }
     }
 }
-
-/// Points in the widest vector the evaluator fills (the tiles are padded to whole ones).
-const VECTOR: usize = 16;
 
 fn split_option<T>(s: Option<&mut [T]>, mid: usize) -> (Option<&mut [T]>, Option<&mut [T]>) {
     match s {
