@@ -11,8 +11,8 @@
 //! evaluations (welded output evaluates it once, on the owning face).
 
 use super::evaluate::{
-    compiled_for, cross_vectors, cubic_derivative_nets, fallback_normals, lane_weights,
-    normalize_vectors, Scratch, CUBIC_LEN, LANES, TILE,
+    compiled_for, cross_vectors, cubic_derivative_nets, dispatched_kernel, fallback_normals,
+    lane_weights, normalize_vectors, Scratch, CUBIC_LEN, LANES, TILE,
 };
 use super::output::Sink;
 use crate::basis::NORMAL_NET_LEN;
@@ -33,51 +33,19 @@ pub(crate) struct EdgeRun<'a> {
     pub reverse: bool,
 }
 
-/// Evaluates every run of `runs` into `sink` (see [`eval_edges_body`]), with the code compiled
-/// for the widest vectors the CPU has, as [`super::evaluate::eval_block`] chooses.
-pub(crate) fn eval_edges<const K: usize>(
-    runs: &[EdgeRun],
-    stencil: &Stencil,
-    mode: NormalMode,
-    sink: &mut Sink,
-    scratch: &mut Scratch,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
-        // SAFETY: the CPU was just checked to have AVX-512F, the only feature enabled there.
-        unsafe { eval_edges_avx512::<K>(runs, stencil, mode, sink, scratch) };
-        return;
-    }
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU was just checked to have AVX2, the only feature the function enables.
-        unsafe { eval_edges_avx2::<K>(runs, stencil, mode, sink, scratch) };
-        return;
-    }
-    eval_edges_body::<K, 1>(runs, stencil, mode, sink, scratch);
+dispatched_kernel! {
+    /// Evaluates every run of `runs` into `sink` (see [`eval_edges_body`]), with the code
+    /// compiled for the widest vectors the CPU has, as [`super::evaluate::eval_block`] chooses:
+    /// four edges side by side with AVX-512, one at a time with AVX2 (an edge's 16 points
+    /// already fill six of its 16 registers).
+    pub(crate) fn eval_edges = eval_edges_body, eval_edges_avx512, eval_edges_avx2 (
+        runs: &[EdgeRun],
+        stencil: &Stencil,
+        mode: NormalMode,
+        sink: &mut Sink,
+        scratch: &mut Scratch,
+    )
 }
-
-macro_rules! eval_edges_for {
-    ($name:ident, $feature:literal, $group:literal) => {
-        compiled_for!(
-            $name,
-            eval_edges_body,
-            $feature,
-            $group,
-            (
-                runs: &[EdgeRun],
-                stencil: &Stencil,
-                mode: NormalMode,
-                sink: &mut Sink,
-                scratch: &mut Scratch,
-            )
-        );
-    };
-}
-// AVX-512: four edges side by side (twelve accumulators of the 32 registers); AVX2: one edge at
-// a time (its 16 points already fill six of the 16 registers).
-eval_edges_for!(eval_edges_avx512, "avx512f", 4);
-eval_edges_for!(eval_edges_avx2, "avx2", 1);
 
 /// Evaluates every run of `runs` into `sink`, `G` at a time where the runs are short enough
 /// for `G` of them to share one tile (all edge blocks of a stencil have one length). Equal,
@@ -286,8 +254,7 @@ mod tests {
     use crate::basis::Basis;
     use crate::pattern::Pattern;
     use crate::refine::evaluate::eval_point;
-    use crate::refine::evaluate::tests::test_patch;
-    use crate::refine::output::VertexOutput;
+    use crate::refine::evaluate::tests::{into_arrays, test_patch};
 
     /// Six edges (a full group of four and two left over), each of its own patch, forward and
     /// reversed, some with vanishing or overflowing normal nets or collinear control points
@@ -330,19 +297,9 @@ mod tests {
         for (way, run) in ways {
             for mode in [NormalMode::Quadratic, NormalMode::Real] {
                 for stream in [false, true] {
-                    let n = runs.len() * len;
-                    let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
-                    {
-                        let mut sink = VertexOutput::Separate {
-                            positions: &mut pos,
-                            normals: Some(&mut nrm),
-                            uvs: None,
-                        }
-                        .sink(n, false)
-                        .unwrap()
-                        .streaming(stream);
-                        run(&runs, &stencil, mode, &mut sink, &mut Scratch::new());
-                    }
+                    let (pos, nrm) = into_arrays(runs.len() * len, stream, |sink| {
+                        run(&runs, &stencil, mode, sink, &mut Scratch::new())
+                    });
                     for (i, r) in runs.iter().enumerate() {
                         for (s, &p) in r.block.points.iter().enumerate() {
                             let (want_p, want_n) =

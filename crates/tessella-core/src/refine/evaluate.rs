@@ -535,57 +535,48 @@ impl Drop for ScratchGuard {
     }
 }
 
-/// Evaluates a run of pattern points of one patch ([`Block`]) into `sink` slots
-/// `base..base + len` (reversed when `reverse`, for edges stored against the owner's
-/// direction). Normals are computed only when the sink takes them. Equal, bit for bit, to
-/// [`eval_point`] on each point.
-///
-/// On x86-64 machines with AVX-512 or AVX2 the same code runs compiled for it (four or two
-/// times the vector width of the SSE2 baseline). The results are the same bits: Rust never
-/// fuses a multiply and an add on its own, so wider vectors change only how many lanes run at
-/// once.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub(crate) fn eval_block<const K: usize>(
-    block: &Block,
-    stencil: &Stencil,
-    points: &[[f32; 3]],
-    normals: &[[f32; 3]],
-    mode: NormalMode,
-    sink: &mut Sink,
-    base: usize,
-    reverse: bool,
-    scratch: &mut Scratch,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
-        // SAFETY: the CPU was just checked to have AVX-512F, the only feature enabled there.
-        unsafe {
-            eval_block_avx512::<K>(
-                block, stencil, points, normals, mode, sink, base, reverse, scratch,
-            )
-        };
-        return;
-    }
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU was just checked to have AVX2, the only feature the function enables.
-        unsafe {
-            eval_block_avx2::<K>(
-                block, stencil, points, normals, mode, sink, base, reverse, scratch,
-            )
-        };
-        return;
-    }
-    eval_block_body::<K, 1>(
-        block, stencil, points, normals, mode, sink, base, reverse, scratch,
-    );
+/// Defines a kernel written once as `$body::<K, G>` (`G` vectors summed side by side): the
+/// dispatcher `$name::<K>`, which runs the widest copy the CPU has, and the copies `$avx512`
+/// (four vectors side by side, twelve accumulators of its 32 registers) and `$avx2` (one: 16
+/// registers), each `$body` compiled with that target feature. The baseline (SSE2, or any other
+/// architecture) runs `$body::<K, 1>` as compiled. The bits are the same on every copy: Rust
+/// never fuses a multiply and an add on its own, so wider vectors change only how many lanes
+/// run at once.
+macro_rules! dispatched_kernel {
+    (
+        $(#[$attr:meta])*
+        $vis:vis fn $name:ident = $body:ident, $avx512:ident, $avx2:ident
+        ($($arg:ident: $ty:ty),* $(,)?)
+    ) => {
+        $(#[$attr])*
+        #[allow(clippy::too_many_arguments)]
+        #[inline]
+        $vis fn $name<const K: usize>($($arg: $ty),*) {
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU was just checked to have AVX-512F, the only feature enabled
+                // there.
+                unsafe { $avx512::<K>($($arg),*) };
+                return;
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU was just checked to have AVX2, the only feature the copy
+                // enables.
+                unsafe { $avx2::<K>($($arg),*) };
+                return;
+            }
+            $body::<K, 1>($($arg),*);
+        }
+        compiled_for!($avx512, $body, "avx512f", 4, ($($arg: $ty),*));
+        compiled_for!($avx2, $body, "avx2", 1, ($($arg: $ty),*));
+    };
 }
+pub(super) use dispatched_kernel;
 
-/// Defines `$name`: `$body::<K, $group>` (a kernel written once, `$group` vectors side by side)
-/// compiled with the target feature `$feature`, taking and passing on the arguments listed.
+/// Defines `$name`: `$body::<K, $group>` compiled with the target feature `$feature`.
 macro_rules! compiled_for {
-    ($name:ident, $body:ident, $feature:literal, $group:literal, ($($arg:ident: $ty:ty),* $(,)?)) => {
+    ($name:ident, $body:ident, $feature:literal, $group:literal, ($($arg:ident: $ty:ty),*)) => {
         #[doc = concat!("[`", stringify!($body), "`] compiled for `", $feature, "`.")]
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
@@ -597,31 +588,23 @@ macro_rules! compiled_for {
 }
 pub(super) use compiled_for;
 
-macro_rules! eval_block_for {
-    ($name:ident, $feature:literal, $group:literal) => {
-        compiled_for!(
-            $name,
-            eval_block_body,
-            $feature,
-            $group,
-            (
-                block: &Block,
-                stencil: &Stencil,
-                points: &[[f32; 3]],
-                normals: &[[f32; 3]],
-                mode: NormalMode,
-                sink: &mut Sink,
-                base: usize,
-                reverse: bool,
-                scratch: &mut Scratch,
-            )
-        );
-    };
+dispatched_kernel! {
+    /// Evaluates a run of pattern points of one patch ([`Block`]) into `sink` slots
+    /// `base..base + len` (reversed when `reverse`, for edges stored against the owner's
+    /// direction). Normals are computed only when the sink takes them. Equal, bit for bit, to
+    /// [`eval_point`] on each point, with the code compiled for the widest vectors the CPU has.
+    pub(crate) fn eval_block = eval_block_body, eval_block_avx512, eval_block_avx2 (
+        block: &Block,
+        stencil: &Stencil,
+        points: &[[f32; 3]],
+        normals: &[[f32; 3]],
+        mode: NormalMode,
+        sink: &mut Sink,
+        base: usize,
+        reverse: bool,
+        scratch: &mut Scratch,
+    )
 }
-// AVX-512: four vectors side by side (twelve accumulators of the 32 registers); AVX2: one (16
-// registers).
-eval_block_for!(eval_block_avx512, "avx512f", 4);
-eval_block_for!(eval_block_avx2, "avx2", 1);
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
@@ -1042,6 +1025,29 @@ pub(super) mod tests {
         ((*seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
     }
 
+    /// The positions and normals `run` writes into a sink of `n` separate slots, streamed or
+    /// not.
+    pub(in crate::refine) fn into_arrays(
+        n: usize,
+        stream: bool,
+        run: impl FnOnce(&mut Sink),
+    ) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+        let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+        {
+            let mut sink = VertexOutput::Separate {
+                positions: &mut pos,
+                normals: Some(&mut nrm),
+                uvs: None,
+            }
+            .sink(n, false)
+            .unwrap()
+            .streaming(stream);
+            assert_eq!(sink.streams(), stream);
+            run(&mut sink);
+        }
+        (pos, nrm)
+    }
+
     /// A patch's control points and normal net for the bit-for-bit tests. Case 0 or 1: random;
     /// 2: a vanishing normal net and all control points on a line (parallel derivatives);
     /// 3: as 2 with every control point at the origin; 4: random, with a normal net so large
@@ -1096,19 +1102,9 @@ pub(super) mod tests {
                 (NormalMode::Real, true, true),
             ] {
                 let n = block.len();
-                let (mut pos, mut nrm) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
-                {
-                    let mut sink = VertexOutput::Separate {
-                        positions: &mut pos,
-                        normals: Some(&mut nrm),
-                        uvs: None,
-                    }
-                    .sink(n, false)
-                    .unwrap()
-                    .streaming(stream);
-                    assert_eq!(sink.streams(), stream);
-                    run(block, &stencil, &points, &normals, mode, &mut sink, reverse);
-                }
+                let (pos, nrm) = into_arrays(n, stream, |sink| {
+                    run(block, &stencil, &points, &normals, mode, sink, reverse)
+                });
                 for (i, &p) in block.points.iter().enumerate() {
                     let (want_p, want_n) =
                         eval_point::<K>(stencil.row(p as usize), &points, &normals, mode);
