@@ -6,6 +6,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# A clean run leaves about 6 GB in the checkout (target/ about 5 GB) and 1 GB in the Python venv,
+# besides Debian packages and the crates' sources. Say so early when the disk is short, rather
+# than let the build fail half-way on "No space left on device".
+free_gb=$(df -Pk . | awk 'NR == 2 { printf "%d", $4 / 1048576 }')
+if [ "$free_gb" -lt 10 ]; then
+  echo "warning: ${free_gb} GB free on this disk; a clean test run writes about 9 GB" >&2
+fi
+
 bash scripts/setup-vulkan.sh
 bash scripts/setup-gl.sh
 # `tessella view`'s window tests (crates/tessella-cli/tests/view.rs) run under a virtual X server
