@@ -28,8 +28,7 @@ if { ! command -v xvfb-run >/dev/null || ! command -v xdotool >/dev/null || ! co
   fi
 fi
 
-# A clean checkout gains nothing from incremental caches; they roughly double what the
-# workspace's own crates leave on disk.
+# A clean checkout gains nothing from incremental caches: they would only take disk space.
 export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
 
 echo "== cargo fmt"

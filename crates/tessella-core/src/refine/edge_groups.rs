@@ -236,13 +236,7 @@ fn eval_group<const K: usize, const G: usize>(
                 mode,
                 (points(g), run.normals),
                 sink,
-                |i| {
-                    if run.reverse {
-                        run.base + len - 1 - i
-                    } else {
-                        run.base + i
-                    }
-                },
+                |i| run.base + if run.reverse { len - 1 - i } else { i },
             );
         }
     }
