@@ -11,6 +11,7 @@
 
 pub mod png1;
 
+use crate::scalar::{Dual, Real};
 use serde::Serialize;
 
 /// Cubic control points in storage order: corners, then two points per edge walking
@@ -64,9 +65,21 @@ impl Basis {
 
     /// Weights at barycentric `l = (l1, l2, l3)`, `l1 + l2 + l3 = 1`, computed in f64.
     pub fn weights(self, l: [f64; 3]) -> BasisWeights {
+        let w = self.weights_of(l);
+        BasisWeights {
+            value: w.iter().map(|d| d.v).collect(),
+            du: w.iter().map(|d| d.du).collect(),
+            dv: w.iter().map(|d| d.dv).collect(),
+        }
+    }
+
+    /// The weights at `l` for any [`Real`], one [`Dual`] (value, `Du`, `Dv`) per control
+    /// point: what [`Basis::weights`] computes in `f64` and the shaders' generated code
+    /// ([`crate::shader`]) computes per vertex.
+    pub fn weights_of<T: Real>(self, l: [T; 3]) -> Vec<Dual<T>> {
         match self {
-            Basis::Cubic => cubic_weights(l),
-            Basis::Png1 => png1::weights(l),
+            Basis::Cubic => cubic_weights(l).to_vec(),
+            Basis::Png1 => png1::weights_of(l).to_vec(),
         }
     }
 }
@@ -75,37 +88,38 @@ fn factorial(n: u8) -> f64 {
     (1..=n as u32).product::<u32>() as f64
 }
 
-/// Cubic Bernstein polynomials `3!/(i!j!k!) l1^i l2^j l3^k` and their `Du`, `Dv`.
-fn cubic_weights(l: [f64; 3]) -> BasisWeights {
-    let mut value = Vec::with_capacity(10);
-    let mut du = Vec::with_capacity(10);
-    let mut dv = Vec::with_capacity(10);
-    for e in CUBIC_ORDER {
+/// Cubic Bernstein polynomials `3!/(i!j!k!) l1^i l2^j l3^k` of [`CUBIC_ORDER`] with their `Du`,
+/// `Dv` (`Du = ∂/∂l2 − ∂/∂l1`, `Dv = ∂/∂l3 − ∂/∂l1`), for any [`Real`]: the CPU's stencils
+/// (`f64`) and the shaders' weights ([`crate::shader`]) come from this one function.
+pub fn cubic_weights<T: Real>(l: [T; 3]) -> [Dual<T>; 10] {
+    CUBIC_ORDER.map(|e| {
         let c = 6.0 / (factorial(e[0]) * factorial(e[1]) * factorial(e[2]));
-        let pow = |x: f64, n: u8| if n == 0 { 1.0 } else { x.powi(n as i32) };
+        let pow = |x: T, n: u8| if n == 0 { T::lit(1.0) } else { x.powi(n) };
         // Partial derivative along barycentric coordinate `m`.
         let partial = |m: usize| {
             if e[m] == 0 {
-                return 0.0;
+                return T::lit(0.0);
             }
-            let mut p = c * e[m] as f64;
+            let mut p = T::lit(c * e[m] as f64);
             for (k, &lk) in l.iter().enumerate() {
-                p *= pow(lk, if k == m { e[k] - 1 } else { e[k] });
+                p = p * pow(lk, if k == m { e[k] - 1 } else { e[k] });
             }
             p
         };
-        value.push(c * pow(l[0], e[0]) * pow(l[1], e[1]) * pow(l[2], e[2]));
         let d1 = partial(0);
-        du.push(partial(1) - d1);
-        dv.push(partial(2) - d1);
-    }
-    BasisWeights { value, du, dv }
+        Dual {
+            v: T::lit(c) * pow(l[0], e[0]) * pow(l[1], e[1]) * pow(l[2], e[2]),
+            du: partial(1) - d1,
+            dv: partial(2) - d1,
+        }
+    })
 }
 
 /// Weights of the quadratic normal net `N1, N2, N3, n110, n011, n101` at `l`:
 /// `l1², l2², l3², l1 l2, l2 l3, l3 l1` (Vlachos et al., with the mid coefficients carrying
-/// their factor; docs/formulas.md, Normal nets).
-pub fn normal_weights(l: [f64; 3]) -> [f64; NORMAL_NET_LEN] {
+/// their factor; docs/formulas.md, Normal nets). Generic for the shaders, as
+/// [`cubic_weights`].
+pub fn normal_weights<T: Real>(l: [T; 3]) -> [T; NORMAL_NET_LEN] {
     let [a, b, c] = l;
     [a * a, b * b, c * c, a * b, b * c, c * a]
 }

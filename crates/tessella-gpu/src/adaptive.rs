@@ -15,6 +15,7 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 use tessella_core::refine::instanced::{self, FrameInstances, PartTable, RECORD_WORDS};
 use tessella_core::refine::{canonical, lod, Frame, Lod, Spacing, Surface};
+use tessella_core::shader::{self, Lang};
 
 /// Instances per face at most: three strips and an interior.
 const MAX_PARTS_PER_FACE: u64 = 4;
@@ -192,13 +193,21 @@ impl AdaptiveRenderer {
         let table = PartTable::new(spacing);
         let arrays = PartArrays::new(&table);
         let basis = nets.basis;
-        let constants = format!(
-            "{}const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+        // The pipeline's constants, then the weights generated from tessella-core's formulas.
+        let constants = [
             crate::wgsl_constants::source(),
-            basis.len(),
-            normal_mode_code(nets.normal_mode),
-            spacing == Spacing::Grid
-        );
+            shader::record_layout(Lang::Wgsl),
+            format!(
+                "const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+                basis.len(),
+                normal_mode_code(nets.normal_mode),
+                spacing == Spacing::Grid
+            ),
+            shader::patch_sum_wgsl(basis),
+            shader::normal_net(Lang::Wgsl),
+            shader::edge_weights_wgsl(),
+        ]
+        .join("\n");
         let params = AdaptiveParams {
             edge_controls: [0, 1, 2].map(|k| canonical::edge_controls(basis, k).map(|i| i as u32)),
             edge_normals: [0, 1, 2].map(|k| {
@@ -271,7 +280,6 @@ impl AdaptiveRenderer {
                     source: wgpu::ShaderSource::Wgsl(
                         [
                             &constants,
-                            include_str!("shaders/basis.wgsl"),
                             include_str!("shaders/shade.wgsl"),
                             include_str!("shaders/adaptive.wgsl"),
                             include_str!("shaders/adaptive_draw.wgsl"),
@@ -457,7 +465,6 @@ impl AdaptiveRenderer {
                     source: wgpu::ShaderSource::Wgsl(
                         [
                             &self.constants,
-                            include_str!("shaders/basis.wgsl"),
                             include_str!("shaders/adaptive.wgsl"),
                             include_str!("shaders/adaptive_capture.wgsl"),
                         ]

@@ -2,7 +2,6 @@
 //! as WGSL `const`s (the `.wgsl` files declare none of them), so the two cannot drift apart.
 
 use crate::patch::{normal_mode_code, NORMAL_NET_BYTES};
-use tessella_core::refine::instanced::RECORD_WORDS;
 use tessella_core::NormalMode;
 
 /// Entries of the colormap uniform (`shaders/shade.wgsl`): a header and up to 256 samples.
@@ -15,7 +14,6 @@ pub(crate) fn source() -> String {
         ("EDGE_ROWS_AT", crate::canonical::ROWS_AT as u32),
         ("EDGE_ROW_LEN", crate::canonical::ROW_LEN as u32),
         ("MODE_REAL", normal_mode_code(NormalMode::Real)),
-        ("RECORD_WORDS", RECORD_WORDS as u32),
         ("COLORMAP_ENTRIES", COLORMAP_ENTRIES as u32),
     ]
     .iter()

@@ -4,8 +4,8 @@
 //! module only knows how they are combined, so the basis needs nothing from the scheme.
 
 use super::BasisWeights;
+use crate::scalar::{Dual, Real};
 use glam::DVec3;
-use std::ops::{Add, Div, Mul, Sub};
 
 /// Number of PNG1 control points per patch.
 pub const PNG1_LEN: usize = 21;
@@ -54,78 +54,6 @@ pub(crate) fn own_slot(k: usize, offset: usize) -> usize {
 // ---------------------------------------------------------------------------------------------
 // Weights: cubic Bernstein × the paper's rational blends, with exact derivatives.
 
-/// A number with its two partial derivatives along `u` (P1 → P2) and `v` (P1 → P3): forward-mode
-/// differentiation, so the weights' `Du`, `Dv` are exact to rounding.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Dual {
-    v: f64,
-    du: f64,
-    dv: f64,
-}
-
-impl Dual {
-    const ZERO: Dual = Dual::c(0.0);
-    const fn c(v: f64) -> Dual {
-        Dual {
-            v,
-            du: 0.0,
-            dv: 0.0,
-        }
-    }
-}
-
-impl Add for Dual {
-    type Output = Dual;
-    fn add(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v + o.v,
-            du: self.du + o.du,
-            dv: self.dv + o.dv,
-        }
-    }
-}
-impl Sub for Dual {
-    type Output = Dual;
-    fn sub(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v - o.v,
-            du: self.du - o.du,
-            dv: self.dv - o.dv,
-        }
-    }
-}
-impl Mul for Dual {
-    type Output = Dual;
-    fn mul(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v * o.v,
-            du: self.du * o.v + self.v * o.du,
-            dv: self.dv * o.v + self.v * o.dv,
-        }
-    }
-}
-impl Div for Dual {
-    type Output = Dual;
-    fn div(self, o: Dual) -> Dual {
-        let q = self.v / o.v;
-        Dual {
-            v: q,
-            du: (self.du - q * o.du) / o.v,
-            dv: (self.dv - q * o.dv) / o.v,
-        }
-    }
-}
-impl Mul<Dual> for f64 {
-    type Output = Dual;
-    fn mul(self, o: Dual) -> Dual {
-        Dual {
-            v: self * o.v,
-            du: self * o.du,
-            dv: self * o.dv,
-        }
-    }
-}
-
 /// Weights of the 21 PNG1 control points at barycentric `l` (value, `Du`, `Dv`), in f64.
 ///
 /// `S(l) = Σ B_ijk(l) b_ijk(l)` (equation (6)) with the edge slots blended by
@@ -148,27 +76,19 @@ pub fn weights(l: [f64; 3]) -> BasisWeights {
     }
 }
 
-fn weights_dual(l: [f64; 3]) -> [Dual; PNG1_LEN] {
-    // l1 = 1 - u - v, l2 = u, l3 = v; keep the given values (exact zeros stay exact).
-    let l = [
-        Dual {
-            v: l[0],
-            du: -1.0,
-            dv: -1.0,
-        },
-        Dual {
-            v: l[1],
-            du: 1.0,
-            dv: 0.0,
-        },
-        Dual {
-            v: l[2],
-            du: 0.0,
-            dv: 1.0,
-        },
-    ];
+fn weights_dual(l: [f64; 3]) -> [Dual<f64>; PNG1_LEN] {
+    weights_of(l)
+}
+
+/// The 21 weights (value, `Du`, `Dv`) at `l` for any [`Real`]: the `f64` of [`weights`] and
+/// the shaders' generated code ([`crate::shader`]) come from this one function. The centre
+/// weights' two guards (`σ = 0` at the corners, a vanishing side-vertex denominator) are
+/// selections, not branches, so a shader can run them as straight-line code.
+pub fn weights_of<T: Real>(l: [T; 3]) -> [Dual<T>; PNG1_LEN] {
+    let l = Dual::barycentric(l);
     let one = Dual::c(1.0);
-    let mut w = [Dual::ZERO; PNG1_LEN];
+    let zero = Dual::c(0.0);
+    let mut w = [zero; PNG1_LEN];
     for i in 0..3 {
         w[i] = l[i] * l[i] * l[i];
     }
@@ -179,28 +99,26 @@ fn weights_dual(l: [f64; 3]) -> [Dual; PNG1_LEN] {
         let cross = c * c;
         let den = own + cross;
         let (own, cross) = (own / den, cross / den);
-        let near_a = 3.0 * (a * a * b);
-        let near_b = 3.0 * (a * b * b);
+        let near_a = (a * a * b).scale(3.0);
+        let near_b = (a * b * b).scale(3.0);
         let (sa, sb) = (own_slot(k, 0), own_slot(k, 2));
         w[sa] = near_a * own;
         w[sa + 1] = near_a * cross;
         w[sb] = near_b * own;
         w[sb + 1] = near_b * cross;
     }
+    // σ vanishes only at the corners, and the side-vertex denominator only where a = b = 0,
+    // i.e. at a corner too: there the centre weights are exactly zero, the limit.
     let sigma = l[0] * l[1] + l[1] * l[2] + l[2] * l[0];
-    if sigma.v != 0.0 {
-        let b111 = 6.0 * (l[0] * l[1] * l[2]);
-        for k in 0..3 {
-            let (a, b) = (l[k], l[(k + 1) % 3]);
-            let den = a + b - 2.0 * (a * b);
-            if den.v == 0.0 {
-                // Only where a = b = 0, i.e. at a corner, excluded above.
-                continue;
-            }
-            let t = b111 * (a * b) / sigma / den;
-            w[15 + 2 * k] = t * ((one - b) * a);
-            w[16 + 2 * k] = t * ((one - a) * b);
-        }
+    let b111 = (l[0] * l[1] * l[2]).scale(6.0);
+    for k in 0..3 {
+        let (a, b) = (l[k], l[(k + 1) % 3]);
+        let den = a + b - (a * b).scale(2.0);
+        let t = b111 * (a * b) / sigma / den;
+        let keep =
+            |x: Dual<T>| Dual::select_nonzero(sigma.v, Dual::select_nonzero(den.v, x, zero), zero);
+        w[15 + 2 * k] = keep(t * ((one - b) * a));
+        w[16 + 2 * k] = keep(t * ((one - a) * b));
     }
     w
 }
@@ -213,9 +131,10 @@ pub fn eval_f64(net: &[DVec3; PNG1_LEN], l: [f64; 3]) -> (DVec3, DVec3, DVec3) {
 /// The weights (value and derivatives) at the edge midpoints `(½, ½, 0)`, `(0, ½, ½)`,
 /// `(½, 0, ½)`, computed once: every net's smoothed normals evaluate there
 /// ([`eval_f64_at_mid`]), and the rational weights cost more than the sum.
-static MID_WEIGHTS: std::sync::LazyLock<[[Dual; PNG1_LEN]; 3]> = std::sync::LazyLock::new(|| {
-    [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]].map(weights_dual)
-});
+static MID_WEIGHTS: std::sync::LazyLock<[[Dual<f64>; PNG1_LEN]; 3]> =
+    std::sync::LazyLock::new(|| {
+        [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]].map(weights_dual)
+    });
 
 /// [`eval_f64`] at the midpoint of edge `k` (`k` to `k + 1`), with weights computed once: the
 /// same bits as `eval_f64(net, mid)`.
@@ -223,7 +142,7 @@ pub fn eval_f64_at_mid(net: &[DVec3; PNG1_LEN], k: usize) -> (DVec3, DVec3, DVec
     eval_with(net, &MID_WEIGHTS[k])
 }
 
-fn eval_with(net: &[DVec3; PNG1_LEN], w: &[Dual; PNG1_LEN]) -> (DVec3, DVec3, DVec3) {
+fn eval_with(net: &[DVec3; PNG1_LEN], w: &[Dual<f64>; PNG1_LEN]) -> (DVec3, DVec3, DVec3) {
     let (mut p, mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for (wk, c) in w.iter().zip(net) {
         p += wk.v * *c;

@@ -19,6 +19,7 @@
 
 use crate::basis::png1::own_slot;
 use crate::basis::Basis;
+use crate::scalar::Real;
 use glam::Vec3;
 
 /// Control point indices of edge `k`'s boundary curve: start corner, its own control point
@@ -54,8 +55,14 @@ impl EdgeWeights {
     }
     /// The same weights in f64, before rounding.
     pub fn new_f64(a: f64, b: f64) -> ([f64; 4], [f64; 3]) {
+        Self::new_of(a, b)
+    }
+    /// The weights for any [`Real`]: `f64` here, traced for the shaders
+    /// ([`crate::shader::edge_weights_wgsl`]).
+    pub fn new_of<T: Real>(a: T, b: T) -> ([T; 4], [T; 3]) {
+        let three = T::lit(3.0);
         (
-            [a * a * a, 3.0 * a * a * b, 3.0 * a * b * b, b * b * b],
+            [a * a * a, three * a * a * b, three * a * b * b, b * b * b],
             [a * a, a * b, b * b],
         )
     }

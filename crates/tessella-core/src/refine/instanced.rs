@@ -37,6 +37,14 @@ pub const RECORD_WORDS: usize = 24;
 /// Word of a record holding the canonical bits: bit `k` set when edge `k` runs canonically
 /// ([`canonical::forward`]).
 pub const FORWARD_WORD: usize = 20;
+/// Grid records: the first of the three edges' segment counts.
+pub(crate) const GRID_SEGMENTS_WORD: usize = 0;
+/// Grid records: the face's grid level (the largest of its levels).
+pub(crate) const GRID_LEVEL_WORD: usize = 3;
+/// Grid records: the first of the three edges' geomorph factors (`f32` bits).
+pub(crate) const GRID_MORPH_WORD: usize = 4;
+/// Grid records: the inner level's geomorph factor (`f32` bits).
+pub(crate) const GRID_INNER_MORPH_WORD: usize = 7;
 /// Largest grid level the parts cover: grid levels above it are drawn at it (no geomorph there).
 pub const MAX_GRID_LEVEL: u32 = 64;
 
@@ -229,18 +237,19 @@ fn face_record(
             let inner = inner.min(cap);
             let n = outer.map(grid_segments);
             let big = grid_segments(inner).max(n[0]).max(n[1]).max(n[2]);
-            record[..3].copy_from_slice(&n);
-            record[3] = big;
+            record[GRID_SEGMENTS_WORD..GRID_SEGMENTS_WORD + 3].copy_from_slice(&n);
+            record[GRID_LEVEL_WORD] = big;
             for k in 0..3 {
-                record[4 + k] = (morph::factor(outer[k], n[k]) as f32).to_bits();
+                record[GRID_MORPH_WORD + k] = (morph::factor(outer[k], n[k]) as f32).to_bits();
             }
-            record[7] = (morph::factor(inner, big) as f32).to_bits();
+            record[GRID_INNER_MORPH_WORD] = (morph::factor(inner, big) as f32).to_bits();
             parts.push(grid_part(big), 0);
         }
         Some(s) => {
             if let Some(p) = process_levels(s, gl_levels(outer, inner)) {
                 let rulers = FaceRulers::new(&p);
-                record[..20].copy_from_slice(&rulers.words());
+                let words = rulers.words();
+                record[..words.len()].copy_from_slice(&words);
                 if rulers.single_triangle {
                     parts.push(SINGLE, 0);
                 } else {

@@ -38,9 +38,9 @@
 //! draws nothing. Other levels are clamped: +∞ and values above the maximum become the maximum
 //! (64; 63 for fractional-odd), values below the minimum and a NaN inner level become the minimum.
 
-mod fixed;
+pub(crate) mod fixed;
 pub mod parts;
-mod points;
+pub(crate) mod points;
 mod stitch;
 
 use crate::pattern::{Pattern, PointClass};

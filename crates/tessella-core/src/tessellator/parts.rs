@@ -16,7 +16,7 @@
 //! side. The last point of a side is the first of the next side.
 
 use super::fixed::{self, ONE, ONE_HALF, ONE_THIRD, TWO_THIRDS};
-use super::points::Ruler;
+use super::points::{Ruler, RULER_WORDS};
 use super::{stitch, ProcessedLevels};
 
 /// The topology of one level's 1D layout: points per half-row and parity.
@@ -139,12 +139,13 @@ impl FaceRulers {
 
     /// The 20 words the GPU reads: the outer rulers (GL order), then the inner one
     /// ([`Ruler::words`]).
-    pub fn words(&self) -> [u32; 20] {
+    pub fn words(&self) -> [u32; 4 * RULER_WORDS] {
         let mut w = [0u32; 20];
         for k in 0..3 {
-            w[5 * k..5 * k + 5].copy_from_slice(&self.outer[k].words(self.outer_points[k]));
+            w[RULER_WORDS * k..RULER_WORDS * (k + 1)]
+                .copy_from_slice(&self.outer[k].words(self.outer_points[k]));
         }
-        w[15..20].copy_from_slice(&self.inner.words(self.inner_points));
+        w[3 * RULER_WORDS..].copy_from_slice(&self.inner.words(self.inner_points));
         w
     }
 

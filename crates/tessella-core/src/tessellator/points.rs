@@ -9,6 +9,15 @@
 
 use super::fixed::{self, ONE, ONE_HALF, RECIPROCAL};
 
+/// `u32` words of one ruler as the GPU reads it ([`Ruler::words`]).
+pub(crate) const RULER_WORDS: usize = 5;
+/// The word of [`Ruler::words`] that packs `half_points | odd << 8 | points << 16`.
+pub(crate) const RULER_PACKED_WORD: usize = 4;
+/// Where the packed word holds the odd parity bit (half points below it, 8 bits).
+pub(crate) const RULER_ODD_SHIFT: u32 = 8;
+/// Where the packed word holds the layout's point count.
+pub(crate) const RULER_POINTS_SHIFT: u32 = 16;
+
 /// Per-level constants for placing points (the reference's `TESS_FACTOR_CONTEXT`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Ruler {
@@ -69,13 +78,15 @@ impl Ruler {
     /// The constants as the GPU reads them (`shaders/adaptive.wgsl`'s `place`): `1/floor`,
     /// `1/ceil`, the fraction, the split index, then `half_points | odd << 8 | points << 16`
     /// with `points` the caller's point count of the layout.
-    pub fn words(&self, points: u32) -> [u32; 5] {
+    pub fn words(&self, points: u32) -> [u32; RULER_WORDS] {
         [
             self.inv_floor,
             self.inv_ceil,
             self.fraction,
             self.split,
-            self.half_points | u32::from(self.odd) << 8 | points << 16,
+            self.half_points
+                | u32::from(self.odd) << RULER_ODD_SHIFT
+                | points << RULER_POINTS_SHIFT,
         ]
     }
 

@@ -2,11 +2,13 @@
 // holds the point codes of the spacing's parts, built once; per face a record (tessellator: four
 // rulers; grid: edge segments, grid level and geomorph factors; both: canonical edge bits), per
 // instance `face | side << 30`. A vertex turns its code into a barycentric point with its face's
-// record, evaluates the basis there (basis.wgsl) and sums the control net. Points on a coarse
-// edge are evaluated from the edge's four boundary control points in canonical direction with
-// weights from the edge's own data, the same floats on both faces. Prepended: basis.wgsl;
-// appended: adaptive_draw.wgsl (the vertex shader) or adaptive_capture.wgsl (a compute read-back
-// of the same points).
+// record, evaluates the basis there and sums the control net. Points on a coarse edge are
+// evaluated from the edge's four boundary control points in canonical direction with weights
+// from the edge's own data, the same floats on both faces. Prepended (adaptive.rs): the record
+// layout and the basis, normal-net and edge weights generated from tessella-core's formulas
+// (tessella_core::shader: `tessella_patch_sum`, `tessella_normal_net_sum`,
+// `tessella_edge_weights`, `TESSELLA_*` constants); appended: adaptive_draw.wgsl (the vertex
+// shader) or adaptive_capture.wgsl (a compute read-back of the same points).
 
 // Set by the renderer before this file, so that each pipeline compiles only its own basis,
 // normal mode and spacing (a branch on a uniform still costs its whole body on a software
@@ -25,36 +27,34 @@ struct AdaptiveParams {
 @group(0) @binding(2) var<uniform> params: AdaptiveParams;
 @group(0) @binding(3) var<storage, read> records: array<u32>;
 
-const FORWARD_WORD: u32 = 20u;
-const ONE: u32 = 65536u;
-const ONE_HALF: u32 = 32768u;
-const ONE_THIRD: u32 = 0x5555u;
-const TWO_THIRDS: u32 = 0xaaaau;
-// RECORD_WORDS, MODE_REAL: prepended from Rust (wgsl_constants.rs).
+// MODE_REAL, NORMAL_NET_LEN: prepended from Rust (wgsl_constants.rs).
+const ONE: u32 = TESSELLA_FIXED_ONE;
+const ONE_HALF: u32 = TESSELLA_FIXED_ONE_HALF;
 const NO_EDGE: u32 = 3u;
 
-fn net_point(face: u32, k: u32) -> vec3<f32> {
+// The control nets the generated sums read.
+fn tessella_net_point(face: u32, k: u32) -> vec3<f32> {
     let i = (face * BASIS_K + k) * 3u;
     return vec3<f32>(net_points[i], net_points[i + 1u], net_points[i + 2u]);
 }
 
-fn net_normal(face: u32, k: u32) -> vec3<f32> {
-    let i = (face * 6u + k) * 3u;
+fn tessella_net_normal(face: u32, k: u32) -> vec3<f32> {
+    let i = (face * NORMAL_NET_LEN + k) * 3u;
     return vec3<f32>(net_normals[i], net_normals[i + 1u], net_normals[i + 2u]);
 }
 
 // Points of ruler r (0..2 the outer levels in GL order, 3 the inner level) of record `rec`.
 fn ruler_points(rec: u32, r: u32) -> u32 {
-    return records[rec + 5u * r + 4u] >> 16u;
+    return records[rec + TESSELLA_RULER_WORDS * r + TESSELLA_RULER_PACKED_WORD] >> TESSELLA_RULER_POINTS_SHIFT;
 }
 
 // tessellator::points::Ruler::place: 16.16 position of point `point` of ruler r, in the
 // reference tessellator's wrapping integer arithmetic.
 fn place(rec: u32, r: u32, point: u32) -> u32 {
-    let b = rec + 5u * r;
-    let w = records[b + 4u];
-    let half = w & 0xffu;
-    let odd = (w >> 8u) & 1u;
+    let b = rec + TESSELLA_RULER_WORDS * r;
+    let w = records[b + TESSELLA_RULER_PACKED_WORD];
+    let half = w & ((1u << TESSELLA_RULER_ODD_SHIFT) - 1u);
+    let odd = (w >> TESSELLA_RULER_ODD_SHIFT) & 1u;
     var p = point;
     var mirrored = false;
     if (p >= half) {
@@ -67,7 +67,7 @@ fn place(rec: u32, r: u32, point: u32) -> u32 {
     let on_floor = select(p, p - 1u, p > records[b + 3u]);
     let fraction = records[b + 2u];
     let lerp = on_floor * records[b] * (ONE - fraction) + p * records[b + 1u] * fraction;
-    let t = (lerp + ONE_HALF) >> 16u;
+    let t = (lerp + ONE_HALF) >> TESSELLA_FIXED_FRACTION_BITS;
     return select(t, ONE - t, mirrored);
 }
 
@@ -97,14 +97,14 @@ fn locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32> {
     let inner_points = ruler_points(rec, 3u);
     let len = inner_points - 2u * ring;
     if (len == 1u) {
-        return vec3<u32>(ONE_THIRD, ONE_THIRD, NO_EDGE);
+        return vec3<u32>(TESSELLA_FIXED_ONE_THIRD, TESSELLA_FIXED_ONE_THIRD, NO_EDGE);
     }
     if (i == len - 1u) {
         side = (side + 1u) % 3u;
         i = 0u;
     }
     let end = inner_points - 1u - ring;
-    let perp = (place(rec, 3u, ring) * TWO_THIRDS + ONE_HALF) >> 16u;
+    let perp = (place(rec, 3u, ring) * TESSELLA_FIXED_TWO_THIRDS + ONE_HALF) >> TESSELLA_FIXED_FRACTION_BITS;
     let slide = (perp + 1u) / 2u;
     let t = place(rec, 3u, select(end - i, ring + i, side == 1u)) - slide;
     if (side == 0u) {
@@ -128,63 +128,23 @@ struct Sums {
     edge_n: vec3<f32>,
 }
 
-fn add_term(acc: ptr<function, Sums>, w: vec3<f32>, c: vec3<f32>) {
-    (*acc).p += w.x * c;
-    (*acc).du += w.y * c;
-    (*acc).dv += w.z * c;
-}
-
-// Adds `scale` times the surface of `face` at `l`. The cubic case is written out term by
-// term: a loop over a local weight array is not unrolled by every compiler, and an array
-// indexed in a loop goes to memory (three times slower on lavapipe).
+// Adds `scale` times the surface of `face` at `l`: the basis' sums and the normal net's, both
+// generated straight-line code.
 fn add_point(acc: ptr<function, Sums>, face: u32, l: vec3<f32>, scale: f32) {
-    var s: Sums;
-    if (BASIS_K == PNG1_K) {
-        var w: array<vec3<f32>, 21>;
-        png1_weights(l, &w);
-        for (var k = 0u; k < PNG1_K; k++) {
-            add_term(&s, w[k], net_point(face, k));
-        }
-    } else {
-        let a = l.x;
-        let b = l.y;
-        let c = l.z;
-        let c0 = net_point(face, 0u);
-        let c1 = net_point(face, 1u);
-        let c2 = net_point(face, 2u);
-        let c3 = net_point(face, 3u);
-        let c4 = net_point(face, 4u);
-        let c5 = net_point(face, 5u);
-        let c6 = net_point(face, 6u);
-        let c7 = net_point(face, 7u);
-        let c8 = net_point(face, 8u);
-        let c9 = net_point(face, 9u);
-        // CUBIC_ORDER: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111.
-        s.p = a * a * a * c0 + b * b * b * c1 + c * c * c * c2 + 3.0 * a * a * b * c3
-            + 3.0 * a * b * b * c4 + 3.0 * b * b * c * c5 + 3.0 * b * c * c * c6
-            + 3.0 * a * c * c * c7 + 3.0 * a * a * c * c8 + 6.0 * a * b * c * c9;
-        if (NORMAL_MODE == MODE_REAL) {
-            s.du = -3.0 * a * a * c0 + 3.0 * b * b * c1 + (3.0 * a * a - 6.0 * a * b) * c3
-                + (6.0 * a * b - 3.0 * b * b) * c4 + 6.0 * b * c * c5 + 3.0 * c * c * c6
-                - 3.0 * c * c * c7 - 6.0 * a * c * c8 + (6.0 * a * c - 6.0 * b * c) * c9;
-            s.dv = -3.0 * a * a * c0 + 3.0 * c * c * c2 - 6.0 * a * b * c3 - 3.0 * b * b * c4
-                + 3.0 * b * b * c5 + 6.0 * b * c * c6 + (6.0 * a * c - 3.0 * c * c) * c7
-                + (3.0 * a * a - 6.0 * a * c) * c8 + (6.0 * a * b - 6.0 * b * c) * c9;
-        }
-    }
-    s.n = l.x * l.x * net_normal(face, 0u) + l.y * l.y * net_normal(face, 1u)
-        + l.z * l.z * net_normal(face, 2u) + l.x * l.y * net_normal(face, 3u)
-        + l.y * l.z * net_normal(face, 4u) + l.z * l.x * net_normal(face, 5u);
+    let s = tessella_patch_sum(face, l);
     (*acc).p += scale * s.p;
-    (*acc).du += scale * s.du;
-    (*acc).dv += scale * s.dv;
-    (*acc).n += scale * s.n;
+    if (NORMAL_MODE == MODE_REAL) {
+        (*acc).du += scale * s.du;
+        (*acc).dv += scale * s.dv;
+    }
+    (*acc).n += scale * tessella_normal_net_sum(face, l);
 }
 
 // Canonical weights at (a, b): a the canonical start corner's barycentric weight.
 fn add_edge(acc: ptr<function, Sums>, a: f32, b: f32, scale: f32) {
-    (*acc).edge_w += scale * vec4<f32>(a * a * a, 3.0 * a * a * b, 3.0 * a * b * b, b * b * b);
-    (*acc).edge_n += scale * vec3<f32>(a * a, a * b, b * b);
+    let w = tessella_edge_weights(a, b);
+    (*acc).edge_w += scale * w.value;
+    (*acc).edge_n += scale * w.normal;
 }
 
 fn step_point(e: u32, n: u32, s: u32) -> vec3<f32> {
@@ -197,7 +157,7 @@ fn step_point(e: u32, n: u32, s: u32) -> vec3<f32> {
 // Grid point (i, j) of a face (refine::instanced::grid_point, with refine::morph's blend):
 // its surface into `acc`; returns the barycentric point and its edge (NO_EDGE off the edges).
 fn grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, Sums>) -> vec4<f32> {
-    let big = records[rec + 3u];
+    let big = records[rec + TESSELLA_GRID_LEVEL_WORD];
     let kk = big - i - j;
     var e = NO_EDGE;
     var step = 0u;
@@ -212,7 +172,7 @@ fn grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<f
         step = big - j;
     }
     if (e != NO_EDGE) {
-        let n = records[rec + e];
+        let n = records[rec + TESSELLA_GRID_SEGMENTS_WORD + e];
         let s = (2u * step * n + big) / (2u * big);
         if (s == 0u || s == n) {
             // Snapped onto a corner.
@@ -222,7 +182,7 @@ fn grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<f
             return vec4<f32>(l, f32(NO_EDGE));
         }
         let l = step_point(e, n, s);
-        let alpha = bitcast<f32>(records[rec + 4u + e]);
+        let alpha = bitcast<f32>(records[rec + TESSELLA_GRID_MORPH_WORD + e]);
         let forward = ((face_forward >> e) & 1u) != 0u;
         let sc = select(n - s, s, forward);
         add_point(acc, face, l, select(1.0, alpha, alpha < 1.0));
@@ -248,7 +208,7 @@ fn grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<f
         return vec4<f32>(l, f32(e));
     }
     let l = vec3<f32>(f32(kk), f32(i), f32(j)) / f32(big);
-    let alpha = bitcast<f32>(records[rec + 7u]);
+    let alpha = bitcast<f32>(records[rec + TESSELLA_GRID_INNER_MORPH_WORD]);
     let corner = (i == 0u && j == 0u) || i == big || j == big;
     if (alpha >= 1.0 || corner) {
         add_point(acc, face, l, 1.0);
@@ -295,8 +255,8 @@ struct AdaptivePoint {
 fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
     let face = inst & 0x3fffffffu;
     let code = vcode & 0x3fffffffu;
-    let rec = face * RECORD_WORDS;
-    let face_forward = records[rec + FORWARD_WORD];
+    let rec = face * TESSELLA_RECORD_WORDS;
+    let face_forward = records[rec + TESSELLA_FORWARD_WORD];
     var acc: Sums;
     var l: vec3<f32>;
     var edge = NO_EDGE;
@@ -334,14 +294,14 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
         let ctrl = params.edge_controls[edge];
         var q = vec3<f32>(0.0);
         for (var i = 0u; i < 4u; i++) {
-            q += acc.edge_w[i] * net_point(face, ctrl[select(3u - i, i, forward)]);
+            q += acc.edge_w[i] * tessella_net_point(face, ctrl[select(3u - i, i, forward)]);
         }
         p = q;
         if (NORMAL_MODE != MODE_REAL) {
             let nc = params.edge_normals[edge];
             var m = vec3<f32>(0.0);
             for (var i = 0u; i < 3u; i++) {
-                m += acc.edge_n[i] * net_normal(face, nc[select(2u - i, i, forward)]);
+                m += acc.edge_n[i] * tessella_net_normal(face, nc[select(2u - i, i, forward)]);
             }
             if (dot(m, m) > 0.0) {
                 n = m;
@@ -351,8 +311,8 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
     if (dot(n, n) > 0.0) {
         n = normalize(n);
     } else {
-        let a = net_point(face, 0u);
-        let fn_ = cross(net_point(face, 1u) - a, net_point(face, 2u) - a);
+        let a = tessella_net_point(face, 0u);
+        let fn_ = cross(tessella_net_point(face, 1u) - a, tessella_net_point(face, 2u) - a);
         n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(fn_), dot(fn_, fn_) > 0.0);
     }
     return AdaptivePoint(p, n, l);

@@ -1,6 +1,6 @@
 // Reads back what the adaptive renderer draws: one job per drawn vertex, `(instance word, point
-// code)`, written as position, normal and barycentric point (9 floats). Prepended: basis.wgsl,
-// adaptive.wgsl.
+// code)`, written as position, normal and barycentric point (9 floats). Prepended: the generated
+// weights (adaptive.rs), adaptive.wgsl.
 
 @group(1) @binding(0) var<storage, read> jobs: array<vec2<u32>>;
 @group(1) @binding(1) var<storage, read_write> captured: array<f32>;

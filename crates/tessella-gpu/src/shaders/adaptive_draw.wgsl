@@ -1,7 +1,7 @@
 // The vertex shader of the adaptive renderer: a part's vertex (its point code, and in the top two
 // bits its corner in the pattern triangle: the wireframe draw lists every triangle's three
-// corners, the indexed draw leaves them 0) on the instance's face. Prepended: basis.wgsl,
-// shade.wgsl, adaptive.wgsl.
+// corners, the indexed draw leaves them 0) on the instance's face. Prepended: the generated
+// weights (adaptive.rs), shade.wgsl, adaptive.wgsl.
 
 @vertex
 fn vs_adaptive(@location(0) vcode: u32, @builtin(instance_index) instance: u32) -> VsOut {

@@ -1,0 +1,181 @@
+//! The arithmetic the shared formulas are written in.
+//!
+//! A formula that both the CPU and a shader need (the bases' weights, the normal net's weights,
+//! a canonical edge's weights) is written once, generic over [`Real`]. On the CPU it runs with
+//! `f64`; [`crate::shader`] runs the same function with a traced number that records each
+//! operation, and prints the record as WGSL or GLSL. So the shaders are generated from the Rust
+//! source, not typed again beside it.
+//!
+//! Branches on values cannot be traced, so a formula that needs one says it with
+//! [`Real::select_nonzero`], which computes both sides and keeps one: the `f64` result is the
+//! one an `if` would give, bit for bit (the side not taken may divide by zero; it is dropped).
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real number a shared formula computes with: `f64` on the CPU, a traced expression when a
+/// shader is generated.
+pub trait Real:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// A constant.
+    fn lit(x: f64) -> Self;
+    /// `nonzero` where `test != 0`, else `zero`; both sides are computed.
+    fn select_nonzero(test: Self, nonzero: Self, zero: Self) -> Self;
+    /// `self` to the power `n`, `n ≥ 1`.
+    fn powi(self, n: u8) -> Self;
+}
+
+impl Real for f64 {
+    #[inline]
+    fn lit(x: f64) -> f64 {
+        x
+    }
+    #[inline]
+    fn select_nonzero(test: f64, nonzero: f64, zero: f64) -> f64 {
+        if test != 0.0 {
+            nonzero
+        } else {
+            zero
+        }
+    }
+    #[inline]
+    fn powi(self, n: u8) -> f64 {
+        f64::powi(self, i32::from(n))
+    }
+}
+
+/// A number with its two partial derivatives along `u` (P1 → P2) and `v` (P1 → P3):
+/// forward-mode differentiation, so a formula's `Du`, `Dv` are exact to rounding.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dual<T> {
+    pub v: T,
+    pub du: T,
+    pub dv: T,
+}
+
+impl<T: Real> Dual<T> {
+    /// A constant (zero derivatives).
+    pub fn c(v: f64) -> Dual<T> {
+        Dual {
+            v: T::lit(v),
+            du: T::lit(0.0),
+            dv: T::lit(0.0),
+        }
+    }
+
+    /// Barycentric `(l1, l2, l3)` as duals: `l1 = 1 − u − v`, `l2 = u`, `l3 = v` (the given
+    /// values are kept, so exact zeros stay exact).
+    pub fn barycentric(l: [T; 3]) -> [Dual<T>; 3] {
+        let (one, zero) = (T::lit(1.0), T::lit(0.0));
+        [
+            Dual {
+                v: l[0],
+                du: -one,
+                dv: -one,
+            },
+            Dual {
+                v: l[1],
+                du: one,
+                dv: zero,
+            },
+            Dual {
+                v: l[2],
+                du: zero,
+                dv: one,
+            },
+        ]
+    }
+
+    /// `s · self` for a constant `s`.
+    pub fn scale(self, s: f64) -> Dual<T> {
+        let s = T::lit(s);
+        Dual {
+            v: s * self.v,
+            du: s * self.du,
+            dv: s * self.dv,
+        }
+    }
+
+    /// [`Real::select_nonzero`] on each part, by the value of `test`.
+    pub fn select_nonzero(test: T, nonzero: Dual<T>, zero: Dual<T>) -> Dual<T> {
+        Dual {
+            v: T::select_nonzero(test, nonzero.v, zero.v),
+            du: T::select_nonzero(test, nonzero.du, zero.du),
+            dv: T::select_nonzero(test, nonzero.dv, zero.dv),
+        }
+    }
+}
+
+impl<T: Real> Add for Dual<T> {
+    type Output = Dual<T>;
+    fn add(self, o: Dual<T>) -> Dual<T> {
+        Dual {
+            v: self.v + o.v,
+            du: self.du + o.du,
+            dv: self.dv + o.dv,
+        }
+    }
+}
+
+impl<T: Real> Sub for Dual<T> {
+    type Output = Dual<T>;
+    fn sub(self, o: Dual<T>) -> Dual<T> {
+        Dual {
+            v: self.v - o.v,
+            du: self.du - o.du,
+            dv: self.dv - o.dv,
+        }
+    }
+}
+
+impl<T: Real> Mul for Dual<T> {
+    type Output = Dual<T>;
+    fn mul(self, o: Dual<T>) -> Dual<T> {
+        Dual {
+            v: self.v * o.v,
+            du: self.du * o.v + self.v * o.du,
+            dv: self.dv * o.v + self.v * o.dv,
+        }
+    }
+}
+
+impl<T: Real> Div for Dual<T> {
+    type Output = Dual<T>;
+    fn div(self, o: Dual<T>) -> Dual<T> {
+        let q = self.v / o.v;
+        Dual {
+            v: q,
+            du: (self.du - q * o.du) / o.v,
+            dv: (self.dv - q * o.dv) / o.v,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn select_nonzero_keeps_the_side_an_if_would() {
+        assert_eq!(f64::select_nonzero(2.0, 1.0, 3.0), 1.0);
+        assert_eq!(f64::select_nonzero(0.0, f64::NAN, 3.0), 3.0);
+        assert_eq!(f64::select_nonzero(-0.0, f64::INFINITY, 3.0), 3.0);
+    }
+
+    #[test]
+    fn dual_products_and_quotients_differentiate() {
+        // f(u, v) = l2 · l3 / l1 at (l1, l2, l3) = (0.5, 0.2, 0.3).
+        let [a, b, c] = Dual::barycentric([0.5, 0.2, 0.3]);
+        let f = b * c / a;
+        let g = |u: f64, v: f64| u * v / (1.0 - u - v);
+        let h = 1e-6;
+        assert!((f.v - g(0.2, 0.3)).abs() < 1e-15);
+        assert!((f.du - (g(0.2 + h, 0.3) - g(0.2 - h, 0.3)) / (2.0 * h)).abs() < 1e-8);
+        assert!((f.dv - (g(0.2, 0.3 + h) - g(0.2, 0.3 - h)) / (2.0 * h)).abs() < 1e-8);
+    }
+}

@@ -1,0 +1,240 @@
+//! WGSL and GLSL generated from the core's formulas, so every backend evaluates the formula
+//! the CPU does from one source.
+//!
+//! The bases' weights ([`crate::basis::cubic_weights`], [`crate::basis::png1::weights_of`]),
+//! the normal net's weights ([`crate::basis::normal_weights`]) and a canonical edge's weights
+//! ([`crate::refine::canonical::EdgeWeights`]) are Rust functions generic over
+//! [`crate::scalar::Real`]. The CPU runs them in `f64`; the functions here run them once with a
+//! traced number and print what was recorded as a shader function of straight-line code (no
+//! arrays indexed in loops, which some compilers put in memory). A shader file holds only what
+//! is its own (bindings, entry points, the order it sums in) and calls these.
+//!
+//! Every name declared here starts with `tessella_` (`TessellaPatchSum` for the one struct),
+//! so an engine can include the code beside its own. The sums read control points through two
+//! functions the including shader defines:
+//!
+//! - `tessella_net_point(face: u32, k: u32) -> vec3<f32>`: control point `k` of `face`;
+//! - `tessella_net_normal(face: u32, k: u32) -> vec3<f32>`: normal-net entry `k`.
+//!
+//! ```
+//! use tessella_core::shader::{self, Lang};
+//! use tessella_core::Basis;
+//! let wgsl = shader::weights(Lang::Wgsl, Basis::Png1);
+//! assert!(wgsl.starts_with("fn tessella_png1_weights(l: vec3<f32>) -> array<vec3<f32>, 21>"));
+//! ```
+
+mod emit;
+mod trace;
+
+use crate::basis::{normal_weights, Basis, NORMAL_NET_LEN};
+use crate::refine::canonical::EdgeWeights;
+use crate::scalar::Dual;
+use emit::Body;
+use trace::{trace, Expr};
+
+/// A shading language the generated code is written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Lang {
+    /// WebGPU's WGSL.
+    Wgsl,
+    /// GLSL 4.30 (the OpenGL tessellation backend).
+    Glsl,
+}
+
+/// Length of the weight arrays the GLSL functions fill: the largest basis (PNG1's 21), so one
+/// array serves every basis; entries past the basis' own are left unwritten.
+pub const GLSL_WEIGHTS_LEN: usize = crate::basis::png1::PNG1_LEN;
+
+fn basis_name(basis: Basis) -> &'static str {
+    match basis {
+        Basis::Cubic => "cubic",
+        Basis::Png1 => "png1",
+    }
+}
+
+/// The barycentric point `l` as traced inputs named by its components.
+fn traced_l() -> [Expr; 3] {
+    ["l.x", "l.y", "l.z"].map(Expr::input)
+}
+
+/// `tessella_<basis>_weights`: per control point its weight, `Du` and `Dv` (a `vec3`) at the
+/// barycentric point `l`.
+///
+/// - WGSL: `fn tessella_<basis>_weights(l: vec3<f32>) -> array<vec3<f32>, K>`;
+/// - GLSL: `void tessella_<basis>_weights(vec3 l, out vec3 w[GLSL_WEIGHTS_LEN])`.
+pub fn weights(lang: Lang, basis: Basis) -> String {
+    let (tape, w) = trace(|| basis.weights_of(traced_l()));
+    let outputs: Vec<Expr> = w.iter().flat_map(|d| [d.v, d.du, d.dv]).collect();
+    let body = Body::new(&tape, lang, &outputs);
+    let name = basis_name(basis);
+    let k = basis.len();
+    let vec3 = |d: &Dual<Expr>| {
+        let [v, du, dv] = [d.v, d.du, d.dv].map(|e| body.name(e));
+        match lang {
+            Lang::Wgsl => format!("vec3<f32>({v}, {du}, {dv})"),
+            Lang::Glsl => format!("vec3({v}, {du}, {dv})"),
+        }
+    };
+    let mut s = match lang {
+        Lang::Wgsl => {
+            format!("fn tessella_{name}_weights(l: vec3<f32>) -> array<vec3<f32>, {k}> {{\n")
+        }
+        Lang::Glsl => {
+            format!("void tessella_{name}_weights(vec3 l, out vec3 w[{GLSL_WEIGHTS_LEN}]) {{\n")
+        }
+    };
+    s += &body.statements;
+    match lang {
+        Lang::Wgsl => {
+            let items: Vec<String> = w
+                .iter()
+                .map(|d| format!("        {},\n", vec3(d)))
+                .collect();
+            s += &format!(
+                "    return array<vec3<f32>, {k}>(\n{}    );\n",
+                items.concat()
+            );
+        }
+        Lang::Glsl => {
+            for (i, d) in w.iter().enumerate() {
+                s += &format!("    w[{i}] = {};\n", vec3(d));
+            }
+        }
+    }
+    s + "}\n"
+}
+
+/// WGSL: `fn tessella_patch_sum(face: u32, l: vec3<f32>) -> TessellaPatchSum` for `basis` (a
+/// pipeline compiles one basis), the patch's point and derivatives at `l`:
+/// `Σ w_k(l) C_k` with the control points from `tessella_net_point(face, k)`. The weights are
+/// [`weights`]'; the sums skip the terms whose weight is the constant zero.
+pub fn patch_sum_wgsl(basis: Basis) -> String {
+    let (tape, w) = trace(|| basis.weights_of(traced_l()));
+    let outputs: Vec<Expr> = w.iter().flat_map(|d| [d.v, d.du, d.dv]).collect();
+    let body = Body::new(&tape, Lang::Wgsl, &outputs);
+    let mut s = String::from(PATCH_SUM_STRUCT_WGSL);
+    s += "\nfn tessella_patch_sum(face: u32, l: vec3<f32>) -> TessellaPatchSum {\n";
+    s += &body.statements;
+    for k in 0..w.len() {
+        s += &format!("    let c{k} = tessella_net_point(face, {k}u);\n");
+    }
+    s += "    var s: TessellaPatchSum;\n";
+    for (field, part) in [("p", 0), ("du", 1), ("dv", 2)] {
+        let terms: Vec<String> = w
+            .iter()
+            .enumerate()
+            .map(|(k, d)| ([d.v, d.du, d.dv][part], k))
+            .filter(|&(e, _)| !body.is_zero(e))
+            .map(|(e, k)| format!("{} * c{k}", body.name(e)))
+            .collect();
+        if !terms.is_empty() {
+            s += &format!("    s.{field} = {};\n", terms.join(" + "));
+        }
+    }
+    s + "    return s;\n}\n"
+}
+
+/// The struct [`patch_sum_wgsl`]'s function returns (declared with it).
+const PATCH_SUM_STRUCT_WGSL: &str =
+    "struct TessellaPatchSum {\n    p: vec3<f32>,\n    du: vec3<f32>,\n    dv: vec3<f32>,\n}\n";
+
+/// The quadratic normal net's weights at `l` (`l1², l2², l3², l1 l2, l2 l3, l3 l1`):
+///
+/// - WGSL: `fn tessella_normal_net_sum(face: u32, l: vec3<f32>) -> vec3<f32>`, the weighted
+///   sum of `tessella_net_normal(face, k)`;
+/// - GLSL: `void tessella_normal_weights(vec3 l, out float w[6])`.
+pub fn normal_net(lang: Lang) -> String {
+    let (tape, w) = trace(|| normal_weights(traced_l()));
+    let body = Body::new(&tape, lang, &w);
+    match lang {
+        Lang::Wgsl => {
+            let terms: Vec<String> = (0..NORMAL_NET_LEN)
+                .map(|k| format!("{} * tessella_net_normal(face, {k}u)", body.name(w[k])))
+                .collect();
+            format!(
+                "fn tessella_normal_net_sum(face: u32, l: vec3<f32>) -> vec3<f32> {{\n{}    return {};\n}}\n",
+                body.statements,
+                terms.join(" + ")
+            )
+        }
+        Lang::Glsl => {
+            let mut s = format!(
+                "void tessella_normal_weights(vec3 l, out float w[{NORMAL_NET_LEN}]) {{\n{}",
+                body.statements
+            );
+            for (k, e) in w.iter().enumerate() {
+                s += &format!("    w[{k}] = {};\n", body.name(*e));
+            }
+            s + "}\n"
+        }
+    }
+}
+
+/// WGSL: `fn tessella_edge_weights(a: f32, b: f32) -> TessellaEdgeWeights` (and the struct):
+/// the weights of a point of a canonical edge ([`EdgeWeights`]), `a` the canonical start
+/// corner's barycentric weight: the boundary cubic's four (`value`) and the normal net's edge
+/// restriction's three (`normal`).
+pub fn edge_weights_wgsl() -> String {
+    let (tape, (value, normal)) = trace(|| EdgeWeights::new_of(Expr::input("a"), Expr::input("b")));
+    let outputs: Vec<Expr> = value.iter().chain(&normal).copied().collect();
+    let body = Body::new(&tape, Lang::Wgsl, &outputs);
+    let v = value.map(|e| body.name(e)).join(", ");
+    let n = normal.map(|e| body.name(e)).join(", ");
+    format!(
+        "struct TessellaEdgeWeights {{\n    value: vec4<f32>,\n    normal: vec3<f32>,\n}}\n\n\
+         fn tessella_edge_weights(a: f32, b: f32) -> TessellaEdgeWeights {{\n{}    \
+         return TessellaEdgeWeights(vec4<f32>({v}), vec3<f32>({n}));\n}}\n",
+        body.statements
+    )
+}
+
+/// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed
+/// point, as `TESSELLA_`-prefixed `u32` constants (see [`constants`]): the words a shader
+/// reads are the words [`crate::refine::instanced`] writes.
+pub fn record_layout(lang: Lang) -> String {
+    use crate::refine::instanced as rec;
+    use crate::tessellator::{fixed, points};
+    let word = |x: usize| x as u32;
+    constants(
+        lang,
+        &[
+            ("TESSELLA_RECORD_WORDS", word(rec::RECORD_WORDS)),
+            ("TESSELLA_FORWARD_WORD", word(rec::FORWARD_WORD)),
+            ("TESSELLA_RULER_WORDS", word(points::RULER_WORDS)),
+            (
+                "TESSELLA_RULER_PACKED_WORD",
+                word(points::RULER_PACKED_WORD),
+            ),
+            ("TESSELLA_RULER_ODD_SHIFT", points::RULER_ODD_SHIFT),
+            ("TESSELLA_RULER_POINTS_SHIFT", points::RULER_POINTS_SHIFT),
+            ("TESSELLA_GRID_SEGMENTS_WORD", word(rec::GRID_SEGMENTS_WORD)),
+            ("TESSELLA_GRID_LEVEL_WORD", word(rec::GRID_LEVEL_WORD)),
+            ("TESSELLA_GRID_MORPH_WORD", word(rec::GRID_MORPH_WORD)),
+            (
+                "TESSELLA_GRID_INNER_MORPH_WORD",
+                word(rec::GRID_INNER_MORPH_WORD),
+            ),
+            ("TESSELLA_FIXED_ONE", fixed::ONE),
+            ("TESSELLA_FIXED_ONE_HALF", fixed::ONE_HALF),
+            ("TESSELLA_FIXED_ONE_THIRD", fixed::ONE_THIRD),
+            ("TESSELLA_FIXED_TWO_THIRDS", fixed::TWO_THIRDS),
+            ("TESSELLA_FIXED_FRACTION_BITS", fixed::FRACTION_BITS),
+        ],
+    )
+}
+
+/// `u32` constants as WGSL (`const NAME: u32 = 7u;`) or GLSL (`const uint NAME = 7u;`), one a
+/// line: layout numbers the Rust side defines and a shader reads.
+pub fn constants(lang: Lang, items: &[(&str, u32)]) -> String {
+    items
+        .iter()
+        .map(|(name, value)| match lang {
+            Lang::Wgsl => format!("const {name}: u32 = {value}u;\n"),
+            Lang::Glsl => format!("const uint {name} = {value}u;\n"),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,117 @@
+//! The traced formulas are the CPU's formulas: the recorded tape, evaluated in f64, gives the
+//! CPU's weights (so folding and selections changed nothing but the zero terms), and the
+//! printed functions have the shape the shaders call.
+
+use super::trace::{trace, Expr, Node, Tape};
+use super::*;
+use crate::basis::png1::PNG1_LEN;
+
+/// The tape's values in f64 with the inputs `l.x`, `l.y`, `l.z` (or `a`, `b`) set.
+fn run(tape: &Tape, inputs: &[(&str, f64)]) -> Vec<f64> {
+    let mut v: Vec<f64> = Vec::with_capacity(tape.nodes.len());
+    for node in &tape.nodes {
+        let x = |e: &Expr| v[e.index()];
+        let value = match node {
+            Node::Input(name) => inputs.iter().find(|(n, _)| n == name).expect("an input").1,
+            Node::Const(bits) => f64::from_bits(*bits),
+            Node::Add(a, b) => x(a) + x(b),
+            Node::Sub(a, b) => x(a) - x(b),
+            Node::Mul(a, b) => x(a) * x(b),
+            Node::Div(a, b) => x(a) / x(b),
+            Node::Neg(a) => -x(a),
+            Node::SelectNonZero {
+                test,
+                nonzero,
+                zero,
+            } => {
+                if x(test) != 0.0 {
+                    x(nonzero)
+                } else {
+                    x(zero)
+                }
+            }
+        };
+        v.push(value);
+    }
+    v
+}
+
+/// Points inside, on the edges and at the corners (where PNG1's selections matter).
+const POINTS: [[f64; 3]; 7] = [
+    [0.2, 0.3, 0.5],
+    [0.6, 0.3, 0.1],
+    [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
+    [0.5, 0.5, 0.0],
+    [0.0, 0.25, 0.75],
+    [1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0],
+];
+
+#[test]
+fn traced_basis_weights_evaluate_to_the_cpu_weights() {
+    for basis in [Basis::Cubic, Basis::Png1] {
+        let (tape, w) = trace(|| basis.weights_of(traced_l()));
+        for l in POINTS {
+            let v = run(&tape, &[("l.x", l[0]), ("l.y", l[1]), ("l.z", l[2])]);
+            let cpu = basis.weights(l);
+            for (k, d) in w.iter().enumerate() {
+                let got = [v[d.v.index()], v[d.du.index()], v[d.dv.index()]];
+                let want = [cpu.value[k], cpu.du[k], cpu.dv[k]];
+                for (g, e) in got.iter().zip(want) {
+                    assert!(g.is_finite(), "{basis:?} {l:?} k={k}: {g}");
+                    assert!((g - e).abs() <= 1e-14, "{basis:?} {l:?} k={k}: {g} vs {e}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn traced_normal_and_edge_weights_evaluate_to_the_cpu_weights() {
+    let (tape, w) = trace(|| normal_weights(traced_l()));
+    for l in POINTS {
+        let v = run(&tape, &[("l.x", l[0]), ("l.y", l[1]), ("l.z", l[2])]);
+        let got: Vec<f64> = w.iter().map(|e| v[e.index()]).collect();
+        assert_eq!(got, normal_weights(l).to_vec(), "{l:?}");
+    }
+    let (tape, (value, normal)) = trace(|| EdgeWeights::new_of(Expr::input("a"), Expr::input("b")));
+    for (a, b) in [(0.25, 0.75), (1.0, 0.0), (0.6, 0.4)] {
+        let v = run(&tape, &[("a", a), ("b", b)]);
+        let (cpu_value, cpu_normal) = EdgeWeights::new_f64(a, b);
+        assert_eq!(value.map(|e| v[e.index()]), cpu_value, "({a}, {b})");
+        assert_eq!(normal.map(|e| v[e.index()]), cpu_normal, "({a}, {b})");
+    }
+}
+
+#[test]
+fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
+    let wgsl = weights(Lang::Wgsl, Basis::Png1);
+    assert_eq!(wgsl.matches("vec3<f32>(").count(), PNG1_LEN, "{wgsl}");
+    let glsl = weights(Lang::Glsl, Basis::Cubic);
+    for k in 0..10 {
+        assert!(glsl.contains(&format!("    w[{k}] = vec3(")), "{glsl}");
+    }
+    assert!(glsl.starts_with("void tessella_cubic_weights(vec3 l, out vec3 w[21])"));
+    let sum = patch_sum_wgsl(Basis::Cubic);
+    // b300's weight is l1³ and its Du, Dv are -3 l1²: every control point enters each sum.
+    for field in ["p", "du", "dv"] {
+        let line = sum
+            .lines()
+            .find(|l| l.starts_with(&format!("    s.{field} = ")))
+            .expect("a sum");
+        let terms = line.matches(" * c").count();
+        assert!(terms >= 7, "{field}: {line}");
+    }
+    for text in [wgsl, glsl, sum, normal_net(Lang::Wgsl), edge_weights_wgsl()] {
+        for line in text.lines() {
+            for keyword in ["fn ", "struct ", "void "] {
+                if let Some(rest) = line.strip_prefix(keyword) {
+                    assert!(
+                        rest.starts_with("tessella_") || rest.starts_with("Tessella"),
+                        "{line}"
+                    );
+                }
+            }
+        }
+    }
+}

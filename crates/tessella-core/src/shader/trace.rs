@@ -1,0 +1,227 @@
+//! A traced number: running a [`Real`]-generic formula with [`Expr`] records each operation on
+//! a tape instead of computing it, and the tape is then printed as shader code (`emit.rs`).
+//!
+//! The tape is thread-local and lives for one [`trace`] call, so an `Expr` is a plain index
+//! (`Copy`, as `Real` needs). Identical operations are recorded once, and operations on
+//! constants are folded (`0 · x = 0`, `1 · x = x`, `x + 0 = x`, constants with constants), so
+//! the printed code is what a hand-written shader would compute, without the zero terms of a
+//! general formula.
+
+use crate::scalar::Real;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// One recorded value: an index into the current tape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Expr(u32);
+
+/// An operation on the tape. Constants are held as `f64` bits so nodes can be hashed.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub(crate) enum Node {
+    /// A named input of the generated function (`l.x`, a parameter).
+    Input(String),
+    Const(u64),
+    Add(Expr, Expr),
+    Sub(Expr, Expr),
+    Mul(Expr, Expr),
+    Div(Expr, Expr),
+    Neg(Expr),
+    /// `nonzero` where `test != 0`, else `zero`.
+    SelectNonZero {
+        test: Expr,
+        nonzero: Expr,
+        zero: Expr,
+    },
+}
+
+/// The operations one [`trace`] recorded, in order (every operand before its use).
+#[derive(Debug, Default)]
+pub(crate) struct Tape {
+    pub(crate) nodes: Vec<Node>,
+    seen: HashMap<Node, Expr>,
+}
+
+thread_local! {
+    static TAPE: RefCell<Option<Tape>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` with a fresh tape and returns the tape with `f`'s result.
+///
+/// # Panics
+/// When called inside another `trace` on the same thread (a bug in the generator).
+pub(crate) fn trace<R>(f: impl FnOnce() -> R) -> (Tape, R) {
+    TAPE.with(|t| {
+        let mut t = t.borrow_mut();
+        assert!(t.is_none(), "shader traces do not nest");
+        *t = Some(Tape::default());
+    });
+    let out = f();
+    let tape = TAPE
+        .with(|t| t.borrow_mut().take())
+        .expect("the tape set above");
+    (tape, out)
+}
+
+impl Expr {
+    /// A named input; its name is printed as it is (`l.x`, `a`).
+    pub(crate) fn input(name: &str) -> Expr {
+        Expr::push(Node::Input(name.to_string()))
+    }
+
+    fn constant(x: f64) -> Expr {
+        // -0.0 and 0.0 print alike; keep one node.
+        let x = if x == 0.0 { 0.0 } else { x };
+        Expr::push(Node::Const(x.to_bits()))
+    }
+
+    /// The constant this expression is, if it is one.
+    fn value(self) -> Option<f64> {
+        TAPE.with(
+            |t| match t.borrow().as_ref().expect(OUTSIDE).nodes[self.0 as usize] {
+                Node::Const(bits) => Some(f64::from_bits(bits)),
+                _ => None,
+            },
+        )
+    }
+
+    fn push(node: Node) -> Expr {
+        TAPE.with(|t| {
+            let mut t = t.borrow_mut();
+            let tape = t.as_mut().expect(OUTSIDE);
+            if let Some(&e) = tape.seen.get(&node) {
+                return e;
+            }
+            let e = Expr(tape.nodes.len() as u32);
+            tape.nodes.push(node.clone());
+            tape.seen.insert(node, e);
+            e
+        })
+    }
+
+    /// The index of this value on its tape.
+    pub(crate) fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+const OUTSIDE: &str = "a traced number is used outside `shader::trace`";
+
+impl Add for Expr {
+    type Output = Expr;
+    fn add(self, o: Expr) -> Expr {
+        match (self.value(), o.value()) {
+            (Some(a), Some(b)) => Expr::constant(a + b),
+            (Some(0.0), None) => o,
+            (None, Some(0.0)) => self,
+            _ => Expr::push(Node::Add(self, o)),
+        }
+    }
+}
+
+impl Sub for Expr {
+    type Output = Expr;
+    fn sub(self, o: Expr) -> Expr {
+        match (self.value(), o.value()) {
+            (Some(a), Some(b)) => Expr::constant(a - b),
+            (Some(0.0), None) => -o,
+            (None, Some(0.0)) => self,
+            _ => Expr::push(Node::Sub(self, o)),
+        }
+    }
+}
+
+impl Mul for Expr {
+    type Output = Expr;
+    fn mul(self, o: Expr) -> Expr {
+        match (self.value(), o.value()) {
+            (Some(a), Some(b)) => Expr::constant(a * b),
+            (Some(0.0), _) | (_, Some(0.0)) => Expr::constant(0.0),
+            (Some(1.0), None) => o,
+            (None, Some(1.0)) => self,
+            (Some(-1.0), None) => -o,
+            (None, Some(-1.0)) => -self,
+            _ => Expr::push(Node::Mul(self, o)),
+        }
+    }
+}
+
+impl Div for Expr {
+    type Output = Expr;
+    fn div(self, o: Expr) -> Expr {
+        match (self.value(), o.value()) {
+            (Some(a), Some(b)) if b != 0.0 => Expr::constant(a / b),
+            (None, Some(1.0)) => self,
+            _ => Expr::push(Node::Div(self, o)),
+        }
+    }
+}
+
+impl Neg for Expr {
+    type Output = Expr;
+    fn neg(self) -> Expr {
+        match self.value() {
+            Some(a) => Expr::constant(-a),
+            None => Expr::push(Node::Neg(self)),
+        }
+    }
+}
+
+impl Real for Expr {
+    fn lit(x: f64) -> Expr {
+        Expr::constant(x)
+    }
+
+    fn select_nonzero(test: Expr, nonzero: Expr, zero: Expr) -> Expr {
+        if nonzero == zero {
+            return zero;
+        }
+        match test.value() {
+            Some(t) if t != 0.0 => nonzero,
+            Some(_) => zero,
+            None => Expr::push(Node::SelectNonZero {
+                test,
+                nonzero,
+                zero,
+            }),
+        }
+    }
+
+    fn powi(self, n: u8) -> Expr {
+        (1..n).fold(self, |acc, _| acc * self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constants_fold_and_repeats_are_recorded_once() {
+        let (tape, (a, b)) = trace(|| {
+            let x = Expr::input("x");
+            let a = Expr::lit(2.0) * x + Expr::lit(0.0) * x;
+            let b = x * Expr::lit(2.0) / Expr::lit(1.0);
+            (Expr::lit(2.0) * x == a, b)
+        });
+        assert!(a, "0 · x folds away and 2 · x is recorded once");
+        // x, 2, 2·x, 0, x·2 (operand order is kept), 1: the sum and the division by one are
+        // folded away.
+        assert_eq!(tape.nodes.len(), 6, "{:?}", tape.nodes);
+        assert_eq!(b.index(), 4);
+    }
+
+    #[test]
+    fn selections_on_constant_tests_pick_their_side() {
+        let (_, picked) = trace(|| {
+            let x = Expr::input("x");
+            let y = Expr::input("y");
+            (
+                Expr::select_nonzero(Expr::lit(1.0), x, y) == x,
+                Expr::select_nonzero(Expr::lit(0.0), x, y) == y,
+                Expr::select_nonzero(x, y, y) == y,
+            )
+        });
+        assert_eq!(picked, (true, true, true));
+    }
+}
