@@ -6,7 +6,7 @@
 //! shader evaluates the patch and its normals (the normal net — linear or Vlachos' quadratic,
 //! "fake" — or `Du × Dv`, "real"). Runs headless through EGL (Mesa's llvmpipe in software).
 //!
-//! ## One copy of each scheme's formulas
+//! ## Where the formulas come from
 //!
 //! The tessellation control shader builds each patch's control net, as van Veen's does, from
 //! the patch's corners (flat, Phong, PN) or from a 6-vertex patch that adds each edge's opposite
@@ -16,9 +16,11 @@
 //! CPU from storage buffers indexed by `gl_PrimitiveID` ([`NetSource::Buffers`]). The TCS also
 //! sets the levels (uniform, or per face from the levels the CPU plan resolved: each edge's
 //! level from that edge alone, so the output is crack-free); the TES sums `Σ w_k(l) C_k`.
-//! The cubic Bernstein weights are generated from [`tessella_core::basis::CUBIC_ORDER`]; the net
-//! builders and PNG1's rational weights are GLSL written after tessella-core's `scheme` and
-//! `basis/png1.rs` and tied to them by the tests, which compare every GL vertex with the CPU
+//! The weights (cubic Bernstein, PNG1's rational weights, the normal net's) are generated from
+//! tessella-core's own functions ([`tessella_core::shader`]), so they exist once. The control
+//! shader's net builders are the one second copy, by design: building the net on the GPU from
+//! the patch's corners is what this backend is for. They are GLSL written after tessella-core's
+//! `scheme` modules and tied to them by the tests, which compare every GL vertex with the CPU
 //! refinement of the same scheme, spacing and levels.
 
 pub mod bench;

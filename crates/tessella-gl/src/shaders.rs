@@ -1,10 +1,13 @@
-//! The GLSL of the backend. The cubic Bernstein weights are generated from
-//! [`CUBIC_ORDER`](tessella_core::basis::CUBIC_ORDER) (the table `Basis::Cubic` and the stencils
-//! use); PNG1's weights follow `tessella_core::basis::png1` line by line, as dual numbers
-//! `(value, ∂u, ∂v)` in a `vec3`, and are tied to it by the CPU comparison tests.
+//! The GLSL of the backend. The basis weights (cubic Bernstein, PNG1's rational weights as dual
+//! numbers) and the normal net's weights are generated from tessella-core's own Rust functions
+//! ([`tessella_core::shader`]); what is written here is the stages' own code: the levels, the
+//! control shader's net builders (van Veen's design: the patch's net built on the GPU from its
+//! corners, a second copy of `tessella_core::scheme` tied to it by the CPU comparison tests) and
+//! the evaluation shader's sums.
 
-use tessella_core::basis::CUBIC_ORDER;
+use tessella_core::shader::{self, Lang};
 use tessella_core::tessellator::Spacing;
+use tessella_core::Basis;
 
 /// The four stages' sources for one spacing.
 #[derive(Debug, Clone)]
@@ -207,7 +210,7 @@ void png1_net(vec3 pf[3], vec3 nf[3], vec3 opposite[3]) {
         vec3 mids[3] = vec3[3](vec3(0.5, 0.5, 0.0), vec3(0.0, 0.5, 0.5), vec3(0.5, 0.0, 0.5));
         for (int k = 0; k < 3; ++k) {
             vec3 w[21];
-            png1_weights(mids[k], w);
+            tessella_png1_weights(mids[k], w);
             dvec3 du = dvec3(0.0LF), dv = dvec3(0.0LF);
             for (int i = 0; i < 21; ++i) { du += double(w[i].y) * net[i]; dv += double(w[i].z) * net[i]; }
             // The corner normals as given (the CPU's smoothed_normal_net takes them so).
@@ -224,52 +227,6 @@ void png1_net(vec3 pf[3], vec3 nf[3], vec3 opposite[3]) {
     }
 }
 
-"#;
-
-/// Dual numbers and PNG1's weights (basis/png1.rs `weights_dual`).
-const PNG1: &str = r#"
-vec3 dmul(vec3 a, vec3 b) { return vec3(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + a.x * b.z); }
-vec3 ddiv(vec3 a, vec3 b) {
-    float q = a.x / b.x;
-    return vec3(q, (a.y - q * b.y) / b.x, (a.z - q * b.z) / b.x);
-}
-void png1_weights(vec3 bl, out vec3 w[21]) {
-    vec3 l[3] = vec3[3](vec3(bl.x, -1.0, -1.0), vec3(bl.y, 1.0, 0.0), vec3(bl.z, 0.0, 1.0));
-    vec3 one = vec3(1.0, 0.0, 0.0);
-    for (int i = 0; i < 21; ++i) { w[i] = vec3(0.0); }
-    for (int i = 0; i < 3; ++i) { w[i] = dmul(dmul(l[i], l[i]), l[i]); }
-    for (int k = 0; k < 3; ++k) {
-        vec3 a = l[k];
-        vec3 b = l[(k + 1) % 3];
-        vec3 c = l[(k + 2) % 3];
-        vec3 own = dmul(one - c, one - c);
-        vec3 crs = dmul(c, c);
-        vec3 den = own + crs;
-        own = ddiv(own, den);
-        crs = ddiv(crs, den);
-        vec3 near_a = 3.0 * dmul(dmul(a, a), b);
-        vec3 near_b = 3.0 * dmul(dmul(a, b), b);
-        int sa = 3 + (4 * k) % 12;
-        int sb = 3 + (4 * k + 2) % 12;
-        w[sa] = dmul(near_a, own);
-        w[sa + 1] = dmul(near_a, crs);
-        w[sb] = dmul(near_b, own);
-        w[sb + 1] = dmul(near_b, crs);
-    }
-    vec3 sigma = dmul(l[0], l[1]) + dmul(l[1], l[2]) + dmul(l[2], l[0]);
-    if (sigma.x != 0.0) {
-        vec3 b111 = 6.0 * dmul(dmul(l[0], l[1]), l[2]);
-        for (int k = 0; k < 3; ++k) {
-            vec3 a = l[k];
-            vec3 b = l[(k + 1) % 3];
-            vec3 den = a + b - 2.0 * dmul(a, b);
-            if (den.x == 0.0) { continue; }
-            vec3 t = ddiv(ddiv(dmul(b111, dmul(a, b)), sigma), den);
-            w[15 + 2 * k] = dmul(t, dmul(one - b, a));
-            w[16 + 2 * k] = dmul(t, dmul(one - a, b));
-        }
-    }
-}
 "#;
 
 /// Position, normal (net or `Du × Dv`), tessellation coordinate and face, for transform
@@ -291,7 +248,7 @@ void main() {
     vec3 l = gl_TessCoord;
     int f = gl_PrimitiveID;
     vec3 w[21];
-    if (u_k == 21) { png1_weights(l, w); } else { cubic_weights(l, w); }
+    if (u_k == 21) { tessella_png1_weights(l, w); } else { tessella_cubic_weights(l, w); }
     vec3 p = vec3(0.0);
     vec3 du = vec3(0.0);
     vec3 dv = vec3(0.0);
@@ -307,7 +264,8 @@ void main() {
         if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) { n = c; }
     }
     if (n == vec3(0.0)) {
-        float nw[6] = float[6](l.x * l.x, l.y * l.y, l.z * l.z, l.x * l.y, l.y * l.z, l.z * l.x);
+        float nw[6];
+        tessella_normal_weights(l, nw);
         for (int j = 0; j < 6; ++j) { n += nw[j] * nctrl(f, j); }
     }
     float len = length(n);
@@ -335,51 +293,6 @@ void main() {
     colour = u_wire != 0 ? vec4(0.05, 0.06, 0.1, 1.0) : vec4(0.5 * normalize(tf_normal) + 0.5, 1.0);
 }
 "#;
-
-fn power(var: &str, n: u8) -> String {
-    match n {
-        0 => "1.0".into(),
-        _ => vec![var; n as usize].join(" * "),
-    }
-}
-
-fn factorial(n: u8) -> f64 {
-    (1..=n as u32).product::<u32>() as f64
-}
-
-/// `cubic_weights`: the Bernstein polynomials of [`CUBIC_ORDER`] and their `Du`, `Dv`
-/// (`Du = ∂/∂l2 − ∂/∂l1`, `Dv = ∂/∂l3 − ∂/∂l1`), generated term by term.
-pub fn cubic_glsl() -> String {
-    let vars = ["l.x", "l.y", "l.z"];
-    let mut s = String::from("void cubic_weights(vec3 l, out vec3 w[21]) {\n");
-    s += "    for (int i = 10; i < 21; ++i) { w[i] = vec3(0.0); }\n";
-    for (k, e) in CUBIC_ORDER.iter().enumerate() {
-        let c = 6.0 / (factorial(e[0]) * factorial(e[1]) * factorial(e[2]));
-        let mono = |d: Option<usize>| -> String {
-            match d {
-                Some(m) if e[m] == 0 => "0.0".into(),
-                _ => {
-                    let coef = c * d.map_or(1.0, |m| e[m] as f64);
-                    let mut parts = vec![format!("{coef:?}")];
-                    for (i, v) in vars.iter().enumerate() {
-                        let p = e[i] - u8::from(d == Some(i));
-                        if p > 0 {
-                            parts.push(power(v, p));
-                        }
-                    }
-                    parts.join(" * ")
-                }
-            }
-        };
-        let (d1, d2, d3) = (mono(Some(0)), mono(Some(1)), mono(Some(2)));
-        s += &format!(
-            "    w[{k}] = vec3({}, ({d2}) - ({d1}), ({d3}) - ({d1}));\n",
-            mono(None)
-        );
-    }
-    s += "}\n";
-    s
-}
 
 fn layout(spacing: Spacing) -> &'static str {
     match spacing {
@@ -434,11 +347,16 @@ void main() {
 pub fn glsl_sources(spacing: Spacing) -> ShaderSources {
     ShaderSources {
         vertex: format!("{HEADER}{VERTEX}"),
-        control: format!("{HEADER}{CONTROL}{PNG1}{PNG1_NET}{CONTROL_MAIN}"),
+        control: format!(
+            "{HEADER}{CONTROL}{}{PNG1_NET}{CONTROL_MAIN}",
+            shader::weights(Lang::Glsl, Basis::Png1)
+        ),
         evaluation: format!(
-            "{HEADER}layout(triangles, {}, ccw) in;\n{}{PNG1}{EVALUATION}",
+            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{}{EVALUATION}",
             layout(spacing),
-            cubic_glsl()
+            shader::weights(Lang::Glsl, Basis::Cubic),
+            shader::weights(Lang::Glsl, Basis::Png1),
+            shader::normal_net(Lang::Glsl)
         ),
         fragment: format!("{HEADER}{FRAGMENT}"),
     }
@@ -449,12 +367,31 @@ mod tests {
     use super::*;
 
     #[test]
-    fn cubic_is_generated_for_every_control_point() {
-        let s = cubic_glsl();
-        for k in 0..10 {
-            assert!(s.contains(&format!("w[{k}] = vec3(")), "{s}");
+    fn every_stage_takes_the_generated_weights_it_calls() {
+        let s = glsl_sources(Spacing::Equal);
+        for (stage, text, calls) in [
+            ("control", &s.control, &["tessella_png1_weights"][..]),
+            (
+                "evaluation",
+                &s.evaluation,
+                &[
+                    "tessella_png1_weights",
+                    "tessella_cubic_weights",
+                    "tessella_normal_weights",
+                ][..],
+            ),
+        ] {
+            for f in calls {
+                assert_eq!(
+                    text.matches(&format!("void {f}(")).count(),
+                    1,
+                    "{stage}: {f}"
+                );
+                assert!(
+                    text.matches(&format!("{f}(")).count() >= 2,
+                    "{stage} calls {f}"
+                );
+            }
         }
-        // b111 = 6 l1 l2 l3
-        assert!(s.contains("w[9] = vec3(6.0 * l.x * l.y * l.z"), "{s}");
     }
 }

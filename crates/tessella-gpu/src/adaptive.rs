@@ -198,7 +198,7 @@ impl AdaptiveRenderer {
             crate::wgsl_constants::source(),
             shader::record_layout(Lang::Wgsl),
             format!(
-                "const BASIS_K: u32 = {}u;\nconst NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+                "const BASIS_K: u32 = {}u;\nconst TESSELLA_NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
                 basis.len(),
                 normal_mode_code(nets.normal_mode),
                 spacing == Spacing::Grid

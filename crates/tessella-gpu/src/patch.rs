@@ -256,7 +256,7 @@ pub(crate) fn shader_source(
     [
         &crate::wgsl_constants::source(),
         &format!(
-            "const NORMAL_MODE: u32 = {}u;\nconst DISPLACE_KIND: u32 = {}u;\n",
+            "const TESSELLA_NORMAL_MODE: u32 = {}u;\nconst TESSELLA_DISPLACE_KIND: u32 = {}u;\n",
             normal_mode_code(normal_mode),
             displace::kind_code(displacement)
         ),

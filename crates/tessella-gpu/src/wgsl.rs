@@ -25,7 +25,7 @@ struct TessellaPoint {
 }
 
 fn tessella_point(face: u32, vertex: u32) -> TessellaPoint {
-    let sp = eval_patch(face, vertex);
+    let sp = tessella_eval_patch(face, vertex);
     return TessellaPoint(sp.position, sp.normal, sp.l);
 }
 ";
@@ -151,4 +151,48 @@ impl PatchBindings {
 pub fn patch_module(group_index: u32, normal_mode: tessella_core::NormalMode) -> String {
     let source = patch::shader_source(ENTRY, normal_mode, &Displacement::None);
     source.replace("@group(0)", &format!("@group({group_index})"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wgpu::naga;
+
+    /// Every name the module an engine includes declares (functions, structs, bindings,
+    /// constants) is tessella's: `tessella_`, `Tessella` or `TESSELLA_`.
+    #[test]
+    fn the_exported_module_declares_only_prefixed_names() {
+        for mode in [
+            tessella_core::NormalMode::Quadratic,
+            tessella_core::NormalMode::Real,
+        ] {
+            let source = patch_module(2, mode);
+            let module = naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+            let mut names: Vec<String> = Vec::new();
+            names.extend(module.functions.iter().filter_map(|(_, f)| f.name.clone()));
+            names.extend(module.types.iter().filter_map(|(_, t)| match t.inner {
+                naga::TypeInner::Struct { .. } => t.name.clone(),
+                _ => None,
+            }));
+            names.extend(
+                module
+                    .global_variables
+                    .iter()
+                    .filter_map(|(_, g)| g.name.clone()),
+            );
+            names.extend(module.constants.iter().filter_map(|(_, c)| c.name.clone()));
+            assert!(names.len() > 30, "{names:?}");
+            assert!(names.iter().any(|n| n == "tessella_point"), "{names:?}");
+            for name in names {
+                assert!(
+                    ["tessella_", "Tessella", "TESSELLA_"]
+                        .iter()
+                        .any(|p| name.starts_with(p)),
+                    "the exported WGSL declares `{name}`"
+                );
+            }
+            assert!(source.contains("@group(2)") && !source.contains("@group(0)"));
+        }
+    }
 }

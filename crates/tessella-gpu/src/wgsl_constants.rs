@@ -10,11 +10,11 @@ pub(crate) const COLORMAP_ENTRIES: usize = 257;
 /// The shared constants as WGSL source.
 pub(crate) fn source() -> String {
     [
-        ("NORMAL_NET_LEN", NORMAL_NET_BYTES as u32 / 12),
-        ("EDGE_ROWS_AT", crate::canonical::ROWS_AT as u32),
-        ("EDGE_ROW_LEN", crate::canonical::ROW_LEN as u32),
-        ("MODE_REAL", normal_mode_code(NormalMode::Real)),
-        ("COLORMAP_ENTRIES", COLORMAP_ENTRIES as u32),
+        ("TESSELLA_NORMAL_NET_LEN", NORMAL_NET_BYTES as u32 / 12),
+        ("TESSELLA_EDGE_ROWS_AT", crate::canonical::ROWS_AT as u32),
+        ("TESSELLA_EDGE_ROW_LEN", crate::canonical::ROW_LEN as u32),
+        ("TESSELLA_MODE_REAL", normal_mode_code(NormalMode::Real)),
+        ("TESSELLA_COLORMAP_ENTRIES", COLORMAP_ENTRIES as u32),
     ]
     .iter()
     .map(|(name, value)| format!("const {name}: u32 = {value}u;\n"))

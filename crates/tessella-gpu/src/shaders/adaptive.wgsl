@@ -12,7 +12,7 @@
 
 // Set by the renderer before this file, so that each pipeline compiles only its own basis,
 // normal mode and spacing (a branch on a uniform still costs its whole body on a software
-// rasteriser): BASIS_K (10 cubic, 21 PNG1), NORMAL_MODE (0 linear, 1 quadratic, 2 real:
+// rasteriser): BASIS_K (10 cubic, 21 PNG1), TESSELLA_NORMAL_MODE (0 linear, 1 quadratic, 2 real:
 // NormalMode order), GRID (grid spacing, else a tessellator spacing).
 
 struct AdaptiveParams {
@@ -27,7 +27,7 @@ struct AdaptiveParams {
 @group(0) @binding(2) var<uniform> params: AdaptiveParams;
 @group(0) @binding(3) var<storage, read> records: array<u32>;
 
-// MODE_REAL, NORMAL_NET_LEN: prepended from Rust (wgsl_constants.rs).
+// TESSELLA_MODE_REAL, TESSELLA_NORMAL_NET_LEN: prepended from Rust (wgsl_constants.rs).
 const ONE: u32 = TESSELLA_FIXED_ONE;
 const ONE_HALF: u32 = TESSELLA_FIXED_ONE_HALF;
 const NO_EDGE: u32 = 3u;
@@ -39,7 +39,7 @@ fn tessella_net_point(face: u32, k: u32) -> vec3<f32> {
 }
 
 fn tessella_net_normal(face: u32, k: u32) -> vec3<f32> {
-    let i = (face * NORMAL_NET_LEN + k) * 3u;
+    let i = (face * TESSELLA_NORMAL_NET_LEN + k) * 3u;
     return vec3<f32>(net_normals[i], net_normals[i + 1u], net_normals[i + 2u]);
 }
 
@@ -133,7 +133,7 @@ struct Sums {
 fn add_point(acc: ptr<function, Sums>, face: u32, l: vec3<f32>, scale: f32) {
     let s = tessella_patch_sum(face, l);
     (*acc).p += scale * s.p;
-    if (NORMAL_MODE == MODE_REAL) {
+    if (TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL) {
         (*acc).du += scale * s.du;
         (*acc).dv += scale * s.dv;
     }
@@ -279,7 +279,7 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
 
     var p = acc.p;
     var n = vec3<f32>(0.0);
-    if (NORMAL_MODE == MODE_REAL) {
+    if (TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL) {
         let c = cross(acc.du, acc.dv);
         if (dot(c, c) > 1e-12 * dot(acc.du, acc.du) * dot(acc.dv, acc.dv)) {
             n = c;
@@ -297,7 +297,7 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
             q += acc.edge_w[i] * tessella_net_point(face, ctrl[select(3u - i, i, forward)]);
         }
         p = q;
-        if (NORMAL_MODE != MODE_REAL) {
+        if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL) {
             let nc = params.edge_normals[edge];
             var m = vec3<f32>(0.0);
             for (var i = 0u; i < 3u; i++) {

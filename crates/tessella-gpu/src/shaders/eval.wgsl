@@ -4,7 +4,7 @@
 // (value[K] | du[K] | dv[K] | normal weights[6] | l[3]); here we only combine them.
 // K and the row stride are uniforms, so every basis (cubic K=10, PNG1 K=21, ...) runs unchanged.
 
-struct EvalParams {
+struct TessellaEvalParams {
     k: u32,
     stride: u32,
     face_count: u32,
@@ -17,72 +17,74 @@ struct EvalParams {
     _pad2: u32,
 }
 
-@group(0) @binding(0) var<storage, read> stencil: array<f32>;
-@group(0) @binding(1) var<storage, read> net_points: array<f32>;
-@group(0) @binding(2) var<storage, read> net_normals: array<f32>;
-@group(0) @binding(3) var<uniform> eval_params: EvalParams;
+@group(0) @binding(0) var<storage, read> tessella_stencil: array<f32>;
+@group(0) @binding(1) var<storage, read> tessella_net_points: array<f32>;
+@group(0) @binding(2) var<storage, read> tessella_net_normals: array<f32>;
+@group(0) @binding(3) var<uniform> tessella_eval_params: TessellaEvalParams;
 // Canonical edges (crate::canonical): boundary control points per edge, per pattern row its
 // edge and both directions' weights, per face which edges run canonically.
-@group(0) @binding(6) var<storage, read> edge_table: array<u32>;
+@group(0) @binding(6) var<storage, read> tessella_edge_table: array<u32>;
 
-// NORMAL_NET_LEN, EDGE_ROWS_AT, EDGE_ROW_LEN, MODE_REAL: prepended from Rust (wgsl_constants.rs).
+// TESSELLA_NORMAL_NET_LEN, TESSELLA_EDGE_ROWS_AT, TESSELLA_EDGE_ROW_LEN, TESSELLA_MODE_REAL:
+// prepended from Rust (wgsl_constants.rs). Every name this module declares starts with
+// `tessella_` (`Tessella`, `TESSELLA_`): engines include it beside their own (docs/engine.md).
 
-struct SurfacePoint {
+struct TessellaSurfacePoint {
     position: vec3<f32>,
     normal: vec3<f32>,
     // The row's barycentric coordinates (l1, l2, l3).
     l: vec3<f32>,
 }
 
-fn net_point(face: u32, k: u32) -> vec3<f32> {
-    let i = (face * eval_params.k + k) * 3u - eval_params.points_base;
-    return vec3<f32>(net_points[i], net_points[i + 1u], net_points[i + 2u]);
+fn tessella_net_point(face: u32, k: u32) -> vec3<f32> {
+    let i = (face * tessella_eval_params.k + k) * 3u - tessella_eval_params.points_base;
+    return vec3<f32>(tessella_net_points[i], tessella_net_points[i + 1u], tessella_net_points[i + 2u]);
 }
 
-fn net_normal(face: u32, k: u32) -> vec3<f32> {
-    let i = (face * NORMAL_NET_LEN + k) * 3u - eval_params.normals_base;
-    return vec3<f32>(net_normals[i], net_normals[i + 1u], net_normals[i + 2u]);
+fn tessella_net_normal(face: u32, k: u32) -> vec3<f32> {
+    let i = (face * TESSELLA_NORMAL_NET_LEN + k) * 3u - tessella_eval_params.normals_base;
+    return vec3<f32>(tessella_net_normals[i], tessella_net_normals[i + 1u], tessella_net_normals[i + 2u]);
 }
 
 // sum_k w_k C_k with w read from `stencil` starting at `first`, in the CPU's order.
-fn combine_points(face: u32, first: u32) -> vec3<f32> {
+fn tessella_combine_points(face: u32, first: u32) -> vec3<f32> {
     var acc = vec3<f32>(0.0);
-    for (var k = 0u; k < eval_params.k; k++) {
-        acc += stencil[first + k] * net_point(face, k);
+    for (var k = 0u; k < tessella_eval_params.k; k++) {
+        acc += tessella_stencil[first + k] * tessella_net_point(face, k);
     }
     return acc;
 }
 
 // Evaluates stencil row `row` on coarse triangle `face` (same fallbacks as `eval_point`).
-fn eval_patch(face: u32, row: u32) -> SurfacePoint {
-    let k = eval_params.k;
-    let base = row * eval_params.stride;
-    var out: SurfacePoint;
-    out.position = combine_points(face, base);
+fn tessella_eval_patch(face: u32, row: u32) -> TessellaSurfacePoint {
+    let k = tessella_eval_params.k;
+    let base = row * tessella_eval_params.stride;
+    var out: TessellaSurfacePoint;
+    out.position = tessella_combine_points(face, base);
     var n = vec3<f32>(0.0);
-    if (NORMAL_MODE == MODE_REAL) {
-        let du = combine_points(face, base + k);
-        let dv = combine_points(face, base + 2u * k);
+    if (TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL) {
+        let du = tessella_combine_points(face, base + k);
+        let dv = tessella_combine_points(face, base + 2u * k);
         let c = cross(du, dv);
         if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {
             n = c;
         }
     }
     if (all(n == vec3<f32>(0.0))) {
-        for (var j = 0u; j < NORMAL_NET_LEN; j++) {
-            n += stencil[base + 3u * k + j] * net_normal(face, j);
+        for (var j = 0u; j < TESSELLA_NORMAL_NET_LEN; j++) {
+            n += tessella_stencil[base + 3u * k + j] * tessella_net_normal(face, j);
         }
     }
     if (dot(n, n) > 0.0) {
         out.normal = normalize(n);
     } else {
-        let a = net_point(face, 0u);
-        let fn_ = cross(net_point(face, 1u) - a, net_point(face, 2u) - a);
+        let a = tessella_net_point(face, 0u);
+        let fn_ = cross(tessella_net_point(face, 1u) - a, tessella_net_point(face, 2u) - a);
         out.normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(fn_), dot(fn_, fn_) > 0.0);
     }
-    let l0 = base + 3u * k + NORMAL_NET_LEN;
-    out.l = vec3<f32>(stencil[l0], stencil[l0 + 1u], stencil[l0 + 2u]);
-    canonical_edge(face, row, &out);
+    let l0 = base + 3u * k + TESSELLA_NORMAL_NET_LEN;
+    out.l = vec3<f32>(tessella_stencil[l0], tessella_stencil[l0 + 1u], tessella_stencil[l0 + 2u]);
+    tessella_canonical_edge(face, row, &out);
     return out;
 }
 
@@ -90,26 +92,26 @@ fn eval_patch(face: u32, row: u32) -> SurfacePoint {
 // normal-net entries) in canonical order, from the corner with the lower position id, with
 // weights made on the CPU: the two faces sharing the edge compute the same floats in the same
 // order, so its vertices are bit-identical. "Real" normals stay the face's own.
-fn canonical_edge(face: u32, row: u32, out: ptr<function, SurfacePoint>) {
-    let r = EDGE_ROWS_AT + row * EDGE_ROW_LEN;
-    let code = edge_table[r];
+fn tessella_canonical_edge(face: u32, row: u32, out: ptr<function, TessellaSurfacePoint>) {
+    let r = TESSELLA_EDGE_ROWS_AT + row * TESSELLA_EDGE_ROW_LEN;
+    let code = tessella_edge_table[r];
     if (code == 0u) {
         return;
     }
     let k = code - 1u;
-    let forward = ((edge_table[edge_table[0] + face] >> k) & 1u) != 0u;
+    let forward = ((tessella_edge_table[tessella_edge_table[0] + face] >> k) & 1u) != 0u;
     let w = r + 1u + select(7u, 0u, forward);
     var p = vec3<f32>(0.0);
     for (var i = 0u; i < 4u; i++) {
-        let c = edge_table[1u + k * 4u + select(3u - i, i, forward)];
-        p += bitcast<f32>(edge_table[w + i]) * net_point(face, c);
+        let c = tessella_edge_table[1u + k * 4u + select(3u - i, i, forward)];
+        p += bitcast<f32>(tessella_edge_table[w + i]) * tessella_net_point(face, c);
     }
     (*out).position = p;
-    if (NORMAL_MODE != MODE_REAL) {
+    if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL) {
         var n = vec3<f32>(0.0);
         for (var i = 0u; i < 3u; i++) {
-            let c = edge_table[13u + k * 3u + select(2u - i, i, forward)];
-            n += bitcast<f32>(edge_table[w + 4u + i]) * net_normal(face, c);
+            let c = tessella_edge_table[13u + k * 3u + select(2u - i, i, forward)];
+            n += bitcast<f32>(tessella_edge_table[w + 4u + i]) * tessella_net_normal(face, c);
         }
         if (dot(n, n) > 0.0) {
             (*out).normal = normalize(n);

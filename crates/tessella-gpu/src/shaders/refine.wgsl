@@ -88,7 +88,7 @@ fn forward(face: u32, k: u32, e: u32) -> bool {
 // direction on hard edges and split corners).
 fn write_vertex(local: u32, p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>, uv: vec2<f32>) {
     // Displace after evaluation, once per output slot: shared vertices stay shared.
-    let q = p + displacement(p, uv) * dir;
+    let q = p + tessella_displacement(p, uv) * dir;
     // Interleaved as the caller's VertexFormat says.
     let i = params.out_base + local * params.out_stride;
     put3(i + params.out_position, q);
@@ -123,9 +123,9 @@ fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
             var dir = n;
             if (owner != NONE) {
                 let c = mesh_u32[params.corner_points_at + (owner & 3u)];
-                let corner_point = eval_patch(owner >> 2u, c);
+                let corner_point = tessella_eval_patch(owner >> 2u, c);
                 n = corner_point.normal;
-                dir = displace_direction(owner >> 2u, corner_point.l, n);
+                dir = tessella_displace_direction(owner >> 2u, corner_point.l, n);
             }
             var uv = vec2<f32>(0.0);
             if (params.has_uv != 0u) {
@@ -151,7 +151,7 @@ fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
         face = g / params.points_per_face;
         row = g % params.points_per_face;
     }
-    let sp = eval_patch(face, row);
+    let sp = tessella_eval_patch(face, row);
     var p = sp.position;
     let code = mesh_u32[params.point_codes_at + row];
     if (params.weld == 0u && (code >> 30u) == 0u) {
@@ -162,7 +162,7 @@ fn refine_vertices(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (params.has_uv != 0u) {
         uv = face_uv(face, sp.l);
     }
-    write_vertex(local, p, sp.normal, displace_direction(face, sp.l, sp.normal), uv);
+    write_vertex(local, p, sp.normal, tessella_displace_direction(face, sp.l, sp.normal), uv);
 }
 
 // One output vertex of an adaptive plan (tessella-core's AdaptiveJob): the lookup names the face
@@ -183,7 +183,7 @@ fn adaptive_vertex(local: u32, g: u32) {
     }
     let row = word & 0x3fffffffu;
     let c = word >> 30u;
-    let sp = eval_patch(face, row);
+    let sp = tessella_eval_patch(face, row);
     var p = sp.position;
     if (c != 0u) {
         p = input_vec3(params.positions_at, corner(face, c - 1u));
@@ -192,7 +192,7 @@ fn adaptive_vertex(local: u32, g: u32) {
     if (params.has_uv != 0u) {
         uv = face_uv(face, sp.l);
     }
-    write_vertex(local, p, sp.normal, displace_direction(face, sp.l, sp.normal), uv);
+    write_vertex(local, p, sp.normal, tessella_displace_direction(face, sp.l, sp.normal), uv);
 }
 
 // Output vertex of pattern point `p` on `face` (the CPU's welded_triangles map).

@@ -10,16 +10,16 @@ fn vs_pattern(@location(0) code: u32, @builtin(instance_index) instance: u32) ->
     let face = instance_faces[instance];
     let row = code & 0x3fffffffu;
     let corner = code >> 30u;
-    let sp = eval_patch(face, row);
+    let sp = tessella_eval_patch(face, row);
     var p = sp.position;
-    if (DISPLACE_KIND != 0u) {
+    if (TESSELLA_DISPLACE_KIND != 0u) {
         let i = face * 6u;
         let l = sp.l;
         let uv = vec2<f32>(
             l.x * face_uvs[i] + l.y * face_uvs[i + 2u] + l.z * face_uvs[i + 4u],
             l.x * face_uvs[i + 1u] + l.y * face_uvs[i + 3u] + l.z * face_uvs[i + 5u],
         );
-        p += displacement(p, uv) * displace_direction(face, l, sp.normal);
+        p += tessella_displacement(p, uv) * tessella_displace_direction(face, l, sp.normal);
     }
     var out: VsOut;
     out.clip = u.view_proj * vec4<f32>(p, 1.0);

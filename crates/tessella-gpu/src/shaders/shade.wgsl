@@ -23,9 +23,9 @@ struct RenderUniforms {
 // Per coarse triangle: a scalar field's P2 net (corners, then mid-edges 0-1, 1-2, 2-0).
 @group(1) @binding(3) var<storage, read> face_field: array<f32>;
 // [low, high, samples, 0], then `samples` sRGB colours; samples 0: no field colouring. A
-// uniform (COLORMAP_ENTRIES, prepended from Rust), so the vertex stage binds 8 storage
+// uniform (TESSELLA_COLORMAP_ENTRIES, prepended from Rust), so the vertex stage binds 8 storage
 // buffers, WebGPU's default limit.
-@group(1) @binding(4) var<uniform> colormap: array<vec4<f32>, COLORMAP_ENTRIES>;
+@group(1) @binding(4) var<uniform> colormap: array<vec4<f32>, TESSELLA_COLORMAP_ENTRIES>;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
