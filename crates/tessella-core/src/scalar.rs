@@ -28,6 +28,10 @@ pub trait Real:
     fn select_nonzero(test: Self, nonzero: Self, zero: Self) -> Self;
     /// `self` to the power `n`, `n ≥ 1`.
     fn powi(self, n: u8) -> Self;
+    /// The square root.
+    fn sqrt(self) -> Self;
+    /// `yes` where `test` is finite and positive, else `no`; both sides are computed.
+    fn select_positive_finite(test: Self, yes: Self, no: Self) -> Self;
 }
 
 impl Real for f64 {
@@ -46,6 +50,130 @@ impl Real for f64 {
     #[inline]
     fn powi(self, n: u8) -> f64 {
         f64::powi(self, i32::from(n))
+    }
+    #[inline]
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
+    }
+    #[inline]
+    fn select_positive_finite(test: f64, yes: f64, no: f64) -> f64 {
+        if test.is_finite() && test > 0.0 {
+            yes
+        } else {
+            no
+        }
+    }
+}
+
+/// The control nets are built in `f32` (the coarse mesh's precision).
+impl Real for f32 {
+    #[inline]
+    fn lit(x: f64) -> f32 {
+        x as f32
+    }
+    #[inline]
+    fn select_nonzero(test: f32, nonzero: f32, zero: f32) -> f32 {
+        if test != 0.0 {
+            nonzero
+        } else {
+            zero
+        }
+    }
+    #[inline]
+    fn powi(self, n: u8) -> f32 {
+        f32::powi(self, i32::from(n))
+    }
+    #[inline]
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    #[inline]
+    fn select_positive_finite(test: f32, yes: f32, no: f32) -> f32 {
+        if test.is_finite() && test > 0.0 {
+            yes
+        } else {
+            no
+        }
+    }
+}
+
+/// A 3-vector of [`Real`]s, for the net builders written once for the CPU (`f32`, with the
+/// same operations in the same order as `glam::Vec3`, so the bits are `glam`'s) and the shaders.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct V3<T> {
+    pub x: T,
+    pub y: T,
+    pub z: T,
+}
+
+impl<T: Real> V3<T> {
+    pub fn new(x: T, y: T, z: T) -> V3<T> {
+        V3 { x, y, z }
+    }
+    pub fn zero() -> V3<T> {
+        let z = T::lit(0.0);
+        V3::new(z, z, z)
+    }
+    /// `x·x' + y·y' + z·z'`, summed left to right.
+    pub fn dot(self, o: V3<T>) -> T {
+        (self.x * o.x) + (self.y * o.y) + (self.z * o.z)
+    }
+    pub fn length_squared(self) -> T {
+        self.dot(self)
+    }
+    /// `self · (1 / |self|)`, or zero where that reciprocal is not finite and positive (as
+    /// `glam::Vec3::normalize_or_zero`).
+    pub fn normalize_or_zero(self) -> V3<T> {
+        let rcp = T::lit(1.0) / self.dot(self).sqrt();
+        let scaled = self * rcp;
+        let zero = T::lit(0.0);
+        V3::new(
+            T::select_positive_finite(rcp, scaled.x, zero),
+            T::select_positive_finite(rcp, scaled.y, zero),
+            T::select_positive_finite(rcp, scaled.z, zero),
+        )
+    }
+}
+
+impl<T: Real> Add for V3<T> {
+    type Output = V3<T>;
+    fn add(self, o: V3<T>) -> V3<T> {
+        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl<T: Real> Sub for V3<T> {
+    type Output = V3<T>;
+    fn sub(self, o: V3<T>) -> V3<T> {
+        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+/// `v · s`, each component.
+impl<T: Real> Mul<T> for V3<T> {
+    type Output = V3<T>;
+    fn mul(self, s: T) -> V3<T> {
+        V3::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+/// `v / s`, each component.
+impl<T: Real> Div<T> for V3<T> {
+    type Output = V3<T>;
+    fn div(self, s: T) -> V3<T> {
+        V3::new(self.x / s, self.y / s, self.z / s)
+    }
+}
+
+impl From<glam::Vec3> for V3<f32> {
+    fn from(v: glam::Vec3) -> V3<f32> {
+        V3::new(v.x, v.y, v.z)
+    }
+}
+
+impl From<V3<f32>> for glam::Vec3 {
+    fn from(v: V3<f32>) -> glam::Vec3 {
+        glam::Vec3::new(v.x, v.y, v.z)
     }
 }
 

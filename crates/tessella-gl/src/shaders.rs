@@ -5,7 +5,7 @@
 //! corners, a second copy of `tessella_core::scheme` tied to it by the CPU comparison tests) and
 //! the evaluation shader's sums.
 
-use tessella_core::shader::{self, Lang};
+use tessella_core::shader::{self, Lang, NetBuilder};
 use tessella_core::tessellator::Spacing;
 use tessella_core::Basis;
 
@@ -33,12 +33,12 @@ void main() {
 "#;
 
 /// Levels: a uniform, or per face from a buffer (GL order: outer[0] is the edge l1 = 0). The
-/// control net: built here from the patch's corners (flat, Phong, PN; PNG1 from a 6-vertex
-/// patch that adds each edge's opposite neighbour corner), as van Veen's control shader does,
-/// or copied from the buffers the CPU filled (`u_nets == 0`: PN-AEN, scalar-tagged,
-/// quadratic elements). The formulas are those of tessella-core's `scheme` modules, line by
-/// line; the tests compare every vertex with the CPU.
-const CONTROL: &str = r#"
+/// control net: built here from the patch's corners (flat, Phong, PN with the builders
+/// generated from tessella-core's `scheme` functions; PNG1 from a 6-vertex patch that adds each
+/// edge's opposite neighbour corner, [`PNG1_NET`]), as van Veen's control shader does, or copied
+/// from the buffers the CPU filled (`u_nets == 0`: PN-AEN, scalar-tagged, quadratic elements).
+/// The tests compare every vertex with the CPU.
+const CONTROL_DECLARATIONS: &str = r#"
 layout(vertices = 1) out;
 uniform int u_per_face;
 uniform float u_level;
@@ -57,64 +57,31 @@ in vec3 v_position[];
 in vec3 v_normal[];
 patch out vec3 tc_pts[21];
 patch out vec3 tc_nrm[6];
+"#;
 
-vec3 cubic_elevated(vec3 p[3], vec3 m[3], int i) {
-    vec3 q0 = m[0] * 0.5, q1 = m[1] * 0.5, q2 = m[2] * 0.5;
-    if (i < 3) { return p[i]; }
-    if (i == 3) { return (p[0] + 2.0 * q0) / 3.0; }
-    if (i == 4) { return (p[1] + 2.0 * q0) / 3.0; }
-    if (i == 5) { return (p[1] + 2.0 * q1) / 3.0; }
-    if (i == 6) { return (p[2] + 2.0 * q1) / 3.0; }
-    if (i == 7) { return (p[2] + 2.0 * q2) / 3.0; }
-    if (i == 8) { return (p[0] + 2.0 * q2) / 3.0; }
-    return (q0 + q1 + q2) / 3.0;
-}
-vec3 normalize_or_zero(vec3 x) {
-    float r = 1.0 / length(x);
-    return (!isinf(r) && !isnan(r) && r > 0.0) ? x * r : vec3(0.0);
-}
-vec3 phong_project(vec3 q, vec3 p, vec3 n) { return q - dot(q - p, n) * n; }
-vec3 pn_edge(vec3 pi, vec3 pj, vec3 ni) {
-    float w = dot(pj - pi, ni);
-    return (2.0 * pi + pj - w * ni) / 3.0;
-}
+/// The cubic and normal nets from the generated builders (declared before this).
+const CONTROL: &str = r#"
+// The nets from the generated builders (tessella_core::shader::net_builder, the CPU's own
+// scheme functions).
 void cubic_net(vec3 p[3], vec3 n[3]) {
+    vec3 c[10];
     if (u_nets == 3) {
-        vec3 e[6] = vec3[6](pn_edge(p[0], p[1], n[0]), pn_edge(p[1], p[0], n[1]),
-                            pn_edge(p[1], p[2], n[1]), pn_edge(p[2], p[1], n[2]),
-                            pn_edge(p[2], p[0], n[2]), pn_edge(p[0], p[2], n[0]));
-        vec3 em = (e[0] + e[1] + e[2] + e[3] + e[4] + e[5]) / 6.0;
-        vec3 v = (p[0] + p[1] + p[2]) / 3.0;
-        for (int i = 0; i < 3; ++i) { tc_pts[i] = p[i]; }
-        for (int i = 0; i < 6; ++i) { tc_pts[3 + i] = e[i]; }
-        tc_pts[9] = em + (em - v) * 0.5;
+        tessella_pn_points(p, n, c);
+    } else if (u_nets == 2) {
+        tessella_phong_points(p, n, u_alpha, c);
     } else {
-        vec3 m[3];
-        for (int i = 0; i < 3; ++i) {
-            int j = (i + 1) % 3;
-            vec3 flat_mid = p[i] + p[j];
-            if (u_nets == 2) {
-                vec3 phong = phong_project(p[j], p[i], n[i]) + phong_project(p[i], p[j], n[j]);
-                m[i] = flat_mid + u_alpha * (phong - flat_mid);
-            } else {
-                m[i] = flat_mid;
-            }
-        }
-        for (int i = 0; i < 10; ++i) { tc_pts[i] = cubic_elevated(p, m, i); }
+        tessella_flat_points(p, n, c);
     }
+    for (int i = 0; i < 10; ++i) { tc_pts[i] = c[i]; }
 }
 void normal_net(vec3 p[3], vec3 n[3]) {
-    for (int i = 0; i < 3; ++i) {
-        int j = (i + 1) % 3;
-        tc_nrm[i] = n[i];
-        if (u_normals == 1) {
-            vec3 d = p[j] - p[i];
-            float v = 2.0 * dot(d, n[i] + n[j]) / dot(d, d);
-            tc_nrm[3 + i] = normalize_or_zero(n[i] + n[j] - v * d);
-        } else {
-            tc_nrm[3 + i] = n[i] + n[j];
-        }
+    vec3 m[6];
+    if (u_normals == 1) {
+        tessella_quadratic_normals(p, n, m);
+    } else {
+        tessella_linear_normals(p, n, m);
     }
+    for (int i = 0; i < 6; ++i) { tc_nrm[i] = m[i]; }
 }
 "#;
 
@@ -348,7 +315,10 @@ pub fn glsl_sources(spacing: Spacing) -> ShaderSources {
     ShaderSources {
         vertex: format!("{HEADER}{VERTEX}"),
         control: format!(
-            "{HEADER}{CONTROL}{}{PNG1_NET}{CONTROL_MAIN}",
+            "{HEADER}{CONTROL_DECLARATIONS}{}{CONTROL}{}{PNG1_NET}{CONTROL_MAIN}",
+            NetBuilder::ALL
+                .map(|b| shader::net_builder(Lang::Glsl, b))
+                .concat(),
             shader::weights(Lang::Glsl, Basis::Png1)
         ),
         evaluation: format!(

@@ -15,10 +15,10 @@
 //! PNG1 and PN-AEN look across edges (neighbours by position, [`Topology::neighbors`]); the
 //! scalar-tagged scheme reads [`Tags`] by position. The others see one triangle at a time.
 
-mod flat;
-mod normal_net;
-mod phong;
-mod pn;
+pub(crate) mod flat;
+pub(crate) mod normal_net;
+pub(crate) mod phong;
+pub(crate) mod pn;
 mod pn_aen;
 pub mod png1;
 mod quadratic;
@@ -28,6 +28,7 @@ use crate::basis::{Basis, NORMAL_NET_LEN};
 use crate::error::RefineError;
 use crate::mesh::topology::across_edge;
 use crate::mesh::{Mesh, Topology};
+use crate::scalar::{Real, V3};
 use crate::tags::Tags;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -402,19 +403,20 @@ pub fn png1_nets_f64(
 
 /// Degree-elevates a quadratic patch `sum li² Pi + sum_{i<j} li lj m_ij` (monomial mid
 /// coefficients `m = [m12, m23, m31]`) to the cubic Bernstein net in [`crate::basis::CUBIC_ORDER`].
-pub(crate) fn cubic_from_quadratic(p: [Vec3; 3], m: [Vec3; 3]) -> [Vec3; 10] {
+pub(crate) fn cubic_from_quadratic<T: Real>(p: [V3<T>; 3], m: [V3<T>; 3]) -> [V3<T>; 10] {
     // Bernstein mid coefficients q_ij = m_ij / 2; c_ijk = (i q_(i-1)jk + j q_i(j-1)k + k q_ij(k-1)) / 3.
-    let q = m.map(|x| x * 0.5);
+    let q = m.map(|x| x * T::lit(0.5));
+    let (two, three) = (T::lit(2.0), T::lit(3.0));
     [
         p[0],
         p[1],
         p[2],
-        (p[0] + 2.0 * q[0]) / 3.0,
-        (p[1] + 2.0 * q[0]) / 3.0,
-        (p[1] + 2.0 * q[1]) / 3.0,
-        (p[2] + 2.0 * q[1]) / 3.0,
-        (p[2] + 2.0 * q[2]) / 3.0,
-        (p[0] + 2.0 * q[2]) / 3.0,
-        (q[0] + q[1] + q[2]) / 3.0,
+        (p[0] + q[0] * two) / three,
+        (p[1] + q[0] * two) / three,
+        (p[1] + q[1] * two) / three,
+        (p[2] + q[1] * two) / three,
+        (p[2] + q[2] * two) / three,
+        (p[0] + q[2] * two) / three,
+        (q[0] + q[1] + q[2]) / three,
     ]
 }

@@ -69,6 +69,17 @@ impl<'t> Body<'t> {
             Node::Mul(a, b) => format!("{} * {}", n(a), n(b)),
             Node::Div(a, b) => format!("{} / {}", n(a), n(b)),
             Node::Neg(a) => format!("-{}", n(a)),
+            Node::Sqrt(a) => format!("sqrt({})", n(a)),
+            // NaN fails both comparisons and infinity the second: "finite and positive"
+            // without isnan/isinf, which WGSL does not have.
+            Node::SelectPositiveFinite { test, yes, no } => {
+                let t = n(test);
+                let finite = format!("{t} > 0.0 && {t} <= {F32_MAX}");
+                match self.lang {
+                    Lang::Wgsl => format!("select({}, {}, {finite})", n(no), n(yes)),
+                    Lang::Glsl => format!("({finite} ? {} : {})", n(yes), n(no)),
+                }
+            }
             Node::SelectNonZero {
                 test,
                 nonzero,
@@ -82,10 +93,14 @@ impl<'t> Body<'t> {
     }
 }
 
+/// The largest finite `f32`, as a literal both languages read.
+const F32_MAX: &str = "3.4028235e38";
+
 fn operands(node: &Node) -> Vec<Expr> {
     match *node {
         Node::Input(_) | Node::Const(_) => vec![],
-        Node::Neg(a) => vec![a],
+        Node::Neg(a) | Node::Sqrt(a) => vec![a],
+        Node::SelectPositiveFinite { test, yes, no } => vec![test, yes, no],
         Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
         Node::SelectNonZero {
             test,

@@ -28,7 +28,7 @@ mod trace;
 
 use crate::basis::{normal_weights, Basis, NORMAL_NET_LEN};
 use crate::refine::canonical::EdgeWeights;
-use crate::scalar::Dual;
+use crate::scalar::{Dual, Real, V3};
 use emit::Body;
 use trace::{trace, Expr};
 
@@ -187,6 +187,125 @@ pub fn edge_weights_wgsl() -> String {
          return TessellaEdgeWeights(vec4<f32>({v}), vec3<f32>({n}));\n}}\n",
         body.statements
     )
+}
+
+/// A control-net builder the GPU can run from a triangle's three corners (positions `p`,
+/// normals `n`), generated from the scheme's own Rust ([`crate::scheme`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum NetBuilder {
+    /// The flat triangle's cubic net (`scheme::flat::points`): `tessella_flat_points`.
+    FlatPoints,
+    /// Phong tessellation's cubic net with shape factor `alpha` (`scheme::phong::points`):
+    /// `tessella_phong_points`.
+    PhongPoints,
+    /// PN triangles' cubic net (`scheme::pn::points`): `tessella_pn_points`.
+    PnPoints,
+    /// The linear normal net (`scheme::normal_net::linear_of`): `tessella_linear_normals`.
+    LinearNormals,
+    /// Vlachos' quadratic normal net (`scheme::normal_net::quadratic_of`):
+    /// `tessella_quadratic_normals`.
+    QuadraticNormals,
+}
+
+impl NetBuilder {
+    /// Every builder.
+    pub const ALL: [NetBuilder; 5] = [
+        NetBuilder::FlatPoints,
+        NetBuilder::PhongPoints,
+        NetBuilder::PnPoints,
+        NetBuilder::LinearNormals,
+        NetBuilder::QuadraticNormals,
+    ];
+
+    /// The generated function's name.
+    pub fn function_name(self) -> &'static str {
+        match self {
+            NetBuilder::FlatPoints => "tessella_flat_points",
+            NetBuilder::PhongPoints => "tessella_phong_points",
+            NetBuilder::PnPoints => "tessella_pn_points",
+            NetBuilder::LinearNormals => "tessella_linear_normals",
+            NetBuilder::QuadraticNormals => "tessella_quadratic_normals",
+        }
+    }
+
+    /// The net for traced corners (and `alpha`, which only Phong reads).
+    fn build<T: Real>(self, p: [V3<T>; 3], n: [V3<T>; 3], alpha: T) -> Vec<V3<T>> {
+        use crate::scheme::{flat, normal_net, phong, pn};
+        match self {
+            NetBuilder::FlatPoints => flat::points(p).to_vec(),
+            NetBuilder::PhongPoints => phong::points(p, n, alpha).to_vec(),
+            NetBuilder::PnPoints => pn::points(p, n).to_vec(),
+            NetBuilder::LinearNormals => normal_net::linear_of(n).to_vec(),
+            NetBuilder::QuadraticNormals => normal_net::quadratic_of(p, n).to_vec(),
+        }
+    }
+}
+
+/// The traced corners `p[i]`, `n[i]` and `alpha` of a net builder's inputs.
+fn traced_corners() -> ([V3<Expr>; 3], [V3<Expr>; 3], Expr) {
+    let corner = |array: &str, i: usize| {
+        V3::new(
+            Expr::input(&format!("{array}[{i}].x")),
+            Expr::input(&format!("{array}[{i}].y")),
+            Expr::input(&format!("{array}[{i}].z")),
+        )
+    };
+    (
+        [0, 1, 2].map(|i| corner("p", i)),
+        [0, 1, 2].map(|i| corner("n", i)),
+        Expr::input("alpha"),
+    )
+}
+
+/// A control-net builder as a shader function of the corners `p`, `n` (and `alpha` for
+/// Phong), returning (WGSL) or filling (GLSL) its `K` points:
+///
+/// - WGSL: `fn tessella_pn_points(p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>) ->
+///   array<vec3<f32>, 10>`;
+/// - GLSL: `void tessella_pn_points(vec3 p[3], vec3 n[3], out vec3 c[10])`.
+pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
+    let (tape, net) = trace(|| {
+        let (p, n, alpha) = traced_corners();
+        builder.build(p, n, alpha)
+    });
+    let outputs: Vec<Expr> = net.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+    let body = Body::new(&tape, lang, &outputs);
+    let name = builder.function_name();
+    let k = net.len();
+    let alpha = builder == NetBuilder::PhongPoints;
+    let point = |v: &V3<Expr>| {
+        let [x, y, z] = [v.x, v.y, v.z].map(|e| body.name(e));
+        match lang {
+            Lang::Wgsl => format!("vec3<f32>({x}, {y}, {z})"),
+            Lang::Glsl => format!("vec3({x}, {y}, {z})"),
+        }
+    };
+    match lang {
+        Lang::Wgsl => {
+            let alpha = if alpha { ", alpha: f32" } else { "" };
+            let items: Vec<String> = net
+                .iter()
+                .map(|v| format!("        {},\n", point(v)))
+                .collect();
+            format!(
+                "fn {name}(p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>{alpha}) -> array<vec3<f32>, {k}> {{\n{}    return array<vec3<f32>, {k}>(\n{}    );\n}}\n",
+                body.statements,
+                items.concat()
+            )
+        }
+        Lang::Glsl => {
+            let alpha = if alpha { ", float alpha" } else { "" };
+            let mut s = format!(
+                "void {name}(vec3 p[3], vec3 n[3]{alpha}, out vec3 c[{k}]) {{\n{}",
+                body.statements
+            );
+            for (i, v) in net.iter().enumerate() {
+                s += &format!("    c[{i}] = {};\n", point(v));
+            }
+            s + "}\n"
+        }
+    }
 }
 
 /// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed

@@ -19,6 +19,14 @@ fn run(tape: &Tape, inputs: &[(&str, f64)]) -> Vec<f64> {
             Node::Mul(a, b) => x(a) * x(b),
             Node::Div(a, b) => x(a) / x(b),
             Node::Neg(a) => -x(a),
+            Node::Sqrt(a) => x(a).sqrt(),
+            Node::SelectPositiveFinite { test, yes, no } => {
+                if x(test).is_finite() && x(test) > 0.0 {
+                    x(yes)
+                } else {
+                    x(no)
+                }
+            }
             Node::SelectNonZero {
                 test,
                 nonzero,
@@ -113,5 +121,79 @@ fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
                 }
             }
         }
+    }
+}
+
+#[test]
+fn traced_net_builders_evaluate_to_the_cpu_nets() {
+    use crate::scheme::{flat, normal_net, phong, pn, Corners};
+    use glam::Vec3;
+    let corners = [
+        Corners {
+            p: [
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.1, 0.2),
+                Vec3::new(0.2, 0.9, -0.1),
+            ],
+            n: [
+                Vec3::new(-0.3, -0.2, 0.93).normalize(),
+                Vec3::new(0.4, 0.1, 0.9).normalize(),
+                Vec3::new(0.0, 0.5, 0.87).normalize(),
+            ],
+        },
+        // A collapsed edge (P1 = P2) with opposite normals there: the quadratic normal net's
+        // division by |P2 - P1|² and its vanishing sum take the fallbacks.
+        Corners {
+            p: [Vec3::ZERO, Vec3::ZERO, Vec3::X],
+            n: [Vec3::Z, -Vec3::Z, Vec3::Y],
+        },
+    ];
+    let alpha = 0.75f32;
+    for builder in NetBuilder::ALL {
+        let (tape, net) = trace(|| {
+            let (p, n, a) = traced_corners();
+            builder.build(p, n, a)
+        });
+        for c in &corners {
+            let mut inputs: Vec<(String, f64)> = vec![("alpha".into(), f64::from(alpha))];
+            for (array, v) in [("p", c.p), ("n", c.n)] {
+                for (i, x) in v.iter().enumerate() {
+                    for (axis, value) in ["x", "y", "z"].iter().zip(x.to_array()) {
+                        inputs.push((format!("{array}[{i}].{axis}"), f64::from(value)));
+                    }
+                }
+            }
+            let named: Vec<(&str, f64)> = inputs.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+            let v = run(&tape, &named);
+            let cpu: Vec<Vec3> = match builder {
+                NetBuilder::FlatPoints => flat::control_points(c).to_vec(),
+                NetBuilder::PhongPoints => phong::control_points(c, alpha).to_vec(),
+                NetBuilder::PnPoints => pn::control_points(c).to_vec(),
+                NetBuilder::LinearNormals => normal_net::linear(c).to_vec(),
+                NetBuilder::QuadraticNormals => normal_net::quadratic(c).to_vec(),
+            };
+            assert_eq!(net.len(), cpu.len(), "{builder:?}");
+            for (k, (t, want)) in net.iter().zip(&cpu).enumerate() {
+                let got = Vec3::new(
+                    v[t.x.index()] as f32,
+                    v[t.y.index()] as f32,
+                    v[t.z.index()] as f32,
+                );
+                assert!(
+                    (got - *want).length() <= 1e-6 * (1.0 + want.length()),
+                    "{builder:?} k={k}: {got} vs {want}"
+                );
+            }
+        }
+        let glsl = net_builder(Lang::Glsl, builder);
+        assert!(glsl.starts_with(&format!(
+            "void {}(vec3 p[3], vec3 n[3]",
+            builder.function_name()
+        )));
+        let wgsl = net_builder(Lang::Wgsl, builder);
+        assert!(wgsl.starts_with(&format!(
+            "fn {}(p: array<vec3<f32>, 3>",
+            builder.function_name()
+        )));
     }
 }

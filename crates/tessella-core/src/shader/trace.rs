@@ -27,6 +27,13 @@ pub(crate) enum Node {
     Mul(Expr, Expr),
     Div(Expr, Expr),
     Neg(Expr),
+    Sqrt(Expr),
+    /// `yes` where `test` is finite and positive, else `no`.
+    SelectPositiveFinite {
+        test: Expr,
+        yes: Expr,
+        no: Expr,
+    },
     /// `nonzero` where `test != 0`, else `zero`.
     SelectNonZero {
         test: Expr,
@@ -189,6 +196,24 @@ impl Real for Expr {
 
     fn powi(self, n: u8) -> Expr {
         (1..n).fold(self, |acc, _| acc * self)
+    }
+
+    fn sqrt(self) -> Expr {
+        match self.value() {
+            Some(a) => Expr::constant(a.sqrt()),
+            None => Expr::push(Node::Sqrt(self)),
+        }
+    }
+
+    fn select_positive_finite(test: Expr, yes: Expr, no: Expr) -> Expr {
+        if yes == no {
+            return no;
+        }
+        match test.value() {
+            Some(t) if t.is_finite() && t > 0.0 => yes,
+            Some(_) => no,
+            None => Expr::push(Node::SelectPositiveFinite { test, yes, no }),
+        }
     }
 }
 
