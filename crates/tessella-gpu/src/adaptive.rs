@@ -273,30 +273,33 @@ impl AdaptiveRenderer {
                 &render_layout,
                 [&uniforms, &unused, &instances, &unused, &colormap],
             );
-            let module = ctx
-                .device
-                .create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("adaptive.wgsl"),
-                    source: wgpu::ShaderSource::Wgsl(
-                        [
-                            &constants,
-                            include_str!("shaders/shade.wgsl"),
-                            include_str!("shaders/adaptive.wgsl"),
-                            include_str!("shaders/adaptive_draw.wgsl"),
-                        ]
-                        .concat()
-                        .into(),
-                    ),
-                });
-            let layout = ctx
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("adaptive"),
-                    bind_group_layouts: &[Some(&patch_layout), Some(&render_layout)],
-                    immediate_size: 0,
-                });
-            let pipeline =
-                render_pipeline(ctx, &module, &layout, "vs_adaptive", CODE_VERTICES, formats);
+            // The prelude names the basis, normal mode and spacing: with the formats, the key.
+            let key = format!("adaptive draw|{formats:?}|{constants}");
+            let pipeline = ctx.pipelines(&key, || {
+                let module = ctx
+                    .device
+                    .create_shader_module(wgpu::ShaderModuleDescriptor {
+                        label: Some("adaptive.wgsl"),
+                        source: wgpu::ShaderSource::Wgsl(
+                            [
+                                &constants,
+                                include_str!("shaders/shade.wgsl"),
+                                include_str!("shaders/adaptive.wgsl"),
+                                include_str!("shaders/adaptive_draw.wgsl"),
+                            ]
+                            .concat()
+                            .into(),
+                        ),
+                    });
+                let layout = ctx
+                    .device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("adaptive"),
+                        bind_group_layouts: &[Some(&patch_layout), Some(&render_layout)],
+                        immediate_size: 0,
+                    });
+                render_pipeline(ctx, &module, &layout, "vs_adaptive", CODE_VERTICES, formats)
+            });
             let bytes = [
                 &vertices, &indices, &wire, &points, &normals, &records, &instances, &params,
                 &uniforms, &unused, &colormap,
@@ -458,37 +461,39 @@ impl AdaptiveRenderer {
             let compute = wgpu::ShaderStages::COMPUTE;
             let layout = ctx.buffer_layout("capture", &[(compute, READ), (compute, WRITE)]);
             let group = ctx.buffer_group("capture", &layout, &[&jobs_buffer, &out]);
-            let module = ctx
-                .device
-                .create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("adaptive_capture.wgsl"),
-                    source: wgpu::ShaderSource::Wgsl(
-                        [
-                            &self.constants,
-                            include_str!("shaders/adaptive.wgsl"),
-                            include_str!("shaders/adaptive_capture.wgsl"),
-                        ]
-                        .concat()
-                        .into(),
-                    ),
-                });
-            let pipeline_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("capture"),
-                        bind_group_layouts: &[Some(&self.patch_layout), Some(&layout)],
-                        immediate_size: 0,
+            let key = format!("adaptive capture|{}", self.constants);
+            let pipeline = ctx.pipelines(&key, || {
+                let module = ctx
+                    .device
+                    .create_shader_module(wgpu::ShaderModuleDescriptor {
+                        label: Some("adaptive_capture.wgsl"),
+                        source: wgpu::ShaderSource::Wgsl(
+                            [
+                                &self.constants,
+                                include_str!("shaders/adaptive.wgsl"),
+                                include_str!("shaders/adaptive_capture.wgsl"),
+                            ]
+                            .concat()
+                            .into(),
+                        ),
                     });
-            let pipeline = ctx
-                .device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("cs_capture"),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some("cs_capture"),
-                    compilation_options: Default::default(),
-                    cache: None,
-                });
+                let pipeline_layout =
+                    ctx.device
+                        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                            label: Some("capture"),
+                            bind_group_layouts: &[Some(&self.patch_layout), Some(&layout)],
+                            immediate_size: 0,
+                        });
+                ctx.device
+                    .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some("cs_capture"),
+                        layout: Some(&pipeline_layout),
+                        module: &module,
+                        entry_point: Some("cs_capture"),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    })
+            });
             let groups = (jobs.len() as u64).div_ceil(64);
             let max = ctx.limits.max_compute_workgroups_per_dimension as u64;
             let (x, y) = (groups.min(max), groups.div_ceil(max));

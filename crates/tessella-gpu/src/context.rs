@@ -1,6 +1,7 @@
 //! Device setup, kept apart from the GPU work so callers and tests open one device and reuse it.
 
 use crate::error::GpuError;
+use crate::pipeline_cache::PipelineCache;
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::{Arc, Mutex};
@@ -42,8 +43,9 @@ pub enum AdapterChoice {
 
 /// An open device and queue, plus what the work needs to know about the adapter.
 ///
-/// Cheap to clone (wgpu's device and queue are handles); clones share the error slot. It knows
-/// nothing of the work done with it: the evaluator and the renderer own their pipelines.
+/// Cheap to clone (wgpu's device and queue are handles); clones share the error slot and the
+/// compiled pipelines: a second renderer or evaluator of the same kind reuses the first one's
+/// ([`GpuContext::cached_pipelines`]).
 #[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
@@ -63,6 +65,8 @@ pub struct GpuContext {
     /// Error scopes of tessella's calls whose answer had not come when the call returned (on
     /// the web): [`GpuContext::check`] / [`GpuContext::check_async`] take them.
     pending: Arc<Mutex<Vec<(ErrorKind, ScopeAnswer)>>>,
+    /// The pipelines compiled on this device, by kind and variant.
+    pipelines: Arc<PipelineCache>,
 }
 
 /// Which scope an answer belongs to.
@@ -257,6 +261,7 @@ impl GpuContext {
             queue,
             fault: Arc::new(Mutex::new(None)),
             pending: Arc::new(Mutex::new(Vec::new())),
+            pipelines: Arc::new(PipelineCache::default()),
         }
     }
 
@@ -343,6 +348,20 @@ impl GpuContext {
             pending: Arc::new(Mutex::new(Vec::new())),
             ..self.clone()
         }
+    }
+
+    /// How many pipeline bundles this context's device has compiled and keeps (one per kind of
+    /// renderer or evaluator and variant: normal mode, displacement, target formats, ...).
+    pub fn cached_pipelines(&self) -> usize {
+        self.pipelines.len()
+    }
+
+    /// The bundle of pipelines stored under `key`, compiled by `make` the first time.
+    pub(crate) fn pipelines<T>(&self, key: &str, make: impl FnOnce() -> T) -> T
+    where
+        T: Clone + wgpu::WasmNotSendSync + 'static,
+    {
+        self.pipelines.get_or_insert(key, make)
     }
 
     /// "name (backend)", with "software" added for CPU adapters: the label for benchmark rows.

@@ -20,7 +20,7 @@ use crate::context::{GpuContext, READ, UNIFORM, WRITE};
 use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::RefineParams;
-use crate::patch::{self, PatchBuffers};
+use crate::patch::{self, normal_mode_code, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::pattern::PointClass;
 use tessella_core::refine::{Evaluator, Frame, Plan, Tiling, VertexFormat};
@@ -104,7 +104,8 @@ impl IndexWidth {
     }
 }
 
-/// The compiled refinement kernels, owned by one evaluator.
+/// The compiled refinement kernels of one kind of evaluator, shared through the context's cache.
+#[derive(Clone)]
 struct Pipelines {
     patch_layout: wgpu::BindGroupLayout,
     refine_layout: wgpu::BindGroupLayout,
@@ -312,7 +313,14 @@ impl GpuEvaluator {
             ),
         };
         ctx.scoped(|| {
-            let pipelines = Pipelines::new(ctx, plan.normal_mode(), &options.displacement);
+            let key = format!(
+                "refine|{}|{}",
+                normal_mode_code(plan.normal_mode()),
+                crate::displace::kind_code(&options.displacement)
+            );
+            let pipelines = ctx.pipelines(&key, || {
+                Pipelines::new(ctx, plan.normal_mode(), &options.displacement)
+            });
             let patches = PatchBuffers::new(
                 ctx,
                 &weights,

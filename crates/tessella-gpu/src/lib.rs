@@ -83,6 +83,7 @@ mod error;
 mod evaluator;
 mod gpu_types;
 mod patch;
+mod pipeline_cache;
 mod renderer;
 pub mod wgsl;
 mod wgsl_constants;

@@ -9,7 +9,7 @@ use crate::context::{GpuContext, READ, UNIFORM};
 use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::RenderUniforms;
-use crate::patch::{self, PatchBuffers};
+use crate::patch::{self, normal_mode_code, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::refine::{Frame, Plan};
 use tessella_core::NormalMode;
@@ -29,7 +29,8 @@ pub struct TargetFormats {
     pub samples: u32,
 }
 
-/// The render pipelines, owned by one renderer.
+/// The render pipelines of one kind of renderer, shared through the context's cache.
+#[derive(Clone)]
 struct Pipelines {
     patch_layout: wgpu::BindGroupLayout,
     render_layout: wgpu::BindGroupLayout,
@@ -296,7 +297,14 @@ impl PatternRenderer {
             None => vec![0.0],
         };
         ctx.scoped(|| {
-            let pipelines = Pipelines::new(ctx, formats, plan.normal_mode(), displacement);
+            let key = format!(
+                "pattern|{formats:?}|{}|{}",
+                normal_mode_code(plan.normal_mode()),
+                crate::displace::kind_code(displacement)
+            );
+            let pipelines = ctx.pipelines(&key, || {
+                Pipelines::new(ctx, formats, plan.normal_mode(), displacement)
+            });
             let edges = crate::canonical::edge_table(
                 plan.options().scheme.basis(),
                 &tiles.patterns,
