@@ -10,7 +10,8 @@
 # from fuzz/seeds/<target> and fuzz/regressions/<target> (both committed) and keeps what it
 # learns in fuzz/corpus/<target> (ignored by git). A crash is saved under fuzz/artifacts/; copy
 # it to fuzz/regressions/<target>/ once fixed: the io tests (tests/fuzz_regressions.rs) replay
-# every file there, and the seeds, through the same harness (tessella_io::fuzzing).
+# every file there, and the seeds, through the same harness (tessella_io::fuzzing, behind the
+# io crate's `fuzzing` feature, which fuzz/Cargo.toml and the io tests turn on).
 # -timeout=60: on a loaded machine libFuzzer reported 10 s "timeouts" for inputs that replay in
 # milliseconds. The final stats line of each run (stat::number_of_executed_units) goes to fuzz/stats.txt.
 set -euo pipefail

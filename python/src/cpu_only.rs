@@ -54,6 +54,7 @@ pub fn frame_gpu(
         Backend::Gpu => Err(bad_option(NO_GPU)),
         Backend::Gl => Err(bad_option(crate::options::NO_GL)),
         Backend::Auto | Backend::Cpu => Ok(None),
+        other => Err(crate::options::unsupported_backend(other)),
     }
 }
 

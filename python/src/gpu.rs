@@ -162,6 +162,7 @@ pub fn refine(
                 }),
             }
         }
+        other => Err(crate::options::unsupported_backend(other)),
     }
 }
 
@@ -187,6 +188,7 @@ pub fn frame_gpu(
             Ok(ctx) => ctx,
             Err(_) => return Ok(None),
         },
+        other => return Err(crate::options::unsupported_backend(other)),
     };
     let evaluator = tessella_gpu::GpuEvaluator::new(&ctx, plan).map_err(errors::gpu_error)?;
     Ok(Some(FrameGpu { evaluator }))

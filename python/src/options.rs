@@ -5,7 +5,7 @@
 //! what this build has, so scripts can adapt.
 
 use crate::errors::bad_option;
-use pyo3::PyResult;
+use pyo3::{PyErr, PyResult};
 pub use tessella_core::Backend;
 use tessella_core::{Named, NormalMode, Scheme};
 
@@ -39,6 +39,15 @@ pub fn backend(name: &str) -> PyResult<Backend> {
             "{e} (tessella.backends() lists those that work here)"
         ))
     })
+}
+
+/// A backend this package does not run (one added to the core after this package was
+/// written): an option error naming it.
+pub fn unsupported_backend(backend: Backend) -> PyErr {
+    bad_option(format!(
+        "backend=\"{}\" is not supported by this package (tessella.backends() lists those that work here)",
+        backend.name()
+    ))
 }
 
 /// A refinement level from a Python int: 1 or more.

@@ -12,9 +12,11 @@ pub use crate::args_batch::BatchArgs;
 
 /// Turn coarse triangle meshes into smooth curved surfaces.
 ///
-/// Each coarse triangle is replaced by a curved patch (Phong tessellation or PN triangles)
-/// sampled with a refinement pattern of LEVEL segments per edge, so LEVEL 8 turns every
-/// triangle into 64. Files: OBJ, PLY, glTF/GLB (read and write), STL (read).
+/// Each coarse triangle is replaced by a curved patch (flat, Phong tessellation, PN triangles,
+/// PNG1, PN-AEN, scalar-tagged PN or second-order elements: `--scheme`) sampled with a
+/// refinement pattern of LEVEL segments per edge, so LEVEL 8 turns every triangle into 64.
+/// Files: OBJ, PLY, glTF/GLB and STL, read and written (STL written binary, without normals or
+/// texture coordinates).
 #[derive(Debug, Parser)]
 #[command(name = "tessella", version, propagate_version = true)]
 pub struct Cli {
@@ -153,7 +155,7 @@ fn scheme_parser() -> impl TypedValueParser<Value = SchemeArg> {
 pub struct RefineArgs {
     /// Input mesh (.obj, .ply, .gltf, .glb, .stl).
     pub input: PathBuf,
-    /// Output mesh (.obj, .ply, .gltf, .glb); the format follows the extension.
+    /// Output mesh (.obj, .ply, .gltf, .glb, .stl); the format follows the extension.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Surface built over each coarse triangle.

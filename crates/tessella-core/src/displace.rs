@@ -46,6 +46,7 @@ use thiserror::Error;
 
 /// Why a displacement cannot be applied.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum DisplaceError {
     #[error("a height map needs texture coordinates; the mesh has none")]
     NeedsUvs,

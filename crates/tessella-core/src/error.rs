@@ -4,6 +4,7 @@ use thiserror::Error;
 
 /// A mesh that cannot be refined as given.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum MeshError {
     #[error("the mesh has no triangles")]
     NoTriangles,
@@ -65,6 +66,7 @@ pub enum MeshError {
 
 /// Refinement options or sizes that cannot be honoured.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum RefineError {
     #[error("level 0 is not a refinement; the level is the number of segments per coarse edge, 1 or more")]
     LevelZero,
@@ -115,6 +117,7 @@ pub enum RefineError {
 
 /// Bad tags: what is wrong and how to fix it.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum TagError {
     #[error("{what} names vertex {vertex}, but the mesh has only {count} vertices; use indices of the mesh the tags were made for")]
     UnknownVertex {

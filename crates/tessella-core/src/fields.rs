@@ -19,6 +19,7 @@ use thiserror::Error;
 
 /// A field that cannot be carried through refinement: which one, and why.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum FieldError {
     #[error("field {name:?} has width 0; give at least one value per {per}")]
     ZeroWidth { name: String, per: &'static str },

@@ -28,7 +28,7 @@
 
 pub mod basis;
 pub mod displace;
-pub mod error;
+mod error;
 pub mod fields;
 pub mod mesh;
 pub mod names;

@@ -152,6 +152,7 @@ impl Named for NormalMode {
 /// Where refinement runs. The core only names it; the GPU crate, the CLI and the Python package
 /// decide how (the core itself is the CPU backend).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum Backend {
     /// A hardware GPU when there is one (a software adapter is slower than the CPU), otherwise
     /// the CPU; the CPU also when the GPU fails.

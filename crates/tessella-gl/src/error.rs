@@ -8,6 +8,7 @@ pub const DRIVER_PACKAGES: &str = "libegl1 libegl-mesa0 libgl1-mesa-dri";
 
 /// Why the GL backend could not do its work.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum GlError {
     /// No usable EGL / OpenGL 4 driver: `what` says which piece is missing.
     #[error(

@@ -4,6 +4,7 @@ use thiserror::Error;
 
 /// What went wrong on the GPU side. Every message says what to do about it.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum GpuError {
     #[error(
         "no {wanted} GPU adapter found; install a Vulkan/Metal/DX12 driver (for a software \

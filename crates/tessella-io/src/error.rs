@@ -5,6 +5,7 @@ use thiserror::Error;
 
 /// Why a mesh file could not be read or written.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum IoError {
     /// The extension names no format this crate knows.
     #[error("{path}: unknown mesh file extension {extension:?}; supported extensions are .obj, .ply, .gltf, .glb and .stl", path = path.display())]

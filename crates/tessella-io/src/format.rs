@@ -6,6 +6,7 @@ use std::path::Path;
 /// A mesh file format. [`Format::from_path`] picks it by extension; `PlyAscii` is only chosen
 /// through [`crate::WriteOptions::ply_ascii`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Format {
     /// Wavefront OBJ (text).
     Obj,

@@ -1,6 +1,7 @@
 //! The checks the fuzz targets (`fuzz/fuzz_targets/*.rs`) run on each input, kept here so that
 //! ordinary tests replay the saved regression inputs and seed corpus through the very same code
-//! (`tests/fuzz_regressions.rs`).
+//! (`tests/fuzz_regressions.rs`). Behind the `fuzzing` feature (off by default): the fuzz crate
+//! and this crate's tests turn it on; it is not part of the library's API.
 //!
 //! Each `check_*` function takes arbitrary bytes and panics only when a property is broken: a
 //! reader may refuse the bytes with an error, but what it accepts must fit together (attribute

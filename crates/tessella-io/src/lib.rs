@@ -51,6 +51,7 @@ mod atomic;
 mod encode;
 mod error;
 mod format;
+#[cfg(feature = "fuzzing")]
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod gltf;

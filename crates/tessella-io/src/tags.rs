@@ -63,6 +63,7 @@ use thiserror::Error;
 
 /// Why sidecar JSON gives no tags.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum JsonTagError {
     /// Not JSON, or not the format in the module docs.
     #[error("tags JSON: {0}")]
@@ -74,6 +75,7 @@ pub enum JsonTagError {
 
 /// Why [`gather`] gives no tags; the message names the source.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum TagSourceError {
     /// The crease angle is out of range (the message names the crease angle).
     #[error("{0}")]

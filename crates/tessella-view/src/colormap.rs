@@ -11,6 +11,7 @@ use std::str::FromStr;
 
 /// A colormap by name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub enum Colormap {
     /// Dark purple (low) through blue and green to yellow (high).
     #[default]

@@ -4,6 +4,7 @@
 use thiserror::Error;
 
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum ViewerError {
     /// A parameter's value (the message starts with its name, as the contract says).
     #[error("{name}: {message}")]

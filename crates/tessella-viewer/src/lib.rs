@@ -9,30 +9,30 @@
 //! GPU.
 //!
 //! - Parameters have `tessella render`'s names and meanings, parsed by the same code
-//!   ([`params`]); the camera *is* `tessella render`'s (`tessella_view::scene_uniforms`), so the
+//!   (`params.rs`); the camera *is* `tessella render`'s (`tessella_view::scene_uniforms`), so the
 //!   same yaw, pitch, zoom and size give the same picture.
 //! - Per frame only coarse data crosses the bus: the control nets when the mesh deforms
-//!   ([`deform`], [`Viewer::move_vertex`]), one level record per face and one instance per face
+//!   (`deform.rs`, [`Viewer::move_vertex`]), one level record per face and one instance per face
 //!   and part when a LOD follows the camera; [`Stats`] counts those bytes.
 //! - [`Viewer::pick`] ray-casts the coarse mesh with the view's own matrix; tags edited with
 //!   [`Viewer::set_edge_sharpness`] / [`Viewer::set_vertex_tension`] rebuild the surfaces at once
 //!   and save as the CLI's tags JSON ([`Viewer::tags_json`]).
 //! - Every call returns a `Result`; on error the previous mesh, parameters and surfaces stay.
 //!
-//! [`bench`] is the viewer's benchmark (GMR's Figure 7 and the scheme tables) on its device.
+//! [`mod@bench`] is the viewer's benchmark (GMR's Figure 7 and the scheme tables) on its device.
 //!
 //! In the browser, `web.rs` (wasm32 only) is the `WebViewer` of `CONTRACT.md`, built by
 //! `build-web.sh`. `docs/viewer.md` says what is drawn and what crosses the bus.
 
 pub mod bench;
-pub mod clock;
-pub mod deform;
-pub mod error;
-pub mod panel;
+mod clock;
+mod deform;
+mod error;
+mod panel;
 pub mod params;
-pub mod pick;
+mod pick;
 pub mod present;
-pub mod stats;
+mod stats;
 mod viewer;
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -3,9 +3,10 @@
 //!
 //! Names are parsed by the same code the CLI uses: schemes and normal modes by the core's
 //! [`tessella_core::names`], spacings by [`Spacing`]'s `FromStr`, LODs by [`Lod::parse`],
-//! displacement by [`Displacement::parse`], the level by [`RefineOptions::with_uniform_level`]
-//! (in [`crate::panel`]). [`Params::apply`] validates every change before it takes any, so a
-//! bad value leaves the parameters as they were.
+//! displacement by [`Displacement::parse`], the level by
+//! [`tessella_core::RefineOptions::with_uniform_level`] (in `panel.rs`). [`Params::apply`]
+//! validates every change before it takes any, so a bad value leaves the parameters as they
+//! were.
 
 use crate::error::ViewerError;
 use serde_json::{json, Map, Value};
@@ -18,9 +19,9 @@ use tessella_core::{Named, NormalMode, Scheme};
 pub enum Animation {
     #[default]
     None,
-    /// [`tessella_core::samples::twist`], up to [`crate::deform::MAX_TWIST_DEGREES`].
+    /// [`tessella_core::samples::twist`], up to 60 degrees (`deform.rs`).
     Twist,
-    /// [`crate::deform::bend`], up to [`crate::deform::MAX_BEND_DEGREES`].
+    /// A bend about the Z axis, the bottom fixed, up to 45 degrees (`deform.rs`).
     Bend,
 }
 

@@ -4,7 +4,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-/// What [`pick`] found.
+/// What [`Viewer::pick`](crate::Viewer::pick) found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Picked {
     /// The hit triangle's corner nearest the hit point (a vertex index of the mesh).

@@ -20,11 +20,6 @@ pub fn message(err: &dyn std::error::Error) -> String {
     text
 }
 
-/// A thrown JS `Error` carrying [`message`].
-pub fn js(err: &dyn std::error::Error) -> JsError {
-    JsError::new(&message(err))
-}
-
 /// A thrown JS `Error` with a message of ours.
 pub fn text(message: impl AsRef<str>) -> JsError {
     JsError::new(message.as_ref())

@@ -4,26 +4,26 @@
 //! arrays. `js/src/index.js` wraps them into the documented API (`refine`, `Refiner`,
 //! `readMesh`, `writeMesh`, `TessellaError`); nothing here is meant to be called directly.
 //!
-//! Every input is validated before any work ([`arrays`], [`options`], the core's `Mesh::new` and
-//! `Plan::new`), so bad input comes back as a thrown JS `Error` with the core's message, never
-//! as a trap. A panic would be a bug: [`start`] installs a hook that throws it as a JS error
+//! Every input is validated before any work (`arrays.rs`, `options.rs`, the core's `Mesh::new`
+//! and `Plan::new`), so bad input comes back as a thrown JS `Error` with the core's message,
+//! never as a trap. A panic would be a bug: [`start`] installs a hook that throws it as a JS error
 //! instead of `RuntimeError: unreachable` (the JS side then refuses further calls, since a
 //! panicked instance's state is not trustworthy).
 //!
 //! The crate also builds natively (a workspace member), so its option and array handling is
 //! tested by `cargo test` like the rest.
 
-pub mod arrays;
-pub mod errors;
-pub mod files;
-pub mod options;
-pub mod refine;
-pub mod refiner;
+mod arrays;
+mod errors;
+mod files;
+mod options;
+mod refine;
+mod refiner;
 
 use wasm_bindgen::prelude::*;
 
 /// Runs when the module is instantiated: panics throw a JS `Error` (prefixed
-/// [`errors::PANIC_PREFIX`]) instead of trapping.
+/// `errors::PANIC_PREFIX`) instead of trapping.
 #[wasm_bindgen(start)]
 pub fn start() {
     std::panic::set_hook(Box::new(|info| {

@@ -2,6 +2,7 @@
 
 use crate::args::BackendArg;
 use anyhow::Context;
+use tessella_core::Named;
 use tessella_gpu::{AdapterChoice, GpuContext};
 
 /// The GPU context `backend` asks for, or `None` to use the CPU.
@@ -19,6 +20,11 @@ pub fn context_for(backend: BackendArg) -> anyhow::Result<Option<GpuContext>> {
         BackendArg::Gpu => Ok(Some(
             GpuContext::new(AdapterChoice::Auto).context("--backend gpu needs a GPU adapter")?,
         )),
+        // A backend added to the core after this command was written.
+        other => anyhow::bail!(
+            "--backend {} is not supported by this command",
+            other.name()
+        ),
     }
 }
 

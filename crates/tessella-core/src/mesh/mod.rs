@@ -2,13 +2,13 @@
 //!
 //! A [`Mesh`] is validated when it is built ([`Mesh::new`]): every later stage may assume finite
 //! coordinates, indices in range, no degenerate triangles and unit normals. Normals missing from
-//! the input are computed ([`normals::angle_weighted`]).
+//! the input are computed, each vertex's the angle-weighted sum of its triangles' normals.
 //!
 //! A *vertex* is one (position, normal, uv) combination: a file that gives one position two
 //! normals (a hard edge) has two vertices there. Refined output shares exactly what the input
 //! shares: two triangles that use the same vertex index share their refined edge.
 
-pub mod normals;
+mod normals;
 pub mod quadratic;
 pub mod topology;
 
@@ -35,7 +35,8 @@ impl Mesh {
     /// Validates the arrays and builds a mesh.
     ///
     /// - `positions`: #V points.
-    /// - `normals`: #V normals or `None` to compute them (angle-weighted, see [`normals`]).
+    /// - `normals`: #V normals or `None` to compute them (each vertex's the angle-weighted sum
+    ///   of its triangles' normals).
     ///   Given normals are normalised; a zero or non-finite one is an error.
     /// - `uvs`: #V texture coordinates or `None`.
     /// - `triangles`: #F corner indices, counter-clockwise seen from the side the normals face.

@@ -37,6 +37,7 @@ use serde::Serialize;
 /// Which surface to build over each coarse triangle.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(tag = "scheme", rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Scheme {
     /// The coarse triangle itself.
     Flat,
