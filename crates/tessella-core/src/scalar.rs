@@ -97,6 +97,89 @@ impl Real for f32 {
     }
 }
 
+/// A 32-bit unsigned word a shared integer formula computes with (the tessellator's 16.16
+/// placement): `u32` on the CPU, a traced expression when a shader is generated. Arithmetic
+/// wraps, as the reference tessellator's and the shaders' `u32` do; a branch is a selection
+/// on a comparison, both sides computed.
+pub trait Word: Copy {
+    /// A constant.
+    fn lit(x: u32) -> Self;
+    fn wadd(self, o: Self) -> Self;
+    fn wsub(self, o: Self) -> Self;
+    fn wmul(self, o: Self) -> Self;
+    /// `self % o` (`o` never zero where it is used).
+    fn rem(self, o: Self) -> Self;
+    /// `self / o` (`o` never zero where it is used).
+    fn div(self, o: Self) -> Self;
+    fn shr(self, bits: u32) -> Self;
+    fn and(self, o: Self) -> Self;
+    /// `yes` where `a >= b`, else `no`.
+    fn select_ge(a: Self, b: Self, yes: Self, no: Self) -> Self;
+    /// `yes` where `a > b`, else `no`.
+    fn select_gt(a: Self, b: Self, yes: Self, no: Self) -> Self;
+    /// `yes` where `a == b`, else `no`.
+    fn select_eq(a: Self, b: Self, yes: Self, no: Self) -> Self;
+}
+
+impl Word for u32 {
+    #[inline]
+    fn lit(x: u32) -> u32 {
+        x
+    }
+    #[inline]
+    fn wadd(self, o: u32) -> u32 {
+        self.wrapping_add(o)
+    }
+    #[inline]
+    fn wsub(self, o: u32) -> u32 {
+        self.wrapping_sub(o)
+    }
+    #[inline]
+    fn wmul(self, o: u32) -> u32 {
+        self.wrapping_mul(o)
+    }
+    #[inline]
+    fn rem(self, o: u32) -> u32 {
+        self % o
+    }
+    #[inline]
+    fn div(self, o: u32) -> u32 {
+        self / o
+    }
+    #[inline]
+    fn shr(self, bits: u32) -> u32 {
+        self >> bits
+    }
+    #[inline]
+    fn and(self, o: u32) -> u32 {
+        self & o
+    }
+    #[inline]
+    fn select_ge(a: u32, b: u32, yes: u32, no: u32) -> u32 {
+        if a >= b {
+            yes
+        } else {
+            no
+        }
+    }
+    #[inline]
+    fn select_gt(a: u32, b: u32, yes: u32, no: u32) -> u32 {
+        if a > b {
+            yes
+        } else {
+            no
+        }
+    }
+    #[inline]
+    fn select_eq(a: u32, b: u32, yes: u32, no: u32) -> u32 {
+        if a == b {
+            yes
+        } else {
+            no
+        }
+    }
+}
+
 /// A 3-vector of [`Real`]s, for the net builders written once for the CPU (`f32`, with the
 /// same operations in the same order as `glam::Vec3`, so the bits are `glam`'s) and the shaders.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -206,6 +206,7 @@ impl AdaptiveRenderer {
             shader::patch_sum_wgsl(basis),
             shader::normal_net(Lang::Wgsl),
             shader::edge_weights_wgsl(),
+            shader::locate_wgsl(),
         ]
         .join("\n");
         let params = AdaptiveParams {

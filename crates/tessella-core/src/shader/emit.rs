@@ -1,7 +1,7 @@
 //! Printing a tape as straight-line WGSL or GLSL: one `let` (`float`) per recorded operation
 //! that an output needs, in tape order, named `t<index>`.
 
-use super::trace::{Expr, Node, Tape};
+use super::trace::{Cmp, Node, Tape, Traced, Ty, UOp};
 use super::Lang;
 
 /// The statements that compute `outputs`, and how to name any value of the tape.
@@ -14,7 +14,7 @@ pub(crate) struct Body<'t> {
 
 impl<'t> Body<'t> {
     /// Statements computing every operation `outputs` depend on.
-    pub(crate) fn new(tape: &'t Tape, lang: Lang, outputs: &[Expr]) -> Body<'t> {
+    pub(crate) fn new<V: Traced + Copy>(tape: &'t Tape, lang: Lang, outputs: &[V]) -> Body<'t> {
         let mut needed = vec![false; tape.nodes.len()];
         for e in outputs {
             needed[e.index()] = true;
@@ -25,7 +25,7 @@ impl<'t> Body<'t> {
                 continue;
             }
             for operand in operands(&tape.nodes[i]) {
-                needed[operand.index()] = true;
+                needed[operand] = true;
             }
         }
         let mut body = Body {
@@ -34,13 +34,14 @@ impl<'t> Body<'t> {
             statements: String::new(),
         };
         for (i, node) in tape.nodes.iter().enumerate() {
-            if !needed[i] || matches!(node, Node::Input(_) | Node::Const(_)) {
+            if !needed[i] || operands(node).is_empty() && !matches!(node, Node::UCall(..)) {
                 continue;
             }
             let value = body.operation(node);
-            let decl = match lang {
-                Lang::Wgsl => "let",
-                Lang::Glsl => "float",
+            let decl = match (lang, node.ty()) {
+                (Lang::Wgsl, _) => "let",
+                (Lang::Glsl, Ty::F32) => "float",
+                (Lang::Glsl, Ty::U32) => "uint",
             };
             body.statements += &format!("    {decl} t{i} = {value};\n");
         }
@@ -48,21 +49,30 @@ impl<'t> Body<'t> {
     }
 
     /// How the generated code names `e`: an input's text, a literal, or its `t<index>`.
-    pub(crate) fn name(&self, e: Expr) -> String {
-        match &self.tape.nodes[e.index()] {
-            Node::Input(name) => name.clone(),
+    pub(crate) fn name<V: Traced>(&self, e: V) -> String {
+        self.name_at(e.index())
+    }
+
+    fn name_at(&self, i: usize) -> String {
+        match &self.tape.nodes[i] {
+            Node::Input(name) | Node::UInput(name) => name.clone(),
             Node::Const(bits) => literal(f64::from_bits(*bits)),
-            _ => format!("t{}", e.index()),
+            Node::UConst(x) => format!("{x}u"),
+            _ => format!("t{i}"),
         }
     }
 
     /// Whether `e` is the constant zero (a term the printed sums leave out).
-    pub(crate) fn is_zero(&self, e: Expr) -> bool {
-        matches!(self.tape.nodes[e.index()], Node::Const(bits) if f64::from_bits(bits) == 0.0)
+    pub(crate) fn is_zero<V: Traced>(&self, e: V) -> bool {
+        match self.tape.nodes[e.index()] {
+            Node::Const(bits) => f64::from_bits(bits) == 0.0,
+            Node::UConst(x) => x == 0,
+            _ => false,
+        }
     }
 
     fn operation(&self, node: &Node) -> String {
-        let n = |e: &Expr| self.name(*e);
+        let n = |e: &dyn Traced| self.name_at(e.index());
         match node {
             Node::Add(a, b) => format!("{} + {}", n(a), n(b)),
             Node::Sub(a, b) => format!("{} - {}", n(a), n(b)),
@@ -88,7 +98,37 @@ impl<'t> Body<'t> {
                 Lang::Wgsl => format!("select({}, {}, {} != 0.0)", n(zero), n(nonzero), n(test)),
                 Lang::Glsl => format!("({} != 0.0 ? {} : {})", n(test), n(nonzero), n(zero)),
             },
-            Node::Input(_) | Node::Const(_) => unreachable!("inputs and constants are inlined"),
+            Node::UBin(op, a, b) => {
+                let op = match op {
+                    UOp::Add => "+",
+                    UOp::Sub => "-",
+                    UOp::Mul => "*",
+                    UOp::Rem => "%",
+                    UOp::Div => "/",
+                    UOp::And => "&",
+                };
+                format!("{} {op} {}", n(a), n(b))
+            }
+            Node::UShr(a, bits) => format!("{} >> {bits}u", n(a)),
+            Node::USelect { cmp, a, b, yes, no } => {
+                let cmp = match cmp {
+                    Cmp::Ge => ">=",
+                    Cmp::Gt => ">",
+                    Cmp::Eq => "==",
+                };
+                let test = format!("{} {cmp} {}", n(a), n(b));
+                match self.lang {
+                    Lang::Wgsl => format!("select({}, {}, {test})", n(no), n(yes)),
+                    Lang::Glsl => format!("({test} ? {} : {})", n(yes), n(no)),
+                }
+            }
+            Node::UCall(name, args) => {
+                let args: Vec<String> = args.iter().map(|a| n(a)).collect();
+                format!("{name}({})", args.join(", "))
+            }
+            Node::Input(_) | Node::Const(_) | Node::UInput(_) | Node::UConst(_) => {
+                unreachable!("inputs and constants are inlined")
+            }
         }
     }
 }
@@ -96,17 +136,23 @@ impl<'t> Body<'t> {
 /// The largest finite `f32`, as a literal both languages read.
 const F32_MAX: &str = "3.4028235e38";
 
-fn operands(node: &Node) -> Vec<Expr> {
-    match *node {
-        Node::Input(_) | Node::Const(_) => vec![],
-        Node::Neg(a) | Node::Sqrt(a) => vec![a],
-        Node::SelectPositiveFinite { test, yes, no } => vec![test, yes, no],
-        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
+/// The tape indices a node reads.
+fn operands(node: &Node) -> Vec<usize> {
+    let i = |e: &dyn Traced| e.index();
+    match node {
+        Node::Input(_) | Node::Const(_) | Node::UInput(_) | Node::UConst(_) => vec![],
+        Node::Neg(a) | Node::Sqrt(a) => vec![i(a)],
+        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![i(a), i(b)],
+        Node::SelectPositiveFinite { test, yes, no } => vec![i(test), i(yes), i(no)],
         Node::SelectNonZero {
             test,
             nonzero,
             zero,
-        } => vec![test, nonzero, zero],
+        } => vec![i(test), i(nonzero), i(zero)],
+        Node::UBin(_, a, b) => vec![i(a), i(b)],
+        Node::UShr(a, _) => vec![i(a)],
+        Node::USelect { a, b, yes, no, .. } => vec![i(a), i(b), i(yes), i(no)],
+        Node::UCall(_, args) => args.iter().map(|a| a.index()).collect(),
     }
 }
 

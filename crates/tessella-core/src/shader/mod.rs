@@ -28,9 +28,10 @@ mod trace;
 
 use crate::basis::{normal_weights, Basis, NORMAL_NET_LEN};
 use crate::refine::canonical::EdgeWeights;
+use crate::scalar::Word;
 use crate::scalar::{Dual, Real, V3};
 use emit::Body;
-use trace::{trace, Expr};
+use trace::{trace, Expr, UExpr};
 
 /// A shading language the generated code is written in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -308,6 +309,30 @@ pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
     }
 }
 
+/// WGSL: `fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32>`, the
+/// hardware tessellator's placement of a part's point (`tessellator::parts::locate_of`, with
+/// the 16.16 ruler arithmetic of `tessellator::points::place_of`): the point's 16.16 `u`, `v`
+/// and its coarse edge (`TESSELLA_NO_EDGE` off the edges). It reads the face's ruler words
+/// through `tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32`, which the including shader
+/// defines (word `k` of ruler `r` of the record at `rec`).
+pub fn locate_wgsl() -> String {
+    use crate::tessellator::parts::locate_of;
+    let (tape, out) = trace(|| {
+        let rec = UExpr::input("rec");
+        locate_of(
+            |r, k| UExpr::call("tessella_ruler_word", &[rec, r, UExpr::lit(k as u32)]),
+            UExpr::input("code"),
+            UExpr::input("side_offset"),
+        )
+    });
+    let body = Body::new(&tape, Lang::Wgsl, &out);
+    let [u, v, edge] = out.map(|e| body.name(e));
+    format!(
+        "fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32> {{\n{}    return vec3<u32>({u}, {v}, {edge});\n}}\n",
+        body.statements
+    )
+}
+
 /// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed
 /// point, as `TESSELLA_`-prefixed `u32` constants (see [`constants`]): the words a shader
 /// reads are the words [`crate::refine::instanced`] writes.
@@ -339,6 +364,7 @@ pub fn record_layout(lang: Lang) -> String {
             ("TESSELLA_FIXED_ONE_THIRD", fixed::ONE_THIRD),
             ("TESSELLA_FIXED_TWO_THIRDS", fixed::TWO_THIRDS),
             ("TESSELLA_FIXED_FRACTION_BITS", fixed::FRACTION_BITS),
+            ("TESSELLA_NO_EDGE", crate::tessellator::parts::NO_EDGE),
         ],
     )
 }

@@ -2,17 +2,25 @@
 //! CPU's weights (so folding and selections changed nothing but the zero terms), and the
 //! printed functions have the shape the shaders call.
 
-use super::trace::{trace, Expr, Node, Tape};
+use super::trace::{trace, Cmp, Expr, Node, Tape, Traced, UExpr, UOp};
 use super::*;
 use crate::basis::png1::PNG1_LEN;
 
 /// The tape's values in f64 with the inputs `l.x`, `l.y`, `l.z` (or `a`, `b`) set.
 fn run(tape: &Tape, inputs: &[(&str, f64)]) -> Vec<f64> {
+    run_with(tape, inputs, |name, _| panic!("no function {name} here"))
+}
+
+/// The tape's values (`u32` ones exactly, as f64) with named inputs and the including
+/// shader's functions given by `call`.
+fn run_with(tape: &Tape, inputs: &[(&str, f64)], call: impl Fn(&str, &[u32]) -> u32) -> Vec<f64> {
     let mut v: Vec<f64> = Vec::with_capacity(tape.nodes.len());
     for node in &tape.nodes {
         let x = |e: &Expr| v[e.index()];
+        let u = |e: &UExpr| v[e.index()] as u32;
+        let input = |name: &String| inputs.iter().find(|(n, _)| n == name).expect("an input").1;
         let value = match node {
-            Node::Input(name) => inputs.iter().find(|(n, _)| n == name).expect("an input").1,
+            Node::Input(name) | Node::UInput(name) => input(name),
             Node::Const(bits) => f64::from_bits(*bits),
             Node::Add(a, b) => x(a) + x(b),
             Node::Sub(a, b) => x(a) - x(b),
@@ -37,6 +45,28 @@ fn run(tape: &Tape, inputs: &[(&str, f64)]) -> Vec<f64> {
                 } else {
                     x(zero)
                 }
+            }
+            Node::UConst(c) => f64::from(*c),
+            Node::UBin(op, a, b) => f64::from(match op {
+                UOp::Add => u(a).wrapping_add(u(b)),
+                UOp::Sub => u(a).wrapping_sub(u(b)),
+                UOp::Mul => u(a).wrapping_mul(u(b)),
+                UOp::Rem => u(a) % u(b),
+                UOp::Div => u(a) / u(b),
+                UOp::And => u(a) & u(b),
+            }),
+            Node::UShr(a, bits) => f64::from(u(a) >> bits),
+            Node::USelect { cmp, a, b, yes, no } => {
+                let holds = match cmp {
+                    Cmp::Ge => u(a) >= u(b),
+                    Cmp::Gt => u(a) > u(b),
+                    Cmp::Eq => u(a) == u(b),
+                };
+                f64::from(if holds { u(yes) } else { u(no) })
+            }
+            Node::UCall(name, args) => {
+                let args: Vec<u32> = args.iter().map(u).collect();
+                f64::from(call(name, &args))
             }
         };
         v.push(value);
@@ -196,4 +226,70 @@ fn traced_net_builders_evaluate_to_the_cpu_nets() {
             builder.function_name()
         )));
     }
+}
+
+#[test]
+fn traced_tessellator_placement_evaluates_to_the_cpu_placement() {
+    use crate::tessellator::parts::{locate_of, FaceRulers, NO_EDGE};
+    use crate::tessellator::points::RULER_WORDS;
+    use crate::tessellator::{process_levels, Spacing, TessLevels};
+    let (tape, out) = trace(|| {
+        let rec = UExpr::input("rec");
+        locate_of(
+            |r, k| UExpr::call("tessella_ruler_word", &[rec, r, UExpr::lit(k as u32)]),
+            UExpr::input("code"),
+            UExpr::input("side_offset"),
+        )
+    });
+    let mut checked = 0;
+    for (spacing, outer, inner) in [
+        (Spacing::FractionalOdd, [3.3, 5.0, 1.7], 4.6),
+        (Spacing::FractionalEven, [2.0, 7.5, 4.2], 6.1),
+        (Spacing::Equal, [4.0, 4.0, 9.0], 3.0),
+    ] {
+        let levels = TessLevels { outer, inner };
+        let p = process_levels(spacing, levels).expect("levels that draw");
+        let rulers = FaceRulers::new(&p);
+        let words = rulers.words();
+        // Every code a part can name: rings, sides, indices along a side.
+        for ring in 0..=rulers.inner_points / 2 {
+            for side in 0..3u32 {
+                for i in 0..rulers.inner_points.max(rulers.outer_points[side as usize]) {
+                    let code = ring << 10 | side << 8 | i;
+                    for side_offset in 0..3 {
+                        let v = run_with(
+                            &tape,
+                            &[
+                                ("rec", 0.0),
+                                ("code", f64::from(code)),
+                                ("side_offset", f64::from(side_offset)),
+                            ],
+                            |name, args| {
+                                assert_eq!(name, "tessella_ruler_word");
+                                words[RULER_WORDS * args[1] as usize + args[2] as usize]
+                            },
+                        );
+                        let got = out.map(|e| v[e.index()] as u32);
+                        let cpu = locate_of(
+                            |r: u32, k| words[RULER_WORDS * r as usize + k],
+                            code,
+                            side_offset,
+                        );
+                        assert_eq!(got, cpu, "{spacing:?} code {code:#x} side {side_offset}");
+                        assert_eq!((got[0], got[1]), rulers.locate(code, side_offset));
+                        if ring > 0 {
+                            assert_eq!(got[2], NO_EDGE);
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 300, "{checked}");
+    let wgsl = locate_wgsl();
+    assert!(
+        wgsl.starts_with("fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32>")
+    );
+    assert!(wgsl.contains("tessella_ruler_word(rec, "), "{wgsl}");
 }

@@ -1,5 +1,6 @@
-//! A traced number: running a [`Real`]-generic formula with [`Expr`] records each operation on
-//! a tape instead of computing it, and the tape is then printed as shader code (`emit.rs`).
+//! A traced number: running a [`Real`]-generic formula with [`Expr`] (or a [`Word`]-generic
+//! one with [`UExpr`]) records each operation on a tape instead of computing it, and the tape
+//! is then printed as shader code (`emit.rs`).
 //!
 //! The tape is thread-local and lives for one [`trace`] call, so an `Expr` is a plain index
 //! (`Copy`, as `Real` needs). Identical operations are recorded once, and operations on
@@ -7,14 +8,33 @@
 //! the printed code is what a hand-written shader would compute, without the zero terms of a
 //! general formula.
 
-use crate::scalar::Real;
+use crate::scalar::{Real, Word};
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// One recorded value: an index into the current tape.
+/// One recorded `f32` value: an index into the current tape.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Expr(u32);
+
+/// One recorded `u32` value: an index into the current tape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct UExpr(u32);
+
+/// A comparison a `u32` selection makes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum Cmp {
+    Ge,
+    Gt,
+    Eq,
+}
+
+/// The type of a recorded value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Ty {
+    F32,
+    U32,
+}
 
 /// An operation on the tape. Constants are held as `f64` bits so nodes can be hashed.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -40,13 +60,55 @@ pub(crate) enum Node {
         nonzero: Expr,
         zero: Expr,
     },
+    /// A named `u32` input.
+    UInput(String),
+    UConst(u32),
+    /// Wrapping `u32` arithmetic: `+ - *`, and `% / & >>`.
+    UBin(UOp, UExpr, UExpr),
+    UShr(UExpr, u32),
+    /// `yes` where `a cmp b`, else `no`.
+    USelect {
+        cmp: Cmp,
+        a: UExpr,
+        b: UExpr,
+        yes: UExpr,
+        no: UExpr,
+    },
+    /// A `u32` function of the including shader (a record read, say).
+    UCall(String, Vec<UExpr>),
+}
+
+/// A binary `u32` operation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum UOp {
+    Add,
+    Sub,
+    Mul,
+    Rem,
+    Div,
+    And,
+}
+
+impl Node {
+    /// The type of the value the node records.
+    pub(crate) fn ty(&self) -> Ty {
+        match self {
+            Node::UInput(_)
+            | Node::UConst(_)
+            | Node::UBin(..)
+            | Node::UShr(..)
+            | Node::USelect { .. }
+            | Node::UCall(..) => Ty::U32,
+            _ => Ty::F32,
+        }
+    }
 }
 
 /// The operations one [`trace`] recorded, in order (every operand before its use).
 #[derive(Debug, Default)]
 pub(crate) struct Tape {
     pub(crate) nodes: Vec<Node>,
-    seen: HashMap<Node, Expr>,
+    seen: HashMap<Node, u32>,
 }
 
 thread_local! {
@@ -93,26 +155,142 @@ impl Expr {
     }
 
     fn push(node: Node) -> Expr {
-        TAPE.with(|t| {
-            let mut t = t.borrow_mut();
-            let tape = t.as_mut().expect(OUTSIDE);
-            if let Some(&e) = tape.seen.get(&node) {
-                return e;
-            }
-            let e = Expr(tape.nodes.len() as u32);
-            tape.nodes.push(node.clone());
-            tape.seen.insert(node, e);
-            e
-        })
-    }
-
-    /// The index of this value on its tape.
-    pub(crate) fn index(self) -> usize {
-        self.0 as usize
+        Expr(push(node))
     }
 }
 
 const OUTSIDE: &str = "a traced number is used outside `shader::trace`";
+
+/// Records `node` (or finds it recorded) and returns its index.
+fn push(node: Node) -> u32 {
+    TAPE.with(|t| {
+        let mut t = t.borrow_mut();
+        let tape = t.as_mut().expect(OUTSIDE);
+        if let Some(&e) = tape.seen.get(&node) {
+            return e;
+        }
+        let e = tape.nodes.len() as u32;
+        tape.nodes.push(node.clone());
+        tape.seen.insert(node, e);
+        e
+    })
+}
+
+/// A recorded value of either type, by its index on the tape.
+pub(crate) trait Traced {
+    fn index(&self) -> usize;
+}
+
+impl Traced for Expr {
+    fn index(&self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl Traced for UExpr {
+    fn index(&self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl UExpr {
+    /// A named `u32` input.
+    pub(crate) fn input(name: &str) -> UExpr {
+        UExpr(push(Node::UInput(name.to_string())))
+    }
+
+    /// A call of the including shader's `name(args)`, returning `u32`.
+    pub(crate) fn call(name: &str, args: &[UExpr]) -> UExpr {
+        UExpr(push(Node::UCall(name.to_string(), args.to_vec())))
+    }
+
+    fn value(self) -> Option<u32> {
+        TAPE.with(
+            |t| match t.borrow().as_ref().expect(OUTSIDE).nodes[self.0 as usize] {
+                Node::UConst(x) => Some(x),
+                _ => None,
+            },
+        )
+    }
+
+    fn bin(op: UOp, a: UExpr, b: UExpr) -> UExpr {
+        let folded = match (op, a.value(), b.value()) {
+            (_, Some(x), Some(y)) => match op {
+                UOp::Add => Some(x.wrapping_add(y)),
+                UOp::Sub => Some(x.wrapping_sub(y)),
+                UOp::Mul => Some(x.wrapping_mul(y)),
+                UOp::Rem if y != 0 => Some(x % y),
+                UOp::Div if y != 0 => Some(x / y),
+                UOp::And => Some(x & y),
+                _ => None,
+            },
+            (UOp::Add | UOp::Sub, _, Some(0)) | (UOp::Mul | UOp::Div, _, Some(1)) => {
+                return a;
+            }
+            (UOp::Add, Some(0), _) | (UOp::Mul, Some(1), _) => return b,
+            _ => None,
+        };
+        match folded {
+            Some(x) => UExpr::lit(x),
+            None => UExpr(push(Node::UBin(op, a, b))),
+        }
+    }
+
+    fn select(cmp: Cmp, a: UExpr, b: UExpr, yes: UExpr, no: UExpr) -> UExpr {
+        if yes == no {
+            return no;
+        }
+        if let (Some(x), Some(y)) = (a.value(), b.value()) {
+            let holds = match cmp {
+                Cmp::Ge => x >= y,
+                Cmp::Gt => x > y,
+                Cmp::Eq => x == y,
+            };
+            return if holds { yes } else { no };
+        }
+        UExpr(push(Node::USelect { cmp, a, b, yes, no }))
+    }
+}
+
+impl Word for UExpr {
+    fn lit(x: u32) -> UExpr {
+        UExpr(push(Node::UConst(x)))
+    }
+    fn wadd(self, o: UExpr) -> UExpr {
+        UExpr::bin(UOp::Add, self, o)
+    }
+    fn wsub(self, o: UExpr) -> UExpr {
+        UExpr::bin(UOp::Sub, self, o)
+    }
+    fn wmul(self, o: UExpr) -> UExpr {
+        UExpr::bin(UOp::Mul, self, o)
+    }
+    fn rem(self, o: UExpr) -> UExpr {
+        UExpr::bin(UOp::Rem, self, o)
+    }
+    fn div(self, o: UExpr) -> UExpr {
+        UExpr::bin(UOp::Div, self, o)
+    }
+    fn shr(self, bits: u32) -> UExpr {
+        match self.value() {
+            Some(x) => UExpr::lit(x >> bits),
+            None if bits == 0 => self,
+            None => UExpr(push(Node::UShr(self, bits))),
+        }
+    }
+    fn and(self, o: UExpr) -> UExpr {
+        UExpr::bin(UOp::And, self, o)
+    }
+    fn select_ge(a: UExpr, b: UExpr, yes: UExpr, no: UExpr) -> UExpr {
+        UExpr::select(Cmp::Ge, a, b, yes, no)
+    }
+    fn select_gt(a: UExpr, b: UExpr, yes: UExpr, no: UExpr) -> UExpr {
+        UExpr::select(Cmp::Gt, a, b, yes, no)
+    }
+    fn select_eq(a: UExpr, b: UExpr, yes: UExpr, no: UExpr) -> UExpr {
+        UExpr::select(Cmp::Eq, a, b, yes, no)
+    }
+}
 
 impl Add for Expr {
     type Output = Expr;

@@ -16,8 +16,9 @@
 //! side. The last point of a side is the first of the next side.
 
 use super::fixed::{self, ONE, ONE_HALF, ONE_THIRD, TWO_THIRDS};
-use super::points::{Ruler, RULER_WORDS};
+use super::points::{place_of, Ruler, RULER_PACKED_WORD, RULER_POINTS_SHIFT, RULER_WORDS};
 use super::{stitch, ProcessedLevels};
+use crate::scalar::Word;
 
 /// The topology of one level's 1D layout: points per half-row and parity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -150,43 +151,82 @@ impl FaceRulers {
     }
 
     /// The 16.16 `(u, v)` of the point `code` names, its side turned by `side_offset` (a
-    /// strip's instance side): the reference twin of `shaders/adaptive.wgsl`'s `locate`.
+    /// strip's instance side): [`locate_of`] on this face's words.
     pub fn locate(&self, code: u32, side_offset: u32) -> (u32, u32) {
-        let ring = code >> 10;
-        let mut side = ((code >> 8 & 3) + side_offset) % 3;
-        let mut i = code & 0xff;
-        if ring == 0 {
-            if i == self.outer_points[side as usize] - 1 {
-                (side, i) = ((side + 1) % 3, 0);
-            }
-            let last = self.outer_points[side as usize] - 1;
-            let q = if side == 1 { i } else { last - i };
-            let t = self.outer[side as usize].place(q);
-            return match side {
-                0 => (0, t),
-                1 => (t, 0),
-                _ => (t, ONE - t),
-            };
-        }
-        let len = self.inner_points - 2 * ring;
-        if len == 1 {
-            return (ONE_THIRD, ONE_THIRD);
-        }
-        if i == len - 1 {
-            (side, i) = ((side + 1) % 3, 0);
-        }
-        let (start, end) = (ring, self.inner_points - 1 - ring);
-        let perp = self.inner.place(ring).wrapping_mul(TWO_THIRDS);
-        let perp = perp.wrapping_add(ONE_HALF) >> fixed::FRACTION_BITS;
-        let slide = perp.div_ceil(2);
-        let q = if side == 1 { start + i } else { end - i };
-        let t = self.inner.place(q).wrapping_sub(slide);
-        match side {
-            0 => (perp, t),
-            1 => (t, perp),
-            _ => (t, ONE.wrapping_sub(t).wrapping_sub(perp)),
-        }
+        let words = self.words();
+        let [u, v, _] = locate_of(
+            |r: u32, k| words[RULER_WORDS * r as usize + k],
+            code,
+            side_offset,
+        );
+        (u, v)
     }
+}
+
+/// Off the coarse edges: the edge [`locate_of`] names for interior points and corners.
+pub const NO_EDGE: u32 = 3;
+
+/// The 16.16 `u`, `v` of the point `code` names on a face whose ruler words
+/// ([`FaceRulers::words`]) `word(r, k)` reads (ruler `r`: 0..2 the outer levels in GL order, 3
+/// the inner level), its side turned by `side_offset`, and the coarse edge (ours) whose inside
+/// it lies in, or [`NO_EDGE`]. For any [`Word`]: the CPU's `u32` and the adaptive renderer's
+/// generated shader (`tessella_core::shader`) run this one function. The ring-0 and inner-ring
+/// cases are both computed and one is selected.
+pub(crate) fn locate_of<W: Word>(word: impl Fn(W, usize) -> W, code: W, side_offset: W) -> [W; 3] {
+    let lit = W::lit;
+    let three = lit(3);
+    let ruler = |r: W| std::array::from_fn(|k| word(r, k));
+    let points = |r: W| word(r, RULER_PACKED_WORD).shr(RULER_POINTS_SHIFT);
+    let ring = code.shr(10);
+    let side = code.shr(8).and(lit(3)).wadd(side_offset).rem(three);
+    let i = code.and(lit(0xff));
+    // A side's last point is the next side's first.
+    let next = |side: W, i: W, last: W| {
+        (
+            W::select_eq(i, last, side.wadd(lit(1)).rem(three), side),
+            W::select_eq(i, last, lit(0), i),
+        )
+    };
+    let on_side = |side: W, t: W, zero: W, third: W| {
+        (
+            W::select_eq(side, lit(0), zero, t),
+            W::select_eq(side, lit(0), t, W::select_eq(side, lit(1), zero, third)),
+        )
+    };
+
+    // Ring 0: the outer edges, each from its own ruler.
+    let (o_side, o_i) = next(side, i, points(side).wsub(lit(1)));
+    let last = points(o_side).wsub(lit(1));
+    let q = W::select_eq(o_side, lit(1), o_i, last.wsub(o_i));
+    let t = place_of(ruler(o_side), q);
+    let (o_u, o_v) = on_side(o_side, t, lit(0), lit(ONE).wsub(t));
+    // GL's outer[k] is our edge k + 1.
+    let o_edge = W::select_gt(o_i, lit(0), o_side.wadd(lit(1)).rem(three), lit(NO_EDGE));
+
+    // Inner rings: the inner ruler's points pushed towards the middle.
+    let inner = ruler(lit(3));
+    let inner_points = points(lit(3));
+    let len = inner_points.wsub(ring.wadd(ring));
+    let (n_side, n_i) = next(side, i, len.wsub(lit(1)));
+    let end = inner_points.wsub(lit(1)).wsub(ring);
+    let perp = place_of(inner, ring)
+        .wmul(lit(TWO_THIRDS))
+        .wadd(lit(ONE_HALF))
+        .shr(fixed::FRACTION_BITS);
+    let slide = perp.wadd(lit(1)).div(lit(2));
+    let q = W::select_eq(n_side, lit(1), ring.wadd(n_i), end.wsub(n_i));
+    let t = place_of(inner, q).wsub(slide);
+    let (n_u, n_v) = on_side(n_side, t, perp, lit(ONE).wsub(t).wsub(perp));
+    // A ring of one point is the centre.
+    let n_u = W::select_eq(len, lit(1), lit(ONE_THIRD), n_u);
+    let n_v = W::select_eq(len, lit(1), lit(ONE_THIRD), n_v);
+
+    let outer_ring = |a: W, b: W| W::select_eq(ring, lit(0), a, b);
+    [
+        outer_ring(o_u, n_u),
+        outer_ring(o_v, n_v),
+        outer_ring(o_edge, lit(NO_EDGE)),
+    ]
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 //! all crowding at one place.
 
 use super::fixed::{self, ONE, ONE_HALF, RECIPROCAL};
+use crate::scalar::Word;
 
 /// `u32` words of one ruler as the GPU reads it ([`Ruler::words`]).
 pub(crate) const RULER_WORDS: usize = 5;
@@ -79,6 +80,10 @@ impl Ruler {
     /// `1/ceil`, the fraction, the split index, then `half_points | odd << 8 | points << 16`
     /// with `points` the caller's point count of the layout.
     pub fn words(&self, points: u32) -> [u32; RULER_WORDS] {
+        debug_assert!(
+            self.half_points < 1 << RULER_ODD_SHIFT,
+            "levels are at most 64"
+        );
         [
             self.inv_floor,
             self.inv_ceil,
@@ -93,30 +98,30 @@ impl Ruler {
     /// Position of point `point` (0 = start, 16.16 in `[0, 1]`). The second half is the first
     /// mirrored, `1 − t` computed exactly, so both directions along an edge agree bit for bit.
     pub fn place(&self, point: u32) -> u32 {
-        let (point, mirrored) = if point >= self.half_points {
-            let p = 2 * self.half_points - point - u32::from(self.odd);
-            (p, true)
-        } else {
-            (point, false)
-        };
-        if point == self.half_points {
-            // The middle of an even level: exactly 1/2 (the lerp below cannot reach it).
-            return ONE_HALF;
-        }
-        let on_ceil = point;
-        let on_floor = if point > self.split { point - 1 } else { point };
-        let floor_pos = on_floor.wrapping_mul(self.inv_floor);
-        let ceil_pos = on_ceil.wrapping_mul(self.inv_ceil);
-        let lerp = floor_pos
-            .wrapping_mul(ONE - self.fraction)
-            .wrapping_add(ceil_pos.wrapping_mul(self.fraction));
-        let t = lerp.wrapping_add(ONE_HALF) >> fixed::FRACTION_BITS;
-        if mirrored {
-            ONE - t
-        } else {
-            t
-        }
+        place_of(self.words(0), point)
     }
+}
+
+/// [`Ruler::place`] from the ruler's words ([`Ruler::words`]), for any [`Word`]: the CPU's
+/// `u32` and the adaptive renderer's generated shader code (`tessella_core::shader`) run this
+/// one function. Branches are selections, both sides computed (wrapping, so harmless).
+pub(crate) fn place_of<W: Word>(words: [W; RULER_WORDS], point: W) -> W {
+    let [inv_floor, inv_ceil, fraction, split, packed] = words;
+    let half = packed.and(W::lit((1 << RULER_ODD_SHIFT) - 1));
+    let odd = packed.shr(RULER_ODD_SHIFT).and(W::lit(1));
+    let one = W::lit(ONE);
+    // The second half is the first mirrored.
+    let p = W::select_ge(point, half, half.wadd(half).wsub(point).wsub(odd), point);
+    let on_floor = W::select_gt(p, split, p.wsub(W::lit(1)), p);
+    let floor_pos = on_floor.wmul(inv_floor);
+    let ceil_pos = p.wmul(inv_ceil);
+    let lerp = floor_pos
+        .wmul(one.wsub(fraction))
+        .wadd(ceil_pos.wmul(fraction));
+    let t = lerp.wadd(W::lit(ONE_HALF)).shr(fixed::FRACTION_BITS);
+    let placed = W::select_ge(point, half, one.wsub(t), t);
+    // The middle of an even level: exactly 1/2 (the lerp cannot reach it).
+    W::select_eq(p, half, W::lit(ONE_HALF), placed)
 }
 
 /// Points on a level's 1D layout, both ends included (the reference's `NumPointsForTessFactor`).

@@ -29,8 +29,7 @@ struct AdaptiveParams {
 
 // TESSELLA_MODE_REAL, TESSELLA_NORMAL_NET_LEN: prepended from Rust (wgsl_constants.rs).
 const ONE: u32 = TESSELLA_FIXED_ONE;
-const ONE_HALF: u32 = TESSELLA_FIXED_ONE_HALF;
-const NO_EDGE: u32 = 3u;
+const NO_EDGE: u32 = TESSELLA_NO_EDGE;
 
 // The control nets the generated sums read.
 fn tessella_net_point(face: u32, k: u32) -> vec3<f32> {
@@ -43,77 +42,11 @@ fn tessella_net_normal(face: u32, k: u32) -> vec3<f32> {
     return vec3<f32>(net_normals[i], net_normals[i + 1u], net_normals[i + 2u]);
 }
 
-// Points of ruler r (0..2 the outer levels in GL order, 3 the inner level) of record `rec`.
-fn ruler_points(rec: u32, r: u32) -> u32 {
-    return records[rec + TESSELLA_RULER_WORDS * r + TESSELLA_RULER_PACKED_WORD] >> TESSELLA_RULER_POINTS_SHIFT;
-}
-
-// tessellator::points::Ruler::place: 16.16 position of point `point` of ruler r, in the
-// reference tessellator's wrapping integer arithmetic.
-fn place(rec: u32, r: u32, point: u32) -> u32 {
-    let b = rec + TESSELLA_RULER_WORDS * r;
-    let w = records[b + TESSELLA_RULER_PACKED_WORD];
-    let half = w & ((1u << TESSELLA_RULER_ODD_SHIFT) - 1u);
-    let odd = (w >> TESSELLA_RULER_ODD_SHIFT) & 1u;
-    var p = point;
-    var mirrored = false;
-    if (p >= half) {
-        p = 2u * half - p - odd;
-        mirrored = true;
-    }
-    if (p == half) {
-        return ONE_HALF;
-    }
-    let on_floor = select(p, p - 1u, p > records[b + 3u]);
-    let fraction = records[b + 2u];
-    let lerp = on_floor * records[b] * (ONE - fraction) + p * records[b + 1u] * fraction;
-    let t = (lerp + ONE_HALF) >> TESSELLA_FIXED_FRACTION_BITS;
-    return select(t, ONE - t, mirrored);
-}
-
-// tessellator::parts::FaceRulers::locate: the 16.16 (u, v) of `code`, its side turned by
-// `side_offset`, and the edge (ours) whose inside it lies in (NO_EDGE off the coarse edges).
-fn locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32> {
-    let ring = code >> 10u;
-    var side = (((code >> 8u) & 3u) + side_offset) % 3u;
-    var i = code & 0xffu;
-    if (ring == 0u) {
-        if (i == ruler_points(rec, side) - 1u) {
-            side = (side + 1u) % 3u;
-            i = 0u;
-        }
-        let last = ruler_points(rec, side) - 1u;
-        let t = place(rec, side, select(last - i, i, side == 1u));
-        // GL's outer[k] is our edge k + 1.
-        let edge = select(NO_EDGE, (side + 1u) % 3u, i > 0u);
-        if (side == 0u) {
-            return vec3<u32>(0u, t, edge);
-        }
-        if (side == 1u) {
-            return vec3<u32>(t, 0u, edge);
-        }
-        return vec3<u32>(t, ONE - t, edge);
-    }
-    let inner_points = ruler_points(rec, 3u);
-    let len = inner_points - 2u * ring;
-    if (len == 1u) {
-        return vec3<u32>(TESSELLA_FIXED_ONE_THIRD, TESSELLA_FIXED_ONE_THIRD, NO_EDGE);
-    }
-    if (i == len - 1u) {
-        side = (side + 1u) % 3u;
-        i = 0u;
-    }
-    let end = inner_points - 1u - ring;
-    let perp = (place(rec, 3u, ring) * TESSELLA_FIXED_TWO_THIRDS + ONE_HALF) >> TESSELLA_FIXED_FRACTION_BITS;
-    let slide = (perp + 1u) / 2u;
-    let t = place(rec, 3u, select(end - i, ring + i, side == 1u)) - slide;
-    if (side == 0u) {
-        return vec3<u32>(perp, t, NO_EDGE);
-    }
-    if (side == 1u) {
-        return vec3<u32>(t, perp, NO_EDGE);
-    }
-    return vec3<u32>(t, ONE - t - perp, NO_EDGE);
+// Word k of ruler r (0..2 the outer levels in GL order, 3 the inner level) of the record at
+// `rec`: what the generated `tessella_locate` (the tessellator's placement, from
+// tessella_core::tessellator) reads.
+fn tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32 {
+    return records[rec + TESSELLA_RULER_WORDS * r + k];
 }
 
 // A point's surface, accumulated (geomorphing blends several): position, Du, Dv and the normal
@@ -261,15 +194,15 @@ fn adaptive_point(vcode: u32, inst: u32) -> AdaptivePoint {
     var l: vec3<f32>;
     var edge = NO_EDGE;
     if (!GRID) {
-        let p = locate(rec, code, inst >> 30u);
+        let p = tessella_locate(rec, code, inst >> 30u);
         let lf = vec3<u32>(p.x, p.y, ONE - p.x - p.y);
-        l = vec3<f32>(lf) / 65536.0;
+        l = vec3<f32>(lf) / f32(ONE);
         add_point(&acc, face, l, 1.0);
         edge = p.z;
         if (edge != NO_EDGE) {
             let forward = ((face_forward >> edge) & 1u) != 0u;
             let a = select(ONE - lf[edge], lf[edge], forward);
-            add_edge(&acc, f32(a) / 65536.0, f32(ONE - a) / 65536.0, 1.0);
+            add_edge(&acc, f32(a) / f32(ONE), f32(ONE - a) / f32(ONE), 1.0);
         }
     } else {
         let g = grid_point(face, rec, face_forward, code & 0xffu, (code >> 8u) & 0xffu, &acc);
