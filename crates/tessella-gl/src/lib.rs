@@ -32,7 +32,7 @@ mod shaders;
 pub use context::{DriverInfo, GlContext};
 pub use error::{GlError, DRIVER_PACKAGES};
 pub use refine::{
-    compare, gl_clip_from_zero_to_one, hardware_spacing, Comparison, DrawMode, GlRefined,
-    GlTessellator, LevelSource, NetSource, Prepared, ShaderNets,
+    compare, gl_clip_from_zero_to_one, hardware_spacing, Comparison, DrawMode, GlEvaluator,
+    GlRefined, GlTessellator, LevelSource, NetSource, Prepared, ShaderNets,
 };
 pub use shaders::{glsl_sources, ShaderSources};
