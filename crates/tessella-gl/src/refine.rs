@@ -903,8 +903,10 @@ pub struct GlEvaluator<'c> {
     uploaded: u64,
 }
 
-/// Identifies a plan: vertex, triangle and face counts, level, weld, basis size, normal mode.
-type PlanKey = (usize, usize, usize, u32, bool, usize, NormalMode);
+/// Tells plans apart: vertex, triangle and face counts, level, weld, scheme (with its
+/// parameters: Phong's shape factor is a uniform made per plan), spacing, normal mode. The
+/// frame check (`Plan::check_frame`) adds the plan's identity for frames.
+type PlanKey = (usize, usize, usize, u32, bool, Scheme, Spacing, NormalMode);
 
 fn plan_key(plan: &Plan) -> PlanKey {
     let layout = plan.layout();
@@ -914,7 +916,8 @@ fn plan_key(plan: &Plan) -> PlanKey {
         plan.face_count(),
         layout.level,
         layout.weld,
-        plan.options().scheme.basis().len(),
+        plan.options().scheme,
+        plan.options().spacing,
         plan.normal_mode(),
     )
 }

@@ -375,6 +375,20 @@ fn evaluator_refuses_other_plans_grids_and_displacement() {
     let good = out.clone();
     let err = gl.evaluate(&other, &other_frame, &mut out).unwrap_err();
     assert!(err.to_string().contains("another plan"), "{err}");
+    // A plan with the same counts and another shape (Phong's shape factor is per plan).
+    let phong = |alpha| {
+        RefineOptions::new(Scheme::Phong { alpha }, 1)
+            .with_spacing(Spacing::Equal)
+            .with_levels(Levels::Uniform(3.0))
+    };
+    let (soft, full) = (
+        Plan::new(&mesh, &phong(0.5)).unwrap(),
+        Plan::new(&mesh, &phong(1.0)).unwrap(),
+    );
+    let (soft_frame, full_frame) = (soft.frame(&mesh).unwrap(), full.frame(&mesh).unwrap());
+    let mut soft_gl = GlEvaluator::new(&ctx, &soft, &soft_frame).unwrap();
+    let err = soft_gl.evaluate(&full, &full_frame, &mut out).unwrap_err();
+    assert!(err.to_string().contains("another plan"), "{err}");
     // A frame of another plan with the same counts.
     let twin = Plan::new(&mesh, &pn(Spacing::Equal, 3.0)).unwrap();
     let twin_frame = twin.frame(&mesh).unwrap();
