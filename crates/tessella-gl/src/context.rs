@@ -32,6 +32,9 @@ pub struct GlContext {
     // Field order: the GL function table goes first, then the context, then the library.
     gl: glow::Context,
     info: DriverInfo,
+    /// The tessellation programs, one per hardware spacing, linked on first use and shared by
+    /// every tessellator and evaluator on this context (freed with the context).
+    programs: std::cell::RefCell<[Option<glow::Program>; 3]>,
     display: egl::Display,
     context: egl::Context,
     egl: egl::DynamicInstance<egl::EGL1_4>,
@@ -87,6 +90,7 @@ impl GlContext {
         let ctx = GlContext {
             gl,
             info,
+            programs: Default::default(),
             display,
             context,
             egl,
@@ -185,6 +189,30 @@ impl GlContext {
     /// Vendor, renderer, version, tessellation limit.
     pub fn info(&self) -> &DriverInfo {
         &self.info
+    }
+
+    /// The tessellation program for `spacing`, linked on first use and kept: tessellators and
+    /// evaluators on this context share it.
+    pub(crate) fn program(
+        &self,
+        spacing: tessella_core::tessellator::Spacing,
+    ) -> Result<glow::Program, GlError> {
+        let i = match spacing {
+            tessella_core::tessellator::Spacing::Equal => 0,
+            tessella_core::tessellator::Spacing::FractionalOdd => 1,
+            tessella_core::tessellator::Spacing::FractionalEven => 2,
+        };
+        if let Some(p) = self.programs.borrow()[i] {
+            return Ok(p);
+        }
+        let p = crate::refine::link(self, spacing)?;
+        self.programs.borrow_mut()[i] = Some(p);
+        Ok(p)
+    }
+
+    /// How many tessellation programs this context has linked (at most one per spacing).
+    pub fn linked_programs(&self) -> usize {
+        self.programs.borrow().iter().flatten().count()
     }
 
     /// `Err` naming `call` when GL has recorded an error (all pending errors are cleared).

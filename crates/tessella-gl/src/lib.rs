@@ -22,6 +22,13 @@
 //! the patch's corners is what this backend is for. They are GLSL written after tessella-core's
 //! `scheme` modules and tied to them by the tests, which compare every GL vertex with the CPU
 //! refinement of the same scheme, spacing and levels.
+//!
+//! ## The evaluator
+//!
+//! [`GlEvaluator`] implements tessella-core's `Evaluator`: made once per plan, it writes each
+//! frame into the caller's [`GlRefined`] (the hardware's triangle soup with each vertex's face
+//! and tessellation coordinate), uploading only the frame's coarse data. It runs the hardware
+//! spacings only and does not displace (see [`GlEvaluator::with_displacement`]).
 
 pub mod bench;
 mod context;
@@ -32,7 +39,7 @@ mod shaders;
 pub use context::{DriverInfo, GlContext};
 pub use error::{GlError, DRIVER_PACKAGES};
 pub use refine::{
-    compare, gl_clip_from_zero_to_one, hardware_spacing, Comparison, DrawMode, GlRefined,
-    GlTessellator, LevelSource, NetSource, Prepared, ShaderNets,
+    compare, gl_clip_from_zero_to_one, hardware_spacing, Comparison, DrawMode, GlEvaluator,
+    GlRefined, GlTessellator, LevelSource, NetSource, Prepared, ShaderNets,
 };
 pub use shaders::{glsl_sources, ShaderSources};

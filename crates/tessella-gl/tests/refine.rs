@@ -296,3 +296,116 @@ fn the_control_shader_builds_the_nets_and_they_match_the_cpu() {
         }
     }
 }
+
+/// `mesh` with its positions scaled and bent a little, differently for every `t`.
+fn deformed(mesh: &Mesh, t: usize) -> Vec<[f32; 3]> {
+    let s = 0.15 * t as f32;
+    mesh.positions()
+        .iter()
+        .map(|p| {
+            [
+                p[0] * (1.0 + s),
+                p[1] + s * p[0] * p[0],
+                p[2] * (1.0 - 0.5 * s),
+            ]
+        })
+        .collect()
+}
+
+#[test]
+fn evaluator_follows_a_deforming_mesh_like_the_tessellator_and_the_cpu() {
+    use tessella_core::refine::{Evaluator, Plan};
+    use tessella_gl::{GlEvaluator, GlRefined};
+    let ctx = ctx();
+    let mut tessellator = GlTessellator::new(&ctx).unwrap();
+    // Shader-built nets (PN, PNG1: coarse vertices uploaded) and CPU nets (PN-AEN: the nets).
+    for (scheme, spacing) in [
+        (Scheme::Pn, Spacing::Equal),
+        (Scheme::Png1, Spacing::FractionalOdd),
+        (Scheme::PnAen, Spacing::Equal),
+    ] {
+        let mesh = samples::icosphere(1);
+        let options = RefineOptions::new(scheme, 1)
+            .with_spacing(spacing)
+            .with_levels(Levels::Uniform(4.5));
+        let plan = Plan::new(&mesh, &options).unwrap();
+        let mut frame = plan.frame(&mesh).unwrap();
+        let mut gl = GlEvaluator::new(&ctx, &plan, &frame).unwrap();
+        let mut out = GlRefined::default();
+        for t in 0..3 {
+            let moved = deformed(&mesh, t);
+            plan.update(&mut frame, &moved, None).unwrap();
+            gl.evaluate(&plan, &frame, &mut out).unwrap();
+            let what = format!("{scheme:?} {spacing:?} frame {t}");
+            // The same draw as the one-shot path on the deformed mesh, and the CPU's surface.
+            let deformed_mesh = frame.mesh().clone();
+            let once = tessellator.refine(&deformed_mesh, &options, None).unwrap();
+            assert_eq!(out.positions, once.positions, "{what}");
+            assert_eq!(out.faces, once.faces, "{what}");
+            let c = compare(&deformed_mesh, &options, &out, TOL, NORMAL_TOL)
+                .unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_eq!(c.triangles, plan.triangle_count(), "{what}");
+            // Only the frame's coarse data crossed the bus: no levels, no indices.
+            let nets = frame.nets();
+            let coarse = match scheme {
+                Scheme::PnAen => (nets.points.len() + nets.normals.len()) * 12,
+                _ => mesh.vertex_count() * 24,
+            };
+            assert_eq!(gl.uploaded_bytes(), coarse as u64, "{what}");
+        }
+    }
+    // One program per spacing, shared by the tessellator and every evaluator.
+    assert_eq!(ctx.linked_programs(), 2);
+}
+
+#[test]
+fn evaluator_refuses_other_plans_grids_and_displacement() {
+    use tessella_core::displace::Displacement;
+    use tessella_core::refine::{Evaluator, Plan};
+    use tessella_gl::{GlError, GlEvaluator, GlRefined};
+    let ctx = ctx();
+    let mesh = samples::icosphere(1);
+    let plan = Plan::new(&mesh, &pn(Spacing::Equal, 3.0)).unwrap();
+    let frame = plan.frame(&mesh).unwrap();
+    let other = Plan::new(&mesh, &pn(Spacing::Equal, 5.0)).unwrap();
+    let other_frame = other.frame(&mesh).unwrap();
+    let mut gl = GlEvaluator::new(&ctx, &plan, &frame).unwrap();
+    let mut out = GlRefined::default();
+    gl.evaluate(&plan, &frame, &mut out).unwrap();
+    let good = out.clone();
+    let err = gl.evaluate(&other, &other_frame, &mut out).unwrap_err();
+    assert!(err.to_string().contains("another plan"), "{err}");
+    // A plan with the same counts and another shape (Phong's shape factor is per plan).
+    let phong = |alpha| {
+        RefineOptions::new(Scheme::Phong { alpha }, 1)
+            .with_spacing(Spacing::Equal)
+            .with_levels(Levels::Uniform(3.0))
+    };
+    let (soft, full) = (
+        Plan::new(&mesh, &phong(0.5)).unwrap(),
+        Plan::new(&mesh, &phong(1.0)).unwrap(),
+    );
+    let (soft_frame, full_frame) = (soft.frame(&mesh).unwrap(), full.frame(&mesh).unwrap());
+    let mut soft_gl = GlEvaluator::new(&ctx, &soft, &soft_frame).unwrap();
+    let err = soft_gl.evaluate(&full, &full_frame, &mut out).unwrap_err();
+    assert!(err.to_string().contains("another plan"), "{err}");
+    // A frame of another plan with the same counts.
+    let twin = Plan::new(&mesh, &pn(Spacing::Equal, 3.0)).unwrap();
+    let twin_frame = twin.frame(&mesh).unwrap();
+    let err = gl.evaluate(&plan, &twin_frame, &mut out).unwrap_err();
+    assert!(matches!(err, GlError::Refine(_)), "{err}");
+    assert_eq!(out, good, "a refused evaluation writes nothing");
+    // The grid pattern is not the hardware's.
+    let grid = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 3)).unwrap();
+    let grid_frame = grid.frame(&mesh).unwrap();
+    let err = GlEvaluator::new(&ctx, &grid, &grid_frame).unwrap_err();
+    assert!(err.to_string().contains("spacing equal"), "{err}");
+    // No displacement stage: refused with the reason, not ignored.
+    let sine = Displacement::Sine {
+        amplitude: 0.1,
+        frequency: 3.0,
+    };
+    let err = GlEvaluator::with_displacement(&ctx, &plan, &frame, &sine).unwrap_err();
+    assert!(err.to_string().contains("does not displace"), "{err}");
+    GlEvaluator::with_displacement(&ctx, &plan, &frame, &Displacement::None).unwrap();
+}
