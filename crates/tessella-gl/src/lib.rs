@@ -23,7 +23,6 @@
 //! `scheme` modules and tied to them by the tests, which compare every GL vertex with the CPU
 //! refinement of the same scheme, spacing and levels.
 
-pub mod bench;
 mod context;
 mod error;
 mod refine;

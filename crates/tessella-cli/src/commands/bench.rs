@@ -276,7 +276,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
 /// The GPU measurements, labelled with the adapter (a software adapter's numbers say so).
 #[cfg(feature = "gpu")]
 fn gpu_tables(mesh: &Mesh, args: &BenchArgs) -> anyhow::Result<()> {
-    use tessella_view::bench;
+    use tessella_bench::gpu as bench;
     let ctx = super::gpu::render_context()?;
     let label = ctx.adapter_label();
     let repeat = args.repeat.clamp(1, 5) as u32;

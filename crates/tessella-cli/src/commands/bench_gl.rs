@@ -1,14 +1,14 @@
-//! `tessella bench --gl`: PN on the OpenGL tessellator (measured by `tessella_gl::bench`, as its
-//! example does) against tessella-view's instanced pattern renderer and the CPU at about equal
+//! `tessella bench --gl`: PN on the OpenGL tessellator (measured by `tessella_bench::gl`, as its
+//! example does) against tessella-gpu's instanced pattern renderer and the CPU at about equal
 //! triangle counts, and quadratic ("fake") against real normals. Ratios are against the CPU
 //! measured in the same run; absolute times are printed only for hardware drivers.
 
 use crate::args::BenchArgs;
+use tessella_bench::gl::{self as bench, GlBenchRow};
 use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Scheme};
-use tessella_gl::bench::{self, GlBenchRow};
 use tessella_gl::{GlContext, GlTessellator};
 
-/// tessella-view's instanced pattern renderer on the wgpu adapter (when there is one).
+/// tessella-gpu's instanced pattern renderer on the wgpu adapter (when there is one).
 #[cfg(feature = "gpu")]
 struct Pattern(Result<tessella_gpu::GpuContext, String>);
 
@@ -27,7 +27,7 @@ impl Pattern {
     /// without an adapter.
     fn frame(&self, mesh: &Mesh, level: u32, frames: u32) -> anyhow::Result<Option<(f64, bool)>> {
         let Ok(ctx) = &self.0 else { return Ok(None) };
-        let rows = tessella_view::bench::scheme_frame_times(
+        let rows = tessella_bench::gpu::scheme_frame_times(
             ctx,
             mesh,
             &[Scheme::Pn],

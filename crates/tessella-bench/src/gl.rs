@@ -1,12 +1,12 @@
-//! The GL measurements shared by `examples/bench.rs` and `tessella bench --gl`: PN on the
+//! The GL measurements shared by `examples/gl.rs` and `tessella bench --gl`: PN on the
 //! hardware tessellator (equal spacing, transform feedback and read-back) against the CPU
 //! refinement of the same plan, both timed in the same call. On a software driver (llvmpipe)
-//! only the ratios mean something ([`crate::DriverInfo::is_software`]).
+//! only the ratios mean something ([`tessella_gl::DriverInfo::is_software`]).
 
-use crate::{GlError, GlTessellator};
 use std::time::Instant;
 use tessella_core::refine::{Levels, Plan, Spacing};
 use tessella_core::{Mesh, NormalMode, RefineOptions, RefinedMesh, Scheme};
+use tessella_gl::{GlError, GlTessellator};
 
 /// One measurement of [`measure`]: the same plan on the GL tessellator and on the CPU.
 #[derive(Debug, Clone, PartialEq)]
