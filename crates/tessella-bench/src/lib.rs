@@ -16,7 +16,8 @@
 //! - [`web`] (feature `gpu`): the browser's `bench()`: its JSON configuration, checked before
 //!   anything runs, and its report; tessella-viewer's wasm entry `WebViewer::bench` calls it.
 //! - [`gl`] (feature `gl`): PN on the OpenGL 4 tessellator against the CPU refinement of the
-//!   same plan.
+//!   same plan; [`gl::tables`] adds the instanced pattern (with `blocking`) at the nearest grid
+//!   level: `tessella bench --gl`.
 //!
 //! Every figure is a median of timed runs after a warm-up; rows carry the adapter's or driver's
 //! name, and a software one's numbers are marked, since only ratios mean something there.
