@@ -30,7 +30,6 @@
 //! and tessellation coordinate), uploading only the frame's coarse data. It runs the hardware
 //! spacings only and does not displace (see [`GlEvaluator::with_displacement`]).
 
-pub mod bench;
 mod context;
 mod error;
 mod refine;

@@ -4,9 +4,9 @@
 //! target with readback ([`render`], [`render_compare`] with labelled panels, [`save_png`]),
 //! a camera that frames the mesh, a deforming-mesh animation ([`animate::render_twist`]: one
 //! [`tessella_core::refine::Plan`], per frame `Plan::update` + `PatternRenderer::update`, so
-//! only the control nets are uploaded) and the GPU benchmarks behind `tessella bench`
-//! ([`mod@bench`]). Everything here is for the CLI, examples and tests; an engine uses
-//! tessella-gpu directly.
+//! only the control nets are uploaded). Everything here is for the CLI, examples and tests; an
+//! engine uses tessella-gpu directly. The GPU benchmarks that draw with it are a crate of their
+//! own, tessella-bench.
 //!
 //! ```no_run
 //! use tessella_core::{samples, RefineOptions, Scheme};
@@ -22,12 +22,11 @@
 //!
 //! The view itself ([`RenderOptions`], [`scene_uniforms`], [`lod_camera`], [`panel_widths`]) is
 //! in `scene.rs` and never blocks, so it builds for the web (the interactive viewer,
-//! `tessella-viewer`, uses this very camera); the pictures, animations and benchmarks wait for
-//! the GPU and are the default `blocking` feature.
+//! `tessella-viewer`, uses this very camera); the pictures and animations wait for the GPU and
+//! are the default `blocking` feature.
 
 #[cfg(feature = "blocking")]
 pub mod animate;
-pub mod bench;
 mod camera;
 pub mod colormap;
 pub mod font;

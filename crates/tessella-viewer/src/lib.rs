@@ -19,12 +19,10 @@
 //!   and save as the CLI's tags JSON ([`Viewer::tags_json`]).
 //! - Every call returns a `Result`; on error the previous mesh, parameters and surfaces stay.
 //!
-//! [`mod@bench`] is the viewer's benchmark (GMR's Figure 7 and the scheme tables) on its device.
-//!
 //! In the browser, `web.rs` (wasm32 only) is the `WebViewer` of `CONTRACT.md`, built by
-//! `build-web.sh`. `docs/viewer.md` says what is drawn and what crosses the bus.
+//! `build-web.sh`; its `bench()` runs tessella-bench's browser benchmark (GMR's Figure 7 and the
+//! scheme tables) on the viewer's device. `docs/viewer.md` says what is drawn and what crosses the bus.
 
-pub mod bench;
 mod clock;
 mod deform;
 mod error;

@@ -174,11 +174,13 @@ impl WebViewer {
         self.viewer.export_glb().map_err(js)
     }
 
-    /// The benchmark (`crate::bench`, CONTRACT.md) on this viewer's device: resolves to its
-    /// report, rejects on a bad configuration or a device error. `config` may be
+    /// The benchmark (`tessella_bench::web`, CONTRACT.md) on this viewer's device: resolves to
+    /// its report, rejects on a bad configuration or a device error. `config` may be
     /// `undefined` (the papers' sizes). The page keeps running meanwhile: every frame is
     /// awaited, never waited for.
     pub fn bench(&self, config: JsValue) -> js_sys::Promise {
+        use tessella_bench::web::{run, BenchConfig, BenchError};
+        let thrown = |e: BenchError| JsValue::from(JsError::new(&e.to_string()));
         // Its own error lists: a late error of the viewer's frames is not the benchmark's.
         let ctx = self.viewer.context().with_own_errors();
         let parsed = if config.is_undefined() {
@@ -187,11 +189,8 @@ impl WebViewer {
             to_json(&config).map_err(JsValue::from)
         };
         wasm_bindgen_futures::future_to_promise(async move {
-            let config =
-                crate::bench::BenchConfig::from_json(&parsed?).map_err(|e| JsValue::from(js(e)))?;
-            let report = crate::bench::run(&ctx, &config)
-                .await
-                .map_err(|e| JsValue::from(js(e)))?;
+            let config = BenchConfig::from_json(&parsed?).map_err(thrown)?;
+            let report = run(&ctx, &config).await.map_err(thrown)?;
             from_json(&report).map_err(JsValue::from)
         })
     }

@@ -4,10 +4,8 @@
 mod animate;
 pub mod batch;
 mod bench;
-mod bench_frames;
 #[cfg(feature = "gl")]
 mod bench_gl;
-mod bench_write;
 mod demo;
 mod displace;
 #[cfg(feature = "gpu")]

@@ -3,7 +3,7 @@
 //! the system call cost, the measure); "atomic + fsync" is what `tessella refine` does
 //! (temporary file, flushed to the disk, renamed), which a slow disk bounds.
 
-use super::bench_frames::{median, Bandwidth};
+use super::frames::{median, Bandwidth};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
 use std::path::Path;

@@ -5,10 +5,10 @@
 mod common;
 
 use common::ctx;
-use tessella_core::{samples, Pattern, RefineOptions, Refiner, Scheme};
-use tessella_view::bench::{
+use tessella_bench::gpu::{
     figure7, figure7_table, mesh_with_faces, refine_table, refine_throughput, Figure7Config,
 };
+use tessella_core::{samples, Pattern, RefineOptions, Refiner, Scheme};
 
 #[test]
 fn figure7_rows_count_vertices_like_the_paper() {
@@ -63,7 +63,7 @@ fn mixed_patterns_are_timed_against_one_uniform_pattern() {
     let ctx = tessella_gpu::GpuContext::new(tessella_gpu::AdapterChoice::Software).unwrap();
     let mesh = tessella_core::samples::icosphere(2);
     let (u, m, ut, mt, draws) =
-        tessella_view::bench::mixed_pattern_frame_times(&ctx, &mesh, 8, 5, (256, 256)).unwrap();
+        tessella_bench::gpu::mixed_pattern_frame_times(&ctx, &mesh, 8, 5, (256, 256)).unwrap();
     println!("uniform {u:.3} ms ({ut} triangles), mixed {m:.3} ms ({mt} triangles, {draws} draws), ratio {:.2}", m / u);
     assert!(u > 0.0 && m > 0.0);
     assert!(draws > 1);
@@ -73,8 +73,8 @@ fn mixed_patterns_are_timed_against_one_uniform_pattern() {
 fn changing_levels_are_timed_rebuilt_and_adaptive() {
     let ctx = tessella_gpu::GpuContext::new(tessella_gpu::AdapterChoice::Software).unwrap();
     let mesh = tessella_core::samples::icosphere(1);
-    let rows = tessella_view::bench::changing_levels(&ctx, &mesh, 9.0, 3, (128, 128)).unwrap();
-    let table = tessella_view::bench::changing_levels_table(&rows);
+    let rows = tessella_bench::gpu::changing_levels(&ctx, &mesh, 9.0, 3, (128, 128)).unwrap();
+    let table = tessella_bench::gpu::changing_levels_table(&rows);
     println!("{table}");
     assert_eq!(rows.len(), 2);
     for r in &rows {
@@ -113,7 +113,7 @@ fn figure7_says_when_the_static_buffer_does_not_fit() {
 
 #[test]
 fn ratios_of_a_time_that_read_zero_are_left_out() {
-    use tessella_view::bench::ratio;
+    use tessella_bench::gpu::ratio;
     assert_eq!(ratio(3.0, 1.5), Some(2.0));
     assert_eq!(ratio(1.0, 0.0), None);
     assert_eq!(ratio(0.0, 1.0), None);

@@ -1,12 +1,12 @@
-//! The viewer's benchmark report on lavapipe: its configuration is checked before anything
+//! The web page's benchmark report on lavapipe: its configuration is checked before anything
 //! runs, and its rows count what the papers count (pattern points, welded refined vertices)
 //! and show both Figure 7 paths drew the same surface.
 
 use serde_json::{json, Value};
+use tessella_bench::gpu::mesh_with_faces;
+use tessella_bench::web::{run, BenchConfig};
 use tessella_core::{Pattern, RefineOptions, Refiner, Scheme};
 use tessella_gpu::{AdapterChoice, GpuContext};
-use tessella_view::bench::mesh_with_faces;
-use tessella_viewer::bench::{run, BenchConfig};
 
 fn ctx() -> GpuContext {
     GpuContext::new(AdapterChoice::Software).expect("a software adapter")

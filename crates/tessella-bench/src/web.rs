@@ -1,19 +1,30 @@
-//! The viewer's `bench()`: the GMR paper's Figure 7 (a static buffer of the refined mesh
-//! against the refinement pattern: frame time and GPU footprint), PN against flat and PNG1
-//! against PN at the PNG1 paper's sizes, and the adaptive renderer with levels moving every
-//! frame, all on the viewer's own device. The measuring is tessella-view's (`bench`), awaited
-//! frame by frame, so it never blocks a page and is the same code as `tessella bench`
-//! natively. The report is JSON (camelCase names) plus the Markdown tables.
+//! The web page's `bench()` (tessella-viewer's `WebViewer::bench` calls [`run`]): the GMR
+//! paper's Figure 7 (a static buffer of the refined mesh against the refinement pattern: frame
+//! time and GPU footprint), PN against flat and PNG1 against PN at the PNG1 paper's sizes, and
+//! the adaptive renderer with levels moving every frame, all on the viewer's own device. The
+//! measuring is [`crate::gpu`]'s, awaited frame by frame, so it never blocks a page and is the
+//! same code as `tessella bench` natively. The report is JSON (camelCase names) plus the
+//! Markdown tables.
 
-use crate::error::ViewerError;
-use serde::Deserialize;
-use serde_json::{json, Value};
-use tessella_core::Scheme;
-use tessella_gpu::GpuContext;
-use tessella_view::bench::{
+use crate::gpu::{
     changing_levels_async, changing_levels_table, figure7_async, figure7_table, mesh_with_faces,
     ratio, scheme_frame_times_async, Figure7Config,
 };
+use serde::Deserialize;
+use serde_json::{json, Value};
+use tessella_core::Scheme;
+use tessella_gpu::{GpuContext, GpuError};
+
+/// Why [`run`] or [`BenchConfig::from_json`] failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum BenchError {
+    /// A bad configuration, refused before anything runs (the message names the field).
+    #[error("bench: {0}")]
+    Config(String),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
 
 /// What to run; every field has the papers' value as its default.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -65,16 +76,13 @@ const MAX_FRAMES: u32 = 1000;
 /// Triangles drawn by the whole run (the defaults draw about 5e8).
 const MAX_TRIANGLES: f64 = 2e10;
 
-fn bad(message: String) -> ViewerError {
-    ViewerError::Param {
-        name: "bench",
-        message,
-    }
+fn bad(message: String) -> BenchError {
+    BenchError::Config(message)
 }
 
 impl BenchConfig {
     /// The configuration from a JSON object (missing fields take the defaults).
-    pub fn from_json(value: &Value) -> Result<BenchConfig, ViewerError> {
+    pub fn from_json(value: &Value) -> Result<BenchConfig, BenchError> {
         let config = if value.is_null() {
             BenchConfig::default()
         } else {
@@ -84,7 +92,7 @@ impl BenchConfig {
         Ok(config)
     }
 
-    fn validate(&self) -> Result<(), ViewerError> {
+    fn validate(&self) -> Result<(), BenchError> {
         let faces = self.faces.iter().chain(&self.scheme_faces);
         if let Some(f) = faces.clone().find(|&&f| f == 0 || f > MAX_FACES) {
             return Err(bad(format!("{f} coarse triangles: give 1..={MAX_FACES}")));
@@ -129,7 +137,7 @@ impl BenchConfig {
         self.figure7_scheme().map(|_| ())
     }
 
-    fn figure7_scheme(&self) -> Result<Scheme, ViewerError> {
+    fn figure7_scheme(&self) -> Result<Scheme, BenchError> {
         self.scheme
             .parse::<Scheme>()
             .map_err(|e| bad(format!("scheme: {e}")))
@@ -142,7 +150,7 @@ impl BenchConfig {
 
 /// Runs the configured experiments on `ctx` and returns the report: `adapter`, `figure7`,
 /// `schemes`, `moving` (each a list of rows) and `markdown` (the tables).
-pub async fn run(ctx: &GpuContext, config: &BenchConfig) -> Result<Value, ViewerError> {
+pub async fn run(ctx: &GpuContext, config: &BenchConfig) -> Result<Value, BenchError> {
     config.validate()?;
     let size = (config.size[0], config.size[1]);
     let mut markdown = format!("Adapter: {}\n\n", ctx.adapter_label());

@@ -1,12 +1,12 @@
-//! Prints the benchmark tables: `cargo run --release -p tessella-view --example bench_tables`
-//! (the `tessella bench` command prints the same tables).
+//! Prints the GPU benchmark tables: `cargo run --release -p tessella-bench --example gpu_tables`
+//! (`tessella bench --gpu` prints the same tables).
 
-use tessella_core::{samples, Scheme};
-use tessella_gpu::{AdapterChoice, GpuContext};
-use tessella_view::bench::{
+use tessella_bench::gpu::{
     figure7, figure7_table, refine_table, refine_throughput, scheme_frame_times, scheme_table,
     Figure7Config,
 };
+use tessella_core::{samples, Scheme};
+use tessella_gpu::{AdapterChoice, GpuContext};
 
 fn main() {
     let ctx = match GpuContext::new(AdapterChoice::Auto) {

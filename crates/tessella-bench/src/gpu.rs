@@ -1,4 +1,4 @@
-//! Benchmarks for `tessella bench` and the viewer's `bench()`: CPU vs GPU refinement
+//! The GPU benchmarks of `tessella bench --gpu` and the viewer's `bench()`: CPU vs GPU refinement
 //! throughput, the GMR Figure 7 experiment (a static fully refined vertex buffer vs the
 //! instanced pattern), frame time per scheme, and levels that move every frame. Rows carry the
 //! adapter's label; software adapters are marked as such, their numbers say nothing about GPUs.
@@ -8,8 +8,6 @@
 //! waits for the device, and the blocking forms (the `blocking` feature) run the same bodies
 //! with `pollster`: one implementation times both.
 
-use crate::scene::{scene_uniforms, RenderOptions};
-use crate::target::Target;
 use image::RgbaImage;
 use tessella_core::refine::{Evaluator, Plan, Surface, SurfaceOptions};
 use tessella_core::{samples, Mesh, RefineOptions, Scheme};
@@ -17,6 +15,7 @@ use tessella_gpu::{
     AdaptiveRenderer, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput, IndexWidth,
     PatternRenderer,
 };
+use tessella_view::{scene_uniforms, RenderOptions, Target};
 use web_time::Instant;
 
 /// One row of [`refine_throughput`].

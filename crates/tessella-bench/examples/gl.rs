@@ -1,12 +1,13 @@
 //! The paper's comparisons, measured: PN with quadratic ("fake") against real normals on the GL
 //! tessellator (time per vertex), and the GL tessellator against the CPU refinement at equal
 //! triangle counts. On a software driver (llvmpipe) only the ratios mean something. The
-//! measurements are [`tessella_gl::bench::measure`], which `tessella bench --gl` prints too.
+//! measurements are [`tessella_bench::gl::measure`], which `tessella bench --gl` prints too.
 //!
-//! `cargo run --release -p tessella-gl --example bench [-- LEVEL [REPEATS]]`
+//! `cargo run --release -p tessella-bench --example gl [-- LEVEL [REPEATS]]`
 
+use tessella_bench::gl as bench;
 use tessella_core::{samples, NormalMode};
-use tessella_gl::{bench, GlContext, GlError, GlTessellator};
+use tessella_gl::{GlContext, GlError, GlTessellator};
 
 fn main() -> Result<(), GlError> {
     let mut args = std::env::args().skip(1);
