@@ -2,9 +2,9 @@
 //! interleaved vertex buffer with a stride (what engines upload). OpenSubdiv's
 //! `BufferDescriptor` (offset, length, stride) is the same idea.
 
-use super::evaluate::LANES;
 use super::nontemporal;
 use crate::error::RefineError;
+use crate::stencil::BLOCK_LANES as LANES;
 
 /// The layout of one interleaved vertex, in `f32`s: `stride` floats per vertex, the position
 /// (3 floats) at `position`, the normal (3 floats) at `normal`, texture coordinates (2 floats)
