@@ -97,15 +97,19 @@ impl Plan {
             .levels
             .clone()
             .unwrap_or(Levels::Uniform(options.level as f32));
+        // Only LOD levels read the surface (the first mesh's control nets); the other levels
+        // need none, and every frame builds its own.
         let mut nets = PatchNets::empty(options.scheme.basis(), options.normal_mode());
-        fill_nets(
-            mesh,
-            Some(&topology),
-            &options.scheme,
-            options.normal_mode(),
-            options.tags.as_deref(),
-            &mut nets,
-        );
+        if let Levels::Lod(_) = levels {
+            fill_nets(
+                mesh,
+                Some(&topology),
+                &options.scheme,
+                options.normal_mode(),
+                options.tags.as_deref(),
+                &mut nets,
+            );
+        }
         let (mut edges, mut faces) = resolve_levels(mesh, &topology, &nets, &levels)?;
         if let (Levels::Lod(Lod::Tolerance { .. }), Some(_)) =
             (&levels, options.spacing.tessellator())
