@@ -78,6 +78,7 @@ impl VertexFormat {
 /// order). Slices must hold at least the plan's vertex count (interleaved: that many strides);
 /// anything past it is left alone.
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum VertexOutput<'a> {
     /// One array per attribute; `None` attributes are not computed.
     Separate {

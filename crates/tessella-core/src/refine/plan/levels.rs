@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 /// How a level divides a coarse edge.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum Spacing {
     /// The uniform grid pattern ([`Pattern::uniform`](crate::Pattern::uniform)); fractional levels round up and
     /// geomorph: level `f` draws the grid of `⌈f⌉` segments with its new points blended towards
@@ -86,6 +87,7 @@ pub struct Camera {
 
 /// A level-of-detail function: each edge's level from that edge's data alone.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum Lod {
     /// The smallest levels such that the flat refined triangles stay within `max_deviation`
     /// of the curved surface (chordal deviation, "linear deflection"): per edge from its
@@ -111,6 +113,7 @@ pub enum Lod {
 
 /// Levels of a refinement.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum Levels {
     /// One level for every edge (fractional for the tessellator spacings).
     Uniform(f32),
