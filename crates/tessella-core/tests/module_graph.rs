@@ -7,9 +7,9 @@
 //!    `super::` chain that climbs to the crate root), never the other way round as well,
 //!    directly or through others.
 //! 2. In every crate of the workspace (`crates/*/src`, and `python/src`), the FILES depend on each
-//!    other without cycles. Each `.rs` file is a node named by its module path (`refine/plan.rs`
-//!    → `refine::plan`, `refine/mod.rs` → `refine`, `lib.rs`/`main.rs` → the crate root). The
-//!    edges:
+//!    other without cycles. Each `.rs` file is a node named by its module path
+//!    (`refine/plan/table.rs` → `refine::plan::table`, `refine/mod.rs` → `refine`,
+//!    `lib.rs`/`main.rs` → the crate root). The edges:
 //!    - a path written from `crate::`, `super::` or `self::`, in a `use` or in code, is an edge
 //!      from the file it is written in to the file that defines what it names: the path is
 //!      followed through modules as far as they go, and through `pub use` re-exports to where
