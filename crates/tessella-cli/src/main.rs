@@ -3,6 +3,7 @@
 
 mod args;
 mod args_batch;
+mod cli;
 mod commands;
 mod progress;
 
@@ -16,7 +17,7 @@ fn main() -> ExitCode {
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
     }
-    let cli = args::Cli::parse();
+    let cli = cli::Cli::parse();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {

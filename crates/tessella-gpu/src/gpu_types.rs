@@ -3,6 +3,19 @@
 
 use bytemuck::{Pod, Zeroable};
 use std::mem::{offset_of, size_of};
+use tessella_core::NormalMode;
+
+/// `NormalMode` as `eval.wgsl` numbers it.
+pub(crate) fn normal_mode_code(mode: NormalMode) -> u32 {
+    match mode {
+        NormalMode::Linear => 0,
+        NormalMode::Quadratic => 1,
+        NormalMode::Real => 2,
+    }
+}
+
+/// Bytes of one face's normal net (6 points).
+pub(crate) const NORMAL_NET_BYTES: u64 = 6 * 12;
 
 /// `EvalParams` in `shaders/eval.wgsl`.
 #[repr(C)]

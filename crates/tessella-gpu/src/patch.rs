@@ -9,14 +9,9 @@ use crate::gpu_types::EvalParams;
 use tessella_core::displace::FaceFrame;
 use tessella_core::{NormalMode, PatchNets, Stencil};
 
-/// `NormalMode` as `eval.wgsl` numbers it.
-pub(crate) fn normal_mode_code(mode: NormalMode) -> u32 {
-    match mode {
-        NormalMode::Linear => 0,
-        NormalMode::Quadratic => 1,
-        NormalMode::Real => 2,
-    }
-}
+// How eval.wgsl numbers normal modes and sizes a normal net, shared with `wgsl_constants`
+// (defined with the other Rust twins of WGSL layouts; named here too, where group 0 uses them).
+pub(crate) use crate::gpu_types::{normal_mode_code, NORMAL_NET_BYTES};
 
 /// Layout of group 0, for the given shader stages.
 pub(crate) fn layout(ctx: &GpuContext, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayout {
@@ -40,9 +35,6 @@ pub(crate) struct PatchBuffers {
     /// The uniform `eval` holds (whole nets bound).
     pub eval_params: EvalParams,
 }
-
-/// Bytes of one face's normal net (6 points).
-pub(crate) const NORMAL_NET_BYTES: u64 = 6 * 12;
 
 impl PatchBuffers {
     /// `stencil`: the weights rows of every pattern point drawn (`Stencil::weights`, or several

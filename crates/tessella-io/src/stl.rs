@@ -103,11 +103,8 @@ pub(crate) fn write_header(out: &mut dyn Write, count: u32) -> std::io::Result<(
     out.write_all(&count.to_le_bytes())
 }
 
-/// Facet records for triangles given by their corner positions.
-pub(crate) fn write_facets(
-    out: &mut dyn Write,
-    corners: &[crate::stream::Corners],
-) -> std::io::Result<()> {
+/// Facet records for triangles given by their corner positions (a stream's `Corners`).
+pub(crate) fn write_facets(out: &mut dyn Write, corners: &[[[f32; 3]; 3]]) -> std::io::Result<()> {
     crate::encode::write_fixed_records(out, corners.len(), FACET_BYTES, |f, slot| {
         put_facet(slot, corners[f])
     })

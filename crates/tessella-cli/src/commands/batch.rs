@@ -8,7 +8,8 @@
 //! row per input as each finishes.
 
 use super::refine::refine_file;
-use crate::args::{BatchArgs, RefineArgs};
+use crate::args::RefineArgs;
+use crate::args_batch::BatchArgs;
 use crate::progress;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

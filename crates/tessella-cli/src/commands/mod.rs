@@ -26,7 +26,7 @@ mod view;
 #[cfg(feature = "view")]
 mod view_input;
 
-use crate::args::{Cli, Command};
+use crate::cli::{Cli, Command};
 
 /// Runs the chosen subcommand.
 pub fn run(cli: Cli) -> anyhow::Result<()> {

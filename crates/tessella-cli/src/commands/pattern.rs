@@ -6,10 +6,10 @@ use anyhow::{bail, Context};
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
-use tessella_core::tessellator::{self, ProcessedLevels, Spacing, TessLevels};
+use tessella_core::tessellator::{self, Spacing, TessLevels};
 use tessella_core::Pattern;
 
-use super::pattern_svg;
+use super::pattern_svg::{self, Built};
 
 /// The largest level printed: 4096 is 8.4 million points, already a 300 MB JSON file.
 const MAX_LEVEL: u32 = 4096;
@@ -29,16 +29,6 @@ struct PatternJson<'a> {
     levels: Option<TessLevels>,
     #[serde(skip_serializing_if = "Option::is_none")]
     culled: Option<bool>,
-}
-
-/// A pattern and, for tessellator spacings, how its levels were processed.
-pub(crate) struct Built {
-    pub pattern: Pattern,
-    pub spacing: Option<Spacing>,
-    /// `None` for the grid or a culled patch.
-    pub processed: Option<ProcessedLevels>,
-    /// The levels as given (tessellator spacings).
-    pub requested: Option<TessLevels>,
 }
 
 pub fn run(args: &PatternArgs) -> anyhow::Result<()> {

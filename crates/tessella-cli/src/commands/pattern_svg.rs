@@ -2,10 +2,20 @@
 //! P2 bottom right, P3 on top, so counter-clockwise stays counter-clockwise on screen), the
 //! small triangles' edges, and the points coloured by class (corner, edge, interior).
 
-use super::pattern::Built;
 use std::fmt::Write;
 use tessella_core::pattern::PointClass;
-use tessella_core::tessellator::Spacing;
+use tessella_core::tessellator::{ProcessedLevels, Spacing, TessLevels};
+use tessella_core::Pattern;
+
+/// A pattern and, for tessellator spacings, how its levels were processed.
+pub(crate) struct Built {
+    pub pattern: Pattern,
+    pub spacing: Option<Spacing>,
+    /// `None` for the grid or a culled patch.
+    pub processed: Option<ProcessedLevels>,
+    /// The levels as given (tessellator spacings).
+    pub requested: Option<TessLevels>,
+}
 
 const SIZE: f64 = 800.0;
 const MARGIN: f64 = 60.0;

@@ -1,7 +1,7 @@
 //! Adaptive levels drawn with index buffers built once: the per-frame data of an instanced
 //! renderer whose levels change every frame (tessella-gpu's `AdaptiveRenderer`).
 //!
-//! An adaptive plan ([`super::adaptive`]) builds a pattern and a stencil per distinct set of
+//! An adaptive plan ([`adaptive`](crate::refine::adaptive)) builds a pattern and a stencil per distinct set of
 //! levels; when the levels change every frame, so do those. Here instead:
 //!
 //! - **Parts, built once per spacing ([`PartTable`]).** Tessellator spacings: the strips and
@@ -15,17 +15,18 @@
 //!
 //! The vertex shader turns a code into a barycentric point with the face's record, evaluates the
 //! basis there and sums the control net (the weights are no longer a table: they follow the
-//! face's fractional levels). The positions are those of [`super::adaptive`]'s patterns: the
+//! face's fractional levels). The positions are those of [`adaptive`](crate::refine::adaptive)'s patterns: the
 //! tessellator's 16.16 placement exactly; the grid's edge points snapped to each edge's own
 //! layout, where grid triangles that become degenerate stay in the index buffer with zero area
 //! (the rasteriser draws nothing for them) instead of being dropped. Edge points are
 //! evaluated from the edge's own data in canonical direction, so both faces agree bit for bit.
 
-use super::adaptive::{
-    check_per_edge, clamp_edge_levels, face_levels, gl_levels, grid_segments, snap_step, Spacing,
-};
 use super::canonical;
+use super::levels::Spacing;
 use super::morph;
+use super::tiling::{
+    check_per_edge, clamp_edge_levels, face_levels, gl_levels, grid_segments, snap_step,
+};
 use crate::error::RefineError;
 use crate::mesh::Topology;
 use crate::tessellator::parts::{self, FaceRulers, Shape};
@@ -154,7 +155,7 @@ fn grid_triangles(n: u32) -> Vec<[u32; 3]> {
 
 /// The barycentric point grid code `(i, j)` names on a face whose edges have `n` segments and
 /// whose grid has `big` (at least each `n`): an edge point moves to the nearest step of its
-/// edge's own layout, ties up, as [`super::adaptive::grid_pattern`] does. The reference twin of
+/// edge's own layout, ties up, as [`super::tiling::grid_pattern`] does. The reference twin of
 /// `shaders/adaptive.wgsl`'s grid points (the tests compare the parts with the CPU's patterns
 /// through it).
 pub fn grid_point(n: [u32; 3], big: u32, i: u32, j: u32) -> [f64; 3] {
@@ -267,7 +268,7 @@ fn face_record(
 
 /// One frame's records and instances: `edge_levels` one per unique edge of `topology`
 /// ([`Topology::edges`] order), `face_levels` optional per-face minimum inner levels, as
-/// [`super::Levels::PerEdge`] takes them; `triangles` and `position_ids` the plan's, for the
+/// [`super::levels::Levels::PerEdge`] takes them; `triangles` and `position_ids` the plan's, for the
 /// canonical edge directions. O(faces + parts).
 pub fn frame_instances(
     table: &PartTable,
@@ -336,7 +337,7 @@ pub fn frame_instances(
 
 #[cfg(test)]
 mod tests {
-    use super::super::adaptive::grid_pattern;
+    use super::super::tiling::grid_pattern;
     use super::*;
 
     #[test]
@@ -396,11 +397,11 @@ mod tests {
             // zero-area triangles: at least as many).
             let options = crate::RefineOptions::new(crate::Scheme::Pn, 1)
                 .with_spacing(spacing)
-                .with_levels(super::super::Levels::PerEdge {
+                .with_levels(crate::refine::Levels::PerEdge {
                     edges: levels.clone().into(),
                     faces: None,
                 });
-            let plan = super::super::Plan::new(&mesh, &options).unwrap();
+            let plan = crate::refine::Plan::new(&mesh, &options).unwrap();
             let cpu = plan.triangle_count() as u64;
             if spacing == Spacing::Grid {
                 assert!(frame.triangles >= cpu, "{spacing:?}");

@@ -2,9 +2,9 @@
 //! interleaved vertex buffer with a stride (what engines upload). OpenSubdiv's
 //! `BufferDescriptor` (offset, length, stride) is the same idea.
 
-use super::evaluate::LANES;
 use super::nontemporal;
 use crate::error::RefineError;
+use crate::stencil::BLOCK_LANES as LANES;
 
 /// The layout of one interleaved vertex, in `f32`s: `stride` floats per vertex, the position
 /// (3 floats) at `position`, the normal (3 floats) at `normal`, texture coordinates (2 floats)
@@ -78,6 +78,7 @@ impl VertexFormat {
 /// order). Slices must hold at least the plan's vertex count (interleaved: that many strides);
 /// anything past it is left alone.
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum VertexOutput<'a> {
     /// One array per attribute; `None` attributes are not computed.
     Separate {

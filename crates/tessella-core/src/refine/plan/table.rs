@@ -26,26 +26,19 @@
 //! # Ok::<(), tessella_core::RefineError>(())
 //! ```
 
-use super::adaptive::{
-    build_tiling, resolve_levels, AdaptiveIndex, AdaptiveJob, Levels, Lod, Tiling,
-};
-use super::evaluate::Job;
-use super::indices::{IndexInt, IndexJob};
+use super::indices::{AdaptiveIndex, IndexInt, IndexJob};
 use super::layout::OutputLayout;
+use super::levels::{Levels, Lod};
 use super::lod;
-use super::output::VertexOutput;
-pub(crate) use super::surface::Frame;
-use super::surface::Surface;
-use super::{RefineOptions, RefinedMesh};
+use super::options::RefineOptions;
+use super::surface::{Frame, Surface};
+use super::tiling::{build_tiling, resolve_levels, Tiling};
 use crate::error::{human_bytes, RefineError};
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
 use crate::scheme::{fill_nets, validate_nets, PatchNets};
 use crate::stencil::Stencil;
 use std::sync::OnceLock;
-
-/// The origin face of a coarse vertex no triangle uses ([`Plan::origin`]).
-pub const NO_FACE: u32 = u32::MAX;
 
 /// Everything that does not change while a mesh deforms: the options, the [`Surface`]
 /// (topology and scheme, which builds the frames' nets), the output layout, the pattern and its
@@ -62,13 +55,13 @@ pub const NO_FACE: u32 = u32::MAX;
 /// `(N+1)(N+2)/2` pattern points.
 #[derive(Debug)]
 pub struct Plan {
-    options: RefineOptions,
-    surface: Surface,
-    layout: OutputLayout,
-    pattern: Pattern,
-    stencil: Stencil,
-    indices: OnceLock<Vec<[u32; 3]>>,
-    tiling: Option<Tiling>,
+    pub(in crate::refine) options: RefineOptions,
+    pub(in crate::refine) surface: Surface,
+    pub(in crate::refine) layout: OutputLayout,
+    pub(in crate::refine) pattern: Pattern,
+    pub(in crate::refine) stencil: Stencil,
+    pub(in crate::refine) indices: OnceLock<Vec<[u32; 3]>>,
+    pub(in crate::refine) tiling: Option<Tiling>,
 }
 
 impl Plan {
@@ -104,15 +97,19 @@ impl Plan {
             .levels
             .clone()
             .unwrap_or(Levels::Uniform(options.level as f32));
+        // Only LOD levels read the surface (the first mesh's control nets); the other levels
+        // need none, and every frame builds its own.
         let mut nets = PatchNets::empty(options.scheme.basis(), options.normal_mode());
-        fill_nets(
-            mesh,
-            Some(&topology),
-            &options.scheme,
-            options.normal_mode(),
-            options.tags.as_deref(),
-            &mut nets,
-        );
+        if let Levels::Lod(_) = levels {
+            fill_nets(
+                mesh,
+                Some(&topology),
+                &options.scheme,
+                options.normal_mode(),
+                options.tags.as_deref(),
+                &mut nets,
+            );
+        }
         let (mut edges, mut faces) = resolve_levels(mesh, &topology, &nets, &levels)?;
         if let (Levels::Lod(Lod::Tolerance { .. }), Some(_)) =
             (&levels, options.spacing.tessellator())
@@ -262,52 +259,18 @@ impl Plan {
         self.surface.update_from_mesh(frame, mesh)
     }
 
-    /// Writes every refined vertex of `frame` into `out` on the CPU (all cores): positions,
-    /// and normals and UVs where `out` takes them. Indices are not written: they are the same
-    /// for every frame ([`Plan::indices`]). On error nothing is written.
-    pub fn evaluate(&self, frame: &Frame, out: VertexOutput<'_>) -> Result<(), RefineError> {
-        self.evaluate_with_progress(frame, out, &|_| {})
-    }
-
-    /// [`Plan::evaluate`], calling `progress` from worker threads with numbers of coarse faces
-    /// done (they add up to the face count).
-    pub fn evaluate_with_progress(
+    pub(in crate::refine) fn write_triangles<I: IndexInt>(
         &self,
-        frame: &Frame,
-        out: VertexOutput<'_>,
+        out: &mut [[I; 3]],
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<(), RefineError> {
-        self.check_frame(frame)?;
-        let sink = out.sink(self.vertex_count(), self.surface.has_uvs)?;
-        self.vertices(frame, sink, progress);
-        Ok(())
-    }
-
-    fn vertices(&self, frame: &Frame, sink: super::output::Sink, progress: &(dyn Fn(u64) + Sync)) {
-        match self.adaptive_job(frame) {
-            Some(job) => job.vertices(sink, progress),
-            None => self.job(frame).vertices(sink, progress),
-        }
-    }
-
-    pub(super) fn adaptive_job<'a>(&'a self, frame: &'a Frame) -> Option<AdaptiveJob<'a>> {
-        Some(AdaptiveJob {
-            mesh: &frame.mesh,
-            topology: &self.surface.topology,
-            tiling: self.tiling.as_ref()?,
-            nets: &frame.nets,
-            weld: self.layout.weld,
-        })
-    }
-
-    fn write_triangles<I: IndexInt>(&self, out: &mut [[I; 3]], progress: &(dyn Fn(u64) + Sync)) {
+    ) {
         match &self.tiling {
             Some(tiling) => self.adaptive_index(tiling).indices(out, progress),
             None => self.index_job().write(out, progress),
         }
     }
 
-    pub(super) fn adaptive_index<'a>(&'a self, tiling: &'a Tiling) -> AdaptiveIndex<'a> {
+    pub(in crate::refine) fn adaptive_index<'a>(&'a self, tiling: &'a Tiling) -> AdaptiveIndex<'a> {
         AdaptiveIndex {
             triangles: &self.surface.triangles,
             topology: &self.surface.topology,
@@ -356,90 +319,6 @@ impl Plan {
     /// True when every refined vertex index fits in a `u16`.
     pub fn fits_u16(&self) -> bool {
         self.layout.vertex_count <= <u16 as IndexInt>::MAX_VERTICES
-    }
-
-    /// Where each refined vertex comes from: the coarse face it was evaluated on and its
-    /// barycentric coordinates `(l1, l2, l3)` in that face's corner order. A vertex shared by
-    /// several faces (welded output) names the face that owns it; a coarse vertex no face uses
-    /// gets [`NO_FACE`] and `(1, 0, 0)`. Depends on the plan only, like the indices.
-    ///
-    /// ```
-    /// use tessella_core::refine::Plan;
-    /// use tessella_core::{samples, RefineOptions, Scheme};
-    /// let mesh = samples::icosphere(0);
-    /// let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4))?;
-    /// let (faces, bary) = plan.origin();
-    /// assert_eq!((faces.len(), bary.len()), (plan.vertex_count(), plan.vertex_count()));
-    /// // the first V vertices are the coarse corners
-    /// let (f, c) = (faces[0] as usize, mesh.triangles()[faces[0] as usize].iter().position(|&v| v == 0).unwrap());
-    /// assert_eq!(bary[0][c], 1.0);
-    /// # Ok::<(), tessella_core::RefineError>(())
-    /// ```
-    pub fn origin(&self) -> (Vec<u32>, Vec<[f32; 3]>) {
-        let n = self.vertex_count();
-        let (mut faces, mut bary) = (vec![NO_FACE; n], vec![[1.0, 0.0, 0.0]; n]);
-        self.write_origin(&mut faces, &mut bary)
-            .expect("arrays of the plan's size");
-        (faces, bary)
-    }
-
-    /// [`Plan::origin`] into caller memory (each at least [`Plan::vertex_count`] long).
-    pub fn write_origin(
-        &self,
-        faces: &mut [u32],
-        bary: &mut [[f32; 3]],
-    ) -> Result<(), RefineError> {
-        let n = self.vertex_count();
-        for (what, got) in [("origin faces", faces.len()), ("barycentrics", bary.len())] {
-            if got < n {
-                return Err(RefineError::OutputTooSmall {
-                    what: what.into(),
-                    got,
-                    need: n,
-                });
-            }
-        }
-        // The whole layout as pieces: one code path for the whole and for streamed pieces.
-        for piece in &self.pieces(usize::MAX) {
-            let r = self.piece_vertices(piece);
-            self.write_piece_origin(piece, &mut faces[r.clone()], &mut bary[r])?;
-        }
-        Ok(())
-    }
-
-    /// Refines `frame` into `out` (vertices, normals, UVs when the mesh has them, and indices),
-    /// reusing its allocations when they fit. `progress` counts two units per coarse face (its
-    /// vertices, its triangles): see [`Plan::progress_total`].
-    pub fn refine_into(
-        &self,
-        frame: &Frame,
-        out: &mut RefinedMesh,
-        progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<(), RefineError> {
-        self.check_frame(frame)?;
-        let nv = self.vertex_count();
-        resize(&mut out.positions, nv);
-        resize(&mut out.normals, nv);
-        match self.surface.has_uvs {
-            true => resize(out.uvs.get_or_insert_with(Vec::new), nv),
-            false => out.uvs = None,
-        }
-        resize(&mut out.triangles, self.triangle_count());
-        let sink = VertexOutput::Separate {
-            positions: &mut out.positions,
-            normals: Some(&mut out.normals),
-            uvs: out.uvs.as_deref_mut(),
-        }
-        .sink(nv, self.surface.has_uvs)?;
-        self.vertices(frame, sink, progress);
-        match self.indices.get() {
-            Some(cached) => {
-                out.triangles.copy_from_slice(cached);
-                progress(self.face_count() as u64);
-            }
-            None => self.write_triangles(&mut out.triangles, progress),
-        }
-        Ok(())
     }
 
     /// What [`Plan::refine_into`]'s progress calls add up to.
@@ -505,16 +384,6 @@ impl Plan {
         self.surface.check_frame(frame)
     }
 
-    pub(crate) fn job<'a>(&'a self, frame: &'a Frame) -> Job<'a> {
-        Job {
-            mesh: &frame.mesh,
-            topology: &self.surface.topology,
-            layout: &self.layout,
-            stencil: &self.stencil,
-            nets: &frame.nets,
-        }
-    }
-
     fn index_job(&self) -> IndexJob<'_> {
         IndexJob {
             triangles: &self.surface.triangles,
@@ -522,19 +391,6 @@ impl Plan {
             layout: &self.layout,
             pattern: &self.pattern,
             stencil: &self.stencil,
-        }
-    }
-}
-
-/// Resizes `v` to `n` slots, keeping the allocation when it already fits. Slots are
-/// overwritten by the caller, so their contents do not matter.
-fn resize<T: Copy + Default>(v: &mut Vec<T>, n: usize) {
-    if v.len() != n {
-        if v.capacity() >= n {
-            v.resize(n, T::default());
-            v.truncate(n);
-        } else {
-            *v = vec![T::default(); n];
         }
     }
 }

@@ -1,8 +1,8 @@
 //! Level-of-detail functions: each coarse edge's level from that edge's data (docs/formulas.md,
 //! "LOD functions"). Levels are computed once per unique edge, so both faces use the same one.
 
-use super::adaptive::{Camera, Lod, Spacing, MAX_LOD_GRID_LEVEL};
 use super::canonical;
+use super::levels::{Camera, Lod, Spacing, MAX_LOD_GRID_LEVEL};
 use crate::basis::Basis;
 use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};

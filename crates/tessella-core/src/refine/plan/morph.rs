@@ -87,7 +87,7 @@ fn edge_l(k: usize, m: u32, t: u32) -> [f64; 3] {
     l
 }
 
-/// The stencil of a grid pattern ([`super::adaptive::grid_pattern`]) whose edge `k` has
+/// The stencil of a grid pattern ([`super::tiling::grid_pattern`]) whose edge `k` has
 /// `segments[k]` segments and morph factor `alpha[k]`, and whose interior (the uniform grid of
 /// `pattern.level`) has `alpha_inner`. Points with a factor of 1 get the plain weights.
 pub fn grid_stencil(

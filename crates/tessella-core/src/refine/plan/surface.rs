@@ -1,6 +1,6 @@
 //! What defines a curved surface apart from any refinement level: the coarse mesh's topology
 //! and the scheme (with its normal mode and tags). A [`Surface`] builds and rebuilds the
-//! control nets of a deforming mesh ([`Frame`]); a [`Plan`](super::Plan) holds one and adds
+//! control nets of a deforming mesh ([`Frame`]); a [`Plan`](super::table::Plan) holds one and adds
 //! the level's pattern, layout and stencil, and renderers that choose levels per frame (the GPU
 //! adaptive renderer) need nothing more than the surface.
 //!
@@ -88,7 +88,7 @@ pub struct Surface {
 }
 
 /// One frame of a deforming mesh: its positions and normals and the control nets built from
-/// them. Made by [`Surface::frame`] (or [`Plan::frame`](super::Plan::frame)), moved by
+/// them. Made by [`Surface::frame`] (or [`Plan::frame`](super::table::Plan::frame)), moved by
 /// [`Surface::update`], read by every evaluator.
 #[derive(Debug, Clone)]
 pub struct Frame {

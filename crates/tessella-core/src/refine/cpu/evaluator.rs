@@ -5,8 +5,9 @@
 //! `GLComputeEvaluator` pair is the model.
 
 use super::output::VertexOutput;
-use super::plan::{Frame, Plan};
 use crate::error::RefineError;
+use crate::refine::plan::surface::Frame;
+use crate::refine::plan::table::Plan;
 
 /// A backend that evaluates frames of a plan.
 pub trait Evaluator {

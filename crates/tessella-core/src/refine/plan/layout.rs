@@ -78,3 +78,6 @@ impl OutputLayout {
         )
     }
 }
+
+/// The origin face of a coarse vertex no triangle uses ([`Plan::origin`](crate::refine::Plan::origin)).
+pub const NO_FACE: u32 = u32::MAX;

@@ -1,11 +1,16 @@
 //! The refined triangles' vertex indices. They depend on the topology, the layout and the
-//! pattern only, never on positions, so a [`super::Plan`] writes them once for every frame.
+//! pattern only, never on positions, so a [`Plan`](super::table::Plan) writes them once for every frame.
 
-use super::layout::OutputLayout;
+#![allow(clippy::needless_range_loop)] // corners and edges index several tables
+
+use super::layout::{OutputLayout, NO_FACE};
+use super::pieces::Piece;
+use super::tiling::Tiling;
 use crate::mesh::Topology;
 use crate::pattern::Pattern;
 use crate::stencil::Stencil;
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// Coarse faces per parallel task.
 const FACES_PER_TASK: usize = 32;
@@ -149,5 +154,132 @@ impl IndexJob<'_> {
                 }
                 progress((tris.len() / per_face) as u64);
             });
+    }
+}
+
+/// The triangles of an adaptive tiling (they depend on the plan only).
+pub(crate) struct AdaptiveIndex<'a> {
+    pub triangles: &'a [[u32; 3]],
+    pub topology: &'a Topology,
+    pub tiling: &'a Tiling,
+    pub weld: bool,
+}
+
+impl AdaptiveIndex<'_> {
+    /// Output slot of each pattern point of face `f`.
+    pub fn slots(&self, f: usize, out: &mut Vec<u32>) {
+        let tile = self.tiling.tile(f);
+        out.clear();
+        out.resize(tile.pattern.points.len(), 0);
+        let base = self.tiling.face_offset[f] as u32;
+        if !self.weld {
+            for (p, o) in out.iter_mut().enumerate() {
+                *o = base + p as u32;
+            }
+            return;
+        }
+        let t = self.triangles[f];
+        for c in 0..3 {
+            out[tile.corners[c] as usize] = t[c];
+        }
+        for k in 0..3 {
+            let e = self.topology.face_edges[f][k] as usize;
+            let by_index = t[k] == self.topology.edges[e][0];
+            let m = tile.edges[k].len();
+            let eb = self.tiling.edge_offset[e] as u32;
+            for (s, &p) in tile.edges[k].iter().enumerate() {
+                out[p as usize] = eb + if by_index { s } else { m - 1 - s } as u32;
+            }
+        }
+        for (i, &p) in tile.interior.iter().enumerate() {
+            out[p as usize] = base + i as u32;
+        }
+    }
+
+    /// Writes every refined triangle.
+    pub fn indices<I: IndexInt>(&self, out: &mut [[I; 3]], progress: &(dyn Fn(u64) + Sync)) {
+        self.face_indices(0..self.triangles.len(), out, progress);
+    }
+
+    /// Writes the refined triangles of faces `faces` (from `triangle_offset[faces.start]` to
+    /// `triangle_offset[faces.end]`) into `out`, exactly that long.
+    pub fn face_indices<I: IndexInt>(
+        &self,
+        faces: Range<usize>,
+        out: &mut [[I; 3]],
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
+        let tiling = self.tiling;
+        let mut chunks = Vec::with_capacity(faces.len());
+        let mut rest = out;
+        for f in faces.clone() {
+            let n = tiling.tile(f).pattern.triangles.len();
+            let (head, tail) = rest.split_at_mut(n);
+            chunks.push(head);
+            rest = tail;
+        }
+        chunks
+            .into_par_iter()
+            .enumerate()
+            .for_each_init(Vec::new, |map, (i, tris)| {
+                let f = faces.start + i;
+                self.slots(f, map);
+                for (dst, src) in tris.iter_mut().zip(&tiling.tile(f).pattern.triangles) {
+                    *dst = src.map(|p| I::from_index(map[p as usize]));
+                }
+                progress(1);
+            });
+    }
+
+    /// Each output vertex of `piece`'s face and barycentrics (see `Plan::origin`): a shared
+    /// (welded) vertex is named by the face that owns (evaluates) it, as in the uniform layout.
+    pub fn piece_origin(&self, piece: &Piece, faces: &mut [u32], bary: &mut [[f32; 3]]) {
+        let (topo, tiling) = (self.topology, self.tiling);
+        let l = |f: usize, p: u32| tiling.tile(f).pattern.points[p as usize].map(|x| x as f32);
+        let mut slots = faces.iter_mut().zip(bary.iter_mut());
+        let mut put = |face: u32, b: [f32; 3]| {
+            let (f, slot) = slots.next().expect("a slot for each vertex of the piece");
+            (*f, *slot) = (face, b);
+        };
+        match piece.clone() {
+            Piece::Corners(r) => {
+                for v in r {
+                    match topo.vertex_owner[v] {
+                        Some((f, c)) => put(
+                            f,
+                            l(f as usize, tiling.tile(f as usize).corners[c as usize]),
+                        ),
+                        None => put(NO_FACE, [1.0, 0.0, 0.0]),
+                    }
+                }
+            }
+            Piece::Edges(r) => {
+                for e in r {
+                    let (f, k) = topo.edge_owner[e];
+                    let (fu, k) = (f as usize, k as usize);
+                    let points = &tiling.tile(fu).edges[k];
+                    let by_index = self.triangles[fu][k] == topo.edges[e][0];
+                    let m = points.len();
+                    for j in 0..m {
+                        let s = if by_index { j } else { m - 1 - j };
+                        put(f, l(fu, points[s]));
+                    }
+                }
+            }
+            Piece::Interiors(r) => {
+                for f in r {
+                    for &p in &tiling.tile(f).interior {
+                        put(f as u32, l(f, p));
+                    }
+                }
+            }
+            Piece::Faces(r) => {
+                for f in r {
+                    for p in 0..tiling.tile(f).pattern.points.len() as u32 {
+                        put(f as u32, l(f, p));
+                    }
+                }
+            }
+        }
     }
 }

@@ -1,16 +1,16 @@
 //! The points inside coarse edges, several edges at a time. An edge holds `level - 1` points,
-//! one or a few vectors: evaluated one edge at a time (as [`super::evaluate::eval_block`]
+//! one or a few vectors: evaluated one edge at a time (as [`super::kernels::eval_block`]
 //! does for a face's interior), each of its sums is one chain of dependent additions and the
 //! adders wait on their latency, and every edge pays the block's set-up. Here `G` edges (of
 //! different faces, each with its own control points) are summed side by side: `3 G`
 //! independent chains, the control points broadcast straight from the patch's net.
 //!
-//! Each point's sums are the same operations in the same order as [`super::evaluate::eval_point`]
+//! Each point's sums are the same operations in the same order as [`super::kernels::eval_point`]
 //! (start from zero, add `w_k C_k` for `k` in order; normalise as glam does), so the bits are
 //! the same as every other path's: an edge point gets the same bits from both of its faces'
 //! evaluations (welded output evaluates it once, on the owning face).
 
-use super::evaluate::{
+use super::kernels::{
     compiled_for, cross_vectors, cubic_derivative_nets, dispatched_kernel, fallback_normals,
     lane_weights, normalize_vectors, Scratch, CUBIC_LEN, LANES, TILE,
 };
@@ -35,7 +35,7 @@ pub(crate) struct EdgeRun<'a> {
 
 dispatched_kernel! {
     /// Evaluates every run of `runs` into `sink` (see [`eval_edges_body`]), with the code
-    /// compiled for the widest vectors the CPU has, as [`super::evaluate::eval_block`] chooses:
+    /// compiled for the widest vectors the CPU has, as [`super::kernels::eval_block`] chooses:
     /// four edges side by side with AVX-512, one at a time with AVX2 (an edge's 16 points
     /// already fill six of its 16 registers).
     pub(crate) fn eval_edges = eval_edges_body, eval_edges_avx512, eval_edges_avx2 (
@@ -49,7 +49,7 @@ dispatched_kernel! {
 
 /// Evaluates every run of `runs` into `sink`, `G` at a time where the runs are short enough
 /// for `G` of them to share one tile (all edge blocks of a stencil have one length). Equal,
-/// bit for bit, to [`super::evaluate::eval_point`] on each point.
+/// bit for bit, to [`super::kernels::eval_point`] on each point.
 #[inline(always)]
 pub(crate) fn eval_edges_body<const K: usize, const G: usize>(
     runs: &[EdgeRun],
@@ -82,7 +82,7 @@ pub(crate) fn eval_edges_body<const K: usize, const G: usize>(
                 scratch,
             );
         } else {
-            super::evaluate::eval_block_body::<K, 1>(
+            super::kernels::eval_block_body::<K, 1>(
                 run.block,
                 stencil,
                 run.points,
@@ -247,8 +247,8 @@ mod tests {
     use super::*;
     use crate::basis::Basis;
     use crate::pattern::Pattern;
-    use crate::refine::evaluate::eval_point;
-    use crate::refine::evaluate::tests::{into_arrays, test_patch};
+    use crate::refine::cpu::kernels::eval_point;
+    use crate::refine::cpu::kernels::tests::{into_arrays, test_patch};
 
     /// Six edges (a full group of four and two left over), each of its own patch, forward and
     /// reversed, some with vanishing or overflowing normal nets or collinear control points

@@ -1,0 +1,25 @@
+//! The layer built once per topology and levels: everything a [`Plan`] holds and how it is
+//! made. Nothing here imports the evaluator (`refine::cpu`), which sits on top.
+//!
+//! - [`options`]: what to refine into ([`RefineOptions`](options::RefineOptions));
+//! - [`levels`], [`lod`]: the levels asked for and the LOD functions that compute them;
+//! - [`tiling`], [`instanced`], [`morph`], [`canonical`]: adaptive plans' per-face patterns,
+//!   their instanced parts, geomorphs and canonical edge weights;
+//! - [`layout`], [`indices`], [`pieces`], [`stream`]: where the output's vertices go, its
+//!   triangles, and its cut into pieces;
+//! - [`surface`]: topology and scheme, which build each frame's nets;
+//! - [`table`]: the [`Plan`](table::Plan) itself.
+
+pub mod canonical;
+pub mod indices;
+pub mod instanced;
+pub mod layout;
+pub mod levels;
+pub mod lod;
+pub mod morph;
+pub mod options;
+pub mod pieces;
+pub mod stream;
+pub mod surface;
+pub mod table;
+pub mod tiling;
