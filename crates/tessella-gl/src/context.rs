@@ -205,7 +205,12 @@ impl GlContext {
         if let Some(p) = self.programs.borrow()[i] {
             return Ok(p);
         }
-        let p = crate::refine::link(self, spacing)?;
+        let p = crate::program::link(&self.gl, spacing)?;
+        if let Err(e) = self.check("linking the tessellation program") {
+            // SAFETY: the program was made on this context and is not kept.
+            unsafe { self.gl.delete_program(p) };
+            return Err(e);
+        }
         self.programs.borrow_mut()[i] = Some(p);
         Ok(p)
     }

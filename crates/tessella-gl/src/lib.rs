@@ -32,6 +32,7 @@
 
 mod context;
 mod error;
+mod program;
 mod refine;
 mod shaders;
 

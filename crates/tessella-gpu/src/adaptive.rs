@@ -7,8 +7,9 @@
 use crate::context::WRITE;
 use crate::context::{GpuContext, READ, UNIFORM};
 use crate::error::GpuError;
+use crate::gpu_types::normal_mode_code;
 use crate::gpu_types::{AdaptiveParams, RenderUniforms};
-use crate::patch::{check_nets_shape, normal_mode_code, write_nets};
+use crate::patch::{check_nets_shape, write_nets};
 use crate::renderer::{render_group, render_layout, render_pipeline, TargetFormats, CODE_VERTICES};
 use std::collections::HashMap;
 use std::ops::Range;

@@ -19,8 +19,9 @@
 use crate::context::{GpuContext, READ, UNIFORM, WRITE};
 use crate::displace::Displacement;
 use crate::error::GpuError;
+use crate::gpu_types::normal_mode_code;
 use crate::gpu_types::RefineParams;
-use crate::patch::{self, normal_mode_code, PatchBuffers};
+use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::pattern::PointClass;
 use tessella_core::refine::{Evaluator, Frame, Plan, Tiling, VertexFormat};
@@ -944,7 +945,7 @@ fn net_windows(
     let total = plan.vertex_count() as u64;
     let faces = plan.face_count() as u64;
     let point_bytes = plan.options().scheme.basis().len() as u64 * 12;
-    let normal_bytes = patch::NORMAL_NET_BYTES;
+    let normal_bytes = crate::gpu_types::NORMAL_NET_BYTES;
     let face_bytes = point_bytes.max(normal_bytes);
     let cap = options.max_net_faces.map_or(u64::MAX, |c| c.max(1) as u64);
     let limit = ctx.max_binding() / 4 * 4;

@@ -11,7 +11,7 @@ use tessella_core::{NormalMode, PatchNets, Stencil};
 
 // How eval.wgsl numbers normal modes and sizes a normal net, shared with `wgsl_constants`
 // (defined with the other Rust twins of WGSL layouts; named here too, where group 0 uses them).
-pub(crate) use crate::gpu_types::{normal_mode_code, NORMAL_NET_BYTES};
+use crate::gpu_types::normal_mode_code;
 
 /// Layout of group 0, for the given shader stages.
 pub(crate) fn layout(ctx: &GpuContext, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayout {

@@ -8,8 +8,9 @@
 use crate::context::{GpuContext, READ, UNIFORM};
 use crate::displace::Displacement;
 use crate::error::GpuError;
+use crate::gpu_types::normal_mode_code;
 use crate::gpu_types::RenderUniforms;
-use crate::patch::{self, normal_mode_code, PatchBuffers};
+use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::refine::{Frame, Plan};
 use tessella_core::NormalMode;

@@ -1,7 +1,7 @@
 //! The layout constants Rust and WGSL share, written once here and prepended to every shader
 //! as WGSL `const`s (the `.wgsl` files declare none of them), so the two cannot drift apart.
 
-use crate::patch::{normal_mode_code, NORMAL_NET_BYTES};
+use crate::gpu_types::{normal_mode_code, NORMAL_NET_BYTES};
 use tessella_core::NormalMode;
 
 /// Entries of the colormap uniform (`shaders/shade.wgsl`): a header and up to 256 samples.

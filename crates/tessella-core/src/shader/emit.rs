@@ -1,8 +1,8 @@
 //! Printing a tape as straight-line WGSL or GLSL: one `let` (`float`) per recorded operation
 //! that an output needs, in tape order, named `t<index>`.
 
+use super::lang::Lang;
 use super::trace::{Cmp, Node, Tape, Traced, Ty, UOp};
-use super::Lang;
 
 /// The statements that compute `outputs`, and how to name any value of the tape.
 pub(crate) struct Body<'t> {

@@ -24,7 +24,10 @@
 //! ```
 
 mod emit;
+mod lang;
 mod trace;
+
+pub use lang::Lang;
 
 use crate::basis::{normal_weights, Basis, NORMAL_NET_LEN};
 use crate::refine::canonical::EdgeWeights;
@@ -32,16 +35,6 @@ use crate::scalar::Word;
 use crate::scalar::{Dual, Real, V3};
 use emit::Body;
 use trace::{trace, Expr, UExpr};
-
-/// A shading language the generated code is written in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum Lang {
-    /// WebGPU's WGSL.
-    Wgsl,
-    /// GLSL 4.30 (the OpenGL tessellation backend).
-    Glsl,
-}
 
 /// Length of the weight arrays the GLSL functions fill: the largest basis (PNG1's 21), so one
 /// array serves every basis; entries past the basis' own are left unwritten.
