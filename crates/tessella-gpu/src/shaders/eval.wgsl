@@ -1,4 +1,4 @@
-// Patch evaluation: the generic weighted sum of tessella-core's `eval_point` (refine/evaluate.rs).
+// Patch evaluation: the generic weighted sum of tessella-core's `eval_point` (refine/cpu/kernels.rs).
 // The schemes' formulas live in Rust only: the CPU builds each coarse triangle's control net
 // (K points, 6 normal-net entries) and the pattern's stencil rows
 // (value[K] | du[K] | dv[K] | normal weights[6] | l[3]); here we only combine them.

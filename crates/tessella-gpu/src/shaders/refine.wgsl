@@ -1,6 +1,6 @@
 // Compute refinement: one kernel evaluates every output vertex of a chunk, one writes every
 // output triangle of a chunk. Output order and indices are those of tessella-core's
-// OutputLayout (refine/layout.rs): welded = corners | edges (lower -> higher vertex index) |
+// OutputLayout (refine/plan/layout.rs): welded = corners | edges (lower -> higher vertex index) |
 // interiors; soup = (N+1)(N+2)/2 pattern points per face. Prepended: eval.wgsl, displace.wgsl.
 
 struct RefineParams {
