@@ -34,68 +34,45 @@ pub trait Real:
     fn select_positive_finite(test: Self, yes: Self, no: Self) -> Self;
 }
 
-impl Real for f64 {
-    #[inline]
-    fn lit(x: f64) -> f64 {
-        x
-    }
-    #[inline]
-    fn select_nonzero(test: f64, nonzero: f64, zero: f64) -> f64 {
-        if test != 0.0 {
-            nonzero
-        } else {
-            zero
+/// `f64` (stencil weights) and `f32` (control nets: the coarse mesh's precision) compute as
+/// themselves; a branch is an `if`.
+macro_rules! real_float {
+    ($t:ty) => {
+        impl Real for $t {
+            #[inline]
+            fn lit(x: f64) -> $t {
+                x as $t
+            }
+            #[inline]
+            fn select_nonzero(test: $t, nonzero: $t, zero: $t) -> $t {
+                if test != 0.0 {
+                    nonzero
+                } else {
+                    zero
+                }
+            }
+            #[inline]
+            fn powi(self, n: u8) -> $t {
+                <$t>::powi(self, i32::from(n))
+            }
+            #[inline]
+            fn sqrt(self) -> $t {
+                <$t>::sqrt(self)
+            }
+            #[inline]
+            fn select_positive_finite(test: $t, yes: $t, no: $t) -> $t {
+                if test.is_finite() && test > 0.0 {
+                    yes
+                } else {
+                    no
+                }
+            }
         }
-    }
-    #[inline]
-    fn powi(self, n: u8) -> f64 {
-        f64::powi(self, i32::from(n))
-    }
-    #[inline]
-    fn sqrt(self) -> f64 {
-        f64::sqrt(self)
-    }
-    #[inline]
-    fn select_positive_finite(test: f64, yes: f64, no: f64) -> f64 {
-        if test.is_finite() && test > 0.0 {
-            yes
-        } else {
-            no
-        }
-    }
+    };
 }
 
-/// The control nets are built in `f32` (the coarse mesh's precision).
-impl Real for f32 {
-    #[inline]
-    fn lit(x: f64) -> f32 {
-        x as f32
-    }
-    #[inline]
-    fn select_nonzero(test: f32, nonzero: f32, zero: f32) -> f32 {
-        if test != 0.0 {
-            nonzero
-        } else {
-            zero
-        }
-    }
-    #[inline]
-    fn powi(self, n: u8) -> f32 {
-        f32::powi(self, i32::from(n))
-    }
-    #[inline]
-    fn sqrt(self) -> f32 {
-        f32::sqrt(self)
-    }
-    #[inline]
-    fn select_positive_finite(test: f32, yes: f32, no: f32) -> f32 {
-        if test.is_finite() && test > 0.0 {
-            yes
-        } else {
-            no
-        }
-    }
-}
+real_float!(f64);
+real_float!(f32);
 
 /// A 32-bit unsigned word a shared integer formula computes with (the tessellator's 16.16
 /// placement): `u32` on the CPU, a traced expression when a shader is generated. Arithmetic

@@ -816,12 +816,8 @@ unsafe fn set_uniforms(gl: &glow::Context, program: glow::Program, d: &Draw<'_>)
     };
     gl.uniform_1_i32(loc("u_nets").as_ref(), code);
     gl.uniform_1_f32(loc("u_alpha").as_ref(), alpha);
-    let normals = match nets.normal_mode {
-        NormalMode::Linear => 0,
-        NormalMode::Quadratic => 1,
-        NormalMode::Real => 2,
-    };
-    gl.uniform_1_i32(loc("u_normals").as_ref(), normals);
+    let normals = tessella_core::shader::normal_mode_code(nets.normal_mode);
+    gl.uniform_1_i32(loc("u_normals").as_ref(), normals as i32);
     gl.uniform_1_i32(
         loc("u_per_face").as_ref(),
         i32::from(d.source == LevelSource::PerFace),

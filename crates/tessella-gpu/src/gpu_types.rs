@@ -7,11 +7,7 @@ use tessella_core::NormalMode;
 
 /// `NormalMode` as `eval.wgsl` numbers it.
 pub(crate) fn normal_mode_code(mode: NormalMode) -> u32 {
-    match mode {
-        NormalMode::Linear => 0,
-        NormalMode::Quadratic => 1,
-        NormalMode::Real => 2,
-    }
+    tessella_core::shader::normal_mode_code(mode)
 }
 
 /// Bytes of one face's normal net (6 points).

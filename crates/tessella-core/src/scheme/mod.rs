@@ -120,6 +120,7 @@ impl Scheme {
 /// How refined normals are made.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum NormalMode {
     /// Vertex normals interpolated linearly (Phong shading), normalised.
     Linear,

@@ -33,6 +33,7 @@ use crate::basis::{normal_weights, Basis, NORMAL_NET_LEN};
 use crate::refine::canonical::EdgeWeights;
 use crate::scalar::Word;
 use crate::scalar::{Dual, Real, V3};
+use crate::scheme::NormalMode;
 use emit::Body;
 use trace::{trace, Expr, UExpr};
 
@@ -309,21 +310,27 @@ pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
 /// through `tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32`, which the including shader
 /// defines (word `k` of ruler `r` of the record at `rec`).
 pub fn locate_wgsl() -> String {
-    use crate::tessellator::parts::locate_of;
-    let (tape, out) = trace(|| {
-        let rec = UExpr::input("rec");
-        locate_of(
-            |r, k| UExpr::call("tessella_ruler_word", &[rec, r, UExpr::lit(k as u32)]),
-            UExpr::input("code"),
-            UExpr::input("side_offset"),
-        )
-    });
+    let (tape, out) = traced_locate();
     let body = Body::new(&tape, Lang::Wgsl, &out);
     let [u, v, edge] = out.map(|e| body.name(e));
     format!(
         "fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32> {{\n{}    return vec3<u32>({u}, {v}, {edge});\n}}\n",
         body.statements
     )
+}
+
+/// `tessellator::parts::locate_of` traced with the inputs `rec`, `code`, `side_offset` and the
+/// ruler words read through `tessella_ruler_word(rec, r, k)`.
+fn traced_locate() -> (trace::Tape, [UExpr; 3]) {
+    use crate::tessellator::parts::locate_of;
+    trace(|| {
+        let rec = UExpr::input("rec");
+        locate_of(
+            |r, k| UExpr::call("tessella_ruler_word", &[rec, r, UExpr::lit(k as u32)]),
+            UExpr::input("code"),
+            UExpr::input("side_offset"),
+        )
+    })
 }
 
 /// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed
@@ -360,6 +367,16 @@ pub fn record_layout(lang: Lang) -> String {
             ("TESSELLA_NO_EDGE", crate::tessellator::parts::NO_EDGE),
         ],
     )
+}
+
+/// The number a shader reads for a normal mode (a WGSL constant, a GLSL uniform): 0 linear,
+/// 1 quadratic, 2 real. Every backend maps the modes through this one function.
+pub fn normal_mode_code(mode: NormalMode) -> u32 {
+    match mode {
+        NormalMode::Linear => 0,
+        NormalMode::Quadratic => 1,
+        NormalMode::Real => 2,
+    }
 }
 
 /// `u32` constants as WGSL (`const NAME: u32 = 7u;`) or GLSL (`const uint NAME = 7u;`), one a

@@ -233,14 +233,7 @@ fn traced_tessellator_placement_evaluates_to_the_cpu_placement() {
     use crate::tessellator::parts::{locate_of, FaceRulers, NO_EDGE};
     use crate::tessellator::points::RULER_WORDS;
     use crate::tessellator::{process_levels, Spacing, TessLevels};
-    let (tape, out) = trace(|| {
-        let rec = UExpr::input("rec");
-        locate_of(
-            |r, k| UExpr::call("tessella_ruler_word", &[rec, r, UExpr::lit(k as u32)]),
-            UExpr::input("code"),
-            UExpr::input("side_offset"),
-        )
-    });
+    let (tape, out) = traced_locate();
     let mut checked = 0;
     for (spacing, outer, inner) in [
         (Spacing::FractionalOdd, [3.3, 5.0, 1.7], 4.6),
