@@ -19,6 +19,7 @@ use crate::errors;
 use crate::options::Backend;
 use pyo3::PyResult;
 use std::sync::{Arc, Mutex, MutexGuard};
+use tessella_core::names::Device;
 use tessella_core::{DisplaceFrame, RefinedMesh, Refiner};
 use tessella_gpu::{
     gpu_refine_with, AdapterChoice, Displacement, GpuContext, GpuError, GpuRefineOptions,
@@ -130,10 +131,13 @@ pub fn refine(
         mesh,
         fallback: None,
     };
-    match backend {
-        Backend::Cpu => on_cpu(refiner, displacement).map(done),
-        Backend::Gl => Err(errors::bad_option(crate::options::NO_GL)),
-        Backend::Gpu => {
+    // The core's one choice, on the plan's vertex count (small outputs: the CPU is faster
+    // than opening a device, so no probe at all).
+    let vertices = refiner.plan().vertex_count() as u64;
+    match backend.device(vertices) {
+        Device::Cpu => on_cpu(refiner, displacement).map(done),
+        Device::Gl => Err(errors::bad_option(crate::options::NO_GL)),
+        Device::AnyGpu => {
             let ctx = any().map_err(|e| {
                 errors::gpu_failure(format!("backend=\"gpu\" needs a GPU adapter: {e}"))
             })?;
@@ -141,28 +145,24 @@ pub fn refine(
                 .map(done)
                 .map_err(errors::gpu_error)
         }
-        Backend::Auto => {
-            // Small outputs: the CPU is faster than opening a device, so no probe at all.
-            let vertices = refiner.plan().vertex_count() as u64;
-            if !Backend::auto_looks_for_gpu(vertices) {
-                return on_cpu(refiner, displacement).map(done);
-            }
+        Device::HardwareGpu => {
             // No hardware adapter is the normal case on many machines: the CPU, silently.
             let Ok(ctx) = hardware() else {
                 return on_cpu(refiner, displacement).map(done);
             };
             match on_gpu(&ctx, refiner, displacement) {
                 Ok(mesh) => Ok(done(mesh)),
-                Err(e) => Ok(Outcome {
+                Err(e) if backend.falls_back() => Ok(Outcome {
                     mesh: on_cpu(refiner, displacement)?,
                     fallback: Some(format!(
                         "tessella: the GPU ({}) failed, refined on the CPU instead: {e}",
                         ctx.adapter_label()
                     )),
                 }),
+                Err(e) => Err(errors::gpu_error(e)),
             }
         }
-        other => Err(crate::options::unsupported_backend(other)),
+        _ => Err(crate::options::unsupported_backend(backend)),
     }
 }
 

@@ -112,13 +112,18 @@ fn refine<'py>(
     displace: Option<&Bound<'py, PyAny>>,
     uvs: Option<numpy::PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<Arrays<'py>> {
-    let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
-    let normal_mode = options::normal_mode(normals_mode)?;
+    let mut opts = options::refine_options(options::Given {
+        scheme,
+        alpha,
+        level: level.to_string(),
+        normals_mode,
+        weld,
+        ..Default::default()
+    })?;
+    let scheme = opts.scheme;
     let backend = options::backend(backend)?;
     let displacement = displace::parse(displace)?;
     let source = tags::source(tags)?;
-    let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
-    opts.normals = normal_mode;
     let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
     pool::follow_numpy(py);
     let out = py.detach(|| -> PyResult<_> {
@@ -178,28 +183,18 @@ fn refine_adaptive<'py>(
     backend: &str,
     uvs: Option<numpy::PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<AdaptiveArrays<'py>> {
-    use tessella_core::refine::{Camera, Levels, Lod, Spacing};
-    let value = |e: tessella_core::RefineError| bad_option(e.to_string());
-    let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
-    let spacing: Spacing = spacing.parse().map_err(bad_option)?;
-    let whole =
-        level.is_finite() && level >= 1.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
-    let mut opts = RefineOptions::new(scheme, if whole { level as u32 } else { 1 })
-        .with_weld(weld)
-        .with_spacing(spacing);
-    opts.normals = options::normal_mode(normals_mode)?;
-    if let Some(spec) = lod {
-        let camera = camera.map(Camera::parse).transpose().map_err(value)?;
-        let lod = Lod::parse(spec, camera, size.map(|(w, h)| [w, h])).map_err(value)?;
-        opts = opts.with_levels(Levels::Lod(lod));
-    } else if camera.is_some() || size.is_some() {
-        return Err(bad_option(
-            "camera= and size= serve lod='screen:PX' and lod='distance:NEAR,FAR,MAX'",
-        ));
-    } else if !whole || spacing != Spacing::Grid {
-        // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
-        opts = opts.with_levels(Levels::Uniform(level as f32));
-    }
+    // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
+    let opts = options::refine_options(options::Given {
+        scheme,
+        alpha,
+        level: level.to_string(),
+        spacing,
+        lod,
+        camera,
+        size,
+        normals_mode,
+        weld,
+    })?;
     let backend = options::backend(backend)?;
     if backend == options::Backend::Gl && origin {
         return Err(bad_option(

@@ -88,3 +88,63 @@ pub fn alpha(alpha: f64) -> PyResult<f64> {
 
 /// `backend="gl"` where the grid pattern is asked for (see `gl.rs`).
 pub const NO_GL: &str = crate::gl::GL_NEEDS_SPACING;
+
+/// Python's refinement keyword arguments, as given.
+pub struct Given<'a> {
+    pub scheme: &'a str,
+    pub alpha: f64,
+    /// An int or a float, as its text.
+    pub level: String,
+    pub spacing: &'a str,
+    pub lod: Option<&'a str>,
+    pub camera: Option<&'a str>,
+    pub size: Option<(u32, u32)>,
+    pub normals_mode: Option<&'a str>,
+    pub weld: bool,
+}
+
+impl Default for Given<'_> {
+    fn default() -> Self {
+        Given {
+            scheme: "pn",
+            alpha: 0.75,
+            level: "8".into(),
+            spacing: "grid",
+            lod: None,
+            camera: None,
+            size: None,
+            normals_mode: None,
+            weld: true,
+        }
+    }
+}
+
+/// The refinement options the keyword arguments ask for, parsed by the core's text form
+/// ([`tessella_core::refine::OPTION_KEYS`]) as the CLI's flags, npm's options and the viewer's
+/// URL are: `level=5.5` here is `--level 5.5` there. Python's `normals_mode` is the text form's
+/// `normals` and `weld` its `soup` negated; an error names the Python argument.
+pub fn refine_options(given: Given<'_>) -> PyResult<tessella_core::RefineOptions> {
+    let mut pairs = vec![
+        ("scheme", given.scheme.to_string()),
+        ("alpha", given.alpha.to_string()),
+        ("spacing", given.spacing.to_string()),
+        ("soup", (!given.weld).to_string()),
+    ];
+    match given.lod {
+        Some(lod) => pairs.push(("lod", lod.to_string())),
+        None => pairs.push(("level", given.level)),
+    }
+    pairs.extend(given.camera.map(|c| ("camera", c.to_string())));
+    pairs.extend(given.size.map(|(w, h)| ("size", format!("{w}x{h}"))));
+    pairs.extend(given.normals_mode.map(|n| ("normals", n.to_string())));
+    tessella_core::RefineOptions::from_pairs(pairs).map_err(|e| {
+        let (argument, hint) = match e.key.as_str() {
+            "normals" => ("normals_mode", " or None for the scheme's default"),
+            "soup" => ("weld", ""),
+            "scheme" => ("scheme", " (see tessella.schemes())"),
+            key => (key, ""),
+        };
+        let argument = argument.replace('-', "_");
+        bad_option(format!("{argument}: {}{hint}", e.message))
+    })
+}

@@ -150,6 +150,11 @@ fn as_rows(flat: &mut [f32]) -> &mut [[f32; 3]] {
 }
 
 impl Refiner {
+    /// The uniform grid level (a `Refiner` takes a whole `level=`).
+    fn grid_level(&self) -> u32 {
+        self.options.uniform_grid_level().unwrap_or(1)
+    }
+
     /// Builds the plan and the first frame from `mesh` (the first call).
     fn build(&self, py: Python<'_>, mesh: &Mesh) -> PyResult<Built> {
         let backend = self.backend;
@@ -201,9 +206,16 @@ impl Refiner {
         backend: &str,
         weld: bool,
     ) -> PyResult<Self> {
-        let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
+        let opts = options::refine_options(options::Given {
+            scheme,
+            alpha,
+            level: level.to_string(),
+            normals_mode,
+            weld,
+            ..Default::default()
+        })?;
+        let scheme = opts.scheme;
         scheme.validate().map_err(errors::refine_error)?;
-        let normal_mode = options::normal_mode(normals_mode)?;
         let backend_choice = options::backend(backend)?;
         if backend_choice == Backend::Gl {
             return Err(bad_option(
@@ -228,8 +240,6 @@ impl Refiner {
         if triangles.is_empty() {
             return Err(bad_mesh("faces holds no triangles"));
         }
-        let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
-        opts.normals = normal_mode;
         let mut refiner = Refiner {
             triangles,
             scheme,
@@ -349,7 +359,7 @@ impl Refiner {
     /// Refined triangles per frame: coarse faces × level².
     #[getter]
     fn triangle_count(&self) -> usize {
-        self.triangles.len() * (self.options.level as usize).pow(2)
+        self.triangles.len() * (self.grid_level() as usize).pow(2)
     }
 
     /// The refined triangles (the read-only array `refine` returns), or `None` before the
@@ -362,7 +372,7 @@ impl Refiner {
     /// Segments per coarse edge.
     #[getter]
     fn level(&self) -> u32 {
-        self.options.level
+        self.grid_level()
     }
 
     /// The scheme's name (`tessella.schemes()` spelling).
@@ -393,7 +403,7 @@ impl Refiner {
     fn _state<'py>(&self, py: Python<'py>) -> PyResult<State<'py>> {
         let kwargs = PyDict::new(py);
         kwargs.set_item("scheme", self.scheme.name())?;
-        kwargs.set_item("level", self.options.level)?;
+        kwargs.set_item("level", self.grid_level())?;
         kwargs.set_item("alpha", self.given.0)?;
         kwargs.set_item("normals_mode", self.given.1.as_deref())?;
         kwargs.set_item("tags", self.given.2.as_ref().map(|t| t.bind(py)))?;
@@ -417,7 +427,7 @@ impl Refiner {
         format!(
             "tessella.Refiner(scheme={:?}, level={}, faces={}, weld={}, backend={:?}, vertex_count={})",
             self.scheme.name(),
-            self.options.level,
+            self.grid_level(),
             self.triangles.len(),
             if self.options.weld { "True" } else { "False" },
             self.backend(),

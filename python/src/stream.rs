@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tessella_core::refine::Plan;
-use tessella_core::{Mesh, NormalMode, RefineOptions, Scheme};
+use tessella_core::{Mesh, RefineOptions};
 use tessella_io::{RefinedSource, WriteOptions};
 
 /// Adds this module's functions to `m`.
@@ -49,20 +49,7 @@ fn options(
     max_memory: i64,
     sync: bool,
 ) -> PyResult<Options> {
-    use tessella_core::refine::{Levels, Lod, Spacing};
     let option = |m: String| crate::errors::bad_option(m);
-    let scheme: Scheme = scheme
-        .parse()
-        .map_err(|e| option(format!("scheme={scheme:?}: {e}")))?;
-    if !alpha.is_finite() {
-        return Err(option(format!("alpha={alpha}: give a finite number")));
-    }
-    if !(level.is_finite() && level >= 1.0) {
-        return Err(option(format!("level={level}: give a number of 1 or more")));
-    }
-    let spacing: Spacing = spacing
-        .parse()
-        .map_err(|e| option(format!("spacing={spacing:?}: {e}")))?;
     let max_memory = u64::try_from(max_memory)
         .ok()
         .filter(|&b| b >= 1 << 20)
@@ -73,20 +60,16 @@ fn options(
         })?;
     // Whole grid levels are the classic refinement; a fractional level or a tessellator
     // spacing makes an adaptive plan, as `tessella.refine` does; `lod` sets a level per edge.
-    let mut refine = RefineOptions::new(scheme.with_alpha(alpha as f32), 1)
-        .with_weld(weld)
-        .with_spacing(spacing)
-        .with_uniform_level(level);
-    if let Some(spec) = lod {
-        let lod = Lod::parse(spec, None, None).map_err(|e| option(format!("lod={spec:?}: {e}")))?;
-        refine = refine.with_levels(Levels::Lod(lod));
-    }
-    if let Some(name) = normals_mode {
-        let mode: NormalMode = name
-            .parse()
-            .map_err(|e| option(format!("normals_mode={name:?}: {e}")))?;
-        refine = refine.with_normals(mode);
-    }
+    let refine = crate::options::refine_options(crate::options::Given {
+        scheme,
+        alpha,
+        level: level.to_string(),
+        spacing,
+        lod,
+        normals_mode,
+        weld,
+        ..Default::default()
+    })?;
     Ok(Options {
         refine,
         write: WriteOptions {

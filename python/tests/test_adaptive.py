@@ -72,8 +72,8 @@ def test_lod_strings_and_dicts_agree():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(level=-1.0, spacing="equal"), "finite numbers above 0"),
-        (dict(level=float("nan"), spacing="fractional-odd"), "finite numbers above 0"),
+        (dict(level=-1.0, spacing="equal"), "finite number above 0"),
+        (dict(level=float("nan"), spacing="fractional-odd"), "finite number above 0"),
         (dict(lod="tolerance:0"), "above 0"),
         (dict(lod="screen:4", size=(10, 10)), "camera"),
         (dict(lod="screen:4", camera=(0, 0, 3, 0, 0, 0, 0), size=(10, 10)), "field of view"),

@@ -88,12 +88,12 @@ def test_bad_arrays_raise_clear_errors(change, exc, message):
 @pytest.mark.parametrize(
     "kwargs, exc, message",
     [
-        (dict(level=0), ValueError, r"level must be 1 or more"),
-        (dict(level=-3), ValueError, r"level must be 1 or more"),
+        (dict(level=0), ValueError, r"level: must be a finite number above 0"),
+        (dict(level=-3), ValueError, r"level: must be a finite number above 0"),
         (dict(level=10**7), ValueError, r"over the limit"),
         (dict(scheme="loop"), ValueError, r"unknown scheme \"loop\".*flat"),
-        (dict(scheme="phong", alpha=float("nan")), ValueError, r"alpha must be finite"),
-        (dict(normals_mode="smooth"), ValueError, r"unknown normals_mode"),
+        (dict(scheme="phong", alpha=float("nan")), ValueError, r"alpha: must be finite"),
+        (dict(normals_mode="smooth"), ValueError, r"normals_mode: unknown normal mode"),
         (dict(backend="tpu"), ValueError, r"unknown backend"),
         (dict(displace={"kind": "wave"}), ValueError, r"unknown displace kind"),
         (dict(tags={"edge_sharpness": [1.0]}), ValueError, r"bad tags in the tags dict: tags JSON: unknown field `edge_sharpness`"),

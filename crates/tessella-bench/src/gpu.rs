@@ -599,7 +599,7 @@ pub async fn changing_levels_async(
             time_draws(ctx, &target, bg, frames, &|pass| adaptive.draw(pass)).await?;
         rows.push(ChangingLevelsRow {
             adapter: ctx.adapter_label(),
-            spacing: spacing.name().to_string(),
+            spacing: spacing.to_string(),
             faces: mesh.face_count(),
             triangles: median(&mut triangles) as u64,
             rebuild_ms: median(&mut rebuild_ms),

@@ -6,6 +6,7 @@ use std::ffi::OsStr;
 use std::marker::PhantomData;
 use std::path::PathBuf;
 use std::str::FromStr;
+use tessella_core::refine::Spacing;
 use tessella_core::{Backend, Named, NormalMode, Scheme, UnknownName};
 
 /// A scheme named on the command line (parsed by the core, [`tessella_core::names`]); Phong's
@@ -14,7 +15,8 @@ use tessella_core::{Backend, Named, NormalMode, Scheme, UnknownName};
 pub struct SchemeArg(pub Scheme);
 
 impl SchemeArg {
-    /// The scheme, with Phong's shape factor `alpha`.
+    /// The scheme, with Phong's shape factor `alpha` (the picture commands, built with `gpu`).
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
     pub fn scheme(self, alpha: f32) -> Scheme {
         self.0.with_alpha(alpha)
     }
@@ -105,12 +107,12 @@ pub struct RefineArgs {
     pub scheme: SchemeArg,
     /// Segments per coarse edge: each triangle becomes LEVEL² triangles (grid). With a
     /// tessellator --spacing a fractional level (e.g. 5.5), clamped to the spacing's range.
-    #[arg(short, long, default_value_t = 8.0, allow_negative_numbers = true)]
+    #[arg(short, long, default_value_t = 8.0, value_parser = parse_level, allow_negative_numbers = true)]
     pub level: f64,
     /// How levels divide each edge: grid, or the GPU tessellator's equal / fractional-odd /
     /// fractional-even spacing.
-    #[arg(long, value_enum, default_value = "grid")]
-    pub spacing: SpacingArg,
+    #[arg(long, value_parser = CoreName::<Spacing>::new(), default_value = "grid")]
+    pub spacing: Spacing,
     /// Per-edge adaptive levels (crack-free): `tolerance:D` (flat triangles within D of the
     /// curved surface), `screen:PX` (PX pixels per refined edge; needs --camera, --size) or
     /// `distance:NEAR,FAR,MAX` (MAX segments near the camera, 1 beyond FAR; needs --camera).
@@ -174,12 +176,12 @@ pub struct RenderArgs {
     pub scheme: SchemeArg,
     /// Segments per coarse edge (the refinement pattern drawn for every triangle). With a
     /// tessellator --spacing a fractional level (e.g. 5.5), clamped to the spacing's range.
-    #[arg(short, long, default_value_t = 16.0, allow_negative_numbers = true)]
+    #[arg(short, long, default_value_t = 16.0, value_parser = parse_level, allow_negative_numbers = true)]
     pub level: f64,
     /// How levels divide each edge: grid, or the GPU tessellator's equal / fractional-odd /
     /// fractional-even spacing.
-    #[arg(long, value_enum, default_value = "grid")]
-    pub spacing: SpacingArg,
+    #[arg(long, value_parser = CoreName::<Spacing>::new(), default_value = "grid")]
+    pub spacing: Spacing,
     /// Per-edge adaptive levels, as for `refine --lod`: `tolerance:D`, `screen:PX` (PX pixels
     /// per refined edge in this picture) or `distance:NEAR,FAR,MAX`; screen and distance use
     /// the picture's own camera unless --camera is given.
@@ -291,8 +293,8 @@ pub struct ViewArgs {
     #[arg(short, long, default_value_t = 8.0, allow_negative_numbers = true)]
     pub level: f64,
     /// How levels divide each edge: grid, equal, fractional-odd, fractional-even.
-    #[arg(long, value_enum, default_value = "grid")]
-    pub spacing: SpacingArg,
+    #[arg(long, value_parser = CoreName::<Spacing>::new(), default_value = "grid")]
+    pub spacing: Spacing,
     /// Per-edge levels from the current camera, every frame: `screen:PX`,
     /// `distance:NEAR,FAR,MAX` or `tolerance:D`.
     #[arg(long, value_name = "SPEC")]
@@ -370,19 +372,6 @@ pub struct InfoArgs {
     pub tags: TagArgs,
 }
 
-/// How `tessella pattern` divides the edges.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum SpacingArg {
-    /// The uniform refinement pattern: LEVEL equal segments per edge, LEVEL² triangles.
-    Grid,
-    /// Hardware tessellator, equal spacing (levels rounded up to integers, 1 to 64).
-    Equal,
-    /// Hardware tessellator, fractional-odd spacing (levels 1 to 63).
-    FractionalOdd,
-    /// Hardware tessellator, fractional-even spacing (levels 2 to 64).
-    FractionalEven,
-}
-
 #[derive(Debug, Args)]
 pub struct PatternArgs {
     /// Segments per edge (grid: a whole number); with a tessellator spacing, the inner and all
@@ -390,8 +379,8 @@ pub struct PatternArgs {
     #[arg(short, long, allow_negative_numbers = true)]
     pub level: Option<f64>,
     /// grid, or the GPU tessellator's equal / fractional-odd / fractional-even spacing.
-    #[arg(long, value_enum, default_value = "grid")]
-    pub spacing: SpacingArg,
+    #[arg(long, value_parser = CoreName::<Spacing>::new(), default_value = "grid")]
+    pub spacing: Spacing,
     /// Tessellator inner level (overrides --level).
     #[arg(long, allow_negative_numbers = true)]
     pub inner: Option<f32>,
@@ -476,42 +465,20 @@ pub fn parse_alpha(text: &str) -> Result<f32, String> {
     Ok(alpha)
 }
 
+/// `WIDTHxHEIGHT` (the core's `size` option).
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("'{text}' is not a size like 800x600");
-    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (
-        w.trim().parse().map_err(|_| bad())?,
-        h.trim().parse().map_err(|_| bad())?,
-    );
-    if w == 0 || h == 0 {
-        return Err(format!("'{text}': width and height must be at least 1"));
-    }
+    let [w, h] = tessella_core::refine::parse_size(text).map_err(|e| e.message)?;
     Ok((w, h))
 }
 
-/// Parses `512MiB`, `8GiB`, `1.5G`, `1000000` into bytes.
+/// `512MiB`, `8GiB`, `1.5G`, `1000000` into bytes (the core's `max-memory` option).
 pub fn parse_bytes(text: &str) -> Result<u64, String> {
-    let t = text.trim();
-    let split = t
-        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-        .unwrap_or(t.len());
-    let (number, unit) = t.split_at(split);
-    let value: f64 = number
-        .parse()
-        .map_err(|_| format!("'{text}' is not a size like 512MiB or 8GiB"))?;
-    let scale: f64 = match unit.trim().to_ascii_lowercase().as_str() {
-        "" | "b" => 1.0,
-        "k" | "kb" | "kib" => 1024.0,
-        "m" | "mb" | "mib" => 1024.0 * 1024.0,
-        "g" | "gb" | "gib" => 1024.0 * 1024.0 * 1024.0,
-        "t" | "tb" | "tib" => 1024.0f64.powi(4),
-        other => {
-            return Err(format!(
-                "unknown size unit '{other}' in '{text}'; use B, KiB, MiB, GiB or TiB"
-            ))
-        }
-    };
-    Ok((value * scale) as u64)
+    tessella_core::refine::parse_bytes(text).map_err(|e| e.message)
+}
+
+/// One level for every edge (the core's `level` option): a finite number above 0.
+pub fn parse_level(text: &str) -> Result<f64, String> {
+    tessella_core::refine::parse_level(text).map_err(|e| e.message)
 }
 
 #[cfg(test)]

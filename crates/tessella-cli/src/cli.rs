@@ -56,7 +56,7 @@ pub enum Command {
     Animate(AnimateArgs),
     /// Open the interactive viewer in a window: drag to orbit (shift or right button: pan),
     /// wheel or +/- to zoom, arrows orbit (alt: pan), w wireframe, 1-7 or Tab the scheme,
-    /// [ and ] the level, a the twist animation, s a screenshot, Esc or q quits.
+    /// the bracket keys step the level, a the twist animation, s a screenshot, Esc or q quits.
     ///
     /// Example: tessella view samples/creature.obj --scheme png1 --level 6
     View(ViewArgs),

@@ -195,11 +195,11 @@ fn bad_levels_are_refused_with_a_message_and_no_file() {
     let input = write_sample(dir.path(), "icosphere");
     let out = dir.path().join("bad.ply");
     let cases: Vec<(Vec<&str>, &str)> = vec![
-        (vec!["--level", "-2"], "finite numbers above 0"),
-        (vec!["--level", "NaN"], "finite numbers above 0"),
+        (vec!["--level", "-2"], "finite number above 0"),
+        (vec!["--level", "NaN"], "finite number above 0"),
         (
             vec!["--level", "inf", "--spacing", "fractional-odd"],
-            "finite numbers above 0",
+            "finite number above 0",
         ),
         (vec!["--lod", "tolerance:0"], "above 0"),
         (vec!["--lod", "tolerance:-1"], "above 0"),
@@ -220,7 +220,7 @@ fn bad_levels_are_refused_with_a_message_and_no_file() {
             "same point",
         ),
         (vec!["--lod", "wobbly:3"], "expected tolerance"),
-        (vec!["--camera", "0,0,3,0,0,0,45"], "add --lod"),
+        (vec!["--camera", "0,0,3,0,0,0,45"], "add a lod"),
         // In memory (--in-memory) the output is capped by --max-memory; streamed (welded or
         // soup) it is not, but 32-bit indices still bound it.
         (

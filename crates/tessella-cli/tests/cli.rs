@@ -129,7 +129,7 @@ fn bad_input_fails_cleanly_and_leaves_no_output() {
         ),
         (
             vec![s(&good).into(), "--level".into(), "0".into()],
-            "level 0",
+            "must be a finite number above 0 (segments per coarse edge), got 0",
         ),
         // Streamed outputs (welded or soup) have no size cap, only the 32-bit index range.
         (

@@ -244,7 +244,10 @@ fn bad_files_and_parameters_are_refused_before_a_window_opens() {
         stderr(&missing)
     );
     for (args, message) in [
-        (&["view", "--level", "0"][..], "level: must be above 0"),
+        (
+            &["view", "--level", "0"][..],
+            "level: must be a finite number above 0",
+        ),
         (&["view", "--animate", "spin"], "animate: unknown animation"),
         (
             &["view", "--displace", "sine:0.1,5", "--lod", "screen:4"],

@@ -6,6 +6,7 @@
 //! | [`Scheme`] | `flat`, `phong`, `pn`, `png1`, `pn-aen`, `st`, `quadratic` |
 //! | [`NormalMode`] | `linear`, `quadratic`, `real` |
 //! | [`Backend`] | `auto`, `cpu`, `gpu`, `gl` |
+//! | [`Spacing`](crate::refine::Spacing) | `grid`, `equal`, `fractional-odd`, `fractional-even` |
 //!
 //! Parsing ([`FromStr`], through [`parse_name`]) ignores ASCII case and takes `_` for `-`
 //! (`PN_AEN` is `pn-aen`, a spelling that suits Python keywords); printing ([`fmt::Display`])
@@ -198,18 +199,46 @@ impl Backend {
     /// upload and read-back) than the CPU takes for such outputs on all cores.
     pub const AUTO_GPU_MIN_VERTICES: u64 = 1 << 20;
 
-    /// Whether `auto` looks for a hardware GPU for an output of `vertices` refined vertices
-    /// (see [`Backend::AUTO_GPU_MIN_VERTICES`]); when it does and finds none, or the GPU
-    /// fails, it still refines on the CPU.
+    /// The device this backend refines an output of `vertices` refined vertices on: the one
+    /// backend choice every front end makes, with one size estimate, the plan's exact vertex
+    /// count ([`Plan::vertex_count`](crate::refine::Plan::vertex_count)). `auto` looks for a
+    /// hardware GPU only from [`Backend::AUTO_GPU_MIN_VERTICES`] on, and refines on the CPU
+    /// when it finds none or the GPU fails ([`Backend::falls_back`]).
     ///
     /// ```
+    /// use tessella_core::names::Device;
     /// use tessella_core::Backend;
-    /// assert!(!Backend::auto_looks_for_gpu(10_000));
-    /// assert!(Backend::auto_looks_for_gpu(4 << 20));
+    /// assert_eq!(Backend::Auto.device(10_000), Device::Cpu);
+    /// assert_eq!(Backend::Auto.device(4 << 20), Device::HardwareGpu);
+    /// assert_eq!(Backend::Gpu.device(1), Device::AnyGpu);
     /// ```
-    pub fn auto_looks_for_gpu(vertices: u64) -> bool {
-        vertices >= Self::AUTO_GPU_MIN_VERTICES
+    pub fn device(self, vertices: u64) -> Device {
+        match self {
+            Backend::Auto if vertices >= Self::AUTO_GPU_MIN_VERTICES => Device::HardwareGpu,
+            Backend::Auto | Backend::Cpu => Device::Cpu,
+            Backend::Gpu => Device::AnyGpu,
+            Backend::Gl => Device::Gl,
+        }
     }
+
+    /// Whether a GPU that fails (or is missing) leaves the work to the CPU: `auto` only; `gpu`
+    /// and `gl` report the failure.
+    pub fn falls_back(self) -> bool {
+        self == Backend::Auto
+    }
+}
+
+/// Where a [`Backend`] refines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Device {
+    Cpu,
+    /// A hardware GPU if there is one (a software adapter is slower than the CPU), else the CPU.
+    HardwareGpu,
+    /// Any GPU adapter, software included; an error when there is none.
+    AnyGpu,
+    /// The OpenGL 4 tessellation stages.
+    Gl,
 }
 
 macro_rules! parse_and_print {
@@ -254,6 +283,7 @@ mod tests {
         round_trip::<Scheme>();
         round_trip::<NormalMode>();
         round_trip::<Backend>();
+        round_trip::<crate::refine::Spacing>();
     }
 
     #[test]

@@ -86,9 +86,15 @@ fn weights(basis: Basis, l: [f64; 3]) -> W {
 /// Measures `options.scheme` (with `options.tags`) on `mesh`; the level sets the pattern for the
 /// distance from the coarse mesh.
 pub fn report(mesh: &Mesh, options: &RefineOptions) -> Result<QualityReport, RefineError> {
-    if options.level == 0 {
-        return Err(RefineError::LevelZero);
-    }
+    let level = match options.uniform_grid_level() {
+        Some(0) => return Err(RefineError::LevelZero),
+        Some(level) => level,
+        None => {
+            return Err(RefineError::BadLevels(
+                "the quality report samples a whole, uniform grid level".into(),
+            ))
+        }
+    };
     let scheme = options.scheme;
     let topo = mesh.topology();
     let nets = build_nets_tagged(
@@ -160,7 +166,7 @@ pub fn report(mesh: &Mesh, options: &RefineOptions) -> Result<QualityReport, Ref
             |x, y| (x.0.max(y.0), x.1 + y.1, x.2 + y.2, x.3.max(y.3), x.4 + y.4),
         );
 
-    let pattern = Pattern::uniform(options.level);
+    let pattern = Pattern::uniform(level);
     let table: Vec<(W, [f64; 3])> = pattern
         .points
         .iter()
@@ -184,7 +190,7 @@ pub fn report(mesh: &Mesh, options: &RefineOptions) -> Result<QualityReport, Ref
     let rel = |x: f64| if diagonal > 0.0 { x / diagonal } else { 0.0 };
     Ok(QualityReport {
         scheme: scheme.name().to_string(),
-        level: options.level,
+        level,
         edges_checked: edge_stats.4,
         samples_per_edge: SAMPLES_PER_EDGE,
         normal_jump_max_deg: edge_stats.0.to_degrees(),

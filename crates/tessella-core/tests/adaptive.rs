@@ -12,6 +12,7 @@ use std::sync::Arc;
 use tessella_core::refine::adaptive::grid_pattern;
 use tessella_core::refine::{Camera, Levels, Lod, Plan, Spacing};
 use tessella_core::tessellator::{tessellate, TessLevels};
+use tessella_core::Named;
 use tessella_core::{refine, samples, Mesh, RefineError, RefineOptions, RefinedMesh, Scheme};
 
 fn run(mesh: &Mesh, o: &RefineOptions) -> (Plan, RefinedMesh) {
@@ -78,7 +79,7 @@ fn per_edge_levels_welded_output_is_closed_and_equals_soup_bit_for_bit() {
         ("torus", samples::torus(1.0, 0.4, 10, 6), 0),
     ];
     for (name, mesh, euler) in &meshes {
-        for (i, spacing) in Spacing::ALL.into_iter().enumerate() {
+        for (i, spacing) in Spacing::ALL.iter().copied().enumerate() {
             for scheme in [Scheme::Pn, Scheme::Png1, Scheme::PHONG] {
                 let levels = random_levels(mesh, 11 + i as u64, 0.6, 9.0);
                 let o = RefineOptions::new(scheme, 1)
@@ -153,7 +154,7 @@ fn grid_patterns_with_edge_levels_keep_orientation_and_tile_the_triangle() {
 fn refined_vertices_lie_on_the_reference_surface_at_their_origin() {
     let mesh = reference::corpus::perturbed_sphere(3);
     let diag = reference::diagonal(&mesh);
-    for spacing in Spacing::ALL {
+    for &spacing in Spacing::ALL {
         for weld in [true, false] {
             let mut levels = random_levels(&mesh, 5, 1.0, 8.0);
             if spacing == Spacing::Grid {
@@ -330,7 +331,7 @@ fn bad_levels_are_refused_or_clamped_never_a_panic() {
         Err(RefineError::BadLevels(m)) => m,
         other => panic!("expected BadLevels, got {:?}", other.map(|_| ())),
     };
-    for spacing in Spacing::ALL {
+    for &spacing in Spacing::ALL {
         let base = RefineOptions::new(Scheme::Pn, 1).with_spacing(spacing);
         for x in [f32::NAN, -1.0, 0.0, f32::INFINITY, f32::NEG_INFINITY] {
             let m = bad(base.clone().with_levels(Levels::Uniform(x)));

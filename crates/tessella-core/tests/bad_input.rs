@@ -4,6 +4,7 @@ mod reference;
 
 use reference::undirected_edges;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use tessella_core::refine::Levels;
 use tessella_core::{
     refine, samples, Mesh, MeshError, RefineError, RefineOptions, RefinedMesh, Refiner, Scheme,
 };
@@ -120,7 +121,7 @@ fn the_size_limit_is_exact() {
     let out = try_refine(&mesh, &options).expect("exactly at the limit is allowed");
     assert_eq!(out.byte_size(), bytes);
     // A tiny limit refuses even level 1.
-    options.level = 1;
+    options.levels = Levels::Uniform(1.0);
     options.max_output_bytes = 10;
     assert!(matches!(
         try_refine(&mesh, &options),

@@ -11,6 +11,7 @@ mod reference;
 
 use std::collections::HashMap;
 use tessella_core::refine::{eval_point, Plan};
+use tessella_core::Named;
 use tessella_core::{samples, Mesh, NormalMode, RefineOptions, RefinedMesh, Scheme};
 
 /// Edge rows keyed by the bits of the edge's two corner positions (sorted): per face, the
@@ -213,7 +214,7 @@ fn adaptive_levels_are_bitwise_watertight_in_soup_for_every_spacing_and_scheme()
         Scheme::PnAen,
         Scheme::ScalarTagged,
     ];
-    for spacing in Spacing::ALL {
+    for &spacing in Spacing::ALL {
         for scheme in schemes {
             for lv in [levels.clone(), Levels::Uniform(5.5)] {
                 let o = RefineOptions::new(scheme, 1)

@@ -248,7 +248,7 @@ impl GpuContext {
     /// error scopes and returned `Result`s, and errors in the caller's work stay the caller's.
     ///
     /// The work sizes its chunks from `device.limits()`; tessella needs no optional features,
-    /// and works within WebGPU's default limits (see [`GpuContext::check_limits`]).
+    /// and works within WebGPU's default limits (see [`GpuContext::check`]).
     // On wasm32 the pending scope answers are JS promises (not `Send`): one thread there.
     #[cfg_attr(target_arch = "wasm32", allow(clippy::arc_with_non_send_sync))]
     pub fn from_device(device: wgpu::Device, queue: wgpu::Queue) -> GpuContext {

@@ -8,6 +8,7 @@ mod common;
 use common::{assert_same, ctx, torus_with_uvs};
 use std::sync::Arc;
 use tessella_core::refine::{Evaluator, Levels, Plan, Spacing};
+use tessella_core::Named;
 use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
 use tessella_gpu::{gpu_refine, gpu_refine_with, GpuEvaluator, GpuOutput, GpuRefineOptions};
 
@@ -44,7 +45,7 @@ fn random_levels(mesh: &Mesh, spacing: Spacing, max: f32, seed: u64) -> Levels {
 
 fn cases(mesh: &Mesh) -> Vec<(String, RefineOptions)> {
     let mut out = Vec::new();
-    for spacing in Spacing::ALL {
+    for &spacing in Spacing::ALL {
         let uniform = if spacing == Spacing::Grid { 3.0 } else { 4.3 };
         for (name, levels) in [
             ("uniform", Levels::Uniform(uniform)),

@@ -8,6 +8,7 @@ mod common;
 use common::ctx;
 use std::collections::HashMap;
 use tessella_core::refine::{canonical, Levels, Plan, Spacing, Surface};
+use tessella_core::Named;
 use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Scheme};
 use tessella_gpu::{AdaptiveRenderer, CapturedTriangles, TargetFormats};
 
@@ -95,7 +96,7 @@ fn the_renderer_draws_the_cpus_points() {
         let options = RefineOptions::new(scheme, 1).with_normals(normals);
         let edges = Plan::new(&mesh, &options).unwrap().topology().edges.len();
         let diag = mesh.diagonal();
-        for spacing in Spacing::ALL {
+        for &spacing in Spacing::ALL {
             for (seed, spread) in [(1, 6.0), (2, 13.0)] {
                 let lv = levels(edges, spread, seed);
                 let (worst, n) = against_cpu(&mesh, &options, spacing, &lv);
@@ -124,7 +125,10 @@ fn shared_edge_points_are_bit_identical_from_both_faces() {
         (Scheme::Png1, NormalMode::Quadratic),
         (Scheme::Pn, NormalMode::Real),
     ];
-    for (spacing, (scheme, normals)) in Spacing::ALL.into_iter().flat_map(|s| cases.map(|c| (s, c)))
+    for (spacing, (scheme, normals)) in Spacing::ALL
+        .iter()
+        .copied()
+        .flat_map(|s| cases.map(|c| (s, c)))
     {
         let lv = levels(topology.edges.len(), 9.0, 3);
         let options = RefineOptions::new(scheme, 1).with_normals(normals);

@@ -8,6 +8,7 @@ mod common;
 use common::ctx;
 use std::collections::HashMap;
 use tessella_core::pattern::{Pattern, PointClass};
+use tessella_core::Named;
 use tessella_core::{samples, Mesh, NormalMode, RefineOptions, RefinedMesh, Refiner, Scheme};
 use tessella_gpu::gpu_refine;
 
@@ -161,7 +162,7 @@ fn gpu_adaptive_soup_edge_vertices_equal_their_twins_bit_for_bit() {
     let mesh = samples::icosphere(1);
     let plan = tessella_core::refine::Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 1)).unwrap();
     let edges = plan.topology().edges.len();
-    for spacing in Spacing::ALL {
+    for &spacing in Spacing::ALL {
         // Per-edge levels from 1 to 9 (integers for the grid, whose fractions geomorph).
         let levels: Arc<[f32]> = (0..edges)
             .map(|e| {

@@ -198,7 +198,9 @@ pub fn check_refine(bytes: &[u8]) -> bool {
         return false;
     };
     let n = out.positions.len();
-    let level = options.level as usize;
+    let level = options
+        .uniform_grid_level()
+        .expect("the fuzzer refines whole grid levels") as usize;
     assert_eq!(
         out.triangles.len(),
         mesh.face_count() * level * level,

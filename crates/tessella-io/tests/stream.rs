@@ -58,7 +58,11 @@ fn streamed_files_equal_the_in_memory_files() {
             faces: None,
         });
         for options in uniform.into_iter().chain(adaptive).chain([lod]) {
-            let (scheme, level, weld) = (options.scheme, options.level, options.weld);
+            let (scheme, level, weld) = (
+                options.scheme,
+                format!("{:?}", options.levels),
+                options.weld,
+            );
             // The independent path: the whole refinement in memory, the ordinary writer.
             let whole = refine(mesh, &options).unwrap();
             let plan = Plan::new(mesh, &options).unwrap();

@@ -2,7 +2,7 @@
 //!
 //! A test-only crate: the regression suite every refining backend runs, after OpenSubdiv's
 //! regression suite. Its tests (`tests/regression/`) define one check and run it for each
-//! implementation of [`tessella_core::refine::Evaluator`]: the CPU's `CpuEvaluator`, the GPU
+//! implementation of `tessella_core::refine::Evaluator`: the CPU's `CpuEvaluator`, the GPU
 //! compute `GpuEvaluator` (wgpu; lavapipe in CI) and the GL `GlEvaluator` (the hardware
 //! tessellator through EGL; llvmpipe in CI). Every output vertex is compared, at its coarse
 //! face and barycentric point, with the independent f64 evaluation in

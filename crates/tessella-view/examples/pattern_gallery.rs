@@ -6,6 +6,7 @@
 
 use std::sync::Arc;
 use tessella_core::refine::{Levels, Plan, Spacing};
+use tessella_core::Named;
 use tessella_core::{Mesh, RefineOptions, Scheme};
 use tessella_gpu::{AdapterChoice, GpuContext};
 use tessella_view::{render_compare, save_png, RenderOptions};

@@ -86,7 +86,7 @@ pub fn render_twist(
         options,
         renderer.displacement_reach(),
     ));
-    let welded = OutputLayout::new(mesh, Some(plan.topology()), refine.level, true)?;
+    let welded = OutputLayout::new(mesh, Some(plan.topology()), plan.layout().level, true)?;
     let mut stats = AnimationStats {
         frames,
         bytes_per_frame: 0,

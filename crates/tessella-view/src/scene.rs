@@ -95,7 +95,7 @@ pub fn panel_widths(total: u32, n: usize) -> Option<Vec<u32>> {
     (base > 0).then(|| (0..n).map(|i| base + u32::from(i < extra)).collect())
 }
 
-/// The camera [`render`] views `mesh` with, for the view-dependent LOD functions
+/// The camera [`render`](crate::render()) views `mesh` with, for the view-dependent LOD functions
 /// (`Lod::Screen`, `Lod::Distance`): levels then follow what this very picture shows.
 pub fn lod_camera(mesh: &Mesh, options: &RenderOptions) -> tessella_core::refine::Camera {
     let (center, radius) = bounding_sphere(mesh.positions());

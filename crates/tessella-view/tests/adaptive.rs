@@ -13,6 +13,7 @@ use image::RgbaImage;
 use pixels::{crack_pixels, MAGENTA};
 use std::sync::Arc;
 use tessella_core::refine::{Levels, Plan, Spacing, Surface, SurfaceOptions};
+use tessella_core::Named;
 use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
 use tessella_gpu::{AdaptiveRenderer, Displacement, PatternRenderer};
 use tessella_view::{scene_uniforms, RenderOptions, Target};
@@ -195,7 +196,7 @@ fn levels_set_per_frame_draw_the_cpu_surface() {
         .map(|e| 1.0 + (e * 37 % 71) as f32 / 10.0)
         .collect();
     for scheme in [Scheme::Pn, Scheme::Png1] {
-        for spacing in Spacing::ALL {
+        for &spacing in Spacing::ALL {
             for levels in [vec![5.5; edges], vec![2.0; edges], varying.clone()] {
                 let options = RefineOptions::new(scheme, 1)
                     .with_spacing(spacing)
@@ -242,7 +243,7 @@ fn levels_set_per_frame_leave_no_cracks_and_upload_only_coarse_data() {
         ..Default::default()
     };
     let frame = surface.frame(&mesh).unwrap();
-    for spacing in Spacing::ALL {
+    for &spacing in Spacing::ALL {
         let mut renderer =
             AdaptiveRenderer::new(ctx(), &surface, &frame, &Target::FORMATS, spacing).unwrap();
         let mut uploads = Vec::new();

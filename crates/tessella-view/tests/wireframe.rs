@@ -44,7 +44,9 @@ fn edge_darkening(
     wire: &RgbaImage,
 ) -> (f64, f64) {
     let out = refine(mesh, &options.clone().with_weld(false)).unwrap();
-    let pattern = tessella_core::Pattern::uniform(options.level);
+    let pattern = tessella_core::Pattern::uniform(
+        options.uniform_grid_level().expect("a uniform grid level"),
+    );
     let per_face = pattern.points.len();
     let u = scene_uniforms(mesh, view, 0.0);
     let vp = glam::Mat4::from_cols_array_2d(&u.view_proj);

@@ -25,3 +25,17 @@ pub enum ViewerError {
     #[error("{0}")]
     Refused(String),
 }
+
+/// A bad refinement option (the core's text form) is a bad parameter of the same name.
+impl From<tessella_core::refine::OptionError> for ViewerError {
+    fn from(e: tessella_core::refine::OptionError) -> ViewerError {
+        let name = tessella_core::refine::OPTION_KEYS
+            .iter()
+            .find(|(key, _)| *key == e.key)
+            .map_or("options", |(key, _)| key);
+        ViewerError::Param {
+            name,
+            message: e.message,
+        }
+    }
+}

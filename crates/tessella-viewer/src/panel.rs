@@ -61,19 +61,18 @@ impl std::fmt::Debug for Panel {
     }
 }
 
-/// The refine options of `scheme` under `params` (levels, spacing, normals, tags).
-pub fn refine_options(params: &Params, scheme: Scheme, tags: Option<&Tags>) -> RefineOptions {
-    let mut options = RefineOptions::new(scheme, 1).with_spacing(params.spacing);
-    if params.lod.is_none() {
-        options = options.with_uniform_level(params.level);
-    }
-    if let Some(n) = params.normals {
-        options = options.with_normals(n);
-    }
-    if let Some(tags) = tags {
-        options = options.with_tags(tags.clone());
-    }
-    options
+/// The refine options of `scheme` under `params` (levels, spacing, normals, tags), parsed
+/// from the core's text form as every front end's are ([`Params::refine_pairs`]).
+pub fn refine_options(
+    params: &Params,
+    scheme: Scheme,
+    tags: Option<&Tags>,
+) -> Result<RefineOptions, ViewerError> {
+    let options = RefineOptions::from_pairs(params.refine_pairs(scheme))?;
+    Ok(match tags {
+        Some(tags) => options.with_tags(tags.clone()),
+        None => options,
+    })
 }
 
 /// Refuses a uniform grid level the device cannot draw: its pattern buffers (indices and the
@@ -123,7 +122,7 @@ impl Panel {
         tags: Option<&Tags>,
         formats: &TargetFormats,
     ) -> Result<Panel, ViewerError> {
-        let options = refine_options(params, scheme, tags);
+        let options = refine_options(params, scheme, tags)?;
         if let (None, Some(level)) = (&params.lod, options.uniform_grid_level()) {
             check_level(ctx, level, mesh.face_count(), scheme)?;
             let plan = Plan::new(mesh, &options)?;
@@ -273,7 +272,7 @@ impl Panel {
     /// The uniform level, or the largest edge level last set.
     pub fn level(&self) -> f32 {
         match &self.drawer {
-            Drawer::Pattern { plan, .. } => plan.options().level as f32,
+            Drawer::Pattern { plan, .. } => plan.layout().level as f32,
             Drawer::Adaptive { max_level, .. } => *max_level,
         }
     }

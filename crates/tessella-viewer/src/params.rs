@@ -213,6 +213,24 @@ fn check_lod(spec: &str) -> Result<(), ViewerError> {
 }
 
 impl Params {
+    /// The refinement options of `scheme` in the core's text form
+    /// ([`tessella_core::refine::OPTION_KEYS`]), which `panel::refine_options` parses:
+    /// the URL's `level`, `spacing`, `alpha` and `normals` mean what `tessella refine`'s flags
+    /// and Python's arguments of those names mean. A LOD's levels follow the camera every frame
+    /// (`Panel::follow_camera`), so it is not among them.
+    pub fn refine_pairs(&self, scheme: Scheme) -> Vec<(&'static str, String)> {
+        let mut pairs = vec![
+            ("scheme", scheme.name().to_string()),
+            ("alpha", self.alpha.to_string()),
+            ("level", self.level.to_string()),
+            ("spacing", self.spacing.to_string()),
+        ];
+        if let Some(normals) = self.normals {
+            pairs.push(("normals", normals.name().to_string()));
+        }
+        pairs
+    }
+
     /// These parameters with `changes` (a JSON object of any subset of [`KEYS`]) applied, all
     /// validated first; an error names the parameter and nothing changes.
     pub fn apply(&self, changes: &Map<String, Value>) -> Result<Params, ViewerError> {
@@ -221,17 +239,18 @@ impl Params {
             match key.as_str() {
                 "scheme" => p.scheme = scheme("scheme", text("scheme", value)?)?,
                 "level" => {
-                    let level = number("level", value)?;
-                    if level <= 0.0 {
-                        return Err(bad("level", format!("must be above 0, got {level}")));
-                    }
-                    p.level = level;
+                    let level = match value {
+                        Value::String(s) => s.clone(),
+                        other => other.to_string(),
+                    };
+                    p.level = tessella_core::refine::parse_level(&level)
+                        .map_err(|e| bad("level", e.message))?;
                 }
                 "spacing" => {
                     p.spacing = text("spacing", value)?
                         .trim()
                         .parse()
-                        .map_err(|e: String| bad("spacing", e))?
+                        .map_err(|e: tessella_core::UnknownName| bad("spacing", e.to_string()))?
                 }
                 "lod" => {
                     let spec = text("lod", value)?.trim();

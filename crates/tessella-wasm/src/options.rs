@@ -1,207 +1,154 @@
-//! `refine`'s options, as the JS wrapper passes them (plain values), to [`RefineOptions`]. Names
-//! are parsed by the core types, as the CLI and Python parse them.
+//! `refine`'s options, as the JS wrapper passes them (a JSON object of plain values), to
+//! [`RefineOptions`] through the core's text form ([`tessella_core::refine::OPTION_KEYS`]):
+//! `{ level: 5.5 }` is `level=5.5`, parsed by the same code as the CLI's `--level 5.5`, Python's
+//! `level=5.5` and the viewer's `?level=5.5`. Unknown keys are refused, so a misspelt option is
+//! an error rather than ignored.
 
-use tessella_core::refine::{Camera, Levels, Lod, Spacing};
-use tessella_core::{NormalMode, RefineOptions, Scheme};
+use serde_json::{Map, Value};
+use tessella_core::refine::parse_bytes;
+use tessella_core::RefineOptions;
 
 /// The largest output `refine` accepts in wasm: 32-bit wasm has 4 GiB of memory in all, and the
 /// output is copied once into JS arrays, so refuse (with the core's message) what could not be
-/// allocated, rather than trap on a failed allocation.
+/// allocated, rather than trap on a failed allocation. A smaller `maxMemory` is taken.
 pub const MAX_OUTPUT_BYTES: u64 = 1 << 30;
 
-/// The options of one refinement, as JS gives them (a JSON object; unknown keys are refused,
-/// so a misspelt option is an error rather than ignored).
-#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
-#[serde(default, deny_unknown_fields)]
+/// The options of one refinement, and what this package adds to them.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Options {
-    pub scheme: String,
-    /// A number, or `"NaN"`/`"Infinity"` (JSON has no such numbers; the JS side spells them).
-    #[serde(deserialize_with = "number")]
-    pub level: f64,
-    pub normals: Option<String>,
-    #[serde(deserialize_with = "number")]
-    pub alpha: f64,
-    pub spacing: String,
-    pub lod: Option<String>,
-    /// `EX,EY,EZ,TX,TY,TZ,FOV_DEG` for `lod: "screen:PX"` and `"distance:..."`.
-    pub camera: Option<String>,
-    pub size: Option<[u32; 2]>,
-    pub soup: bool,
+    pub refine: RefineOptions,
     /// Also return each refined vertex's coarse face and barycentric coordinates (what
     /// `tessella/three` interpolates other attributes with).
     pub origin: bool,
 }
 
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            scheme: "pn".into(),
-            level: 8.0,
-            normals: None,
-            alpha: 0.75,
-            spacing: "grid".into(),
-            lod: None,
-            camera: None,
-            size: None,
-            soup: false,
-            origin: false,
+/// A JSON value as option text: strings as they are (the JS side spells non-finite numbers
+/// `"NaN"`, `"Infinity"`), numbers and booleans as JSON writes them, `size: [W, H]` as `WxH`.
+fn text(key: &str, value: &Value) -> Result<String, String> {
+    Ok(match value {
+        Value::String(s) => s.clone(),
+        Value::Number(_) | Value::Bool(_) => value.to_string(),
+        Value::Array(items) if key == "size" && items.len() == 2 => {
+            format!("{}x{}", items[0], items[1])
+        }
+        other => return Err(format!("{key}: {other} is not a string, number or boolean")),
+    })
+}
+
+/// JS's camelCase keys (`maxMemory`) as the text form's (`max-memory`).
+fn key(name: &str) -> String {
+    let mut out = String::new();
+    for c in name.chars() {
+        if c.is_ascii_uppercase() {
+            out.push('-');
+            out.push(c.to_ascii_lowercase());
+        } else {
+            out.push(c);
         }
     }
+    out
 }
-
-/// A JSON number or the JS spelling of a non-finite one.
-fn number<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    #[derive(serde::Deserialize)]
-    #[serde(untagged)]
-    enum Number {
-        Finite(f64),
-        Named(String),
-    }
-    match Number::deserialize(d)? {
-        Number::Finite(x) => Ok(x),
-        Number::Named(name) => match name.as_str() {
-            "NaN" => Ok(f64::NAN),
-            "Infinity" => Ok(f64::INFINITY),
-            "-Infinity" => Ok(f64::NEG_INFINITY),
-            _ => Err(serde::de::Error::custom(format!(
-                "expected a number, got {name:?}"
-            ))),
-        },
-    }
-}
-
-use serde::Deserialize;
 
 impl Options {
-    /// Parses the JSON the JS wrapper sends.
-    pub fn from_json(text: &str) -> Result<Options, String> {
-        serde_json::from_str(text).map_err(|e| format!("bad options: {e}"))
-    }
-
-    /// Validates and converts; the messages say which option was wrong.
-    pub fn to_core(&self) -> Result<RefineOptions, String> {
-        if !self.alpha.is_finite() {
-            return Err(format!(
-                "alpha must be finite (usually within 0..=1), got {}",
-                self.alpha
-            ));
+    /// Parses and validates the JSON the JS wrapper sends; the messages say which option was
+    /// wrong.
+    pub fn from_json(json: &str) -> Result<Options, String> {
+        let map: Map<String, Value> =
+            serde_json::from_str(json).map_err(|e| format!("bad options: {e}"))?;
+        let mut origin = false;
+        let mut soup = None;
+        let mut pairs = Vec::new();
+        // `null` is an option left out, as `undefined` is.
+        for (name, value) in map.iter().filter(|(_, v)| !v.is_null()) {
+            match name.as_str() {
+                "origin" => {
+                    origin = value
+                        .as_bool()
+                        .ok_or_else(|| format!("origin: {value} is not true or false"))?
+                }
+                // `soup` stays a boolean in JS; the core reads its text.
+                "soup" => soup = Some(text("soup", value)?),
+                _ => pairs.push((key(name), text(name, value)?)),
+            }
         }
-        let scheme: Scheme = self
-            .scheme
-            .parse()
-            .map_err(|e| format!("{e} (see schemes())"))?;
-        let scheme = scheme.with_alpha(self.alpha as f32);
-        let spacing: Spacing = self.spacing.parse()?;
-        let level = self.level;
-        if level.is_nan() || level < 1.0 {
-            return Err(format!(
-                "level must be 1 or more (segments per coarse edge), got {level}"
-            ));
-        }
-        let whole = level.fract() == 0.0 && level <= u32::MAX as f64;
-        let mut options = RefineOptions::new(scheme, if whole { level as u32 } else { 1 })
-            .with_weld(!self.soup)
-            .with_spacing(spacing)
-            .with_max_output_bytes(MAX_OUTPUT_BYTES);
-        if let Some(name) = &self.normals {
-            let mode: NormalMode = name.parse().map_err(|e: tessella_core::UnknownName| {
-                format!(
-                    "unknown normals {name:?}; use one of {:?} or leave it out for the scheme's default",
-                    e.valid
-                )
-            })?;
-            options = options.with_normals(mode);
-        }
-        if let Some(spec) = &self.lod {
-            let camera = self
-                .camera
-                .as_deref()
-                .map(Camera::parse)
-                .transpose()
-                .map_err(|e| e.to_string())?;
-            let lod = Lod::parse(spec, camera, self.size).map_err(|e| e.to_string())?;
-            options = options.with_levels(Levels::Lod(lod));
-        } else if self.camera.is_some() || self.size.is_some() {
-            return Err(
-                "camera and size serve lod: \"screen:PX\" and lod: \"distance:NEAR,FAR,MAX\""
-                    .into(),
-            );
-        } else if !whole || spacing != Spacing::Grid {
-            // A fractional grid level geomorphs, as in the CLI and Python.
-            options = options.with_levels(Levels::Uniform(level as f32));
-        }
-        Ok(options)
+        pairs.extend(soup.map(|s| ("soup".to_string(), s)));
+        let mut refine = RefineOptions::from_pairs(pairs).map_err(|e| {
+            let hint = if e.key == "scheme" {
+                " (see schemes())"
+            } else {
+                ""
+            };
+            format!("{e}{hint}")
+        })?;
+        let asked = map
+            .get("maxMemory")
+            .map(|v| text("maxMemory", v).and_then(|t| parse_bytes(&t).map_err(|e| e.to_string())))
+            .transpose()?;
+        refine.max_output_bytes = asked.map_or(MAX_OUTPUT_BYTES, |b| b.min(MAX_OUTPUT_BYTES));
+        Ok(Options { refine, origin })
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn with(f: impl FnOnce(&mut Options)) -> Result<RefineOptions, String> {
-        let mut o = Options::default();
-        f(&mut o);
-        o.to_core()
-    }
+    use tessella_core::refine::{Levels, Lod};
+    use tessella_core::{NormalMode, Scheme};
 
     #[test]
     fn good_options_reach_the_core_types() {
-        let o = with(|o| {
-            o.scheme = "PNG1".into();
-            o.level = 5.0;
-            o.soup = true;
-            o.normals = Some("real".into());
-        })
-        .unwrap();
-        assert_eq!(o.scheme, Scheme::Png1);
-        assert_eq!((o.level, o.weld), (5, false));
-        assert_eq!(o.normals, Some(NormalMode::Real));
-        assert_eq!(o.uniform_grid_level(), Some(5));
-        let o = with(|o| o.level = 2.5).unwrap();
-        assert_eq!(o.levels, Some(Levels::Uniform(2.5)));
-        let o = with(|o| o.lod = Some("tolerance:0.01".into())).unwrap();
+        let o = Options::from_json(r#"{"scheme":"PNG1","level":5,"soup":true,"normals":"real"}"#)
+            .unwrap();
+        assert_eq!(o.refine.scheme, Scheme::Png1);
+        assert!(!o.refine.weld);
+        assert_eq!(o.refine.normals, Some(NormalMode::Real));
+        assert_eq!(o.refine.uniform_grid_level(), Some(5));
+        assert_eq!(o.refine.max_output_bytes, MAX_OUTPUT_BYTES);
+        let o = Options::from_json(r#"{"level":2.5,"origin":true,"maxMemory":"1MiB"}"#).unwrap();
+        assert_eq!(o.refine.levels, Levels::Uniform(2.5));
+        assert!(o.origin);
+        assert_eq!(o.refine.max_output_bytes, 1 << 20);
+        let o = Options::from_json(r#"{"lod":"tolerance:0.01","camera":null}"#).unwrap();
         assert_eq!(
-            o.levels,
-            Some(Levels::Lod(Lod::Tolerance {
+            o.refine.levels,
+            Levels::Lod(Lod::Tolerance {
                 max_deviation: 0.01
-            }))
+            })
         );
-    }
-
-    #[test]
-    fn options_come_as_json_with_non_finite_numbers_spelt_out() {
-        let o = Options::from_json(r#"{"scheme":"phong","level":"NaN","alpha":0.5}"#).unwrap();
-        assert!(o.level.is_nan());
-        assert_eq!((o.scheme.as_str(), o.alpha), ("phong", 0.5));
-        let err = Options::from_json(r#"{"levle":3}"#).unwrap_err();
-        assert!(err.contains("unknown field `levle`"), "{err}");
         let o =
             Options::from_json(r#"{"lod":"screen:8","camera":"0,0,5,0,0,0,45","size":[640,480]}"#)
                 .unwrap();
         assert!(matches!(
-            o.to_core().unwrap().levels,
-            Some(Levels::Lod(Lod::Screen { .. }))
+            o.refine.levels,
+            Levels::Lod(Lod::Screen {
+                size: [640, 480],
+                ..
+            })
         ));
     }
 
     #[test]
     fn bad_options_say_which_one_is_wrong() {
-        type Case = (fn(&mut Options), &'static str);
-        let cases: [Case; 7] = [
-            (|o| o.scheme = "loop".into(), "see schemes()"),
-            (|o| o.level = 0.0, "level must be 1 or more"),
-            (|o| o.level = f64::NAN, "level must be 1 or more"),
-            (|o| o.alpha = f64::INFINITY, "alpha must be finite"),
-            (|o| o.spacing = "odd".into(), "unknown spacing"),
-            (|o| o.normals = Some("cubic".into()), "unknown normals"),
+        for (json, expected) in [
+            (r#"{"scheme":"loop"}"#, "see schemes()"),
+            (r#"{"level":0}"#, "level: must be a finite number above 0"),
             (
-                |o| o.camera = Some("0,0,5,0,0,0,45".into()),
-                "camera and size serve lod",
+                r#"{"level":"NaN"}"#,
+                "level: must be a finite number above 0",
             ),
-        ];
-        for (change, expected) in cases {
-            let err = with(change).unwrap_err();
-            assert!(err.contains(expected), "{err:?} lacks {expected:?}");
+            (r#"{"alpha":"Infinity"}"#, "alpha: must be finite"),
+            (r#"{"spacing":"odd"}"#, "unknown spacing"),
+            (r#"{"normals":"cubic"}"#, "unknown normal mode"),
+            (r#"{"camera":"0,0,5,0,0,0,45"}"#, "camera: serves lod"),
+            (r#"{"levle":3}"#, "levle: unknown option"),
+            (
+                r#"{"origin":"yes"}"#,
+                "origin: \"yes\" is not true or false",
+            ),
+            (r#"[1]"#, "bad options"),
+        ] {
+            let err = Options::from_json(json).unwrap_err();
+            assert!(err.contains(expected), "{json}: {err:?} lacks {expected:?}");
         }
     }
 }

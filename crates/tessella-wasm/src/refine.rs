@@ -102,9 +102,10 @@ pub fn refine_arrays(
     uvs: Option<&[f32]>,
     options: &str,
 ) -> Result<Arrays, String> {
-    let options = Options::from_json(options)?;
-    let origin = options.origin;
-    let options = options.to_core()?;
+    let Options {
+        refine: options,
+        origin,
+    } = Options::from_json(options)?;
     let mesh = mesh(positions, indices, normals, uvs)?;
     let refiner = Refiner::new(&mesh, &options).map_err(|e| errors::message(&e))?;
     let mut out = Arrays::from_refined(refiner.refine());

@@ -102,7 +102,7 @@ impl Refiner {
 impl Refiner {
     /// [`Refiner::new`] with a `String` error.
     pub fn with(indices: &[u32], uvs: Option<Vec<f32>>, options: &str) -> Result<Refiner, String> {
-        let options = Options::from_json(options)?.to_core()?;
+        let options = Options::from_json(options)?.refine;
         arrays::triangles(indices)?;
         Ok(Refiner {
             triangles: indices.to_vec(),

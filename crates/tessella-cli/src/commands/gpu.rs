@@ -2,28 +2,30 @@
 
 use crate::args::BackendArg;
 use anyhow::Context;
+use tessella_core::names::Device;
 use tessella_core::Named;
 use tessella_gpu::{AdapterChoice, GpuContext};
 
-/// The GPU context `backend` asks for, or `None` to use the CPU.
+/// The GPU context `backend` asks for an output of `vertices` refined vertices (the plan's
+/// count), or `None` to use the CPU: the core's one choice (`Backend::device`).
 ///
 /// `auto` takes a hardware adapter when there is one (a software adapter is slower than the CPU
 /// path) and the CPU otherwise; `gpu` takes any adapter, software included, and fails with the
 /// reason when there is none.
-pub fn context_for(backend: BackendArg) -> anyhow::Result<Option<GpuContext>> {
-    match backend {
+pub fn context_for(backend: BackendArg, vertices: u64) -> anyhow::Result<Option<GpuContext>> {
+    match backend.device(vertices) {
         // The GL backend has its own context (commands/refine_gl.rs).
-        BackendArg::Cpu | BackendArg::Gl => Ok(None),
+        Device::Cpu | Device::Gl => Ok(None),
         // No hardware GPU is the ordinary case on servers: the CPU is the documented fallback,
         // so it goes quietly.
-        BackendArg::Auto => Ok(GpuContext::new(AdapterChoice::Hardware).ok()),
-        BackendArg::Gpu => Ok(Some(
+        Device::HardwareGpu => Ok(GpuContext::new(AdapterChoice::Hardware).ok()),
+        Device::AnyGpu => Ok(Some(
             GpuContext::new(AdapterChoice::Auto).context("--backend gpu needs a GPU adapter")?,
         )),
-        // A backend added to the core after this command was written.
+        // A device added to the core after this command was written.
         other => anyhow::bail!(
-            "--backend {} is not supported by this command",
-            other.name()
+            "--backend {} ({other:?}) is not supported by this command",
+            backend.name()
         ),
     }
 }

@@ -11,6 +11,7 @@ mod displace;
 #[cfg(feature = "gpu")]
 mod gpu;
 mod info;
+mod options;
 mod pattern;
 mod pattern_svg;
 mod refine;

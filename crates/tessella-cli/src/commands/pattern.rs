@@ -1,7 +1,7 @@
 //! `tessella pattern`: a refinement pattern (the uniform grid, or the GPU tessellator's pattern
 //! for given levels) as JSON, or drawn as SVG.
 
-use crate::args::{PatternArgs, SpacingArg};
+use crate::args::PatternArgs;
 use anyhow::{bail, Context};
 use serde::Serialize;
 use std::io::Write;
@@ -80,11 +80,9 @@ fn write_svg(path: &Path, built: &Built) -> anyhow::Result<()> {
 
 /// The pattern the arguments ask for.
 fn build(args: &PatternArgs) -> anyhow::Result<Built> {
-    let spacing = match args.spacing {
-        SpacingArg::Grid => return build_grid(args),
-        SpacingArg::Equal => Spacing::Equal,
-        SpacingArg::FractionalOdd => Spacing::FractionalOdd,
-        SpacingArg::FractionalEven => Spacing::FractionalEven,
+    let spacing = match args.spacing.tessellator() {
+        None => return build_grid(args),
+        Some(spacing) => spacing,
     };
     let level = args.level.map(|l| l as f32);
     let Some(inner) = args.inner.or(level) else {

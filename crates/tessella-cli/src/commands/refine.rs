@@ -1,11 +1,10 @@
 //! `tessella refine`: file in, refined file out.
 
 use super::tags;
-use crate::args::{RefineArgs, SpacingArg};
+use crate::args::RefineArgs;
 use crate::progress;
 use std::time::Instant;
 use tessella_core::displace::{DisplaceFrame, Displacement};
-use tessella_core::refine::{Camera, Levels, Lod, Spacing};
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
 use tessella_io::{Durability, Format, MeshView, WriteOptions};
 
@@ -60,8 +59,8 @@ pub fn refine_file(
         );
     }
     let (mut raw, mesh) = tags::read(&args.input)?;
-    let scheme = args.scheme.scheme(args.alpha);
-    let mut options = levels(args, scheme)?.with_weld(!args.soup);
+    let mut options = options(args)?;
+    let scheme = options.scheme;
     if args.write_origin && !matches!(Format::from_path(&args.output)?, Format::Ply) {
         anyhow::bail!(
             "--write-origin writes PLY vertex properties; give an output ending in .ply, not {}",
@@ -72,8 +71,6 @@ pub fn refine_file(
     if adaptive && args.displace.is_some() {
         anyhow::bail!("--displace works with uniform grid levels; drop --lod, --spacing or the fractional --level");
     }
-    options.normals = args.normals.map(Into::into);
-    options.max_output_bytes = args.max_memory;
     if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
         options = options.with_tags(tags);
     }
@@ -85,8 +82,6 @@ pub fn refine_file(
     if streams(args) {
         return stream::refine(args, mesh, options, &fields, bars, durability);
     }
-    let backend = backend::choose(args, &mesh)?;
-
     let start = Instant::now();
     let refiner = Refiner::new(&mesh, &options).map_err(|e| {
         // Only this path holds the whole output: say which one does not.
@@ -101,6 +96,7 @@ pub fn refine_file(
         };
         anyhow::Error::new(e).context(format!("cannot refine {}{hint}", args.input.display()))
     })?;
+    let backend = backend::choose(args, &mesh, refiner.plan().vertex_count() as u64)?;
     // Adaptive and tessellator plans too: the GPU compute path writes the CPU's layout.
     let refined = if args.backend == tessella_core::Backend::Gl {
         super::refine_gl::refine(args, &mesh, &options)?
@@ -299,34 +295,23 @@ pub fn same_file(input: &std::path::Path, output: &std::path::Path) -> bool {
     resolved.is_ok_and(|output| output == input)
 }
 
-/// The options' levels from `--level`, `--spacing`, `--lod`, `--camera` and `--size`.
-fn levels(args: &RefineArgs, scheme: tessella_core::Scheme) -> anyhow::Result<RefineOptions> {
-    let spacing = match args.spacing {
-        SpacingArg::Grid => Spacing::Grid,
-        SpacingArg::Equal => Spacing::Equal,
-        SpacingArg::FractionalOdd => Spacing::FractionalOdd,
-        SpacingArg::FractionalEven => Spacing::FractionalEven,
-    };
-    let level = args.level;
-    let options = RefineOptions::new(scheme, 1)
-        .with_spacing(spacing)
-        .with_uniform_level(level);
-    if let Some(spec) = &args.lod {
-        let camera = args.camera.as_deref().map(Camera::parse).transpose()?;
-        let lod = Lod::parse(spec, camera, args.size.map(|(w, h)| [w, h]))?;
-        return Ok(options.with_levels(Levels::Lod(lod)));
+/// The options from `--scheme`, `--alpha`, `--level`, `--spacing`, `--lod`, `--camera`,
+/// `--size`, `--normals`, `--soup` and `--max-memory`, in the core's text form. A fractional
+/// grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
+fn options(args: &RefineArgs) -> anyhow::Result<RefineOptions> {
+    super::options::Flags {
+        scheme: args.scheme,
+        alpha: args.alpha,
+        level: args.level,
+        spacing: args.spacing,
+        lod: args.lod.as_deref(),
+        camera: args.camera.clone(),
+        size: args.size,
+        normals: args.normals,
+        soup: args.soup,
+        max_memory: Some(args.max_memory),
     }
-    if args.camera.is_some() || args.size.is_some() {
-        anyhow::bail!(
-            "--camera and --size serve --lod screen:PX and distance:NEAR,FAR,MAX; add --lod"
-        );
-    }
-    if !level.is_finite() || level < 0.0 {
-        anyhow::bail!("--level {level}: levels must be finite numbers above 0");
-    }
-    // A fractional grid level geomorphs: the grid of ⌈level⌉ segments, its new points blended
-    // towards the coarser level (docs/formulas.md, "Geomorphing grid patterns").
-    Ok(options)
+    .parse()
 }
 
 /// The CPU refinement, with a progress bar, then the displacement (shared directions on hard
@@ -348,7 +333,7 @@ fn refine_cpu(refiner: &Refiner, displacement: &Displacement) -> anyhow::Result<
 #[cfg(feature = "gpu")]
 mod backend {
     use super::super::gpu;
-    use crate::args::{BackendArg, RefineArgs};
+    use crate::args::RefineArgs;
     use anyhow::Context;
     use tessella_core::{Mesh, RefinedMesh, Refiner};
     use tessella_gpu::{gpu_refine_with, Displacement, GpuContext, GpuRefineOptions};
@@ -358,18 +343,12 @@ mod backend {
         displacement: Displacement,
     }
 
-    pub fn choose(args: &RefineArgs, mesh: &Mesh) -> anyhow::Result<Backend> {
+    /// `vertices`: the plan's count, the one size estimate (`auto` opens no device for small
+    /// outputs: the CPU will be faster than the probe).
+    pub fn choose(args: &RefineArgs, mesh: &Mesh, vertices: u64) -> anyhow::Result<Backend> {
         let displacement = super::super::displace::parse(args.displace.as_deref())?;
         displacement.validate(mesh.uvs().is_some())?;
-        // `auto` opens no device for small outputs: the CPU will be faster than the probe.
-        let vertices = {
-            let level = args.level.max(1.0).ceil().min(1e9) as u64;
-            (mesh.face_count() as u64).saturating_mul((level + 1) * (level + 2) / 2)
-        };
-        let ctx = match args.backend {
-            BackendArg::Auto if !tessella_core::Backend::auto_looks_for_gpu(vertices) => None,
-            backend => gpu::context_for(backend)?,
-        };
+        let ctx = gpu::context_for(args.backend, vertices)?;
         Ok(Backend { ctx, displacement })
     }
 
@@ -389,7 +368,7 @@ mod backend {
         let cpu = || super::refine_cpu(refiner, displacement);
         match on_gpu {
             Some(Ok(refined)) => Ok(refined),
-            Some(Err(e)) if args.backend == BackendArg::Auto => {
+            Some(Err(e)) if args.backend.falls_back() => {
                 // One line: wgpu's validation reports span several.
                 let reason = e.to_string();
                 let first = reason.lines().next().unwrap_or("unknown error").trim();
@@ -413,7 +392,7 @@ mod backend {
         displacement: Displacement,
     }
 
-    pub fn choose(args: &RefineArgs, mesh: &Mesh) -> anyhow::Result<Backend> {
+    pub fn choose(args: &RefineArgs, mesh: &Mesh, _vertices: u64) -> anyhow::Result<Backend> {
         if args.backend == BackendArg::Gpu {
             return Err(super::super::no_gpu("--backend gpu"));
         }

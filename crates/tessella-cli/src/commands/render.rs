@@ -2,9 +2,8 @@
 //! instanced refinement pattern per coarse triangle, evaluated in the vertex shader).
 
 use super::{gpu, tags};
-use crate::args::{RenderArgs, RenderBackendArg, SpacingArg};
+use crate::args::{RenderArgs, RenderBackendArg};
 use anyhow::Context;
-use tessella_core::refine::{Camera, Levels, Lod, Spacing};
 use tessella_core::{Mesh, RefineOptions};
 use tessella_view::{lod_camera, render, render_compare, save_png, RenderOptions};
 
@@ -25,7 +24,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         ..view
     };
     let levels = levels(args, &mesh, &view)?;
-    if displacement.is_some() && levels.levels.is_some() {
+    if displacement.is_some() && levels.uniform_grid_level().is_none() {
         anyhow::bail!("--displace works with uniform grid levels; drop --lod, --spacing or the fractional --level");
     }
     let options_for = |scheme: crate::args::SchemeArg| -> anyhow::Result<RefineOptions> {
@@ -34,7 +33,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             scheme,
             ..levels.clone()
         };
-        options.normals = args.normals.map(Into::into);
         if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
             options = options.with_tags(tags);
         }
@@ -140,35 +138,25 @@ fn field_colors(
     }))
 }
 
-/// The options' spacing and levels from `--level`, `--spacing`, `--lod` and `--camera`; the
-/// view-dependent LODs see the picture's own camera and size unless `--camera` is given.
+/// The options from the flags in the core's text form; the view-dependent LODs see the
+/// picture's own camera and size unless `--camera` is given.
 fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Result<RefineOptions> {
-    let spacing = match args.spacing {
-        SpacingArg::Grid => Spacing::Grid,
-        SpacingArg::Equal => Spacing::Equal,
-        SpacingArg::FractionalOdd => Spacing::FractionalOdd,
-        SpacingArg::FractionalEven => Spacing::FractionalEven,
-    };
-    let level = args.level;
-    let options = RefineOptions::new(tessella_core::Scheme::Pn, 1)
-        .with_spacing(spacing)
-        .with_uniform_level(level);
-    if let Some(spec) = &args.lod {
-        let camera = match args.camera.as_deref() {
-            Some(text) => Camera::parse(text)?,
-            None => lod_camera(mesh, view),
-        };
-        let (w, h) = view.size;
-        let lod = Lod::parse(spec, Some(camera), Some([w, h]))?;
-        return Ok(options.with_levels(Levels::Lod(lod)));
+    let lod = args.lod.as_deref();
+    super::options::Flags {
+        scheme: args.scheme,
+        alpha: args.alpha,
+        level: args.level,
+        spacing: args.spacing,
+        lod,
+        // A LOD sees `--camera`, else the picture's own camera.
+        camera: match (lod, &args.camera) {
+            (Some(_), None) => Some(lod_camera(mesh, view).to_string()),
+            (_, given) => given.clone(),
+        },
+        size: lod.map(|_| view.size),
+        normals: args.normals,
+        soup: false,
+        max_memory: None,
     }
-    if args.camera.is_some() {
-        anyhow::bail!("--camera serves --lod screen:PX and distance:NEAR,FAR,MAX; add --lod");
-    }
-    if !level.is_finite() || level <= 0.0 {
-        anyhow::bail!("--level {level}: levels must be finite numbers above 0");
-    }
-    // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
-    // Above the tessellator's maximum (64; 63 for fractional-odd) levels are clamped.
-    Ok(options)
+    .parse()
 }

@@ -87,11 +87,11 @@ fn flip(pixels: Vec<u8>, w: u32, h: u32) -> RgbaImage {
 /// grid is drawn with equal spacing at that level (the same segments per edge).
 #[cfg(feature = "gl")]
 fn hardware(options: &RefineOptions) -> anyhow::Result<RefineOptions> {
-    if options.spacing == Spacing::Grid && options.levels.is_none() {
+    if let Some(level) = options.uniform_grid_level() {
         return Ok(options
             .clone()
             .with_spacing(Spacing::Equal)
-            .with_levels(Levels::Uniform(options.level as f32)));
+            .with_levels(Levels::Uniform(level as f32)));
     }
     Ok(options.clone())
 }

@@ -77,9 +77,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
 
 /// The arguments as the viewer's parameters (the page's URL keys).
 fn changes(args: &ViewArgs) -> anyhow::Result<Map<String, Value>> {
-    let spacing = clap::ValueEnum::to_possible_value(&args.spacing)
-        .map(|v| v.get_name().to_string())
-        .ok_or_else(|| anyhow!("--spacing has no name"))?;
+    let spacing = args.spacing.to_string();
     let tags = match &args.tags {
         Some(path) => std::fs::read_to_string(path)
             .with_context(|| format!("cannot read --tags {}", path.display()))?,

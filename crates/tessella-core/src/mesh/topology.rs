@@ -1,4 +1,4 @@
-//! Edge adjacency of a [`Mesh`](super::Mesh), at two levels:
+//! Edge adjacency of a [`Mesh`], at two levels:
 //!
 //! - **by vertex index**: the edges refined output shares. Two faces that use the same two vertex
 //!   indices share their refined edge; each such edge is evaluated once, on its *owner* (the

@@ -139,7 +139,7 @@ impl FaceRulers {
     }
 
     /// The 20 words the GPU reads: the outer rulers (GL order), then the inner one
-    /// ([`Ruler::words`]).
+    /// (`Ruler::words`).
     pub fn words(&self) -> [u32; 4 * RULER_WORDS] {
         let mut w = [0u32; 20];
         for k in 0..3 {
@@ -151,7 +151,7 @@ impl FaceRulers {
     }
 
     /// The 16.16 `(u, v)` of the point `code` names, its side turned by `side_offset` (a
-    /// strip's instance side): [`locate_of`] on this face's words.
+    /// strip's instance side): `locate_of` on this face's words.
     pub fn locate(&self, code: u32, side_offset: u32) -> (u32, u32) {
         let words = self.words();
         let [u, v, _] = locate_of(
@@ -163,7 +163,7 @@ impl FaceRulers {
     }
 }
 
-/// Off the coarse edges: the edge [`locate_of`] names for interior points and corners.
+/// Off the coarse edges: the edge `locate_of` names for interior points and corners.
 pub const NO_EDGE: u32 = 3;
 
 /// The 16.16 `u`, `v` of the point `code` names on a face whose ruler words

@@ -161,7 +161,7 @@ pub fn write(out: &mut dyn Write, mesh: &MeshView, binary: bool) -> std::io::Res
     write_with_scalars(out, mesh, &[], binary)
 }
 
-/// [`write`] with extra per-vertex scalars as float `SCALAR` attributes named `_NAME` (one
+/// [`write()`] with extra per-vertex scalars as float `SCALAR` attributes named `_NAME` (one
 /// value per vertex; the caller checks the lengths, as [`crate::write_mesh_with_scalars`]
 /// does).
 pub fn write_with_scalars(

@@ -12,7 +12,7 @@ use glam::Vec3;
 ///
 /// Normals: `Real` takes `Du × Dv` and falls back to the normal net where the derivatives are
 /// (nearly) parallel; the others take the normal net. A normal that still vanishes becomes the
-/// normal of the patch's corner triangle. [`eval_block`] computes the same, bit for bit, for
+/// normal of the patch's corner triangle. `eval_block` computes the same, bit for bit, for
 /// many points at once.
 #[inline(always)]
 pub fn eval_point<const K: usize>(

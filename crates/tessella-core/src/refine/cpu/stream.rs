@@ -77,7 +77,7 @@ mod tests {
                 let uniform = [1, 2, 5].map(|level| RefineOptions::new(scheme, level));
                 for options in uniform.into_iter().chain(adaptive) {
                     let options = options.with_weld(weld);
-                    let level = options.level;
+                    let level = format!("{:?}", options.levels);
                     let plan = Plan::new(mesh, &options).unwrap();
                     let frame = plan.frame(mesh).unwrap();
                     let n = plan.vertex_count();

@@ -378,7 +378,7 @@ mod tests {
         let levels: Vec<f32> = (0..topology.edges.len())
             .map(|e| 1.0 + (e * 37 % 71) as f32 / 7.0)
             .collect();
-        for spacing in Spacing::ALL {
+        for &spacing in <Spacing as crate::names::Named>::ALL {
             let table = PartTable::new(spacing);
             let frame =
                 frame_instances(&table, &topology, mesh.triangles(), ids, &levels, None).unwrap();

@@ -1,6 +1,7 @@
 //! The levels asked for: how a level divides an edge ([`Spacing`]), and per-edge, fractional
 //! or LOD levels ([`Levels`], [`Lod`]); what a plan is built from, before any tiling.
 
+use crate::names::{parse_name, Named, UnknownName};
 use crate::tessellator;
 use std::sync::Arc;
 
@@ -24,13 +25,6 @@ pub enum Spacing {
 }
 
 impl Spacing {
-    /// Every spacing, in the CLI's order.
-    pub const ALL: [Spacing; 4] = [
-        Spacing::Grid,
-        Spacing::Equal,
-        Spacing::FractionalOdd,
-        Spacing::FractionalEven,
-    ];
     /// The tessellator's spacing, `None` for the grid.
     pub fn tessellator(self) -> Option<tessellator::Spacing> {
         match self {
@@ -38,15 +32,6 @@ impl Spacing {
             Spacing::Equal => Some(tessellator::Spacing::Equal),
             Spacing::FractionalOdd => Some(tessellator::Spacing::FractionalOdd),
             Spacing::FractionalEven => Some(tessellator::Spacing::FractionalEven),
-        }
-    }
-    /// The name on the command line: `grid`, `equal`, `fractional-odd`, `fractional-even`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Spacing::Grid => "grid",
-            Spacing::Equal => "equal",
-            Spacing::FractionalOdd => "fractional-odd",
-            Spacing::FractionalEven => "fractional-even",
         }
     }
     /// `(minimum, maximum)` level: the tessellator's clamping range; the grid has `[1, ∞)`.
@@ -58,15 +43,45 @@ impl Spacing {
     }
 }
 
+/// `grid`, `equal`, `fractional-odd`, `fractional-even`, parsed and printed as the other
+/// names are ([`crate::names`]).
+impl Named for Spacing {
+    const WHAT: &'static str = "spacing";
+    const ALL: &'static [Spacing] = &[
+        Spacing::Grid,
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ];
+    const NAMES: &'static [&'static str] = &["grid", "equal", "fractional-odd", "fractional-even"];
+    fn name(&self) -> &'static str {
+        match self {
+            Spacing::Grid => "grid",
+            Spacing::Equal => "equal",
+            Spacing::FractionalOdd => "fractional-odd",
+            Spacing::FractionalEven => "fractional-even",
+        }
+    }
+    fn description(&self) -> &'static str {
+        match self {
+            Spacing::Grid => {
+                "The uniform pattern: LEVEL equal segments per edge (fractional levels geomorph)"
+            }
+            Spacing::Equal => "Hardware tessellator, equal spacing (levels rounded up, 1 to 64)",
+            Spacing::FractionalOdd => {
+                "Hardware tessellator, fractional-odd spacing (levels 1 to 63)"
+            }
+            Spacing::FractionalEven => {
+                "Hardware tessellator, fractional-even spacing (levels 2 to 64)"
+            }
+        }
+    }
+}
+
 impl std::str::FromStr for Spacing {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Spacing, String> {
-        Spacing::ALL
-            .into_iter()
-            .find(|x| x.name() == s)
-            .ok_or_else(|| {
-                format!("unknown spacing {s:?}; expected grid, equal, fractional-odd or fractional-even")
-            })
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Spacing, UnknownName> {
+        parse_name(s)
     }
 }
 

@@ -302,6 +302,18 @@ impl Camera {
     }
 }
 
+/// The text [`Camera::parse`] reads: `EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEG`.
+impl std::fmt::Display for Camera {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [e, t] = [self.eye, self.target];
+        write!(
+            f,
+            "{},{},{},{},{},{},{}",
+            e[0], e[1], e[2], t[0], t[1], t[2], self.fov_y_deg
+        )
+    }
+}
+
 impl Lod {
     /// Parses a LOD function as the CLI's `--lod` and Python's `lod=` take it:
     /// `tolerance:D`, `screen:PX` (needs `camera` and `size`), `distance:NEAR,FAR,MAX` (needs

@@ -1,7 +1,8 @@
 //! The layer built once per topology and levels: everything a [`Plan`] holds and how it is
 //! made. Nothing here imports the evaluator (`refine::cpu`), which sits on top.
 //!
-//! - [`options`]: what to refine into ([`RefineOptions`](options::RefineOptions));
+//! - [`options`]: what to refine into ([`RefineOptions`](options::RefineOptions)), and
+//!   [`options_text`], its `key=value` text form that every front end parses;
 //! - [`levels`], [`lod`]: the levels asked for and the LOD functions that compute them;
 //! - [`tiling`], [`instanced`], [`morph`], [`canonical`]: adaptive plans' per-face patterns,
 //!   their instanced parts, geomorphs and canonical edge weights;
@@ -18,6 +19,7 @@ pub mod levels;
 pub mod lod;
 pub mod morph;
 pub mod options;
+pub mod options_text;
 pub mod pieces;
 pub mod stream;
 pub mod surface;

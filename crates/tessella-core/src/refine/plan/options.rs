@@ -11,8 +11,12 @@ pub const DEFAULT_MAX_OUTPUT_BYTES: u64 = 8 << 30;
 #[derive(Debug, Clone, PartialEq)]
 pub struct RefineOptions {
     pub scheme: Scheme,
-    /// Segments per coarse edge, 1 or more.
-    pub level: u32,
+    /// Segments per coarse edge, the one field for every kind of level: one level for every
+    /// edge ([`Levels::Uniform`]: whole, the classic refinement on the grid, or fractional),
+    /// per edge ([`Levels::PerEdge`]) or from a LOD function ([`Levels::Lod`]). Anything but a
+    /// whole uniform level on the grid makes an adaptive plan (see
+    /// [`Tiling`](crate::refine::Tiling)).
+    pub levels: Levels,
     /// `None`: the scheme's default ([`Scheme::default_normals`]).
     pub normals: Option<NormalMode>,
     /// `true` (default): vertices on shared coarse corners and edges are shared. `false`: every
@@ -24,24 +28,20 @@ pub struct RefineOptions {
     pub tags: Option<std::sync::Arc<crate::tags::Tags>>,
     /// How levels divide edges: the grid (default) or a hardware tessellator spacing.
     pub spacing: Spacing,
-    /// `None` (default): `level` on every edge. `Some`: fractional, per-edge or LOD levels
-    /// (an adaptive plan, see [`Tiling`](crate::refine::Tiling); `level` is then ignored). `Uniform` of an integer
-    /// with [`Spacing::Grid`] is the same as setting `level`.
-    pub levels: Option<Levels>,
 }
 
 impl RefineOptions {
-    /// Welded output, the scheme's default normals, the default size cap.
+    /// `level` segments on every edge of the grid, welded output, the scheme's default
+    /// normals, the default size cap.
     pub fn new(scheme: Scheme, level: u32) -> RefineOptions {
         RefineOptions {
             scheme,
-            level,
+            levels: Levels::Uniform(level as f32),
             normals: None,
             weld: true,
             max_output_bytes: DEFAULT_MAX_OUTPUT_BYTES,
             tags: None,
             spacing: Spacing::Grid,
-            levels: None,
         }
     }
     /// Sets the spacing ([`Spacing::Grid`] by default).
@@ -49,38 +49,29 @@ impl RefineOptions {
         self.spacing = spacing;
         self
     }
-    /// Sets fractional, per-edge or LOD levels (overriding `level`).
+    /// Sets the levels: one for every edge, per edge, or from a LOD function.
     pub fn with_levels(mut self, levels: Levels) -> Self {
-        self.levels = Some(levels);
+        self.levels = levels;
         self
     }
-    /// Sets one level for every edge as the CLI's `--level`, Python's `level=` and the viewer
-    /// take it (the caller has checked it is finite and positive): a whole level with
-    /// [`Spacing::Grid`] is the classic integer refinement, bit for bit; anything else (a
-    /// fractional level, a tessellator spacing) becomes [`Levels::Uniform`], which geomorphs on
-    /// the grid and is clamped to a tessellator spacing's range. Call after
-    /// [`RefineOptions::with_spacing`].
+    /// Sets one level for every edge: a whole level with [`Spacing::Grid`] is the classic
+    /// integer refinement, bit for bit; a fractional one geomorphs on the grid, and a
+    /// tessellator spacing clamps it to its range.
     ///
     /// ```
     /// use tessella_core::refine::{Levels, Spacing};
     /// use tessella_core::{RefineOptions, Scheme};
     /// let whole = RefineOptions::new(Scheme::Pn, 1).with_uniform_level(6.0);
-    /// assert_eq!((whole.level, whole.levels), (6, None));
+    /// assert_eq!(whole.uniform_grid_level(), Some(6));
     /// let morph = RefineOptions::new(Scheme::Pn, 1).with_uniform_level(5.5);
-    /// assert_eq!(morph.levels, Some(Levels::Uniform(5.5)));
+    /// assert_eq!((&morph.levels, morph.uniform_grid_level()), (&Levels::Uniform(5.5), None));
     /// let odd = RefineOptions::new(Scheme::Pn, 1)
     ///     .with_spacing(Spacing::FractionalOdd)
     ///     .with_uniform_level(3.0);
-    /// assert_eq!(odd.levels, Some(Levels::Uniform(3.0)));
+    /// assert_eq!(odd.uniform_grid_level(), None);
     /// ```
     pub fn with_uniform_level(mut self, level: f64) -> Self {
-        let whole =
-            level.is_finite() && level >= 0.0 && level.fract() == 0.0 && level <= u32::MAX as f64;
-        self.level = if whole { level as u32 } else { 1 };
-        self.levels = match (self.spacing, whole) {
-            (Spacing::Grid, true) => None,
-            _ => Some(Levels::Uniform(level as f32)),
-        };
+        self.levels = Levels::Uniform(level as f32);
         self
     }
     /// Sets the size cap in bytes.
@@ -89,14 +80,13 @@ impl RefineOptions {
         self
     }
     /// The uniform integer grid level these options amount to, if they do (the classic,
-    /// fastest path): grid spacing and no levels, or `Levels::Uniform` of an integer.
+    /// fastest path): grid spacing and [`Levels::Uniform`] of a whole number (0 included, which
+    /// plans refuse with [`RefineError::LevelZero`](crate::RefineError::LevelZero)).
     pub fn uniform_grid_level(&self) -> Option<u32> {
-        if self.spacing != Spacing::Grid {
-            return None;
-        }
-        match &self.levels {
-            None => Some(self.level),
-            Some(Levels::Uniform(x)) if x.fract() == 0.0 && *x >= 1.0 && *x <= u32::MAX as f32 => {
+        match (&self.levels, self.spacing) {
+            (Levels::Uniform(x), Spacing::Grid)
+                if x.fract() == 0.0 && *x >= 0.0 && *x <= u32::MAX as f32 =>
+            {
                 Some(*x as u32)
             }
             _ => None,

@@ -69,17 +69,7 @@ impl Plan {
     pub fn new(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
         options.scheme.validate()?;
         match options.uniform_grid_level() {
-            Some(level) if level == options.level && options.levels.is_none() => {
-                Self::uniform(mesh, options)
-            }
-            Some(level) => {
-                let mut uniform = options.clone();
-                uniform.level = level;
-                uniform.levels = None;
-                let mut plan = Self::uniform(mesh, &uniform)?;
-                plan.options = options.clone();
-                Ok(plan)
-            }
+            Some(level) => Self::uniform(mesh, options, level),
             None => Self::adaptive(mesh, options),
         }
     }
@@ -93,10 +83,7 @@ impl Plan {
             &options.scheme,
             options.tags.as_deref(),
         )?;
-        let levels = options
-            .levels
-            .clone()
-            .unwrap_or(Levels::Uniform(options.level as f32));
+        let levels = options.levels.clone();
         // Only LOD levels read the surface (the first mesh's control nets); the other levels
         // need none, and every frame builds its own.
         let mut nets = PatchNets::empty(options.scheme.basis(), options.normal_mode());
@@ -173,17 +160,17 @@ impl Plan {
     }
 
     /// The classic plan: one uniform grid pattern for every face.
-    fn uniform(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
-        if options.level == 0 {
+    fn uniform(mesh: &Mesh, options: &RefineOptions, level: u32) -> Result<Plan, RefineError> {
+        if level == 0 {
             return Err(RefineError::LevelZero);
         }
         let topology = mesh.topology();
-        let layout = OutputLayout::new(mesh, Some(&topology), options.level, options.weld)?;
+        let layout = OutputLayout::new(mesh, Some(&topology), level, options.weld)?;
         let bytes = layout.output_bytes(mesh.uvs().is_some());
         let limit = options.max_output_bytes;
         if bytes > limit {
             return Err(RefineError::TooLarge {
-                level: options.level,
+                level,
                 faces: mesh.face_count(),
                 vertices: layout.vertex_count,
                 triangles: layout.triangle_count,
@@ -195,7 +182,7 @@ impl Plan {
         }
         if layout.vertex_count > u32::MAX as u64 {
             return Err(RefineError::IndexOverflow {
-                level: options.level,
+                level,
                 vertices: layout.vertex_count,
             });
         }
@@ -205,7 +192,7 @@ impl Plan {
             &options.scheme,
             options.tags.as_deref(),
         )?;
-        let pattern = Pattern::uniform(options.level);
+        let pattern = Pattern::uniform(level);
         let stencil = Stencil::new(&pattern, options.scheme.basis());
         Ok(Plan::assemble(
             mesh,
