@@ -39,6 +39,7 @@
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
 use crate::refine::{OutputLayout, RefinedMesh};
+use crate::scalar::{Noise, Real, Word};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -118,16 +119,10 @@ impl HeightMap {
         self.heights[(yy * w + xx) as usize]
     }
 
-    /// Bilinear sample at `uv`, repeating.
+    /// Bilinear sample at `uv`, repeating ([`height_map_of`]).
     pub fn sample(&self, uv: [f32; 2]) -> f32 {
-        let px = uv[0] * self.width as f32 - 0.5;
-        let py = (1.0 - uv[1]) * self.height as f32 - 0.5;
-        let (x0, y0) = (px.floor(), py.floor());
-        let (tx, ty) = (px - x0, py - y0);
-        let (ix, iy) = (x0 as i32, y0 as i32);
-        let top = lerp(self.texel(ix, iy), self.texel(ix + 1, iy), tx);
-        let bottom = lerp(self.texel(ix, iy + 1), self.texel(ix + 1, iy + 1), tx);
-        lerp(top, bottom, ty)
+        let texel = |x: u32, y: u32| self.texel(x as i32, y as i32);
+        height_map_of(texel, [self.width as f32, self.height as f32], uv)
     }
 }
 
@@ -284,10 +279,7 @@ impl Displacement {
             Displacement::Sine {
                 amplitude,
                 frequency,
-            } => {
-                let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-                amplitude * (frequency * len).sin()
-            }
+            } => sine_of(*amplitude, *frequency, p),
             Displacement::Perlin {
                 amplitude,
                 frequency,
@@ -411,28 +403,54 @@ impl FaceFrame {
     /// Split corners and points inside split edges get `normalize(Σ l_i M_i)`; everything else
     /// (and a vanishing sum) gets `normal`.
     pub fn direction(&self, l: [f32; 3], normal: [f32; 3]) -> [f32; 3] {
+        // No split corner or edge: the normal, as `direction_of` gives it, without its work.
         if self.mask == 0 {
             return normal;
         }
-        let bit = if let Some(c) = (0..3).find(|&c| l[c] == 1.0) {
-            Self::CORNER[c]
-        } else if let Some(k) = (0..3).find(|&k| l[(k + 2) % 3] == 0.0) {
-            Self::EDGE[k]
-        } else {
-            return normal;
-        };
-        if self.mask & bit == 0 {
-            return normal;
-        }
-        let [m0, m1, m2] = self.means;
-        let s: [f32; 3] = std::array::from_fn(|i| l[0] * m0[i] + l[1] * m1[i] + l[2] * m2[i]);
-        let len2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
-        if len2.is_nan() || len2 <= 1e-12 {
-            return normal;
-        }
-        let len = len2.sqrt();
-        s.map(|x| x / len)
+        direction_of(u32::from(self.mask), self.means, l, normal)
     }
+}
+
+/// [`FaceFrame::direction`] for any [`Noise`] number, the face's `mask` and `means` given: the
+/// one source of the CPU's direction and the shaders' `tessella_direction`.
+pub fn direction_of<R: Noise>(mask: R::W, means: [[R; 3]; 3], l: [R; 3], normal: [R; 3]) -> [R; 3] {
+    let w = |x: u8| <R::W as Word>::lit(u32::from(x));
+    let (one, zero) = (R::lit(1.0), R::lit(0.0));
+    let (corner, edge) = (FaceFrame::CORNER, FaceFrame::EDGE);
+    // The first that holds: corner 0, 1, 2 (l_c = 1), then edge k (l_{k+2 mod 3} = 0), else
+    // none (interior).
+    let on_edges = R::word_if_eq(
+        l[2],
+        zero,
+        w(edge[0]),
+        R::word_if_eq(
+            l[0],
+            zero,
+            w(edge[1]),
+            R::word_if_eq(l[1], zero, w(edge[2]), w(0)),
+        ),
+    );
+    let bit = R::word_if_eq(
+        l[0],
+        one,
+        w(corner[0]),
+        R::word_if_eq(
+            l[1],
+            one,
+            w(corner[1]),
+            R::word_if_eq(l[2], one, w(corner[2]), on_edges),
+        ),
+    );
+    let split = mask.and(bit);
+    let [m0, m1, m2] = means;
+    let s: [R; 3] = std::array::from_fn(|i| l[0] * m0[i] + l[1] * m1[i] + l[2] * m2[i]);
+    let len2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
+    let len = len2.sqrt();
+    // Both sides are computed (a vanishing sum divides by zero there) and one kept.
+    std::array::from_fn(|i| {
+        let shared = R::pick_gt(len2, R::lit(1e-12), s[i] / len, normal[i]);
+        R::pick_eq(split, w(0), normal[i], shared)
+    })
 }
 
 /// For each vertex, the shared displacement direction `M` of its position: the normalised,
@@ -669,7 +687,8 @@ impl DisplaceFrame {
     }
 }
 
-fn lerp(a: f32, b: f32, t: f32) -> f32 {
+/// `a + t (b - a)`.
+fn lerp<R: Real>(a: R, b: R, t: R) -> R {
     a + t * (b - a)
 }
 
@@ -686,55 +705,93 @@ pub fn permutation(seed: u32) -> [u32; 512] {
     std::array::from_fn(|i| p[i & 255])
 }
 
-fn fade(t: f32) -> f32 {
-    t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+fn fade<R: Real>(t: R) -> R {
+    let c = R::lit;
+    t * t * t * (t * (t * c(6.0) - c(15.0)) + c(10.0))
 }
 
-fn grad(hash: i32, x: f32, y: f32, z: f32) -> f32 {
-    let h = hash & 15;
-    let u = if h < 8 { x } else { y };
-    let v = if h < 4 {
-        y
-    } else if h == 12 || h == 14 {
-        x
-    } else {
-        z
-    };
-    (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
+/// Perlin's gradient: one of 12 cube-edge directions, chosen by 4 bits of `hash`, dotted with
+/// `(x, y, z)`.
+fn grad<R: Noise>(hash: R::W, x: R, y: R, z: R) -> R {
+    let w = <R::W as Word>::lit;
+    let h = hash.and(w(15));
+    let u = R::pick_ge(h, w(8), y, x);
+    let v = R::pick_ge(
+        h,
+        w(4),
+        R::pick_eq(h, w(12), x, R::pick_eq(h, w(14), x, z)),
+        y,
+    );
+    R::pick_eq(h.and(w(1)), w(0), u, -u) + R::pick_eq(h.and(w(2)), w(0), v, -v)
 }
 
 /// Perlin's improved noise (Perlin 2002, "Improving noise"), in about `-1..=1`.
 pub fn perlin(perm: &[u32; 512], p: [f32; 3]) -> f32 {
-    let pm = |i: i32| perm[(i & 511) as usize] as i32;
-    let f = p.map(f32::floor);
-    let (xi, yi, zi) = (f[0] as i32 & 255, f[1] as i32 & 255, f[2] as i32 & 255);
+    perlin_of(|i| perm[i as usize], p)
+}
+
+/// [`perlin`] for any [`Noise`] number, the permutation read through `perm` (indices below
+/// 512): the one source of the CPU's noise and the shaders' `tessella_perlin`.
+pub fn perlin_of<R: Noise>(perm: impl Fn(R::W) -> R::W, p: [R; 3]) -> R {
+    let w = <R::W as Word>::lit;
+    let pm = |i: R::W| perm(i.and(w(511)));
+    let f = p.map(R::floor);
+    let [xi, yi, zi] = f.map(|x| x.int_word().and(w(255)));
     let (x, y, z) = (p[0] - f[0], p[1] - f[1], p[2] - f[2]);
-    let (u, v, w) = (fade(x), fade(y), fade(z));
-    let a = pm(xi) + yi;
-    let aa = pm(a) + zi;
-    let ab = pm(a + 1) + zi;
-    let b = pm(xi + 1) + yi;
-    let ba = pm(b) + zi;
-    let bb = pm(b + 1) + zi;
-    let x1 = lerp(grad(pm(aa), x, y, z), grad(pm(ba), x - 1.0, y, z), u);
+    let (u, v, t) = (fade(x), fade(y), fade(z));
+    let one = R::lit(1.0);
+    let a = pm(xi).wadd(yi);
+    let aa = pm(a).wadd(zi);
+    let ab = pm(a.wadd(w(1))).wadd(zi);
+    let b = pm(xi.wadd(w(1))).wadd(yi);
+    let ba = pm(b).wadd(zi);
+    let bb = pm(b.wadd(w(1))).wadd(zi);
+    let x1 = lerp(grad(pm(aa), x, y, z), grad(pm(ba), x - one, y, z), u);
     let x2 = lerp(
-        grad(pm(ab), x, y - 1.0, z),
-        grad(pm(bb), x - 1.0, y - 1.0, z),
+        grad(pm(ab), x, y - one, z),
+        grad(pm(bb), x - one, y - one, z),
         u,
     );
     let y1 = lerp(x1, x2, v);
     let x3 = lerp(
-        grad(pm(aa + 1), x, y, z - 1.0),
-        grad(pm(ba + 1), x - 1.0, y, z - 1.0),
+        grad(pm(aa.wadd(w(1))), x, y, z - one),
+        grad(pm(ba.wadd(w(1))), x - one, y, z - one),
         u,
     );
     let x4 = lerp(
-        grad(pm(ab + 1), x, y - 1.0, z - 1.0),
-        grad(pm(bb + 1), x - 1.0, y - 1.0, z - 1.0),
+        grad(pm(ab.wadd(w(1))), x, y - one, z - one),
+        grad(pm(bb.wadd(w(1))), x - one, y - one, z - one),
         u,
     );
     let y2 = lerp(x3, x4, v);
-    lerp(y1, y2, w)
+    lerp(y1, y2, t)
+}
+
+/// A height map's bilinear sample at `uv`, `size` texels wide and high, the texels read
+/// through `texel(x, y)` (signed texel coordinates as word bits; the reader wraps them): the
+/// one source of [`HeightMap::sample`] and the shaders' `tessella_height_map`. `v = 0` is the
+/// image's bottom row.
+pub fn height_map_of<R: Noise>(texel: impl Fn(R::W, R::W) -> R, size: [R; 2], uv: [R; 2]) -> R {
+    let c = R::lit;
+    let px = uv[0] * size[0] - c(0.5);
+    let py = (c(1.0) - uv[1]) * size[1] - c(0.5);
+    let (x0, y0) = (px.floor(), py.floor());
+    let (tx, ty) = (px - x0, py - y0);
+    let (ix, iy) = (x0.int_word(), y0.int_word());
+    let one = <R::W as Word>::lit(1);
+    let top = lerp(texel(ix, iy), texel(ix.wadd(one), iy), tx);
+    let bottom = lerp(
+        texel(ix, iy.wadd(one)),
+        texel(ix.wadd(one), iy.wadd(one)),
+        tx,
+    );
+    lerp(top, bottom, ty)
+}
+
+/// The sine offset `a sin(f ‖p‖)` (GMR section 4).
+pub fn sine_of<R: Noise>(a: R, f: R, p: [R; 3]) -> R {
+    let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    a * (f * len).sin()
 }
 
 #[cfg(test)]

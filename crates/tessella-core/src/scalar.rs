@@ -344,6 +344,75 @@ impl<T: Real> Div for Dual<T> {
     }
 }
 
+/// What the displacement offsets (Perlin noise, a height map's bilinear sample, a sine) need
+/// beyond [`Real`]: floors and sines, integer lattice coordinates as [`Word`]s, and branches on
+/// those words (Perlin's gradient hash). `f32` with `u32` on the CPU; traced when a shader is
+/// generated.
+pub trait Noise: Real {
+    /// The word type its lattice coordinates are.
+    type W: Word;
+    fn floor(self) -> Self;
+    fn sin(self) -> Self;
+    /// A whole value (already floored) as an `i32`, its bits as a word: `x as i32 as u32`.
+    fn int_word(self) -> Self::W;
+    /// `yes` where `a >= b`, else `no`; both sides are computed.
+    fn pick_ge(a: Self::W, b: Self::W, yes: Self, no: Self) -> Self;
+    /// `yes` where `a == b`, else `no`; both sides are computed.
+    fn pick_eq(a: Self::W, b: Self::W, yes: Self, no: Self) -> Self;
+    /// `yes` where `a > b` (false for NaN), else `no`; both sides are computed.
+    fn pick_gt(a: Self, b: Self, yes: Self, no: Self) -> Self;
+    /// The word `yes` where `a == b`, else `no`.
+    fn word_if_eq(a: Self, b: Self, yes: Self::W, no: Self::W) -> Self::W;
+}
+
+impl Noise for f32 {
+    type W = u32;
+    #[inline]
+    fn floor(self) -> f32 {
+        f32::floor(self)
+    }
+    #[inline]
+    fn sin(self) -> f32 {
+        f32::sin(self)
+    }
+    #[inline]
+    fn int_word(self) -> u32 {
+        self as i32 as u32
+    }
+    #[inline]
+    fn pick_ge(a: u32, b: u32, yes: f32, no: f32) -> f32 {
+        if a >= b {
+            yes
+        } else {
+            no
+        }
+    }
+    #[inline]
+    fn pick_eq(a: u32, b: u32, yes: f32, no: f32) -> f32 {
+        if a == b {
+            yes
+        } else {
+            no
+        }
+    }
+    #[inline]
+    fn pick_gt(a: f32, b: f32, yes: f32, no: f32) -> f32 {
+        if a > b {
+            yes
+        } else {
+            no
+        }
+    }
+    #[inline]
+    fn word_if_eq(a: f32, b: f32, yes: u32, no: u32) -> u32 {
+        if a == b {
+            yes
+        } else {
+            no
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,5 +1,5 @@
-//! The GPU side of displacement: what `shaders/displace.wgsl` reads. The formulas, the
-//! direction rule and the CPU reference live in `tessella_core::displace`, the WGSL's Rust twin.
+//! The GPU side of displacement: what `shaders/displace.wgsl` reads. The formulas and the
+//! direction rule live in `tessella_core::displace`, from which the WGSL is generated.
 //!
 //! `displace_data` holds Perlin's permutation (512 entries) or the height map's texels, then,
 //! from `DisplaceParams::faces_at`, one record per coarse face: `mask, M1, M2, M3` (10 floats,

@@ -68,8 +68,9 @@
 //! `shaders/adaptive_draw.wgsl`, or `shaders/adaptive_capture.wgsl` for the read-back.
 //! The layout constants both sides use are generated from Rust (`wgsl_constants.rs`) and
 //! prepended to every shader. Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
-//! `displace.wgsl`'s Rust twin is `tessella_core::displace`. The tests tie each pair together by
-//! comparing GPU and CPU outputs.
+//! `displace.wgsl` holds the displacement's bindings and reads; its offsets and direction are
+//! generated from `tessella_core::displace` ([`tessella_core::shader::displace_wgsl`]). The tests
+//! compare GPU and CPU outputs.
 //!
 //! Linux without a GPU: `apt-get install mesa-vulkan-drivers libvulkan1` gives lavapipe, a
 //! software Vulkan adapter ([`AdapterChoice::Software`]); the tests run on it and fail (not

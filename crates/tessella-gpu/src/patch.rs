@@ -254,6 +254,7 @@ pub(crate) fn shader_source(
         ),
         include_str!("shaders/eval.wgsl"),
         include_str!("shaders/displace.wgsl"),
+        &tessella_core::shader::displace_wgsl(),
         own,
     ]
     .join("\n")

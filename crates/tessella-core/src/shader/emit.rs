@@ -34,7 +34,9 @@ impl<'t> Body<'t> {
             statements: String::new(),
         };
         for (i, node) in tape.nodes.iter().enumerate() {
-            if !needed[i] || operands(node).is_empty() && !matches!(node, Node::UCall(..)) {
+            if !needed[i]
+                || operands(node).is_empty() && !matches!(node, Node::UCall(..) | Node::Call(..))
+            {
                 continue;
             }
             let value = body.operation(node);
@@ -110,25 +112,39 @@ impl<'t> Body<'t> {
                 format!("{} {op} {}", n(a), n(b))
             }
             Node::UShr(a, bits) => format!("{} >> {bits}u", n(a)),
-            Node::USelect { cmp, a, b, yes, no } => {
-                let cmp = match cmp {
-                    Cmp::Ge => ">=",
-                    Cmp::Gt => ">",
-                    Cmp::Eq => "==",
-                };
-                let test = format!("{} {cmp} {}", n(a), n(b));
-                match self.lang {
-                    Lang::Wgsl => format!("select({}, {}, {test})", n(no), n(yes)),
-                    Lang::Glsl => format!("({test} ? {} : {})", n(yes), n(no)),
-                }
-            }
-            Node::UCall(name, args) => {
+            Node::USelect { cmp, a, b, yes, no } => self.select(*cmp, n(a), n(b), n(yes), n(no)),
+            Node::Pick { cmp, a, b, yes, no } => self.select(*cmp, n(a), n(b), n(yes), n(no)),
+            Node::PickGt { a, b, yes, no } => self.select(Cmp::Gt, n(a), n(b), n(yes), n(no)),
+            Node::WordIfEq { a, b, yes, no } => self.select(Cmp::Eq, n(a), n(b), n(yes), n(no)),
+            Node::Floor(a) => format!("floor({})", n(a)),
+            Node::Sin(a) => format!("sin({})", n(a)),
+            Node::IntWord(a) => match self.lang {
+                Lang::Wgsl => format!("bitcast<u32>(i32({}))", n(a)),
+                Lang::Glsl => format!("uint(int({}))", n(a)),
+            },
+            Node::UCall(name, args) | Node::Call(name, args) => {
                 let args: Vec<String> = args.iter().map(|a| n(a)).collect();
                 format!("{name}({})", args.join(", "))
             }
             Node::Input(_) | Node::Const(_) | Node::UInput(_) | Node::UConst(_) => {
                 unreachable!("inputs and constants are inlined")
             }
+        }
+    }
+}
+
+impl Body<'_> {
+    /// `yes` where `a cmp b`, else `no`.
+    fn select(&self, cmp: Cmp, a: String, b: String, yes: String, no: String) -> String {
+        let cmp = match cmp {
+            Cmp::Ge => ">=",
+            Cmp::Gt => ">",
+            Cmp::Eq => "==",
+        };
+        let test = format!("{a} {cmp} {b}");
+        match self.lang {
+            Lang::Wgsl => format!("select({no}, {yes}, {test})"),
+            Lang::Glsl => format!("({test} ? {yes} : {no})"),
         }
     }
 }
@@ -141,7 +157,9 @@ fn operands(node: &Node) -> Vec<usize> {
     let i = |e: &dyn Traced| e.index();
     match node {
         Node::Input(_) | Node::Const(_) | Node::UInput(_) | Node::UConst(_) => vec![],
-        Node::Neg(a) | Node::Sqrt(a) => vec![i(a)],
+        Node::Neg(a) | Node::Sqrt(a) | Node::Floor(a) | Node::Sin(a) | Node::IntWord(a) => {
+            vec![i(a)]
+        }
         Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![i(a), i(b)],
         Node::SelectPositiveFinite { test, yes, no } => vec![i(test), i(yes), i(no)],
         Node::SelectNonZero {
@@ -152,7 +170,10 @@ fn operands(node: &Node) -> Vec<usize> {
         Node::UBin(_, a, b) => vec![i(a), i(b)],
         Node::UShr(a, _) => vec![i(a)],
         Node::USelect { a, b, yes, no, .. } => vec![i(a), i(b), i(yes), i(no)],
-        Node::UCall(_, args) => args.iter().map(|a| a.index()).collect(),
+        Node::Pick { a, b, yes, no, .. } => vec![i(a), i(b), i(yes), i(no)],
+        Node::PickGt { a, b, yes, no } => vec![i(a), i(b), i(yes), i(no)],
+        Node::WordIfEq { a, b, yes, no } => vec![i(a), i(b), i(yes), i(no)],
+        Node::UCall(_, args) | Node::Call(_, args) => args.iter().map(|a| a.index()).collect(),
     }
 }
 

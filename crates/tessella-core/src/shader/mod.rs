@@ -319,6 +319,65 @@ pub fn locate_wgsl() -> String {
     )
 }
 
+/// The displacement offsets of [`crate::displace`] as WGSL: `tessella_perlin(p: vec3<f32>)`
+/// ([`crate::displace::perlin_of`]), `tessella_height_map(uv: vec2<f32>, size: vec2<f32>)`
+/// ([`crate::displace::height_map_of`]) and `tessella_sine(a: f32, f: f32, p: vec3<f32>)`
+/// ([`crate::displace::sine_of`]), all `-> f32`. The including shader defines the reads:
+/// `tessella_perm(i: u32) -> u32` (Perlin's permutation, `i < 512`) and
+/// `tessella_height_texel(x: u32, y: u32) -> f32` (signed texel coordinates as `u32` bits; it
+/// wraps them). And the direction a point moves along, `tessella_direction(mask: u32,
+/// m1: vec3<f32>, m2: vec3<f32>, m3: vec3<f32>, l: vec3<f32>, n: vec3<f32>) -> vec3<f32>`
+/// ([`crate::displace::direction_of`]), from the face record the including shader reads.
+pub fn displace_wgsl() -> String {
+    use crate::displace::{direction_of, height_map_of, perlin_of, sine_of};
+    let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
+    let (tape, out) = trace(|| {
+        direction_of(
+            UExpr::input("mask"),
+            [v3("m1"), v3("m2"), v3("m3")],
+            v3("l"),
+            v3("n"),
+        )
+    });
+    let body = Body::new(&tape, Lang::Wgsl, &out);
+    let [x, y, z] = out.map(|e| body.name(e));
+    let direction = format!(
+        "fn tessella_direction(mask: u32, m1: vec3<f32>, m2: vec3<f32>, m3: vec3<f32>, l: vec3<f32>, n: vec3<f32>) -> vec3<f32> {{\n{}    return vec3<f32>({x}, {y}, {z});\n}}\n",
+        body.statements
+    );
+    let p = || [Expr::input("p.x"), Expr::input("p.y"), Expr::input("p.z")];
+    let function = |head: &str, (tape, out): (trace::Tape, Expr)| {
+        let body = Body::new(&tape, Lang::Wgsl, &[out]);
+        format!(
+            "{head} -> f32 {{\n{}    return {};\n}}\n",
+            body.statements,
+            body.name(out)
+        )
+    };
+    [
+        function(
+            "fn tessella_perlin(p: vec3<f32>)",
+            trace(|| perlin_of(|i| UExpr::call("tessella_perm", &[i]), p())),
+        ),
+        function(
+            "fn tessella_height_map(uv: vec2<f32>, size: vec2<f32>)",
+            trace(|| {
+                height_map_of(
+                    |x, y| Expr::call("tessella_height_texel", &[x, y]),
+                    [Expr::input("size.x"), Expr::input("size.y")],
+                    [Expr::input("uv.x"), Expr::input("uv.y")],
+                )
+            }),
+        ),
+        function(
+            "fn tessella_sine(a: f32, f: f32, p: vec3<f32>)",
+            trace(|| sine_of(Expr::input("a"), Expr::input("f"), p())),
+        ),
+        direction,
+    ]
+    .concat()
+}
+
 /// `tessellator::parts::locate_of` traced with the inputs `rec`, `code`, `side_offset` and the
 /// ruler words read through `tessella_ruler_word(rec, r, k)`.
 fn traced_locate() -> (trace::Tape, [UExpr; 3]) {

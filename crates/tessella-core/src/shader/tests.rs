@@ -68,10 +68,226 @@ fn run_with(tape: &Tape, inputs: &[(&str, f64)], call: impl Fn(&str, &[u32]) -> 
                 let args: Vec<u32> = args.iter().map(u).collect();
                 f64::from(call(name, &args))
             }
+            Node::Floor(_)
+            | Node::Sin(_)
+            | Node::IntWord(_)
+            | Node::Pick { .. }
+            | Node::PickGt { .. }
+            | Node::WordIfEq { .. }
+            | Node::Call(..) => {
+                panic!("noise nodes are evaluated by run_f32")
+            }
         };
         v.push(value);
     }
     v
+}
+
+/// The tape's values computed as the shader computes them, every `f32` operation rounded to
+/// `f32` (`u32` ones exactly), with the including shader's `u32` and `f32` functions.
+fn run_f32(
+    tape: &Tape,
+    inputs: &[(&str, f32)],
+    ucall: impl Fn(&str, &[u32]) -> u32,
+    fcall: impl Fn(&str, &[u32]) -> f32,
+) -> Vec<f64> {
+    let mut v: Vec<f64> = Vec::with_capacity(tape.nodes.len());
+    for node in &tape.nodes {
+        let x = |e: &Expr| v[e.index()] as f32;
+        let u = |e: &UExpr| v[e.index()] as u32;
+        let input = |name: &String| inputs.iter().find(|(n, _)| n == name).expect("an input").1;
+        let pick = |cmp: &Cmp, a: u32, b: u32| match cmp {
+            Cmp::Ge => a >= b,
+            Cmp::Gt => a > b,
+            Cmp::Eq => a == b,
+        };
+        let value = match node {
+            Node::Input(name) | Node::UInput(name) => f64::from(input(name)),
+            Node::Const(bits) => f64::from(f64::from_bits(*bits) as f32),
+            Node::Add(a, b) => f64::from(x(a) + x(b)),
+            Node::Sub(a, b) => f64::from(x(a) - x(b)),
+            Node::Mul(a, b) => f64::from(x(a) * x(b)),
+            Node::Div(a, b) => f64::from(x(a) / x(b)),
+            Node::Neg(a) => f64::from(-x(a)),
+            Node::Sqrt(a) => f64::from(x(a).sqrt()),
+            Node::Floor(a) => f64::from(x(a).floor()),
+            Node::Sin(a) => f64::from(x(a).sin()),
+            Node::IntWord(a) => f64::from(x(a) as i32 as u32),
+            Node::Pick { cmp, a, b, yes, no } => {
+                f64::from(if pick(cmp, u(a), u(b)) { x(yes) } else { x(no) })
+            }
+            Node::PickGt { a, b, yes, no } => f64::from(if x(a) > x(b) { x(yes) } else { x(no) }),
+            Node::WordIfEq { a, b, yes, no } => {
+                f64::from(if x(a) == x(b) { u(yes) } else { u(no) })
+            }
+            Node::UConst(c) => f64::from(*c),
+            Node::UBin(op, a, b) => f64::from(match op {
+                UOp::Add => u(a).wrapping_add(u(b)),
+                UOp::Sub => u(a).wrapping_sub(u(b)),
+                UOp::Mul => u(a).wrapping_mul(u(b)),
+                UOp::Rem => u(a) % u(b),
+                UOp::Div => u(a) / u(b),
+                UOp::And => u(a) & u(b),
+            }),
+            Node::UShr(a, bits) => f64::from(u(a) >> bits),
+            Node::USelect { cmp, a, b, yes, no } => {
+                f64::from(if pick(cmp, u(a), u(b)) { u(yes) } else { u(no) })
+            }
+            Node::UCall(name, args) => {
+                f64::from(ucall(name, &args.iter().map(u).collect::<Vec<_>>()))
+            }
+            Node::Call(name, args) => {
+                f64::from(fcall(name, &args.iter().map(u).collect::<Vec<_>>()))
+            }
+            other => panic!("run_f32 does not evaluate {other:?}"),
+        };
+        v.push(value);
+    }
+    v
+}
+
+#[test]
+fn traced_displacement_offsets_give_the_cpus_bits() {
+    use crate::displace::{height_map_of, perlin, perlin_of, permutation, sine_of, HeightMap};
+    let perm = permutation(7);
+    let no_call = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
+    let p = || [Expr::input("p.x"), Expr::input("p.y"), Expr::input("p.z")];
+    let (tape, out) = trace(|| perlin_of(|i| UExpr::call("tessella_perm", &[i]), p()));
+    let read = |name: &str, args: &[u32]| {
+        assert_eq!(name, "tessella_perm");
+        assert!(
+            args[0] < 512,
+            "a permutation index {} past the table",
+            args[0]
+        );
+        perm[args[0] as usize]
+    };
+    // Lattice points, negative cells and large coordinates, where the integer part matters.
+    let mut checked = 0;
+    for i in -40..40 {
+        let q = [
+            i as f32 * 0.37 + 0.01,
+            -(i as f32) * 1.91,
+            i as f32 * 13.3 - 0.5,
+        ];
+        let v = run_f32(
+            &tape,
+            &[("p.x", q[0]), ("p.y", q[1]), ("p.z", q[2])],
+            read,
+            no_call,
+        );
+        let got = v[out.index()] as f32;
+        assert_eq!(got.to_bits(), perlin(&perm, q).to_bits(), "{q:?}");
+        checked += 1;
+    }
+    assert_eq!(checked, 80);
+    let map = HeightMap::new(3, 2, vec![0.0, 0.5, 1.0, 0.25, -0.75, 2.0]).unwrap();
+    let (tape, out) = trace(|| {
+        height_map_of(
+            |x, y| Expr::call("tessella_height_texel", &[x, y]),
+            [Expr::input("size.x"), Expr::input("size.y")],
+            [Expr::input("uv.x"), Expr::input("uv.y")],
+        )
+    });
+    let texel = |name: &str, args: &[u32]| {
+        assert_eq!(name, "tessella_height_texel");
+        // The CPU's own repeating read, through its public sample at the texel's centre.
+        let (x, y) = (args[0] as i32, args[1] as i32);
+        let (w, h) = (3, 2);
+        let (xx, yy) = (x.rem_euclid(w), y.rem_euclid(h));
+        map.sample([
+            (xx as f32 + 0.5) / w as f32,
+            1.0 - (yy as f32 + 0.5) / h as f32,
+        ])
+    };
+    let no_ucall = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
+    for uv in [
+        [0.1f32, 0.2],
+        [0.9, 0.95],
+        [-0.3, 1.7],
+        [0.5, 0.5],
+        [2.25, -1.1],
+    ] {
+        let inputs = [
+            ("uv.x", uv[0]),
+            ("uv.y", uv[1]),
+            ("size.x", 3.0),
+            ("size.y", 2.0),
+        ];
+        let v = run_f32(&tape, &inputs, no_ucall, texel);
+        assert_eq!(
+            (v[out.index()] as f32).to_bits(),
+            map.sample(uv).to_bits(),
+            "{uv:?}"
+        );
+    }
+    let (tape, out) = trace(|| sine_of(Expr::input("a"), Expr::input("f"), p()));
+    for q in [[0.3f32, -0.4, 1.2], [0.0, 0.0, 0.0], [5.0, 6.0, -7.0]] {
+        let inputs = [
+            ("a", 0.05f32),
+            ("f", 25.0),
+            ("p.x", q[0]),
+            ("p.y", q[1]),
+            ("p.z", q[2]),
+        ];
+        let v = run_f32(&tape, &inputs, no_ucall, no_call);
+        assert_eq!(
+            (v[out.index()] as f32).to_bits(),
+            sine_of(0.05f32, 25.0, q).to_bits()
+        );
+    }
+    let frames = [
+        [[0.0f32, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        // Means that cancel at the midpoint of edge 0: the normal there.
+        [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+    ];
+    let (tape, out) = trace(|| {
+        let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
+        crate::displace::direction_of(
+            UExpr::input("mask"),
+            [v3("m1"), v3("m2"), v3("m3")],
+            v3("l"),
+            v3("n"),
+        )
+    });
+    let pattern = crate::Pattern::uniform(4);
+    let mut split_moves = 0;
+    for means in frames {
+        for mask in 0u8..64 {
+            let frame = crate::displace::FaceFrame { means, mask };
+            for b in &pattern.points {
+                let l = b.map(|x| x as f32);
+                let n = [0.0f32, 0.6, 0.8];
+                let mut inputs = vec![("mask", f32::from(mask))];
+                let names = ["m1", "m2", "m3", "l", "n"];
+                let vectors = [means[0], means[1], means[2], l, n];
+                let keys: Vec<String> = names
+                    .iter()
+                    .flat_map(|v| ["x", "y", "z"].map(|c| format!("{v}.{c}")))
+                    .collect();
+                for (k, x) in keys.iter().zip(vectors.iter().flatten()) {
+                    inputs.push((k.as_str(), *x));
+                }
+                let v = run_f32(&tape, &inputs, no_ucall, no_call);
+                let got = out.map(|e| (v[e.index()] as f32).to_bits());
+                let want = frame.direction(l, n);
+                assert_eq!(got, want.map(f32::to_bits), "mask {mask} l {l:?}");
+                split_moves += usize::from(want != n);
+            }
+        }
+    }
+    assert!(
+        split_moves > 100,
+        "the cases move split points ({split_moves})"
+    );
+    let wgsl = displace_wgsl();
+    for head in [
+        "fn tessella_perlin(p: vec3<f32>) -> f32 {",
+        "fn tessella_height_map(uv: vec2<f32>, size: vec2<f32>) -> f32 {",
+        "fn tessella_sine(a: f32, f: f32, p: vec3<f32>) -> f32 {",
+    ] {
+        assert!(wgsl.contains(head), "{head} missing from\n{wgsl}");
+    }
 }
 
 /// Points inside, on the edges and at the corners (where PNG1's selections matter).

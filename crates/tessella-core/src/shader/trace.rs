@@ -8,7 +8,7 @@
 //! the printed code is what a hand-written shader would compute, without the zero terms of a
 //! general formula.
 
-use crate::scalar::{Real, Word};
+use crate::scalar::{Noise, Real, Word};
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -76,6 +76,34 @@ pub(crate) enum Node {
     },
     /// A `u32` function of the including shader (a record read, say).
     UCall(String, Vec<UExpr>),
+    Floor(Expr),
+    Sin(Expr),
+    /// A whole `f32` as an `i32`, its bits as a `u32` ([`Noise::int_word`]).
+    IntWord(Expr),
+    /// The `f32` `yes` where the words compare `a cmp b`, else `no`.
+    Pick {
+        cmp: Cmp,
+        a: UExpr,
+        b: UExpr,
+        yes: Expr,
+        no: Expr,
+    },
+    /// An `f32` function of the including shader with word arguments (a texel read).
+    Call(String, Vec<UExpr>),
+    /// The `f32` `yes` where `a > b`, else `no`.
+    PickGt {
+        a: Expr,
+        b: Expr,
+        yes: Expr,
+        no: Expr,
+    },
+    /// The word `yes` where the `f32`s `a == b`, else `no`.
+    WordIfEq {
+        a: Expr,
+        b: Expr,
+        yes: UExpr,
+        no: UExpr,
+    },
 }
 
 /// A binary `u32` operation.
@@ -98,7 +126,9 @@ impl Node {
             | Node::UBin(..)
             | Node::UShr(..)
             | Node::USelect { .. }
-            | Node::UCall(..) => Ty::U32,
+            | Node::UCall(..)
+            | Node::IntWord(_)
+            | Node::WordIfEq { .. } => Ty::U32,
             _ => Ty::F32,
         }
     }
@@ -133,6 +163,26 @@ pub(crate) fn trace<R>(f: impl FnOnce() -> R) -> (Tape, R) {
 }
 
 impl Expr {
+    /// A call of the including shader's `name(args)`, returning `f32`.
+    pub(crate) fn call(name: &str, args: &[UExpr]) -> Expr {
+        Expr::push(Node::Call(name.to_string(), args.to_vec()))
+    }
+
+    fn pick(cmp: Cmp, a: UExpr, b: UExpr, yes: Expr, no: Expr) -> Expr {
+        if yes == no {
+            return no;
+        }
+        if let (Some(x), Some(y)) = (a.value(), b.value()) {
+            let holds = match cmp {
+                Cmp::Ge => x >= y,
+                Cmp::Gt => x > y,
+                Cmp::Eq => x == y,
+            };
+            return if holds { yes } else { no };
+        }
+        Expr::push(Node::Pick { cmp, a, b, yes, no })
+    }
+
     /// A named input; its name is printed as it is (`l.x`, `a`).
     pub(crate) fn input(name: &str) -> Expr {
         Expr::push(Node::Input(name.to_string()))
@@ -392,6 +442,40 @@ impl Real for Expr {
             Some(_) => no,
             None => Expr::push(Node::SelectPositiveFinite { test, yes, no }),
         }
+    }
+}
+
+impl Noise for Expr {
+    type W = UExpr;
+    fn floor(self) -> Expr {
+        match self.value() {
+            Some(a) => Expr::constant(a.floor()),
+            None => Expr::push(Node::Floor(self)),
+        }
+    }
+    fn sin(self) -> Expr {
+        Expr::push(Node::Sin(self))
+    }
+    fn int_word(self) -> UExpr {
+        UExpr(push(Node::IntWord(self)))
+    }
+    fn pick_ge(a: UExpr, b: UExpr, yes: Expr, no: Expr) -> Expr {
+        Expr::pick(Cmp::Ge, a, b, yes, no)
+    }
+    fn pick_eq(a: UExpr, b: UExpr, yes: Expr, no: Expr) -> Expr {
+        Expr::pick(Cmp::Eq, a, b, yes, no)
+    }
+    fn pick_gt(a: Expr, b: Expr, yes: Expr, no: Expr) -> Expr {
+        if yes == no {
+            return no;
+        }
+        Expr::push(Node::PickGt { a, b, yes, no })
+    }
+    fn word_if_eq(a: Expr, b: Expr, yes: UExpr, no: UExpr) -> UExpr {
+        if yes == no {
+            return no;
+        }
+        UExpr(push(Node::WordIfEq { a, b, yes, no }))
     }
 }
 

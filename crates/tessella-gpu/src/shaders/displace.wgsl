@@ -1,6 +1,8 @@
 // Displacement of evaluated surface points (GMR section 4): an offset along a direction.
-// Mirrors tessella-core's src/displace.rs (the Rust twin: offsets, FaceFrame::direction):
-// change both together; the GPU-vs-CPU tests compare them.
+// The offsets are generated from tessella-core's displace.rs (shader::displace_wgsl); this
+// file holds the bindings, their reads, the choice of kind and the direction, whose Rust twin
+// is FaceFrame::direction (it reads the face records this file's bindings hold); the
+// GPU-vs-CPU tests compare them.
 
 struct TessellaDisplaceParams {
     // The kind is the constant TESSELLA_DISPLACE_KIND (patch.rs compiles it in): 0 none,
@@ -20,59 +22,16 @@ struct TessellaDisplaceParams {
 // Then, from faces_at, per coarse face: mask, M1, M2, M3 (10 floats; core's FaceFrame).
 @group(0) @binding(5) var<storage, read> tessella_displace_data: array<f32>;
 
-fn tessella_perm(i: i32) -> i32 {
-    return i32(tessella_displace_data[i & 511]);
+// The reads the generated offsets (tessella_core::shader::displace_wgsl: tessella_perlin,
+// tessella_height_map, tessella_sine, from the Rust source in tessella-core's displace.rs) call.
+fn tessella_perm(i: u32) -> u32 {
+    return u32(tessella_displace_data[i]);
 }
 
-// a + t (b - a), written out so the Rust twin rounds the same way.
-fn tessella_lerp(a: f32, b: f32, t: f32) -> f32 {
-    return a + t * (b - a);
-}
-
-fn tessella_fade(t: f32) -> f32 {
-    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
-}
-
-// Gradient of Perlin's "Improving noise" (2002): 12 cube-edge directions, chosen by 4 hash bits.
-fn tessella_grad(hash: i32, x: f32, y: f32, z: f32) -> f32 {
-    let h = hash & 15;
-    let u = select(y, x, h < 8);
-    var v = z;
-    if (h < 4) {
-        v = y;
-    } else if (h == 12 || h == 14) {
-        v = x;
-    }
-    return select(-u, u, (h & 1) == 0) + select(-v, v, (h & 2) == 0);
-}
-
-fn tessella_perlin(p: vec3<f32>) -> f32 {
-    let f = floor(p);
-    let xi = i32(f.x) & 255;
-    let yi = i32(f.y) & 255;
-    let zi = i32(f.z) & 255;
-    let x = p.x - f.x;
-    let y = p.y - f.y;
-    let z = p.z - f.z;
-    let u = tessella_fade(x);
-    let v = tessella_fade(y);
-    let w = tessella_fade(z);
-    let a = tessella_perm(xi) + yi;
-    let aa = tessella_perm(a) + zi;
-    let ab = tessella_perm(a + 1) + zi;
-    let b = tessella_perm(xi + 1) + yi;
-    let ba = tessella_perm(b) + zi;
-    let bb = tessella_perm(b + 1) + zi;
-    let x1 = tessella_lerp(tessella_grad(tessella_perm(aa), x, y, z), tessella_grad(tessella_perm(ba), x - 1.0, y, z), u);
-    let x2 = tessella_lerp(tessella_grad(tessella_perm(ab), x, y - 1.0, z), tessella_grad(tessella_perm(bb), x - 1.0, y - 1.0, z), u);
-    let y1 = tessella_lerp(x1, x2, v);
-    let x3 = tessella_lerp(tessella_grad(tessella_perm(aa + 1), x, y, z - 1.0), tessella_grad(tessella_perm(ba + 1), x - 1.0, y, z - 1.0), u);
-    let x4 = tessella_lerp(tessella_grad(tessella_perm(ab + 1), x, y - 1.0, z - 1.0), tessella_grad(tessella_perm(bb + 1), x - 1.0, y - 1.0, z - 1.0), u);
-    let y2 = tessella_lerp(x3, x4, v);
-    return tessella_lerp(y1, y2, w);
-}
-
-fn tessella_height_texel(x: i32, y: i32) -> f32 {
+// Texel (x, y), signed coordinates as u32 bits, repeating; row 0 at the image top.
+fn tessella_height_texel(xw: u32, yw: u32) -> f32 {
+    let x = bitcast<i32>(xw);
+    let y = bitcast<i32>(yw);
     let w = i32(tessella_displace_params.map_width);
     let h = i32(tessella_displace_params.map_height);
     let xx = ((x % w) + w) % w;
@@ -80,29 +39,17 @@ fn tessella_height_texel(x: i32, y: i32) -> f32 {
     return tessella_displace_data[yy * w + xx];
 }
 
-// Bilinear, repeating; v = 0 is the image's bottom row.
-fn tessella_height_map(uv: vec2<f32>) -> f32 {
-    let px = uv.x * f32(tessella_displace_params.map_width) - 0.5;
-    let py = (1.0 - uv.y) * f32(tessella_displace_params.map_height) - 0.5;
-    let x0 = floor(px);
-    let y0 = floor(py);
-    let tx = px - x0;
-    let ty = py - y0;
-    let ix = i32(x0);
-    let iy = i32(y0);
-    let top = tessella_lerp(tessella_height_texel(ix, iy), tessella_height_texel(ix + 1, iy), tx);
-    let bottom = tessella_lerp(tessella_height_texel(ix, iy + 1), tessella_height_texel(ix + 1, iy + 1), tx);
-    return tessella_lerp(top, bottom, ty);
-}
-
 // The scalar offset along the unit normal at surface point `p` with texture coordinate `uv`.
 fn tessella_displacement(p: vec3<f32>, uv: vec2<f32>) -> f32 {
     let a = tessella_displace_params.amplitude;
     let f = tessella_displace_params.frequency;
     switch TESSELLA_DISPLACE_KIND {
-        case 1u: { return a * sin(f * length(p)); }
+        case 1u: { return tessella_sine(a, f, p); }
         case 2u: { return a * tessella_perlin(f * p); }
-        case 3u: { return a * tessella_height_map(uv); }
+        case 3u: {
+            let size = vec2<f32>(f32(tessella_displace_params.map_width), f32(tessella_displace_params.map_height));
+            return a * tessella_height_map(uv, size);
+        }
         default: { return 0.0; }
     }
 }
@@ -119,33 +66,12 @@ fn tessella_displace_direction(face: u32, l: vec3<f32>, n: vec3<f32>) -> vec3<f3
     }
     let at = tessella_displace_params.faces_at + face * 10u;
     let mask = u32(tessella_displace_data[at]);
+    // No split corner or edge: n, as tessella_direction gives it, without its work.
     if (mask == 0u) {
-        return n;
-    }
-    var bit = 0u;
-    if (l.x == 1.0) {
-        bit = 8u;
-    } else if (l.y == 1.0) {
-        bit = 16u;
-    } else if (l.z == 1.0) {
-        bit = 32u;
-    } else if (l.z == 0.0) {
-        bit = 1u;
-    } else if (l.x == 0.0) {
-        bit = 2u;
-    } else if (l.y == 0.0) {
-        bit = 4u;
-    }
-    if ((mask & bit) == 0u) {
         return n;
     }
     let m1 = vec3<f32>(tessella_displace_data[at + 1u], tessella_displace_data[at + 2u], tessella_displace_data[at + 3u]);
     let m2 = vec3<f32>(tessella_displace_data[at + 4u], tessella_displace_data[at + 5u], tessella_displace_data[at + 6u]);
     let m3 = vec3<f32>(tessella_displace_data[at + 7u], tessella_displace_data[at + 8u], tessella_displace_data[at + 9u]);
-    let s = l.x * m1 + l.y * m2 + l.z * m3;
-    let len2 = dot(s, s);
-    if (!(len2 > 1e-12)) {
-        return n;
-    }
-    return s / sqrt(len2);
+    return tessella_direction(mask, m1, m2, m3, l, n);
 }

@@ -144,3 +144,11 @@ pub enum Levels {
 
 /// Biggest grid level the tolerance LOD asks for (it then meets `--max-memory`).
 pub const MAX_LOD_GRID_LEVEL: f32 = 1024.0;
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn spacing_names_round_trip() {
+        crate::names::tests::round_trip::<super::Spacing>();
+    }
+}
