@@ -54,54 +54,10 @@ pub struct Bandwidth {
 }
 
 /// Non-temporal stores: write-combined lines that skip the read for ownership and the caches,
-/// how a stream far larger than the caches is written fastest. Other platforms: plain stores.
+/// how a stream far larger than the caches is written fastest; the core's, which the
+/// evaluator's sinks use (plain stores on other platforms).
 mod streaming {
-    #[cfg(target_arch = "x86_64")]
-    use std::arch::x86_64::{__m128, _mm_loadu_ps, _mm_set1_ps, _mm_sfence, _mm_stream_ps};
-
-    /// Writes `value` over `dst`.
-    pub fn fill(dst: &mut [f32], value: f32) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            // SAFETY: any bits are a valid `__m128`; align_to_mut keeps every float in place.
-            let (head, body, tail) = unsafe { dst.align_to_mut::<__m128>() };
-            head.fill(value);
-            tail.fill(value);
-            // SAFETY (here and for the fences): SSE is part of the x86-64 baseline.
-            let v = unsafe { _mm_set1_ps(value) };
-            for b in body {
-                // SAFETY: `b` is an aligned, writable 16-byte slot of `dst`.
-                unsafe { _mm_stream_ps((b as *mut __m128).cast(), v) };
-            }
-            // Streaming stores are weakly ordered: fence them before the caller reads the time.
-            // SAFETY: SSE is part of the x86-64 baseline.
-            unsafe { _mm_sfence() };
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        dst.fill(value);
-    }
-
-    /// Copies `src` into `dst` (same length).
-    pub fn copy(dst: &mut [f32], src: &[f32]) {
-        assert_eq!(dst.len(), src.len(), "copy between equal lengths");
-        #[cfg(target_arch = "x86_64")]
-        {
-            // SAFETY: as in `fill`.
-            let (head, body, tail) = unsafe { dst.align_to_mut::<__m128>() };
-            let (h, b) = (head.len(), body.len() * 4);
-            head.copy_from_slice(&src[..h]);
-            tail.copy_from_slice(&src[h + b..]);
-            for (i, d) in body.iter_mut().enumerate() {
-                let s = &src[h + 4 * i..h + 4 * i + 4];
-                // SAFETY: `s` holds 4 floats (unaligned load); `d` is an aligned slot of `dst`.
-                unsafe { _mm_stream_ps((d as *mut __m128).cast(), _mm_loadu_ps(s.as_ptr())) };
-            }
-            // SAFETY: SSE is part of the x86-64 baseline.
-            unsafe { _mm_sfence() };
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        dst.copy_from_slice(src);
-    }
+    pub use tessella_core::refine::{stream_copy as copy, stream_fill as fill};
 }
 
 impl Bandwidth {

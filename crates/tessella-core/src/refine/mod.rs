@@ -26,6 +26,7 @@ mod plan;
 
 pub use cpu::evaluator::{CpuEvaluator, Evaluator};
 pub use cpu::kernels::eval_point;
+pub use cpu::nontemporal::{stream_copy, stream_fill};
 pub use cpu::output::{VertexFormat, VertexOutput};
 pub use cpu::refiner::{refine, RefinedMesh, Refiner};
 pub use plan::indices::IndexInt;

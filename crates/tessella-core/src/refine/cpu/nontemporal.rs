@@ -98,6 +98,39 @@ impl LineCarry {
     }
 }
 
+/// `dst.copy_from_slice(src)`: the cache lines wholly inside `dst` with streaming stores (the
+/// widest the CPU has), its partial first and last lines with plain ones, then a [`fence`].
+/// The one streaming-store copy: the evaluator's sinks and the benchmarks' bandwidth
+/// baseline use this code.
+pub fn stream_copy(dst: &mut [f32], src: &[f32]) {
+    assert_eq!(dst.len(), src.len(), "copy between equal lengths");
+    let (head, body) = whole_lines(dst);
+    dst[..head].copy_from_slice(&src[..head]);
+    stream_lines(&mut dst[head..head + body], &src[head..head + body]);
+    dst[head + body..].copy_from_slice(&src[head + body..]);
+    fence();
+}
+
+/// Writes `value` over `dst` as [`stream_copy`] writes: whole lines streamed, then a [`fence`].
+pub fn stream_fill(dst: &mut [f32], value: f32) {
+    let (head, body) = whole_lines(dst);
+    dst[..head].fill(value);
+    dst[head + body..].fill(value);
+    // A source of whole lines, copied over the body a chunk at a time.
+    let src = [value; 64 * LINE_FLOATS];
+    for chunk in dst[head..head + body].chunks_mut(src.len()) {
+        let n = chunk.len();
+        stream_lines(chunk, &src[..n]);
+    }
+    fence();
+}
+
+/// `(floats before the first cache line of dst, floats in its whole lines)`.
+fn whole_lines(dst: &[f32]) -> (usize, usize) {
+    let head = dst.as_ptr().align_offset(LINE).min(dst.len());
+    (head, (dst.len() - head) / LINE_FLOATS * LINE_FLOATS)
+}
+
 /// `dst.copy_from_slice(src)` where `dst` is whole cache lines (starts on a line, a multiple
 /// of 16 floats long), with streaming stores where the target has them: one 64-byte store a
 /// line with AVX-512, two with AVX, four with SSE. (LLVM does not merge streaming stores, so
