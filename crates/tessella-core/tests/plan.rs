@@ -504,3 +504,29 @@ fn origin_names_a_face_and_barycentrics_that_evaluate_to_the_vertex() {
     let mut bary = vec![[0.0f32; 3]; plan.vertex_count()];
     assert!(plan.write_origin(&mut short, &mut bary).is_err());
 }
+
+#[test]
+fn a_frame_borrows_its_mesh_until_it_moves_and_owns_a_mesh_given_by_value() {
+    let mesh = samples::creature();
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::PnAen, 4)).unwrap();
+    let mut borrowed = plan.frame(&mesh).unwrap();
+    assert!(std::ptr::eq(borrowed.mesh(), &mesh) && !borrowed.owns_mesh());
+    let owned = plan.frame(mesh.clone()).unwrap();
+    assert!(owned.owns_mesh());
+    let want = evaluate(&plan, &borrowed);
+    assert_eq!(evaluate(&plan, &owned), want);
+    assert_eq!(evaluate(&plan, &borrowed.clone().into_owned()), want);
+    // A refused update leaves the frame borrowing; the first good one gives it its own copy,
+    // and the borrowed mesh stays as it was.
+    let nan = vec![[f32::NAN; 3]; mesh.vertex_count()];
+    assert!(plan.update(&mut borrowed, &nan, None).is_err());
+    assert!(!borrowed.owns_mesh());
+    let moved = twisted(&mesh, 30.0, 1.2);
+    plan.update(&mut borrowed, &moved, None).unwrap();
+    assert!(borrowed.owns_mesh());
+    assert_eq!(borrowed.mesh().positions(), &moved[..]);
+    assert_eq!(mesh.positions(), samples::creature().positions());
+    let mut from_owned = owned;
+    plan.update(&mut from_owned, &moved, None).unwrap();
+    assert_eq!(evaluate(&plan, &from_owned), evaluate(&plan, &borrowed));
+}

@@ -127,13 +127,14 @@ impl<'c> GlTessellator<'c> {
         self.run(&prepared)
     }
 
-    /// Everything that does not depend on the GL draw: the plan, its nets and the levels.
-    pub fn prepare(
+    /// Everything that does not depend on the GL draw: the plan, its nets and the levels (the
+    /// frame borrows `mesh`).
+    pub fn prepare<'m>(
         &mut self,
-        mesh: &Mesh,
+        mesh: &'m Mesh,
         options: &RefineOptions,
         source: Option<LevelSource>,
-    ) -> Result<Prepared, GlError> {
+    ) -> Result<Prepared<'m>, GlError> {
         hardware_spacing(options)?;
         let plan = Plan::new(mesh, &options.clone().with_weld(false))?;
         let frame = plan.frame(mesh)?;
@@ -386,11 +387,12 @@ impl ShaderNets {
     }
 }
 
-/// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]).
-pub struct Prepared {
+/// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]); its frame borrows
+/// the mesh.
+pub struct Prepared<'m> {
     pub spacing: tessellator::Spacing,
     pub plan: Plan,
-    pub frame: Frame,
+    pub frame: Frame<'m>,
     /// Where the control shader gets the nets (the frame's CPU nets for [`NetSource::Buffers`]).
     pub nets: NetSource,
     /// Four levels per face, GL order: `outer[0..3]`, inner.
@@ -401,7 +403,7 @@ pub struct Prepared {
     pub notes: Vec<String>,
 }
 
-impl Prepared {
+impl Prepared<'_> {
     fn draw(&self) -> Draw<'_> {
         Draw {
             nets: &self.nets,
@@ -504,7 +506,7 @@ struct Draw<'a> {
     nets: &'a NetSource,
     levels: &'a [f32],
     source: LevelSource,
-    frame: &'a Frame,
+    frame: &'a Frame<'a>,
     faces: usize,
 }
 

@@ -31,12 +31,13 @@ impl RefinedMesh {
 }
 
 /// A plan and its first frame, for one-shot refinement of one mesh: [`Plan`] + [`Frame`] in
-/// one value. Reuse it to refine again into the same buffers; for a deforming mesh use the
-/// plan and frames directly.
+/// one value (the frame borrows the mesh).
+/// Reuse it to refine again into the same buffers; for a deforming mesh use the plan and frames
+/// directly.
 pub struct Refiner<'m> {
     mesh: &'m Mesh,
     plan: Plan,
-    frame: Frame,
+    frame: Frame<'m>,
 }
 
 impl<'m> Refiner<'m> {
@@ -56,7 +57,7 @@ impl<'m> Refiner<'m> {
         &self.plan
     }
     /// The frame (the mesh's control nets).
-    pub fn frame(&self) -> &Frame {
+    pub fn frame(&self) -> &Frame<'m> {
         &self.frame
     }
     /// The pattern.

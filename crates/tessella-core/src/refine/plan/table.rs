@@ -38,6 +38,7 @@ use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
 use crate::scheme::{fill_nets, validate_nets, PatchNets};
 use crate::stencil::Stencil;
+use std::borrow::Cow;
 use std::sync::OnceLock;
 
 /// Everything that does not change while a mesh deforms: the options, the [`Surface`]
@@ -237,9 +238,9 @@ impl Plan {
         }
     }
 
-    /// The first frame: a copy of `mesh` (which must have the plan's topology) and its nets
-    /// ([`Surface::frame`]).
-    pub fn frame(&self, mesh: &Mesh) -> Result<Frame, RefineError> {
+    /// A frame of `mesh` (which must have the plan's topology) and its nets, built now
+    /// ([`Surface::frame`]): it borrows a `&Mesh` and owns a `Mesh`, copying neither.
+    pub fn frame<'m>(&self, mesh: impl Into<Cow<'m, Mesh>>) -> Result<Frame<'m>, RefineError> {
         self.surface.frame(mesh)
     }
 
