@@ -164,8 +164,7 @@ impl Refiner {
             {
                 opts = opts.with_tags(t);
             }
-            let plan = Plan::new(&mesh, &opts).map_err(errors::refine_error)?;
-            let frame = plan.frame(mesh).map_err(errors::refine_error)?;
+            let (plan, frame) = Plan::with_frame(mesh, &opts).map_err(errors::refine_error)?;
             plan.indices();
             let gpu = crate::gpu::frame_gpu(backend, &plan)?;
             Ok((plan, frame, gpu))

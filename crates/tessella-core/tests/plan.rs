@@ -530,3 +530,28 @@ fn a_frame_borrows_its_mesh_until_it_moves_and_owns_a_mesh_given_by_value() {
     plan.update(&mut from_owned, &moved, None).unwrap();
     assert_eq!(evaluate(&plan, &from_owned), evaluate(&plan, &borrowed));
 }
+
+#[test]
+fn a_lod_plan_keeps_the_levels_of_the_mesh_it_was_made_from() {
+    use tessella_core::refine::{Levels, Lod};
+    let mesh = samples::creature();
+    let mut options = RefineOptions::new(Scheme::Pn, 1);
+    options.levels = Some(Levels::Lod(Lod::Tolerance {
+        max_deviation: 0.01,
+    }));
+    let (plan, mut frame) = Plan::with_frame(&mesh, &options).unwrap();
+    let triangles = plan.triangle_count();
+    // Twice the size deviates twice as far: a plan made from it refines more ...
+    let big: Vec<[f32; 3]> = mesh
+        .positions()
+        .iter()
+        .map(|p| p.map(|c| 2.0 * c))
+        .collect();
+    let big_mesh = Mesh::new(big.clone(), None, None, mesh.triangles().to_vec()).unwrap();
+    assert!(Plan::new(&big_mesh, &options).unwrap().triangle_count() > triangles);
+    // ... while the first plan's frames, moved or made from it, keep the first mesh's levels.
+    plan.update(&mut frame, &big, None).unwrap();
+    let moved = evaluate(&plan, &frame);
+    assert_eq!(moved.triangles.len(), triangles);
+    assert_eq!(moved, evaluate(&plan, &plan.frame(&big_mesh).unwrap()));
+}

@@ -136,8 +136,7 @@ impl<'c> GlTessellator<'c> {
         source: Option<LevelSource>,
     ) -> Result<Prepared<'m>, GlError> {
         hardware_spacing(options)?;
-        let plan = Plan::new(mesh, &options.clone().with_weld(false))?;
-        let frame = plan.frame(mesh)?;
+        let (plan, frame) = Plan::with_frame(mesh, &options.clone().with_weld(false))?;
         let setup = PlanSetup::new(self.ctx, mesh, &plan, source)?;
         Ok(Prepared {
             spacing: setup.spacing,
@@ -1086,8 +1085,8 @@ pub fn compare(
     tolerance: f32,
     normal_tolerance: f32,
 ) -> Result<Comparison, String> {
-    let plan = Plan::new(mesh, &options.clone().with_weld(false)).map_err(|e| e.to_string())?;
-    let frame = plan.frame(mesh).map_err(|e| e.to_string())?;
+    let (plan, frame) =
+        Plan::with_frame(mesh, &options.clone().with_weld(false)).map_err(|e| e.to_string())?;
     let mut cpu = RefinedMesh::default();
     plan.refine_into(&frame, &mut cpu, &|_| {})
         .map_err(|e| e.to_string())?;

@@ -135,8 +135,8 @@ impl Refiner {
                 normals,
                 self.uvs.as_deref(),
             )?;
-            let plan = Plan::new(&mesh, &self.options).map_err(|e| errors::message(&e))?;
-            let frame = plan.frame(mesh).map_err(|e| errors::message(&e))?;
+            let (plan, frame) =
+                Plan::with_frame(mesh, &self.options).map_err(|e| errors::message(&e))?;
             let n = plan.vertex_count();
             let mut built = Built {
                 indices: bytemuck::cast_slice(plan.indices()).to_vec(),

@@ -89,8 +89,9 @@ pub struct Surface {
 }
 
 /// One frame of a deforming mesh: its coarse mesh and the control nets built from it. Made by
-/// [`Surface::frame`] (or [`Plan::frame`](super::table::Plan::frame)), moved by
-/// [`Surface::update`], read by every evaluator.
+/// [`Surface::frame`] (or [`Plan::frame`](super::table::Plan::frame),
+/// [`Plan::with_frame`](super::table::Plan::with_frame)), moved by [`Surface::update`], read by
+/// every evaluator.
 ///
 /// A frame does not copy its mesh: made from a `&Mesh` it borrows it (`Frame<'m>`), made from
 /// a `Mesh` it owns it (`Frame<'static>`, for a frame kept beyond the mesh's scope). A frame
@@ -170,10 +171,22 @@ impl Surface {
     /// The first frame of `mesh` (which must have the surface's topology) and its nets: it
     /// borrows a `&Mesh` and owns a `Mesh`, copying neither ([`Frame`]).
     pub fn frame<'m>(&self, mesh: impl Into<Cow<'m, Mesh>>) -> Result<Frame<'m>, RefineError> {
-        let mesh = mesh.into();
+        self.frame_with(mesh.into(), None)
+    }
+
+    /// A frame of `mesh` carrying `nets` when they are given (the nets a plan built from this
+    /// very mesh for its levels), else nets built now: either way, built once.
+    pub(crate) fn frame_with<'m>(
+        &self,
+        mesh: Cow<'m, Mesh>,
+        nets: Option<PatchNets>,
+    ) -> Result<Frame<'m>, RefineError> {
         self.check_topology(&mesh)?;
-        let mut nets = PatchNets::empty(self.options.scheme.basis(), self.normal_mode());
-        self.fill(&mesh, &mut nets);
+        let nets = nets.unwrap_or_else(|| {
+            let mut nets = PatchNets::empty(self.options.scheme.basis(), self.normal_mode());
+            self.fill(&mesh, &mut nets);
+            nets
+        });
         Ok(Frame {
             surface_id: self.id,
             mesh,
