@@ -44,7 +44,8 @@ type State<'py> = (
 /// What the first frame builds: the plan, the current frame and the faces array.
 struct Built {
     plan: Plan,
-    frame: Frame,
+    /// Owns the first frame's mesh (moved in, not copied), which it moves every frame.
+    frame: Frame<'static>,
     /// `plan.indices()` as a read-only numpy array, made once.
     faces: Py<PyArray2<u32>>,
     /// The GPU evaluating the frames (`None`: the CPU).
@@ -155,26 +156,26 @@ impl Refiner {
         self.options.uniform_grid_level().unwrap_or(1)
     }
 
-    /// Builds the plan and the first frame from `mesh` (the first call).
-    fn build(&self, py: Python<'_>, mesh: &Mesh) -> PyResult<Built> {
+    /// Builds the plan and the first frame from `mesh` (the first call), which the frame keeps.
+    fn build(&self, py: Python<'_>, mesh: Mesh) -> PyResult<Built> {
         let backend = self.backend;
+        let planned = (
+            mesh.positions().to_vec(),
+            (!mesh.normals_computed()).then(|| mesh.normals().to_vec()),
+        );
         let (plan, frame, gpu) = py.detach(|| -> PyResult<_> {
             let mut opts = self.options.clone();
-            if let Some(t) = tags::gather(mesh, self.scheme, &self.tag_source, self.crease_angle)? {
+            if let Some(t) = tags::gather(&mesh, self.scheme, &self.tag_source, self.crease_angle)?
+            {
                 opts = opts.with_tags(t);
             }
-            let plan = Plan::new(mesh, &opts).map_err(errors::refine_error)?;
-            let frame = plan.frame(mesh).map_err(errors::refine_error)?;
+            let (plan, frame) = Plan::with_frame(mesh, &opts).map_err(errors::refine_error)?;
             plan.indices();
             let gpu = crate::gpu::frame_gpu(backend, &plan)?;
             Ok((plan, frame, gpu))
         })?;
         let faces = arrays::to_numpy(py, plan.indices().to_vec());
         faces.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
-        let planned = (
-            mesh.positions().to_vec(),
-            (!mesh.normals_computed()).then(|| mesh.normals().to_vec()),
-        );
         Ok(Built {
             plan,
             frame,
@@ -258,7 +259,7 @@ impl Refiner {
         // With a first frame the plan is built now (its errors raised here).
         if let Some(vertices) = vertices.filter(|v| !v.is_none()) {
             let mesh = frame_mesh(py, &refiner.triangles, vertices, normals)?;
-            refiner.built = Some(refiner.build(py, &mesh)?);
+            refiner.built = Some(refiner.build(py, mesh)?);
         }
         Ok(refiner)
     }
@@ -298,7 +299,7 @@ impl Refiner {
                 let mesh = py
                     .detach(|| Mesh::new(positions, normals, None, triangles))
                     .map_err(errors::mesh_error)?;
-                let built = self.build(py, &mesh)?;
+                let built = self.build(py, mesh)?;
                 self.built = Some(built);
                 None
             }

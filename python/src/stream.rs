@@ -102,8 +102,7 @@ fn write(
     let mut refine = o.refine.clone();
     refine.max_output_bytes = u64::MAX;
     let (vertices, triangles) = py.detach(|| -> Result<_, PyErr> {
-        let plan = Plan::new(mesh, &refine).map_err(crate::errors::refine_error)?;
-        let frame = plan.frame(mesh).map_err(crate::errors::refine_error)?;
+        let (plan, frame) = Plan::with_frame(mesh, &refine).map_err(crate::errors::refine_error)?;
         let mut source = RefinedSource::new(&plan, &frame, o.max_memory)
             .with_fields(&extras.fields)
             .map_err(|e| crate::errors::bad_mesh(e.to_string()))?;

@@ -504,3 +504,54 @@ fn origin_names_a_face_and_barycentrics_that_evaluate_to_the_vertex() {
     let mut bary = vec![[0.0f32; 3]; plan.vertex_count()];
     assert!(plan.write_origin(&mut short, &mut bary).is_err());
 }
+
+#[test]
+fn a_frame_borrows_its_mesh_until_it_moves_and_owns_a_mesh_given_by_value() {
+    let mesh = samples::creature();
+    let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::PnAen, 4)).unwrap();
+    let mut borrowed = plan.frame(&mesh).unwrap();
+    assert!(std::ptr::eq(borrowed.mesh(), &mesh) && !borrowed.owns_mesh());
+    let owned = plan.frame(mesh.clone()).unwrap();
+    assert!(owned.owns_mesh());
+    let want = evaluate(&plan, &borrowed);
+    assert_eq!(evaluate(&plan, &owned), want);
+    assert_eq!(evaluate(&plan, &borrowed.clone().into_owned()), want);
+    // A refused update leaves the frame borrowing; the first good one gives it its own copy,
+    // and the borrowed mesh stays as it was.
+    let nan = vec![[f32::NAN; 3]; mesh.vertex_count()];
+    assert!(plan.update(&mut borrowed, &nan, None).is_err());
+    assert!(!borrowed.owns_mesh());
+    let moved = twisted(&mesh, 30.0, 1.2);
+    plan.update(&mut borrowed, &moved, None).unwrap();
+    assert!(borrowed.owns_mesh());
+    assert_eq!(borrowed.mesh().positions(), &moved[..]);
+    assert_eq!(mesh.positions(), samples::creature().positions());
+    let mut from_owned = owned;
+    plan.update(&mut from_owned, &moved, None).unwrap();
+    assert_eq!(evaluate(&plan, &from_owned), evaluate(&plan, &borrowed));
+}
+
+#[test]
+fn a_lod_plan_keeps_the_levels_of_the_mesh_it_was_made_from() {
+    use tessella_core::refine::{Levels, Lod};
+    let mesh = samples::creature();
+    let mut options = RefineOptions::new(Scheme::Pn, 1);
+    options.levels = Levels::Lod(Lod::Tolerance {
+        max_deviation: 0.01,
+    });
+    let (plan, mut frame) = Plan::with_frame(&mesh, &options).unwrap();
+    let triangles = plan.triangle_count();
+    // Twice the size deviates twice as far: a plan made from it refines more ...
+    let big: Vec<[f32; 3]> = mesh
+        .positions()
+        .iter()
+        .map(|p| p.map(|c| 2.0 * c))
+        .collect();
+    let big_mesh = Mesh::new(big.clone(), None, None, mesh.triangles().to_vec()).unwrap();
+    assert!(Plan::new(&big_mesh, &options).unwrap().triangle_count() > triangles);
+    // ... while the first plan's frames, moved or made from it, keep the first mesh's levels.
+    plan.update(&mut frame, &big, None).unwrap();
+    let moved = evaluate(&plan, &frame);
+    assert_eq!(moved.triangles.len(), triangles);
+    assert_eq!(moved, evaluate(&plan, &plan.frame(&big_mesh).unwrap()));
+}

@@ -127,16 +127,16 @@ impl<'c> GlTessellator<'c> {
         self.run(&prepared)
     }
 
-    /// Everything that does not depend on the GL draw: the plan, its nets and the levels.
-    pub fn prepare(
+    /// Everything that does not depend on the GL draw: the plan, its nets and the levels (the
+    /// frame borrows `mesh`).
+    pub fn prepare<'m>(
         &mut self,
-        mesh: &Mesh,
+        mesh: &'m Mesh,
         options: &RefineOptions,
         source: Option<LevelSource>,
-    ) -> Result<Prepared, GlError> {
+    ) -> Result<Prepared<'m>, GlError> {
         hardware_spacing(options)?;
-        let plan = Plan::new(mesh, &options.clone().with_weld(false))?;
-        let frame = plan.frame(mesh)?;
+        let (plan, frame) = Plan::with_frame(mesh, &options.clone().with_weld(false))?;
         let setup = PlanSetup::new(self.ctx, mesh, &plan, source)?;
         Ok(Prepared {
             spacing: setup.spacing,
@@ -386,11 +386,12 @@ impl ShaderNets {
     }
 }
 
-/// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]).
-pub struct Prepared {
+/// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]); its frame borrows
+/// the mesh.
+pub struct Prepared<'m> {
     pub spacing: tessellator::Spacing,
     pub plan: Plan,
-    pub frame: Frame,
+    pub frame: Frame<'m>,
     /// Where the control shader gets the nets (the frame's CPU nets for [`NetSource::Buffers`]).
     pub nets: NetSource,
     /// Four levels per face, GL order: `outer[0..3]`, inner.
@@ -401,7 +402,7 @@ pub struct Prepared {
     pub notes: Vec<String>,
 }
 
-impl Prepared {
+impl Prepared<'_> {
     fn draw(&self) -> Draw<'_> {
         Draw {
             nets: &self.nets,
@@ -504,7 +505,7 @@ struct Draw<'a> {
     nets: &'a NetSource,
     levels: &'a [f32],
     source: LevelSource,
-    frame: &'a Frame,
+    frame: &'a Frame<'a>,
     faces: usize,
 }
 
@@ -1084,8 +1085,8 @@ pub fn compare(
     tolerance: f32,
     normal_tolerance: f32,
 ) -> Result<Comparison, String> {
-    let plan = Plan::new(mesh, &options.clone().with_weld(false)).map_err(|e| e.to_string())?;
-    let frame = plan.frame(mesh).map_err(|e| e.to_string())?;
+    let (plan, frame) =
+        Plan::with_frame(mesh, &options.clone().with_weld(false)).map_err(|e| e.to_string())?;
     let mut cpu = RefinedMesh::default();
     plan.refine_into(&frame, &mut cpu, &|_| {})
         .map_err(|e| e.to_string())?;

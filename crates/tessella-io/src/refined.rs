@@ -26,7 +26,7 @@ const FIELD_BYTES: usize = 4;
 /// ([`RefinedSource::with_fields`]) and origins ([`RefinedSource::with_origin`]) when asked.
 pub struct RefinedSource<'a> {
     plan: &'a Plan,
-    frame: &'a Frame,
+    frame: &'a Frame<'a>,
     budget: u64,
     displace: Option<Displace<'a>>,
     fields: &'a [(String, Vec<f32>)],
@@ -43,7 +43,7 @@ struct Displace<'a> {
 impl<'a> RefinedSource<'a> {
     /// A source whose buffers (three pieces in flight) stay within about `budget` bytes:
     /// uniform and adaptive plans, welded or soup.
-    pub fn new(plan: &'a Plan, frame: &'a Frame, budget: u64) -> RefinedSource<'a> {
+    pub fn new(plan: &'a Plan, frame: &'a Frame<'a>, budget: u64) -> RefinedSource<'a> {
         RefinedSource {
             plan,
             frame,

@@ -76,8 +76,7 @@ pub fn render_twist(
         ));
     }
     options.validate()?;
-    let plan = Plan::new(mesh, refine)?;
-    let mut frame = plan.frame(mesh)?;
+    let (plan, mut frame) = Plan::with_frame(mesh, refine)?;
     let renderer =
         PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &options.displacement)?;
     let target = Target::new(ctx, options.size)?;

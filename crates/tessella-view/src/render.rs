@@ -64,8 +64,7 @@ fn render_view(
     options: &RenderOptions,
 ) -> Result<RgbaImage, GpuError> {
     options.validate()?;
-    let plan = Plan::new(mesh, refine)?;
-    let frame = plan.frame(mesh)?;
+    let (plan, frame) = Plan::with_frame(mesh, refine)?;
     let mut renderer =
         PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &options.displacement)?;
     if let Some(field) = &options.field {

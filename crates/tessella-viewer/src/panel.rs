@@ -5,7 +5,7 @@
 
 use crate::error::ViewerError;
 use crate::params::Params;
-use tessella_core::refine::{lod, Camera, Lod, Plan, Spacing, Surface};
+use tessella_core::refine::{lod, Camera, Frame, Lod, Plan, Spacing, Surface};
 use tessella_core::{Mesh, RefineOptions, Scheme, Tags};
 use tessella_gpu::{AdaptiveRenderer, GpuContext, PatternRenderer, RenderUniforms, TargetFormats};
 
@@ -27,12 +27,12 @@ enum Levels {
 enum Drawer {
     Pattern {
         plan: Plan,
-        frame: tessella_core::refine::Frame,
+        frame: Frame<'static>,
         renderer: PatternRenderer,
     },
     Adaptive {
         surface: Surface,
-        frame: tessella_core::refine::Frame,
+        frame: Frame<'static>,
         renderer: AdaptiveRenderer,
         levels: Levels,
         /// Grid spacing without geomorphing: levels rounded up.
@@ -126,7 +126,8 @@ impl Panel {
         if let (None, Some(level)) = (&params.lod, options.uniform_grid_level()) {
             check_level(ctx, level, mesh.face_count(), scheme)?;
             let plan = Plan::new(mesh, &options)?;
-            let frame = plan.frame(mesh)?;
+            // The panel's frame outlives `mesh`'s borrow: it owns a copy, which it moves.
+            let frame = plan.frame(mesh.clone())?;
             let renderer = PatternRenderer::new(ctx, &plan, &frame, formats, &params.displacement)?;
             let static_bytes = plan.layout().output_bytes(false);
             return Ok(Panel {
@@ -141,7 +142,7 @@ impl Panel {
             });
         }
         let surface = Surface::new(mesh, &options.surface_options())?;
-        let frame = surface.frame(mesh)?;
+        let frame = surface.frame(mesh.clone())?;
         let mut renderer = AdaptiveRenderer::new(ctx, &surface, &frame, formats, params.spacing)?;
         let levels = match &params.lod {
             Some(spec) => Levels::Lod(spec.clone()),

@@ -14,7 +14,8 @@ use wasm_bindgen::prelude::*;
 /// the outputs.
 struct Built {
     plan: Plan,
-    frame: Frame,
+    /// Owns the first frame's mesh, which it moves every frame.
+    frame: Frame<'static>,
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
     uvs: Option<Vec<[f32; 2]>>,
@@ -134,8 +135,8 @@ impl Refiner {
                 normals,
                 self.uvs.as_deref(),
             )?;
-            let plan = Plan::new(&mesh, &self.options).map_err(|e| errors::message(&e))?;
-            let frame = plan.frame(&mesh).map_err(|e| errors::message(&e))?;
+            let (plan, frame) =
+                Plan::with_frame(mesh, &self.options).map_err(|e| errors::message(&e))?;
             let n = plan.vertex_count();
             let mut built = Built {
                 indices: bytemuck::cast_slice(plan.indices()).to_vec(),

@@ -196,9 +196,8 @@ mod stream {
     ) -> anyhow::Result<Refined> {
         options.max_output_bytes = u64::MAX;
         let start = Instant::now();
-        let plan = Plan::new(&mesh, &options)
+        let (plan, frame) = Plan::with_frame(&mesh, &options)
             .with_context(|| format!("cannot refine {}", args.input.display()))?;
-        let frame = plan.frame(&mesh)?;
         let displacement = super::super::displace::parse(args.displace.as_deref())?;
         let mut source = RefinedSource::new(&plan, &frame, args.max_memory);
         if displacement.is_some() {

@@ -245,6 +245,12 @@ pub(crate) fn validate_nets(
     Ok(())
 }
 
+#[cfg(test)]
+thread_local! {
+    /// How many times this thread called [`fill_nets`]: the unit tests count net builds.
+    pub(crate) static NET_BUILDS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// Fills `nets` for `mesh`, which passed [`validate_nets`] (with the same topology and tags);
 /// `topology` is required for schemes that need it.
 pub(crate) fn fill_nets(
@@ -255,6 +261,8 @@ pub(crate) fn fill_nets(
     tags: Option<&Tags>,
     nets: &mut PatchNets,
 ) {
+    #[cfg(test)]
+    NET_BUILDS.with(|n| n.set(n.get() + 1));
     let empty = Tags::new();
     let tags = tags.unwrap_or(&empty);
     let mean_normals = match scheme {

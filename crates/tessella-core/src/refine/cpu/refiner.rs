@@ -31,19 +31,19 @@ impl RefinedMesh {
 }
 
 /// A plan and its first frame, for one-shot refinement of one mesh: [`Plan`] + [`Frame`] in
-/// one value. Reuse it to refine again into the same buffers; for a deforming mesh use the
-/// plan and frames directly.
+/// one value ([`Plan::with_frame`]: the frame borrows the mesh, and its nets are built once).
+/// Reuse it to refine again into the same buffers; for a deforming mesh use the plan and frames
+/// directly.
 pub struct Refiner<'m> {
     mesh: &'m Mesh,
     plan: Plan,
-    frame: Frame,
+    frame: Frame<'m>,
 }
 
 impl<'m> Refiner<'m> {
     /// Validates the options, checks the output's size and prepares the work.
     pub fn new(mesh: &'m Mesh, options: &RefineOptions) -> Result<Refiner<'m>, RefineError> {
-        let plan = Plan::new(mesh, options)?;
-        let frame = plan.frame(mesh)?;
+        let (plan, frame) = Plan::with_frame(mesh, options)?;
         Ok(Refiner { mesh, plan, frame })
     }
 
@@ -56,7 +56,7 @@ impl<'m> Refiner<'m> {
         &self.plan
     }
     /// The frame (the mesh's control nets).
-    pub fn frame(&self) -> &Frame {
+    pub fn frame(&self) -> &Frame<'m> {
         &self.frame
     }
     /// The pattern.
@@ -108,4 +108,78 @@ impl<'m> Refiner<'m> {
 /// Refines `mesh` with `options`: the one-call form of [`Refiner`].
 pub fn refine(mesh: &Mesh, options: &RefineOptions) -> Result<RefinedMesh, RefineError> {
     Ok(Refiner::new(mesh, options)?.refine())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::refine::plan::levels::{Camera, Levels, Lod, Spacing};
+    use crate::samples;
+    use crate::scheme::{Scheme, NET_BUILDS};
+
+    /// Net builds on this thread while `f` runs.
+    fn builds<T>(f: impl FnOnce() -> T) -> (usize, T) {
+        let before = NET_BUILDS.with(|n| n.get());
+        let out = f();
+        (NET_BUILDS.with(|n| n.get()) - before, out)
+    }
+
+    #[test]
+    fn each_frame_builds_its_nets_once_and_plans_only_where_levels_read_them() {
+        let mesh = samples::creature();
+        let camera = Camera {
+            eye: [0.0, 0.0, 5.0],
+            target: [0.0; 3],
+            fov_y_deg: 45.0,
+        };
+        let lods = [
+            Lod::Tolerance {
+                max_deviation: 0.01,
+            },
+            Lod::Screen {
+                pixels: 20.0,
+                camera,
+                size: [640, 480],
+            },
+            Lod::Distance {
+                near: 1.0,
+                far: 10.0,
+                max: 8.0,
+                eye: camera.eye,
+            },
+        ];
+        let mut cases: Vec<(RefineOptions, bool)> = vec![
+            (RefineOptions::new(Scheme::Pn, 4), false),
+            (
+                RefineOptions::new(Scheme::Png1, 3).with_uniform_level(3.5),
+                false,
+            ),
+            (
+                RefineOptions::new(Scheme::Pn, 1)
+                    .with_spacing(Spacing::FractionalOdd)
+                    .with_uniform_level(5.5),
+                false,
+            ),
+        ];
+        for lod in lods {
+            for spacing in [Spacing::Grid, Spacing::FractionalEven] {
+                let mut options = RefineOptions::new(Scheme::Png1, 1).with_spacing(spacing);
+                options.levels = Levels::Lod(lod.clone());
+                cases.push((options, true));
+            }
+        }
+        for (options, lod) in cases {
+            let what = format!("{:?} {:?}", options.levels, options.spacing);
+            let (n, plan) = builds(|| Plan::new(&mesh, &options).unwrap());
+            assert_eq!(n, usize::from(lod), "Plan::new, {what}");
+            let (n, frame) = builds(|| plan.frame(&mesh).unwrap());
+            assert_eq!(n, 1, "plan.frame, {what}");
+            let (n, (_, first)) = builds(|| Plan::with_frame(&mesh, &options).unwrap());
+            assert_eq!(n, 1, "Plan::with_frame, {what}");
+            assert_eq!(first.nets(), frame.nets(), "{what}");
+            let (n, refiner) = builds(|| Refiner::new(&mesh, &options).unwrap());
+            assert_eq!(n, 1, "Refiner::new, {what}");
+            assert!(std::ptr::eq(refiner.frame().mesh(), &mesh), "{what}");
+        }
+    }
 }

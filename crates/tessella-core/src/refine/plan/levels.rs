@@ -138,7 +138,8 @@ pub enum Levels {
         edges: Arc<[f32]>,
         faces: Option<Arc<[f32]>>,
     },
-    /// Levels computed from the plan's mesh by a LOD function when the plan is made.
+    /// Levels computed from the plan's mesh by a LOD function when the plan is made, once: the
+    /// plan's frames, moved or of other meshes, keep them (see [`Plan`](super::table::Plan)).
     Lod(Lod),
 }
 

@@ -28,6 +28,7 @@ use crate::error::RefineError;
 use crate::mesh::{Mesh, Topology};
 use crate::scheme::{fill_nets, validate_nets, NormalMode, PatchNets, Scheme};
 use crate::tags::Tags;
+use std::borrow::Cow;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
@@ -87,17 +88,23 @@ pub struct Surface {
     pub(crate) topology: Topology,
 }
 
-/// One frame of a deforming mesh: its positions and normals and the control nets built from
-/// them. Made by [`Surface::frame`] (or [`Plan::frame`](super::table::Plan::frame)), moved by
-/// [`Surface::update`], read by every evaluator.
+/// One frame of a deforming mesh: its coarse mesh and the control nets built from it. Made by
+/// [`Surface::frame`] (or [`Plan::frame`](super::table::Plan::frame),
+/// [`Plan::with_frame`](super::table::Plan::with_frame)), moved by [`Surface::update`], read by
+/// every evaluator.
+///
+/// A frame does not copy its mesh: made from a `&Mesh` it borrows it (`Frame<'m>`), made from
+/// a `Mesh` it owns it (`Frame<'static>`, for a frame kept beyond the mesh's scope). A frame
+/// that borrows its mesh takes a copy of it at its first [`Surface::update`] (the borrowed mesh
+/// never changes); an owned one moves in place.
 #[derive(Debug, Clone)]
-pub struct Frame {
+pub struct Frame<'m> {
     surface_id: u64,
-    pub(crate) mesh: Mesh,
+    pub(crate) mesh: Cow<'m, Mesh>,
     pub(crate) nets: PatchNets,
 }
 
-impl Frame {
+impl Frame<'_> {
     /// The coarse mesh of this frame.
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
@@ -105,6 +112,34 @@ impl Frame {
     /// The control nets of this frame (what a GPU backend uploads each frame).
     pub fn nets(&self) -> &PatchNets {
         &self.nets
+    }
+    /// True when the frame owns its mesh (made from a `Mesh`, or moved once); false while it
+    /// borrows the mesh it was made from.
+    pub fn owns_mesh(&self) -> bool {
+        matches!(self.mesh, Cow::Owned(_))
+    }
+    /// The frame with a mesh of its own: a borrowed mesh is copied (the one copy), an owned one
+    /// moved.
+    pub fn into_owned(self) -> Frame<'static> {
+        Frame {
+            surface_id: self.surface_id,
+            mesh: Cow::Owned(self.mesh.into_owned()),
+            nets: self.nets,
+        }
+    }
+}
+
+/// The mesh a frame is made from: `&Mesh` (borrowed) or `Mesh` (owned), so
+/// [`Surface::frame`] and [`Plan::frame`](super::table::Plan::frame) take either.
+impl<'m> From<&'m Mesh> for Cow<'m, Mesh> {
+    fn from(mesh: &'m Mesh) -> Self {
+        Cow::Borrowed(mesh)
+    }
+}
+
+impl From<Mesh> for Cow<'static, Mesh> {
+    fn from(mesh: Mesh) -> Self {
+        Cow::Owned(mesh)
     }
 }
 
@@ -133,23 +168,38 @@ impl Surface {
         }
     }
 
-    /// The first frame: a copy of `mesh` (which must have the surface's topology) and its nets.
-    pub fn frame(&self, mesh: &Mesh) -> Result<Frame, RefineError> {
-        self.check_topology(mesh)?;
-        let mut nets = PatchNets::empty(self.options.scheme.basis(), self.normal_mode());
-        self.fill(mesh, &mut nets);
+    /// The first frame of `mesh` (which must have the surface's topology) and its nets: it
+    /// borrows a `&Mesh` and owns a `Mesh`, copying neither ([`Frame`]).
+    pub fn frame<'m>(&self, mesh: impl Into<Cow<'m, Mesh>>) -> Result<Frame<'m>, RefineError> {
+        self.frame_with(mesh.into(), None)
+    }
+
+    /// A frame of `mesh` carrying `nets` when they are given (the nets a plan built from this
+    /// very mesh for its levels), else nets built now: either way, built once.
+    pub(crate) fn frame_with<'m>(
+        &self,
+        mesh: Cow<'m, Mesh>,
+        nets: Option<PatchNets>,
+    ) -> Result<Frame<'m>, RefineError> {
+        self.check_topology(&mesh)?;
+        let nets = nets.unwrap_or_else(|| {
+            let mut nets = PatchNets::empty(self.options.scheme.basis(), self.normal_mode());
+            self.fill(&mesh, &mut nets);
+            nets
+        });
         Ok(Frame {
             surface_id: self.id,
-            mesh: mesh.clone(),
+            mesh,
             nets,
         })
     }
 
     /// Moves `frame` to new `positions` (and `normals`; `None` recomputes them, see
     /// [`Mesh::update`]) and rebuilds its nets: O(coarse triangles), no allocation but the
-    /// recomputed normals. On error (wrong vertex count, non-finite positions, zero or
-    /// non-finite normals, a degenerate triangle, a frame of another surface) `frame` is
-    /// unchanged.
+    /// recomputed normals, and, for a frame that still borrows its mesh, the copy of that mesh
+    /// it then takes (once: the borrowed mesh is not changed). On error (wrong vertex count,
+    /// non-finite positions, zero or non-finite normals, a degenerate triangle, a frame of
+    /// another surface) `frame` is unchanged.
     pub fn update(
         &self,
         frame: &mut Frame,
@@ -157,7 +207,14 @@ impl Surface {
         normals: Option<&[[f32; 3]]>,
     ) -> Result<(), RefineError> {
         self.check_frame(frame)?;
-        frame.mesh.update(positions, normals)?;
+        match &mut frame.mesh {
+            Cow::Owned(mesh) => mesh.update(positions, normals)?,
+            Cow::Borrowed(borrowed) => {
+                let mut mesh = (*borrowed).clone();
+                mesh.update(positions, normals)?;
+                frame.mesh = Cow::Owned(mesh);
+            }
+        }
         self.fill(&frame.mesh, &mut frame.nets);
         Ok(())
     }

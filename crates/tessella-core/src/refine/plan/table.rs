@@ -38,6 +38,7 @@ use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
 use crate::scheme::{fill_nets, validate_nets, PatchNets};
 use crate::stencil::Stencil;
+use std::borrow::Cow;
 use std::sync::OnceLock;
 
 /// Everything that does not change while a mesh deforms: the options, the [`Surface`]
@@ -48,6 +49,12 @@ use std::sync::OnceLock;
 /// A plan is made from one mesh and serves every mesh with the same triangles and vertex count
 /// (the same topology); which vertices share a position (for the schemes that look across
 /// edges) is fixed by the mesh the plan was made from.
+///
+/// A plan of LOD levels ([`Levels::Lod`]) computes them once, from the control nets of the mesh
+/// it is made from; its frames, of that mesh or any other of its topology, and their updates
+/// keep those levels (make a new plan, or draw with a renderer that takes levels every frame,
+/// to follow the mesh). [`Plan::with_frame`] hands those nets to the first frame, so they are
+/// built once; other levels read no nets, and each frame builds its own.
 ///
 /// Output order, for [`Plan::evaluate`] and [`Plan::indices`]: welded, the mesh's `V` vertices
 /// (exact input positions), then `N−1` vertices per unique edge (by vertex index, from the lower
@@ -67,15 +74,54 @@ pub struct Plan {
 impl Plan {
     /// Validates the options and the output's size against `mesh` and builds the tables.
     pub fn new(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
+        Ok(Self::build(mesh, options)?.0)
+    }
+
+    /// [`Plan::new`] and its first frame of `mesh` ([`Plan::frame`]: borrowed from a `&Mesh`,
+    /// owned from a `Mesh`), each frame's nets built once: a LOD plan's frame carries the nets
+    /// its levels were computed from, where `Plan::new` and then `plan.frame(&mesh)` would
+    /// build them again.
+    ///
+    /// ```
+    /// use tessella_core::refine::{Levels, Lod, Plan};
+    /// use tessella_core::{samples, RefineOptions, Scheme};
+    ///
+    /// let mesh = samples::icosphere(1);
+    /// let mut options = RefineOptions::new(Scheme::Pn, 1);
+    /// options.levels = Some(Levels::Lod(Lod::Tolerance { max_deviation: 0.01 }));
+    /// let (plan, frame) = Plan::with_frame(&mesh, &options)?;
+    /// assert!(std::ptr::eq(frame.mesh(), &mesh)); // borrowed, not copied
+    /// assert_eq!(frame.nets().points, plan.frame(&mesh)?.nets().points);
+    /// # Ok::<(), tessella_core::RefineError>(())
+    /// ```
+    pub fn with_frame<'m>(
+        mesh: impl Into<Cow<'m, Mesh>>,
+        options: &RefineOptions,
+    ) -> Result<(Plan, Frame<'m>), RefineError> {
+        let mesh = mesh.into();
+        let (plan, nets) = Self::build(&mesh, options)?;
+        let frame = plan.surface.frame_with(mesh, nets)?;
+        Ok((plan, frame))
+    }
+
+    /// The plan and, for LOD levels, the nets of `mesh` its levels were computed from.
+    fn build(
+        mesh: &Mesh,
+        options: &RefineOptions,
+    ) -> Result<(Plan, Option<PatchNets>), RefineError> {
         options.scheme.validate()?;
         match options.uniform_grid_level() {
-            Some(level) => Self::uniform(mesh, options, level),
+            Some(level) => Ok((Self::uniform(mesh, options, level)?, None)),
             None => Self::adaptive(mesh, options),
         }
     }
 
-    /// A plan of per-face patterns from per-edge levels (see [`Tiling`]).
-    fn adaptive(mesh: &Mesh, options: &RefineOptions) -> Result<Plan, RefineError> {
+    /// A plan of per-face patterns from per-edge levels (see [`Tiling`]), and the nets LOD
+    /// levels were computed from (`None` for other levels: they read none).
+    fn adaptive(
+        mesh: &Mesh,
+        options: &RefineOptions,
+    ) -> Result<(Plan, Option<PatchNets>), RefineError> {
         let topology = mesh.topology();
         validate_nets(
             mesh,
@@ -84,20 +130,28 @@ impl Plan {
             options.tags.as_deref(),
         )?;
         let levels = options.levels.clone();
-        // Only LOD levels read the surface (the first mesh's control nets); the other levels
-        // need none, and every frame builds its own.
-        let mut nets = PatchNets::empty(options.scheme.basis(), options.normal_mode());
-        if let Levels::Lod(_) = levels {
-            fill_nets(
-                mesh,
-                Some(&topology),
-                &options.scheme,
-                options.normal_mode(),
-                options.tags.as_deref(),
-                &mut nets,
-            );
-        }
-        let (mut edges, mut faces) = resolve_levels(mesh, &topology, &nets, &levels)?;
+        // Only LOD levels read the surface (the first mesh's control nets), and they are the
+        // nets the surface would build for a frame of this mesh (same function, topology,
+        // scheme, normal mode and tags): `with_frame` hands them to the first frame. The other
+        // levels read none, and every frame builds its own.
+        let empty = PatchNets::empty(options.scheme.basis(), options.normal_mode());
+        let nets = match levels {
+            Levels::Lod(_) => {
+                let mut nets = empty.clone();
+                fill_nets(
+                    mesh,
+                    Some(&topology),
+                    &options.scheme,
+                    options.normal_mode(),
+                    options.tags.as_deref(),
+                    &mut nets,
+                );
+                Some(nets)
+            }
+            _ => None,
+        };
+        let (mut edges, mut faces) =
+            resolve_levels(mesh, &topology, nets.as_ref().unwrap_or(&empty), &levels)?;
         if let (Levels::Lod(Lod::Tolerance { .. }), Some(_)) =
             (&levels, options.spacing.tessellator())
         {
@@ -149,14 +203,15 @@ impl Plan {
                 (p, s)
             }
         };
-        Ok(Plan::assemble(
+        let plan = Plan::assemble(
             mesh,
             options,
             topology,
             layout,
             (pattern, stencil),
             Some(tiling),
-        ))
+        );
+        Ok((plan, nets))
     }
 
     /// The classic plan: one uniform grid pattern for every face.
@@ -224,9 +279,11 @@ impl Plan {
         }
     }
 
-    /// The first frame: a copy of `mesh` (which must have the plan's topology) and its nets
-    /// ([`Surface::frame`]).
-    pub fn frame(&self, mesh: &Mesh) -> Result<Frame, RefineError> {
+    /// A frame of `mesh` (which must have the plan's topology) and its nets, built now
+    /// ([`Surface::frame`]): it borrows a `&Mesh` and owns a `Mesh`, copying neither. For the
+    /// mesh the plan is made from, [`Plan::with_frame`] saves a LOD plan's second build of the
+    /// nets.
+    pub fn frame<'m>(&self, mesh: impl Into<Cow<'m, Mesh>>) -> Result<Frame<'m>, RefineError> {
         self.surface.frame(mesh)
     }
 
