@@ -88,7 +88,7 @@ impl Plan {
     ///
     /// let mesh = samples::icosphere(1);
     /// let mut options = RefineOptions::new(Scheme::Pn, 1);
-    /// options.levels = Some(Levels::Lod(Lod::Tolerance { max_deviation: 0.01 }));
+    /// options.levels = Levels::Lod(Lod::Tolerance { max_deviation: 0.01 });
     /// let (plan, frame) = Plan::with_frame(&mesh, &options)?;
     /// assert!(std::ptr::eq(frame.mesh(), &mesh)); // borrowed, not copied
     /// assert_eq!(frame.nets().points, plan.frame(&mesh)?.nets().points);
