@@ -1,6 +1,6 @@
 //! A camera that frames a bounding sphere, orbits it (yaw, pitch) and zooms.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 
 /// Vertical field of view.
 pub(crate) const FOV_Y_DEGREES: f32 = 30.0;
@@ -63,10 +63,11 @@ impl Camera {
             center + (right * pan[0] + view_up * pan[1]) * radius
         };
         let eye = center + dir * distance;
-        let view = look_at_rh(eye, center, up);
+        let view = glam::camera::rh::view::look_at_mat4(eye, center, up);
         let near = (distance - radius * 1.5).max(distance * 0.01);
         let far = distance + radius * 1.5;
-        let proj = perspective_rh(fov_y, aspect, near, far);
+        // glam's right-handed projection onto wgpu's NDC (depth `0..=1`, Y up: DirectX's).
+        let proj = glam::camera::rh::proj::directx::perspective(fov_y, aspect, near, far);
         let forward = (center - eye).normalize();
         let right = forward.cross(up).normalize();
         let cam_up = right.cross(forward);
@@ -78,32 +79,6 @@ impl Camera {
             light_dir,
         }
     }
-}
-
-/// Right-handed view matrix looking from `eye` at `center`.
-fn look_at_rh(eye: Vec3, center: Vec3, up: Vec3) -> Mat4 {
-    let f = (center - eye).normalize();
-    let s = f.cross(up).normalize();
-    let u = s.cross(f);
-    Mat4::from_cols(
-        Vec4::new(s.x, u.x, -f.x, 0.0),
-        Vec4::new(s.y, u.y, -f.y, 0.0),
-        Vec4::new(s.z, u.z, -f.z, 0.0),
-        Vec4::new(-s.dot(eye), -u.dot(eye), f.dot(eye), 1.0),
-    )
-}
-
-/// Right-handed perspective projection onto wgpu's depth range `0..=1`.
-fn perspective_rh(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
-    let h = 1.0 / (fov_y * 0.5).tan();
-    let w = h / aspect;
-    let r = far / (near - far);
-    Mat4::from_cols(
-        Vec4::new(w, 0.0, 0.0, 0.0),
-        Vec4::new(0.0, h, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, r, -1.0),
-        Vec4::new(0.0, 0.0, r * near, 0.0),
-    )
 }
 
 #[cfg(test)]
