@@ -99,7 +99,7 @@ impl LineCarry {
 }
 
 /// `dst.copy_from_slice(src)`: the cache lines wholly inside `dst` with streaming stores (the
-/// widest the CPU has), its partial first and last lines with plain ones, then a [`fence`].
+/// widest the CPU has), its partial first and last lines with plain ones, then a fence (`sfence`).
 /// The one streaming-store copy: the evaluator's sinks and the benchmarks' bandwidth
 /// baseline use this code.
 pub fn stream_copy(dst: &mut [f32], src: &[f32]) {
@@ -111,7 +111,7 @@ pub fn stream_copy(dst: &mut [f32], src: &[f32]) {
     fence();
 }
 
-/// Writes `value` over `dst` as [`stream_copy`] writes: whole lines streamed, then a [`fence`].
+/// Writes `value` over `dst` as [`stream_copy`] writes: whole lines streamed, then a fence.
 pub fn stream_fill(dst: &mut [f32], value: f32) {
     let (head, body) = whole_lines(dst);
     dst[..head].fill(value);
