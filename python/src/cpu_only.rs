@@ -2,20 +2,15 @@
 //! the same interface as `gpu.rs`, CPU only. `backend="auto"` is the CPU; `backend="gpu"` is a
 //! `ValueError` saying the package was built without GPU support.
 
+use crate::cpu::{self, Outcome};
 use crate::errors::bad_option;
 use crate::options::Backend;
 use pyo3::PyResult;
-use tessella_core::{DisplaceFrame, Displacement, RefinedMesh, Refiner};
+use tessella_core::{Displacement, Refiner};
 
 /// What `backend="gpu"` raises in this build.
 pub const NO_GPU: &str = "this tessella package was built without GPU support (the \"gpu\" cargo \
      feature is off); use backend=\"cpu\" or \"auto\", or rebuild with the default features";
-
-/// A refined mesh (the GPU build also carries a fallback note; here there is none).
-pub struct Outcome {
-    pub mesh: RefinedMesh,
-    pub fallback: Option<String>,
-}
 
 /// Refines and displaces on the CPU; `"gpu"` is refused.
 pub fn refine(
@@ -29,13 +24,7 @@ pub fn refine(
     if backend == Backend::Gl {
         return Err(bad_option(crate::options::NO_GL));
     }
-    let mut mesh = crate::pool::refine(refiner);
-    if displacement.is_some() {
-        let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
-        displacement
-            .apply(&mut mesh, &frame)
-            .map_err(|e| bad_option(e.to_string()))?;
-    }
+    let mesh = cpu::refine(refiner, displacement).map_err(|e| bad_option(e.to_string()))?;
     Ok(Outcome {
         mesh,
         fallback: None,

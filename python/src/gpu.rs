@@ -1,8 +1,8 @@
 //! The backends behind `refine(backend=...)`: the CPU, and the GPU through tessella-gpu with
 //! the CLI's rules (`tessella-cli/src/commands/gpu.rs`, `refine.rs`):
 //!
-//! - `"cpu"`: [`Refiner::refine`], then [`Displacement::apply`] (the same as `cpu_only.rs`,
-//!   the backends of a build without the `gpu` feature).
+//! - `"cpu"`: [`Refiner::refine`], then [`Displacement::apply`] (`cpu.rs`, shared with
+//!   `cpu_only.rs`, the backends of a build without the `gpu` feature).
 //! - `"gpu"`: any adapter, software (Mesa's lavapipe) included; an error when there is none.
 //! - `"auto"`: a hardware adapter when there is one (a software adapter is slower than the
 //!   CPU path), else the CPU; when the GPU fails, the CPU, with a note for a Python warning.
@@ -15,12 +15,13 @@
 //!
 //! Everything here runs without the GIL (callers wrap it in `Python::detach`).
 
+use crate::cpu::{self, Outcome};
 use crate::errors;
 use crate::options::Backend;
 use pyo3::PyResult;
 use std::sync::{Arc, Mutex, MutexGuard};
 use tessella_core::names::Device;
-use tessella_core::{DisplaceFrame, RefinedMesh, Refiner};
+use tessella_core::{RefinedMesh, Refiner};
 use tessella_gpu::{
     gpu_refine_with, AdapterChoice, Displacement, GpuContext, GpuError, GpuRefineOptions,
 };
@@ -105,20 +106,7 @@ fn on_gpu(
 
 /// Refines and displaces on the CPU (the reference the GPU path is tested against).
 fn on_cpu(refiner: &Refiner, displacement: &Displacement) -> PyResult<RefinedMesh> {
-    let mut out = crate::pool::refine(refiner);
-    if displacement.is_some() {
-        let frame = DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
-        displacement
-            .apply(&mut out, &frame)
-            .map_err(|e| errors::gpu_error(e.into()))?;
-    }
-    Ok(out)
-}
-
-/// A refined mesh, and a note to raise as a warning when `"auto"` fell back from a failing GPU.
-pub struct Outcome {
-    pub mesh: RefinedMesh,
-    pub fallback: Option<String>,
+    cpu::refine(refiner, displacement).map_err(|e| errors::gpu_error(e.into()))
 }
 
 /// Refines on `backend`.

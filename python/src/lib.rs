@@ -6,6 +6,7 @@
 //! opening a GPU device and waiting for the GPU (`gpu.rs`).
 
 mod arrays;
+mod cpu;
 mod displace;
 mod errors;
 mod fem;

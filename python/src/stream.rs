@@ -1,5 +1,5 @@
-//! `tessella._tessella._refine_to_file` and `_refine_file` (wrapped by `tessella.refine_to_file`
-//! and `tessella.refine_file`, in `tessella/_batch.py`): refinements written straight
+//! `tessella._tessella._refine_to_file` (wrapped by `tessella.refine_to_file` and
+//! `tessella.refine_file`, in `tessella/_batch.py`): refinements written straight
 //! to a file, piece by piece where the plan allows (welded uniform levels), so the output may
 //! be far larger than memory; `max_memory` is then the working set, not a cap on the output.
 //! Errors are mapped by `crate::errors`, as everywhere in the package: `MeshError`,
@@ -16,7 +16,6 @@ use tessella_io::{RefinedSource, WriteOptions};
 
 /// Adds this module's functions to `m`.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(refine_file, m)?)?;
     m.add_function(wrap_pyfunction!(refine_to_file, m)?)?;
     m.add_function(wrap_pyfunction!(sync_folder, m)?)?;
     Ok(())
@@ -31,53 +30,11 @@ fn sync_folder(py: Python<'_>, path: PathBuf) -> PyResult<()> {
         .map_err(crate::errors::io_error)
 }
 
-/// The options both functions take.
+/// The options `_refine_to_file` takes.
 struct Options {
     refine: RefineOptions,
     write: WriteOptions,
     max_memory: u64,
-}
-
-#[allow(clippy::too_many_arguments)]
-fn options(
-    scheme: &str,
-    (level, spacing, lod): (f64, &str, Option<&str>),
-    alpha: f64,
-    normals_mode: Option<&str>,
-    weld: bool,
-    ply_ascii: bool,
-    max_memory: i64,
-    sync: bool,
-) -> PyResult<Options> {
-    let option = |m: String| crate::errors::bad_option(m);
-    let max_memory = u64::try_from(max_memory)
-        .ok()
-        .filter(|&b| b >= 1 << 20)
-        .ok_or_else(|| {
-            option(format!(
-                "max_memory={max_memory}: give at least 1 MiB (in bytes)"
-            ))
-        })?;
-    // Whole grid levels are the classic refinement; a fractional level or a tessellator
-    // spacing makes an adaptive plan, as `tessella.refine` does; `lod` sets a level per edge.
-    let refine = crate::options::refine_options(crate::options::Given {
-        scheme,
-        alpha,
-        level: level.to_string(),
-        spacing,
-        lod,
-        normals_mode,
-        weld,
-        ..Default::default()
-    })?;
-    Ok(Options {
-        refine,
-        write: WriteOptions {
-            ply_ascii,
-            durability: tessella_io::Durability::synced_if(sync),
-        },
-        max_memory,
-    })
 }
 
 /// What goes into the file beside the refined mesh: per-vertex fields of the coarse mesh
@@ -124,61 +81,32 @@ fn write(
     Ok(row.unbind())
 }
 
-/// Refines the mesh file `input` into the file `output` (format by extension); returns the
-/// counts. See `tessella.refine_to_file` for the options.
-#[pyfunction]
-#[pyo3(name = "_refine_file", signature = (input, output, *, scheme="pn", level=8.0, alpha=0.75, normals_mode=None,
-                    weld=true, ply_ascii=false, max_memory=1 << 30, sync=true, origin=false, spacing="grid", lod=None))]
-#[allow(clippy::too_many_arguments)]
-fn refine_file(
-    py: Python<'_>,
-    input: PathBuf,
-    output: PathBuf,
-    scheme: &str,
-    level: f64,
-    alpha: f64,
-    normals_mode: Option<&str>,
-    weld: bool,
-    ply_ascii: bool,
-    max_memory: i64,
-    sync: bool,
-    origin: bool,
-    spacing: &str,
-    lod: Option<&str>,
-) -> PyResult<Py<PyDict>> {
-    let o = options(
-        scheme,
-        (level, spacing, lod),
-        alpha,
-        normals_mode,
-        weld,
-        ply_ascii,
-        max_memory,
-        sync,
-    )?;
-    let (mesh, fields) = py
-        .detach(|| tessella_io::read_mesh_with_fields(&input))
-        .map_err(|e| crate::errors::read_error(e, &input))?;
-    // The file's fields go where the output holds them, as `tessella refine` does.
-    let fields = match tessella_io::holds_vertex_scalars(&output) {
-        true => fields.into_iter().collect(),
-        false => Vec::new(),
-    };
-    write(py, &mesh, &output, &o, &Extras { fields, origin })
+/// What `_refine_to_file` refines: a mesh file (its per-vertex fields go where the output
+/// holds them, as `tessella refine` does), or arrays `(vertices, faces, normals, point_data)`
+/// with one value per coarse vertex in each field.
+#[derive(FromPyObject)]
+enum Source<'py> {
+    File(PathBuf),
+    Arrays(
+        Bound<'py, PyAny>,
+        Bound<'py, PyAny>,
+        Option<Bound<'py, PyAny>>,
+        Vec<(String, numpy::PyReadonlyArray1<'py, f32>)>,
+    ),
 }
 
-/// Refines arrays into the file `output`; see `tessella.refine_to_file`.
+/// Refines `source` (a mesh file's path, or arrays: see [`Source`]) into the file `output`
+/// (format by extension); returns the counts. See `tessella.refine_to_file` and
+/// `tessella.refine_file` (`tessella/_batch.py`) for the options.
 #[pyfunction]
-#[pyo3(name = "_refine_to_file", signature = (vertices, faces, output, normals=None, *, scheme="pn", level=8.0, alpha=0.75,
+#[pyo3(name = "_refine_to_file", signature = (source, output, *, scheme="pn", level=8.0, alpha=0.75,
                     normals_mode=None, weld=true, ply_ascii=false, max_memory=1 << 30, sync=true, origin=false,
-                    spacing="grid", lod=None, point_data=Vec::new()))]
+                    spacing="grid", lod=None))]
 #[allow(clippy::too_many_arguments)]
 fn refine_to_file(
     py: Python<'_>,
-    vertices: &Bound<'_, PyAny>,
-    faces: &Bound<'_, PyAny>,
+    source: Source<'_>,
     output: PathBuf,
-    normals: Option<&Bound<'_, PyAny>>,
     scheme: &str,
     level: f64,
     alpha: f64,
@@ -190,23 +118,58 @@ fn refine_to_file(
     origin: bool,
     spacing: &str,
     lod: Option<&str>,
-    point_data: Vec<(String, numpy::PyReadonlyArray1<'_, f32>)>,
 ) -> PyResult<Py<PyDict>> {
-    let o = options(
+    let option = |m: String| crate::errors::bad_option(m);
+    let max_memory = u64::try_from(max_memory)
+        .ok()
+        .filter(|&b| b >= 1 << 20)
+        .ok_or_else(|| {
+            option(format!(
+                "max_memory={max_memory}: give at least 1 MiB (in bytes)"
+            ))
+        })?;
+    // Whole grid levels are the classic refinement; a fractional level or a tessellator
+    // spacing makes an adaptive plan, as `tessella.refine` does; `lod` sets a level per edge.
+    let refine = crate::options::refine_options(crate::options::Given {
         scheme,
-        (level, spacing, lod),
         alpha,
+        level: level.to_string(),
+        spacing,
+        lod,
         normals_mode,
         weld,
-        ply_ascii,
+        ..Default::default()
+    })?;
+    let o = Options {
+        refine,
+        write: WriteOptions {
+            ply_ascii,
+            durability: tessella_io::Durability::synced_if(sync),
+        },
         max_memory,
-        sync,
-    )?;
-    // mesh_from raises the package's own classes already (MeshError, TypeError for dtypes).
-    let mesh = crate::mesh_from(py, vertices, faces, normals)?;
-    let fields = point_data
-        .iter()
-        .map(|(name, values)| Ok((name.clone(), values.as_slice()?.to_vec())))
-        .collect::<PyResult<_>>()?;
+    };
+    let (mesh, fields) = match source {
+        Source::File(input) => {
+            let (mesh, fields) = py
+                .detach(|| tessella_io::read_mesh_with_fields(&input))
+                .map_err(|e| crate::errors::read_error(e, &input))?;
+            // The file's fields go where the output holds them, as `tessella refine` does.
+            let fields = match tessella_io::holds_vertex_scalars(&output) {
+                true => fields.into_iter().collect(),
+                false => Vec::new(),
+            };
+            (mesh, fields)
+        }
+        Source::Arrays(vertices, faces, normals, point_data) => {
+            // mesh_from raises the package's own classes already (MeshError, TypeError for
+            // dtypes).
+            let mesh = crate::mesh_from(py, &vertices, &faces, normals.as_ref())?;
+            let fields = point_data
+                .iter()
+                .map(|(name, values)| Ok((name.clone(), values.as_slice()?.to_vec())))
+                .collect::<PyResult<_>>()?;
+            (mesh, fields)
+        }
+    };
     write(py, &mesh, &output, &o, &Extras { fields, origin })
 }

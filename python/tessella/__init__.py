@@ -300,49 +300,28 @@ def refine(
         tags=tags, crease_angle=crease_angle, displace=displace, backend=backend_name,
         uvs=uvs is not None, fields_from=fields_from,
     )
-    uv_rows = None if uvs is None else _uv_rows(uvs)
+    # What the three paths (fields, adaptive levels, uniform levels) take alike.
+    shared: Dict[str, Any] = dict(
+        alpha=alpha, normals_mode=normals_mode, weld=weld, uvs=None if uvs is None else _uv_rows(uvs)
+    )
     if fem:
         return _fields.refine_fem(
-            vertices, faces, normals, scheme=scheme, level=level, alpha=alpha,
-            normals_mode=normals_mode, backend=backend, weld=weld, point_data=point_data,
-            cell_data=cell_data, warp=warp, scale=scale, uvs=uv_rows,
+            vertices, faces, normals, scheme=scheme, level=level, backend=backend, point_data=point_data,
+            cell_data=cell_data, warp=warp, scale=scale, **shared,
         )
     if scheme is None:
         scheme = "pn"
     if adaptive:
         lod_text, camera_text, size_pair = _options.lod_spec(lod, camera, size)
         v, f, n, face, bary, ruv = _tessella.refine_adaptive(
-            vertices,
-            faces,
-            normals,
-            scheme=scheme,
-            level=float(level),
-            alpha=alpha,
-            normals_mode=normals_mode,
-            spacing=spacing,
-            lod=lod_text,
-            camera=camera_text,
-            size=size_pair,
-            weld=weld,
-            origin=origin,
-            backend="gl" if backend_name == "gl" else "cpu",
-            uvs=uv_rows,
+            vertices, faces, normals, scheme=scheme, level=float(level), spacing=spacing, lod=lod_text,
+            camera=camera_text, size=size_pair, origin=origin, backend="gl" if backend_name == "gl" else "cpu",
+            **shared,
         )
         return RefinedMesh(v, f, n, face, bary, uvs=ruv)
     v, f, n, ruv = _tessella.refine(
-        vertices,
-        faces,
-        normals,
-        scheme=scheme,
-        level=level,
-        alpha=alpha,
-        normals_mode=normals_mode,
-        tags=tags,
-        crease_angle=crease_angle,
-        backend=backend,
-        weld=weld,
-        displace=_options.displace_spec(displace),
-        uvs=uv_rows,
+        vertices, faces, normals, scheme=scheme, level=level, tags=tags, crease_angle=crease_angle,
+        backend=backend, displace=_options.displace_spec(displace), **shared,
     )
     return RefinedMesh(v, f, n, uvs=ruv)
 

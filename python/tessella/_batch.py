@@ -89,9 +89,7 @@ def refine_to_file(
                     f"vertex per field: pass each component as a field of its own"
                 )
             fields.append((str(name), np.ascontiguousarray(rows[:, 0])))
-    return _tessella._refine_to_file(
-        vertices, faces, os.fspath(path), normals, point_data=fields, **options
-    )
+    return _tessella._refine_to_file((vertices, faces, normals, fields), os.fspath(path), **options)
 
 
 def refine_file(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
@@ -100,7 +98,7 @@ def refine_file(input: PathLike, output: PathLike, **options: Any) -> Dict[str, 
     outputs that hold them (PLY, glTF), as ``tessella refine`` does; raises
     ``FileFormatError`` for a malformed file and ``OSError`` for a missing one."""
     _check_options(options)
-    return _tessella._refine_file(os.fspath(input), os.fspath(output), **options)
+    return _tessella._refine_to_file(os.fspath(input), os.fspath(output), **options)
 
 
 def sync_folder(path: PathLike) -> None:

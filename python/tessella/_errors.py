@@ -19,7 +19,19 @@ the core's, unchanged, and also kept as ``.message``.
 
 from __future__ import annotations
 
+import importlib
+from typing import Any, Optional
+
 __all__ = ["TessellaError", "MeshError", "OptionError", "FileFormatError", "GpuError"]
+
+
+def need(module: str, message: Optional[str] = None) -> Any:
+    """Imports the optional dependency ``module``, or raises ``ImportError`` with ``message``
+    (by default: this needs it, and how to install it)."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        raise ImportError(message or f"this needs {module}; install it with `pip install {module}`") from e
 
 
 class TessellaError(ValueError):

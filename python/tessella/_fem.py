@@ -13,7 +13,7 @@ from typing import Any, Tuple
 
 import numpy as np
 
-from ._errors import FileFormatError, MeshError, OptionError
+from ._errors import FileFormatError, MeshError, OptionError, need
 
 # Local faces of a positively oriented tetrahedron (a, b, c, d), each opposite one corner and
 # counter-clockwise seen from outside: (b, c, d), (a, d, c), (a, b, d), (a, c, b).
@@ -21,11 +21,7 @@ _TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
 
 def _meshio() -> Any:
-    try:
-        import meshio
-    except ImportError as e:  # pragma: no cover - exercised only without meshio
-        raise ImportError("this function needs meshio; install it with `pip install meshio`") from e
-    return meshio
+    return need("meshio", "this function needs meshio; install it with `pip install meshio`")
 
 
 def boundary_faces(points: Any, tets: Any) -> np.ndarray:

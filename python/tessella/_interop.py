@@ -2,21 +2,15 @@
 
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import Any
 
 import numpy as np
 
-from ._errors import OptionError
+from ._errors import OptionError, need
 
 
 def _trimesh() -> Any:
-    try:
-        import trimesh
-    except ImportError as e:  # pragma: no cover - exercised only without trimesh
-        raise ImportError(
-            "this function needs trimesh; install it with `pip install trimesh`"
-        ) from e
-    return trimesh
+    return need("trimesh", "this function needs trimesh; install it with `pip install trimesh`")
 
 
 def to_trimesh(vertices: Any, faces: Any, normals: Any = None) -> Any:
@@ -34,28 +28,17 @@ def to_trimesh(vertices: Any, faces: Any, normals: Any = None) -> Any:
     )
 
 
-def refine_trimesh(
-    mesh: Any,
-    *,
-    normals: Any = None,
-    scheme: str = "pn",
-    level: int = 8,
-    alpha: float = 0.75,
-    normals_mode: Optional[str] = None,
-    tags: Any = None,
-    crease_angle: Optional[float] = None,
-    backend: str = "auto",
-    weld: bool = True,
-    displace: Any = None,
-) -> Any:
+def refine_trimesh(mesh: Any, *, normals: Any = None, **options: Any) -> Any:
     """Refine a ``trimesh.Trimesh`` and return a new ``Trimesh`` with refined normals.
 
     ``normals`` chooses the input normals: ``None`` lets tessella compute angle-weighted
     normals, ``"trimesh"`` takes ``mesh.vertex_normals`` (the file's normals when trimesh loaded
     some, else trimesh's own average), and an ``(n, 3)`` array is used as given. The other
-    arguments are :func:`tessella.refine`'s.
+    arguments are :func:`tessella.refine`'s keyword arguments (``scheme``, ``level``,
+    ``alpha``, ``normals_mode``, ``tags``, ``crease_angle``, ``backend``, ``weld``,
+    ``displace``, ...), passed on to it.
     """
-    from . import _tessella
+    from . import refine
 
     if isinstance(normals, str):
         if normals != "trimesh":
@@ -63,18 +46,5 @@ def refine_trimesh(
                 f"normals must be None, 'trimesh' or an (n, 3) array, got {normals!r}"
             )
         normals = mesh.vertex_normals
-    v, f, n, _uvs = _tessella.refine(
-        mesh.vertices,
-        mesh.faces,
-        normals,
-        scheme=scheme,
-        level=level,
-        alpha=alpha,
-        normals_mode=normals_mode,
-        tags=tags,
-        crease_angle=crease_angle,
-        backend=backend,
-        weld=weld,
-        displace=displace,
-    )
+    v, f, n = refine(mesh.vertices, mesh.faces, normals, **options)
     return to_trimesh(v, f, n)

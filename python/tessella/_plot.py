@@ -5,8 +5,8 @@ from __future__ import annotations
 import os
 from typing import Any, Optional, Tuple, Union
 
-from ._errors import OptionError
-from ._result import RefinedMesh, _need
+from ._errors import OptionError, need
+from ._result import RefinedMesh
 
 
 def plot(
@@ -44,7 +44,7 @@ def plot(
     ImportError
         PyVista is not installed (``pip install pyvista``).
     """
-    pv = _need("pyvista", "pyvista")
+    pv = need("pyvista")
     grid = mesh.to_pyvista() if isinstance(mesh, RefinedMesh) else mesh
     if scalars is not None and scalars not in grid.point_data and scalars not in grid.cell_data:
         have = sorted(set(grid.point_data.keys()) | set(grid.cell_data.keys()))

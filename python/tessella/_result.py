@@ -15,18 +15,11 @@ from typing import Any, Dict, Iterator, Optional, Tuple, Union
 
 import numpy as np
 
+from ._errors import need
+
 NORMALS = "Normals"  # PyVista's and VTK's name for point normals
 MESHIO_NORMALS = "normals"  # what write_fem stores
 MESHIO_UVS = "uv"  # what to_meshio and save store (tessella.refine reads it back)
-
-
-def _need(module: str, extra: str) -> Any:
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError as e:
-        raise ImportError(f"this needs {module}; install it with `pip install {extra}`") from e
 
 
 class RefinedMesh:
@@ -109,7 +102,7 @@ class RefinedMesh:
         """A ``trimesh.Trimesh`` (``process=False``: vertices kept exactly, faces int64) with
         ``vertex_normals``, the uvs as ``visual.uv`` (a ``TextureVisuals``), and the fields as
         ``vertex_attributes`` / ``face_attributes``."""
-        trimesh = _need("trimesh", "trimesh")
+        trimesh = need("trimesh")
         visual = None if self.uvs is None else trimesh.visual.TextureVisuals(uv=np.asarray(self.uvs))
         return trimesh.Trimesh(
             vertices=np.asarray(self.vertices),
@@ -125,7 +118,7 @@ class RefinedMesh:
         """A ``pyvista.PolyData`` with point array ``"Normals"`` (the active normals), the uvs
         as its active texture coordinates, and the fields as point and cell data (the first
         point field is the active scalars)."""
-        pv = _need("pyvista", "pyvista")
+        pv = need("pyvista")
         faces = np.asarray(self.faces, dtype=np.int64)
         cells = np.hstack([np.full((len(faces), 1), 3, dtype=np.int64), faces]).ravel()
         mesh = pv.PolyData(np.asarray(self.vertices), cells)
@@ -144,7 +137,7 @@ class RefinedMesh:
     def to_meshio(self) -> Any:
         """A ``meshio.Mesh`` with one ``"triangle"`` block, point data ``"normals"`` (and
         ``"uv"`` when there are uvs) and the fields as point and cell data."""
-        meshio = _need("meshio", "meshio")
+        meshio = need("meshio")
         point_data = {MESHIO_NORMALS: np.asarray(self.normals)}
         if self.uvs is not None:
             point_data[MESHIO_UVS] = np.asarray(self.uvs)

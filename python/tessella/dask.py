@@ -46,19 +46,13 @@ from ._batch import (
     skipped_row,
     sync_folder,
 )
-from ._errors import OptionError
+from ._errors import OptionError, need
 
 __all__ = ["refine_files", "refine_partition"]
 
 
 def _distributed() -> Any:
-    try:
-        import distributed
-    except ImportError as e:  # pragma: no cover - depends on the environment
-        raise ImportError(
-            "tessella.dask needs Dask's distributed scheduler: pip install 'tessella[dask]'"
-        ) from e
-    return distributed
+    return need("distributed", "tessella.dask needs Dask's distributed scheduler: pip install 'tessella[dask]'")
 
 
 def refine_files(

@@ -113,14 +113,8 @@ pub struct RefineArgs {
     /// fractional-even spacing.
     #[arg(long, value_parser = CoreName::<Spacing>::new(), default_value = "grid")]
     pub spacing: Spacing,
-    /// Per-edge adaptive levels (crack-free): `tolerance:D` (flat triangles within D of the
-    /// curved surface), `screen:PX` (PX pixels per refined edge; needs --camera, --size) or
-    /// `distance:NEAR,FAR,MAX` (MAX segments near the camera, 1 beyond FAR; needs --camera).
-    #[arg(long, value_name = "SPEC")]
-    pub lod: Option<String>,
-    /// Camera for --lod screen/distance: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEG.
-    #[arg(long, value_name = "EYE,TARGET,FOV", allow_hyphen_values = true)]
-    pub camera: Option<String>,
+    #[command(flatten)]
+    pub lod: LodArgs,
     /// Image size for --lod screen, WIDTHxHEIGHT.
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
@@ -182,15 +176,8 @@ pub struct RenderArgs {
     /// fractional-even spacing.
     #[arg(long, value_parser = CoreName::<Spacing>::new(), default_value = "grid")]
     pub spacing: Spacing,
-    /// Per-edge adaptive levels, as for `refine --lod`: `tolerance:D`, `screen:PX` (PX pixels
-    /// per refined edge in this picture) or `distance:NEAR,FAR,MAX`; screen and distance use
-    /// the picture's own camera unless --camera is given.
-    #[arg(long, value_name = "SPEC")]
-    pub lod: Option<String>,
-    /// Camera for --lod: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEG (default: the
-    /// picture's camera from --yaw, --pitch, --zoom).
-    #[arg(long, value_name = "EYE,TARGET,FOV", allow_hyphen_values = true)]
-    pub camera: Option<String>,
+    #[command(flatten)]
+    pub lod: LodArgs,
     /// Phong shape factor.
     #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
     pub alpha: f32,
@@ -200,18 +187,8 @@ pub struct RenderArgs {
     /// Picture size, WIDTHxHEIGHT (of the whole picture with --compare: the panels share it).
     #[arg(long, default_value = "800x800", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Orbit the camera about the vertical axis, degrees.
-    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
-    pub yaw: f32,
-    /// Camera elevation, degrees.
-    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
-    pub pitch: f32,
-    /// 1 frames the whole mesh; larger values move closer.
-    #[arg(long, default_value_t = 1.0)]
-    pub zoom: f32,
-    /// Overlay the refinement pattern's edges.
-    #[arg(long)]
-    pub wireframe: bool,
+    #[command(flatten)]
+    pub view: ViewFlags,
     /// Colour the surface by this per-vertex field of the input (a PLY vertex property, a glTF
     /// `_NAME` attribute), with a colour bar and its range.
     #[arg(long, value_name = "NAME")]
@@ -240,6 +217,23 @@ pub struct RenderArgs {
     /// equal spacing).
     #[arg(long, value_enum, default_value = "gpu")]
     pub backend: RenderBackendArg,
+}
+
+/// How `render` and `view` look at the surface: the camera's orbit and the wireframe.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct ViewFlags {
+    /// Orbit the camera about the vertical axis, degrees.
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    pub yaw: f32,
+    /// Camera elevation, degrees.
+    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+    pub pitch: f32,
+    /// 1 frames the whole mesh; larger values move closer.
+    #[arg(long, default_value_t = 1.0)]
+    pub zoom: f32,
+    /// Overlay the refinement pattern's edges.
+    #[arg(long)]
+    pub wireframe: bool,
 }
 
 /// Who draws `tessella render`'s picture.
@@ -308,18 +302,8 @@ pub struct ViewArgs {
     /// Window size, WIDTHxHEIGHT (pixels).
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Camera orbit about the vertical axis, degrees.
-    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
-    pub yaw: f32,
-    /// Camera elevation, degrees.
-    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
-    pub pitch: f32,
-    /// 1 frames the whole mesh; larger values move closer.
-    #[arg(long, default_value_t = 1.0)]
-    pub zoom: f32,
-    /// Overlay the refinement pattern's edges.
-    #[arg(long)]
-    pub wireframe: bool,
+    #[command(flatten)]
+    pub view: ViewFlags,
     /// Side-by-side panels, one per scheme, e.g. `flat,pn,png1` (overrides --scheme).
     #[arg(long, value_parser = scheme_parser(), value_delimiter = ',')]
     pub compare: Vec<SchemeArg>,
@@ -338,6 +322,22 @@ pub struct ViewArgs {
     /// Where screenshots go (`s`, or the last of --frames); default tessella-view-N.png.
     #[arg(long, value_name = "PNG")]
     pub screenshot: Option<PathBuf>,
+}
+
+/// Per-edge adaptive levels and the camera they are seen from (`refine` and `render`).
+#[derive(Debug, Clone, Args)]
+pub struct LodArgs {
+    /// Per-edge adaptive levels (crack-free): `tolerance:D` (flat triangles within D of the
+    /// curved surface), `screen:PX` (PX pixels per refined edge) or `distance:NEAR,FAR,MAX`
+    /// (MAX segments near the camera, 1 beyond FAR). Screen and distance see from --camera:
+    /// `refine` needs it (and --size for screen); `render` uses the picture's own camera and
+    /// size unless --camera is given.
+    #[arg(long, value_name = "SPEC")]
+    pub lod: Option<String>,
+    /// Camera for --lod screen/distance: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEG
+    /// (`render`'s default: the picture's camera from --yaw, --pitch, --zoom).
+    #[arg(long, value_name = "EYE,TARGET,FOV", allow_hyphen_values = true)]
+    pub camera: Option<String>,
 }
 
 /// Creases and shape tags, for `--scheme st` (all tags) and `--scheme png1` (sharp edges).

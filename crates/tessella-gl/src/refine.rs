@@ -6,7 +6,7 @@ use crate::error::GlError;
 use glow::HasContext;
 use std::collections::HashMap;
 use tessella_core::displace::Displacement;
-use tessella_core::refine::{Evaluator, Frame, Plan, Spacing};
+use tessella_core::refine::{Evaluator, Frame, Plan, PlanSizes, Spacing};
 use tessella_core::scheme::png1_edge_sources;
 use tessella_core::tessellator;
 use tessella_core::{Mesh, NormalMode, RefineOptions, RefinedMesh, Scheme, Tags};
@@ -899,21 +899,17 @@ pub struct GlEvaluator<'c> {
     uploaded: u64,
 }
 
-/// Tells plans apart: vertex, triangle and face counts, level, weld, scheme (with its
-/// parameters: Phong's shape factor is a uniform made per plan), spacing, normal mode. The
-/// frame check (`Plan::check_frame`) adds the plan's identity for frames.
-type PlanKey = (usize, usize, usize, u32, bool, Scheme, Spacing, NormalMode);
+/// Tells plans apart: their sizes (vertex, triangle and face counts, level, weld), scheme
+/// (with its parameters: Phong's shape factor is a uniform made per plan), spacing, normal
+/// mode. The frame check (`Plan::check_frame`) adds the plan's identity for frames.
+type PlanKey = (PlanSizes, Scheme, Spacing, NormalMode);
 
 fn plan_key(plan: &Plan) -> PlanKey {
-    let layout = plan.layout();
+    let options = plan.options();
     (
-        plan.vertex_count(),
-        plan.triangle_count(),
-        plan.face_count(),
-        layout.level,
-        layout.weld,
-        plan.options().scheme,
-        plan.options().spacing,
+        plan.sizes(),
+        options.scheme,
+        options.spacing,
         plan.normal_mode(),
     )
 }
@@ -921,8 +917,8 @@ fn plan_key(plan: &Plan) -> PlanKey {
 impl std::fmt::Debug for GlEvaluator<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("GlEvaluator")
-            .field("faces", &self.plan_key.2)
-            .field("triangles", &self.plan_key.1)
+            .field("faces", &self.plan_key.0.faces)
+            .field("triangles", &self.plan_key.0.triangles)
             .finish()
     }
 }

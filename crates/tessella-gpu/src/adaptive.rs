@@ -10,7 +10,10 @@ use crate::error::GpuError;
 use crate::gpu_types::normal_mode_code;
 use crate::gpu_types::{AdaptiveParams, RenderUniforms};
 use crate::patch::{check_nets_shape, write_nets};
-use crate::renderer::{render_group, render_layout, render_pipeline, TargetFormats, CODE_VERTICES};
+use crate::renderer::{
+    draw_buffers, render_group, render_layout, render_pipeline, uniforms_buffer, TargetFormats,
+    CODE_VERTICES,
+};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -237,27 +240,16 @@ impl AdaptiveRenderer {
             );
             let records = storage("level records", record_bytes);
             let instances = storage("instances", instance_bytes);
-            let vertices = ctx.buffer_init(
-                "part codes",
-                bytemuck::cast_slice(&arrays.vertices),
-                wgpu::BufferUsages::VERTEX,
+            let [vertices, indices, wire] = draw_buffers(
+                ctx,
+                ["part codes", "part indices", "part wireframe"],
+                [
+                    bytemuck::cast_slice(&arrays.vertices),
+                    bytemuck::cast_slice(&arrays.indices),
+                    bytemuck::cast_slice(&arrays.wire),
+                ],
             );
-            let indices = ctx.buffer_init(
-                "part indices",
-                bytemuck::cast_slice(&arrays.indices),
-                wgpu::BufferUsages::INDEX,
-            );
-            let wire = ctx.buffer_init(
-                "part wireframe",
-                bytemuck::cast_slice(&arrays.wire),
-                wgpu::BufferUsages::VERTEX,
-            );
-            let uniforms = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("render uniforms"),
-                size: std::mem::size_of::<RenderUniforms>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | copy,
-                mapped_at_creation: false,
-            });
+            let uniforms = uniforms_buffer(ctx);
             // The fragment shader's colormap: none; the vertex shader reads no UVs or fields.
             let unused = ctx.storage_buffer("unused", &[0; 4], wgpu::BufferUsages::empty());
             let colormap = crate::renderer::colormap_buffer(ctx, &[0.0; 4]);

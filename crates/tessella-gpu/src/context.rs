@@ -481,6 +481,13 @@ impl GpuContext {
     #[cfg(feature = "blocking")]
     pub fn submit_and_wait(&self, encoder: wgpu::CommandEncoder) -> Result<(), GpuError> {
         let index = self.submit(encoder)?;
+        self.wait(index)
+    }
+
+    /// Blocks until the GPU has finished submission `index`, then returns any error wgpu
+    /// reported ([`GpuContext::check`]).
+    #[cfg(feature = "blocking")]
+    fn wait(&self, index: wgpu::SubmissionIndex) -> Result<(), GpuError> {
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: Some(index),
@@ -626,6 +633,20 @@ impl GpuContext {
         })
     }
 
+    /// Records and submits the copy of `len` bytes of `buffer` from byte `offset` into a new
+    /// staging buffer ([`GpuContext::record_readback`]): the staging buffer to map once the
+    /// submission is done.
+    fn submit_readback(
+        &self,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        len: u64,
+    ) -> Result<(wgpu::Buffer, wgpu::SubmissionIndex), GpuError> {
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let staging = self.record_readback(&mut encoder, buffer, offset, len)?;
+        Ok((staging, self.submit(encoder)?))
+    }
+
     /// Copies `len` bytes of `buffer` (which needs `COPY_SRC`) from byte `offset` back to the
     /// CPU; waits for the GPU. `offset` and `len` must be multiples of 4.
     #[cfg(feature = "blocking")]
@@ -635,9 +656,8 @@ impl GpuContext {
         offset: u64,
         len: u64,
     ) -> Result<Vec<u8>, GpuError> {
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        let staging = self.record_readback(&mut encoder, buffer, offset, len)?;
-        self.submit_and_wait(encoder)?;
+        let (staging, index) = self.submit_readback(buffer, offset, len)?;
+        self.wait(index)?;
         let mut bytes = self.map_and_copy(&staging)?;
         bytes.truncate(len as usize);
         Ok(bytes)
@@ -650,9 +670,7 @@ impl GpuContext {
         offset: u64,
         len: u64,
     ) -> Result<Vec<u8>, GpuError> {
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        let staging = self.record_readback(&mut encoder, buffer, offset, len)?;
-        self.submit(encoder)?;
+        let (staging, _submitted) = self.submit_readback(buffer, offset, len)?;
         let mut bytes = self.map_and_copy_async(&staging).await?;
         self.check_async().await?;
         bytes.truncate(len as usize);

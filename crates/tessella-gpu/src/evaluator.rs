@@ -24,7 +24,7 @@ use crate::gpu_types::RefineParams;
 use crate::patch::{self, PatchBuffers};
 use tessella_core::displace::face_frames;
 use tessella_core::pattern::PointClass;
-use tessella_core::refine::{Evaluator, Frame, Plan, Tiling, VertexFormat};
+use tessella_core::refine::{Evaluator, Frame, Plan, PlanSizes, Tiling, VertexFormat};
 use tessella_core::{NormalMode, PatchNets, Pattern};
 #[cfg(feature = "blocking")]
 use tessella_core::{RefinedMesh, Refiner};
@@ -208,8 +208,8 @@ struct NetWindow {
 pub struct GpuEvaluator {
     ctx: GpuContext,
     pipelines: Pipelines,
-    /// Identifies the plan: vertex, triangle and face counts, level, weld, basis size.
-    plan_key: (usize, usize, usize, u32, bool, usize),
+    /// Identifies the plan: its sizes and its basis size.
+    plan_key: (PlanSizes, usize),
     patches: PatchBuffers,
     /// Group 0 per window of output vertices: one window binding all nets when they fit one
     /// binding, else windows whose faces' nets do.
@@ -228,8 +228,8 @@ pub struct GpuEvaluator {
 impl std::fmt::Debug for GpuEvaluator {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("GpuEvaluator")
-            .field("vertices", &self.plan_key.0)
-            .field("triangles", &self.plan_key.1)
+            .field("vertices", &self.plan_key.0.vertices)
+            .field("triangles", &self.plan_key.0.triangles)
             .finish()
     }
 }
@@ -381,7 +381,7 @@ impl GpuEvaluator {
 
     /// Bytes one frame's vertices take.
     pub fn vertex_bytes(&self) -> u64 {
-        self.plan_key.0 as u64 * self.vertex_stride() as u64 * 4
+        self.plan_key.0.vertices as u64 * self.vertex_stride() as u64 * 4
     }
 
     /// The evaluator's own vertex buffer, once [`GpuOutput::Own`] was evaluated into.
@@ -1003,16 +1003,8 @@ fn net_windows(
     Ok(windows)
 }
 
-fn plan_key(plan: &Plan) -> (usize, usize, usize, u32, bool, usize) {
-    let layout = plan.layout();
-    (
-        plan.vertex_count(),
-        plan.triangle_count(),
-        plan.face_count(),
-        layout.level,
-        layout.weld,
-        plan.options().scheme.basis().len(),
-    )
+fn plan_key(plan: &Plan) -> (PlanSizes, usize) {
+    (plan.sizes(), plan.options().scheme.basis().len())
 }
 
 /// Floats of a frame's coarse data in `mesh_f32`: positions, normals, UVs.

@@ -146,6 +146,32 @@ pub(crate) fn colormap_buffer(ctx: &GpuContext, header: &[f32]) -> wgpu::Buffer 
     ctx.buffer_init("colormap", &bytes, wgpu::BufferUsages::UNIFORM)
 }
 
+/// The buffers one instanced draw reads, under `labels`: `vertices` (a vertex buffer),
+/// `indices` (an index buffer) and `wire` (the wireframe's vertex buffer), in that order; the
+/// pattern renderer's and the adaptive renderer's.
+pub(crate) fn draw_buffers(
+    ctx: &GpuContext,
+    labels: [&str; 3],
+    [vertices, indices, wire]: [&[u8]; 3],
+) -> [wgpu::Buffer; 3] {
+    use wgpu::BufferUsages as U;
+    [
+        ctx.buffer_init(labels[0], vertices, U::VERTEX),
+        ctx.buffer_init(labels[1], indices, U::INDEX),
+        ctx.buffer_init(labels[2], wire, U::VERTEX),
+    ]
+}
+
+/// The uniform buffer of [`RenderUniforms`], written per frame.
+pub(crate) fn uniforms_buffer(ctx: &GpuContext) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("render uniforms"),
+        size: std::mem::size_of::<RenderUniforms>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// A triangle-list pipeline of `module`'s vertex `entry` and `fs_main`, for `targets`.
 pub(crate) fn render_pipeline(
     ctx: &GpuContext,
@@ -330,37 +356,30 @@ impl PatternRenderer {
                 patches.update_displace_faces(ctx, &face_frames(mesh, ids));
             }
             let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
-            let pattern_vertices = ctx.buffer_init(
-                "pattern vertices",
-                bytemuck::cast_slice(&tiles.rows),
-                wgpu::BufferUsages::VERTEX,
-            );
-            let pattern_indices = ctx.buffer_init(
-                "pattern indices",
-                bytemuck::cast_slice(&tiles.indices),
-                wgpu::BufferUsages::INDEX,
+            let [pattern_vertices, pattern_indices, wire_vertices] = draw_buffers(
+                ctx,
+                [
+                    "pattern vertices",
+                    "pattern indices",
+                    "pattern wireframe vertices",
+                ],
+                [
+                    bytemuck::cast_slice(&tiles.rows),
+                    bytemuck::cast_slice(&tiles.indices),
+                    bytemuck::cast_slice(&tiles.wire),
+                ],
             );
             let instance_faces = ctx.storage_buffer(
                 "instance faces",
                 bytemuck::cast_slice(&tiles.instance_faces),
                 wgpu::BufferUsages::empty(),
             );
-            let wire_vertices = ctx.buffer_init(
-                "pattern wireframe vertices",
-                bytemuck::cast_slice(&tiles.wire),
-                wgpu::BufferUsages::VERTEX,
-            );
             let face_uvs = ctx.storage_buffer(
                 "face uvs",
                 bytemuck::cast_slice(&face_uvs),
                 wgpu::BufferUsages::empty(),
             );
-            let uniforms = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("render uniforms"),
-                size: std::mem::size_of::<RenderUniforms>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
+            let uniforms = uniforms_buffer(ctx);
             let face_field = ctx.storage_buffer(
                 "face field",
                 bytemuck::cast_slice(&[0f32]),

@@ -358,6 +358,17 @@ pub fn write_file_with_origin(
 /// Extra per-vertex scalars to write: `(name, one value per vertex)`.
 pub type VertexScalars<'a> = [(&'a str, &'a [f32])];
 
+/// One run of consecutive vertices: a [`MeshView`] without triangles, and, when the pass
+/// asked for [`Wanted::extras`](crate::stream::Wanted::extras), the run's per-vertex scalars
+/// (in [`MeshSource::scalar_names`](crate::stream::MeshSource::scalar_names) order) and
+/// origins. What a [`crate::stream::MeshSource`] hands its writers, and what the PLY writer
+/// writes a whole mesh from.
+pub struct VertexRun<'a> {
+    pub mesh: MeshView<'a>,
+    pub scalars: &'a VertexScalars<'a>,
+    pub origin: Option<Origin<'a>>,
+}
+
 /// Writes `mesh` to a `.ply` file, atomically, with extra per-vertex scalar properties
 /// (`property float NAME`, after the positions, normals and uvs) and optionally each vertex's
 /// [`Origin`]. Names must be non-empty PLY words (no whitespace), distinct and not taken by
@@ -394,26 +405,32 @@ pub fn write_file_with(
             )));
         }
     }
-    crate::write_atomic(path, |out| write_with(out, &mesh, ascii, scalars, origin))
+    let run = VertexRun {
+        mesh,
+        scalars,
+        origin,
+    };
+    crate::write_atomic(path, |out| write_whole(out, &run, ascii))
 }
 
 /// Writes a PLY file, binary little-endian or ascii.
 pub fn write(out: &mut dyn Write, mesh: &MeshView, ascii: bool) -> std::io::Result<()> {
-    write_with(out, mesh, ascii, &[], None)
+    let run = VertexRun {
+        mesh: *mesh,
+        scalars: &[],
+        origin: None,
+    };
+    write_whole(out, &run, ascii)
 }
 
-fn write_with(
-    out: &mut dyn Write,
-    mesh: &MeshView,
-    ascii: bool,
-    scalars: &VertexScalars,
-    origin: Option<Origin>,
-) -> std::io::Result<()> {
+/// A whole file from one run of every vertex, with the triangles of its mesh.
+fn write_whole(out: &mut dyn Write, run: &VertexRun, ascii: bool) -> std::io::Result<()> {
+    let mesh = &run.mesh;
     let counts = (mesh.positions.len() as u64, mesh.triangles.len() as u64);
-    let names: Vec<&str> = scalars.iter().map(|(name, _)| *name).collect();
+    let names: Vec<&str> = run.scalars.iter().map(|(name, _)| *name).collect();
     let has = (mesh.normals.is_some(), mesh.uvs.is_some());
-    write_header(out, counts, has, &names, origin.is_some(), ascii)?;
-    write_vertices(out, mesh, ascii, scalars, origin)?;
+    write_header(out, counts, has, &names, run.origin.is_some(), ascii)?;
+    write_vertices(out, run, ascii)?;
     write_faces(out, mesh.triangles, ascii)
 }
 
@@ -458,14 +475,14 @@ pub(crate) fn write_header(
     writeln!(out, "property list uchar uint vertex_indices\nend_header")
 }
 
-/// The vertex records of `mesh` (its triangles are not read): a run of the vertex element.
+/// The vertex records of `run` (its mesh's triangles are not read): a run of the vertex
+/// element.
 pub(crate) fn write_vertices(
     out: &mut dyn Write,
-    mesh: &MeshView,
+    run: &VertexRun,
     ascii: bool,
-    scalars: &VertexScalars,
-    origin: Option<Origin>,
 ) -> std::io::Result<()> {
+    let (mesh, scalars, origin) = (&run.mesh, run.scalars, run.origin);
     // One vertex record: its floats, then the origin (face, barycentrics) if asked for.
     let floats = 3
         + 3 * usize::from(mesh.normals.is_some())

@@ -6,7 +6,6 @@
 //! source. The bytes are those of [`crate::write_mesh`] for the same mesh: the writers share
 //! their record encoders.
 
-use crate::ply::{Origin, VertexScalars};
 use crate::{Format, IoError, MeshView, WriteOptions};
 use std::io::Write;
 use std::path::Path;
@@ -21,14 +20,9 @@ pub struct Wanted {
     pub extras: bool,
 }
 
-/// One run of consecutive vertices: a [`MeshView`] without triangles, and, when the pass
-/// asked for [`Wanted::extras`], the run's per-vertex scalars (in
-/// [`MeshSource::scalar_names`] order) and origins.
-pub struct VertexRun<'a> {
-    pub mesh: MeshView<'a>,
-    pub scalars: &'a VertexScalars<'a>,
-    pub origin: Option<Origin<'a>>,
-}
+/// One run of consecutive vertices (defined with the PLY extras it carries, which the PLY
+/// writer writes from one run too).
+pub use crate::ply::VertexRun;
 
 /// A triangle given by its three corner positions (what STL stores).
 pub type Corners = [[f32; 3]; 3];
@@ -223,7 +217,7 @@ fn ply(out: &mut dyn Write, source: &dyn MeshSource, ascii: bool) -> std::io::Re
     let names = source.scalar_names();
     crate::ply::write_header(out, counts, has, &names, source.has_origin(), ascii)?;
     source.vertices(all(source), &mut |run| {
-        crate::ply::write_vertices(out, &run.mesh, ascii, run.scalars, run.origin)
+        crate::ply::write_vertices(out, &run, ascii)
     })?;
     source.triangles(&mut |run| crate::ply::write_faces(out, run, ascii))
 }

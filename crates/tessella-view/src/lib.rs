@@ -24,6 +24,10 @@
 //! in `scene.rs` and never blocks, so it builds for the web (the interactive viewer,
 //! `tessella-viewer`, uses this very camera); the pictures and animations wait for the GPU and
 //! are the default `blocking` feature.
+//!
+//! [`texture`] and [`begin_pass`] (in `target.rs`, beside the offscreen [`Target`]; neither
+//! blocks) make the textures and the cleared multisampled pass that the pictures, the viewer's
+//! frames and `tessella view`'s screenshots are drawn with.
 
 #[cfg(feature = "blocking")]
 pub mod animate;
@@ -42,7 +46,7 @@ pub use render::{render, render_compare};
 pub use scene::{clear_color, lod_camera, panel_widths, scene_uniforms, RenderOptions};
 #[cfg(feature = "blocking")]
 pub use target::read_texture;
-pub use target::Target;
+pub use target::{begin_pass, texture, PassViews, Target};
 pub use tessella_gpu::{GpuError, PatternRenderer};
 
 /// Writes `image` as a PNG to a temporary file beside `path`, then renames it into place, so

@@ -57,13 +57,14 @@ fn view_width(options: &RenderOptions, bar: u32) -> Result<u32, GpuError> {
 }
 
 /// The picture of the surface alone (a field colours it, the bar is drawn by the caller).
+/// `options` were validated by the caller: [`render`] and [`render_compare`] check theirs,
+/// then only narrow the picture to a width of at least one pixel.
 fn render_view(
     ctx: &GpuContext,
     mesh: &Mesh,
     refine: &RefineOptions,
     options: &RenderOptions,
 ) -> Result<RgbaImage, GpuError> {
-    options.validate()?;
     let (plan, frame) = Plan::with_frame(mesh, refine)?;
     let mut renderer =
         PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &options.displacement)?;

@@ -11,6 +11,78 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Multisampling smooths silhouettes, which is what the pictures are about.
 const SAMPLES: u32 = 4;
 
+/// A 2D texture of `size` pixels (one layer, no mipmaps): what [`Target`], the viewer's
+/// frame targets and the screenshots are made of. Call it inside [`GpuContext::scoped`] to get
+/// wgpu's validation errors back.
+pub fn texture(
+    ctx: &GpuContext,
+    label: &str,
+    size: (u32, u32),
+    format: wgpu::TextureFormat,
+    samples: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: samples,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// The attachments of a multisampled pass ([`begin_pass`]).
+#[derive(Clone, Copy)]
+pub struct PassViews<'a> {
+    /// Multisampled colour, resolved into `resolve` at the end of the pass.
+    pub color: &'a wgpu::TextureView,
+    /// Single-sampled colour: what the pass leaves.
+    pub resolve: &'a wgpu::TextureView,
+    /// Depth, of the same sample count as `color`.
+    pub depth: &'a wgpu::TextureView,
+}
+
+/// Begins the pass every picture and viewer frame is drawn in: colour cleared to `background`
+/// and resolved, depth cleared to 1; the multisampled colour and the depth are discarded after
+/// the pass.
+pub fn begin_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    views: PassViews<'_>,
+    background: [u8; 4],
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: views.color,
+            depth_slice: None,
+            resolve_target: Some(views.resolve),
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(clear_color(background)),
+                store: wgpu::StoreOp::Discard,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: views.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Discard,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
 /// An offscreen multisampled colour target with depth, resolved for readback.
 pub struct Target {
     color: wgpu::TextureView,
@@ -33,31 +105,11 @@ impl Target {
     }
 
     fn make(ctx: &GpuContext, size: (u32, u32)) -> Target {
-        let texture = |label, format, samples, usage| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: samples,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
         let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let color = texture("color", COLOR_FORMAT, SAMPLES, attach);
-        let resolve = texture(
-            "resolve",
-            COLOR_FORMAT,
-            1,
-            attach | wgpu::TextureUsages::COPY_SRC,
-        );
-        let depth = texture("depth", DEPTH_FORMAT, SAMPLES, attach);
+        let color = texture(ctx, "color", size, COLOR_FORMAT, SAMPLES, attach);
+        let readable = attach | wgpu::TextureUsages::COPY_SRC;
+        let resolve = texture(ctx, "resolve", size, COLOR_FORMAT, 1, readable);
+        let depth = texture(ctx, "depth", size, DEPTH_FORMAT, SAMPLES, attach);
         Target {
             color: color.create_view(&Default::default()),
             resolve_view: resolve.create_view(&Default::default()),
@@ -106,33 +158,16 @@ impl Target {
     }
 
     fn begin<'e>(
-        &'e self,
+        &self,
         encoder: &'e mut wgpu::CommandEncoder,
         background: [u8; 4],
     ) -> wgpu::RenderPass<'e> {
-        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("draw"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.color,
-                depth_slice: None,
-                resolve_target: Some(&self.resolve_view),
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear_color(background)),
-                    store: wgpu::StoreOp::Discard,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        })
+        let views = PassViews {
+            color: &self.color,
+            resolve: &self.resolve_view,
+            depth: &self.depth,
+        };
+        begin_pass(encoder, "draw", views, background)
     }
 
     /// Copies the resolved picture back.

@@ -98,22 +98,9 @@ impl Presenter {
     fn make_staging(&self, ctx: &GpuContext) -> Result<wgpu::Texture, ViewerError> {
         let size = (self.config.width, self.config.height);
         let format = self.view_format();
-        Ok(ctx.scoped(|| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("viewer: frame before the surface copy"),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            })
-        })?)
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let label = "viewer: frame before the surface copy";
+        Ok(ctx.scoped(|| tessella_view::texture(ctx, label, size, format, 1, usage))?)
     }
 
     /// Draws `viewer`'s frame at `time_ms` into the surface's next texture and presents it.

@@ -314,21 +314,8 @@ impl Viewer {
             let (ctx, formats, size) = (&self.ctx, self.formats, self.size);
             let made = ctx.scoped(|| {
                 let texture = |label, format| {
-                    ctx.device
-                        .create_texture(&wgpu::TextureDescriptor {
-                            label: Some(label),
-                            size: wgpu::Extent3d {
-                                width: size.0,
-                                height: size.1,
-                                depth_or_array_layers: 1,
-                            },
-                            mip_level_count: 1,
-                            sample_count: SAMPLES,
-                            dimension: wgpu::TextureDimension::D2,
-                            format,
-                            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                            view_formats: &[],
-                        })
+                    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+                    tessella_view::texture(ctx, label, size, format, SAMPLES, usage)
                         .create_view(&Default::default())
                 };
                 Targets {
@@ -380,29 +367,13 @@ impl Viewer {
         };
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("viewer frame"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &targets.color,
-                    depth_slice: None,
-                    resolve_target: Some(view),
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(tessella_view::clear_color(background)),
-                        store: wgpu::StoreOp::Discard,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &targets.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let views = tessella_view::PassViews {
+                color: &targets.color,
+                resolve: view,
+                depth: &targets.depth,
+            };
+            let mut pass =
+                tessella_view::begin_pass(&mut encoder, "viewer frame", views, background);
             for (panel, &(left, width)) in self.panels.iter().zip(&layout) {
                 pass.set_viewport(left as f32, 0.0, width as f32, height, 0.0, 1.0);
                 panel.draw(&mut pass);

@@ -94,7 +94,7 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         }
         // Each scheme on its own: one that refuses this mesh (ST allows one crease through a
         // vertex) gets its reason in the table instead of sinking the others.
-        let rows: Vec<QualityRow> = ALL_SCHEMES
+        let rows: Vec<QualityRow> = super::demo::SCHEMES
             .iter()
             .map(|&scheme| {
                 let mut o = options.clone();
@@ -124,16 +124,6 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     }
     Ok(())
 }
-
-/// Every scheme, for quality comparisons.
-const ALL_SCHEMES: [Scheme; 6] = [
-    Scheme::Flat,
-    Scheme::PHONG,
-    Scheme::Pn,
-    Scheme::PnAen,
-    Scheme::ScalarTagged,
-    Scheme::Png1,
-];
 
 /// One scheme's quality, or why it refused the mesh.
 #[derive(Serialize)]

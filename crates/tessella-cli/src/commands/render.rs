@@ -12,10 +12,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let displacement = super::displace::parse(args.displace.as_deref())?;
     let view = RenderOptions {
         size: args.size,
-        yaw: args.yaw,
-        pitch: args.pitch,
-        zoom: args.zoom,
-        wireframe: args.wireframe,
+        yaw: args.view.yaw,
+        pitch: args.view.pitch,
+        zoom: args.view.zoom,
+        wireframe: args.view.wireframe,
         displacement: displacement.clone(),
         ..RenderOptions::default()
     };
@@ -87,6 +87,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         levels.spacing,
         args.level,
         args.lod
+            .lod
             .as_deref()
             .map_or(String::new(), |l| format!(", lod {l}")),
         ctx.adapter_label()
@@ -141,7 +142,7 @@ fn field_colors(
 /// The options from the flags in the core's text form; the view-dependent LODs see the
 /// picture's own camera and size unless `--camera` is given.
 fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Result<RefineOptions> {
-    let lod = args.lod.as_deref();
+    let lod = args.lod.lod.as_deref();
     super::options::Flags {
         scheme: args.scheme,
         alpha: args.alpha,
@@ -149,7 +150,7 @@ fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Resul
         spacing: args.spacing,
         lod,
         // A LOD sees `--camera`, else the picture's own camera.
-        camera: match (lod, &args.camera) {
+        camera: match (lod, &args.lod.camera) {
             (Some(_), None) => Some(lod_camera(mesh, view).to_string()),
             (_, given) => given.clone(),
         },

@@ -90,11 +90,11 @@ fn changes(args: &ViewArgs) -> anyhow::Result<Map<String, Value>> {
         "lod": args.lod.as_deref().unwrap_or("fixed"),
         "alpha": args.alpha,
         "normals": args.normals.map_or("default", |n| n.0.name()),
-        "wireframe": args.wireframe,
+        "wireframe": args.view.wireframe,
         "displace": args.displace.as_deref().unwrap_or("none"),
-        "yaw": args.yaw,
-        "pitch": args.pitch,
-        "zoom": args.zoom,
+        "yaw": args.view.yaw,
+        "pitch": args.view.pitch,
+        "zoom": args.view.zoom,
         "animate": args.animate,
         "panels": args.compare.iter().map(|s| s.0.name()).collect::<Vec<_>>(),
         "tags": tags,
@@ -365,21 +365,9 @@ fn capture(
         other => anyhow::bail!("cannot save a screenshot of a window in {other:?}"),
     };
     let (width, height) = viewer.size();
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
     let texture = ctx.scoped(|| {
-        ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("view: screenshot"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        })
+        tessella_view::texture(ctx, "view: screenshot", (width, height), format, 1, usage)
     })?;
     viewer.draw(&texture.create_view(&Default::default()), time_ms)?;
     let mut picture = tessella_view::read_texture(ctx, &texture)?;

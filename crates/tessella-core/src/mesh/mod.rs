@@ -92,13 +92,7 @@ impl Mesh {
             }
         }
         if let Some(uvs) = &uvs {
-            if uvs.len() != count {
-                return Err(MeshError::AttributeCount {
-                    what: "uvs",
-                    got: uvs.len(),
-                    expected: count,
-                });
-            }
+            check_count("uvs", uvs.len(), count)?;
             for (vertex, uv) in uvs.iter().enumerate() {
                 if !uv.iter().all(|c| c.is_finite()) {
                     return Err(MeshError::NonFiniteUv { vertex, value: *uv });
@@ -107,13 +101,7 @@ impl Mesh {
         }
         let (normals, normals_computed) = match normals {
             Some(given) => {
-                if given.len() != count {
-                    return Err(MeshError::AttributeCount {
-                        what: "normals",
-                        got: given.len(),
-                        expected: count,
-                    });
-                }
+                check_count("normals", given.len(), count)?;
                 (normals::normalized(given)?, false)
             }
             None => (normals::angle_weighted(&positions, &triangles), true),
@@ -204,13 +192,7 @@ impl Mesh {
         normals: Option<&[[f32; 3]]>,
     ) -> Result<(), MeshError> {
         let count = self.positions.len();
-        if positions.len() != count {
-            return Err(MeshError::AttributeCount {
-                what: "positions",
-                got: positions.len(),
-                expected: count,
-            });
-        }
+        check_count("positions", positions.len(), count)?;
         check_finite(positions)?;
         if let Some(face) = self
             .triangles
@@ -224,13 +206,7 @@ impl Mesh {
         }
         let new_normals = match normals {
             Some(given) => {
-                if given.len() != count {
-                    return Err(MeshError::AttributeCount {
-                        what: "normals",
-                        got: given.len(),
-                        expected: count,
-                    });
-                }
+                check_count("normals", given.len(), count)?;
                 normals::normalized(given.to_vec())?
             }
             None => normals::angle_weighted(positions, &self.triangles),
@@ -245,6 +221,19 @@ impl Mesh {
 /// Coordinates up to this magnitude refine without overflow: control points are sums of a few
 /// multiples of positions, and normals come from products of their differences.
 pub const MAX_COORDINATE: f32 = 1e15;
+
+/// `MeshError::AttributeCount` unless there are `got` of `what` for the mesh's `expected`
+/// vertices.
+fn check_count(what: &'static str, got: usize, expected: usize) -> Result<(), MeshError> {
+    if got != expected {
+        return Err(MeshError::AttributeCount {
+            what,
+            got,
+            expected,
+        });
+    }
+    Ok(())
+}
 
 /// The first non-finite or too large position, as an error.
 fn check_finite(positions: &[[f32; 3]]) -> Result<(), MeshError> {

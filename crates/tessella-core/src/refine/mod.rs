@@ -35,6 +35,7 @@ pub use plan::levels::{Camera, Levels, Lod, Spacing};
 pub use plan::options::{RefineOptions, DEFAULT_MAX_OUTPUT_BYTES};
 pub use plan::options_text::{parse_bytes, parse_level, parse_size, OptionError, OPTION_KEYS};
 pub use plan::pieces::Piece;
+pub use plan::sizes::PlanSizes;
 pub use plan::surface::{Frame, Surface, SurfaceOptions};
 pub use plan::table::Plan;
 pub use plan::tiling::{Morph, Tile, Tiling};

@@ -12,26 +12,12 @@
 
 use super::kernels::{
     compiled_for, cross_vectors, cubic_derivative_nets, dispatched_kernel, fallback_normals,
-    lane_weights, normalize_vectors, Scratch, CUBIC_LEN, LANES, TILE,
+    lane_weights, normalize_vectors, BlockRun, Scratch, CUBIC_LEN, LANES, TILE,
 };
 use super::output::Sink;
 use crate::basis::NORMAL_NET_LEN;
 use crate::scheme::NormalMode;
-use crate::stencil::{Block, Stencil};
-
-/// One coarse edge to evaluate: the owning face's edge block, its patch, and where its
-/// points go.
-#[derive(Clone, Copy)]
-pub(crate) struct EdgeRun<'a> {
-    pub block: &'a Block,
-    pub points: &'a [[f32; 3]],
-    pub normals: &'a [[f32; 3]],
-    /// The sink slot of the edge's first point (in ascending slot order).
-    pub base: usize,
-    /// The points go in descending slot order (the edge is stored against its owner's
-    /// direction).
-    pub reverse: bool,
-}
+use crate::stencil::Stencil;
 
 dispatched_kernel! {
     /// Evaluates every run of `runs` into `sink` (see [`eval_edges_body`]), with the code
@@ -39,7 +25,7 @@ dispatched_kernel! {
     /// four edges side by side with AVX-512, one at a time with AVX2 (an edge's 16 points
     /// already fill six of its 16 registers).
     pub(crate) fn eval_edges = eval_edges_body, eval_edges_avx512, eval_edges_avx2 (
-        runs: &[EdgeRun],
+        runs: &[BlockRun],
         stencil: &Stencil,
         mode: NormalMode,
         sink: &mut Sink,
@@ -52,7 +38,7 @@ dispatched_kernel! {
 /// bit for bit, to [`super::kernels::eval_point`] on each point.
 #[inline(always)]
 pub(crate) fn eval_edges_body<const K: usize, const G: usize>(
-    runs: &[EdgeRun],
+    runs: &[BlockRun],
     stencil: &Stencil,
     mode: NormalMode,
     sink: &mut Sink,
@@ -63,7 +49,7 @@ pub(crate) fn eval_edges_body<const K: usize, const G: usize>(
     let mut groups = runs.chunks_exact(G);
     if G > 1 && G * vectors * LANES <= TILE {
         for group in groups.by_ref() {
-            let group: &[EdgeRun; G] = group.try_into().expect("chunks of G");
+            let group: &[BlockRun; G] = group.try_into().expect("chunks of G");
             eval_group::<K, G>(group, stencil, mode, sink, scratch);
         }
     }
@@ -82,17 +68,7 @@ pub(crate) fn eval_edges_body<const K: usize, const G: usize>(
                 scratch,
             );
         } else {
-            super::kernels::eval_block_body::<K, 1>(
-                run.block,
-                stencil,
-                run.points,
-                run.normals,
-                mode,
-                sink,
-                run.base,
-                run.reverse,
-                scratch,
-            );
+            super::kernels::eval_block_body::<K, 1>(run, stencil, mode, sink, scratch);
         }
     }
 }
@@ -141,7 +117,7 @@ fn accumulate_runs<'a, const C: usize, const G: usize>(
 /// run's points into its slots, then the scalar fallbacks of any normal that failed.
 #[inline(always)]
 fn eval_group<const K: usize, const G: usize>(
-    runs: &[EdgeRun; G],
+    runs: &[BlockRun; G],
     stencil: &Stencil,
     mode: NormalMode,
     sink: &mut Sink,
@@ -263,10 +239,10 @@ mod tests {
             .into_iter()
             .map(|case| test_patch::<K>(&mut seed, case))
             .collect();
-        let runs: Vec<EdgeRun> = nets
+        let runs: Vec<BlockRun> = nets
             .iter()
             .enumerate()
-            .map(|(i, (points, normals))| EdgeRun {
+            .map(|(i, (points, normals))| BlockRun {
                 block: &stencil.blocks.edges[i % 3],
                 points,
                 normals,
@@ -274,7 +250,7 @@ mod tests {
                 reverse: i % 2 == 1,
             })
             .collect();
-        type Run = fn(&[EdgeRun], &Stencil, NormalMode, &mut Sink, &mut Scratch);
+        type Run = fn(&[BlockRun], &Stencil, NormalMode, &mut Sink, &mut Scratch);
         let mut ways: Vec<(&str, Run)> = vec![
             ("dispatched", eval_edges::<K>),
             ("four at a time", eval_edges_body::<K, 4>),

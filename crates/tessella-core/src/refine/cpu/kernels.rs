@@ -53,30 +53,28 @@ pub(super) fn cubic_derivative_nets(p: &[[f32; 3]; CUBIC_LEN]) -> ([[f32; 3]; 6]
     // Storage order: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111.
     // Written out, not `[0, 1, 2].map(..)`: an array's `map` stayed a call in the
     // target-feature copies of the evaluator.
-    let d = |s: f32, a: usize, b: usize| {
+    let d = |s: f32, [a, b]: [usize; 2]| {
         [
             s * (p[a][0] - p[b][0]),
             s * (p[a][1] - p[b][1]),
             s * (p[a][2] - p[b][2]),
         ]
     };
+    // Slot `i` of a net is `s (P_a - P_b)` for `(a, b) = ab[i]`: `s` is 3 at the corner slots
+    // and 6 at the mid slots, along `u` and along `v` alike.
+    let net = |ab: [[usize; 2]; 6]| {
+        [
+            d(3.0, ab[0]),
+            d(3.0, ab[1]),
+            d(3.0, ab[2]),
+            d(6.0, ab[3]),
+            d(6.0, ab[4]),
+            d(6.0, ab[5]),
+        ]
+    };
     (
-        [
-            d(3.0, 3, 0),
-            d(3.0, 1, 4),
-            d(3.0, 6, 7),
-            d(6.0, 4, 3),
-            d(6.0, 5, 9),
-            d(6.0, 9, 8),
-        ],
-        [
-            d(3.0, 8, 0),
-            d(3.0, 5, 4),
-            d(3.0, 2, 7),
-            d(6.0, 9, 3),
-            d(6.0, 6, 9),
-            d(6.0, 7, 8),
-        ],
+        net([[3, 0], [1, 4], [6, 7], [4, 3], [5, 9], [9, 8]]),
+        net([[8, 0], [5, 4], [2, 7], [9, 3], [6, 9], [7, 8]]),
     )
 }
 
@@ -460,6 +458,20 @@ pub(super) fn fallback_normals<const K: usize>(
     }
 }
 
+/// A run of pattern points of one patch to evaluate ([`eval_block`], and `G` of them side by
+/// side in `edge_groups`): its block, the patch's control points and normal net, and where
+/// its points go.
+#[derive(Clone, Copy)]
+pub(crate) struct BlockRun<'a> {
+    pub block: &'a Block,
+    pub points: &'a [[f32; 3]],
+    pub normals: &'a [[f32; 3]],
+    /// The sink slot of the run's first point (in ascending slot order).
+    pub base: usize,
+    /// The points go in descending slot order (an edge stored against its owner's direction).
+    pub reverse: bool,
+}
+
 /// The working arrays of [`eval_block`], one per parallel task and reused for all its blocks:
 /// made per call, zeroing them cost more instructions than the evaluation itself.
 pub(crate) struct Scratch {
@@ -575,36 +587,34 @@ macro_rules! compiled_for {
 pub(super) use compiled_for;
 
 dispatched_kernel! {
-    /// Evaluates a run of pattern points of one patch ([`Block`]) into `sink` slots
+    /// Evaluates a run of pattern points of one patch ([`BlockRun`]) into `sink` slots
     /// `base..base + len` (reversed when `reverse`, for edges stored against the owner's
     /// direction). Normals are computed only when the sink takes them. Equal, bit for bit, to
     /// [`eval_point`] on each point, with the code compiled for the widest vectors the CPU has.
     pub(crate) fn eval_block = eval_block_body, eval_block_avx512, eval_block_avx2 (
-        block: &Block,
+        run: &BlockRun,
         stencil: &Stencil,
-        points: &[[f32; 3]],
-        normals: &[[f32; 3]],
         mode: NormalMode,
         sink: &mut Sink,
-        base: usize,
-        reverse: bool,
         scratch: &mut Scratch,
     )
 }
 
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(super) fn eval_block_body<const K: usize, const G: usize>(
-    block: &Block,
+    run: &BlockRun,
     stencil: &Stencil,
-    points: &[[f32; 3]],
-    normals: &[[f32; 3]],
     mode: NormalMode,
     sink: &mut Sink,
-    base: usize,
-    reverse: bool,
     scratch: &mut Scratch,
 ) {
+    let BlockRun {
+        block,
+        points,
+        normals,
+        base,
+        reverse,
+    } = *run;
     let points: &[[f32; 3]; K] = points.try_into().expect("patch has K control points");
     let len = block.len();
     let want_normals = sink.wants_normals();
@@ -773,7 +783,7 @@ pub(super) mod tests {
     /// vanish (the fallbacks).
     fn check<const K: usize>(
         basis: Basis,
-        run: impl Fn(&Block, &Stencil, &[[f32; 3]], &[[f32; 3]], NormalMode, &mut Sink, bool),
+        eval: impl Fn(&BlockRun, &Stencil, NormalMode, &mut Sink),
     ) {
         // Level 24: 325 points, more than one tile, so tiles after the first are covered.
         let stencil = Stencil::new(&Pattern::uniform(24), basis);
@@ -791,9 +801,14 @@ pub(super) mod tests {
                 (NormalMode::Real, true, true),
             ] {
                 let n = block.len();
-                let (pos, nrm) = into_arrays(n, stream, |sink| {
-                    run(block, &stencil, &points, &normals, mode, sink, reverse)
-                });
+                let run = BlockRun {
+                    block,
+                    points: &points,
+                    normals: &normals,
+                    base: 0,
+                    reverse,
+                };
+                let (pos, nrm) = into_arrays(n, stream, |sink| eval(&run, &stencil, mode, sink));
                 for (i, &p) in block.points.iter().enumerate() {
                     let (want_p, want_n) =
                         eval_point::<K>(stencil.row(p as usize), &points, &normals, mode);
@@ -835,37 +850,35 @@ pub(super) mod tests {
 
     #[test]
     fn block_evaluation_equals_point_evaluation_bit_for_bit() {
-        let dispatched =
-            |b: &Block, s: &Stencil, p: &[[f32; 3]], n: &[[f32; 3]], m, sink: &mut Sink, r| {
-                eval_block::<10>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
-            };
-        check::<10>(Basis::Cubic, dispatched);
-        check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
-            eval_block::<21>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+        check::<10>(Basis::Cubic, |r, s, m, sink| {
+            eval_block::<10>(r, s, m, sink, &mut Scratch::new())
+        });
+        check::<21>(Basis::Png1, |r, s, m, sink| {
+            eval_block::<21>(r, s, m, sink, &mut Scratch::new())
         });
         // The baseline code as well, whatever the machine dispatches to.
-        check::<10>(Basis::Cubic, |b, s, p, n, m, sink, r| {
-            eval_block_body::<10, 1>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+        check::<10>(Basis::Cubic, |r, s, m, sink| {
+            eval_block_body::<10, 1>(r, s, m, sink, &mut Scratch::new())
         });
-        check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
-            eval_block_body::<21, 1>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+        check::<21>(Basis::Png1, |r, s, m, sink| {
+            eval_block_body::<21, 1>(r, s, m, sink, &mut Scratch::new())
         });
         // And summing several vectors side by side (the AVX-512 choice), on any machine.
-        check::<10>(Basis::Cubic, |b, s, p, n, m, sink, r| {
-            eval_block_body::<10, 4>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+        check::<10>(Basis::Cubic, |r, s, m, sink| {
+            eval_block_body::<10, 4>(r, s, m, sink, &mut Scratch::new())
         });
-        check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| {
-            eval_block_body::<21, 4>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+        check::<21>(Basis::Png1, |r, s, m, sink| {
+            eval_block_body::<21, 4>(r, s, m, sink, &mut Scratch::new())
         });
         // The AVX2 copy where the CPU has it (a machine with AVX-512 dispatches past it).
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY (both): the CPU has AVX2, checked just above.
-            check::<10>(Basis::Cubic, |b, s, p, n, m, sink, r| unsafe {
-                eval_block_avx2::<10>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+            check::<10>(Basis::Cubic, |r, s, m, sink| unsafe {
+                eval_block_avx2::<10>(r, s, m, sink, &mut Scratch::new())
             });
-            check::<21>(Basis::Png1, |b, s, p, n, m, sink, r| unsafe {
-                eval_block_avx2::<21>(b, s, p, n, m, sink, 0, r, &mut Scratch::new())
+            check::<21>(Basis::Png1, |r, s, m, sink| unsafe {
+                eval_block_avx2::<21>(r, s, m, sink, &mut Scratch::new())
             });
         }
     }

@@ -1,8 +1,8 @@
 //! One frame's vertices on a uniform plan. Work is split into disjoint output blocks (corners,
 //! edges, interiors, triangles) so threads never share a slot.
 
-use super::edge_groups::{eval_edges, EdgeRun};
-use super::kernels::{eval_block, eval_point, Scratch};
+use super::edge_groups::eval_edges;
+use super::kernels::{eval_block, eval_point, BlockRun, Scratch};
 use super::output::Sink;
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
@@ -80,17 +80,14 @@ impl Job<'_> {
         reverse: bool,
         scratch: &mut Scratch,
     ) {
-        eval_block::<K>(
+        let run = BlockRun {
             block,
-            self.stencil,
-            self.nets.patch_points(f),
-            self.nets.patch_normals(f),
-            self.nets.normal_mode,
-            sink,
+            points: self.nets.patch_points(f),
+            normals: self.nets.patch_normals(f),
             base,
             reverse,
-            scratch,
-        );
+        };
+        eval_block::<K>(&run, self.stencil, self.nets.normal_mode, sink, scratch);
     }
 
     fn welded<const K: usize>(&self, sink: Sink, progress: &(dyn Fn(u64) + Sync)) {
@@ -159,12 +156,12 @@ impl Job<'_> {
                 let mut scratch = Scratch::take();
                 let edge = |le: usize| first + task * EDGES_PER_TASK + le;
                 // On the stack: a `Vec` per task was 2% of a level-16 frame.
-                let runs: SmallVec<[EdgeRun; EDGES_PER_TASK]> = (0..sink.len() / m)
+                let runs: SmallVec<[BlockRun; EDGES_PER_TASK]> = (0..sink.len() / m)
                     .map(|le| {
                         let e = edge(le);
                         let (f, k) = topo.edge_owner[e];
                         let (f, k) = (f as usize, k as usize);
-                        EdgeRun {
+                        BlockRun {
                             block: &self.stencil.blocks.edges[k],
                             points: self.nets.patch_points(f),
                             normals: self.nets.patch_normals(f),

@@ -7,7 +7,7 @@
 //! - [`tiling`], [`instanced`], [`morph`], [`canonical`]: adaptive plans' per-face patterns,
 //!   their instanced parts, geomorphs and canonical edge weights;
 //! - [`layout`], [`indices`], [`pieces`], [`stream`]: where the output's vertices go, its
-//!   triangles, and its cut into pieces;
+//!   triangles, and its cut into pieces; [`sizes`], what a plan's buffers are sized by;
 //! - [`surface`]: topology and scheme, which build each frame's nets;
 //! - [`table`]: the [`Plan`](table::Plan) itself.
 
@@ -21,6 +21,7 @@ pub mod morph;
 pub mod options;
 pub mod options_text;
 pub mod pieces;
+pub mod sizes;
 pub mod stream;
 pub mod surface;
 pub mod table;
