@@ -419,28 +419,17 @@ pub fn direction_of<R: Noise>(mask: R::W, means: [[R; 3]; 3], l: [R; 3], normal:
     let (corner, edge) = (FaceFrame::CORNER, FaceFrame::EDGE);
     // The first that holds: corner 0, 1, 2 (l_c = 1), then edge k (l_{k+2 mod 3} = 0), else
     // none (interior).
-    let on_edges = R::word_if_eq(
-        l[2],
-        zero,
-        w(edge[0]),
-        R::word_if_eq(
-            l[0],
-            zero,
-            w(edge[1]),
-            R::word_if_eq(l[1], zero, w(edge[2]), w(0)),
-        ),
-    );
-    let bit = R::word_if_eq(
-        l[0],
-        one,
-        w(corner[0]),
-        R::word_if_eq(
-            l[1],
-            one,
-            w(corner[1]),
-            R::word_if_eq(l[2], one, w(corner[2]), on_edges),
-        ),
-    );
+    let tests = [
+        (l[0], one, corner[0]),
+        (l[1], one, corner[1]),
+        (l[2], one, corner[2]),
+        (l[2], zero, edge[0]),
+        (l[0], zero, edge[1]),
+        (l[1], zero, edge[2]),
+    ];
+    let bit = tests.iter().rev().fold(w(0), |rest, &(x, value, bit)| {
+        R::word_if_eq(x, value, w(bit), rest)
+    });
     let split = mask.and(bit);
     let [m0, m1, m2] = means;
     let s: [R; 3] = std::array::from_fn(|i| l[0] * m0[i] + l[1] * m1[i] + l[2] * m2[i]);

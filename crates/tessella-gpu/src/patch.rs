@@ -236,6 +236,13 @@ pub(crate) fn check_nets_shape(nets: &PatchNets, shape: (usize, usize)) -> Resul
     Ok(())
 }
 
+/// The displacement functions generated from the core, traced once per process (every
+/// pipeline of every renderer includes them).
+fn displace_wgsl() -> &'static str {
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(tessella_core::shader::displace_wgsl)
+}
+
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
 /// shared evaluation and displacement modules, then its own. Constants rather than uniforms,
 /// so each pipeline compiles only its own branch (a software rasteriser runs the whole body of a
@@ -254,7 +261,7 @@ pub(crate) fn shader_source(
         ),
         include_str!("shaders/eval.wgsl"),
         include_str!("shaders/displace.wgsl"),
-        &tessella_core::shader::displace_wgsl(),
+        displace_wgsl(),
         own,
     ]
     .join("\n")

@@ -5,7 +5,6 @@
 //! an error rather than ignored.
 
 use serde_json::{Map, Value};
-use tessella_core::refine::parse_bytes;
 use tessella_core::RefineOptions;
 
 /// The largest output `refine` accepts in wasm: 32-bit wasm has 4 GiB of memory in all, and the
@@ -56,7 +55,6 @@ impl Options {
         let map: Map<String, Value> =
             serde_json::from_str(json).map_err(|e| format!("bad options: {e}"))?;
         let mut origin = false;
-        let mut soup = None;
         let mut pairs = Vec::new();
         // `null` is an option left out, as `undefined` is.
         for (name, value) in map.iter().filter(|(_, v)| !v.is_null()) {
@@ -66,12 +64,9 @@ impl Options {
                         .as_bool()
                         .ok_or_else(|| format!("origin: {value} is not true or false"))?
                 }
-                // `soup` stays a boolean in JS; the core reads its text.
-                "soup" => soup = Some(text("soup", value)?),
                 _ => pairs.push((key(name), text(name, value)?)),
             }
         }
-        pairs.extend(soup.map(|s| ("soup".to_string(), s)));
         let mut refine = RefineOptions::from_pairs(pairs).map_err(|e| {
             let hint = if e.key == "scheme" {
                 " (see schemes())"
@@ -80,11 +75,11 @@ impl Options {
             };
             format!("{e}{hint}")
         })?;
-        let asked = map
-            .get("maxMemory")
-            .map(|v| text("maxMemory", v).and_then(|t| parse_bytes(&t).map_err(|e| e.to_string())))
-            .transpose()?;
-        refine.max_output_bytes = asked.map_or(MAX_OUTPUT_BYTES, |b| b.min(MAX_OUTPUT_BYTES));
+        // The text form read `maxMemory`; wasm's own cap bounds it, and is the default.
+        refine.max_output_bytes = match map.get("maxMemory") {
+            Some(_) => refine.max_output_bytes.min(MAX_OUTPUT_BYTES),
+            None => MAX_OUTPUT_BYTES,
+        };
         Ok(Options { refine, origin })
     }
 }

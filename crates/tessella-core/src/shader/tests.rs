@@ -2,7 +2,7 @@
 //! CPU's weights (so folding and selections changed nothing but the zero terms), and the
 //! printed functions have the shape the shaders call.
 
-use super::trace::{trace, Cmp, Expr, Node, Tape, Traced, UExpr, UOp};
+use super::trace::{trace, Expr, Node, Tape, Traced, UExpr, UOp};
 use super::*;
 use crate::basis::png1::PNG1_LEN;
 
@@ -57,12 +57,7 @@ fn run_with(tape: &Tape, inputs: &[(&str, f64)], call: impl Fn(&str, &[u32]) -> 
             }),
             Node::UShr(a, bits) => f64::from(u(a) >> bits),
             Node::USelect { cmp, a, b, yes, no } => {
-                let holds = match cmp {
-                    Cmp::Ge => u(a) >= u(b),
-                    Cmp::Gt => u(a) > u(b),
-                    Cmp::Eq => u(a) == u(b),
-                };
-                f64::from(if holds { u(yes) } else { u(no) })
+                f64::from(if cmp.holds(u(a), u(b)) { u(yes) } else { u(no) })
             }
             Node::UCall(name, args) => {
                 let args: Vec<u32> = args.iter().map(u).collect();
@@ -96,11 +91,6 @@ fn run_f32(
         let x = |e: &Expr| v[e.index()] as f32;
         let u = |e: &UExpr| v[e.index()] as u32;
         let input = |name: &String| inputs.iter().find(|(n, _)| n == name).expect("an input").1;
-        let pick = |cmp: &Cmp, a: u32, b: u32| match cmp {
-            Cmp::Ge => a >= b,
-            Cmp::Gt => a > b,
-            Cmp::Eq => a == b,
-        };
         let value = match node {
             Node::Input(name) | Node::UInput(name) => f64::from(input(name)),
             Node::Const(bits) => f64::from(f64::from_bits(*bits) as f32),
@@ -114,7 +104,7 @@ fn run_f32(
             Node::Sin(a) => f64::from(x(a).sin()),
             Node::IntWord(a) => f64::from(x(a) as i32 as u32),
             Node::Pick { cmp, a, b, yes, no } => {
-                f64::from(if pick(cmp, u(a), u(b)) { x(yes) } else { x(no) })
+                f64::from(if cmp.holds(u(a), u(b)) { x(yes) } else { x(no) })
             }
             Node::PickGt { a, b, yes, no } => f64::from(if x(a) > x(b) { x(yes) } else { x(no) }),
             Node::WordIfEq { a, b, yes, no } => {
@@ -131,7 +121,7 @@ fn run_f32(
             }),
             Node::UShr(a, bits) => f64::from(u(a) >> bits),
             Node::USelect { cmp, a, b, yes, no } => {
-                f64::from(if pick(cmp, u(a), u(b)) { u(yes) } else { u(no) })
+                f64::from(if cmp.holds(u(a), u(b)) { u(yes) } else { u(no) })
             }
             Node::UCall(name, args) => {
                 f64::from(ucall(name, &args.iter().map(u).collect::<Vec<_>>()))

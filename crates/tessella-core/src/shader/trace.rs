@@ -29,6 +29,17 @@ pub(crate) enum Cmp {
     Eq,
 }
 
+impl Cmp {
+    /// Whether `a cmp b` holds (how a selection on constants folds, and how tests evaluate one).
+    pub(crate) fn holds<T: PartialOrd>(self, a: T, b: T) -> bool {
+        match self {
+            Cmp::Ge => a >= b,
+            Cmp::Gt => a > b,
+            Cmp::Eq => a == b,
+        }
+    }
+}
+
 /// The type of a recorded value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Ty {
@@ -173,12 +184,7 @@ impl Expr {
             return no;
         }
         if let (Some(x), Some(y)) = (a.value(), b.value()) {
-            let holds = match cmp {
-                Cmp::Ge => x >= y,
-                Cmp::Gt => x > y,
-                Cmp::Eq => x == y,
-            };
-            return if holds { yes } else { no };
+            return if cmp.holds(x, y) { yes } else { no };
         }
         Expr::push(Node::Pick { cmp, a, b, yes, no })
     }
@@ -291,12 +297,7 @@ impl UExpr {
             return no;
         }
         if let (Some(x), Some(y)) = (a.value(), b.value()) {
-            let holds = match cmp {
-                Cmp::Ge => x >= y,
-                Cmp::Gt => x > y,
-                Cmp::Eq => x == y,
-            };
-            return if holds { yes } else { no };
+            return if cmp.holds(x, y) { yes } else { no };
         }
         UExpr(push(Node::USelect { cmp, a, b, yes, no }))
     }
