@@ -1,5 +1,5 @@
 // The WebGL2 fallback's renderer: a refined mesh (from the npm package's CPU refinement) in
-// vertex buffers, shaded as tessella-gpu's shade.wgsl does (Blinn-Phong with the same light,
+// vertex buffers, shaded as tessella-view's shade.wgsl does (Blinn-Phong with the same light,
 // colours and constants, linear colour written as sRGB), with its wireframe: coarse edges bold
 // and dark, the pattern's edges thin. One draw per panel, each in its own viewport.
 

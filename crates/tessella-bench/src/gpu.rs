@@ -15,7 +15,7 @@ use tessella_gpu::{
     AdaptiveRenderer, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput, IndexWidth,
     PatternRenderer,
 };
-use tessella_view::{scene_uniforms, RenderOptions, Target};
+use tessella_view::{scene_uniforms, Appearance, RenderOptions, Target};
 use web_time::Instant;
 
 /// One row of [`refine_throughput`].
@@ -192,6 +192,7 @@ pub async fn figure7_async(
     };
     options.validate()?;
     let target = Target::new(ctx, config.size)?;
+    let look = Appearance::new(ctx, Target::FORMATS);
     let bg = options.background;
     for &faces in &config.faces {
         let mesh = mesh_with_faces(faces)?;
@@ -199,11 +200,13 @@ pub async fn figure7_async(
             let plan = Plan::new(&mesh, &RefineOptions::new(config.scheme, level))?;
             let frame = plan.frame(&mesh)?;
             let renderer =
-                PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
-            renderer.set_uniforms(&scene_uniforms(&mesh, &options, 0.0));
+                PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &Displacement::None)?;
+            look.set_uniforms(&scene_uniforms(&mesh, &options, 0.0));
             // (b) pattern.
-            let pattern_ms =
-                time_draws(ctx, &target, bg, config.frames, &|pass| renderer.draw(pass)).await?;
+            let pattern_ms = time_draws(ctx, &target, bg, config.frames, &|pass| {
+                look.draw(pass, &renderer)
+            })
+            .await?;
             let pattern_picture = target.read_async(ctx).await?;
             // (a) static buffer of the refined mesh, evaluated once, where it fits.
             let mut gpu = GpuEvaluator::new(ctx, &plan)?;
@@ -234,6 +237,7 @@ pub async fn figure7_async(
                 let ms = time_draws(ctx, &target, bg, config.frames, &|pass| {
                     renderer.draw_refined(
                         pass,
+                        look.group(),
                         vertices.slice(..),
                         indices.slice(..),
                         format,
@@ -353,16 +357,17 @@ pub async fn scheme_frame_times_async(
         ..Default::default()
     };
     let target = Target::new(ctx, size)?;
+    let look = Appearance::new(ctx, Target::FORMATS);
     let uniforms = scene_uniforms(mesh, &options, 0.0);
     let mut rows = Vec::new();
     for &scheme in schemes {
         let plan = Plan::new(mesh, &RefineOptions::new(scheme, level))?;
         let frame = plan.frame(mesh)?;
         let renderer =
-            PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
-        renderer.set_uniforms(&uniforms);
+            PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &Displacement::None)?;
+        look.set_uniforms(&uniforms);
         let frame_ms = time_draws(ctx, &target, options.background, frames, &|pass| {
-            renderer.draw(pass)
+            look.draw(pass, &renderer)
         })
         .await?;
         rows.push(SchemeRow {
@@ -444,6 +449,7 @@ pub async fn mixed_pattern_frame_times_async(
         ..Default::default()
     };
     let target = Target::new(ctx, size)?;
+    let look = Appearance::new(ctx, Target::FORMATS);
     let uniforms = scene_uniforms(mesh, &options, 0.0);
     let uniform = Plan::new(mesh, &RefineOptions::new(Scheme::Pn, level))?;
     let edges = uniform.topology().edges.len();
@@ -465,10 +471,10 @@ pub async fn mixed_pattern_frame_times_async(
     for plan in [&uniform, &mixed] {
         let frame = plan.frame(mesh)?;
         let renderer =
-            PatternRenderer::new(ctx, plan, &frame, &Target::FORMATS, &Displacement::None)?;
-        renderer.set_uniforms(&uniforms);
+            PatternRenderer::new(ctx, plan, &frame, &look.shading(), &Displacement::None)?;
+        look.set_uniforms(&uniforms);
         let ms = time_draws(ctx, &target, options.background, frames, &|pass| {
-            renderer.draw(pass)
+            look.draw(pass, &renderer)
         })
         .await?;
         out.push((ms, plan.triangle_count(), renderer.draw_count()));
@@ -536,6 +542,7 @@ pub async fn changing_levels_async(
         ..Default::default()
     };
     let target = Target::new(ctx, size)?;
+    let look = Appearance::new(ctx, Target::FORMATS);
     let uniforms = scene_uniforms(mesh, &options, 0.0);
     let surface = Surface::new(mesh, &SurfaceOptions::new(Scheme::Pn))?;
     let first = surface.frame(mesh)?;
@@ -560,11 +567,11 @@ pub async fn changing_levels_async(
             let plan = Plan::new(mesh, &options_at(k))?;
             let frame = plan.frame(mesh)?;
             let renderer =
-                PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &Displacement::None)?;
-            renderer.set_uniforms(&uniforms);
+                PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &Displacement::None)?;
+            look.set_uniforms(&uniforms);
             let setup = t.elapsed().as_secs_f64() * 1e3;
             target
-                .draw_async(ctx, bg, |pass| renderer.draw(pass))
+                .draw_async(ctx, bg, |pass| look.draw(pass, &renderer))
                 .await?;
             // Frame 0 warms up.
             if k > 0 {
@@ -575,15 +582,15 @@ pub async fn changing_levels_async(
             }
             last = Some(renderer);
         }
-        let mut adaptive = AdaptiveRenderer::new(ctx, &surface, &first, &Target::FORMATS, spacing)?;
-        adaptive.set_uniforms(&uniforms);
+        let mut adaptive = AdaptiveRenderer::new(ctx, &surface, &first, &look.shading(), spacing)?;
+        look.set_uniforms(&uniforms);
         let (mut adaptive_ms, mut adaptive_bytes) = (vec![], vec![]);
         for k in 0..=frames {
             let t = Instant::now();
             let bytes = adaptive.set_levels(&moving_levels(edges, top, k), None)?;
             let setup = t.elapsed().as_secs_f64() * 1e3;
             target
-                .draw_async(ctx, bg, |pass| adaptive.draw(pass))
+                .draw_async(ctx, bg, |pass| look.draw(pass, &adaptive))
                 .await?;
             if k > 0 {
                 set_levels_ms.push(setup);
@@ -594,9 +601,9 @@ pub async fn changing_levels_async(
         // The last frame's levels, drawn again by both.
         let pattern = last.expect("at least one frame");
         let pattern_draw_ms =
-            time_draws(ctx, &target, bg, frames, &|pass| pattern.draw(pass)).await?;
+            time_draws(ctx, &target, bg, frames, &|pass| look.draw(pass, &pattern)).await?;
         let adaptive_draw_ms =
-            time_draws(ctx, &target, bg, frames, &|pass| adaptive.draw(pass)).await?;
+            time_draws(ctx, &target, bg, frames, &|pass| look.draw(pass, &adaptive)).await?;
         rows.push(ChangingLevelsRow {
             adapter: ctx.adapter_label(),
             spacing: spacing.to_string(),

@@ -8,18 +8,19 @@ use crate::context::WRITE;
 use crate::context::{GpuContext, READ, UNIFORM};
 use crate::error::GpuError;
 use crate::gpu_types::normal_mode_code;
-use crate::gpu_types::{AdaptiveParams, RenderUniforms};
+use crate::gpu_types::AdaptiveParams;
 use crate::patch::{check_nets_shape, write_nets};
-use crate::renderer::{
-    draw_buffers, render_group, render_layout, render_pipeline, uniforms_buffer, TargetFormats,
-    CODE_VERTICES,
-};
+use crate::renderer::{draw_buffers, CODE_VERTICES};
+use crate::shading::Shading;
 use std::collections::HashMap;
 use std::ops::Range;
-use std::sync::atomic::{AtomicBool, Ordering};
 use tessella_core::refine::instanced::{self, FrameInstances, PartTable, RECORD_WORDS};
 use tessella_core::refine::{canonical, lod, Frame, Lod, Spacing, Surface};
 use tessella_core::shader::{self, Lang};
+
+/// Storage buffers the adaptive renderer binds in the vertex stage: the nets, the records and
+/// the instances. A shading may bind what the device allows beyond them.
+pub const ADAPTIVE_VERTEX_STORAGE_BUFFERS: u32 = 4;
 
 /// Instances per face at most: three strips and an interior.
 const MAX_PARTS_PER_FACE: u64 = 4;
@@ -33,29 +34,24 @@ const MAX_PARTS_PER_FACE: u64 = 4;
 ///
 /// ```no_run
 /// # fn demo(ctx: &tessella_gpu::GpuContext, pass: &mut wgpu::RenderPass<'_>,
-/// #         uniforms: &tessella_gpu::RenderUniforms) -> Result<(), tessella_gpu::GpuError> {
+/// #         shading: &tessella_gpu::Shading,
+/// #         shading_group: &wgpu::BindGroup) -> Result<(), tessella_gpu::GpuError> {
 /// use tessella_core::refine::{Spacing, Surface, SurfaceOptions};
 /// use tessella_core::{samples, Scheme};
-/// use tessella_gpu::{AdaptiveRenderer, TargetFormats};
+/// use tessella_gpu::AdaptiveRenderer;
 /// let mesh = samples::icosphere(1);
 /// // The surface alone (topology and scheme): no level, the levels come every frame.
 /// let surface = Surface::new(&mesh, &SurfaceOptions::new(Scheme::Pn))?;
 /// let mut frame = surface.frame(&mesh)?;
-/// let formats = TargetFormats {
-///     color: wgpu::TextureFormat::Rgba8UnormSrgb,
-///     depth: None,
-///     samples: 1,
-/// };
 /// let mut renderer =
-///     AdaptiveRenderer::new(ctx, &surface, &frame, &formats, Spacing::FractionalOdd)?;
+///     AdaptiveRenderer::new(ctx, &surface, &frame, shading, Spacing::FractionalOdd)?;
 /// // Every frame: new levels (one per unique edge), new nets, one draw call per part used.
 /// let levels = vec![5.5; surface.topology().edges.len()];
 /// renderer.set_levels(&levels, None)?;
 /// let moved: Vec<[f32; 3]> = mesh.positions().iter().map(|p| p.map(|c| 1.1 * c)).collect();
 /// surface.update(&mut frame, &moved, None)?;
 /// renderer.update(&frame)?;
-/// renderer.set_uniforms(uniforms);
-/// renderer.draw(pass);
+/// renderer.draw(pass, shading_group);
 /// # Ok(()) }
 /// ```
 pub struct AdaptiveRenderer {
@@ -67,7 +63,7 @@ pub struct AdaptiveRenderer {
     /// Point codes, each part's distinct codes one after the other.
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
-    /// Every part's triangles unrolled, `code | corner << 30`, for the wireframe.
+    /// Every part's triangles unrolled, `code | corner << 30`.
     wire: wgpu::Buffer,
     points: wgpu::Buffer,
     normals: wgpu::Buffer,
@@ -80,9 +76,6 @@ pub struct AdaptiveRenderer {
     /// The WGSL constants the shaders are compiled with (basis, normal mode, spacing).
     #[cfg_attr(not(feature = "blocking"), allow(dead_code))]
     constants: String,
-    uniforms: wgpu::Buffer,
-    render_group: wgpu::BindGroup,
-    wireframe: AtomicBool,
     table: PartTable,
     /// What the per-frame records need (topology, triangles), and whose frames are taken.
     surface: Surface,
@@ -121,7 +114,7 @@ impl std::fmt::Debug for AdaptiveRenderer {
 }
 
 /// The part table as GPU arrays: per part its distinct codes and local indices, and the
-/// unrolled wireframe vertices.
+/// unrolled triangles' vertices.
 struct PartArrays {
     vertices: Vec<u32>,
     indices: Vec<u32>,
@@ -163,7 +156,7 @@ impl PartArrays {
 }
 
 impl AdaptiveRenderer {
-    /// Compiles the pipeline for `formats`, uploads `spacing`'s parts and the first frame's
+    /// Compiles the pipeline for `shading`, uploads `spacing`'s parts and the first frame's
     /// nets. The surface gives the mesh's topology and scheme (no level: the levels come with
     /// each [`AdaptiveRenderer::set_levels`]); `frame` is one of its frames (a plan's
     /// [`tessella_core::refine::Plan::surface`] serves too). Nothing is drawn before the first
@@ -172,12 +165,16 @@ impl AdaptiveRenderer {
         ctx: &GpuContext,
         surface: &Surface,
         frame: &Frame,
-        formats: &TargetFormats,
+        shading: &Shading,
         spacing: Spacing,
     ) -> Result<AdaptiveRenderer, GpuError> {
         surface.check_frame(frame)?;
-        // Its patch group (nets, records) and the render group's instances and UVs.
-        ctx.check_storage_buffers("the adaptive renderer", "vertex", 7)?;
+        // Its patch group (nets, records) and the draw group's instances.
+        ctx.check_storage_buffers(
+            "the adaptive renderer",
+            "vertex",
+            ADAPTIVE_VERTEX_STORAGE_BUFFERS,
+        )?;
         let nets = frame.nets();
         let faces = surface.face_count();
         // Under 4 GiB a binding's u32 indices in the shaders cannot wrap.
@@ -202,7 +199,7 @@ impl AdaptiveRenderer {
             crate::wgsl_constants::source(),
             shader::record_layout(Lang::Wgsl),
             format!(
-                "const BASIS_K: u32 = {}u;\nconst TESSELLA_NORMAL_MODE: u32 = {}u;\nconst GRID: bool = {};\n",
+                "const TESSELLA_BASIS_K: u32 = {}u;\nconst TESSELLA_NORMAL_MODE: u32 = {}u;\nconst TESSELLA_GRID: bool = {};\n",
                 basis.len(),
                 normal_mode_code(nets.normal_mode),
                 spacing == Spacing::Grid
@@ -249,59 +246,49 @@ impl AdaptiveRenderer {
                     bytemuck::cast_slice(&arrays.wire),
                 ],
             );
-            let uniforms = uniforms_buffer(ctx);
-            // The fragment shader's colormap: none; the vertex shader reads no UVs or fields.
-            let unused = ctx.storage_buffer("unused", &[0; 4], wgpu::BufferUsages::empty());
-            let colormap = crate::renderer::colormap_buffer(ctx, &[0.0; 4]);
-
             let patch_layout = adaptive_layout(ctx);
             let patch_layout_for_capture = patch_layout.clone();
-            let render_layout = render_layout(ctx);
             let patch_group = ctx.buffer_group(
                 "adaptive",
                 &patch_layout,
-                &[&points, &normals, &params, &records],
+                &[&points, &normals, &params, &records, &instances],
             );
-            let render_group = render_group(
-                ctx,
-                &render_layout,
-                [&uniforms, &unused, &instances, &unused, &colormap],
-            );
-            // The prelude names the basis, normal mode and spacing: with the formats, the key.
-            let key = format!("adaptive draw|{formats:?}|{constants}");
+            // The prelude names the basis, normal mode and spacing: with the shading, the key.
+            let key = format!("adaptive draw|{}|{constants}", shading.cache_key());
             let pipeline = ctx.pipelines(&key, || {
                 let module = ctx
                     .device
                     .create_shader_module(wgpu::ShaderModuleDescriptor {
                         label: Some("adaptive.wgsl"),
                         source: wgpu::ShaderSource::Wgsl(
-                            [
-                                &constants,
-                                include_str!("shaders/shade.wgsl"),
-                                include_str!("shaders/adaptive.wgsl"),
-                                include_str!("shaders/adaptive_draw.wgsl"),
-                            ]
-                            .concat()
-                            .into(),
+                            shading
+                                .append_to(
+                                    &[
+                                        &constants,
+                                        include_str!("shaders/adaptive.wgsl"),
+                                        include_str!("shaders/adaptive_draw.wgsl"),
+                                    ]
+                                    .concat(),
+                                )
+                                .into(),
                         ),
                     });
                 let layout = ctx
                     .device
                     .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                         label: Some("adaptive"),
-                        bind_group_layouts: &[Some(&patch_layout), Some(&render_layout)],
+                        bind_group_layouts: &[Some(&patch_layout), Some(shading.layout)],
                         immediate_size: 0,
                     });
-                render_pipeline(ctx, &module, &layout, "vs_adaptive", CODE_VERTICES, formats)
-            });
+                shading.pipeline(ctx, &module, &layout, "tessella_vs_adaptive", CODE_VERTICES)
+            })?;
             let bytes = [
                 &vertices, &indices, &wire, &points, &normals, &records, &instances, &params,
-                &uniforms, &unused, &colormap,
             ]
             .iter()
             .map(|b| b.size())
             .sum();
-            AdaptiveRenderer {
+            Ok(AdaptiveRenderer {
                 ctx: ctx.clone(),
                 spacing,
                 pipeline,
@@ -316,16 +303,13 @@ impl AdaptiveRenderer {
                 patch_group,
                 patch_layout: patch_layout_for_capture,
                 constants: constants.clone(),
-                uniforms,
-                render_group,
-                wireframe: AtomicBool::new(false),
                 table,
                 surface: surface.clone(),
                 shape: (faces, basis.len()),
                 frame: FrameInstances::default(),
                 bytes,
-            }
-        })
+            })
+        })?
     }
 
     /// Sets the levels of the next draws: one per unique edge (`Topology::edges` order, as
@@ -380,35 +364,33 @@ impl AdaptiveRenderer {
         ))
     }
 
-    /// Sets the camera, light and colours; `flags.x` draws the wireframe (see
-    /// [`crate::PatternRenderer::set_uniforms`]).
-    pub fn set_uniforms(&self, uniforms: &RenderUniforms) {
-        self.wireframe
-            .store(uniforms.flags[0] != 0, Ordering::Relaxed);
-        self.ctx
-            .queue
-            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
-    }
-
-    /// Records one instanced draw per part used into `pass`.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.patch_group, &[]);
-        pass.set_bind_group(1, &self.render_group, &[]);
-        if self.wireframe.load(Ordering::Relaxed) {
-            pass.set_vertex_buffer(0, self.wire.slice(..));
-            for d in &self.frame.draws {
-                let r = &self.parts[d.part as usize].indices;
-                pass.draw(r.clone(), d.instances.clone());
-            }
-            return;
-        }
+    /// Records one instanced draw per part used into `pass` (whose attachments match the
+    /// [`Shading`]'s formats), with `shading` as bind group 1.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {
+        self.set_groups(pass, shading);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         for d in &self.frame.draws {
             let p = &self.parts[d.part as usize];
             pass.draw_indexed(p.indices.clone(), p.base_vertex, d.instances.clone());
         }
+    }
+
+    /// [`AdaptiveRenderer::draw`] with the parts' triangles unrolled, three vertices each with
+    /// its own `corner` (see [`crate::PatternRenderer::draw_unrolled`]).
+    pub fn draw_unrolled(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {
+        self.set_groups(pass, shading);
+        pass.set_vertex_buffer(0, self.wire.slice(..));
+        for d in &self.frame.draws {
+            let r = &self.parts[d.part as usize].indices;
+            pass.draw(r.clone(), d.instances.clone());
+        }
+    }
+
+    fn set_groups(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.patch_group, &[]);
+        pass.set_bind_group(1, shading, &[]);
     }
 
     /// Reads back the triangles the current levels draw, evaluated by the vertex shader's own
@@ -487,7 +469,7 @@ impl AdaptiveRenderer {
                         compilation_options: Default::default(),
                         cache: None,
                     })
-            });
+            })?;
             let groups = (jobs.len() as u64).div_ceil(64);
             let max = ctx.limits.max_compute_workgroups_per_dimension as u64;
             let (x, y) = (groups.min(max), groups.div_ceil(max));
@@ -541,9 +523,10 @@ impl AdaptiveRenderer {
     }
 }
 
-/// Group 0 of `shaders/adaptive.wgsl`: nets, params, records.
+/// Group 0 of `shaders/adaptive.wgsl`: nets, params, records, then the instances the draw
+/// reads (`shaders/adaptive_draw.wgsl`; the capture leaves them).
 fn adaptive_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     let stages = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE;
     let [r, u] = [(stages, READ), (stages, UNIFORM)];
-    ctx.buffer_layout("adaptive", &[r, r, u, r])
+    ctx.buffer_layout("adaptive", &[r, r, u, r, r])
 }

@@ -116,13 +116,11 @@ fn quiet_probe() {
 }
 
 /// A read-only storage buffer binding (see [`GpuContext::buffer_layout`]).
-pub(crate) const READ: wgpu::BufferBindingType =
-    wgpu::BufferBindingType::Storage { read_only: true };
+pub const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
 /// A read-write storage buffer binding.
-pub(crate) const WRITE: wgpu::BufferBindingType =
-    wgpu::BufferBindingType::Storage { read_only: false };
+pub const WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
 /// A uniform buffer binding.
-pub(crate) const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
+pub const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
 
 impl GpuContext {
     /// Opens a device on the chosen kind of adapter.
@@ -356,12 +354,15 @@ impl GpuContext {
         self.pipelines.len()
     }
 
-    /// The bundle of pipelines stored under `key`, compiled by `make` the first time.
-    pub(crate) fn pipelines<T>(&self, key: &str, make: impl FnOnce() -> T) -> T
+    /// The bundle of pipelines stored under `key`, compiled by `make` the first time inside
+    /// error scopes of its own ([`GpuContext::scoped`]): a bundle that did not compile (a
+    /// caller's shading with broken WGSL) is an error and is not kept. On the web, where the
+    /// scopes answer later, a broken bundle is reported by [`GpuContext::check_async`] and kept.
+    pub(crate) fn pipelines<T>(&self, key: &str, make: impl FnOnce() -> T) -> Result<T, GpuError>
     where
         T: Clone + wgpu::WasmNotSendSync + 'static,
     {
-        self.pipelines.get_or_insert(key, make)
+        self.pipelines.get_or_try_insert(key, || self.scoped(make))
     }
 
     /// "name (backend)", with "software" added for CPU adapters: the label for benchmark rows.
@@ -713,7 +714,7 @@ impl GpuContext {
 
     /// A bind group layout of buffers only, binding `i` being `entries[i]`: the stages that
     /// see it and its kind ([`READ`], [`WRITE`], [`UNIFORM`]).
-    pub(crate) fn buffer_layout(
+    pub fn buffer_layout(
         &self,
         label: &str,
         entries: &[(wgpu::ShaderStages, wgpu::BufferBindingType)],
@@ -740,7 +741,7 @@ impl GpuContext {
     }
 
     /// A bind group of whole buffers, binding `i` being `buffers[i]`.
-    pub(crate) fn buffer_group(
+    pub fn buffer_group(
         &self,
         label: &str,
         layout: &wgpu::BindGroupLayout,

@@ -116,7 +116,7 @@ struct Pipelines {
 
 impl Pipelines {
     fn new(ctx: &GpuContext, normal_mode: NormalMode, displacement: &Displacement) -> Pipelines {
-        let patch_layout = patch::layout(ctx, wgpu::ShaderStages::COMPUTE);
+        let patch_layout = patch::layout(ctx, wgpu::ShaderStages::COMPUTE, 0);
         let compute = wgpu::ShaderStages::COMPUTE;
         let refine_layout = ctx.buffer_layout(
             "refine",
@@ -321,7 +321,7 @@ impl GpuEvaluator {
             );
             let pipelines = ctx.pipelines(&key, || {
                 Pipelines::new(ctx, plan.normal_mode(), &options.displacement)
-            });
+            })?;
             let patches = PatchBuffers::new(
                 ctx,
                 &weights,
@@ -952,7 +952,7 @@ fn net_windows(
     if faces * face_bytes <= limit && faces <= cap {
         return Ok(vec![NetWindow {
             end: total,
-            group: patches.bind_group(ctx, &pipelines.patch_layout),
+            group: patches.bind_group(ctx, &pipelines.patch_layout, &[]),
         }]);
     }
     let align = ctx.limits.min_storage_buffer_offset_alignment.max(4) as u64;
@@ -982,7 +982,8 @@ fn net_windows(
             bytemuck::bytes_of(&eval),
             wgpu::BufferUsages::UNIFORM,
         );
-        let group = patches.bind_group_window(ctx, &pipelines.patch_layout, &eval, points, normals);
+        let group =
+            patches.bind_group_window(ctx, &pipelines.patch_layout, &eval, (points, normals), &[]);
         windows.push(NetWindow { end, group });
     };
     let mut span: Option<(u64, u64)> = None;

@@ -96,31 +96,6 @@ const _: () = assert!(offset_of!(RefineParams, has_uv) == 36);
 const _: () = assert!(offset_of!(RefineParams, pattern_triangles_at) == 76);
 const _: () = assert!(offset_of!(RefineParams, uvs_at) == 88);
 
-/// The camera, light and colours of [`crate::PatternRenderer`]: `RenderUniforms` in
-/// `shaders/render.wgsl`. Colours are linear RGB(A).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct RenderUniforms {
-    pub view_proj: [[f32; 4]; 4],
-    /// xyz: camera position.
-    pub eye: [f32; 4],
-    /// xyz: unit direction towards the light.
-    pub light_dir: [f32; 4],
-    pub base_color: [f32; 4],
-    /// rgb: colour of the coarse edges in the wireframe, a: their largest half-width in pixels
-    /// (thinner on small triangles; the pattern's own edges are thin shades of the surface).
-    pub wire_color: [f32; 4],
-    /// x: wireframe on, y: pattern level (set by the renderer), z: facet normals from screen
-    /// derivatives (for displaced surfaces), w: `1 << 24 | r | g << 8 | b << 16` paints back
-    /// faces in that sRGB colour (the inside of a closed surface seen through a crack), 0
-    /// shades them like front faces.
-    pub flags: [u32; 4],
-}
-const _: () = assert!(size_of::<RenderUniforms>() == 144);
-const _: () = assert!(offset_of!(RenderUniforms, eye) == 64);
-const _: () = assert!(offset_of!(RenderUniforms, wire_color) == 112);
-const _: () = assert!(offset_of!(RenderUniforms, flags) == 128);
-
 /// `AdaptiveParams` in `shaders/adaptive.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]

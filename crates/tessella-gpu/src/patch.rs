@@ -13,10 +13,17 @@ use tessella_core::{NormalMode, PatchNets, Stencil};
 // (defined with the other Rust twins of WGSL layouts; named here too, where group 0 uses them).
 use crate::gpu_types::normal_mode_code;
 
-/// Layout of group 0, for the given shader stages.
-pub(crate) fn layout(ctx: &GpuContext, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayout {
+/// Layout of group 0, for the given shader stages: the patch's seven bindings, then `extra`
+/// read-only storage buffers of the caller's (a renderer's draw tables, bindings 7, 8, ...).
+pub(crate) fn layout(
+    ctx: &GpuContext,
+    visibility: wgpu::ShaderStages,
+    extra: usize,
+) -> wgpu::BindGroupLayout {
     let [r, u] = [(visibility, READ), (visibility, UNIFORM)];
-    ctx.buffer_layout("patch", &[r, r, r, u, u, r, r])
+    let mut entries = vec![r, r, r, u, u, r, r];
+    entries.extend(std::iter::repeat_n(r, extra));
+    ctx.buffer_layout("patch", &entries)
 }
 
 /// The GPU copies of one mesh's nets plus a pattern's stencil.
@@ -158,22 +165,28 @@ impl PatchBuffers {
         .sum()
     }
 
-    pub fn bind_group(&self, ctx: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
+    /// Group 0 with the whole nets bound, then `extra` (bindings 7, 8, ...).
+    pub fn bind_group(
+        &self,
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        extra: &[&wgpu::Buffer],
+    ) -> wgpu::BindGroup {
         let points = (0, self.points.size());
         let normals = (0, self.normals.size());
-        self.bind_group_window(ctx, layout, &self.eval, points, normals)
+        self.bind_group_window(ctx, layout, &self.eval, (points, normals), extra)
     }
 
     /// Group 0 with only the byte ranges `points` and `normals` (offset, size) of the nets
     /// bound, and `eval` as the uniform (an [`EvalParams`] whose `points_base` and
-    /// `normals_base` are the ranges' offsets in floats).
+    /// `normals_base` are the ranges' offsets in floats), then `extra` (bindings 7, 8, ...).
     pub fn bind_group_window(
         &self,
         ctx: &GpuContext,
         layout: &wgpu::BindGroupLayout,
         eval: &wgpu::Buffer,
-        points: (u64, u64),
-        normals: (u64, u64),
+        (points, normals): ((u64, u64), (u64, u64)),
+        extra: &[&wgpu::Buffer],
     ) -> wgpu::BindGroup {
         let window = |buffer, (offset, size): (u64, u64)| {
             wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -193,6 +206,7 @@ impl PatchBuffers {
         ];
         let entries: Vec<_> = resources
             .into_iter()
+            .chain(extra.iter().map(|b| b.as_entire_binding()))
             .enumerate()
             .map(|(i, resource)| wgpu::BindGroupEntry {
                 binding: i as u32,

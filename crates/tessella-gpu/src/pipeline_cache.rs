@@ -24,24 +24,29 @@ pub(crate) struct PipelineCache {
 }
 
 impl PipelineCache {
-    /// The bundle stored under `key`, made by `make` (and stored) the first time.
-    pub(crate) fn get_or_insert<T>(&self, key: &str, make: impl FnOnce() -> T) -> T
+    /// The bundle stored under `key`, made by `make` (and stored, when it is `Ok`) the first
+    /// time: a bundle that failed is made again by the next caller, never handed out.
+    pub(crate) fn get_or_try_insert<T, E>(
+        &self,
+        key: &str,
+        make: impl FnOnce() -> Result<T, E>,
+    ) -> Result<T, E>
     where
         T: Clone + wgpu::WasmNotSendSync + 'static,
     {
         let id = (TypeId::of::<T>(), key.to_string());
         if let Some(found) = self.lock().get(&id) {
-            return found
+            return Ok(found
                 .downcast_ref::<T>()
                 .expect("the entry's type is in its key")
-                .clone();
+                .clone());
         }
         // Made outside the lock: compiling can take long and may use the context.
-        let made = make();
+        let made = make()?;
         self.lock()
             .entry(id)
             .or_insert_with(|| Box::new(made.clone()));
-        made
+        Ok(made)
     }
 
     /// Bundles stored.
@@ -60,17 +65,24 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_key_is_made_once_per_type() {
+    fn a_key_is_made_once_per_type_and_failures_are_not_kept() {
         let cache = PipelineCache::default();
         let mut made = 0;
         for _ in 0..3 {
-            let v: u32 = cache.get_or_insert("a", || {
+            let v: Result<u32, ()> = cache.get_or_try_insert("a", || {
                 made += 1;
-                7
+                Ok(7)
             });
-            assert_eq!(v, 7);
+            assert_eq!(v, Ok(7));
         }
-        let s: String = cache.get_or_insert("a", || "other type".to_string());
-        assert_eq!((made, s.as_str(), cache.len()), (1, "other type", 2));
+        let s: Result<String, ()> = cache.get_or_try_insert("a", || Ok("other type".into()));
+        assert_eq!(
+            (made, s.unwrap().as_str(), cache.len()),
+            (1, "other type", 2)
+        );
+        let failed: Result<u32, &str> = cache.get_or_try_insert("b", || Err("broken"));
+        assert_eq!((failed, cache.len()), (Err("broken"), 2));
+        let v: Result<u32, &str> = cache.get_or_try_insert("b", || Ok(9));
+        assert_eq!((v, cache.len()), (Ok(9), 3));
     }
 }

@@ -5,36 +5,26 @@
 //! [`PatternRenderer`] records into the caller's render pass; the caller owns the targets, the
 //! encoder and the submission (tessella-view's offscreen pictures are one such caller).
 
-use crate::context::{GpuContext, READ, UNIFORM};
+use crate::context::GpuContext;
 use crate::displace::Displacement;
 use crate::error::GpuError;
 use crate::gpu_types::normal_mode_code;
-use crate::gpu_types::RenderUniforms;
 use crate::patch::{self, PatchBuffers};
+use crate::shading::Shading;
 use tessella_core::displace::face_frames;
 use tessella_core::refine::{Frame, Plan};
 use tessella_core::NormalMode;
 
-/// A field for [`PatternRenderer::set_field`]: six net values per coarse face, the colormap's
-/// sRGB samples (0..=1) and the range `[low, high]` they span.
-pub type FieldNets<'a> = (&'a [f32], &'a [[f32; 3]], [f32; 2]);
+/// Storage buffers the pattern renderer binds in the vertex stage: the patch's five and its two
+/// draw tables, all in group 0. A shading may bind what the device allows beyond them (one under
+/// WebGPU's default of eight).
+pub const PATTERN_VERTEX_STORAGE_BUFFERS: u32 = 7;
 
-/// The attachments the caller's render pass has: what [`PatternRenderer`] compiles its
-/// pipelines for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct TargetFormats {
-    pub color: wgpu::TextureFormat,
-    /// `None`: no depth attachment (then nothing is depth-tested).
-    pub depth: Option<wgpu::TextureFormat>,
-    /// Samples per pixel of the attachments (1, or 4 for multisampling).
-    pub samples: u32,
-}
-
-/// The render pipelines of one kind of renderer, shared through the context's cache.
+/// The render pipelines of one kind of renderer and shading, shared through the context's cache.
 #[derive(Clone)]
 struct Pipelines {
+    /// Group 0: the patch, then the instance faces (binding 7) and face UVs (binding 8).
     patch_layout: wgpu::BindGroupLayout,
-    render_layout: wgpu::BindGroupLayout,
     pattern: wgpu::RenderPipeline,
     fixed: wgpu::RenderPipeline,
 }
@@ -42,66 +32,60 @@ struct Pipelines {
 impl Pipelines {
     fn new(
         ctx: &GpuContext,
-        targets: &TargetFormats,
+        shading: &Shading,
         normal_mode: NormalMode,
         displacement: &Displacement,
     ) -> Pipelines {
-        let patch_layout = patch::layout(ctx, wgpu::ShaderStages::VERTEX);
-        let render_layout = render_layout(ctx);
+        let patch_layout = patch::layout(ctx, wgpu::ShaderStages::VERTEX, 2);
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("render.wgsl"),
                 source: wgpu::ShaderSource::Wgsl(
-                    patch::shader_source(
-                        concat!(
-                            include_str!("shaders/shade.wgsl"),
-                            include_str!("shaders/render.wgsl")
-                        ),
-                        normal_mode,
-                        displacement,
-                    )
-                    .into(),
+                    shading
+                        .append_to(&patch::shader_source(
+                            include_str!("shaders/render.wgsl"),
+                            normal_mode,
+                            displacement,
+                        ))
+                        .into(),
                 ),
             });
         let pattern_layout = ctx
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("pattern"),
-                bind_group_layouts: &[Some(&patch_layout), Some(&render_layout)],
+                bind_group_layouts: &[Some(&patch_layout), Some(shading.layout)],
                 immediate_size: 0,
             });
         let fixed_layout = ctx
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("static"),
-                bind_group_layouts: &[None, Some(&render_layout)],
+                bind_group_layouts: &[None, Some(shading.layout)],
                 immediate_size: 0,
             });
         let fixed_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         Pipelines {
-            pattern: render_pipeline(
+            pattern: shading.pipeline(
                 ctx,
                 &module,
                 &pattern_layout,
-                "vs_pattern",
+                "tessella_vs_pattern",
                 CODE_VERTICES,
-                targets,
             ),
-            fixed: render_pipeline(
+            fixed: shading.pipeline(
                 ctx,
                 &module,
                 &fixed_layout,
-                "vs_static",
+                "tessella_vs_static",
                 wgpu::VertexBufferLayout {
                     array_stride: 24,
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &fixed_attrs,
                 },
-                targets,
             ),
             patch_layout,
-            render_layout,
         }
     }
 }
@@ -117,38 +101,9 @@ pub(crate) const CODE_VERTICES: wgpu::VertexBufferLayout<'static> = wgpu::Vertex
     }],
 };
 
-/// Layout of group 1 of the render pipelines (`shaders/shade.wgsl`): uniforms, face UVs,
-/// instances, field nets, colormap.
-pub(crate) fn render_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
-    let vertex = wgpu::ShaderStages::VERTEX;
-    let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
-    ctx.buffer_layout(
-        "render",
-        &[
-            (both, UNIFORM),
-            (vertex, READ),
-            (vertex, READ),
-            (vertex, READ),
-            (both, UNIFORM),
-        ],
-    )
-}
-
-/// Bytes of the colormap uniform: `array<vec4<f32>, COLORMAP_ENTRIES>` in `shaders/shade.wgsl`
-/// (a header and up to 256 samples).
-pub(crate) const COLORMAP_BYTES: usize = crate::wgsl_constants::COLORMAP_ENTRIES * 16;
-
-/// The colormap uniform holding `header` (floats, at most [`COLORMAP_BYTES`]), zero-padded.
-pub(crate) fn colormap_buffer(ctx: &GpuContext, header: &[f32]) -> wgpu::Buffer {
-    let mut bytes = vec![0u8; COLORMAP_BYTES];
-    let data: &[u8] = bytemuck::cast_slice(header);
-    bytes[..data.len()].copy_from_slice(data);
-    ctx.buffer_init("colormap", &bytes, wgpu::BufferUsages::UNIFORM)
-}
-
 /// The buffers one instanced draw reads, under `labels`: `vertices` (a vertex buffer),
-/// `indices` (an index buffer) and `wire` (the wireframe's vertex buffer), in that order; the
-/// pattern renderer's and the adaptive renderer's.
+/// `indices` (an index buffer) and `wire` (the unrolled triangles' vertex buffer), in that
+/// order; the pattern renderer's and the adaptive renderer's.
 pub(crate) fn draw_buffers(
     ctx: &GpuContext,
     labels: [&str; 3],
@@ -162,83 +117,31 @@ pub(crate) fn draw_buffers(
     ]
 }
 
-/// The uniform buffer of [`RenderUniforms`], written per frame.
-pub(crate) fn uniforms_buffer(ctx: &GpuContext) -> wgpu::Buffer {
-    ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("render uniforms"),
-        size: std::mem::size_of::<RenderUniforms>() as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
-/// A triangle-list pipeline of `module`'s vertex `entry` and `fs_main`, for `targets`.
-pub(crate) fn render_pipeline(
-    ctx: &GpuContext,
-    module: &wgpu::ShaderModule,
-    layout: &wgpu::PipelineLayout,
-    entry: &str,
-    buffer: wgpu::VertexBufferLayout,
-    targets: &TargetFormats,
-) -> wgpu::RenderPipeline {
-    ctx.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(entry),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                buffers: &[Some(buffer)],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                front_face: wgpu::FrontFace::Ccw,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: targets.depth.map(|format| wgpu::DepthStencilState {
-                format,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState {
-                count: targets.samples,
-                ..Default::default()
-            },
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(targets.color.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-}
-
 /// Draws a plan's frames with the refinement pattern (GMR section 3.2): the pattern and the
 /// stencil are uploaded once, [`PatternRenderer::update`] uploads a frame's control nets, and
-/// [`PatternRenderer::draw`] records one instanced draw into the caller's render pass.
+/// [`PatternRenderer::draw`] records one instanced draw per pattern into the caller's render
+/// pass, shaded by the caller's [`Shading`] with the caller's bind group 1.
 ///
 /// ```no_run
 /// # fn demo(ctx: &tessella_gpu::GpuContext, view: &wgpu::TextureView,
-/// #         uniforms: &tessella_gpu::RenderUniforms) -> Result<(), tessella_gpu::GpuError> {
+/// #         shading_wgsl: &str, shading_layout: &wgpu::BindGroupLayout,
+/// #         shading_group: &wgpu::BindGroup) -> Result<(), tessella_gpu::GpuError> {
 /// use tessella_core::refine::Plan;
 /// use tessella_core::{samples, RefineOptions, Scheme};
-/// use tessella_gpu::{Displacement, PatternRenderer, TargetFormats};
+/// use tessella_gpu::{Displacement, PatternRenderer, Shading, TargetFormats};
 /// let mesh = samples::icosphere(1);
 /// let plan = Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 16))?;
 /// let frame = plan.frame(&mesh)?;
-/// let formats = TargetFormats {
-///     color: wgpu::TextureFormat::Rgba8UnormSrgb,
-///     depth: None,
-///     samples: 1,
+/// let shading = Shading {
+///     wgsl: shading_wgsl,
+///     layout: shading_layout,
+///     formats: TargetFormats {
+///         color: wgpu::TextureFormat::Rgba8UnormSrgb,
+///         depth: None,
+///         samples: 1,
+///     },
 /// };
-/// let renderer = PatternRenderer::new(ctx, &plan, &frame, &formats, &Displacement::None)?;
-/// renderer.set_uniforms(uniforms);
+/// let renderer = PatternRenderer::new(ctx, &plan, &frame, &shading, &Displacement::None)?;
 /// let mut encoder = ctx.device.create_command_encoder(&Default::default());
 /// {
 ///     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -250,7 +153,7 @@ pub(crate) fn render_pipeline(
 ///         })],
 ///         ..Default::default()
 ///     });
-///     renderer.draw(&mut pass);
+///     renderer.draw(&mut pass, shading_group);
 /// }
 /// ctx.submit_and_wait(encoder)?;
 /// # Ok(()) }
@@ -262,9 +165,8 @@ pub struct PatternRenderer {
     shape: (usize, usize),
     level: u32,
     patches: PatchBuffers,
+    /// Group 0: the patch, the instance faces and the face UVs.
     patch_group: wgpu::BindGroup,
-    uniforms: wgpu::Buffer,
-    render_group: wgpu::BindGroup,
     /// The patterns: one `u32` stencil row per point, and their triangles, one pattern after
     /// the other (one for a uniform plan, one per distinct tile of an adaptive one).
     pattern_vertices: wgpu::Buffer,
@@ -273,16 +175,9 @@ pub struct PatternRenderer {
     draws: Vec<TileDraw>,
     /// Instance → coarse face (faces grouped by pattern).
     instance_faces: wgpu::Buffer,
-    /// The pattern's triangles unrolled for the wireframe: three `row | corner << 30` each.
+    /// The pattern's triangles unrolled: three `row | corner << 30` each.
     wire_vertices: wgpu::Buffer,
-    /// Set by [`PatternRenderer::set_uniforms`]: draw the unrolled triangles.
-    wireframe: std::sync::atomic::AtomicBool,
     face_uvs: wgpu::Buffer,
-    /// Per coarse face the six values of a scalar field's P2 net (see
-    /// [`PatternRenderer::set_field`]); one 0 without a field.
-    face_field: wgpu::Buffer,
-    /// `[low, high, samples, 0]` then the colormap's sRGB samples; `samples` 0: no field.
-    colormap: wgpu::Buffer,
     displacement_reach: f32,
     /// The plan's position ids, for the displacement's per-frame face records; `None` without
     /// displacement.
@@ -299,18 +194,21 @@ impl std::fmt::Debug for PatternRenderer {
 }
 
 impl PatternRenderer {
-    /// Compiles the pipelines for `formats` and uploads the plan's pattern and stencil and the
+    /// Compiles the pipelines for `shading` and uploads the plan's pattern and stencil and the
     /// first frame's nets (and its UVs, for height maps).
     pub fn new(
         ctx: &GpuContext,
         plan: &Plan,
         frame: &Frame,
-        formats: &TargetFormats,
+        shading: &Shading,
         displacement: &Displacement,
     ) -> Result<PatternRenderer, GpuError> {
         plan.check_frame(frame)?;
-        // The patch group and face UVs, instances and field nets.
-        ctx.check_storage_buffers("the pattern renderer", "vertex", 8)?;
+        ctx.check_storage_buffers(
+            "the pattern renderer",
+            "vertex",
+            PATTERN_VERTEX_STORAGE_BUFFERS,
+        )?;
         let mesh = frame.mesh();
         displacement.validate(mesh.uvs().is_some())?;
         let tiles = Tiles::new(plan)?;
@@ -325,13 +223,14 @@ impl PatternRenderer {
         };
         ctx.scoped(|| {
             let key = format!(
-                "pattern|{formats:?}|{}|{}",
+                "pattern|{}|{}|{}",
+                shading.cache_key(),
                 normal_mode_code(plan.normal_mode()),
                 crate::displace::kind_code(displacement)
             );
             let pipelines = ctx.pipelines(&key, || {
-                Pipelines::new(ctx, formats, plan.normal_mode(), displacement)
-            });
+                Pipelines::new(ctx, shading, plan.normal_mode(), displacement)
+            })?;
             let edges = crate::canonical::edge_table(
                 plan.options().scheme.basis(),
                 &tiles.patterns,
@@ -355,13 +254,12 @@ impl PatternRenderer {
             if let Some(ids) = &position_ids {
                 patches.update_displace_faces(ctx, &face_frames(mesh, ids));
             }
-            let patch_group = patches.bind_group(ctx, &pipelines.patch_layout);
             let [pattern_vertices, pattern_indices, wire_vertices] = draw_buffers(
                 ctx,
                 [
                     "pattern vertices",
                     "pattern indices",
-                    "pattern wireframe vertices",
+                    "pattern unrolled vertices",
                 ],
                 [
                     bytemuck::cast_slice(&tiles.rows),
@@ -379,24 +277,8 @@ impl PatternRenderer {
                 bytemuck::cast_slice(&face_uvs),
                 wgpu::BufferUsages::empty(),
             );
-            let uniforms = uniforms_buffer(ctx);
-            let face_field = ctx.storage_buffer(
-                "face field",
-                bytemuck::cast_slice(&[0f32]),
-                wgpu::BufferUsages::empty(),
-            );
-            let colormap = colormap_buffer(ctx, &[0.0; 4]);
-            let render_group = render_group(
-                ctx,
-                &pipelines.render_layout,
-                [
-                    &uniforms,
-                    &face_uvs,
-                    &instance_faces,
-                    &face_field,
-                    &colormap,
-                ],
-            );
+            let patch_group =
+                patches.bind_group(ctx, &pipelines.patch_layout, &[&instance_faces, &face_uvs]);
             Ok(PatternRenderer {
                 ctx: ctx.clone(),
                 pipelines,
@@ -404,78 +286,16 @@ impl PatternRenderer {
                 level: tiles.level,
                 patches,
                 patch_group,
-                uniforms,
-                render_group,
                 pattern_vertices,
                 pattern_indices,
                 draws: tiles.draws,
                 instance_faces,
                 wire_vertices,
-                wireframe: Default::default(),
                 face_uvs,
-                face_field,
-                colormap,
                 displacement_reach: displacement_reach(displacement),
                 position_ids,
             })
         })?
-    }
-
-    /// Colours the surface by a scalar field instead of the base colour: `nets` holds six
-    /// values per coarse face (`tessella_core::fields::face_nets`: the corners', then the
-    /// mid-edge values of edges 0-1, 1-2, 2-0), interpolated in the vertex shader at each
-    /// pattern point's barycentric `l` with the P2 shape functions (only coarse data crosses
-    /// the bus, as for the nets); `colormap` holds 2 to 256 sRGB samples (0..=1) spread evenly
-    /// over `range` (low, high), linearly interpolated, values outside clamped to the ends.
-    /// Field colours are lit diffusely, without the white highlight. `None` goes back to the
-    /// base colour. [`PatternRenderer::draw_refined`] draws with the base colour.
-    pub fn set_field(&mut self, field: Option<FieldNets<'_>>) -> Result<(), GpuError> {
-        let (nets, header): (&[f32], Vec<f32>) = match field {
-            None => (&[0.0], vec![0.0; 8]),
-            Some((nets, colormap, [low, high])) => {
-                if nets.len() != self.shape.0 * 6 {
-                    return Err(GpuError::BadOption(format!(
-                        "a field net of {} values; the renderer's {} faces need 6 each",
-                        nets.len(),
-                        self.shape.0
-                    )));
-                }
-                if !(2..=256).contains(&colormap.len()) {
-                    return Err(GpuError::BadOption(format!(
-                        "a colormap of {} samples; give 2 to 256",
-                        colormap.len()
-                    )));
-                }
-                if !(low.is_finite() && high.is_finite() && low <= high) {
-                    return Err(GpuError::BadOption(format!(
-                        "field range {low}..{high} must be finite and increasing"
-                    )));
-                }
-                let mut header = vec![low, high, colormap.len() as f32, 0.0];
-                header.extend(colormap.iter().flat_map(|c| [c[0], c[1], c[2], 1.0]));
-                (nets, header)
-            }
-        };
-        let ctx = self.ctx.clone();
-        ctx.scoped(|| {
-            self.face_field = ctx.storage_buffer(
-                "face field",
-                bytemuck::cast_slice(nets),
-                wgpu::BufferUsages::empty(),
-            );
-            self.colormap = colormap_buffer(&ctx, &header);
-            self.render_group = render_group(
-                &ctx,
-                &self.pipelines.render_layout,
-                [
-                    &self.uniforms,
-                    &self.face_uvs,
-                    &self.instance_faces,
-                    &self.face_field,
-                    &self.colormap,
-                ],
-            );
-        })
     }
 
     /// Uploads `frame`'s control nets (the only per-frame upload of a deforming mesh; with
@@ -502,33 +322,11 @@ impl PatternRenderer {
         Ok(bytes + self.patches.update_nets(&self.ctx, nets))
     }
 
-    /// Sets the camera, light and colours for the next draws (`flags.y`, the level, is set
-    /// here). With `flags.x` (wireframe) set, [`PatternRenderer::draw`] draws the pattern's
-    /// triangles unrolled, three vertices each, so the fragment shader knows its distance to
-    /// every pattern edge whatever the pattern.
-    pub fn set_uniforms(&self, uniforms: &RenderUniforms) {
-        let mut u = *uniforms;
-        u.flags[1] = self.level;
-        self.wireframe
-            .store(u.flags[0] != 0, std::sync::atomic::Ordering::Relaxed);
-        self.ctx
-            .queue
-            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
-    }
-
     /// Records the instanced draw of every coarse triangle into `pass` (whose attachments
-    /// match the renderer's [`TargetFormats`]). Errors show when the caller submits.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        pass.set_pipeline(&self.pipelines.pattern);
-        pass.set_bind_group(0, &self.patch_group, &[]);
-        pass.set_bind_group(1, &self.render_group, &[]);
-        if self.wireframe.load(std::sync::atomic::Ordering::Relaxed) {
-            pass.set_vertex_buffer(0, self.wire_vertices.slice(..));
-            for d in &self.draws {
-                pass.draw(d.indices.clone(), d.instances.clone());
-            }
-            return;
-        }
+    /// match the [`Shading`]'s formats), with `shading` as bind group 1. Errors show when the
+    /// caller submits.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {
+        self.set_groups(pass, shading);
         pass.set_vertex_buffer(0, self.pattern_vertices.slice(..));
         pass.set_index_buffer(self.pattern_indices.slice(..), wgpu::IndexFormat::Uint32);
         for d in &self.draws {
@@ -536,25 +334,44 @@ impl PatternRenderer {
         }
     }
 
-    /// Records a draw of an already refined, indexed mesh with the same shading: `vertices`
-    /// holds 24-byte position + normal vertices (a [`crate::GpuEvaluator`]'s output without
-    /// UVs), `indices` `index_count` indices of `format`. GMR Figure 7's static baseline.
+    /// [`PatternRenderer::draw`] with the pattern's triangles unrolled, three vertices each
+    /// with its own `corner`, so the fragment shader knows its place in every pattern triangle
+    /// (a wireframe's distance to the edges) whatever the pattern.
+    pub fn draw_unrolled(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {
+        self.set_groups(pass, shading);
+        pass.set_vertex_buffer(0, self.wire_vertices.slice(..));
+        for d in &self.draws {
+            pass.draw(d.indices.clone(), d.instances.clone());
+        }
+    }
+
+    fn set_groups(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {
+        pass.set_pipeline(&self.pipelines.pattern);
+        pass.set_bind_group(0, &self.patch_group, &[]);
+        pass.set_bind_group(1, shading, &[]);
+    }
+
+    /// Records a draw of an already refined, indexed mesh with the same shading (vertices
+    /// with `face` `TESSELLA_NO_FACE`): `vertices` holds 24-byte position + normal vertices (a
+    /// [`crate::GpuEvaluator`]'s output without UVs), `indices` `index_count` indices of
+    /// `format`. GMR Figure 7's static baseline.
     pub fn draw_refined(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
+        shading: &wgpu::BindGroup,
         vertices: wgpu::BufferSlice<'_>,
         indices: wgpu::BufferSlice<'_>,
         format: wgpu::IndexFormat,
         index_count: u32,
     ) {
         pass.set_pipeline(&self.pipelines.fixed);
-        pass.set_bind_group(1, &self.render_group, &[]);
+        pass.set_bind_group(1, shading, &[]);
         pass.set_vertex_buffer(0, vertices);
         pass.set_index_buffer(indices, format);
         pass.draw_indexed(0..index_count, 0, 0..1);
     }
 
-    /// Bytes this renderer keeps on the GPU (nets, stencil, pattern, uniforms).
+    /// Bytes this renderer keeps on the GPU (nets, stencil, pattern, draw tables).
     pub fn byte_size(&self) -> u64 {
         self.patches.byte_size()
             + self.pattern_vertices.size()
@@ -562,9 +379,6 @@ impl PatternRenderer {
             + self.wire_vertices.size()
             + self.instance_faces.size()
             + self.face_uvs.size()
-            + self.face_field.size()
-            + self.colormap.size()
-            + self.uniforms.size()
     }
 
     /// Draw calls per frame: one per distinct pattern.
@@ -591,14 +405,6 @@ fn displacement_reach(displacement: &Displacement) -> f32 {
         | Displacement::Perlin { amplitude, .. }
         | Displacement::HeightMap { amplitude, .. } => amplitude.abs(),
     }
-}
-
-pub(crate) fn render_group(
-    ctx: &GpuContext,
-    layout: &wgpu::BindGroupLayout,
-    buffers: [&wgpu::Buffer; 5],
-) -> wgpu::BindGroup {
-    ctx.buffer_group("render", layout, &buffers)
 }
 
 /// One instanced draw: a pattern's index range (or unrolled vertex range, the same numbers)

@@ -107,8 +107,8 @@ impl PatchBindings {
                 &edges,
                 false,
             )?;
-            let layout = patch::layout(ctx, visibility);
-            let group = patches.bind_group(ctx, &layout);
+            let layout = patch::layout(ctx, visibility, 0);
+            let group = patches.bind_group(ctx, &layout, &[]);
             Ok(PatchBindings {
                 ctx: ctx.clone(),
                 group_index,

@@ -4,9 +4,6 @@
 use crate::gpu_types::{normal_mode_code, NORMAL_NET_BYTES};
 use tessella_core::NormalMode;
 
-/// Entries of the colormap uniform (`shaders/shade.wgsl`): a header and up to 256 samples.
-pub(crate) const COLORMAP_ENTRIES: usize = 257;
-
 /// The shared constants as WGSL source.
 pub(crate) fn source() -> String {
     [
@@ -14,7 +11,6 @@ pub(crate) fn source() -> String {
         ("TESSELLA_EDGE_ROWS_AT", crate::canonical::ROWS_AT as u32),
         ("TESSELLA_EDGE_ROW_LEN", crate::canonical::ROW_LEN as u32),
         ("TESSELLA_MODE_REAL", normal_mode_code(NormalMode::Real)),
-        ("TESSELLA_COLORMAP_ENTRIES", COLORMAP_ENTRIES as u32),
     ]
     .iter()
     .map(|(name, value)| format!("const {name}: u32 = {value}u;\n"))

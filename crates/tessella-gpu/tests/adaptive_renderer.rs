@@ -5,18 +5,24 @@
 
 mod common;
 
-use common::ctx;
+use common::{ctx, PlainShading};
 use std::collections::HashMap;
 use tessella_core::refine::{canonical, Levels, Plan, Spacing, Surface};
 use tessella_core::Named;
 use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Scheme};
 use tessella_gpu::{AdaptiveRenderer, CapturedTriangles, TargetFormats};
 
-const FORMATS: TargetFormats = TargetFormats {
-    color: wgpu::TextureFormat::Rgba8UnormSrgb,
-    depth: None,
-    samples: 1,
-};
+/// The capture reads the points back; the shading only completes the pipeline.
+fn plain() -> PlainShading {
+    PlainShading::new(
+        ctx(),
+        TargetFormats {
+            color: wgpu::TextureFormat::Rgba8UnormSrgb,
+            depth: None,
+            samples: 1,
+        },
+    )
+}
 
 /// Per-edge levels in `[1, 1 + spread]`, fractional, different edge by edge.
 fn levels(edges: usize, spread: f32, seed: usize) -> Vec<f32> {
@@ -34,7 +40,8 @@ fn capture(
     // The surface alone: the options' level and levels play no part.
     let surface = Surface::new(mesh, &options.surface_options()).unwrap();
     let frame = surface.frame(mesh).unwrap();
-    let mut r = AdaptiveRenderer::new(ctx(), &surface, &frame, &FORMATS, spacing).unwrap();
+    let mut r =
+        AdaptiveRenderer::new(ctx(), &surface, &frame, &plain().shading(), spacing).unwrap();
     r.set_levels(lv, None).unwrap();
     let c = r.capture().unwrap();
     assert_eq!(c.positions.len() as u64, 3 * r.triangle_count());
@@ -185,8 +192,14 @@ fn a_deforming_mesh_with_lod_levels_draws_each_frames_cpu_points() {
     let options = RefineOptions::new(Scheme::Pn, 1);
     let surface = Surface::new(&mesh, &options.surface_options()).unwrap();
     let mut frame = surface.frame(&mesh).unwrap();
-    let mut r =
-        AdaptiveRenderer::new(ctx(), &surface, &frame, &FORMATS, Spacing::FractionalOdd).unwrap();
+    let mut r = AdaptiveRenderer::new(
+        ctx(),
+        &surface,
+        &frame,
+        &plain().shading(),
+        Spacing::FractionalOdd,
+    )
+    .unwrap();
     let lod = Lod::Distance {
         near: 1.0,
         far: 6.0,

@@ -2,6 +2,8 @@
 //! limits are far below what the work asks for. Run on the software adapter (lavapipe).
 mod common;
 
+use common::PlainShading;
+
 use tessella_core::refine::{Evaluator, Levels, Plan, Spacing};
 use tessella_core::{samples, RefineOptions, RefinedMesh, Refiner, Scheme};
 use tessella_gpu::{
@@ -193,7 +195,8 @@ fn the_renderer_refuses_nets_over_one_binding() {
         depth: None,
         samples: 1,
     };
-    let err = PatternRenderer::new(&ctx, &plan, &frame, &formats, &Default::default())
+    let plain = PlainShading::new(&ctx, formats);
+    let err = PatternRenderer::new(&ctx, &plan, &frame, &plain.shading(), &Default::default())
         .map(|_| ())
         .unwrap_err();
     assert!(
@@ -229,13 +232,14 @@ fn webgpu_default_storage_buffers_suffice_and_fewer_are_refused_clearly() {
         depth: None,
         samples: 1,
     };
+    let plain = PlainShading::new(&ctx, formats);
     // Both renderers' pipelines (validated when made) fit the 8 storage buffers too.
-    PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()).unwrap();
+    PatternRenderer::new(&ctx, plan, &frame, &plain.shading(), &Default::default()).unwrap();
     tessella_gpu::AdaptiveRenderer::new(
         &ctx,
         plan.surface(),
         &frame,
-        &formats,
+        &plain.shading(),
         Spacing::FractionalOdd,
     )
     .unwrap();
@@ -264,7 +268,8 @@ fn webgpu_default_storage_buffers_suffice_and_fewer_are_refused_clearly() {
             .contains("max_storage_buffers_per_shader_stage"),
         "{e}"
     );
-    let Err(e) = PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()) else {
+    let Err(e) = PatternRenderer::new(&ctx, plan, &frame, &plain.shading(), &Default::default())
+    else {
         panic!("the renderer took a device with 4 storage buffers per stage");
     };
     assert!(e.to_string().contains("vertex stage"), "{e}");
@@ -291,10 +296,12 @@ fn a_device_without_vertex_storage_refuses_the_renderers_and_keeps_the_compute_p
         depth: None,
         samples: 1,
     };
+    let plain = PlainShading::new(&ctx, formats);
     let refusals = [
         (
             "the pattern renderer",
-            PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()).map(|_| ()),
+            PatternRenderer::new(&ctx, plan, &frame, &plain.shading(), &Default::default())
+                .map(|_| ()),
         ),
         (
             "the adaptive renderer",
@@ -302,7 +309,7 @@ fn a_device_without_vertex_storage_refuses_the_renderers_and_keeps_the_compute_p
                 &ctx,
                 plan.surface(),
                 &frame,
-                &formats,
+                &plain.shading(),
                 Spacing::FractionalOdd,
             )
             .map(|_| ()),

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{assert_same, ctx};
+use common::{assert_same, ctx, PlainShading};
 use tessella_core::refine::Spacing;
 use tessella_core::{samples, NormalMode, RefineOptions, Refiner, Scheme};
 use tessella_gpu::{gpu_refine, AdaptiveRenderer, GpuContext, PatternRenderer, TargetFormats};
@@ -19,6 +19,7 @@ fn pipelines_are_compiled_once_per_kind_and_variant() {
         depth: Some(wgpu::TextureFormat::Depth32Float),
         samples: 1,
     };
+    let plain = PlainShading::new(&ctx, formats);
     let torus = samples::torus(1.0, 0.35, 12, 8);
     let sphere = samples::icosphere(1);
     let renderers = |mesh, scheme, normals| {
@@ -26,12 +27,12 @@ fn pipelines_are_compiled_once_per_kind_and_variant() {
         let refiner = Refiner::new(mesh, &opts).unwrap();
         let plan = refiner.plan();
         let frame = plan.frame(mesh).unwrap();
-        PatternRenderer::new(&ctx, plan, &frame, &formats, &Default::default()).unwrap();
+        PatternRenderer::new(&ctx, plan, &frame, &plain.shading(), &Default::default()).unwrap();
         AdaptiveRenderer::new(
             &ctx,
             plan.surface(),
             &frame,
-            &formats,
+            &plain.shading(),
             Spacing::FractionalOdd,
         )
         .unwrap();

@@ -3,6 +3,7 @@
 //! [`PatternRenderer::update`] uploads them (GMR section 3.1), never a refined vertex buffer.
 //! The fly-in changes the levels every frame instead, drawn by one [`AdaptiveRenderer`].
 
+use crate::appearance::Appearance;
 use crate::save_png;
 use crate::scene::{scene_uniforms, RenderOptions};
 use crate::target::Target;
@@ -77,10 +78,11 @@ pub fn render_twist(
     }
     options.validate()?;
     let (plan, mut frame) = Plan::with_frame(mesh, refine)?;
+    let look = Appearance::new(ctx, Target::FORMATS);
     let renderer =
-        PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &options.displacement)?;
+        PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &options.displacement)?;
     let target = Target::new(ctx, options.size)?;
-    renderer.set_uniforms(&scene_uniforms(
+    look.set_uniforms(&scene_uniforms(
         mesh,
         options,
         renderer.displacement_reach(),
@@ -97,7 +99,7 @@ pub fn render_twist(
         let (positions, normals) = twist_points(mesh, max_angle_degrees * phase.sin());
         plan.update(&mut frame, &positions, Some(&normals))?;
         stats.bytes_per_frame = renderer.update(&frame)?;
-        target.draw(ctx, options.background, |pass| renderer.draw(pass))?;
+        target.draw(ctx, options.background, |pass| look.draw(pass, &renderer))?;
         let picture = target.read(ctx)?;
         let path = out_dir.join(format!("frame_{k:03}.png"));
         save_png(&picture, &path)?;
@@ -161,8 +163,9 @@ pub fn render_fly_in(
     // The surface alone: the levels come from the screen-space LOD every frame.
     let surface = Surface::new(mesh, &refine.surface_options())?;
     let frame = surface.frame(mesh)?;
+    let look = Appearance::new(ctx, Target::FORMATS);
     let mut renderer =
-        AdaptiveRenderer::new(ctx, &surface, &frame, &Target::FORMATS, refine.spacing)?;
+        AdaptiveRenderer::new(ctx, &surface, &frame, &look.shading(), refine.spacing)?;
     let mut stats = FlyInStats {
         zooms: Vec::new(),
         max_levels: Vec::new(),
@@ -188,8 +191,8 @@ pub fn render_fly_in(
         };
         let (edges, faces) = lod::levels(mesh, surface.topology(), frame.nets(), &screen)?;
         let bytes = renderer.set_levels(&edges, faces.as_deref())?;
-        renderer.set_uniforms(&scene_uniforms(mesh, &view, 0.0));
-        target.draw(ctx, view.background, |pass| renderer.draw(pass))?;
+        look.set_uniforms(&scene_uniforms(mesh, &view, 0.0));
+        target.draw(ctx, view.background, |pass| look.draw(pass, &renderer))?;
         let picture = target.read(ctx)?;
         let path = out_dir.join(format!("frame_{k:03}.png"));
         save_png(&picture, &path)?;

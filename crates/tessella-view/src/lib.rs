@@ -1,6 +1,7 @@
 //! # tessella-view
 //!
-//! Pictures of refined surfaces, on top of tessella-gpu's [`PatternRenderer`]: an offscreen
+//! Pictures of refined surfaces, on top of tessella-gpu's [`PatternRenderer`], shaded by this
+//! crate's [`Appearance`] (light, colours, a field's colormap, the wireframe): an offscreen
 //! target with readback ([`render`], [`render_compare`] with labelled panels, [`save_png`]),
 //! a camera that frames the mesh, a deforming-mesh animation ([`animate::render_twist`]: one
 //! [`tessella_core::refine::Plan`], per frame `Plan::update` + `PatternRenderer::update`, so
@@ -31,6 +32,7 @@
 
 #[cfg(feature = "blocking")]
 pub mod animate;
+mod appearance;
 mod camera;
 pub mod colormap;
 pub mod font;
@@ -39,6 +41,7 @@ mod render;
 mod scene;
 mod target;
 
+pub use appearance::{Appearance, FieldNets, RenderUniforms, Shaded};
 pub use colormap::{Colormap, FieldColors};
 pub use image::RgbaImage;
 #[cfg(feature = "blocking")]

@@ -1,6 +1,8 @@
 //! Offscreen pictures: a multisampled target with readback, drawn by tessella-gpu's
-//! [`PatternRenderer`], framed by [`crate::scene`]'s camera. Blocks (the `blocking` feature).
+//! [`PatternRenderer`] with this crate's [`Appearance`], framed by [`crate::scene`]'s camera.
+//! Blocks (the `blocking` feature).
 
+use crate::appearance::{Appearance, FieldNets};
 use crate::colormap;
 use crate::scene::{panel_widths, scene_uniforms, RenderOptions};
 use crate::target::Target;
@@ -66,21 +68,29 @@ fn render_view(
     options: &RenderOptions,
 ) -> Result<RgbaImage, GpuError> {
     let (plan, frame) = Plan::with_frame(mesh, refine)?;
-    let mut renderer =
-        PatternRenderer::new(ctx, &plan, &frame, &Target::FORMATS, &options.displacement)?;
+    let mut look = Appearance::new(ctx, Target::FORMATS);
+    let renderer =
+        PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &options.displacement)?;
     if let Some(field) = &options.field {
         let nets = tessella_core::fields::face_nets(mesh, &field.name, &field.values)
             .map_err(|e| GpuError::BadOption(e.to_string()))?;
-        let colors = field.colormap.samples_f32();
-        renderer.set_field(Some((&nets, &colors, field.resolved_range())))?;
+        let colormap = field.colormap.samples_f32();
+        look.set_field(
+            plan.face_count(),
+            Some(FieldNets {
+                nets: &nets,
+                colormap: &colormap,
+                range: field.resolved_range(),
+            }),
+        )?;
     }
     let target = Target::new(ctx, options.size)?;
-    renderer.set_uniforms(&scene_uniforms(
+    look.set_uniforms(&scene_uniforms(
         mesh,
         options,
         renderer.displacement_reach(),
     ));
-    target.draw(ctx, options.background, |pass| renderer.draw(pass))?;
+    target.draw(ctx, options.background, |pass| look.draw(pass, &renderer))?;
     target.read(ctx)
 }
 

@@ -2,10 +2,11 @@
 //! ([`scene_uniforms`]), the LOD camera and the panels' layout. No blocking call here, so
 //! this part builds for the web too (the viewer's camera is this one).
 
+use crate::appearance::RenderUniforms;
 use crate::camera::{bounding_sphere, Camera};
 use crate::colormap::FieldColors;
 use tessella_core::Mesh;
-use tessella_gpu::{Displacement, GpuError, RenderUniforms};
+use tessella_gpu::{Displacement, GpuError};
 
 /// Largest picture side.
 const MAX_SIDE: u32 = 8192;

@@ -92,7 +92,7 @@ pub struct Target {
 }
 
 impl Target {
-    /// What [`tessella_gpu::PatternRenderer`]s drawing into this target are made for.
+    /// The formats of this target's pass, for an [`crate::Appearance`] drawing into it.
     pub const FORMATS: TargetFormats = TargetFormats {
         color: COLOR_FORMAT,
         depth: Some(DEPTH_FORMAT),

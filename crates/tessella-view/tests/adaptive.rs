@@ -16,7 +16,7 @@ use tessella_core::refine::{Levels, Plan, Spacing, Surface, SurfaceOptions};
 use tessella_core::Named;
 use tessella_core::{refine, samples, Mesh, RefineOptions, Scheme};
 use tessella_gpu::{AdaptiveRenderer, Displacement, PatternRenderer};
-use tessella_view::{scene_uniforms, RenderOptions, Target};
+use tessella_view::{scene_uniforms, Appearance, RenderOptions, Target};
 use wgpu::util::DeviceExt;
 
 fn view() -> RenderOptions {
@@ -30,12 +30,13 @@ fn view() -> RenderOptions {
 fn both(mesh: &Mesh, options: &RefineOptions) -> (RgbaImage, RgbaImage, usize) {
     let plan = Plan::new(mesh, options).unwrap();
     let frame = plan.frame(mesh).unwrap();
+    let look = Appearance::new(ctx(), Target::FORMATS);
     let renderer =
-        PatternRenderer::new(ctx(), &plan, &frame, &Target::FORMATS, &Displacement::None).unwrap();
-    renderer.set_uniforms(&scene_uniforms(mesh, &view(), 0.0));
+        PatternRenderer::new(ctx(), &plan, &frame, &look.shading(), &Displacement::None).unwrap();
+    look.set_uniforms(&scene_uniforms(mesh, &view(), 0.0));
     let target = Target::new(ctx(), view().size).unwrap();
     target
-        .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+        .draw(ctx(), [255; 4], |pass| look.draw(pass, &renderer))
         .unwrap();
     let instanced = target.read(ctx()).unwrap();
 
@@ -62,6 +63,7 @@ fn both(mesh: &Mesh, options: &RefineOptions) -> (RgbaImage, RgbaImage, usize) {
         .draw(ctx(), [255; 4], |pass| {
             renderer.draw_refined(
                 pass,
+                look.group(),
                 vb.slice(..),
                 ib.slice(..),
                 wgpu::IndexFormat::Uint32,
@@ -173,13 +175,14 @@ fn live(
 ) -> (RgbaImage, usize) {
     let surface = Surface::new(mesh, &SurfaceOptions::new(scheme)).unwrap();
     let frame = surface.frame(mesh).unwrap();
+    let look = Appearance::new(ctx(), Target::FORMATS);
     let mut renderer =
-        AdaptiveRenderer::new(ctx(), &surface, &frame, &Target::FORMATS, spacing).unwrap();
+        AdaptiveRenderer::new(ctx(), &surface, &frame, &look.shading(), spacing).unwrap();
     renderer.set_levels(levels, None).unwrap();
-    renderer.set_uniforms(&scene_uniforms(mesh, view, 0.0));
+    look.set_uniforms(&scene_uniforms(mesh, view, 0.0));
     let target = Target::new(ctx(), view.size).unwrap();
     target
-        .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+        .draw(ctx(), [255; 4], |pass| look.draw(pass, &renderer))
         .unwrap();
     (target.read(ctx()).unwrap(), renderer.draw_count())
 }
@@ -244,8 +247,9 @@ fn levels_set_per_frame_leave_no_cracks_and_upload_only_coarse_data() {
     };
     let frame = surface.frame(&mesh).unwrap();
     for &spacing in Spacing::ALL {
+        let look = Appearance::new(ctx(), Target::FORMATS);
         let mut renderer =
-            AdaptiveRenderer::new(ctx(), &surface, &frame, &Target::FORMATS, spacing).unwrap();
+            AdaptiveRenderer::new(ctx(), &surface, &frame, &look.shading(), spacing).unwrap();
         let mut uploads = Vec::new();
         for step in 0..4 {
             // Levels that differ edge by edge and change every frame, low to high.
@@ -253,10 +257,10 @@ fn levels_set_per_frame_leave_no_cracks_and_upload_only_coarse_data() {
                 .map(|e| 1.5 + ((e * 29 + step * 11) % 53) as f32 * (0.2 + step as f32 * 0.35))
                 .collect();
             uploads.push(renderer.set_levels(&levels, None).unwrap());
-            renderer.set_uniforms(&scene_uniforms(&mesh, &view, 0.0));
+            look.set_uniforms(&scene_uniforms(&mesh, &view, 0.0));
             let target = Target::new(ctx(), view.size).unwrap();
             target
-                .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+                .draw(ctx(), [255; 4], |pass| look.draw(pass, &renderer))
                 .unwrap();
             let picture = target.read(ctx()).unwrap();
             let magenta = crack_pixels(&picture);

@@ -13,8 +13,8 @@ use image::RgbaImage;
 use tessella_core::displace::{DisplaceFrame, Displacement};
 use tessella_core::refine::Plan;
 use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
-use tessella_gpu::{PatternRenderer, RenderUniforms};
-use tessella_view::{scene_uniforms, RenderOptions, Target};
+use tessella_gpu::PatternRenderer;
+use tessella_view::{scene_uniforms, Appearance, RenderOptions, RenderUniforms, Target};
 
 const SIZE: (u32, u32) = (160, 160);
 
@@ -28,12 +28,15 @@ fn draw(
 ) -> RgbaImage {
     let plan = Plan::new(mesh, refine).unwrap();
     let frame = plan.frame(mesh).unwrap();
+    let look = Appearance::new(ctx(), Target::FORMATS);
     let renderer =
-        PatternRenderer::new(ctx(), &plan, &frame, &Target::FORMATS, displacement).unwrap();
-    renderer.set_uniforms(uniforms);
+        PatternRenderer::new(ctx(), &plan, &frame, &look.shading(), displacement).unwrap();
+    look.set_uniforms(uniforms);
     let target = Target::new(ctx(), SIZE).unwrap();
     target
-        .draw(ctx(), [255, 255, 255, 255], |pass| renderer.draw(pass))
+        .draw(ctx(), [255, 255, 255, 255], |pass| {
+            look.draw(pass, &renderer)
+        })
         .unwrap();
     target.read(ctx()).unwrap()
 }

@@ -334,16 +334,24 @@ fn a_frame_wgpu_rejects_is_an_error_not_a_blank_picture() {
     let plan = tessella_core::refine::Plan::new(&mesh, &RefineOptions::new(Scheme::Pn, 4)).unwrap();
     let frame = plan.frame(&mesh).unwrap();
     // Pipelines for another colour format than the target's: wgpu refuses the draw.
-    let wrong = tessella_gpu::TargetFormats {
-        color: wgpu::TextureFormat::Bgra8UnormSrgb,
-        ..tessella_view::Target::FORMATS
-    };
-    let renderer =
-        tessella_gpu::PatternRenderer::new(ctx(), &plan, &frame, &wrong, &Displacement::None)
-            .unwrap();
+    let wrong = tessella_view::Appearance::new(
+        ctx(),
+        tessella_gpu::TargetFormats {
+            color: wgpu::TextureFormat::Bgra8UnormSrgb,
+            ..tessella_view::Target::FORMATS
+        },
+    );
+    let renderer = tessella_gpu::PatternRenderer::new(
+        ctx(),
+        &plan,
+        &frame,
+        &wrong.shading(),
+        &Displacement::None,
+    )
+    .unwrap();
     let target = tessella_view::Target::new(ctx(), (16, 16)).unwrap();
     let err = target
-        .draw(ctx(), [255; 4], |pass| renderer.draw(pass))
+        .draw(ctx(), [255; 4], |pass| wrong.draw(pass, &renderer))
         .unwrap_err();
     assert!(
         matches!(err, tessella_gpu::GpuError::Validation(_)),
@@ -351,15 +359,16 @@ fn a_frame_wgpu_rejects_is_an_error_not_a_blank_picture() {
     );
     // Reported once, to this caller; the next good frame is fine.
     ctx().check().unwrap();
+    let look = tessella_view::Appearance::new(ctx(), tessella_view::Target::FORMATS);
     let right = tessella_gpu::PatternRenderer::new(
         ctx(),
         &plan,
         &frame,
-        &tessella_view::Target::FORMATS,
+        &look.shading(),
         &Displacement::None,
     )
     .unwrap();
     target
-        .draw(ctx(), [255; 4], |pass| right.draw(pass))
+        .draw(ctx(), [255; 4], |pass| look.draw(pass, &right))
         .unwrap();
 }

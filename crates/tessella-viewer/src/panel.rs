@@ -7,7 +7,8 @@ use crate::error::ViewerError;
 use crate::params::Params;
 use tessella_core::refine::{lod, Camera, Frame, Lod, Plan, Spacing, Surface};
 use tessella_core::{Mesh, RefineOptions, Scheme, Tags};
-use tessella_gpu::{AdaptiveRenderer, GpuContext, PatternRenderer, RenderUniforms, TargetFormats};
+use tessella_gpu::{AdaptiveRenderer, GpuContext, PatternRenderer, TargetFormats};
+use tessella_view::{Appearance, RenderUniforms};
 
 /// The most refined triangles a panel may draw: software rasterisers (SwiftShader, lavapipe)
 /// take seconds per frame well before this, and a frame that never ends looks like a hang.
@@ -48,6 +49,8 @@ pub struct Panel {
     /// The options a CPU refinement of this panel uses (export), levels included.
     pub options: RefineOptions,
     drawer: Drawer,
+    /// The panel's shading (its own camera uniforms).
+    look: Appearance,
     /// Bytes a static, welded and indexed refined mesh of this panel would need.
     static_bytes: u64,
 }
@@ -128,7 +131,9 @@ impl Panel {
             let plan = Plan::new(mesh, &options)?;
             // The panel's frame outlives `mesh`'s borrow: it owns a copy, which it moves.
             let frame = plan.frame(mesh.clone())?;
-            let renderer = PatternRenderer::new(ctx, &plan, &frame, formats, &params.displacement)?;
+            let look = Appearance::new(ctx, *formats);
+            let renderer =
+                PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &params.displacement)?;
             let static_bytes = plan.layout().output_bytes(false);
             return Ok(Panel {
                 scheme,
@@ -138,12 +143,15 @@ impl Panel {
                     frame,
                     renderer,
                 },
+                look,
                 static_bytes,
             });
         }
         let surface = Surface::new(mesh, &options.surface_options())?;
         let frame = surface.frame(mesh.clone())?;
-        let mut renderer = AdaptiveRenderer::new(ctx, &surface, &frame, formats, params.spacing)?;
+        let look = Appearance::new(ctx, *formats);
+        let mut renderer =
+            AdaptiveRenderer::new(ctx, &surface, &frame, &look.shading(), params.spacing)?;
         let levels = match &params.lod {
             Some(spec) => Levels::Lod(spec.clone()),
             None => Levels::Fixed(params.level as f32),
@@ -167,6 +175,7 @@ impl Panel {
                 round_up,
                 max_level,
             },
+            look,
             static_bytes: 0,
         })
     }
@@ -241,16 +250,13 @@ impl Panel {
     }
 
     pub fn set_uniforms(&self, uniforms: &RenderUniforms) {
-        match &self.drawer {
-            Drawer::Pattern { renderer, .. } => renderer.set_uniforms(uniforms),
-            Drawer::Adaptive { renderer, .. } => renderer.set_uniforms(uniforms),
-        }
+        self.look.set_uniforms(uniforms);
     }
 
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         match &self.drawer {
-            Drawer::Pattern { renderer, .. } => renderer.draw(pass),
-            Drawer::Adaptive { renderer, .. } => renderer.draw(pass),
+            Drawer::Pattern { renderer, .. } => self.look.draw(pass, renderer),
+            Drawer::Adaptive { renderer, .. } => self.look.draw(pass, renderer),
         }
     }
 

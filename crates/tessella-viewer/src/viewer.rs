@@ -12,10 +12,10 @@ use glam::Mat4;
 use serde_json::{Map, Value};
 use tessella_core::refine::{Levels, Lod};
 use tessella_core::{samples, Mesh, Refiner};
-use tessella_gpu::{GpuContext, RenderUniforms, TargetFormats};
+use tessella_gpu::{GpuContext, TargetFormats};
 use tessella_io::tags::{JsonSource, TagFile, TagFileEdge, TagFileVertex, TagSources};
 use tessella_io::RawMesh;
-use tessella_view::{lod_camera, panel_widths, scene_uniforms, RenderOptions};
+use tessella_view::{lod_camera, panel_widths, scene_uniforms, RenderOptions, RenderUniforms};
 
 /// Multisampling, as `tessella render`'s pictures (the silhouettes are the point).
 pub const SAMPLES: u32 = 4;

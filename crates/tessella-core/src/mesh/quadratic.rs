@@ -17,6 +17,7 @@
 
 use super::Mesh;
 use crate::error::MeshError;
+use crate::scalar::Real;
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -119,15 +120,17 @@ fn point(positions: &[[f32; 3]], i: u32) -> DVec3 {
 }
 
 /// The 6-node shape functions at `l`: corners `l_i (2 l_i − 1)`, then mid nodes `4 l_i l_j` of
-/// edges 0-1, 1-2, 2-0.
-pub fn shape_functions(l: [f64; 3]) -> [f64; 6] {
+/// edges 0-1, 1-2, 2-0. Generic over [`Real`], so the shaders that colour a P2 field get this
+/// very formula ([`crate::shader::p2_weights_wgsl`]).
+pub fn shape_functions<T: Real>(l: [T; 3]) -> [T; 6] {
+    let (one, two, four) = (T::lit(1.0), T::lit(2.0), T::lit(4.0));
     [
-        l[0] * (2.0 * l[0] - 1.0),
-        l[1] * (2.0 * l[1] - 1.0),
-        l[2] * (2.0 * l[2] - 1.0),
-        4.0 * l[0] * l[1],
-        4.0 * l[1] * l[2],
-        4.0 * l[2] * l[0],
+        l[0] * (two * l[0] - one),
+        l[1] * (two * l[1] - one),
+        l[2] * (two * l[2] - one),
+        four * l[0] * l[1],
+        four * l[1] * l[2],
+        four * l[2] * l[0],
     ]
 }
 

@@ -30,6 +30,7 @@ mod trace;
 pub use lang::Lang;
 
 use crate::basis::{normal_weights, Basis, NORMAL_NET_LEN};
+use crate::mesh::quadratic::shape_functions;
 use crate::refine::canonical::EdgeWeights;
 use crate::scalar::Word;
 use crate::scalar::{Dual, Real, V3};
@@ -164,6 +165,20 @@ pub fn normal_net(lang: Lang) -> String {
             s + "}\n"
         }
     }
+}
+
+/// WGSL: `fn tessella_p2_weights(l: vec3<f32>) -> array<f32, 6>`, the six-node triangle's
+/// shape functions at `l` ([`crate::mesh::quadratic::shape_functions`]: corners, then the
+/// mid-edges of edges 0-1, 1-2, 2-0). A P2 field's value is their sum with its six nodal values.
+pub fn p2_weights_wgsl() -> String {
+    let (tape, w) = trace(|| shape_functions(traced_l()));
+    let body = Body::new(&tape, Lang::Wgsl, &w);
+    let items: Vec<String> = w.iter().map(|e| body.name(*e)).collect();
+    format!(
+        "fn tessella_p2_weights(l: vec3<f32>) -> array<f32, 6> {{\n{}    return array<f32, 6>({});\n}}\n",
+        body.statements,
+        items.join(", ")
+    )
 }
 
 /// WGSL: `fn tessella_edge_weights(a: f32, b: f32) -> TessellaEdgeWeights` (and the struct):

@@ -318,6 +318,11 @@ fn traced_normal_and_edge_weights_evaluate_to_the_cpu_weights() {
         let got: Vec<f64> = w.iter().map(|e| v[e.index()]).collect();
         assert_eq!(got, normal_weights(l).to_vec(), "{l:?}");
     }
+    let (tape, p2) = trace(|| shape_functions(traced_l()));
+    for l in POINTS {
+        let v = run(&tape, &[("l.x", l[0]), ("l.y", l[1]), ("l.z", l[2])]);
+        assert_eq!(p2.map(|e| v[e.index()]), shape_functions(l), "{l:?}");
+    }
     let (tape, (value, normal)) = trace(|| EdgeWeights::new_of(Expr::input("a"), Expr::input("b")));
     for (a, b) in [(0.25, 0.75), (1.0, 0.0), (0.6, 0.4)] {
         let v = run(&tape, &[("a", a), ("b", b)]);
@@ -346,7 +351,16 @@ fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
         let terms = line.matches(" * c").count();
         assert!(terms >= 7, "{field}: {line}");
     }
-    for text in [wgsl, glsl, sum, normal_net(Lang::Wgsl), edge_weights_wgsl()] {
+    let p2 = p2_weights_wgsl();
+    assert_eq!(p2.matches("array<f32, 6>").count(), 2, "{p2}");
+    for text in [
+        wgsl,
+        glsl,
+        sum,
+        normal_net(Lang::Wgsl),
+        edge_weights_wgsl(),
+        p2,
+    ] {
         for line in text.lines() {
             for keyword in ["fn ", "struct ", "void "] {
                 if let Some(rest) = line.strip_prefix(keyword) {

@@ -12,7 +12,7 @@ fn cs_capture(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgro
         return;
     }
     let job = jobs[i];
-    let sp = adaptive_point(job.y, job.x);
+    let sp = tessella_adaptive_point(job.y, job.x);
     let o = i * 9u;
     captured[o] = sp.position.x;
     captured[o + 1u] = sp.position.y;

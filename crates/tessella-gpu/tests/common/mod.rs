@@ -121,3 +121,41 @@ pub fn open_edges(positions: &[[f32; 3]], triangles: &[[u32; 3]], tol: f32) -> u
     }
     uses.values().filter(|&&n| n != 2).count()
 }
+
+/// The smallest shading the renderers take: the normal as colour, the point's x and y as clip
+/// coordinates, and an empty bind group 1. The renderers' own tests check geometry, not looks
+/// (tessella-view's pictures test a whole shading).
+pub struct PlainShading {
+    pub layout: wgpu::BindGroupLayout,
+    pub group: wgpu::BindGroup,
+    pub formats: tessella_gpu::TargetFormats,
+}
+
+pub const PLAIN_WGSL: &str = "
+struct VsOut { @builtin(position) clip: vec4<f32>, @location(0) n: vec3<f32> }
+fn shade_vertex(v: TessellaVertex) -> VsOut {
+    return VsOut(vec4<f32>(0.5 * v.position.xy, 0.5, 1.0), v.normal);
+}
+@fragment fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(0.5 + 0.5 * normalize(in.n), 1.0);
+}";
+
+impl PlainShading {
+    pub fn new(ctx: &GpuContext, formats: tessella_gpu::TargetFormats) -> PlainShading {
+        let layout = ctx.buffer_layout("plain", &[]);
+        let group = ctx.buffer_group("plain", &layout, &[]);
+        PlainShading {
+            layout,
+            group,
+            formats,
+        }
+    }
+
+    pub fn shading(&self) -> tessella_gpu::Shading<'_> {
+        tessella_gpu::Shading {
+            wgsl: PLAIN_WGSL,
+            layout: &self.layout,
+            formats: self.formats,
+        }
+    }
+}

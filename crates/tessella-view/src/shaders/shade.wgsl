@@ -1,7 +1,9 @@
-// Shading shared by the render pipelines (render.wgsl, adaptive.wgsl): the uniforms, group 1,
-// the vertex shader's output and the fragment shader. Blinn-Phong shading, optional wireframe of
-// the pattern: coarse edges bold and dark, the pattern's own edges thin and light, fading out
-// where they would be denser than a few pixels.
+// tessella-view's shading (appearance.rs), appended to tessella-gpu's vertex stage, which
+// calls `shade_vertex` with each drawn point (a `TessellaVertex`). Blinn-Phong shading under one
+// light, an optional scalar field through a colormap, an optional wireframe of the pattern:
+// coarse edges bold and dark, the pattern's own edges thin and light, fading out where they
+// would be denser than a few pixels. Prepended from Rust: COLORMAP_ENTRIES and the generated
+// `tessella_p2_weights` (tessella_core::shader).
 
 struct RenderUniforms {
     view_proj: mat4x4<f32>,
@@ -9,33 +11,50 @@ struct RenderUniforms {
     light_dir: vec4<f32>,
     base_color: vec4<f32>,
     wire_color: vec4<f32>, // coarse edges; a: their largest half-width in pixels
-    flags: vec4<u32>,      // x: wireframe, y: pattern level, z: facet normals,
+    flags: vec4<u32>,      // x: wireframe, y: unused, z: facet normals,
                            // w: 1 << 24 | sRGB8 colour of back faces (the inside seen through
                            //    a crack), 0: back faces shaded like front ones
 }
 
 @group(1) @binding(0) var<uniform> u: RenderUniforms;
-// Per coarse triangle: its three corners' texture coordinates (6 floats), for height maps.
-@group(1) @binding(1) var<storage, read> face_uvs: array<f32>;
-// Instance -> coarse triangle (faces grouped by pattern, one draw per pattern); adaptive.wgsl:
-// face | side << 30.
-@group(1) @binding(2) var<storage, read> instance_faces: array<u32>;
 // Per coarse triangle: a scalar field's P2 net (corners, then mid-edges 0-1, 1-2, 2-0).
-@group(1) @binding(3) var<storage, read> face_field: array<f32>;
+@group(1) @binding(1) var<storage, read> face_field: array<f32>;
 // [low, high, samples, 0], then `samples` sRGB colours; samples 0: no field colouring. A
-// uniform (TESSELLA_COLORMAP_ENTRIES, prepended from Rust), so the vertex stage binds 8 storage
-// buffers, WebGPU's default limit.
-@group(1) @binding(4) var<uniform> colormap: array<vec4<f32>, TESSELLA_COLORMAP_ENTRIES>;
+// uniform, so the vertex stage binds one storage buffer here beside the renderer's seven
+// (WebGPU's default limit is eight).
+@group(1) @binding(2) var<uniform> colormap: array<vec4<f32>, COLORMAP_ENTRIES>;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) l: vec3<f32>,
-    // Barycentric coordinates inside the pattern triangle (wireframe draws only).
+    // Barycentric coordinates inside the pattern triangle (unrolled draws only).
     @location(3) tri: vec3<f32>,
     // x: the field's value, y: 1 where the vertex has one.
     @location(4) field: vec2<f32>,
+}
+
+fn shade_vertex(v: TessellaVertex) -> VsOut {
+    var out: VsOut;
+    out.clip = u.view_proj * vec4<f32>(v.position, 1.0);
+    out.world = v.position;
+    out.normal = v.normal;
+    out.l = v.l;
+    out.tri = v.corner;
+    out.field = vec2<f32>(0.0);
+    if (colormap[0].z > 0.0) {
+        // A point of an already refined vertex buffer has no face and keeps the base colour:
+        // a select, not `&&` in the condition, which lavapipe miscompiles (it crashes).
+        let on = v.face != TESSELLA_NO_FACE;
+        let i = select(0u, v.face * 6u, on);
+        // Constant indices into the generated weights.
+        let w = tessella_p2_weights(v.l);
+        let value = w[0] * face_field[i] + w[1] * face_field[i + 1u] + w[2] * face_field[i + 2u]
+            + w[3] * face_field[i + 3u] + w[4] * face_field[i + 4u] + w[5] * face_field[i + 5u];
+        out.field = vec2<f32>(value, select(0.0, 1.0, on));
+    }
+    return out;
 }
 
 @fragment
