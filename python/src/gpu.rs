@@ -160,23 +160,25 @@ pub struct FrameGpu {
     evaluator: tessella_gpu::GpuEvaluator,
 }
 
-/// The GPU a `Refiner` runs its frames on: `"gpu"` any adapter (an error without one), `"auto"`
-/// a hardware one when there is one, else none (the CPU); `"cpu"` none.
+/// The GPU a `Refiner` runs its frames on, by the core's one choice on the plan's vertex
+/// count ([`Backend::device`]): `"gpu"` any adapter (an error without one), `"auto"` a
+/// hardware one for outputs large enough to gain from it (else, or without one, none: the
+/// CPU); `"cpu"` none.
 pub fn frame_gpu(
     backend: Backend,
     plan: &tessella_core::refine::Plan,
 ) -> PyResult<Option<FrameGpu>> {
-    let ctx = match backend {
-        Backend::Cpu => return Ok(None),
-        Backend::Gl => return Err(errors::bad_option(crate::options::NO_GL)),
-        Backend::Gpu => any().map_err(|e| {
+    let ctx = match backend.device(plan.vertex_count() as u64) {
+        Device::Cpu => return Ok(None),
+        Device::Gl => return Err(errors::bad_option(crate::options::NO_GL)),
+        Device::AnyGpu => any().map_err(|e| {
             errors::gpu_failure(format!("backend=\"gpu\" needs a GPU adapter: {e}"))
         })?,
-        Backend::Auto => match hardware() {
+        Device::HardwareGpu => match hardware() {
             Ok(ctx) => ctx,
             Err(_) => return Ok(None),
         },
-        other => return Err(crate::options::unsupported_backend(other)),
+        _ => return Err(crate::options::unsupported_backend(backend)),
     };
     let evaluator = tessella_gpu::GpuEvaluator::new(&ctx, plan).map_err(errors::gpu_error)?;
     Ok(Some(FrameGpu { evaluator }))

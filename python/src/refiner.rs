@@ -6,7 +6,8 @@
 //!   `crease_angle`, vertex indices) are decided from one: at construction when `vertices=` is
 //!   given, else on the first `refine(vertices, ...)` call. Every later call only moves the
 //!   frame ([`Plan::update`], O(coarse)) and evaluates into memory.
-//! - `backend="gpu"` (or `"auto"` on a hardware GPU) evaluates on a [`crate::gpu::FrameGpu`]:
+//! - `backend="gpu"` (or `"auto"` on a hardware GPU, for an output large enough to gain from
+//!   it) evaluates on a [`crate::gpu::FrameGpu`]:
 //!   the kernels and the plan's tables are uploaded once, each frame uploads its nets and reads
 //!   the vertices back.
 //! - `out=(v, n)` writes into the caller's float32 C-contiguous writable `(N, 3)` arrays with
