@@ -26,6 +26,7 @@
 //!   coarse triangle.
 //! - Normals are unit length on input (normalised when read) and output.
 
+pub mod animation;
 pub mod basis;
 pub mod displace;
 mod error;
