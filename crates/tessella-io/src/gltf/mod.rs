@@ -15,6 +15,7 @@
 
 mod read;
 mod write;
+mod write_animated;
 
 pub use read::{read, read_with, Buffers};
 pub(crate) use write::{
@@ -22,6 +23,7 @@ pub(crate) use write::{
     Shape,
 };
 pub use write::{write, write_with_scalars};
+pub use write_animated::write_animated;
 
 /// Flips a texture coordinate between glTF's and OBJ/PLY's conventions (an involution).
 pub(crate) fn flip_v(uv: [f32; 2]) -> [f32; 2] {
