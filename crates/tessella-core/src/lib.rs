@@ -46,7 +46,7 @@ pub mod tessellator;
 
 pub use basis::Basis;
 pub use displace::{DisplaceError, DisplaceFrame, Displacement, HeightMap, SharedSlots};
-pub use error::{MeshError, RefineError};
+pub use error::{AnimationError, MeshError, RefineError};
 pub use mesh::{Mesh, Topology, TopologyReport};
 pub use names::{Backend, Named, UnknownName};
 pub use pattern::Pattern;

@@ -1,5 +1,5 @@
 //! The data of an animated mesh, as glTF 2.0 defines it. Plain data: public fields, no
-//! behaviour beyond what reads them; [`AnimatedMesh::new`] checks it once.
+//! behaviour beyond what reads them; [`Poser::new`](super::Poser::new) checks it once.
 
 /// A node's transform relative to its parent (glTF `node.matrix` or `translation`, `rotation`,
 /// `scale`).
