@@ -2,6 +2,9 @@
 //! (own quaternions, slerp, Hermite splines, 4×4 products and inverses), and the refusals of
 //! bad input.
 
+// The reference spells the specification's formulas out with indices and plain tuples.
+#![allow(clippy::needless_range_loop, clippy::type_complexity)]
+
 use tessella_core::animation::{
     AnimatedMesh, Channel, Clip, Influences, Instance, Interpolation, MorphTarget, Node, Poser,
     Property, Sampler, Skin, Transform,

@@ -189,7 +189,8 @@ fn matrix_problem(m: &[f32; 16]) -> Option<&'static str> {
     let d = DMat4::from_cols_array(&m.map(f64::from));
     let bound = d.x_axis.length() * d.y_axis.length() * d.z_axis.length() * d.w_axis.length();
     let det = d.determinant();
-    if !(det.abs() > 1e-12 * bound) || !d.inverse().is_finite() {
+    // Finite entries make a finite determinant and bound in f64.
+    if det.abs() <= 1e-12 * bound || !d.inverse().is_finite() {
         return Some("singular (not invertible)");
     }
     None
@@ -401,7 +402,7 @@ fn check_clip(
         for (key, &time) in s.times.iter().enumerate() {
             let reason = if !time.is_finite() {
                 "not finite"
-            } else if key > 0 && !(time > s.times[key - 1]) {
+            } else if key > 0 && time <= s.times[key - 1] {
                 "not greater than the key before"
             } else {
                 continue;
