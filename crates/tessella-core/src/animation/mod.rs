@@ -25,6 +25,8 @@
 //! Not covered: tangents, cameras, lights and other glTF extensions' animated properties
 //! (`KHR_animation_pointer`).
 
+#![warn(missing_docs)]
+
 mod check;
 mod hierarchy;
 pub mod model;
