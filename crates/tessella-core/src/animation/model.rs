@@ -1,5 +1,5 @@
 //! The data of an animated mesh, as glTF 2.0 defines it. Plain data: public fields, no
-//! behaviour beyond what reads them; [`AnimatedMesh::new`] checks it once.
+//! behaviour beyond what reads them; [`Poser::new`](super::Poser::new) checks it once.
 
 /// A node's transform relative to its parent (glTF `node.matrix` or `translation`, `rotation`,
 /// `scale`).
@@ -8,8 +8,11 @@ pub enum Transform {
     /// Translation, then rotation (a unit quaternion `[x, y, z, w]`), then scale: the node's
     /// matrix is `T · R · S`.
     Trs {
+        /// The translation.
         translation: [f32; 3],
+        /// The rotation, a unit quaternion `[x, y, z, w]`.
         rotation: [f32; 4],
+        /// The scale along each axis.
         scale: [f32; 3],
     },
     /// A column-major 4×4 matrix. glTF forbids animating such a node.
@@ -29,9 +32,11 @@ impl Default for Transform {
 /// A node of the scene graph.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Node {
+    /// The node's name (glTF `node.name`), for messages and lookups.
     pub name: Option<String>,
     /// The parent node's index; `None` for a root.
     pub parent: Option<u32>,
+    /// The node's local transform.
     pub transform: Transform,
     /// The node's morph target weights (glTF `node.weights`), which override its mesh's
     /// default weights; a `weights` channel animates them.
@@ -42,8 +47,11 @@ pub struct Node {
 /// identity where the file gives none).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Skin {
+    /// The skin's name (glTF `skin.name`).
     pub name: Option<String>,
+    /// The joints: node indices, in the order the influences' joint indices refer to.
     pub joints: Vec<u32>,
+    /// One inverse bind matrix per joint (column-major), taking mesh space to the joint's space at bind time.
     pub inverse_binds: Vec<[f32; 16]>,
     /// glTF `skin.skeleton`: informative only (posing does not need it).
     pub skeleton: Option<u32>,
@@ -52,7 +60,9 @@ pub struct Skin {
 /// One morph target of a mesh instance: displacements added to its positions and normals.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct MorphTarget {
+    /// Position displacements, one per vertex of the instance.
     pub positions: Vec<[f32; 3]>,
+    /// Normal displacements, one per vertex, or `None` where the target leaves normals alone.
     pub normals: Option<Vec<[f32; 3]>>,
 }
 
@@ -61,7 +71,9 @@ pub struct MorphTarget {
 /// into floats).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Influences {
+    /// Per vertex, four indices into the skin's `joints`.
     pub joints: Vec<[u16; 4]>,
+    /// Per vertex, the four joints' weights (not negative; divided by their sum over all sets when posing).
     pub weights: Vec<[f32; 4]>,
 }
 
@@ -73,11 +85,14 @@ pub struct Instance {
     pub node: u32,
     /// The node's skin; `None` for a mesh moved by its node's world transform alone.
     pub skin: Option<u32>,
+    /// The instance's first vertex in the animated mesh: the previous instances' vertex count.
     pub first_vertex: u32,
+    /// The vertex positions in the mesh's own space.
     pub positions: Vec<[f32; 3]>,
     /// `None` where the file gives no normals: the posed mesh then has its normals computed by
     /// the core from the posed positions.
     pub normals: Option<Vec<[f32; 3]>>,
+    /// The morph targets, each with one displacement per vertex.
     pub targets: Vec<MorphTarget>,
     /// The mesh's default morph weights (glTF `mesh.weights`; zeros where absent).
     pub default_weights: Vec<f32>,
@@ -99,8 +114,11 @@ pub enum Interpolation {
 /// What a channel animates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Property {
+    /// The node's translation (3 components).
     Translation,
+    /// The node's rotation (4 components, a quaternion `[x, y, z, w]`).
     Rotation,
+    /// The node's scale (3 components).
     Scale,
     /// The node's morph target weights.
     Weights,
@@ -111,23 +129,31 @@ pub enum Property {
 /// [`Interpolation::CubicSpline`] (in-tangent, value, out-tangent).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sampler {
+    /// How values between keys are found.
     pub interpolation: Interpolation,
+    /// Key times in seconds, finite and strictly increasing.
     pub times: Vec<f32>,
+    /// The keys' values, flattened (see [`Sampler`]).
     pub values: Vec<f32>,
 }
 
 /// One animated property of one node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Channel {
+    /// The animated node's index.
     pub node: u32,
+    /// The animated property.
     pub property: Property,
+    /// The keyframes.
     pub sampler: Sampler,
 }
 
 /// A named animation (glTF `animation`): channels played together.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Clip {
+    /// The clip's name (glTF `animation.name`; may be empty).
     pub name: String,
+    /// The animated properties.
     pub channels: Vec<Channel>,
 }
 
@@ -139,8 +165,12 @@ pub struct AnimatedMesh {
     pub triangles: Vec<[u32; 3]>,
     /// Texture coordinates of every vertex, if every instance has them.
     pub uvs: Option<Vec<[f32; 2]>>,
+    /// The scene graph's nodes.
     pub nodes: Vec<Node>,
+    /// The skins.
     pub skins: Vec<Skin>,
+    /// The mesh instances, their vertices one after the other.
     pub instances: Vec<Instance>,
+    /// The clips.
     pub clips: Vec<Clip>,
 }
