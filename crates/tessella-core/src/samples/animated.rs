@@ -254,3 +254,37 @@ pub fn animated_creature(subdivisions: u32) -> AnimatedMesh {
         clips: vec![wave, hop, breathe],
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::animation::Poser;
+
+    #[test]
+    fn the_sample_is_valid_its_rest_pose_is_the_creature_and_every_clip_moves_it() {
+        let creature = super::super::creature();
+        let poser = Poser::new(animated_creature(2)).expect("the sample is valid glTF animation");
+        // The bind pose is the rest pose: skinning at rest gives the creature back.
+        let (rest, _) = poser.pose(None, 0.0).unwrap();
+        for (a, b) in rest.iter().zip(creature.positions()) {
+            for k in 0..3 {
+                assert!((a[k] - b[k]).abs() < 1e-5, "{a:?} vs {b:?}");
+            }
+        }
+        for (clip, name) in ["wave", "hop", "breathe"].iter().enumerate() {
+            assert_eq!(poser.clip_index(name).unwrap(), clip);
+            let duration = poser.duration(clip).unwrap();
+            let (mid, normals) = poser.pose(Some(clip), duration * 0.37).unwrap();
+            let moved = mid
+                .iter()
+                .zip(creature.positions())
+                .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0f32, f32::max))
+                .fold(0.0f32, f32::max);
+            assert!(moved > 0.02, "{name} moves the creature by {moved}");
+            let normals = normals.expect("the sample has normals");
+            assert!(normals
+                .iter()
+                .all(|n| ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-4));
+        }
+    }
+}
