@@ -10,8 +10,8 @@
 //! - Every skin: its joints, inverse bind matrices (the identity for each joint where the file
 //!   gives no accessor; extra matrices are ignored) and `skeleton`.
 //! - One [`Instance`] per node with a mesh, for the nodes of the default scene (or the first
-//!   scene; every node if the file has no scene) in the order [`super::read`] takes them. Its
-//!   triangle primitives are merged as [`super::read`] merges them (same modes, indices and
+//!   scene; every node if the file has no scene) in the order [`super::read()`] takes them. Its
+//!   triangle primitives are merged as [`super::read()`] merges them (same modes, indices and
 //!   checks), with positions and normals in the mesh's own space, untransformed; their
 //!   triangles, offset by the instance's `first_vertex`, go to [`AnimatedMesh::triangles`].
 //!   NORMAL is kept only if every primitive has it, TEXCOORD_0 (flipped to the OBJ/PLY
@@ -33,9 +33,10 @@
 //! accepted for every accessor read here. Structural problems are [`IoError::Parse`] or
 //! [`IoError::Unsupported`] naming the mesh, skin, animation or accessor: indices out of range,
 //! component types or dimensions the specification does not allow, counts that do not match
-//! the vertex or key count, JOINTS without WEIGHTS. Semantic checks (weights that sum to zero,
-//! times that do not increase, joint indices past the skin, matrices that cannot be inverted,
-//! an animated node with a matrix) are left to [`AnimatedMesh::new`]'s validation.
+//! the vertex or key count, JOINTS without WEIGHTS, a channel target node that does not exist.
+//! Semantic checks (weights that sum to zero, times that do not increase, joint indices past
+//! the skin, matrices that cannot be inverted, an animated node with a matrix) are left to the
+//! core's validation of the animated mesh.
 
 use super::read::{
     check_accessor, merge_attribute, open, read_primitive, scene_nodes, Buffers, Context, Primitive,
@@ -67,7 +68,7 @@ const UNIT_TYPES: [DataType; 5] = [
 /// Reads a `.gltf` or `.glb` file held in memory as an animated mesh: nodes, skins, mesh
 /// instances in their own space, morph targets, joint influences and clips (see the module
 /// docs). External buffers come from `buffers`. Structural problems are errors naming the
-/// file and the part; semantic ones are for [`AnimatedMesh::new`] (not called here).
+/// file and the part; semantic ones are for the core's validation (not called here).
 pub fn read_animated(
     path: &Path,
     bytes: &[u8],

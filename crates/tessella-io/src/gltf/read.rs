@@ -13,6 +13,10 @@
 //! accessors without a buffer view and buffers behind `http:`-style URIs are refused.
 //! Float `SCALAR` attributes `_NAME` go to [`RawMesh::vertex_scalars`] as `NAME` when every
 //! primitive has them; other application-specific attributes are ignored.
+//!
+//! The parsing ([`open`]), accessor checks ([`check_accessor`]), primitive reading
+//! ([`read_primitive`]) and scene walk ([`scene_nodes`]) are shared with
+//! [`super::read_animated`], which accepts sparse accessors.
 
 use super::flip_v;
 use crate::{IoError, RawMesh};
