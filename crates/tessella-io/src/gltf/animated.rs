@@ -10,8 +10,8 @@
 //! - Every skin: its joints, inverse bind matrices (the identity for each joint where the file
 //!   gives no accessor; extra matrices are ignored) and `skeleton`.
 //! - One [`Instance`] per node with a mesh, for the nodes of the default scene (or the first
-//!   scene; every node if the file has no scene) in the order [`super::read`] takes them. Its
-//!   triangle primitives are merged as [`super::read`] merges them (same modes, indices and
+//!   scene; every node if the file has no scene) in the order [`super::read()`] takes them. Its
+//!   triangle primitives are merged as [`super::read()`] merges them (same modes, indices and
 //!   checks), with positions and normals in the mesh's own space, untransformed; their
 //!   triangles, offset by the instance's `first_vertex`, go to [`AnimatedMesh::triangles`].
 //!   NORMAL is kept only if every primitive has it, TEXCOORD_0 (flipped to the OBJ/PLY
@@ -33,13 +33,13 @@
 //! accepted for every accessor read here. Structural problems are [`IoError::Parse`] or
 //! [`IoError::Unsupported`] naming the mesh, skin, animation or accessor: indices out of range,
 //! component types or dimensions the specification does not allow, counts that do not match
-//! the vertex or key count, JOINTS without WEIGHTS. Semantic checks (weights that sum to zero,
-//! times that do not increase, joint indices past the skin, matrices that cannot be inverted,
-//! an animated node with a matrix) are left to [`AnimatedMesh::new`]'s validation.
+//! the vertex or key count, JOINTS without WEIGHTS, a channel target node that does not exist.
+//! Semantic checks (weights that sum to zero, times that do not increase, joint indices past
+//! the skin, matrices that cannot be inverted, an animated node with a matrix) are left to the
+//! core's validation of the animated mesh.
 
 use super::read::{
-    check_accessor, merge_attribute, open, read_primitive, scene_nodes, Buffers, Context,
-    Primitive,
+    check_accessor, merge_attribute, open, read_primitive, scene_nodes, Buffers, Context, Primitive,
 };
 use crate::IoError;
 use gltf::accessor::{DataType, Dimensions, Item};
@@ -68,7 +68,7 @@ const UNIT_TYPES: [DataType; 5] = [
 /// Reads a `.gltf` or `.glb` file held in memory as an animated mesh: nodes, skins, mesh
 /// instances in their own space, morph targets, joint influences and clips (see the module
 /// docs). External buffers come from `buffers`. Structural problems are errors naming the
-/// file and the part; semantic ones are for [`AnimatedMesh::new`] (not called here).
+/// file and the part; semantic ones are for the core's validation (not called here).
 pub fn read_animated(
     path: &Path,
     bytes: &[u8],
@@ -173,7 +173,14 @@ fn read_skins(
             None => vec![IDENTITY; joints.len()],
             Some(accessor) => {
                 let what = format!("skin {} inverseBindMatrices", skin.index());
-                let values = floats(ctx, &accessor, Dimensions::Mat4, &[DataType::F32], &what, buffers)?;
+                let values = floats(
+                    ctx,
+                    &accessor,
+                    Dimensions::Mat4,
+                    &[DataType::F32],
+                    &what,
+                    buffers,
+                )?;
                 if accessor.count() < joints.len() {
                     return Err(ctx.parse(format!(
                         "{what}: accessor {} has {} matrices for {} joints",
@@ -201,7 +208,9 @@ fn read_skins(
 
 /// The number of morph targets of a mesh: the same for every primitive.
 fn target_count(ctx: Context<'_>, mesh: &gltf::Mesh<'_>) -> Result<usize, IoError> {
-    let mut counts = mesh.primitives().map(|p| (p.index(), p.morph_targets().len()));
+    let mut counts = mesh
+        .primitives()
+        .map(|p| (p.index(), p.morph_targets().len()));
     let Some((_, first)) = counts.next() else {
         return Ok(0);
     };
@@ -386,12 +395,16 @@ fn vectors(
     n: usize,
     buffers: &[Vec<u8>],
 ) -> Result<Vec<[f32; 3]>, IoError> {
-    let values = floats(ctx, accessor, Dimensions::Vec3, &[DataType::F32], what, buffers)?;
+    let values = floats(
+        ctx,
+        accessor,
+        Dimensions::Vec3,
+        &[DataType::F32],
+        what,
+        buffers,
+    )?;
     count_matches(ctx, what, accessor, values.len() / 3, n)?;
-    Ok(values
-        .chunks_exact(3)
-        .map(|v| [v[0], v[1], v[2]])
-        .collect())
+    Ok(values.chunks_exact(3).map(|v| [v[0], v[1], v[2]]).collect())
 }
 
 fn count_matches(
@@ -426,34 +439,49 @@ fn read_clips(
             channels: Vec::new(),
         };
         for channel in animation.channels() {
-            let what = format!("animation {a} channel {}", channel.index());
+            let c = channel.index();
+            let what = format!("animation {a} channel {c}");
+            // The `gltf` crate's validation skips channel targets, and its accessors unwrap
+            // them (a panic for a node past the end or an unknown path).
+            let target = &document.as_json().animations[a].channels[c].target;
+            let nodes = document.nodes().len();
+            if target.node.value() >= nodes {
+                return Err(ctx.parse(format!(
+                    "{what} targets node {}, but the file has only {nodes} nodes",
+                    target.node.value()
+                )));
+            }
+            let gltf::json::validation::Checked::Valid(path) = target.path else {
+                return Err(ctx.parse(format!(
+                    "{what} targets a path other than translation, rotation, scale or weights"
+                )));
+            };
             let node = channel.target().node();
-            let (property, dimensions, types, width): (_, _, &[DataType], _) =
-                match channel.target().property() {
-                    GltfProperty::Translation => {
-                        (Property::Translation, Dimensions::Vec3, &[DataType::F32], 3)
-                    }
-                    GltfProperty::Scale => (Property::Scale, Dimensions::Vec3, &[DataType::F32], 3),
-                    GltfProperty::Rotation => (Property::Rotation, Dimensions::Vec4, &UNIT_TYPES, 4),
-                    GltfProperty::MorphTargetWeights => {
-                        let Some(mesh) = node.mesh() else {
-                            return Err(ctx.parse(format!(
-                                "{what} animates the weights of node {}, which has no mesh",
-                                node.index()
-                            )));
-                        };
-                        let targets = target_count(ctx, &mesh)?;
-                        if targets == 0 {
-                            return Err(ctx.parse(format!(
-                                "{what} animates the weights of node {}, whose mesh {} has no \
+            let (property, dimensions, types, width): (_, _, &[DataType], _) = match path {
+                GltfProperty::Translation => {
+                    (Property::Translation, Dimensions::Vec3, &[DataType::F32], 3)
+                }
+                GltfProperty::Scale => (Property::Scale, Dimensions::Vec3, &[DataType::F32], 3),
+                GltfProperty::Rotation => (Property::Rotation, Dimensions::Vec4, &UNIT_TYPES, 4),
+                GltfProperty::MorphTargetWeights => {
+                    let Some(mesh) = node.mesh() else {
+                        return Err(ctx.parse(format!(
+                            "{what} animates the weights of node {}, which has no mesh",
+                            node.index()
+                        )));
+                    };
+                    let targets = target_count(ctx, &mesh)?;
+                    if targets == 0 {
+                        return Err(ctx.parse(format!(
+                            "{what} animates the weights of node {}, whose mesh {} has no \
                                  morph targets",
-                                node.index(),
-                                mesh.index()
-                            )));
-                        }
-                        (Property::Weights, Dimensions::Scalar, &UNIT_TYPES, targets)
+                            node.index(),
+                            mesh.index()
+                        )));
                     }
-                };
+                    (Property::Weights, Dimensions::Scalar, &UNIT_TYPES, targets)
+                }
+            };
             let sampler = channel.sampler();
             let interpolation = match sampler.interpolation() {
                 gltf::animation::Interpolation::Linear => Interpolation::Linear,
@@ -469,7 +497,14 @@ fn read_clips(
                 &format!("{what} input"),
                 buffers,
             )?;
-            let values = floats(ctx, &output, dimensions, types, &format!("{what} output"), buffers)?;
+            let values = floats(
+                ctx,
+                &output,
+                dimensions,
+                types,
+                &format!("{what} output"),
+                buffers,
+            )?;
             // Elements of the output accessor per key: VEC3/VEC4 one, weights one per target,
             // three times that for a cubic spline (in-tangent, value, out-tangent).
             let per_key = match property {

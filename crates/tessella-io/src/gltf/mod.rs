@@ -14,7 +14,7 @@
 //! written back as `_NAME`.
 //!
 //! Two readers share the parsing, buffer loading, accessor checks and primitive assembly:
-//! [`read`] gives the default scene's triangles in world space (a static mesh), and
+//! [`read()`] gives the default scene's triangles in world space (a static mesh), and
 //! [`read_animated`] gives nodes, skins, morph targets and clips with each mesh in its own
 //! space, for the core to pose.
 

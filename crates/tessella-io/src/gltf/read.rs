@@ -13,6 +13,10 @@
 //! accessors without a buffer view and buffers behind `http:`-style URIs are refused.
 //! Float `SCALAR` attributes `_NAME` go to [`RawMesh::vertex_scalars`] as `NAME` when every
 //! primitive has them; other application-specific attributes are ignored.
+//!
+//! The parsing ([`open`]), accessor checks ([`check_accessor`]), primitive reading
+//! ([`read_primitive`]) and scene walk ([`scene_nodes`]) are shared with
+//! [`super::read_animated`], which accepts sparse accessors.
 
 use super::flip_v;
 use crate::{IoError, RawMesh};
@@ -85,8 +89,14 @@ pub fn read_with(
                 {
                     continue; // not a scalar field (application data of another kind)
                 }
-                check_accessor(&accessor, Dimensions::Scalar, &[DataType::F32], &buffers, false)
-                    .map_err(|m| ctx.unsupported(format!("{what} _{name}: {m}")))?;
+                check_accessor(
+                    &accessor,
+                    Dimensions::Scalar,
+                    &[DataType::F32],
+                    &buffers,
+                    false,
+                )
+                .map_err(|m| ctx.unsupported(format!("{what} _{name}: {m}")))?;
                 let values: Vec<f32> = gltf::accessor::Iter::<f32>::new(accessor, |b| {
                     buffers.get(b.index()).map(Vec::as_slice)
                 })
@@ -319,7 +329,9 @@ fn instances(document: &Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, String>
 
 /// The nodes of the default scene (or the first scene) with their world transforms, parents
 /// before children and roots in the file's order; `None` for a file without scenes.
-pub(super) fn scene_nodes(document: &Document) -> Result<Option<Vec<(gltf::Node<'_>, Mat4)>>, String> {
+pub(super) fn scene_nodes(
+    document: &Document,
+) -> Result<Option<Vec<(gltf::Node<'_>, Mat4)>>, String> {
     let Some(scene) = document
         .default_scene()
         .or_else(|| document.scenes().next())
@@ -432,14 +444,28 @@ pub(super) fn check_accessor(
             .view()
             .ok_or_else(|| format!("accessor {index} has no bufferView"))?;
         let what = format!("accessor {index}");
-        return check_elements(&what, view, accessor.offset(), accessor.count(), element, buffers);
+        return check_elements(
+            &what,
+            view,
+            accessor.offset(),
+            accessor.count(),
+            element,
+            buffers,
+        );
     };
     if !sparse {
         return Err(format!("accessor {index} is sparse"));
     }
     if let Some(view) = accessor.view() {
         let what = format!("accessor {index}");
-        check_elements(&what, view, accessor.offset(), accessor.count(), element, buffers)?;
+        check_elements(
+            &what,
+            view,
+            accessor.offset(),
+            accessor.count(),
+            element,
+            buffers,
+        )?;
     }
     let count = sparse_part.count();
     if count == 0 || count > accessor.count() {
@@ -450,10 +476,24 @@ pub(super) fn check_accessor(
     }
     let indices = sparse_part.indices();
     let what = format!("accessor {index}'s sparse indices");
-    check_elements(&what, indices.view(), indices.offset(), count, index_size(indices.index_type()), buffers)?;
+    check_elements(
+        &what,
+        indices.view(),
+        indices.offset(),
+        count,
+        index_size(indices.index_type()),
+        buffers,
+    )?;
     let values = sparse_part.values();
     let what = format!("accessor {index}'s sparse values");
-    check_elements(&what, values.view(), values.offset(), count, element, buffers)
+    check_elements(
+        &what,
+        values.view(),
+        values.offset(),
+        count,
+        element,
+        buffers,
+    )
 }
 
 fn index_size(index_type: gltf::accessor::sparse::IndexType) -> usize {
