@@ -10,8 +10,8 @@ use crate::save_png;
 use crate::scene::{scene_uniforms, RenderOptions};
 use crate::target::Target;
 use std::path::{Path, PathBuf};
-use tessella_core::refine::{Plan, Surface};
 use tessella_core::animation::Poser;
+use tessella_core::refine::{Plan, Surface};
 use tessella_core::{AnimationError, Mesh, OutputLayout, RefineOptions};
 use tessella_gpu::{AdaptiveRenderer, GpuContext, GpuError, PatternRenderer};
 
