@@ -116,3 +116,43 @@ export function readMesh(bytes: Uint8Array | ArrayBuffer, format: string, option
 
 /** Encodes a mesh as 'obj', 'ply' (binary), 'ply-ascii', 'gltf', 'glb' or 'stl'. */
 export function writeMesh(mesh: MeshInput, format: 'obj' | 'ply' | 'ply-ascii' | 'gltf' | 'glb' | 'stl'): Uint8Array;
+
+/** A pose of an animated mesh: 3 numbers per vertex. */
+export interface Pose {
+  positions: Float32Array;
+  /** The file's normals posed, or computed from the posed positions when the file has none. */
+  normals: Float32Array;
+}
+
+/** A clip of an animated mesh: its name, or its index in `clips`. */
+export type Clip = string | number;
+
+/**
+ * An animated mesh read by `readAnimated`: the triangles and clips, and the mesh posed at any
+ * time of a clip (or at rest). Made by `readAnimated` only.
+ */
+export class AnimatedMesh {
+  private constructor();
+  /** The triangles' corners, 3 vertex indices per triangle; the same for every pose. */
+  readonly indices: Uint32Array;
+  /** The clips' names, in the file's order. */
+  readonly clips: string[];
+  /** The number of vertices of a pose. */
+  readonly vertexCount: number;
+  /** A clip's duration in seconds. Throws TessellaError for an unknown clip. */
+  duration(clip: Clip): number;
+  /**
+   * The mesh at `time` seconds of `clip` (past the end: the last pose), or the rest pose when
+   * `clip` is null or undefined (`time` may then be left out). New arrays each call. Throws
+   * TessellaError for an unknown clip or a time that is not finite.
+   */
+  pose(clip: Clip | null | undefined, time?: number): Pose;
+  /** Frees its wasm memory. */
+  free(): void;
+}
+
+/**
+ * Reads an animated glTF file from bytes: format 'gltf', 'glb' or a file name ('walk.glb').
+ * Throws TessellaError for a broken file, an invalid animation or another format.
+ */
+export function readAnimated(bytes: Uint8Array | ArrayBuffer, format: string, options?: ReadMeshOptions): AnimatedMesh;

@@ -158,14 +158,30 @@ export function refine(input, options) {
  * ('bunny.obj'); `options.buffers` maps a .gltf file's external buffer URIs to their bytes.
  */
 export function readMesh(bytes, format, options = {}) {
-  if (!(bytes instanceof Uint8Array)) {
-    if (bytes instanceof ArrayBuffer) bytes = new Uint8Array(bytes);
-    else throw new TessellaError('readMesh takes the file as a Uint8Array or ArrayBuffer');
-  }
+  bytes = fileBytes(bytes, 'readMesh');
   if (typeof format !== 'string') throw new TessellaError("readMesh's format must be a string such as 'obj'");
+  const { names, lengths, data } = buffers(options);
+  return call((g) => {
+    const arrays = g.readMesh(bytes, format, names, lengths, data);
+    const computed = arrays.normalsComputed;
+    const out = take(arrays);
+    out.normalsComputed = computed;
+    return out;
+  });
+}
+
+function fileBytes(bytes, fn) {
+  if (bytes instanceof Uint8Array) return bytes;
+  if (bytes instanceof ArrayBuffer) return new Uint8Array(bytes);
+  throw new TessellaError(`${fn} takes the file as a Uint8Array or ArrayBuffer`);
+}
+
+// A .gltf file's external buffers ({ uri: bytes }) as the Rust side takes them: names, lengths
+// and the bytes one after the other.
+function buffers(options) {
   const names = [];
   const parts = [];
-  for (const [name, data] of Object.entries(options.buffers ?? {})) {
+  for (const [name, data] of Object.entries(options?.buffers ?? {})) {
     names.push(name);
     parts.push(data instanceof Uint8Array ? data : new Uint8Array(data));
   }
@@ -176,13 +192,7 @@ export function readMesh(bytes, format, options = {}) {
     data.set(p, at);
     at += p.length;
   }
-  return call((g) => {
-    const arrays = g.readMesh(bytes, format, names, lengths, data);
-    const computed = arrays.normalsComputed;
-    const out = take(arrays);
-    out.normalsComputed = computed;
-    return out;
-  });
+  return { names, lengths, data };
 }
 
 /**
@@ -270,6 +280,96 @@ export class Refiner {
     this.#views = null;
     this.#inputs = null;
   }
+}
+
+// Makes AnimatedMesh's constructor private to readAnimated.
+const INTERNAL = Symbol('tessella internal');
+
+/**
+ * An animated mesh read by `readAnimated`: its triangles, clips, and poses at any time of a
+ * clip (or the rest pose), each a new `{ positions, normals }`.
+ */
+export class AnimatedMesh {
+  #inner;
+
+  constructor(token, inner) {
+    if (token !== INTERNAL) throw new TessellaError('an AnimatedMesh comes from readAnimated(bytes, format)');
+    this.#inner = inner;
+    /** The triangles' corners, 3 vertex indices per triangle (Uint32Array). */
+    this.indices = inner.indices();
+    /** The clips' names, in the file's order (a clip is given by name or by index). */
+    this.clips = inner.clips();
+    /** The number of vertices of a pose. */
+    this.vertexCount = inner.vertexCount();
+  }
+
+  // A clip (a name or an index) as the index the wasm side takes; null/undefined: undefined.
+  #clip(clip, what) {
+    if (clip == null) return undefined;
+    if (typeof clip === 'string') return this.#inner.clipIndex(clip);
+    if (typeof clip === 'number' && Number.isInteger(clip) && clip >= 0 && clip <= 0xffffffff) return clip;
+    throw new TessellaError(`${what}: a clip is a name (string) or an index (an integer from 0), got ${typeof clip === 'number' ? clip : typeof clip}`);
+  }
+
+  #live() {
+    if (this.#inner === null) throw new TessellaError('this AnimatedMesh was freed');
+    return this.#inner;
+  }
+
+  /** A clip's duration in seconds; `clip` is its name or its index. */
+  duration(clip) {
+    const inner = this.#live();
+    return call(() => {
+      if (clip == null) throw new TessellaError('duration: which clip? Give its name or its index');
+      return inner.duration(this.#clip(clip, 'duration'));
+    });
+  }
+
+  /**
+   * The mesh posed at `time` seconds of `clip` (a name or an index; past the end, the last
+   * pose), or the rest pose for a null/undefined clip: new Float32Arrays `{ positions, normals }`,
+   * 3 numbers per vertex. Normals are the file's posed, or computed when the file has none.
+   */
+  pose(clip, time) {
+    const inner = this.#live();
+    return call(() => {
+      const index = this.#clip(clip, 'pose');
+      if (index === undefined && time === undefined) time = 0;
+      if (typeof time !== 'number') throw new TessellaError(`pose: time must be a number of seconds, got ${typeof time}`);
+      const pose = inner.pose(index, time);
+      try {
+        return { positions: pose.takePositions(), normals: pose.takeNormals() };
+      } finally {
+        pose.free();
+      }
+    });
+  }
+
+  /** Frees the wasm memory it holds; it cannot be used afterwards. */
+  free() {
+    if (this.#inner !== null) this.#inner.free();
+    this.#inner = null;
+  }
+}
+
+/**
+ * Reads an animated glTF file from bytes: format 'gltf', 'glb' or a file name ('walk.glb');
+ * `options.buffers` maps a .gltf file's external buffer URIs to their bytes. Validates the
+ * skins, morph targets and clips; returns an AnimatedMesh.
+ */
+export function readAnimated(bytes, format, options = {}) {
+  bytes = fileBytes(bytes, 'readAnimated');
+  if (typeof format !== 'string') throw new TessellaError("readAnimated's format must be a string such as 'glb'");
+  const { names, lengths, data } = buffers(options);
+  return call((g) => {
+    const inner = g.readAnimated(bytes, format, names, lengths, data);
+    try {
+      return new AnimatedMesh(INTERNAL, inner);
+    } catch (e) {
+      inner.free();
+      throw e;
+    }
+  });
 }
 
 /** Test hook: panics inside the wasm (see test/panic.test.js). Not part of the API. */

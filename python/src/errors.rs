@@ -9,6 +9,8 @@
 //! | `IoError::{UnknownExtension, Parse, Unsupported, NoTriangles, IndexOutOfRange}` | `FileFormatError` |
 //! | `IoError::{Mesh, BadMesh}` (a file's mesh failed validation, arrays a writer refused) | `MeshError` |
 //! | `IoError::Read` of a file the opened one refers to (a glTF's missing buffer) | `FileFormatError` |
+//! | `AnimationError` from `Poser::new` (a glTF animation the core refuses, `animated.rs`) | `FileFormatError` naming the file |
+//! | `AnimationError` posing: an unknown clip, a non-finite time; `AnimationError::Mesh` (a pose's triangles collapse) | `OptionError`; `MeshError` |
 //! | `IoError::Read`/`Write`, `TagSourceError::Read` (the OS refused) | `OSError` (`FileNotFoundError`, `PermissionError`, ...) |
 //! | `GpuError::BadOption`/`Displace` | `OptionError`; `GpuError::Refine(e)`: as `e` |
 //! | other `GpuError`s, `GlError`s but `Unsupported` (no adapter, device lost, GPU limits) | `GpuError` (also a `RuntimeError`) |

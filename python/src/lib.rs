@@ -5,6 +5,7 @@
 //! (`Python::detach`) for the work itself, so other Python threads run meanwhile; that includes
 //! opening a GPU device and waiting for the GPU (`gpu.rs`).
 
+mod animated;
 mod arrays;
 mod cpu;
 mod displace;
@@ -524,6 +525,8 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(backends, m)?)?;
     m.add_function(wrap_pyfunction!(gpu_info, m)?)?;
     m.add_class::<refiner::Refiner>()?;
+    m.add_function(wrap_pyfunction!(animated::load_animated, m)?)?;
+    m.add_class::<animated::AnimatedMesh>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

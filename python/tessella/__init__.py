@@ -44,7 +44,7 @@ from . import _fields, _inputs, _options, _tessella
 from ._errors import FileFormatError, GpuError, MeshError, OptionError, TessellaError
 from ._options import Camera, Displace, Lod
 from ._result import RefinedMesh
-from ._tessella import __version__, backends, gpu_info, info, load, pattern, save, schemes
+from ._tessella import AnimatedMesh, __version__, backends, gpu_info, info, load, load_animated, pattern, save, schemes
 from ._types import BackendName, NormalsMode, SchemeName, Spacing
 
 #: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the
@@ -72,6 +72,8 @@ __all__ = [
     "gpu_info",
     "info",
     "load",
+    "load_animated",
+    "AnimatedMesh",
     "pattern",
     "quality",
     "refine",

@@ -95,6 +95,18 @@ fn scheme_parser() -> impl TypedValueParser<Value = SchemeArg> {
     CoreName::<Scheme>::new().map(SchemeArg)
 }
 
+/// The pose flags of `refine` and `render`.
+#[derive(Debug, Clone, Args)]
+pub struct PoseFlags {
+    /// Pose one of the input's animation clips (a glTF file's animations, by name or index)
+    /// before refining: morph targets, then skinning.
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub clip: Option<String>,
+    /// Seconds into the clip; a time past its end holds its last pose.
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, requires = "clip")]
+    pub time: f32,
+}
+
 #[derive(Debug, Clone, Args)]
 pub struct RefineArgs {
     /// Input mesh (.obj, .ply, .gltf, .glb, .stl).
@@ -102,6 +114,8 @@ pub struct RefineArgs {
     /// Output mesh (.obj, .ply, .gltf, .glb, .stl); the format follows the extension.
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub pose: PoseFlags,
     /// Surface built over each coarse triangle.
     #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
     pub scheme: SchemeArg,
@@ -165,6 +179,8 @@ pub struct RenderArgs {
     /// Output picture (.png).
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub pose: PoseFlags,
     /// Surface built over each coarse triangle.
     #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
     pub scheme: SchemeArg,
@@ -263,6 +279,13 @@ pub struct AnimateArgs {
     /// Largest twist, degrees.
     #[arg(long, default_value_t = 60.0)]
     pub twist: f32,
+    /// Instead of the twist: play this animation clip of the input (a glTF file's animation,
+    /// by name or index) from its start, posed per frame (morph targets, skinning).
+    #[arg(long, value_name = "NAME|INDEX", conflicts_with = "fly_in")]
+    pub clip: Option<String>,
+    /// With --clip: frames per second of the clip's time.
+    #[arg(long, default_value_t = 24.0, requires = "clip")]
+    pub fps: f32,
     /// Instead of the twist: fly the camera towards the mesh (zoom 0.8 to 2.5) with levels from
     /// the screen (`--lod screen:PX` of each frame's camera) and fractional-odd spacing, so the
     /// levels grow smoothly frame by frame.

@@ -162,3 +162,190 @@ pub fn human_bytes(bytes: u64) -> String {
         format!("{value:.1} {}", UNITS[unit])
     }
 }
+
+/// An animated mesh that cannot be posed as given, or a pose that cannot be made: each message
+/// names the clip, channel, skin, instance, node or vertex at fault.
+///
+/// Clips are named by index and name (`clip 0 "walk"`); channels, skins, instances, nodes and
+/// vertices by index (a vertex's index is within its instance).
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum AnimationError {
+    #[error("node {node}'s parent is node {parent}, but there are only {nodes} nodes")]
+    ParentOutOfRange {
+        node: usize,
+        parent: u32,
+        nodes: usize,
+    },
+    #[error(
+        "node {node} is its own ancestor (a cycle in the parents); the nodes must form a tree"
+    )]
+    ParentCycle { node: usize },
+    #[error("node {node} has a non-finite {what}; transforms must be finite numbers")]
+    NonFiniteTransform { node: usize, what: &'static str },
+    #[error("skin {skin} names node {node} as joint {joint}, but there are only {nodes} nodes")]
+    JointNodeOutOfRange {
+        skin: usize,
+        joint: usize,
+        node: u32,
+        nodes: usize,
+    },
+    #[error("skin {skin} has {got} inverse bind matrices for {expected} joints; give one per joint (the identity where there is none)")]
+    InverseBindCount {
+        skin: usize,
+        got: usize,
+        expected: usize,
+    },
+    #[error("skin {skin}'s inverse bind matrix of joint {joint} is {reason}; it must be a finite invertible matrix")]
+    BadInverseBind {
+        skin: usize,
+        joint: usize,
+        reason: &'static str,
+    },
+    #[error("instance {instance} is drawn by node {node}, but there are only {nodes} nodes")]
+    InstanceNodeOutOfRange {
+        instance: usize,
+        node: u32,
+        nodes: usize,
+    },
+    #[error("instance {instance} uses skin {skin}, but there are only {skins} skins")]
+    SkinOutOfRange {
+        instance: usize,
+        skin: u32,
+        skins: usize,
+    },
+    #[error("instance {instance} starts at vertex {first_vertex}, but the instances before it end at vertex {expected}; instances' vertices follow one another from 0")]
+    InstanceRange {
+        instance: usize,
+        first_vertex: u32,
+        expected: usize,
+    },
+    #[error("instance {instance}'s {what} has {got} entries for its {expected} positions")]
+    AttributeLength {
+        instance: usize,
+        what: String,
+        got: usize,
+        expected: usize,
+    },
+    #[error("{what} has {got} weights, but {expected} morph targets")]
+    WeightCount {
+        what: String,
+        got: usize,
+        expected: usize,
+    },
+    #[error("instances {first} and {second} are both drawn by node {node} but have {counts:?} morph targets; the primitives of one mesh share their target count")]
+    TargetCountMismatch {
+        node: usize,
+        first: usize,
+        second: usize,
+        counts: [usize; 2],
+    },
+    #[error("instance {instance}'s {what} of vertex {vertex} is not finite")]
+    NonFiniteAttribute {
+        instance: usize,
+        what: String,
+        vertex: usize,
+    },
+    #[error("instance {instance} has skin {skin} but no joint influences (JOINTS_0/WEIGHTS_0)")]
+    NoInfluences { instance: usize, skin: u32 },
+    #[error("instance {instance}, vertex {vertex}: influence set {set} names joint {joint}, but skin {skin} has only {joints} joints")]
+    JointOutOfRange {
+        instance: usize,
+        vertex: usize,
+        set: usize,
+        joint: u16,
+        skin: u32,
+        joints: usize,
+    },
+    #[error("instance {instance}, vertex {vertex}: influence set {set} has weight {value}; weights must be finite and not negative")]
+    BadWeight {
+        instance: usize,
+        vertex: usize,
+        set: usize,
+        value: f32,
+    },
+    #[error("instance {instance}, vertex {vertex}: all its joint weights are zero; a skinned vertex needs some weight")]
+    ZeroWeights { instance: usize, vertex: usize },
+    #[error("the texture coordinates hold {got} entries for {expected} vertices")]
+    UvCount { got: usize, expected: usize },
+    #[error("triangle {face} uses vertex {index}, but the instances have only {count} vertices")]
+    TriangleIndex {
+        face: usize,
+        index: u32,
+        count: usize,
+    },
+    #[error("clip {clip} {clip_name:?} channel {channel} animates node {node}, but there are only {nodes} nodes")]
+    ChannelNode {
+        clip: usize,
+        clip_name: String,
+        channel: usize,
+        node: u32,
+        nodes: usize,
+    },
+    #[error("clip {clip} {clip_name:?} channel {channel} animates the {property} of node {node}, which has a matrix; glTF allows only nodes with translation/rotation/scale to be animated")]
+    ChannelOnMatrix {
+        clip: usize,
+        clip_name: String,
+        channel: usize,
+        node: usize,
+        property: &'static str,
+    },
+    #[error("clip {clip} {clip_name:?} channel {channel} animates the morph weights of node {node}, which draws no mesh")]
+    WeightsWithoutMesh {
+        clip: usize,
+        clip_name: String,
+        channel: usize,
+        node: usize,
+    },
+    #[error("clip {clip} {clip_name:?} channel {channel}'s sampler has no keys")]
+    NoKeys {
+        clip: usize,
+        clip_name: String,
+        channel: usize,
+    },
+    #[error("clip {clip} {clip_name:?} channel {channel}: key time {key} ({time}) is {reason}; key times must be finite and strictly increasing")]
+    BadKeyTime {
+        clip: usize,
+        clip_name: String,
+        channel: usize,
+        key: usize,
+        time: f32,
+        reason: &'static str,
+    },
+    #[error("clip {clip} {clip_name:?} channel {channel} has {got} values for {keys} keys of {components} components{cubic}; expected {expected}", cubic = if *cubic { " (×3 for CUBICSPLINE)" } else { "" })]
+    ValueCount {
+        clip: usize,
+        clip_name: String,
+        channel: usize,
+        got: usize,
+        keys: usize,
+        components: usize,
+        cubic: bool,
+        expected: usize,
+    },
+    #[error("clip {clip} {clip_name:?} channel {channel}: value {index} is not finite")]
+    NonFiniteValue {
+        clip: usize,
+        clip_name: String,
+        channel: usize,
+        index: usize,
+    },
+    #[error("no clip {clip:?}: give a clip's name or an index below {count} (clips: {names})")]
+    UnknownClip {
+        clip: String,
+        count: usize,
+        names: String,
+    },
+    #[error("the time {0} is not a finite number of seconds")]
+    BadTime(f32),
+    #[error("the {what} buffer holds {got} entries; the animated mesh has {expected} vertices")]
+    BufferLength {
+        what: &'static str,
+        got: usize,
+        expected: usize,
+    },
+    #[error("normals were asked for, but some instance has none; pass no normal buffer and let the core compute them (see Poser::has_normals)")]
+    NoNormals,
+    #[error("the posed mesh: {0}")]
+    Mesh(#[from] MeshError),
+}

@@ -17,6 +17,10 @@
 //! combined at a barycentric point. Backends (this crate's CPU evaluator, the GPU crate) consume
 //! nets and stencils unchanged.
 //!
+//! Animated meshes (glTF 2.0 node hierarchies, skins, morph targets and clips, in
+//! [`animation`]) are posed by [`animation::Poser`] into a fresh [`Mesh`] or into the caller's
+//! buffers for [`Mesh::update`], once per frame, before refinement.
+//!
 //! ## Conventions
 //! - Barycentric `(l1, l2, l3)` weigh the corners `(P1, P2, P3)` of a triangle in index order;
 //!   control point `b_ijk` has `i` for P1 (see docs/formulas.md).
@@ -26,6 +30,7 @@
 //!   coarse triangle.
 //! - Normals are unit length on input (normalised when read) and output.
 
+pub mod animation;
 pub mod basis;
 pub mod displace;
 mod error;
@@ -45,7 +50,7 @@ pub mod tessellator;
 
 pub use basis::Basis;
 pub use displace::{DisplaceError, DisplaceFrame, Displacement, HeightMap, SharedSlots};
-pub use error::{MeshError, RefineError};
+pub use error::{AnimationError, MeshError, RefineError};
 pub use mesh::{Mesh, Topology, TopologyReport};
 pub use names::{Backend, Named, UnknownName};
 pub use pattern::Pattern;

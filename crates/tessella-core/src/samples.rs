@@ -3,6 +3,10 @@
 
 use crate::mesh::Mesh;
 use std::collections::HashMap;
+
+mod animated;
+
+pub use animated::animated_creature;
 use std::f32::consts::PI;
 
 /// Names of the bundled samples, in the order [`by_name`] knows them.
@@ -224,24 +228,32 @@ fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// The creature's bumps: direction, height and width of the head, the arms and the legs.
+/// Standing along +Y (the usual "up" of viewers), facing +Z.
+const CREATURE_BUMPS: [([f32; 3], f32, f32); 5] = [
+    ([0.0, 1.0, 0.0], 0.9, 0.35), // head
+    ([1.0, 0.2, 0.0], 0.7, 0.25), // arms
+    ([-1.0, 0.2, 0.0], 0.7, 0.25),
+    ([0.45, -1.0, 0.0], 0.6, 0.3), // legs
+    ([-0.45, -1.0, 0.0], 0.6, 0.3),
+];
+
 /// Something character-like: an icosphere pushed out into a head, two arms and two legs, with
 /// computed normals. Closed, genus 0, 320 triangles.
 pub fn creature() -> Mesh {
-    let sphere = icosphere(2);
-    // Standing along +Y (the usual "up" of viewers), facing +Z.
-    let bumps: [([f32; 3], f32, f32); 5] = [
-        ([0.0, 1.0, 0.0], 0.9, 0.35), // head
-        ([1.0, 0.2, 0.0], 0.7, 0.25), // arms
-        ([-1.0, 0.2, 0.0], 0.7, 0.25),
-        ([0.45, -1.0, 0.0], 0.6, 0.3), // legs
-        ([-0.45, -1.0, 0.0], 0.6, 0.3),
-    ];
+    creature_on(2)
+}
+
+/// [`creature`]'s shape on an icosphere subdivided `subdivisions` times (`20 · 4^s`
+/// triangles; 2 is [`creature`]).
+pub fn creature_on(subdivisions: u32) -> Mesh {
+    let sphere = icosphere(subdivisions);
     let positions: Vec<[f32; 3]> = sphere
         .positions()
         .iter()
         .map(|&p| {
             let mut r = 0.8 - 0.15 * p[2] * p[2];
-            for (dir, height, width) in bumps {
+            for (dir, height, width) in CREATURE_BUMPS {
                 let d = normalize(dir);
                 let cos = p[0] * d[0] + p[1] * d[1] + p[2] * d[2];
                 r += height * (-(1.0 - cos) / (width * width)).exp();

@@ -29,6 +29,10 @@
 //! image's bottom-left (OBJ/PLY), so glTF's `v` is flipped on read and write (see [`gltf`]).
 //! Details per format are in the module docs ([`obj`], [`ply`], [`gltf`], [`stl`]).
 //!
+//! ## Animation
+//! [`read_animated`] reads a glTF file's nodes, skins, morph targets and clips, with its meshes
+//! in their own space, into a [`tessella_core::animation::AnimatedMesh`] for the core to pose.
+//!
 //! ## Tags
 //! [`tags`] reads shape tags from a sidecar JSON and from PLY properties, and layers every tag
 //! source (split normals, crease angle, PLY, JSON) in one place for the CLI and Python.
@@ -140,6 +144,43 @@ pub fn read_raw_bytes(
             gltf::read_with(path, bytes, format.name(), gltf::Buffers::Given(buffers))
         }
         Format::Stl => stl::read(path, bytes.to_vec()),
+    }
+}
+
+/// Reads a `.gltf` or `.glb` file's animation data (nodes, skins, mesh instances in their own
+/// space, morph targets, joint influences, clips; see [`gltf::read_animated`]), not validated:
+/// the core's validation (`AnimatedMesh::new`) checks it. Other formats hold no animation:
+/// an [`IoError::Unsupported`].
+pub fn read_animated(path: &Path) -> Result<tessella_core::animation::AnimatedMesh, IoError> {
+    let format = animated_format(path)?;
+    let bytes = std::fs::read(path).map_err(|source| IoError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    gltf::read_animated(path, &bytes, format.name(), gltf::Buffers::Folder)
+}
+
+/// [`read_animated`] of a file held in memory, as [`read_raw_bytes`] reads one: `name` picks
+/// the format and is named in messages, and a `.gltf` file's external buffers come from
+/// `buffers`.
+pub fn read_animated_bytes(
+    name: &str,
+    bytes: &[u8],
+    buffers: &[(&str, &[u8])],
+) -> Result<tessella_core::animation::AnimatedMesh, IoError> {
+    let path = Path::new(name);
+    let format = animated_format(path)?;
+    gltf::read_animated(path, bytes, format.name(), gltf::Buffers::Given(buffers))
+}
+
+fn animated_format(path: &Path) -> Result<Format, IoError> {
+    match Format::from_path(path)? {
+        format @ (Format::Gltf | Format::Glb) => Ok(format),
+        format => Err(IoError::Unsupported {
+            path: path.to_path_buf(),
+            format: format.name(),
+            message: "only glTF (.gltf, .glb) files hold animations".into(),
+        }),
     }
 }
 

@@ -1,15 +1,18 @@
 //! A deforming coarse mesh rendered with the pattern: one [`Plan`] for the whole animation;
 //! per frame [`Plan::update`] rebuilds the control nets (O(coarse triangles)) and
 //! [`PatternRenderer::update`] uploads them (GMR section 3.1), never a refined vertex buffer.
-//! The fly-in changes the levels every frame instead, drawn by one [`AdaptiveRenderer`].
+//! The coarse mesh moves by a twist ([`render_twist`]) or by a glTF clip's skinning and morph
+//! targets ([`render_clip`]). The fly-in changes the levels every frame instead, drawn by one
+//! [`AdaptiveRenderer`].
 
 use crate::appearance::Appearance;
 use crate::save_png;
 use crate::scene::{scene_uniforms, RenderOptions};
 use crate::target::Target;
 use std::path::{Path, PathBuf};
+use tessella_core::animation::Poser;
 use tessella_core::refine::{Plan, Surface};
-use tessella_core::{Mesh, OutputLayout, RefineOptions};
+use tessella_core::{AnimationError, Mesh, OutputLayout, RefineOptions};
 use tessella_gpu::{AdaptiveRenderer, GpuContext, GpuError, PatternRenderer};
 
 /// What an animation cost on the bus.
@@ -71,6 +74,52 @@ pub fn render_twist(
     max_angle_degrees: f32,
     out_dir: &Path,
 ) -> Result<AnimationStats, GpuError> {
+    render_frames(ctx, mesh, refine, options, frames, out_dir, |k| {
+        let phase = k as f32 / frames as f32 * std::f32::consts::TAU;
+        let (positions, normals) = twist_points(mesh, max_angle_degrees * phase.sin());
+        Ok((positions, Some(normals)))
+    })
+}
+
+/// Renders `frames` pictures of an animation clip played at `fps` frames per second from its
+/// start (frame `k` at `k / fps` seconds; past the clip's end its last pose holds) into
+/// `out_dir/frame_000.png`, ...: per frame the poser poses the coarse mesh (morph targets,
+/// skinning), [`Plan::update`] rebuilds its nets and the renderer uploads them. The camera is
+/// framed on the rest pose.
+#[allow(clippy::too_many_arguments)]
+pub fn render_clip(
+    ctx: &GpuContext,
+    poser: &Poser,
+    clip: usize,
+    refine: &RefineOptions,
+    options: &RenderOptions,
+    (frames, fps): (u32, f32),
+    out_dir: &Path,
+) -> Result<AnimationStats, GpuError> {
+    let bad = |e: AnimationError| GpuError::BadOption(e.to_string());
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(GpuError::BadOption(format!(
+            "frames per second must be positive, got {fps}"
+        )));
+    }
+    poser.duration(clip).map_err(bad)?;
+    let rest = poser.mesh(None, 0.0).map_err(bad)?;
+    render_frames(ctx, &rest, refine, options, frames, out_dir, |k| {
+        poser.pose(Some(clip), k as f32 / fps).map_err(bad)
+    })
+}
+
+/// The loop both animations share: one plan and renderer, per frame `pose(k)`'s positions (and
+/// normals; `None`: computed) → nets → upload → picture.
+fn render_frames(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    refine: &RefineOptions,
+    options: &RenderOptions,
+    frames: u32,
+    out_dir: &Path,
+    mut pose: impl FnMut(u32) -> Result<(Vec<[f32; 3]>, Option<Vec<[f32; 3]>>), GpuError>,
+) -> Result<AnimationStats, GpuError> {
     if frames == 0 {
         return Err(GpuError::BadOption(
             "an animation needs at least one frame".into(),
@@ -95,9 +144,8 @@ pub fn render_twist(
         paths: Vec::new(),
     };
     for k in 0..frames {
-        let phase = k as f32 / frames as f32 * std::f32::consts::TAU;
-        let (positions, normals) = twist_points(mesh, max_angle_degrees * phase.sin());
-        plan.update(&mut frame, &positions, Some(&normals))?;
+        let (positions, normals) = pose(k)?;
+        plan.update(&mut frame, &positions, normals.as_deref())?;
         stats.bytes_per_frame = renderer.update(&frame)?;
         target.draw(ctx, options.background, |pass| look.draw(pass, &renderer))?;
         let picture = target.read(ctx)?;

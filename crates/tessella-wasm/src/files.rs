@@ -25,6 +25,19 @@ pub fn read(
     buffer_lengths: &[u32],
     buffer_data: &[u8],
 ) -> Result<Arrays, String> {
+    let given = buffers(buffer_names, buffer_lengths, buffer_data)?;
+    let mesh = tessella_io::read_mesh_bytes(&file_name(format), bytes, &given)
+        .map_err(|e| errors::message(&e))?;
+    Ok(Arrays::from_mesh(&mesh))
+}
+
+/// A `.gltf` file's external buffers by relative URI, from `buffer_names`, `buffer_lengths`
+/// and `buffer_data` (all the buffers one after the other).
+pub fn buffers<'a>(
+    buffer_names: &'a [String],
+    buffer_lengths: &[u32],
+    buffer_data: &'a [u8],
+) -> Result<Vec<(&'a str, &'a [u8])>, String> {
     if buffer_names.len() != buffer_lengths.len()
         || buffer_lengths.iter().map(|&n| n as usize).sum::<usize>() != buffer_data.len()
     {
@@ -36,9 +49,7 @@ pub fn read(
         given.push((name.as_str(), &buffer_data[at..at + len as usize]));
         at += len as usize;
     }
-    let mesh = tessella_io::read_mesh_bytes(&file_name(format), bytes, &given)
-        .map_err(|e| errors::message(&e))?;
-    Ok(Arrays::from_mesh(&mesh))
+    Ok(given)
 }
 
 /// Encodes flat arrays as a file of `format`: `obj`, `ply` (binary), `ply-ascii`, `gltf`,

@@ -2,7 +2,8 @@
 //!
 //! The Rust half of the npm package `tessella` (`js/`): wasm-bindgen exports over flat typed
 //! arrays. `js/src/index.js` wraps them into the documented API (`refine`, `Refiner`,
-//! `readMesh`, `writeMesh`, `TessellaError`); nothing here is meant to be called directly.
+//! `readMesh`, `writeMesh`, `readAnimated`, `TessellaError`); nothing here is meant to be
+//! called directly.
 //!
 //! Every input is validated before any work (`arrays.rs`, `options.rs`, the core's `Mesh::new`
 //! and `Plan::new`), so bad input comes back as a thrown JS `Error` with the core's message,
@@ -13,6 +14,7 @@
 //! The crate also builds natively (a workspace member), so its option and array handling is
 //! tested by `cargo test` like the rest.
 
+mod animated;
 mod arrays;
 mod errors;
 mod files;

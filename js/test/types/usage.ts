@@ -1,7 +1,7 @@
 // Compiled by test/types.test.js (tsc --noEmit, strict): the declarations describe the API the
 // other tests exercise; the lines marked @ts-expect-error must be refused.
-import { ready, refine, Refiner, readMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
-import type { MeshOutput, RefineOutput } from 'tessella';
+import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
+import type { MeshOutput, Pose, RefineOutput } from 'tessella';
 import { refineGeometry, RefinedGeometry } from 'tessella/three';
 import { BufferGeometry } from 'three';
 
@@ -26,10 +26,22 @@ const g: BufferGeometry = refineGeometry(new BufferGeometry(), { scheme: 'pn' })
 const live = new RefinedGeometry(new BufferGeometry(), { level: 3, normalsFromSource: false });
 const same: BufferGeometry = live.update();
 live.dispose();
+const anim: AnimatedMesh = readAnimated(new Uint8Array(4), 'glb');
+const clips: string[] = anim.clips;
+const seconds: number = anim.duration('wave') + anim.duration(0);
+const pose: Pose = anim.pose('wave', 0.5);
+const rest: Float32Array = anim.pose(null).normals;
+const corners: Uint32Array = anim.indices;
+const count: number = anim.vertexCount;
+anim.free();
+// @ts-expect-error: made by readAnimated only
+new AnimatedMesh();
+// @ts-expect-error: a clip is a name or an index
+anim.pose(true, 0);
 // @ts-expect-error: positions must be a float typed array
 refine({ positions: [0, 0, 0], indices: new Uint32Array(3) });
 // @ts-expect-error: not a normals mode
 refine({ positions: new Float32Array(9), indices: new Uint32Array(3) }, { normals: 'cubic' });
 // @ts-expect-error: not a format writeMesh writes
 writeMesh(m, 'fbx');
-export { v, names, p, faces, i, computed, glb, e, g, same };
+export { v, names, p, faces, i, computed, glb, e, g, same, clips, seconds, pose, rest, corners, count };

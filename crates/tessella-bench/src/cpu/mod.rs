@@ -4,9 +4,11 @@
 //! updated per frame against rebuilt per frame, and the file writers. [`Report`] holds them all;
 //! serialised, it is `tessella bench --json`.
 
+mod animated;
 mod frames;
 mod write;
 
+pub use animated::{animated, animated_table, AnimatedRow};
 pub use frames::{
     deforming, deforming_table, median, roofline, roofline_schemes, roofline_table, Bandwidth,
     DeformRow, RooflineRow, BYTES_PER_VERTEX,
@@ -65,6 +67,9 @@ pub struct Report {
     pub one_shot: Vec<OneShotRow>,
     pub per_frame: Vec<RooflineRow>,
     pub deforming: Vec<DeformRow>,
+    /// The animated sample on an icosphere of 5,120 triangles playing its `wave` clip (with the
+    /// creature only).
+    pub animated: Vec<AnimatedRow>,
     /// The mesh refined at `write_level`, written in every format.
     pub write_level: u32,
     pub writers: Vec<WriteRow>,
@@ -85,7 +90,10 @@ impl Report {
         let one_shot = one_shot(mesh, levels, repeat, &bandwidth)?;
         let per_frame = roofline(mesh, levels, repeat, &bandwidth)?;
         let mut deforming = deforming(&name, mesh, levels, repeat, &bandwidth)?;
+        let mut animated_rows = Vec::new();
         if with_creature {
+            let poser = tessella_core::animation::Poser::new(samples::animated_creature(4))?;
+            animated_rows = animated("animated creature", &poser, "wave", levels, repeat)?;
             let creature = samples::creature();
             deforming.extend(frames::deforming(
                 "creature", &creature, levels, repeat, &bandwidth,
@@ -108,6 +116,7 @@ impl Report {
             one_shot,
             per_frame,
             deforming,
+            animated: animated_rows,
             write_level,
             writers,
         })
@@ -130,6 +139,10 @@ impl Report {
         s += &roofline_table(&self.per_frame);
         s += "\nDeforming mesh (twisting), PN: plan update + evaluate against rebuilding everything per frame:\n\n";
         s += &deforming_table(&self.deforming);
+        if !self.animated.is_empty() {
+            s += "\nAnimated (skinned, morphing; the `wave` clip), PN: pose + nets + evaluate per frame against the refinement alone:\n\n";
+            s += &animated_table(&self.animated);
+        }
         s += &format!(
             "\nFile writers, {} refined at level {} ({} vertices), against the copy bandwidth:\n\n",
             self.mesh,

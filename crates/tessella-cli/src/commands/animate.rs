@@ -1,4 +1,5 @@
-//! `tessella animate`: a deforming coarse mesh, re-uploading only its control nets per frame.
+//! `tessella animate`: a deforming coarse mesh (a twist, or a glTF clip's skinning and morph
+//! targets), re-uploading only its control nets per frame.
 
 use super::{gpu, tags};
 use crate::args::AnimateArgs;
@@ -53,15 +54,32 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
         );
         return Ok(());
     }
-    let stats = animate::render_twist(
-        &ctx,
-        &mesh,
-        &options,
-        &view,
-        args.frames,
-        args.twist,
-        &args.output,
-    )?;
+    let stats = match &args.clip {
+        Some(clip) => {
+            let poser = super::pose::load(&args.input)?;
+            let index = poser
+                .clip_index(clip)
+                .with_context(|| format!("cannot play {}", args.input.display()))?;
+            animate::render_clip(
+                &ctx,
+                &poser,
+                index,
+                &options,
+                &view,
+                (args.frames, args.fps),
+                &args.output,
+            )?
+        }
+        None => animate::render_twist(
+            &ctx,
+            &mesh,
+            &options,
+            &view,
+            args.frames,
+            args.twist,
+            &args.output,
+        )?,
+    };
     println!(
         "{} frames in {}: {} bytes uploaded per frame (control nets) instead of {} for a refined vertex buffer ({:.1}x less)",
         stats.frames,

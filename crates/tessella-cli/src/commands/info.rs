@@ -22,9 +22,68 @@ struct Info {
     topology: Option<TopologyReport>,
     /// Why `tessella refine` would refuse this file, if it would.
     problem: Option<String>,
+    /// Skins, morph targets and clips of a glTF file that has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    animation: Option<AnimationInfo>,
     /// Every scheme's surface quality (with --quality).
     #[serde(skip_serializing_if = "Option::is_none")]
     quality: Option<Vec<QualityRow>>,
+}
+
+/// What a glTF file animates.
+#[derive(Serialize)]
+struct AnimationInfo {
+    /// Per skin: its name and joint count.
+    skins: Vec<(Option<String>, usize)>,
+    /// Morph targets of each mesh instance, summed.
+    morph_targets: usize,
+    /// Per clip: its name and duration in seconds.
+    clips: Vec<(String, f32)>,
+    /// Why the animation cannot be played, if it cannot.
+    problem: Option<String>,
+}
+
+/// The animation of a glTF `path`, if it has skins, morph targets or clips.
+fn animation_info(path: &std::path::Path) -> anyhow::Result<Option<AnimationInfo>> {
+    let is_gltf = matches!(
+        tessella_io::Format::from_path(path),
+        Ok(tessella_io::Format::Gltf | tessella_io::Format::Glb)
+    );
+    if !is_gltf {
+        return Ok(None);
+    }
+    let model = tessella_io::read_animated(path)?;
+    let morph_targets = model.instances.iter().map(|i| i.targets.len()).sum();
+    if model.skins.is_empty() && model.clips.is_empty() && morph_targets == 0 {
+        return Ok(None);
+    }
+    let skins = model
+        .skins
+        .iter()
+        .map(|s| (s.name.clone(), s.joints.len()))
+        .collect();
+    let names: Vec<String> = model.clips.iter().map(|c| c.name.clone()).collect();
+    let (clips, problem) = match tessella_core::animation::Poser::new(model) {
+        Ok(poser) => {
+            let durations = (0..names.len()).map(|i| poser.duration(i));
+            let clips = names
+                .into_iter()
+                .zip(durations)
+                .map(|(name, d)| Ok((name, d?)))
+                .collect::<Result<Vec<_>, tessella_core::AnimationError>>()?;
+            (clips, None)
+        }
+        Err(e) => (
+            names.into_iter().map(|n| (n, f32::NAN)).collect(),
+            Some(e.to_string()),
+        ),
+    };
+    Ok(Some(AnimationInfo {
+        skins,
+        morph_targets,
+        clips,
+        problem,
+    }))
 }
 
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
@@ -84,6 +143,7 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         degenerate_triangles: degenerate,
         topology,
         problem,
+        animation: animation_info(&args.input)?,
         quality: None,
     };
     let quality = if args.quality {
@@ -206,6 +266,19 @@ fn print_text(i: &Info) {
             "  closed manifold     {}",
             if t.is_closed_manifold() { "yes" } else { "no" }
         );
+    }
+    if let Some(a) = &i.animation {
+        for (k, (name, joints)) in a.skins.iter().enumerate() {
+            let name = name.as_deref().unwrap_or("unnamed");
+            println!("  skin {k}              {name}: {joints} joints");
+        }
+        println!("  morph targets       {}", a.morph_targets);
+        for (k, (name, seconds)) in a.clips.iter().enumerate() {
+            println!("  clip {k}              {name}: {seconds:.3} s");
+        }
+        if let Some(p) = &a.problem {
+            println!("  cannot animate: {p}");
+        }
     }
     match &i.problem {
         Some(p) => println!("  refine would refuse: {p}"),

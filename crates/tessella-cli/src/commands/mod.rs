@@ -14,6 +14,7 @@ mod info;
 mod options;
 mod pattern;
 mod pattern_svg;
+mod pose;
 mod refine;
 mod refine_gl;
 #[cfg(feature = "gpu")]

@@ -58,7 +58,7 @@ pub fn refine_file(
             args.input.display()
         );
     }
-    let (mut raw, mesh) = tags::read(&args.input)?;
+    let (mut raw, mesh) = super::pose::read(&args.input, &args.pose)?;
     let mut options = options(args)?;
     let scheme = options.scheme;
     if args.write_origin && !matches!(Format::from_path(&args.output)?, Format::Ply) {

@@ -8,7 +8,7 @@ use tessella_core::{Mesh, RefineOptions};
 use tessella_view::{lod_camera, render, render_compare, save_png, RenderOptions};
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let (raw, mesh) = tags::read(&args.input)?;
+    let (raw, mesh) = super::pose::read(&args.input, &args.pose)?;
     let displacement = super::displace::parse(args.displace.as_deref())?;
     let view = RenderOptions {
         size: args.size,

@@ -1,9 +1,12 @@
-//! `tessella samples`: write the bundled sample meshes.
+//! `tessella samples`: write the bundled sample meshes, and the animated sample as glTF.
 
 use crate::args::SamplesArgs;
 use anyhow::Context;
 use tessella_core::samples;
-use tessella_io::{write_mesh, MeshView, WriteOptions};
+use tessella_io::{write_atomic, write_mesh, MeshView, WriteOptions};
+
+/// The animated sample's file: [`samples::animated_creature`] on the creature's icosphere.
+pub const ANIMATED: &str = "animated-creature.glb";
 
 pub fn run(args: &SamplesArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.output)
@@ -19,5 +22,28 @@ pub fn run(args: &SamplesArgs) -> anyhow::Result<()> {
             mesh.face_count()
         );
     }
+    let animated = samples::animated_creature(2);
+    let path = args.output.join(ANIMATED);
+    write_atomic(&path, |out| {
+        tessella_io::gltf::write_animated(out, &animated, true)
+    })?;
+    println!(
+        "{}: {} vertices, {} triangles, {} joints, {} clips ({})",
+        path.display(),
+        animated
+            .instances
+            .iter()
+            .map(|i| i.positions.len())
+            .sum::<usize>(),
+        animated.triangles.len(),
+        animated.skins.iter().map(|s| s.joints.len()).sum::<usize>(),
+        animated.clips.len(),
+        animated
+            .clips
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     Ok(())
 }

@@ -12,16 +12,25 @@
 //! attributes: a float `SCALAR` attribute `_NAME` is read into
 //! [`crate::RawMesh::vertex_scalars`] as `NAME` (kept only when every primitive has it), and
 //! written back as `_NAME`.
+//!
+//! Two readers share the parsing, buffer loading, accessor checks and primitive assembly:
+//! [`read()`] gives the default scene's triangles in world space (a static mesh), and
+//! [`read_animated`] gives nodes, skins, morph targets and clips with each mesh in its own
+//! space, for the core to pose.
 
+mod animated;
 mod read;
 mod write;
+mod write_animated;
 
+pub use animated::read_animated;
 pub use read::{read, read_with, Buffers};
 pub(crate) use write::{
     fold_range, glb_document, gltf_document, write_glb_header, write_glb_padding, write_gltf_text,
     Shape,
 };
 pub use write::{write, write_with_scalars};
+pub use write_animated::write_animated;
 
 /// Flips a texture coordinate between glTF's and OBJ/PLY's conventions (an involution).
 pub(crate) fn flip_v(uv: [f32; 2]) -> [f32; 2] {

@@ -13,6 +13,10 @@
 //! accessors without a buffer view and buffers behind `http:`-style URIs are refused.
 //! Float `SCALAR` attributes `_NAME` go to [`RawMesh::vertex_scalars`] as `NAME` when every
 //! primitive has them; other application-specific attributes are ignored.
+//!
+//! The parsing ([`open`]), accessor checks ([`check_accessor`]), primitive reading
+//! ([`read_primitive`]) and scene walk ([`scene_nodes`]) are shared with
+//! [`super::read_animated`], which accepts sparse accessors.
 
 use super::flip_v;
 use crate::{IoError, RawMesh};
@@ -44,16 +48,120 @@ pub fn read_with(
     format: &'static str,
     buffers: Buffers<'_>,
 ) -> Result<RawMesh, IoError> {
-    let parse = |message: String| IoError::Parse {
-        path: path.to_path_buf(),
-        format,
-        message,
-    };
-    let unsupported = |message: String| IoError::Unsupported {
-        path: path.to_path_buf(),
-        format,
-        message,
-    };
+    let ctx = Context { path, format };
+    let (document, buffers) = open(path, bytes, format, buffers)?;
+    let mut raw = RawMesh::default();
+    let (mut normals, mut uvs) = (Some(Vec::new()), Some(Vec::new()));
+    // Extra scalar attributes `_NAME`: values so far and the primitives that had them.
+    let mut extras: std::collections::BTreeMap<String, (Vec<f32>, usize)> = Default::default();
+    let mut primitives = 0usize;
+    for (mesh, transform) in instances(&document).map_err(|m| ctx.parse(m))? {
+        for primitive in mesh.primitives() {
+            let what = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+            let Some(Primitive {
+                positions,
+                normals: prim_normals,
+                uvs: prim_uvs,
+                mut triangles,
+            }) = read_primitive(ctx, &primitive, &what, &buffers, false)?
+            else {
+                continue;
+            };
+            let n = positions.len();
+            let base = raw.positions.len();
+            if base + n > u32::MAX as usize {
+                return Err(ctx.parse("more than 4294967295 vertices in all".into()));
+            }
+            let base = base as u32;
+            let (positions, prim_normals) =
+                apply(transform, positions, prim_normals, &mut triangles);
+            raw.positions.extend(positions);
+            raw.triangles
+                .extend(triangles.iter().map(|t| t.map(|i| i + base)));
+            merge_attribute(&mut normals, prim_normals);
+            merge_attribute(&mut uvs, prim_uvs);
+            for (semantic, accessor) in primitive.attributes() {
+                let gltf::Semantic::Extras(name) = semantic else {
+                    continue;
+                };
+                if accessor.dimensions() != Dimensions::Scalar
+                    || accessor.data_type() != DataType::F32
+                {
+                    continue; // not a scalar field (application data of another kind)
+                }
+                check_accessor(
+                    &accessor,
+                    Dimensions::Scalar,
+                    &[DataType::F32],
+                    &buffers,
+                    false,
+                )
+                .map_err(|m| ctx.unsupported(format!("{what} _{name}: {m}")))?;
+                let values: Vec<f32> = gltf::accessor::Iter::<f32>::new(accessor, |b| {
+                    buffers.get(b.index()).map(Vec::as_slice)
+                })
+                .map(Iterator::collect)
+                .unwrap_or_default();
+                if values.len() != n {
+                    return Err(ctx.parse(format!(
+                        "{what} has {} _{name} values for {n} positions",
+                        values.len()
+                    )));
+                }
+                let entry = extras.entry(name).or_default();
+                if entry.1 == primitives {
+                    entry.0.extend(values);
+                    entry.1 += 1;
+                }
+            }
+            primitives += 1;
+        }
+    }
+    raw.normals = normals;
+    raw.uvs = uvs;
+    raw.vertex_scalars = extras
+        .into_iter()
+        .filter(|(_, (_, seen))| *seen == primitives)
+        .map(|(name, (values, _))| (name, values))
+        .collect();
+    raw.check(path, format)?;
+    Ok(raw)
+}
+
+/// The file and format that errors name.
+#[derive(Clone, Copy)]
+pub(super) struct Context<'a> {
+    pub path: &'a Path,
+    pub format: &'static str,
+}
+
+impl Context<'_> {
+    pub fn parse(self, message: String) -> IoError {
+        IoError::Parse {
+            path: self.path.to_path_buf(),
+            format: self.format,
+            message,
+        }
+    }
+
+    pub fn unsupported(self, message: String) -> IoError {
+        IoError::Unsupported {
+            path: self.path.to_path_buf(),
+            format: self.format,
+            message,
+        }
+    }
+}
+
+/// Parses and validates a `.gltf` or `.glb` file and loads its buffers.
+pub(super) fn open(
+    path: &Path,
+    bytes: &[u8],
+    format: &'static str,
+    buffers: Buffers<'_>,
+) -> Result<(Document, Vec<Vec<u8>>), IoError> {
+    let ctx = Context { path, format };
+    let parse = |message: String| ctx.parse(message);
     check_glb_header(bytes).map_err(parse)?;
     let Gltf { document, blob } =
         Gltf::from_slice_without_validation(bytes).map_err(|e| parse(e.to_string()))?;
@@ -78,138 +186,108 @@ pub fn read_with(
     }
     let document = gltf::Document::from_json(root).map_err(|e| parse(e.to_string()))?;
     let buffers = load_buffers(path, &document, blob, format, buffers)?;
-    let mut raw = RawMesh::default();
-    let (mut normals, mut uvs) = (Some(Vec::new()), Some(Vec::new()));
-    // Extra scalar attributes `_NAME`: values so far and the primitives that had them.
-    let mut extras: std::collections::BTreeMap<String, (Vec<f32>, usize)> = Default::default();
-    let mut primitives = 0usize;
-    for (mesh, transform) in instances(&document).map_err(parse)? {
-        for primitive in mesh.primitives() {
-            let mode = primitive.mode();
-            if !matches!(
-                mode,
-                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-            ) {
-                continue;
-            }
-            let what = format!("mesh {} primitive {}", mesh.index(), primitive.index());
-            let position = primitive
-                .get(&gltf::Semantic::Positions)
-                .ok_or_else(|| parse(format!("{what} has no POSITION attribute")))?;
-            let normal = primitive.get(&gltf::Semantic::Normals);
-            let uv = primitive.get(&gltf::Semantic::TexCoords(0));
-            let indices = primitive.indices();
-            let float = [DataType::F32];
-            let checks = [
-                (Some(&position), "POSITION", Dimensions::Vec3, &float[..]),
-                (normal.as_ref(), "NORMAL", Dimensions::Vec3, &float[..]),
-                (
-                    uv.as_ref(),
-                    "TEXCOORD_0",
-                    Dimensions::Vec2,
-                    &[DataType::F32, DataType::U8, DataType::U16],
-                ),
-                (
-                    indices.as_ref(),
-                    "indices",
-                    Dimensions::Scalar,
-                    &[DataType::U8, DataType::U16, DataType::U32],
-                ),
-            ];
-            for (accessor, name, dimensions, types) in checks {
-                if let Some(accessor) = accessor {
-                    check_accessor(accessor, dimensions, types, &buffers)
-                        .map_err(|m| unsupported(format!("{what} {name}: {m}")))?;
-                }
-            }
-            let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-            let count_mismatch = |name: &str, got: usize, n: usize| {
-                parse(format!("{what} has {got} {name} values for {n} positions"))
-            };
-            let positions: Vec<[f32; 3]> = reader
-                .read_positions()
-                .map(Iterator::collect)
-                .unwrap_or_default();
-            let n = positions.len();
-            if n != position.count() {
-                return Err(count_mismatch("POSITION", n, position.count()));
-            }
-            let prim_normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
-            let prim_uvs: Option<Vec<[f32; 2]>> = reader
-                .read_tex_coords(0)
-                .map(|t| t.into_f32().map(flip_v).collect());
-            for (name, got) in [
-                ("NORMAL", prim_normals.as_ref().map(Vec::len)),
-                ("TEXCOORD_0", prim_uvs.as_ref().map(Vec::len)),
-            ] {
-                if let Some(got) = got.filter(|&g| g != n) {
-                    return Err(count_mismatch(name, got, n));
-                }
-            }
-            let corners: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
-                None => (0..n as u32).collect(),
-            };
-            if let Some(&bad) = corners.iter().find(|&&i| i as usize >= n) {
-                return Err(parse(format!(
-                    "{what} uses vertex {bad} but has only {n} vertices"
-                )));
-            }
-            let mut triangles =
-                assemble(mode, &corners).map_err(|m| parse(format!("{what}: {m}")))?;
-            let base = raw.positions.len();
-            if base + n > u32::MAX as usize {
-                return Err(parse("more than 4294967295 vertices in all".into()));
-            }
-            let base = base as u32;
-            let (positions, prim_normals) =
-                apply(transform, positions, prim_normals, &mut triangles);
-            raw.positions.extend(positions);
-            raw.triangles
-                .extend(triangles.iter().map(|t| t.map(|i| i + base)));
-            merge_attribute(&mut normals, prim_normals);
-            merge_attribute(&mut uvs, prim_uvs);
-            for (semantic, accessor) in primitive.attributes() {
-                let gltf::Semantic::Extras(name) = semantic else {
-                    continue;
-                };
-                if accessor.dimensions() != Dimensions::Scalar
-                    || accessor.data_type() != DataType::F32
-                {
-                    continue; // not a scalar field (application data of another kind)
-                }
-                check_accessor(&accessor, Dimensions::Scalar, &float, &buffers)
-                    .map_err(|m| unsupported(format!("{what} _{name}: {m}")))?;
-                let values: Vec<f32> = gltf::accessor::Iter::<f32>::new(accessor, |b| {
-                    buffers.get(b.index()).map(Vec::as_slice)
-                })
-                .map(Iterator::collect)
-                .unwrap_or_default();
-                if values.len() != n {
-                    return Err(count_mismatch(&format!("_{name}"), values.len(), n));
-                }
-                let entry = extras.entry(name).or_default();
-                if entry.1 == primitives {
-                    entry.0.extend(values);
-                    entry.1 += 1;
-                }
-            }
-            primitives += 1;
+    Ok((document, buffers))
+}
+
+/// One triangle primitive's vertices and its triangles (indices local to the primitive).
+pub(super) struct Primitive {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Option<Vec<[f32; 3]>>,
+    /// TEXCOORD_0, flipped to the OBJ/PLY convention ([`flip_v`]).
+    pub uvs: Option<Vec<[f32; 2]>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Reads a primitive's POSITION, NORMAL, TEXCOORD_0 and triangles after checking their
+/// accessors; `None` for points and lines. `sparse` accepts sparse accessors.
+pub(super) fn read_primitive(
+    ctx: Context<'_>,
+    primitive: &gltf::Primitive<'_>,
+    what: &str,
+    buffers: &[Vec<u8>],
+    sparse: bool,
+) -> Result<Option<Primitive>, IoError> {
+    let (parse, unsupported) = (|m| ctx.parse(m), |m| ctx.unsupported(m));
+    let mode = primitive.mode();
+    if !matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    ) {
+        return Ok(None);
+    }
+    let position = primitive
+        .get(&gltf::Semantic::Positions)
+        .ok_or_else(|| parse(format!("{what} has no POSITION attribute")))?;
+    let normal = primitive.get(&gltf::Semantic::Normals);
+    let uv = primitive.get(&gltf::Semantic::TexCoords(0));
+    let indices = primitive.indices();
+    let float = [DataType::F32];
+    let checks = [
+        (Some(&position), "POSITION", Dimensions::Vec3, &float[..]),
+        (normal.as_ref(), "NORMAL", Dimensions::Vec3, &float[..]),
+        (
+            uv.as_ref(),
+            "TEXCOORD_0",
+            Dimensions::Vec2,
+            &[DataType::F32, DataType::U8, DataType::U16],
+        ),
+        (
+            indices.as_ref(),
+            "indices",
+            Dimensions::Scalar,
+            &[DataType::U8, DataType::U16, DataType::U32],
+        ),
+    ];
+    for (accessor, name, dimensions, types) in checks {
+        if let Some(accessor) = accessor {
+            check_accessor(accessor, dimensions, types, buffers, sparse)
+                .map_err(|m| unsupported(format!("{what} {name}: {m}")))?;
         }
     }
-    raw.normals = normals;
-    raw.uvs = uvs;
-    raw.vertex_scalars = extras
-        .into_iter()
-        .filter(|(_, (_, seen))| *seen == primitives)
-        .map(|(name, (values, _))| (name, values))
-        .collect();
-    raw.check(path, format)?;
-    Ok(raw)
+    let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+    let count_mismatch = |name: &str, got: usize, n: usize| {
+        parse(format!("{what} has {got} {name} values for {n} positions"))
+    };
+    let positions: Vec<[f32; 3]> = reader
+        .read_positions()
+        .map(Iterator::collect)
+        .unwrap_or_default();
+    let n = positions.len();
+    if n != position.count() {
+        return Err(count_mismatch("POSITION", n, position.count()));
+    }
+    let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
+    let uvs: Option<Vec<[f32; 2]>> = reader
+        .read_tex_coords(0)
+        .map(|t| t.into_f32().map(flip_v).collect());
+    for (name, got) in [
+        ("NORMAL", normals.as_ref().map(Vec::len)),
+        ("TEXCOORD_0", uvs.as_ref().map(Vec::len)),
+    ] {
+        if let Some(got) = got.filter(|&g| g != n) {
+            return Err(count_mismatch(name, got, n));
+        }
+    }
+    let corners: Vec<u32> = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..n as u32).collect(),
+    };
+    if let Some(&bad) = corners.iter().find(|&&i| i as usize >= n) {
+        return Err(parse(format!(
+            "{what} uses vertex {bad} but has only {n} vertices"
+        )));
+    }
+    let triangles = assemble(mode, &corners).map_err(|m| parse(format!("{what}: {m}")))?;
+    Ok(Some(Primitive {
+        positions,
+        normals,
+        uvs,
+        triangles,
+    }))
 }
 
 /// Appends a primitive's attribute, or drops the attribute for the whole mesh once one lacks it.
-fn merge_attribute<T>(all: &mut Option<Vec<T>>, primitive: Option<Vec<T>>) {
+pub(super) fn merge_attribute<T>(all: &mut Option<Vec<T>>, primitive: Option<Vec<T>>) {
     match (all.as_mut(), primitive) {
         (Some(all), Some(values)) => all.extend(values),
         _ => *all = None,
@@ -240,11 +318,25 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
 
 /// Meshes to read with their world transforms.
 fn instances(document: &Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, String> {
+    let Some(nodes) = scene_nodes(document)? else {
+        return Ok(document.meshes().map(|m| (m, Mat4::IDENTITY)).collect());
+    };
+    Ok(nodes
+        .into_iter()
+        .filter_map(|(node, world)| Some((node.mesh()?, world)))
+        .collect())
+}
+
+/// The nodes of the default scene (or the first scene) with their world transforms, parents
+/// before children and roots in the file's order; `None` for a file without scenes.
+pub(super) fn scene_nodes(
+    document: &Document,
+) -> Result<Option<Vec<(gltf::Node<'_>, Mat4)>>, String> {
     let Some(scene) = document
         .default_scene()
         .or_else(|| document.scenes().next())
     else {
-        return Ok(document.meshes().map(|m| (m, Mat4::IDENTITY)).collect());
+        return Ok(None);
     };
     let limit = document.nodes().len();
     let mut out = Vec::new();
@@ -255,14 +347,12 @@ fn instances(document: &Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, String>
             return Err("the node hierarchy has a cycle".into());
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if let Some(mesh) = node.mesh() {
-            out.push((mesh, world));
-        }
-        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+        stack.extend(node.children().map(|c| (c.clone(), world, depth + 1)));
+        out.push((node, world));
     }
     // The stack visits nodes last-first; keep the file's order for readers' sake.
     out.reverse();
-    Ok(out)
+    Ok(Some(out))
 }
 
 /// Applies a world transform; normals use the inverse transpose, and mirroring flips winding.
@@ -326,27 +416,105 @@ fn assemble(mode: Mode, corners: &[u32]) -> Result<Vec<[u32; 3]>, String> {
 }
 
 /// Checks an accessor's type and that all its elements lie inside its buffer data, so the
-/// `gltf` reader never indexes past the end of a slice.
-fn check_accessor(
+/// `gltf` reader never indexes past the end of a slice (nor meets an empty accessor or a stride
+/// shorter than an element, on which it panics). Sparse accessors (whose indices and values are
+/// checked the same way) and accessors without a buffer view (zeros, unless sparse) are refused
+/// unless `sparse`.
+pub(super) fn check_accessor(
     accessor: &Accessor,
     dimensions: Dimensions,
     types: &[DataType],
     buffers: &[Vec<u8>],
+    sparse: bool,
 ) -> Result<(), String> {
+    let index = accessor.index();
     if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
         return Err(format!(
-            "accessor {} is {:?} {:?}; expected {dimensions:?} of {types:?}",
-            accessor.index(),
+            "accessor {index} is {:?} {:?}; expected {dimensions:?} of {types:?}",
             accessor.dimensions(),
             accessor.data_type()
         ));
     }
-    if accessor.sparse().is_some() {
-        return Err(format!("accessor {} is sparse", accessor.index()));
+    if accessor.count() == 0 {
+        return Err(format!("accessor {index} has no elements"));
     }
-    let view = accessor
-        .view()
-        .ok_or_else(|| format!("accessor {} has no bufferView", accessor.index()))?;
+    let element = accessor.size();
+    let Some(sparse_part) = accessor.sparse() else {
+        let view = accessor
+            .view()
+            .ok_or_else(|| format!("accessor {index} has no bufferView"))?;
+        let what = format!("accessor {index}");
+        return check_elements(
+            &what,
+            view,
+            accessor.offset(),
+            accessor.count(),
+            element,
+            buffers,
+        );
+    };
+    if !sparse {
+        return Err(format!("accessor {index} is sparse"));
+    }
+    if let Some(view) = accessor.view() {
+        let what = format!("accessor {index}");
+        check_elements(
+            &what,
+            view,
+            accessor.offset(),
+            accessor.count(),
+            element,
+            buffers,
+        )?;
+    }
+    let count = sparse_part.count();
+    if count == 0 || count > accessor.count() {
+        return Err(format!(
+            "accessor {index} has {count} sparse values for {} elements",
+            accessor.count()
+        ));
+    }
+    let indices = sparse_part.indices();
+    let what = format!("accessor {index}'s sparse indices");
+    check_elements(
+        &what,
+        indices.view(),
+        indices.offset(),
+        count,
+        index_size(indices.index_type()),
+        buffers,
+    )?;
+    let values = sparse_part.values();
+    let what = format!("accessor {index}'s sparse values");
+    check_elements(
+        &what,
+        values.view(),
+        values.offset(),
+        count,
+        element,
+        buffers,
+    )
+}
+
+fn index_size(index_type: gltf::accessor::sparse::IndexType) -> usize {
+    use gltf::accessor::sparse::IndexType;
+    match index_type {
+        IndexType::U8 => 1,
+        IndexType::U16 => 2,
+        IndexType::U32 => 4,
+    }
+}
+
+/// Checks that `count` elements of `element` bytes from `offset` lie in `view` and `view` in
+/// its buffer.
+fn check_elements(
+    what: &str,
+    view: gltf::buffer::View<'_>,
+    offset: usize,
+    count: usize,
+    element: usize,
+    buffers: &[Vec<u8>],
+) -> Result<(), String> {
     let data = buffers.get(view.buffer().index()).map_or(0, Vec::len);
     let view_end = view.offset().checked_add(view.length());
     if view_end.is_none_or(|end| end > data) {
@@ -356,18 +524,21 @@ fn check_accessor(
             view.buffer().index()
         ));
     }
-    let element = accessor.size();
     let stride = view.stride().unwrap_or(element);
-    if let Some(last) = accessor.count().checked_sub(1) {
+    if stride < element {
+        return Err(format!(
+            "{what} has {element}-byte elements but bufferView {} has a byteStride of {stride}",
+            view.index()
+        ));
+    }
+    if let Some(last) = count.checked_sub(1) {
         let end = stride
             .checked_mul(last)
             .and_then(|x| x.checked_add(element))
-            .and_then(|x| x.checked_add(accessor.offset()));
+            .and_then(|x| x.checked_add(offset));
         if end.is_none_or(|end| end > view.length()) {
             return Err(format!(
-                "accessor {} ({} elements) reaches past the end of bufferView {}",
-                accessor.index(),
-                accessor.count(),
+                "{what} ({count} elements) reaches past the end of bufferView {}",
                 view.index()
             ));
         }

@@ -182,7 +182,7 @@ pub fn write_with_scalars(
 }
 
 /// The buffer's URI in a `.gltf`'s JSON: base64 data, written in later by [`write_gltf_text`].
-fn embedded_uri() -> String {
+pub(crate) fn embedded_uri() -> String {
     format!("data:application/octet-stream;base64,{PLACEHOLDER}")
 }
 

@@ -1,0 +1,188 @@
+//! `readAnimated`: a glTF/GLB file's skins, morph targets and clips (tessella-io's in-memory
+//! reader), validated and posed by the core's [`Poser`]; the file system is never touched.
+//!
+//! The JS side resolves a clip given by name to its index ([`Animated::clip_index`]) and
+//! passes indices, `None` for the rest pose.
+
+use crate::{arrays, errors, files};
+use tessella_core::animation::Poser;
+use wasm_bindgen::prelude::*;
+
+/// An animated mesh read from a file, ready to pose.
+#[wasm_bindgen]
+pub struct Animated {
+    poser: Poser,
+}
+
+/// One pose: positions and normals, 3 numbers per vertex. JS takes each array once.
+#[wasm_bindgen]
+#[derive(Debug, Default)]
+pub struct Pose {
+    positions: Vec<f32>,
+    normals: Vec<f32>,
+}
+
+#[wasm_bindgen]
+impl Pose {
+    #[wasm_bindgen(js_name = takePositions)]
+    pub fn take_positions(&mut self) -> Vec<f32> {
+        std::mem::take(&mut self.positions)
+    }
+    #[wasm_bindgen(js_name = takeNormals)]
+    pub fn take_normals(&mut self) -> Vec<f32> {
+        std::mem::take(&mut self.normals)
+    }
+}
+
+#[wasm_bindgen]
+impl Animated {
+    /// The triangles' corners, 3 vertex indices per triangle.
+    pub fn indices(&self) -> Vec<u32> {
+        bytemuck::cast_slice(&self.poser.model().triangles).to_vec()
+    }
+
+    /// The clips' names, in the file's order.
+    pub fn clips(&self) -> Vec<String> {
+        self.poser
+            .model()
+            .clips
+            .iter()
+            .map(|c| c.name.clone())
+            .collect()
+    }
+
+    #[wasm_bindgen(js_name = vertexCount)]
+    pub fn vertex_count(&self) -> usize {
+        self.poser.vertex_count()
+    }
+
+    /// Whether the file has normals (otherwise each pose's normals are computed).
+    #[wasm_bindgen(js_name = hasNormals)]
+    pub fn has_normals(&self) -> bool {
+        self.poser.has_normals()
+    }
+
+    /// The index of the clip named `name` (or, when none has that name, of decimal index
+    /// `name`).
+    #[wasm_bindgen(js_name = clipIndex)]
+    pub fn clip_index(&self, name: &str) -> Result<u32, JsError> {
+        self.poser
+            .clip_index(name)
+            .map(|i| i as u32)
+            .map_err(|e| errors::text(errors::message(&e)))
+    }
+
+    /// Clip `clip`'s duration in seconds: the shortest decimal that is the file's `f32` (0.8,
+    /// not 0.800000011920929).
+    pub fn duration(&self, clip: u32) -> Result<f64, JsError> {
+        self.poser
+            .duration(clip as usize)
+            .map(shortest)
+            .map_err(|e| errors::text(errors::message(&e)))
+    }
+
+    /// The pose at `time` seconds of clip `clip` (`None`: the rest pose).
+    pub fn pose(&self, clip: Option<u32>, time: f64) -> Result<Pose, JsError> {
+        self.pose_arrays(clip, time).map_err(errors::text)
+    }
+}
+
+impl Animated {
+    /// Reads and validates an animated glTF/GLB file; buffers as [`files::read`] takes them.
+    pub fn read(
+        bytes: &[u8],
+        format: &str,
+        buffer_names: &[String],
+        buffer_lengths: &[u32],
+        buffer_data: &[u8],
+    ) -> Result<Animated, String> {
+        let given = files::buffers(buffer_names, buffer_lengths, buffer_data)?;
+        let model = tessella_io::read_animated_bytes(&files::file_name(format), bytes, &given)
+            .map_err(|e| errors::message(&e))?;
+        let poser = Poser::new(model).map_err(|e| {
+            format!(
+                "invalid animation in {}: {}",
+                files::file_name(format),
+                errors::message(&e)
+            )
+        })?;
+        Ok(Animated { poser })
+    }
+
+    /// [`Animated::pose`] with a `String` error: posed normals when the file has normals,
+    /// otherwise normals computed by the core from the posed mesh.
+    pub fn pose_arrays(&self, clip: Option<u32>, time: f64) -> Result<Pose, String> {
+        if !time.is_finite() {
+            return Err(format!(
+                "time must be a finite number of seconds, got {time}"
+            ));
+        }
+        let clip = clip.map(|c| c as usize);
+        let time = time as f32;
+        let message = |e: tessella_core::AnimationError| errors::message(&e);
+        if self.poser.has_normals() {
+            let (positions, normals) = self.poser.pose(clip, time).map_err(message)?;
+            let normals = normals.ok_or("the posed mesh has no normals")?;
+            Ok(Pose {
+                positions: bytemuck::allocation::cast_vec(positions),
+                normals: bytemuck::allocation::cast_vec(normals),
+            })
+        } else {
+            let mesh = self.poser.mesh(clip, time).map_err(message)?;
+            Ok(Pose {
+                positions: arrays::flat(mesh.positions()).to_vec(),
+                normals: arrays::flat(mesh.normals()).to_vec(),
+            })
+        }
+    }
+}
+
+/// `value` as the `f64` of its shortest decimal (what JS would print for the `f32` it is).
+fn shortest(value: f32) -> f64 {
+    value.to_string().parse().unwrap_or(value as f64)
+}
+
+/// `readAnimated` for JS: see `js/src/index.js`.
+#[wasm_bindgen(js_name = readAnimated)]
+pub fn read_js(
+    bytes: &[u8],
+    format: &str,
+    buffer_names: Vec<String>,
+    buffer_lengths: &[u32],
+    buffer_data: &[u8],
+) -> Result<Animated, JsError> {
+    Animated::read(bytes, format, &buffer_names, buffer_lengths, buffer_data).map_err(errors::text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Animated {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../samples/animated-creature.glb"
+        );
+        Animated::read(&std::fs::read(path).unwrap(), "glb", &[], &[], &[]).unwrap()
+    }
+
+    #[test]
+    fn the_sample_poses_and_bad_input_is_refused_by_name() {
+        let a = sample();
+        assert_eq!(a.clips(), ["wave", "hop", "breathe"]);
+        assert_eq!(a.indices().len(), 960);
+        assert_eq!(shortest(a.poser.duration(1).unwrap()), 0.8);
+        let pose = a.pose_arrays(Some(1), 0.3).unwrap();
+        assert_eq!(pose.positions.len(), a.vertex_count() * 3);
+        assert_eq!(pose.normals.len(), a.vertex_count() * 3);
+        let err = a.pose_arrays(Some(0), f64::NAN).unwrap_err();
+        assert!(err.contains("finite"), "{err}");
+        let err = a.pose_arrays(Some(7), 0.0).unwrap_err();
+        assert!(err.contains('7'), "{err}");
+        let err = Animated::read(b"v 0 0 0\n", "obj", &[], &[], &[])
+            .err()
+            .unwrap();
+        assert!(err.contains("only glTF"), "{err}");
+        assert!(Animated::read(b"garbage", "glb", &[], &[], &[]).is_err());
+    }
+}
