@@ -162,7 +162,7 @@ export function readMesh(bytes, format, options = {}) {
   if (typeof format !== 'string') throw new TessellaError("readMesh's format must be a string such as 'obj'");
   const { names, lengths, data } = buffers(options);
   return call((g) => {
-    const arrays = g.readMesh(bytes, format, names, lengths, data);
+    const arrays = withBuffers(g, names, lengths, data, (given) => g.readMesh(bytes, format, given));
     const computed = arrays.normalsComputed;
     const out = take(arrays);
     out.normalsComputed = computed;
@@ -174,6 +174,16 @@ function fileBytes(bytes, fn) {
   if (bytes instanceof Uint8Array) return bytes;
   if (bytes instanceof ArrayBuffer) return new Uint8Array(bytes);
   throw new TessellaError(`${fn} takes the file as a Uint8Array or ArrayBuffer`);
+}
+
+// Runs `read` with the buffers as the wasm side's GltfBuffers, freed afterwards.
+function withBuffers(g, names, lengths, data, read) {
+  const given = new g.GltfBuffers(names, lengths, data);
+  try {
+    return read(given);
+  } finally {
+    given.free();
+  }
 }
 
 // A .gltf file's external buffers ({ uri: bytes }) as the Rust side takes them: names, lengths
@@ -362,7 +372,7 @@ export function readAnimated(bytes, format, options = {}) {
   if (typeof format !== 'string') throw new TessellaError("readAnimated's format must be a string such as 'glb'");
   const { names, lengths, data } = buffers(options);
   return call((g) => {
-    const inner = g.readAnimated(bytes, format, names, lengths, data);
+    const inner = withBuffers(g, names, lengths, data, (given) => g.readAnimated(bytes, format, given));
     try {
       return new AnimatedMesh(INTERNAL, inner);
     } catch (e) {

@@ -148,12 +148,7 @@ impl AnimatedMesh {
     /// The clips' names, in the file's order (an index into this list names a clip too).
     #[getter]
     fn clips(&self) -> Vec<String> {
-        self.poser
-            .model()
-            .clips
-            .iter()
-            .map(|c| c.name.clone())
-            .collect()
+        self.poser.clip_names().map(String::from).collect()
     }
 
     /// Vertices of every pose.

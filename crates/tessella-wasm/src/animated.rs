@@ -4,6 +4,8 @@
 //! The JS side resolves a clip given by name to its index ([`Animated::clip_index`]) and
 //! passes indices, `None` for the rest pose.
 
+use crate::files::GltfBuffers;
+use crate::refine::Arrays;
 use crate::{arrays, errors, files};
 use tessella_core::animation::Poser;
 use wasm_bindgen::prelude::*;
@@ -12,26 +14,6 @@ use wasm_bindgen::prelude::*;
 #[wasm_bindgen]
 pub struct Animated {
     poser: Poser,
-}
-
-/// One pose: positions and normals, 3 numbers per vertex. JS takes each array once.
-#[wasm_bindgen]
-#[derive(Debug, Default)]
-pub struct Pose {
-    positions: Vec<f32>,
-    normals: Vec<f32>,
-}
-
-#[wasm_bindgen]
-impl Pose {
-    #[wasm_bindgen(js_name = takePositions)]
-    pub fn take_positions(&mut self) -> Vec<f32> {
-        std::mem::take(&mut self.positions)
-    }
-    #[wasm_bindgen(js_name = takeNormals)]
-    pub fn take_normals(&mut self) -> Vec<f32> {
-        std::mem::take(&mut self.normals)
-    }
 }
 
 #[wasm_bindgen]
@@ -43,12 +25,7 @@ impl Animated {
 
     /// The clips' names, in the file's order.
     pub fn clips(&self) -> Vec<String> {
-        self.poser
-            .model()
-            .clips
-            .iter()
-            .map(|c| c.name.clone())
-            .collect()
+        self.poser.clip_names().map(String::from).collect()
     }
 
     #[wasm_bindgen(js_name = vertexCount)]
@@ -82,22 +59,16 @@ impl Animated {
     }
 
     /// The pose at `time` seconds of clip `clip` (`None`: the rest pose).
-    pub fn pose(&self, clip: Option<u32>, time: f64) -> Result<Pose, JsError> {
+    pub fn pose(&self, clip: Option<u32>, time: f64) -> Result<Arrays, JsError> {
         self.pose_arrays(clip, time).map_err(errors::text)
     }
 }
 
 impl Animated {
-    /// Reads and validates an animated glTF/GLB file; buffers as [`files::read`] takes them.
-    pub fn read(
-        bytes: &[u8],
-        format: &str,
-        buffer_names: &[String],
-        buffer_lengths: &[u32],
-        buffer_data: &[u8],
-    ) -> Result<Animated, String> {
-        let given = files::buffers(buffer_names, buffer_lengths, buffer_data)?;
-        let model = tessella_io::read_animated_bytes(&files::file_name(format), bytes, &given)
+    /// Reads and validates an animated glTF/GLB file; `given`: a `.gltf` file's external
+    /// buffers by relative URI ([`files::GltfBuffers::given`]).
+    pub fn read(bytes: &[u8], format: &str, given: &[(&str, &[u8])]) -> Result<Animated, String> {
+        let model = tessella_io::read_animated_bytes(&files::file_name(format), bytes, given)
             .map_err(|e| errors::message(&e))?;
         let poser = Poser::new(model).map_err(|e| {
             format!(
@@ -111,7 +82,7 @@ impl Animated {
 
     /// [`Animated::pose`] with a `String` error: posed normals when the file has normals,
     /// otherwise normals computed by the core from the posed mesh.
-    pub fn pose_arrays(&self, clip: Option<u32>, time: f64) -> Result<Pose, String> {
+    pub fn pose_arrays(&self, clip: Option<u32>, time: f64) -> Result<Arrays, String> {
         if !time.is_finite() {
             return Err(format!(
                 "time must be a finite number of seconds, got {time}"
@@ -123,16 +94,16 @@ impl Animated {
         if self.poser.has_normals() {
             let (positions, normals) = self.poser.pose(clip, time).map_err(message)?;
             let normals = normals.ok_or("the posed mesh has no normals")?;
-            Ok(Pose {
-                positions: bytemuck::allocation::cast_vec(positions),
-                normals: bytemuck::allocation::cast_vec(normals),
-            })
+            Ok(Arrays::points(
+                bytemuck::allocation::cast_vec(positions),
+                bytemuck::allocation::cast_vec(normals),
+            ))
         } else {
             let mesh = self.poser.mesh(clip, time).map_err(message)?;
-            Ok(Pose {
-                positions: arrays::flat(mesh.positions()).to_vec(),
-                normals: arrays::flat(mesh.normals()).to_vec(),
-            })
+            Ok(Arrays::points(
+                arrays::flat(mesh.positions()).to_vec(),
+                arrays::flat(mesh.normals()).to_vec(),
+            ))
         }
     }
 }
@@ -144,14 +115,11 @@ fn shortest(value: f32) -> f64 {
 
 /// `readAnimated` for JS: see `js/src/index.js`.
 #[wasm_bindgen(js_name = readAnimated)]
-pub fn read_js(
-    bytes: &[u8],
-    format: &str,
-    buffer_names: Vec<String>,
-    buffer_lengths: &[u32],
-    buffer_data: &[u8],
-) -> Result<Animated, JsError> {
-    Animated::read(bytes, format, &buffer_names, buffer_lengths, buffer_data).map_err(errors::text)
+pub fn read_js(bytes: &[u8], format: &str, buffers: &GltfBuffers) -> Result<Animated, JsError> {
+    buffers
+        .given()
+        .and_then(|given| Animated::read(bytes, format, &given))
+        .map_err(errors::text)
 }
 
 #[cfg(test)]
@@ -163,7 +131,7 @@ mod tests {
             env!("CARGO_MANIFEST_DIR"),
             "/../../samples/animated-creature.glb"
         );
-        Animated::read(&std::fs::read(path).unwrap(), "glb", &[], &[], &[]).unwrap()
+        Animated::read(&std::fs::read(path).unwrap(), "glb", &[]).unwrap()
     }
 
     #[test]
@@ -172,17 +140,15 @@ mod tests {
         assert_eq!(a.clips(), ["wave", "hop", "breathe"]);
         assert_eq!(a.indices().len(), 960);
         assert_eq!(shortest(a.poser.duration(1).unwrap()), 0.8);
-        let pose = a.pose_arrays(Some(1), 0.3).unwrap();
-        assert_eq!(pose.positions.len(), a.vertex_count() * 3);
-        assert_eq!(pose.normals.len(), a.vertex_count() * 3);
+        let mut pose = a.pose_arrays(Some(1), 0.3).unwrap();
+        assert_eq!(pose.take_positions().len(), a.vertex_count() * 3);
+        assert_eq!(pose.take_normals().len(), a.vertex_count() * 3);
         let err = a.pose_arrays(Some(0), f64::NAN).unwrap_err();
         assert!(err.contains("finite"), "{err}");
         let err = a.pose_arrays(Some(7), 0.0).unwrap_err();
         assert!(err.contains('7'), "{err}");
-        let err = Animated::read(b"v 0 0 0\n", "obj", &[], &[], &[])
-            .err()
-            .unwrap();
+        let err = Animated::read(b"v 0 0 0\n", "obj", &[]).err().unwrap();
         assert!(err.contains("only glTF"), "{err}");
-        assert!(Animated::read(b"garbage", "glb", &[], &[], &[]).is_err());
+        assert!(Animated::read(b"garbage", "glb", &[]).is_err());
     }
 }

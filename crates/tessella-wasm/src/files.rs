@@ -18,38 +18,52 @@ pub fn file_name(format: &str) -> String {
 /// Reads a mesh file's bytes and validates the mesh (the core's checks). `buffer_names`,
 /// `buffer_lengths` and `buffer_data` (all the buffers one after the other) are a `.gltf`
 /// file's external buffers by relative URI.
-pub fn read(
-    bytes: &[u8],
-    format: &str,
-    buffer_names: &[String],
-    buffer_lengths: &[u32],
-    buffer_data: &[u8],
-) -> Result<Arrays, String> {
-    let given = buffers(buffer_names, buffer_lengths, buffer_data)?;
-    let mesh = tessella_io::read_mesh_bytes(&file_name(format), bytes, &given)
+pub fn read(bytes: &[u8], format: &str, buffers: &GltfBuffers) -> Result<Arrays, String> {
+    let mesh = tessella_io::read_mesh_bytes(&file_name(format), bytes, &buffers.given()?)
         .map_err(|e| errors::message(&e))?;
     Ok(Arrays::from_mesh(&mesh))
 }
 
-/// A `.gltf` file's external buffers by relative URI, from `buffer_names`, `buffer_lengths`
-/// and `buffer_data` (all the buffers one after the other).
-pub fn buffers<'a>(
-    buffer_names: &'a [String],
-    buffer_lengths: &[u32],
-    buffer_data: &'a [u8],
-) -> Result<Vec<(&'a str, &'a [u8])>, String> {
-    if buffer_names.len() != buffer_lengths.len()
-        || buffer_lengths.iter().map(|&n| n as usize).sum::<usize>() != buffer_data.len()
-    {
-        return Err("the glTF buffers given do not fit together (names, lengths, bytes)".into());
+/// A `.gltf` file's external buffers by relative URI, as JS hands them over: the names, the
+/// lengths, and all the bytes one after the other (`readMesh` and `readAnimated` take them).
+#[wasm_bindgen]
+#[derive(Debug, Default)]
+pub struct GltfBuffers {
+    names: Vec<String>,
+    lengths: Vec<u32>,
+    data: Vec<u8>,
+}
+
+#[wasm_bindgen]
+impl GltfBuffers {
+    #[wasm_bindgen(constructor)]
+    pub fn new(names: Vec<String>, lengths: Vec<u32>, data: Vec<u8>) -> GltfBuffers {
+        GltfBuffers {
+            names,
+            lengths,
+            data,
+        }
     }
-    let mut given = Vec::with_capacity(buffer_names.len());
-    let mut at = 0;
-    for (name, &len) in buffer_names.iter().zip(buffer_lengths) {
-        given.push((name.as_str(), &buffer_data[at..at + len as usize]));
-        at += len as usize;
+}
+
+impl GltfBuffers {
+    /// The buffers as tessella-io's in-memory readers take them: (relative URI, bytes) pairs.
+    pub fn given(&self) -> Result<Vec<(&str, &[u8])>, String> {
+        if self.names.len() != self.lengths.len()
+            || self.lengths.iter().map(|&n| n as usize).sum::<usize>() != self.data.len()
+        {
+            return Err(
+                "the glTF buffers given do not fit together (names, lengths, bytes)".into(),
+            );
+        }
+        let mut given = Vec::with_capacity(self.names.len());
+        let mut at = 0;
+        for (name, &len) in self.names.iter().zip(&self.lengths) {
+            given.push((name.as_str(), &self.data[at..at + len as usize]));
+            at += len as usize;
+        }
+        Ok(given)
     }
-    Ok(given)
 }
 
 /// Encodes flat arrays as a file of `format`: `obj`, `ply` (binary), `ply-ascii`, `gltf`,
@@ -84,14 +98,8 @@ pub fn write(
 
 /// `readMesh` for JS: see `js/src/index.js`.
 #[wasm_bindgen(js_name = readMesh)]
-pub fn read_js(
-    bytes: &[u8],
-    format: &str,
-    buffer_names: Vec<String>,
-    buffer_lengths: &[u32],
-    buffer_data: &[u8],
-) -> Result<Arrays, JsError> {
-    read(bytes, format, &buffer_names, buffer_lengths, buffer_data).map_err(errors::text)
+pub fn read_js(bytes: &[u8], format: &str, buffers: &GltfBuffers) -> Result<Arrays, JsError> {
+    read(bytes, format, buffers).map_err(errors::text)
 }
 
 /// `writeMesh` for JS: see `js/src/index.js`.
@@ -125,14 +133,15 @@ mod tests {
         for format in ["obj", "ply", "ply-ascii", "gltf", "GLB", "stl"] {
             let bytes = write(format, p, i, None, None).unwrap();
             let read_as = if format == "ply-ascii" { "ply" } else { format };
-            let mut back = read(&bytes, &read_as.to_lowercase(), &[], &[], &[]).unwrap();
+            let mut back = read(&bytes, &read_as.to_lowercase(), &GltfBuffers::default()).unwrap();
             assert_eq!(back.take_indices().len(), i.len(), "{format}");
         }
         let err = write("fbx", p, i, None, None).unwrap_err();
         assert!(err.contains("unknown mesh format \"fbx\""), "{err}");
-        let err = read(b"v 0 0 0\n", "m.fbx", &[], &[], &[]).unwrap_err();
+        let err = read(b"v 0 0 0\n", "m.fbx", &GltfBuffers::default()).unwrap_err();
         assert!(err.contains("unknown mesh file extension"), "{err}");
-        let err = read(b"", "obj", &["a.bin".into()], &[3], &[0]).unwrap_err();
+        let mismatched = GltfBuffers::new(vec!["a.bin".into()], vec![3], vec![0]);
+        let err = read(b"", "obj", &mismatched).unwrap_err();
         assert!(err.contains("do not fit together"), "{err}");
     }
 }

@@ -68,6 +68,15 @@ impl Arrays {
         }
     }
     /// Copies a coarse mesh's arrays.
+    /// Positions and normals alone (a pose: the indices never change).
+    pub fn points(positions: Vec<f32>, normals: Vec<f32>) -> Arrays {
+        Arrays {
+            positions,
+            normals,
+            ..Arrays::default()
+        }
+    }
+
     pub fn from_mesh(mesh: &Mesh) -> Arrays {
         Arrays {
             positions: arrays::flat(mesh.positions()).to_vec(),

@@ -148,6 +148,11 @@ impl Poser {
         self.model.clips.len()
     }
 
+    /// The clips' names, in the file's order (an index into them names a clip too).
+    pub fn clip_names(&self) -> impl Iterator<Item = &str> {
+        self.model.clips.iter().map(|c| c.name.as_str())
+    }
+
     /// The index of a clip given by name or, when no clip has that name, by decimal index.
     pub fn clip_index(&self, name_or_index: &str) -> Result<usize, AnimationError> {
         let clips = &self.model.clips;

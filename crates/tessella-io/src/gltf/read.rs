@@ -439,34 +439,26 @@ pub(super) fn check_accessor(
         return Err(format!("accessor {index} has no elements"));
     }
     let element = accessor.size();
-    let Some(sparse_part) = accessor.sparse() else {
-        let view = accessor
-            .view()
-            .ok_or_else(|| format!("accessor {index} has no bufferView"))?;
-        let what = format!("accessor {index}");
-        return check_elements(
-            &what,
-            view,
-            accessor.offset(),
-            accessor.count(),
-            element,
-            buffers,
-        );
-    };
-    if !sparse {
+    let sparse_part = accessor.sparse();
+    if sparse_part.is_some() && !sparse {
         return Err(format!("accessor {index} is sparse"));
     }
-    if let Some(view) = accessor.view() {
-        let what = format!("accessor {index}");
-        check_elements(
-            &what,
+    match accessor.view() {
+        Some(view) => check_elements(
+            &format!("accessor {index}"),
             view,
             accessor.offset(),
             accessor.count(),
             element,
             buffers,
-        )?;
+        )?,
+        // A sparse accessor without a view is zeros with its sparse values on top.
+        None if sparse_part.is_some() => {}
+        None => return Err(format!("accessor {index} has no bufferView")),
     }
+    let Some(sparse_part) = sparse_part else {
+        return Ok(());
+    };
     let count = sparse_part.count();
     if count == 0 || count > accessor.count() {
         return Err(format!(
