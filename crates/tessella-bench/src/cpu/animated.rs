@@ -7,7 +7,7 @@ use anyhow::Context;
 use serde::Serialize;
 use std::time::{Duration, Instant};
 use tessella_core::animation::Poser;
-use tessella_core::refine::{Plan, VertexOutput};
+use tessella_core::refine::{Frame, Plan, VertexOutput};
 use tessella_core::{RefineOptions, Scheme};
 
 /// One level of the animated table: median milliseconds per frame of each step.
@@ -48,7 +48,7 @@ pub fn animated(
         let mut frame = plan.frame(&rest)?;
         let out_n = plan.vertex_count();
         let (mut positions, mut normals) = (vec![[0.0f32; 3]; out_n], vec![[0.0f32; 3]; out_n]);
-        let mut evaluate = |frame: &tessella_core::refine::Frame| {
+        let mut evaluate = |frame: &Frame| {
             plan.evaluate(
                 frame,
                 VertexOutput::Separate {
@@ -58,29 +58,21 @@ pub fn animated(
                 },
             )
         };
-        let mut k = 0u32;
-        let mut steps = |frame: &mut tessella_core::refine::Frame,
-                         evaluate: &mut dyn FnMut(
-            &tessella_core::refine::Frame,
-        )
-            -> Result<(), tessella_core::RefineError>|
-         -> anyhow::Result<[Duration; 4]> {
-            let time = k as f32 / 30.0;
-            k += 1;
+        let (p, nr) = (&mut coarse.0, &mut coarse.1);
+        // Frame `k`, at `k / 30` s: pose, nets, evaluate, each timed, and the three together.
+        let mut step = |k: usize| -> anyhow::Result<[Duration; 4]> {
             let start = Instant::now();
-            let (p, nr) = (&mut coarse.0, &mut coarse.1);
-            poser.pose_into(Some(clip), time, p, Some(nr))?;
+            poser.pose_into(Some(clip), k as f32 / 30.0, p, Some(nr))?;
             let posed = start.elapsed();
-            plan.update(frame, p, Some(nr))?;
+            plan.update(&mut frame, p, Some(nr))?;
             let built = start.elapsed();
-            evaluate(frame)?;
+            evaluate(&frame)?;
             let done = start.elapsed();
             Ok([posed, built - posed, done - built, done])
         };
-        steps(&mut frame, &mut evaluate).context("warm-up frame")?;
-        let frames: Vec<[Duration; 4]> = (0..repeat)
-            .map(|_| steps(&mut frame, &mut evaluate))
-            .collect::<anyhow::Result<_>>()?;
+        step(0).context("warm-up frame")?;
+        let frames: Vec<[Duration; 4]> =
+            (1..=repeat).map(&mut step).collect::<anyhow::Result<_>>()?;
         let column = |i: usize| median(frames.iter().map(|f| f[i]).collect());
         let alone = median(
             (0..repeat)

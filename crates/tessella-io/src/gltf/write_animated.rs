@@ -227,8 +227,7 @@ fn document(mesh: &AnimatedMesh, uri: Option<String>) -> std::io::Result<(Value,
         .skins
         .iter()
         .map(|skin| {
-            let binds: Vec<[f32; 16]> = skin.inverse_binds.clone();
-            let binds = packer.floats(&binds, "MAT4", None, false);
+            let binds = packer.floats(&skin.inverse_binds, "MAT4", None, false);
             let mut s = json!({"joints": skin.joints, "inverseBindMatrices": binds});
             if let Some(name) = &skin.name {
                 s["name"] = json!(name);
