@@ -82,6 +82,7 @@
 
 mod adaptive;
 mod canonical;
+mod coarse;
 mod context;
 mod displace;
 mod error;
@@ -94,6 +95,7 @@ mod shading;
 pub mod wgsl;
 mod wgsl_constants;
 
+pub use coarse::{CoarseInput, CoarseStream};
 pub use adaptive::{AdaptiveRenderer, CapturedTriangles, ADAPTIVE_VERTEX_STORAGE_BUFFERS};
 pub use context::{AdapterChoice, GpuContext, COMPUTE_STORAGE_BUFFERS, READ, UNIFORM, WRITE};
 pub use error::GpuError;
