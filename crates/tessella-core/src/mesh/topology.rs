@@ -277,14 +277,24 @@ impl Topology {
 /// the edge's start and end positions and its corner opposite the edge. `None` on boundary and
 /// non-manifold edges.
 pub(crate) fn across_edge(mesh: &Mesh, topo: &Topology, f: usize, k: usize) -> Option<Across> {
+    across_edge_in(mesh.triangles(), topo, f, k)
+}
+
+/// [`across_edge`] from the triangles alone (what a `refine::Surface` keeps of its mesh).
+pub(crate) fn across_edge_in(
+    triangles: &[[u32; 3]],
+    topo: &Topology,
+    f: usize,
+    k: usize,
+) -> Option<Across> {
     let g = topo.neighbors[f][k];
     if g == NO_NEIGHBOR {
         return None;
     }
-    let t = mesh.triangles()[f];
+    let t = triangles[f];
     let pid = |v: u32| topo.position_ids[v as usize];
     let (a, b) = (pid(t[k]), pid(t[(k + 1) % 3]));
-    let tg = mesh.triangles()[g as usize];
+    let tg = triangles[g as usize];
     let (mut at_a, mut at_b, mut opposite) = (None, None, None);
     for &v in &tg {
         match pid(v) {

@@ -19,7 +19,7 @@ pub(crate) mod flat;
 pub(crate) mod normal_net;
 pub(crate) mod phong;
 pub(crate) mod pn;
-mod pn_aen;
+pub mod pn_aen;
 pub mod png1;
 mod quadratic;
 mod scalar_tagged;

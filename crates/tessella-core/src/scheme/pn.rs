@@ -6,12 +6,7 @@ use crate::scalar::{Real, V3};
 use glam::Vec3;
 
 /// The edge point near corner `i` on edge `i -> j`: `(2 Pi + Pj - w_ij Ni) / 3`,
-/// `w_ij = (Pj - Pi) . Ni`; it lies in the tangent plane at `Pi`.
-pub(crate) fn edge_point(pi: Vec3, pj: Vec3, ni: Vec3) -> Vec3 {
-    edge_point_of(pi.into(), pj.into(), ni.into()).into()
-}
-
-/// [`edge_point`] for any [`Real`].
+/// `w_ij = (Pj - Pi) . Ni`; it lies in the tangent plane at `Pi`. For any [`Real`].
 pub fn edge_point_of<T: Real>(pi: V3<T>, pj: V3<T>, ni: V3<T>) -> V3<T> {
     let w = (pj - pi).dot(ni);
     (pi * T::lit(2.0) + pj - ni * w) / T::lit(3.0)

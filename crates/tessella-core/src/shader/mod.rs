@@ -216,16 +216,22 @@ pub enum NetBuilder {
     /// Vlachos' quadratic normal net (`scheme::normal_net::quadratic_of`):
     /// `tessella_quadratic_normals`.
     QuadraticNormals,
+    /// PN-AEN's cubic net ([`crate::scheme::pn_aen::points`]): `tessella_pn_aen_points`, which
+    /// takes a third array, `m`, the other side's normals at each edge's start and end
+    /// (`[a0, b0, a1, b1, a2, b2]`; the face's own corner normals where an edge has no other
+    /// side, see [`crate::scheme::pn_aen::across_vertices`]).
+    PnAenPoints,
 }
 
 impl NetBuilder {
     /// Every builder.
-    pub const ALL: [NetBuilder; 5] = [
+    pub const ALL: [NetBuilder; 6] = [
         NetBuilder::FlatPoints,
         NetBuilder::PhongPoints,
         NetBuilder::PnPoints,
         NetBuilder::LinearNormals,
         NetBuilder::QuadraticNormals,
+        NetBuilder::PnAenPoints,
     ];
 
     /// The generated function's name.
@@ -236,13 +242,16 @@ impl NetBuilder {
             NetBuilder::PnPoints => "tessella_pn_points",
             NetBuilder::LinearNormals => "tessella_linear_normals",
             NetBuilder::QuadraticNormals => "tessella_quadratic_normals",
+            NetBuilder::PnAenPoints => "tessella_pn_aen_points",
         }
     }
 
-    /// The net for traced corners (and `alpha`, which only Phong reads).
-    fn build<T: Real>(self, p: [V3<T>; 3], n: [V3<T>; 3], alpha: T) -> Vec<V3<T>> {
-        use crate::scheme::{flat, normal_net, phong, pn};
+    /// The net for traced corners (and `alpha`, which only Phong reads, and the other sides'
+    /// normals `m`, which only PN-AEN reads).
+    fn build<T: Real>(self, p: [V3<T>; 3], n: [V3<T>; 3], alpha: T, m: [V3<T>; 6]) -> Vec<V3<T>> {
+        use crate::scheme::{flat, normal_net, phong, pn, pn_aen};
         match self {
+            NetBuilder::PnAenPoints => pn_aen::points(p, n, m).to_vec(),
             NetBuilder::FlatPoints => flat::points(p).to_vec(),
             NetBuilder::PhongPoints => phong::points(p, n, alpha).to_vec(),
             NetBuilder::PnPoints => pn::points(p, n).to_vec(),
@@ -252,8 +261,9 @@ impl NetBuilder {
     }
 }
 
-/// The traced corners `p[i]`, `n[i]` and `alpha` of a net builder's inputs.
-fn traced_corners() -> ([V3<Expr>; 3], [V3<Expr>; 3], Expr) {
+/// The traced corners `p[i]`, `n[i]`, `alpha` and the other sides' normals `m[i]` of a net
+/// builder's inputs.
+fn traced_corners() -> ([V3<Expr>; 3], [V3<Expr>; 3], Expr, [V3<Expr>; 6]) {
     let corner = |array: &str, i: usize| {
         V3::new(
             Expr::input(&format!("{array}[{i}].x")),
@@ -265,25 +275,30 @@ fn traced_corners() -> ([V3<Expr>; 3], [V3<Expr>; 3], Expr) {
         [0, 1, 2].map(|i| corner("p", i)),
         [0, 1, 2].map(|i| corner("n", i)),
         Expr::input("alpha"),
+        [0, 1, 2, 3, 4, 5].map(|i| corner("m", i)),
     )
 }
 
 /// A control-net builder as a shader function of the corners `p`, `n` (and `alpha` for
-/// Phong), returning (WGSL) or filling (GLSL) its `K` points:
+/// Phong, `m` for PN-AEN), returning (WGSL) or filling (GLSL) its `K` points:
 ///
 /// - WGSL: `fn tessella_pn_points(p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>) ->
 ///   array<vec3<f32>, 10>`;
-/// - GLSL: `void tessella_pn_points(vec3 p[3], vec3 n[3], out vec3 c[10])`.
+/// - GLSL: `void tessella_pn_points(vec3 p[3], vec3 n[3], out vec3 c[10])`;
+/// - PN-AEN: `fn tessella_pn_aen_points(p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>,
+///   m: array<vec3<f32>, 6>) -> array<vec3<f32>, 10>`, GLSL
+///   `void tessella_pn_aen_points(vec3 p[3], vec3 n[3], vec3 m[6], out vec3 c[10])`.
 pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
     let (tape, net) = trace(|| {
-        let (p, n, alpha) = traced_corners();
-        builder.build(p, n, alpha)
+        let (p, n, alpha, m) = traced_corners();
+        builder.build(p, n, alpha, m)
     });
     let outputs: Vec<Expr> = net.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
     let body = Body::new(&tape, lang, &outputs);
     let name = builder.function_name();
     let k = net.len();
     let alpha = builder == NetBuilder::PhongPoints;
+    let across = builder == NetBuilder::PnAenPoints;
     let point = |v: &V3<Expr>| {
         let [x, y, z] = [v.x, v.y, v.z].map(|e| body.name(e));
         match lang {
@@ -293,7 +308,11 @@ pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
     };
     match lang {
         Lang::Wgsl => {
-            let alpha = if alpha { ", alpha: f32" } else { "" };
+            let alpha = match (alpha, across) {
+                (true, _) => ", alpha: f32",
+                (_, true) => ", m: array<vec3<f32>, 6>",
+                _ => "",
+            };
             let items: Vec<String> = net
                 .iter()
                 .map(|v| format!("        {},\n", point(v)))
@@ -305,7 +324,11 @@ pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
             )
         }
         Lang::Glsl => {
-            let alpha = if alpha { ", float alpha" } else { "" };
+            let alpha = match (alpha, across) {
+                (true, _) => ", float alpha",
+                (_, true) => ", vec3 m[6]",
+                _ => "",
+            };
             let mut s = format!(
                 "void {name}(vec3 p[3], vec3 n[3]{alpha}, out vec3 c[{k}]) {{\n{}",
                 body.statements

@@ -376,7 +376,7 @@ fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
 
 #[test]
 fn traced_net_builders_evaluate_to_the_cpu_nets() {
-    use crate::scheme::{flat, normal_net, phong, pn, Corners};
+    use crate::scheme::{flat, normal_net, phong, pn, pn_aen, Corners};
     use glam::Vec3;
     let corners = [
         Corners {
@@ -398,15 +398,28 @@ fn traced_net_builders_evaluate_to_the_cpu_nets() {
             n: [Vec3::Z, -Vec3::Z, Vec3::Y],
         },
     ];
+    // PN-AEN's other sides' normals: turned away from the corners' own on the first triangle;
+    // the own corner normals (no neighbours) on the second, where PN-AEN is PN.
+    let across = [
+        [
+            Vec3::new(0.3, -0.2, 0.93).normalize(),
+            Vec3::new(-0.4, 0.3, 0.86).normalize(),
+            Vec3::new(0.1, 0.1, 0.99).normalize(),
+            Vec3::new(0.5, 0.5, 0.7).normalize(),
+            Vec3::Z,
+            Vec3::new(-0.6, 0.0, 0.8),
+        ],
+        [Vec3::Z, -Vec3::Z, -Vec3::Z, Vec3::Y, Vec3::Y, Vec3::Z],
+    ];
     let alpha = 0.75f32;
     for builder in NetBuilder::ALL {
         let (tape, net) = trace(|| {
-            let (p, n, a) = traced_corners();
-            builder.build(p, n, a)
+            let (p, n, a, m) = traced_corners();
+            builder.build(p, n, a, m)
         });
-        for c in &corners {
+        for (c, m) in corners.iter().zip(&across) {
             let mut inputs: Vec<(String, f64)> = vec![("alpha".into(), f64::from(alpha))];
-            for (array, v) in [("p", c.p), ("n", c.n)] {
+            for (array, v) in [("p", &c.p[..]), ("n", &c.n[..]), ("m", &m[..])] {
                 for (i, x) in v.iter().enumerate() {
                     for (axis, value) in ["x", "y", "z"].iter().zip(x.to_array()) {
                         inputs.push((format!("{array}[{i}].{axis}"), f64::from(value)));
@@ -421,6 +434,18 @@ fn traced_net_builders_evaluate_to_the_cpu_nets() {
                 NetBuilder::PnPoints => pn::control_points(c).to_vec(),
                 NetBuilder::LinearNormals => normal_net::linear(c).to_vec(),
                 NetBuilder::QuadraticNormals => normal_net::quadratic(c).to_vec(),
+                NetBuilder::PnAenPoints => {
+                    let aen = pn_aen::points(c.p.map(V3::from), c.n.map(V3::from), m.map(V3::from))
+                        .map(Vec3::from);
+                    // Own normals on every edge: PN's net, bit for bit.
+                    let pn_net = pn::control_points(c);
+                    assert_eq!(
+                        aen == pn_net,
+                        m[0] == c.n[0],
+                        "PN-AEN is PN only without other sides"
+                    );
+                    aen.to_vec()
+                }
             };
             assert_eq!(net.len(), cpu.len(), "{builder:?}");
             for (k, (t, want)) in net.iter().zip(&cpu).enumerate() {
@@ -445,6 +470,14 @@ fn traced_net_builders_evaluate_to_the_cpu_nets() {
             "fn {}(p: array<vec3<f32>, 3>",
             builder.function_name()
         )));
+        if builder == NetBuilder::PnAenPoints {
+            assert!(wgsl.contains("m: array<vec3<f32>, 6>) -> array<vec3<f32>, 10>"));
+            assert!(glsl.contains("vec3 m[6], out vec3 c[10])"), "{glsl}");
+            // Every other side's normal enters the net.
+            for i in 0..6 {
+                assert!(wgsl.contains(&format!("m[{i}].x")), "m[{i}] unused: {wgsl}");
+            }
+        }
     }
 }
 
