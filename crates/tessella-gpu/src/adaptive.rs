@@ -364,6 +364,21 @@ impl AdaptiveRenderer {
         ))
     }
 
+    /// The renderer's nets, for a [`GpuNetBuilder`](crate::GpuNetBuilder) to write from
+    /// coarse vertices already on the GPU instead of [`AdaptiveRenderer::update`]'s upload
+    /// (levels then come from [`AdaptiveRenderer::set_levels`]: [`AdaptiveRenderer::set_lod`]
+    /// reads a CPU frame).
+    pub fn nets_target(&self) -> crate::NetsTarget<'_> {
+        crate::NetsTarget {
+            points: &self.points,
+            normals: &self.normals,
+            faces: self.shape.0,
+            k: self.shape.1,
+            normal_mode: self.surface.normal_mode(),
+            coarse: None,
+        }
+    }
+
     /// Records one instanced draw per part used into `pass` (whose attachments match the
     /// [`Shading`]'s formats), with `shading` as bind group 1.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {

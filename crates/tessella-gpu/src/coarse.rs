@@ -22,7 +22,8 @@ pub struct CoarseStream<'a> {
 
 /// A frame's coarse positions and normals on the GPU, one per vertex of the mesh the nets are
 /// built for, in its vertex order. The normals need not be unit length (they are normalised
-/// as `tessella_core::Mesh` normalises given normals), nor zero.
+/// as `tessella_core::Mesh` normalises given normals, in `f32`); a zero one gives its faces
+/// NaN nets, where the CPU refuses the mesh.
 #[derive(Debug, Clone, Copy)]
 pub struct CoarseInput<'a> {
     pub positions: CoarseStream<'a>,
@@ -45,7 +46,10 @@ impl CoarseStream<'_> {
                 self.buffer.usage()
             ));
         }
-        if !self.offset.is_multiple_of(u64::from(offset_alignment.max(4))) {
+        if !self
+            .offset
+            .is_multiple_of(u64::from(offset_alignment.max(4)))
+        {
             return bad(format!(
                 "offset {} is not a multiple of the device's storage offset alignment {}",
                 self.offset, offset_alignment

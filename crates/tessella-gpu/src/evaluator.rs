@@ -223,6 +223,11 @@ pub struct GpuEvaluator {
     own_indices: Option<(wgpu::Buffer, IndexWidth)>,
     /// Bytes the last [`Evaluator::evaluate`] wrote to the GPU.
     uploaded: u64,
+    normal_mode: NormalMode,
+    coarse_vertices: usize,
+    /// `true` once the plan's UVs are in `mesh_f32` (a CPU frame's upload, or
+    /// [`GpuEvaluator::write_uvs`]); always for a plan without UVs.
+    uvs_written: bool,
 }
 
 impl std::fmt::Debug for GpuEvaluator {
@@ -358,6 +363,9 @@ impl GpuEvaluator {
                 own: None,
                 own_indices: None,
                 uploaded: 0,
+                normal_mode: plan.normal_mode(),
+                coarse_vertices: plan.coarse_vertex_count(),
+                uvs_written: !has_uv,
             })
         })?
     }
@@ -665,9 +673,112 @@ impl GpuEvaluator {
     ) -> Result<(), GpuError> {
         self.check_plan(plan)?;
         plan.check_frame(frame)?;
-        let total = plan.vertex_count() as u64;
-        let (buffer, offset) = match out {
-            GpuOutput::Own => (self.own_buffer()?.clone(), 0),
+        let (buffer, offset) = self.output(out)?;
+        let chunks = self.vertex_chunks(&buffer, offset, plan.vertex_count() as u64)?;
+        self.uploaded = self.upload(plan, frame)?;
+        self.uvs_written = true;
+        self.ctx.scoped(|| {
+            for chunk in &chunks {
+                self.encode(encoder, chunk, true);
+            }
+        })
+    }
+
+    /// The evaluator's nets and coarse vertices, for a [`GpuNetBuilder`](crate::GpuNetBuilder)
+    /// to write from coarse vertices already on the GPU; then
+    /// [`GpuEvaluator::record_built`] evaluates them. Refused with displacement (its per-face
+    /// records are made on the CPU from each frame's mesh: [`GpuEvaluator::record`] with a CPU
+    /// frame is the path there). The builder writes the nets through one binding: nets over
+    /// the device's binding limit are refused by its `record` ([`GpuError::TooLarge`]).
+    pub fn nets_target(&self) -> Result<crate::NetsTarget<'_>, GpuError> {
+        self.check_built()?;
+        Ok(crate::NetsTarget {
+            points: &self.patches.points,
+            normals: &self.patches.normals,
+            faces: self.patches.face_count as usize,
+            k: self.plan_key.1,
+            normal_mode: self.normal_mode,
+            coarse: Some(crate::net_builder::CoarseCopy {
+                buffer: &self.mesh_f32,
+                vertices: self.coarse_vertices,
+                positions_at: self.params.positions_at,
+                normals_at: self.params.normals_at,
+            }),
+        })
+    }
+
+    /// [`GpuEvaluator::record`] for a frame whose nets and coarse vertices a
+    /// [`GpuNetBuilder`](crate::GpuNetBuilder) recorded into [`GpuEvaluator::nets_target`]
+    /// earlier in the same encoder (or submission): records the dispatches that write the
+    /// plan's vertices into `out` and uploads no coarse data. A plan with UVs needs them
+    /// written once first ([`GpuEvaluator::write_uvs`], or any [`GpuEvaluator::record`]).
+    pub fn record_built(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        plan: &Plan,
+        out: GpuOutput<'_>,
+    ) -> Result<(), GpuError> {
+        self.check_plan(plan)?;
+        self.check_built()?;
+        if !self.uvs_written {
+            return Err(GpuError::BadOption(
+                "the plan has texture coordinates and none were written yet: call write_uvs \
+                 once (the nets builder writes positions and normals only)"
+                    .into(),
+            ));
+        }
+        let (buffer, offset) = self.output(out)?;
+        let chunks = self.vertex_chunks(&buffer, offset, plan.vertex_count() as u64)?;
+        self.uploaded = 0;
+        self.ctx.scoped(|| {
+            for chunk in &chunks {
+                self.encode(encoder, chunk, true);
+            }
+        })
+    }
+
+    /// Writes the coarse texture coordinates that [`GpuEvaluator::record_built`] interpolates
+    /// (one per coarse vertex; they do not move with the mesh, so once); returns the bytes
+    /// written.
+    pub fn write_uvs(&mut self, plan: &Plan, uvs: &[[f32; 2]]) -> Result<u64, GpuError> {
+        self.check_plan(plan)?;
+        if !plan.has_uvs() {
+            return Err(GpuError::BadOption(
+                "the plan's mesh has no texture coordinates".into(),
+            ));
+        }
+        if uvs.len() != self.coarse_vertices {
+            return Err(GpuError::BadOption(format!(
+                "{} texture coordinates for {} coarse vertices",
+                uvs.len(),
+                self.coarse_vertices
+            )));
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(uvs);
+        let at = u64::from(self.params.uvs_at) * 4;
+        self.ctx
+            .scoped(|| self.ctx.queue.write_buffer(&self.mesh_f32, at, bytes))?;
+        self.uvs_written = true;
+        Ok(bytes.len() as u64)
+    }
+
+    /// Refuses GPU-built nets on a displaced evaluator.
+    fn check_built(&self) -> Result<(), GpuError> {
+        if self.patches.displaced() {
+            return Err(GpuError::BadOption(
+                "a displaced GPU evaluator reads per-face records made on the CPU from each \
+                 frame's mesh, so its nets cannot be built on the GPU; record CPU frames with \
+                 record(), or evaluate without displacement"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The buffer and byte offset `out` names, checked.
+    fn output(&mut self, out: GpuOutput<'_>) -> Result<(wgpu::Buffer, u64), GpuError> {
+        match out {
+            GpuOutput::Own => Ok((self.own_buffer()?.clone(), 0)),
             GpuOutput::Buffer { buffer, offset } => {
                 check_buffer(
                     buffer,
@@ -675,16 +786,9 @@ impl GpuEvaluator {
                     self.vertex_bytes(),
                     wgpu::BufferUsages::STORAGE,
                 )?;
-                (buffer.clone(), offset)
+                Ok((buffer.clone(), offset))
             }
-        };
-        let chunks = self.vertex_chunks(&buffer, offset, total)?;
-        self.uploaded = self.upload(plan, frame)?;
-        self.ctx.scoped(|| {
-            for chunk in &chunks {
-                self.encode(encoder, chunk, true);
-            }
-        })
+        }
     }
 }
 

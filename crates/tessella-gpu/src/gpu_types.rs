@@ -107,3 +107,29 @@ pub(crate) struct AdaptiveParams {
 }
 const _: () = assert!(size_of::<AdaptiveParams>() == 96);
 const _: () = assert!(offset_of!(AdaptiveParams, edge_normals) == 48);
+
+/// `NetsParams` in `shaders/nets.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub(crate) struct NetsParams {
+    pub faces: u32,
+    pub vertices: u32,
+    /// The coarse positions' stride and first `x`, in floats from the bound offset.
+    pub positions_stride: u32,
+    pub positions_first: u32,
+    pub normals_stride: u32,
+    pub normals_first: u32,
+    /// Index in `topology` of the first PN-AEN across-table entry (after the triangles).
+    pub across_at: u32,
+    /// 1: copy the normalised coarse vertices into `coarse` (the evaluator's), 0: not.
+    pub copy_coarse: u32,
+    /// Float indices in `coarse` of vertex 0's position and normal.
+    pub coarse_positions_at: u32,
+    pub coarse_normals_at: u32,
+    /// Phong's shape factor.
+    pub alpha: f32,
+    pub _pad: u32,
+}
+const _: () = assert!(size_of::<NetsParams>() == 48);
+const _: () = assert!(offset_of!(NetsParams, across_at) == 24);
+const _: () = assert!(offset_of!(NetsParams, alpha) == 40);

@@ -32,6 +32,14 @@
 //!   once (`tessella_core::refine::instanced`), per frame one record per face. A device without
 //!   storage buffers in the vertex stage ([`GpuContext::with_downlevel`]) has the renderers
 //!   refused with [`GpuError::NoVertexStorage`]; the evaluator's compute path still works.
+//! - **Nets built on the GPU:** [`GpuNetBuilder`], made once from a
+//!   [`tessella_core::refine::Surface`], builds a frame's control nets (flat, Phong, PN,
+//!   PN-AEN; the other schemes' nets stay on the CPU) from coarse vertices the caller already
+//!   has in a storage buffer ([`CoarseInput`], an engine's own skinning output) into a
+//!   consumer's [`NetsTarget`] (`nets_target()` of [`PatternRenderer`], [`AdaptiveRenderer`],
+//!   [`PatchBindings`], [`GpuEvaluator`], which then evaluates with
+//!   [`GpuEvaluator::record_built`]): one dispatch in the caller's encoder, no per-frame upload,
+//!   equal to the CPU's nets within `1e-6` relative (`docs/engine.md`).
 //! - **Displacement:** [`tessella_core::displace`]'s [`Displacement`] (sine, Perlin, height
 //!   map; re-exported here because [`GpuRefineOptions`] and [`PatternRenderer`] take it) in
 //!   both GPU paths (`shaders/displace.wgsl`), with the core's direction rule: hard edges and
@@ -69,7 +77,8 @@
 //! layout constants the core generates too), then `shaders/adaptive_draw.wgsl`, or
 //! `shaders/adaptive_capture.wgsl` for the read-back. The render pipelines end with
 //! `shaders/vertex.wgsl` ([`VERTEX_WGSL`], the `TessellaVertex` handed over) and the caller's
-//! shading.
+//! shading. `shaders/nets.wgsl` (the GPU net builder's kernel) follows the net builders
+//! generated from the schemes' Rust ([`tessella_core::shader::net_builder`]).
 //! The layout constants both sides use are generated from Rust (`wgsl_constants.rs`) and
 //! prepended to every shader. Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
 //! `displace.wgsl` holds the displacement's bindings and reads; its offsets and direction are
@@ -88,6 +97,7 @@ mod displace;
 mod error;
 mod evaluator;
 mod gpu_types;
+mod net_builder;
 mod patch;
 mod pipeline_cache;
 mod renderer;
@@ -95,13 +105,14 @@ mod shading;
 pub mod wgsl;
 mod wgsl_constants;
 
-pub use coarse::{CoarseInput, CoarseStream};
 pub use adaptive::{AdaptiveRenderer, CapturedTriangles, ADAPTIVE_VERTEX_STORAGE_BUFFERS};
+pub use coarse::{CoarseInput, CoarseStream};
 pub use context::{AdapterChoice, GpuContext, COMPUTE_STORAGE_BUFFERS, READ, UNIFORM, WRITE};
 pub use error::GpuError;
 #[cfg(feature = "blocking")]
 pub use evaluator::{gpu_refine, gpu_refine_with};
 pub use evaluator::{GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth};
+pub use net_builder::{GpuNetBuilder, NetsTarget};
 pub use renderer::{PatternRenderer, PATTERN_VERTEX_STORAGE_BUFFERS};
 pub use shading::{Shading, TargetFormats, VERTEX_WGSL};
 pub use tessella_core::displace::Displacement;

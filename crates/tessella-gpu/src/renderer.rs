@@ -163,6 +163,7 @@ pub struct PatternRenderer {
     pipelines: Pipelines,
     /// Coarse triangles and basis size the renderer was made for.
     shape: (usize, usize),
+    normal_mode: NormalMode,
     level: u32,
     patches: PatchBuffers,
     /// Group 0: the patch, the instance faces and the face UVs.
@@ -283,6 +284,7 @@ impl PatternRenderer {
                 ctx: ctx.clone(),
                 pipelines,
                 shape: (plan.face_count(), plan.options().scheme.basis().len()),
+                normal_mode: plan.normal_mode(),
                 level: tiles.level,
                 patches,
                 patch_group,
@@ -320,6 +322,27 @@ impl PatternRenderer {
                 .update_displace_faces(&self.ctx, &face_frames(mesh, ids));
         }
         Ok(bytes + self.patches.update_nets(&self.ctx, nets))
+    }
+
+    /// The renderer's nets, for a [`GpuNetBuilder`](crate::GpuNetBuilder) to write from
+    /// coarse vertices already on the GPU instead of [`PatternRenderer::update`]'s upload.
+    /// Refused with displacement: its per-face records are made on the CPU from each frame's
+    /// mesh (`update(frame)`, with the frame's CPU nets, is the path there).
+    pub fn nets_target(&self) -> Result<crate::NetsTarget<'_>, GpuError> {
+        if self.patches.displaced() {
+            return Err(GpuError::BadOption(
+                "a displaced pattern renderer reads per-face records made on the CPU from each                  frame's mesh, so its nets cannot be built on the GPU; upload the frame's CPU                  nets with update(frame), or draw without displacement"
+                    .into(),
+            ));
+        }
+        Ok(crate::NetsTarget {
+            points: &self.patches.points,
+            normals: &self.patches.normals,
+            faces: self.shape.0,
+            k: self.shape.1,
+            normal_mode: self.normal_mode,
+            coarse: None,
+        })
     }
 
     /// Records the instanced draw of every coarse triangle into `pass` (whose attachments

@@ -137,6 +137,19 @@ impl PatchBindings {
         &self.group
     }
 
+    /// The group's nets, for a [`GpuNetBuilder`](crate::GpuNetBuilder) to write from coarse
+    /// vertices already on the GPU instead of [`PatchBindings::update`]'s upload.
+    pub fn nets_target(&self) -> crate::NetsTarget<'_> {
+        crate::NetsTarget {
+            points: &self.patches.points,
+            normals: &self.patches.normals,
+            faces: self.shape.0,
+            k: self.shape.1,
+            normal_mode: self.normal_mode,
+            coarse: None,
+        }
+    }
+
     /// Writes the frame's control nets (`queue.write_buffer`: they land before the next
     /// submission); returns the bytes written.
     pub fn update(&self, frame: &Frame) -> Result<u64, GpuError> {

@@ -261,9 +261,17 @@ impl NetBuilder {
     }
 }
 
-/// The traced corners `p[i]`, `n[i]`, `alpha` and the other sides' normals `m[i]` of a net
-/// builder's inputs.
-fn traced_corners() -> ([V3<Expr>; 3], [V3<Expr>; 3], Expr, [V3<Expr>; 6]) {
+/// A net builder's inputs: the corners `p`, `n`, Phong's `alpha` and PN-AEN's other sides'
+/// normals `m`.
+struct NetInputs<T> {
+    p: [V3<T>; 3],
+    n: [V3<T>; 3],
+    alpha: T,
+    m: [V3<T>; 6],
+}
+
+/// The traced inputs `p[i]`, `n[i]`, `alpha` and `m[i]` of a net builder.
+fn traced_corners() -> NetInputs<Expr> {
     let corner = |array: &str, i: usize| {
         V3::new(
             Expr::input(&format!("{array}[{i}].x")),
@@ -271,12 +279,12 @@ fn traced_corners() -> ([V3<Expr>; 3], [V3<Expr>; 3], Expr, [V3<Expr>; 6]) {
             Expr::input(&format!("{array}[{i}].z")),
         )
     };
-    (
-        [0, 1, 2].map(|i| corner("p", i)),
-        [0, 1, 2].map(|i| corner("n", i)),
-        Expr::input("alpha"),
-        [0, 1, 2, 3, 4, 5].map(|i| corner("m", i)),
-    )
+    NetInputs {
+        p: [0, 1, 2].map(|i| corner("p", i)),
+        n: [0, 1, 2].map(|i| corner("n", i)),
+        alpha: Expr::input("alpha"),
+        m: [0, 1, 2, 3, 4, 5].map(|i| corner("m", i)),
+    }
 }
 
 /// A control-net builder as a shader function of the corners `p`, `n` (and `alpha` for
@@ -290,7 +298,7 @@ fn traced_corners() -> ([V3<Expr>; 3], [V3<Expr>; 3], Expr, [V3<Expr>; 6]) {
 ///   `void tessella_pn_aen_points(vec3 p[3], vec3 n[3], vec3 m[6], out vec3 c[10])`.
 pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
     let (tape, net) = trace(|| {
-        let (p, n, alpha, m) = traced_corners();
+        let NetInputs { p, n, alpha, m } = traced_corners();
         builder.build(p, n, alpha, m)
     });
     let outputs: Vec<Expr> = net.iter().flat_map(|v| [v.x, v.y, v.z]).collect();

@@ -414,8 +414,8 @@ fn traced_net_builders_evaluate_to_the_cpu_nets() {
     let alpha = 0.75f32;
     for builder in NetBuilder::ALL {
         let (tape, net) = trace(|| {
-            let (p, n, a, m) = traced_corners();
-            builder.build(p, n, a, m)
+            let NetInputs { p, n, alpha, m } = traced_corners();
+            builder.build(p, n, alpha, m)
         });
         for (c, m) in corners.iter().zip(&across) {
             let mut inputs: Vec<(String, f64)> = vec![("alpha".into(), f64::from(alpha))];
