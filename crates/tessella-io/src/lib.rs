@@ -149,7 +149,7 @@ pub fn read_raw_bytes(
 
 /// Reads a `.gltf` or `.glb` file's animation data (nodes, skins, mesh instances in their own
 /// space, morph targets, joint influences, clips; see [`gltf::read_animated`]), not validated:
-/// the core's validation (`AnimatedMesh::new`) checks it. Other formats hold no animation:
+/// `tessella_core::animation::Poser::new` validates it. Other formats hold no animation:
 /// an [`IoError::Unsupported`].
 pub fn read_animated(path: &Path) -> Result<tessella_core::animation::AnimatedMesh, IoError> {
     let format = animated_format(path)?;
