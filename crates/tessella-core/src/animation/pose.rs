@@ -2,7 +2,8 @@
 //! caller owns.
 
 use super::check::{check, Checked};
-use super::hierarchy::node_state;
+use super::deform::{deform, Bases};
+use super::hierarchy::{node_state, NodeState};
 use super::model::{AnimatedMesh, Clip, Instance};
 use crate::{AnimationError, Mesh};
 use glam::{Mat3A, Mat4, Vec3A, Vec4};
@@ -84,6 +85,8 @@ const CHUNK: usize = 2048;
 pub struct Poser {
     model: AnimatedMesh,
     checked: Checked,
+    /// Where each instance's deform matrices and morph weights sit in a frame's lists.
+    pub(super) bases: Bases,
 }
 
 /// How an instance's vertices leave mesh space.
@@ -119,7 +122,12 @@ impl Poser {
     /// skinned node's own transform (ignored).
     pub fn new(model: AnimatedMesh) -> Result<Poser, AnimationError> {
         let checked = check(&model)?;
-        Ok(Poser { model, checked })
+        let bases = Bases::new(&model);
+        Ok(Poser {
+            model,
+            checked,
+            bases,
+        })
     }
 
     /// The animated mesh being posed.
@@ -190,10 +198,7 @@ impl Poser {
         positions: &mut [[f32; 3]],
         mut normals: Option<&mut [[f32; 3]]>,
     ) -> Result<(), AnimationError> {
-        let clip = self.clip(clip)?;
-        if !time.is_finite() {
-            return Err(AnimationError::BadTime(time));
-        }
+        let state = self.node_state(clip, time)?;
         let expected = self.vertex_count();
         if positions.len() != expected {
             return Err(AnimationError::BufferLength {
@@ -215,23 +220,12 @@ impl Poser {
             }
         }
         let model = &self.model;
-        let state = node_state(model, &self.checked.order, clip, time);
-        // Joint matrices, once per skin that an instance uses.
-        let mut joints: Vec<Vec<Mat4>> = vec![Vec::new(); model.skins.len()];
-        for skin in model.instances.iter().filter_map(|i| i.skin) {
-            let skin = skin as usize;
-            if joints[skin].is_empty() {
-                let s = &model.skins[skin];
-                joints[skin] = s
-                    .joints
-                    .iter()
-                    .zip(&s.inverse_binds)
-                    .map(|(&j, ib)| state.world[j as usize] * Mat4::from_cols_array(ib))
-                    .collect();
-            }
-        }
+        // The frame's deform matrices and weights, as `deform_into` gives them to a GPU.
+        let mut matrices: Vec<Mat4> = Vec::with_capacity(self.bases.matrix_count);
+        let mut all_weights = Vec::with_capacity(self.bases.weight_count);
+        deform(model, &state, |m| matrices.push(m), &mut all_weights);
         let mut positions = positions;
-        for instance in &model.instances {
+        for (index, instance) in model.instances.iter().enumerate() {
             let count = instance.positions.len();
             let (out, rest) = std::mem::take(&mut positions).split_at_mut(count);
             positions = rest;
@@ -240,14 +234,16 @@ impl Poser {
                 normals = Some(rest);
                 out
             });
-            let node = instance.node as usize;
-            let weights = state.weights[node]
-                .as_deref()
-                .unwrap_or(&instance.default_weights);
+            let first_weight = self.bases.instance_weight[index];
+            let weights = &all_weights[first_weight..first_weight + instance.targets.len()];
+            let first_matrix = self.bases.instance_matrix[index];
             let deform = match instance.skin {
-                Some(skin) => Deform::Skin(&joints[skin as usize]),
+                Some(skin) => {
+                    let joints = model.skins[skin as usize].joints.len();
+                    Deform::Skin(&matrices[first_matrix..first_matrix + joints])
+                }
                 None => {
-                    let m = state.world[node];
+                    let m = matrices[first_matrix];
                     Deform::Rigid(m, normal_matrix(&m))
                 }
             };
@@ -286,6 +282,19 @@ impl Poser {
         )?)
     }
 
+    /// The nodes' world matrices and weights at `time` of `clip`, after checking both.
+    pub(super) fn node_state(
+        &self,
+        clip: Option<usize>,
+        time: f32,
+    ) -> Result<NodeState, AnimationError> {
+        let clip = self.clip(clip)?;
+        if !time.is_finite() {
+            return Err(AnimationError::BadTime(time));
+        }
+        Ok(node_state(&self.model, &self.checked.order, clip, time))
+    }
+
     /// Clip `index`, or `None` for the rest pose.
     fn clip(&self, index: Option<usize>) -> Result<Option<&Clip>, AnimationError> {
         match index {
@@ -321,7 +330,7 @@ impl Poser {
 
 /// The inverse transpose of `m`'s upper 3×3, up to a positive factor: its cofactor matrix,
 /// negated where the determinant is negative. Normals it moves must be renormalised.
-fn normal_matrix(m: &Mat4) -> Mat3A {
+pub(super) fn normal_matrix(m: &Mat4) -> Mat3A {
     let c0 = Vec3A::from_vec4(m.x_axis);
     let c1 = Vec3A::from_vec4(m.y_axis);
     let c2 = Vec3A::from_vec4(m.z_axis);
