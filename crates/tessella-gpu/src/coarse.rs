@@ -45,7 +45,10 @@ impl CoarseStream<'_> {
                 self.buffer.usage()
             ));
         }
-        if !self.offset.is_multiple_of(u64::from(offset_alignment.max(4))) {
+        if !self
+            .offset
+            .is_multiple_of(u64::from(offset_alignment.max(4)))
+        {
             return bad(format!(
                 "offset {} is not a multiple of the device's storage offset alignment {}",
                 self.offset, offset_alignment

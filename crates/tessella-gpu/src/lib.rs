@@ -92,11 +92,12 @@ mod patch;
 mod pipeline_cache;
 mod renderer;
 mod shading;
+mod skinner;
 pub mod wgsl;
 mod wgsl_constants;
 
-pub use coarse::{CoarseInput, CoarseStream};
 pub use adaptive::{AdaptiveRenderer, CapturedTriangles, ADAPTIVE_VERTEX_STORAGE_BUFFERS};
+pub use coarse::{CoarseInput, CoarseStream};
 pub use context::{AdapterChoice, GpuContext, COMPUTE_STORAGE_BUFFERS, READ, UNIFORM, WRITE};
 pub use error::GpuError;
 #[cfg(feature = "blocking")]
@@ -104,5 +105,6 @@ pub use evaluator::{gpu_refine, gpu_refine_with};
 pub use evaluator::{GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth};
 pub use renderer::{PatternRenderer, PATTERN_VERTEX_STORAGE_BUFFERS};
 pub use shading::{Shading, TargetFormats, VERTEX_WGSL};
+pub use skinner::{GpuSkinner, SKINNED_VERTEX_BYTES};
 pub use tessella_core::displace::Displacement;
 pub use wgsl::PatchBindings;
