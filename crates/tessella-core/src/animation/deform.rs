@@ -1,14 +1,12 @@
 //! What a GPU needs to pose an animated mesh itself: per frame the deform matrices and morph
-//! weights ([`Poser::deform_into`], O(nodes + joints), the code [`Poser::pose_into`] runs
-//! too), once per model the per-vertex tables that say which matrices and weights each vertex
-//! reads ([`DeformTable`]), and the per-vertex formula written once, generic over [`Real`]
+//! weights ([`deform`], behind `Poser::deform_into` and `Poser::pose_into` both), once per
+//! model the per-vertex tables that say which matrices and weights each vertex reads
+//! ([`DeformTable`]), and the per-vertex formula written once, generic over [`Real`]
 //! ([`skin_normal_of`], traced into WGSL by [`crate::shader::skin_wgsl`]).
 
 use super::hierarchy::NodeState;
 use super::model::AnimatedMesh;
-use super::pose::Poser;
 use crate::scalar::Real;
-use crate::AnimationError;
 use glam::Mat4;
 
 /// Where each instance's matrices and weights sit in the frame's lists, fixed by the model.
@@ -83,18 +81,18 @@ pub(super) fn deform(
     }
 }
 
-/// Per vertex, what a GPU reads to pose it: made once per model by [`Poser::deform_table`];
-/// each frame then needs only [`Poser::deform_into`]'s matrices and weights.
+/// Per vertex, what a GPU reads to pose it: made once per model by [`Poser::deform_table`](super::Poser::deform_table);
+/// each frame then needs only [`Poser::deform_into`](super::Poser::deform_into)'s matrices and weights.
 ///
 /// A vertex's posed position is `M · (p + Σ_t w_t Δp_t)` and its normal `normalize(N(M) ·
 /// (n + Σ_t w_t Δn_t))` (falling back to the morphed rest normal normalised, else `+Z`, where
 /// that is not finite: [`skin_normal_of`]), where `w_t` are the weights
 /// `weights[morph[1] + t]` for `t < morph[0]`, `Δ` the deltas at `morph[2] + t`, and
 /// `M = Σ_k a_k matrices[i_k] / Σ_k a_k` over the vertex's `slots` pairs `(i_k, a_k)` whose
-/// weight is positive. [`Poser::pose_into`] computes the same.
+/// weight is positive. [`Poser::pose_into`](super::Poser::pose_into) computes the same.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct DeformTable {
-    /// The number of deform matrices a frame has ([`Poser::deform_into`]).
+    /// The number of deform matrices a frame has ([`Poser::deform_into`](super::Poser::deform_into)).
     pub matrix_count: usize,
     /// The number of morph weights a frame has.
     pub weight_count: usize,
@@ -115,122 +113,6 @@ pub struct DeformTable {
     pub position_deltas: Vec<[f32; 3]>,
     /// Morph normal displacements, as `position_deltas`; zero where a target has no normals.
     pub normal_deltas: Vec<[f32; 3]>,
-}
-
-impl Poser {
-    /// The number of deform matrices a frame has: every skin's joints, then one per unskinned
-    /// instance.
-    pub fn deform_matrix_count(&self) -> usize {
-        self.bases.matrix_count
-    }
-
-    /// The number of morph weights a frame has: the instances' target counts together.
-    pub fn morph_weight_count(&self) -> usize {
-        self.bases.weight_count
-    }
-
-    /// The frame's deform matrices and morph weights at `time` seconds of `clip` (`None`: the
-    /// rest pose), for a GPU that poses the vertices itself with [`Poser::deform_table`]:
-    /// `matrices` gets every skin's joint matrices `world(joint) · inverse_bind` (skins in
-    /// order, each's joints in order), then the world matrix of each unskinned instance's node
-    /// (instances in order), column-major; `weights` every instance's morph weights (instances
-    /// with targets, in order). The vectors are cleared first and keep their capacity; the
-    /// work is O(nodes + joints), nothing per vertex. [`Poser::pose_into`] poses with these
-    /// same matrices and weights.
-    ///
-    /// Errors on an unknown clip or a non-finite time (the vectors are then left untouched).
-    ///
-    /// ```
-    /// use tessella_core::animation::Poser;
-    /// let poser = Poser::new(tessella_core::samples::animated_creature(0))?;
-    /// let (mut matrices, mut weights) = (Vec::new(), Vec::new());
-    /// poser.deform_into(Some(0), 0.5, &mut matrices, &mut weights)?;
-    /// assert_eq!(matrices.len(), poser.deform_matrix_count());
-    /// assert_eq!(weights.len(), poser.morph_weight_count());
-    /// # Ok::<(), tessella_core::AnimationError>(())
-    /// ```
-    pub fn deform_into(
-        &self,
-        clip: Option<usize>,
-        time: f32,
-        matrices: &mut Vec<[f32; 16]>,
-        weights: &mut Vec<f32>,
-    ) -> Result<(), AnimationError> {
-        let state = self.node_state(clip, time)?;
-        matrices.clear();
-        deform(
-            self.model(),
-            &state,
-            |m| matrices.push(m.to_cols_array()),
-            weights,
-        );
-        Ok(())
-    }
-
-    /// The per-vertex tables a GPU poses with ([`DeformTable`]), made once per model.
-    pub fn deform_table(&self) -> DeformTable {
-        let model = self.model();
-        let bases = &self.bases;
-        let n = self.vertex_count();
-        // Positive weights per vertex, in the order `blend` sums them.
-        let mut pairs: Vec<(u32, f32)> = Vec::new();
-        let mut starts: Vec<usize> = Vec::with_capacity(n + 1);
-        let mut morphs = Vec::with_capacity(n);
-        let mut position_deltas = Vec::new();
-        let mut normal_deltas = Vec::new();
-        for (index, instance) in model.instances.iter().enumerate() {
-            let base = bases.instance_matrix[index] as u32;
-            let targets = instance.targets.len();
-            for v in 0..instance.positions.len() {
-                starts.push(pairs.len());
-                if instance.skin.is_some() {
-                    for set in &instance.influences {
-                        for (&j, &w) in set.joints[v].iter().zip(&set.weights[v]) {
-                            if w > 0.0 {
-                                pairs.push((base + u32::from(j), w));
-                            }
-                        }
-                    }
-                } else {
-                    pairs.push((base, 1.0));
-                }
-                morphs.push([
-                    targets as u32,
-                    bases.instance_weight[index] as u32,
-                    position_deltas.len() as u32,
-                ]);
-                for target in &instance.targets {
-                    position_deltas.push(target.positions[v]);
-                    normal_deltas.push(target.normals.as_ref().map_or([0.0; 3], |d| d[v]));
-                }
-            }
-        }
-        starts.push(pairs.len());
-        let slots = starts
-            .windows(2)
-            .map(|w| w[1] - w[0])
-            .max()
-            .unwrap_or(0)
-            .max(1);
-        let mut matrices = vec![0u32; n * slots];
-        let mut weights = vec![0f32; n * slots];
-        for v in 0..n {
-            for (k, &(m, w)) in pairs[starts[v]..starts[v + 1]].iter().enumerate() {
-                matrices[v * slots + k] = m;
-                weights[v * slots + k] = w;
-            }
-        }
-        DeformTable {
-            matrix_count: bases.matrix_count,
-            weight_count: bases.weight_count,
-            slots,
-            matrices,
-            weights,
-            morphs,
-            position_deltas,
-            normal_deltas,
-        }
-    }
 }
 
 /// The posed normal of a vertex: the normal matrix of `m` (the upper 3×3 of its blended
@@ -265,61 +147,64 @@ pub fn skin_normal_of<T: Real>(m: [[T; 3]; 3], n: [T; 3]) -> [T; 3] {
     normalize_or(normal, normalize_or(n, z))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::{Mat4, Vec3A};
-
-    /// A small deterministic generator (no dependency): uniform in [-1, 1).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f32 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+/// [`DeformTable`] of `model` (`n` vertices), its matrices indexed as `bases` says.
+pub(super) fn table(model: &AnimatedMesh, bases: &Bases, n: usize) -> DeformTable {
+    // Positive weights per vertex, in the order `blend` sums them.
+    let mut pairs: Vec<(u32, f32)> = Vec::new();
+    let mut starts: Vec<usize> = Vec::with_capacity(n + 1);
+    let mut morphs = Vec::with_capacity(n);
+    let mut position_deltas = Vec::new();
+    let mut normal_deltas = Vec::new();
+    for (index, instance) in model.instances.iter().enumerate() {
+        let base = bases.instance_matrix[index] as u32;
+        let targets = instance.targets.len();
+        for v in 0..instance.positions.len() {
+            starts.push(pairs.len());
+            if instance.skin.is_some() {
+                for set in &instance.influences {
+                    for (&j, &w) in set.joints[v].iter().zip(&set.weights[v]) {
+                        if w > 0.0 {
+                            pairs.push((base + u32::from(j), w));
+                        }
+                    }
+                }
+            } else {
+                pairs.push((base, 1.0));
+            }
+            morphs.push([
+                targets as u32,
+                bases.instance_weight[index] as u32,
+                position_deltas.len() as u32,
+            ]);
+            for target in &instance.targets {
+                position_deltas.push(target.positions[v]);
+                normal_deltas.push(target.normals.as_ref().map_or([0.0; 3], |d| d[v]));
+            }
         }
     }
-
-    /// The generic normal in `f32` equals the CPU pose's glam one bit for bit: random
-    /// matrices (some with a negative determinant, some singular, some scaled far up or down)
-    /// and normals (some zero).
-    #[test]
-    fn the_generic_skin_normal_is_the_cpu_one_bit_for_bit() {
-        let mut rng = Lcg(7);
-        let mut flips = 0;
-        for case in 0..20_000 {
-            let mut cols: [[f32; 3]; 3] =
-                std::array::from_fn(|_| [rng.next(), rng.next(), rng.next()]);
-            let scale = [1.0, 1e-3, 1e3, 1e-20][case % 4];
-            cols.iter_mut().flatten().for_each(|x| *x *= scale);
-            if case % 7 == 0 {
-                cols[2] = cols[0].map(|x| x * 2.0); // singular
-            }
-            let mut n = [rng.next(), rng.next(), rng.next()];
-            if case % 11 == 0 {
-                n = [0.0; 3];
-            }
-            let m = Mat4::from_cols(
-                Vec3A::from(cols[0]).extend(0.0),
-                Vec3A::from(cols[1]).extend(0.0),
-                Vec3A::from(cols[2]).extend(0.0),
-                glam::Vec4::W,
-            );
-            let nv = Vec3A::from(n);
-            let cpu = (super::super::pose::normal_matrix(&m) * nv)
-                .normalize_or(nv.normalize_or(Vec3A::Z))
-                .to_array();
-            let generic = skin_normal_of(cols, n);
-            assert_eq!(
-                cpu.map(f32::to_bits),
-                generic.map(f32::to_bits),
-                "case {case}: {cols:?} {n:?}: {cpu:?} vs {generic:?}"
-            );
-            let det = Vec3A::from(cols[0]).dot(Vec3A::from(cols[1]).cross(Vec3A::from(cols[2])));
-            flips += usize::from(det < 0.0);
+    starts.push(pairs.len());
+    let slots = starts
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .max()
+        .unwrap_or(0)
+        .max(1);
+    let mut matrices = vec![0u32; n * slots];
+    let mut weights = vec![0f32; n * slots];
+    for v in 0..n {
+        for (k, &(m, w)) in pairs[starts[v]..starts[v + 1]].iter().enumerate() {
+            matrices[v * slots + k] = m;
+            weights[v * slots + k] = w;
         }
-        assert!(flips > 1000, "{flips} negative determinants");
+    }
+    DeformTable {
+        matrix_count: bases.matrix_count,
+        weight_count: bases.weight_count,
+        slots,
+        matrices,
+        weights,
+        morphs,
+        position_deltas,
+        normal_deltas,
     }
 }

@@ -2,7 +2,7 @@
 //! caller owns.
 
 use super::check::{check, Checked};
-use super::deform::{deform, Bases};
+use super::deform::{deform, table, Bases, DeformTable};
 use super::hierarchy::{node_state, NodeState};
 use super::model::{AnimatedMesh, Clip, Instance};
 use crate::{AnimationError, Mesh};
@@ -86,7 +86,7 @@ pub struct Poser {
     model: AnimatedMesh,
     checked: Checked,
     /// Where each instance's deform matrices and morph weights sit in a frame's lists.
-    pub(super) bases: Bases,
+    bases: Bases,
 }
 
 /// How an instance's vertices leave mesh space.
@@ -283,11 +283,7 @@ impl Poser {
     }
 
     /// The nodes' world matrices and weights at `time` of `clip`, after checking both.
-    pub(super) fn node_state(
-        &self,
-        clip: Option<usize>,
-        time: f32,
-    ) -> Result<NodeState, AnimationError> {
+    fn node_state(&self, clip: Option<usize>, time: f32) -> Result<NodeState, AnimationError> {
         let clip = self.clip(clip)?;
         if !time.is_finite() {
             return Err(AnimationError::BadTime(time));
@@ -330,7 +326,7 @@ impl Poser {
 
 /// The inverse transpose of `m`'s upper 3×3, up to a positive factor: its cofactor matrix,
 /// negated where the determinant is negative. Normals it moves must be renormalised.
-pub(super) fn normal_matrix(m: &Mat4) -> Mat3A {
+fn normal_matrix(m: &Mat4) -> Mat3A {
     let c0 = Vec3A::from_vec4(m.x_axis);
     let c1 = Vec3A::from_vec4(m.y_axis);
     let c2 = Vec3A::from_vec4(m.z_axis);
@@ -438,4 +434,119 @@ fn blend(instance: &Instance, joints: &[Mat4], v: usize) -> Mat4 {
         cols[2] * scale,
         cols[3] * scale,
     )
+}
+
+impl Poser {
+    /// The number of deform matrices a frame has: every skin's joints, then one per unskinned
+    /// instance.
+    pub fn deform_matrix_count(&self) -> usize {
+        self.bases.matrix_count
+    }
+
+    /// The number of morph weights a frame has: the instances' target counts together.
+    pub fn morph_weight_count(&self) -> usize {
+        self.bases.weight_count
+    }
+
+    /// The frame's deform matrices and morph weights at `time` seconds of `clip` (`None`: the
+    /// rest pose), for a GPU that poses the vertices itself with [`Poser::deform_table`]:
+    /// `matrices` gets every skin's joint matrices `world(joint) · inverse_bind` (skins in
+    /// order, each's joints in order), then the world matrix of each unskinned instance's node
+    /// (instances in order), column-major; `weights` every instance's morph weights (instances
+    /// with targets, in order). The vectors are cleared first and keep their capacity; the
+    /// work is O(nodes + joints), nothing per vertex. [`Poser::pose_into`] poses with these
+    /// same matrices and weights.
+    ///
+    /// Errors on an unknown clip or a non-finite time (the vectors are then left untouched).
+    ///
+    /// ```
+    /// use tessella_core::animation::Poser;
+    /// let poser = Poser::new(tessella_core::samples::animated_creature(0))?;
+    /// let (mut matrices, mut weights) = (Vec::new(), Vec::new());
+    /// poser.deform_into(Some(0), 0.5, &mut matrices, &mut weights)?;
+    /// assert_eq!(matrices.len(), poser.deform_matrix_count());
+    /// assert_eq!(weights.len(), poser.morph_weight_count());
+    /// # Ok::<(), tessella_core::AnimationError>(())
+    /// ```
+    pub fn deform_into(
+        &self,
+        clip: Option<usize>,
+        time: f32,
+        matrices: &mut Vec<[f32; 16]>,
+        weights: &mut Vec<f32>,
+    ) -> Result<(), AnimationError> {
+        let state = self.node_state(clip, time)?;
+        matrices.clear();
+        deform(
+            &self.model,
+            &state,
+            |m| matrices.push(m.to_cols_array()),
+            weights,
+        );
+        Ok(())
+    }
+
+    /// The per-vertex tables a GPU poses with ([`DeformTable`]), made once per model.
+    pub fn deform_table(&self) -> DeformTable {
+        table(&self.model, &self.bases, self.vertex_count())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Mat4, Vec3A};
+
+    /// A small deterministic generator (no dependency): uniform in [-1, 1).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f32 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+        }
+    }
+
+    /// The generic normal in `f32` equals the CPU pose's glam one bit for bit: random
+    /// matrices (some with a negative determinant, some singular, some scaled far up or down)
+    /// and normals (some zero).
+    #[test]
+    fn the_generic_skin_normal_is_the_cpu_one_bit_for_bit() {
+        let mut rng = Lcg(7);
+        let mut flips = 0;
+        for case in 0..20_000 {
+            let mut cols: [[f32; 3]; 3] =
+                std::array::from_fn(|_| [rng.next(), rng.next(), rng.next()]);
+            let scale = [1.0, 1e-3, 1e3, 1e-20][case % 4];
+            cols.iter_mut().flatten().for_each(|x| *x *= scale);
+            if case % 7 == 0 {
+                cols[2] = cols[0].map(|x| x * 2.0); // singular
+            }
+            let mut n = [rng.next(), rng.next(), rng.next()];
+            if case % 11 == 0 {
+                n = [0.0; 3];
+            }
+            let m = Mat4::from_cols(
+                Vec3A::from(cols[0]).extend(0.0),
+                Vec3A::from(cols[1]).extend(0.0),
+                Vec3A::from(cols[2]).extend(0.0),
+                glam::Vec4::W,
+            );
+            let nv = Vec3A::from(n);
+            let cpu = (normal_matrix(&m) * nv)
+                .normalize_or(nv.normalize_or(Vec3A::Z))
+                .to_array();
+            let generic = super::super::deform::skin_normal_of(cols, n);
+            assert_eq!(
+                cpu.map(f32::to_bits),
+                generic.map(f32::to_bits),
+                "case {case}: {cols:?} {n:?}: {cpu:?} vs {generic:?}"
+            );
+            let det = Vec3A::from(cols[0]).dot(Vec3A::from(cols[1]).cross(Vec3A::from(cols[2])));
+            flips += usize::from(det < 0.0);
+        }
+        assert!(flips > 1000, "{flips} negative determinants");
+    }
 }
