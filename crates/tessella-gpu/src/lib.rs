@@ -37,7 +37,6 @@
 //!   both GPU paths (`shaders/displace.wgsl`), with the core's direction rule: hard edges and
 //!   split corners move along one shared direction and stay closed. The per-face records that
 //!   rule needs are uploaded with each frame.
-//!
 //! - **Skinning:** [`GpuSkinner`] skins and morphs an animated mesh's coarse vertices
 //!   ([`tessella_core::animation::Poser`]) on the GPU: the rest vertices, influences and morph
 //!   deltas are uploaded once; a frame uploads the deform matrices and morph weights alone
