@@ -57,6 +57,13 @@ pub enum GpuError {
     NoVertexStorage { what: &'static str },
     #[error("invalid render option: {0}")]
     BadOption(String),
+    #[error(
+        "GPU skinning needs normals, and an instance of this animated mesh has none; pose it \
+         on the CPU (Poser::mesh), where tessella_core::Mesh computes them"
+    )]
+    SkinNeedsNormals,
+    #[error(transparent)]
+    Animation(#[from] tessella_core::AnimationError),
     #[error(transparent)]
     Refine(#[from] tessella_core::RefineError),
     #[error(transparent)]

@@ -28,11 +28,13 @@
 #![warn(missing_docs)]
 
 mod check;
+mod deform;
 mod hierarchy;
 pub mod model;
 mod pose;
 mod sample;
 
+pub use deform::{skin_normal_of, DeformTable};
 pub use model::{
     AnimatedMesh, Channel, Clip, Influences, Instance, Interpolation, MorphTarget, Node, Property,
     Sampler, Skin, Transform,

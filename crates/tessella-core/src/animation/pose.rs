@@ -2,7 +2,8 @@
 //! caller owns.
 
 use super::check::{check, Checked};
-use super::hierarchy::node_state;
+use super::deform::{deform, table, Bases, DeformTable};
+use super::hierarchy::{node_state, NodeState};
 use super::model::{AnimatedMesh, Clip, Instance};
 use crate::{AnimationError, Mesh};
 use glam::{Mat3A, Mat4, Vec3A, Vec4};
@@ -84,6 +85,8 @@ const CHUNK: usize = 2048;
 pub struct Poser {
     model: AnimatedMesh,
     checked: Checked,
+    /// Where each instance's deform matrices and morph weights sit in a frame's lists.
+    bases: Bases,
 }
 
 /// How an instance's vertices leave mesh space.
@@ -119,7 +122,12 @@ impl Poser {
     /// skinned node's own transform (ignored).
     pub fn new(model: AnimatedMesh) -> Result<Poser, AnimationError> {
         let checked = check(&model)?;
-        Ok(Poser { model, checked })
+        let bases = Bases::new(&model);
+        Ok(Poser {
+            model,
+            checked,
+            bases,
+        })
     }
 
     /// The animated mesh being posed.
@@ -190,10 +198,7 @@ impl Poser {
         positions: &mut [[f32; 3]],
         mut normals: Option<&mut [[f32; 3]]>,
     ) -> Result<(), AnimationError> {
-        let clip = self.clip(clip)?;
-        if !time.is_finite() {
-            return Err(AnimationError::BadTime(time));
-        }
+        let state = self.node_state(clip, time)?;
         let expected = self.vertex_count();
         if positions.len() != expected {
             return Err(AnimationError::BufferLength {
@@ -215,23 +220,12 @@ impl Poser {
             }
         }
         let model = &self.model;
-        let state = node_state(model, &self.checked.order, clip, time);
-        // Joint matrices, once per skin that an instance uses.
-        let mut joints: Vec<Vec<Mat4>> = vec![Vec::new(); model.skins.len()];
-        for skin in model.instances.iter().filter_map(|i| i.skin) {
-            let skin = skin as usize;
-            if joints[skin].is_empty() {
-                let s = &model.skins[skin];
-                joints[skin] = s
-                    .joints
-                    .iter()
-                    .zip(&s.inverse_binds)
-                    .map(|(&j, ib)| state.world[j as usize] * Mat4::from_cols_array(ib))
-                    .collect();
-            }
-        }
+        // The frame's deform matrices and weights, as `deform_into` gives them to a GPU.
+        let mut matrices: Vec<Mat4> = Vec::with_capacity(self.bases.matrix_count);
+        let mut all_weights = Vec::with_capacity(self.bases.weight_count);
+        deform(model, &state, |m| matrices.push(m), &mut all_weights);
         let mut positions = positions;
-        for instance in &model.instances {
+        for (index, instance) in model.instances.iter().enumerate() {
             let count = instance.positions.len();
             let (out, rest) = std::mem::take(&mut positions).split_at_mut(count);
             positions = rest;
@@ -240,14 +234,16 @@ impl Poser {
                 normals = Some(rest);
                 out
             });
-            let node = instance.node as usize;
-            let weights = state.weights[node]
-                .as_deref()
-                .unwrap_or(&instance.default_weights);
+            let first_weight = self.bases.instance_weight[index];
+            let weights = &all_weights[first_weight..first_weight + instance.targets.len()];
+            let first_matrix = self.bases.instance_matrix[index];
             let deform = match instance.skin {
-                Some(skin) => Deform::Skin(&joints[skin as usize]),
+                Some(skin) => {
+                    let joints = model.skins[skin as usize].joints.len();
+                    Deform::Skin(&matrices[first_matrix..first_matrix + joints])
+                }
                 None => {
-                    let m = state.world[node];
+                    let m = matrices[first_matrix];
                     Deform::Rigid(m, normal_matrix(&m))
                 }
             };
@@ -284,6 +280,15 @@ impl Poser {
             self.model.uvs.clone(),
             self.model.triangles.clone(),
         )?)
+    }
+
+    /// The nodes' world matrices and weights at `time` of `clip`, after checking both.
+    fn node_state(&self, clip: Option<usize>, time: f32) -> Result<NodeState, AnimationError> {
+        let clip = self.clip(clip)?;
+        if !time.is_finite() {
+            return Err(AnimationError::BadTime(time));
+        }
+        Ok(node_state(&self.model, &self.checked.order, clip, time))
     }
 
     /// Clip `index`, or `None` for the rest pose.
@@ -429,4 +434,119 @@ fn blend(instance: &Instance, joints: &[Mat4], v: usize) -> Mat4 {
         cols[2] * scale,
         cols[3] * scale,
     )
+}
+
+impl Poser {
+    /// The number of deform matrices a frame has: every skin's joints, then one per unskinned
+    /// instance.
+    pub fn deform_matrix_count(&self) -> usize {
+        self.bases.matrix_count
+    }
+
+    /// The number of morph weights a frame has: the instances' target counts together.
+    pub fn morph_weight_count(&self) -> usize {
+        self.bases.weight_count
+    }
+
+    /// The frame's deform matrices and morph weights at `time` seconds of `clip` (`None`: the
+    /// rest pose), for a GPU that poses the vertices itself with [`Poser::deform_table`]:
+    /// `matrices` gets every skin's joint matrices `world(joint) · inverse_bind` (skins in
+    /// order, each's joints in order), then the world matrix of each unskinned instance's node
+    /// (instances in order), column-major; `weights` every instance's morph weights (instances
+    /// with targets, in order). The vectors are cleared first and keep their capacity; the
+    /// work is O(nodes + joints), nothing per vertex. [`Poser::pose_into`] poses with these
+    /// same matrices and weights.
+    ///
+    /// Errors on an unknown clip or a non-finite time (the vectors are then left untouched).
+    ///
+    /// ```
+    /// use tessella_core::animation::Poser;
+    /// let poser = Poser::new(tessella_core::samples::animated_creature(0))?;
+    /// let (mut matrices, mut weights) = (Vec::new(), Vec::new());
+    /// poser.deform_into(Some(0), 0.5, &mut matrices, &mut weights)?;
+    /// assert_eq!(matrices.len(), poser.deform_matrix_count());
+    /// assert_eq!(weights.len(), poser.morph_weight_count());
+    /// # Ok::<(), tessella_core::AnimationError>(())
+    /// ```
+    pub fn deform_into(
+        &self,
+        clip: Option<usize>,
+        time: f32,
+        matrices: &mut Vec<[f32; 16]>,
+        weights: &mut Vec<f32>,
+    ) -> Result<(), AnimationError> {
+        let state = self.node_state(clip, time)?;
+        matrices.clear();
+        deform(
+            &self.model,
+            &state,
+            |m| matrices.push(m.to_cols_array()),
+            weights,
+        );
+        Ok(())
+    }
+
+    /// The per-vertex tables a GPU poses with ([`DeformTable`]), made once per model.
+    pub fn deform_table(&self) -> DeformTable {
+        table(&self.model, &self.bases, self.vertex_count())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Mat4, Vec3A};
+
+    /// A small deterministic generator (no dependency): uniform in [-1, 1).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f32 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+        }
+    }
+
+    /// The generic normal in `f32` equals the CPU pose's glam one bit for bit: random
+    /// matrices (some with a negative determinant, some singular, some scaled far up or down)
+    /// and normals (some zero).
+    #[test]
+    fn the_generic_skin_normal_is_the_cpu_one_bit_for_bit() {
+        let mut rng = Lcg(7);
+        let mut flips = 0;
+        for case in 0..20_000 {
+            let mut cols: [[f32; 3]; 3] =
+                std::array::from_fn(|_| [rng.next(), rng.next(), rng.next()]);
+            let scale = [1.0, 1e-3, 1e3, 1e-20][case % 4];
+            cols.iter_mut().flatten().for_each(|x| *x *= scale);
+            if case % 7 == 0 {
+                cols[2] = cols[0].map(|x| x * 2.0); // singular
+            }
+            let mut n = [rng.next(), rng.next(), rng.next()];
+            if case % 11 == 0 {
+                n = [0.0; 3];
+            }
+            let m = Mat4::from_cols(
+                Vec3A::from(cols[0]).extend(0.0),
+                Vec3A::from(cols[1]).extend(0.0),
+                Vec3A::from(cols[2]).extend(0.0),
+                glam::Vec4::W,
+            );
+            let nv = Vec3A::from(n);
+            let cpu = (normal_matrix(&m) * nv)
+                .normalize_or(nv.normalize_or(Vec3A::Z))
+                .to_array();
+            let generic = super::super::deform::skin_normal_of(cols, n);
+            assert_eq!(
+                cpu.map(f32::to_bits),
+                generic.map(f32::to_bits),
+                "case {case}: {cols:?} {n:?}: {cpu:?} vs {generic:?}"
+            );
+            let det = Vec3A::from(cols[0]).dot(Vec3A::from(cols[1]).cross(Vec3A::from(cols[2])));
+            flips += usize::from(det < 0.0);
+        }
+        assert!(flips > 1000, "{flips} negative determinants");
+    }
 }

@@ -438,6 +438,24 @@ fn traced_locate() -> (trace::Tape, [UExpr; 3]) {
     })
 }
 
+/// WGSL: `fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>`, a skinned
+/// vertex's posed normal from the upper 3×3 of its blended matrix and its morphed rest normal
+/// ([`crate::animation::skin_normal_of`]: the cofactor matrix with the determinant's sign,
+/// normalised, falling back to `n` normalised, else `+Z`).
+pub fn skin_wgsl() -> String {
+    let (tape, out) = trace(|| {
+        let m = [0, 1, 2].map(|c| ["x", "y", "z"].map(|x| Expr::input(&format!("m[{c}].{x}"))));
+        let n = ["n.x", "n.y", "n.z"].map(Expr::input);
+        crate::animation::skin_normal_of(m, n)
+    });
+    let body = Body::new(&tape, Lang::Wgsl, &out);
+    let [x, y, z] = out.map(|e| body.name(e));
+    format!(
+        "fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32> {{\n{}    return vec3<f32>({x}, {y}, {z});\n}}\n",
+        body.statements
+    )
+}
+
 /// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed
 /// point, as `TESSELLA_`-prefixed `u32` constants (see [`constants`]): the words a shader
 /// reads are the words [`crate::refine::instanced`] writes.

@@ -100,6 +100,19 @@ fn run_f32(
             Node::Div(a, b) => f64::from(x(a) / x(b)),
             Node::Neg(a) => f64::from(-x(a)),
             Node::Sqrt(a) => f64::from(x(a).sqrt()),
+            Node::SelectPositiveFinite { test, yes, no } => {
+                let t = x(test);
+                f64::from(if t.is_finite() && t > 0.0 {
+                    x(yes)
+                } else {
+                    x(no)
+                })
+            }
+            Node::SelectNonZero {
+                test,
+                nonzero,
+                zero,
+            } => f64::from(if x(test) != 0.0 { x(nonzero) } else { x(zero) }),
             Node::Floor(a) => f64::from(x(a).floor()),
             Node::Sin(a) => f64::from(x(a).sin()),
             Node::IntWord(a) => f64::from(x(a) as i32 as u32),
@@ -129,7 +142,6 @@ fn run_f32(
             Node::Call(name, args) => {
                 f64::from(fcall(name, &args.iter().map(u).collect::<Vec<_>>()))
             }
-            other => panic!("run_f32 does not evaluate {other:?}"),
         };
         v.push(value);
     }
@@ -538,4 +550,51 @@ fn traced_tessellator_placement_evaluates_to_the_cpu_placement() {
         wgsl.starts_with("fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32>")
     );
     assert!(wgsl.contains("tessella_ruler_word(rec, "), "{wgsl}");
+}
+
+/// The traced skin normal, run as a shader runs it (every operation in `f32`), gives the bits
+/// of `animation::skin_normal_of` in `f32` (which the CPU pose's glam normal equals bit for
+/// bit: `animation::deform`'s tests): matrices with either determinant sign, singular ones,
+/// zero normals.
+#[test]
+fn traced_skin_normal_gives_the_cpus_bits() {
+    use crate::animation::skin_normal_of;
+    let (tape, out) = trace(|| {
+        let m = [0, 1, 2].map(|c| ["x", "y", "z"].map(|x| Expr::input(&format!("m[{c}].{x}"))));
+        skin_normal_of(m, ["n.x", "n.y", "n.z"].map(Expr::input))
+    });
+    let none = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
+    let fnone = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
+    let mut state = 3u32;
+    let mut next = || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (state >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+    };
+    for case in 0..2000 {
+        let mut m: [[f32; 3]; 3] = std::array::from_fn(|_| [next(), next(), next()]);
+        if case % 5 == 0 {
+            m[1] = m[0];
+        }
+        let n = if case % 9 == 0 {
+            [0.0; 3]
+        } else {
+            [next(), next(), next()]
+        };
+        let mut inputs: Vec<(String, f32)> = Vec::new();
+        for (c, col) in m.iter().enumerate() {
+            for (x, v) in ["x", "y", "z"].iter().zip(col) {
+                inputs.push((format!("m[{c}].{x}"), *v));
+            }
+        }
+        for (x, v) in ["n.x", "n.y", "n.z"].iter().zip(n) {
+            inputs.push((x.to_string(), v));
+        }
+        let inputs: Vec<(&str, f32)> = inputs.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let v = run_f32(&tape, &inputs, none, fnone);
+        let got = out.map(|e| (v[e.index()] as f32).to_bits());
+        assert_eq!(got, skin_normal_of(m, n).map(f32::to_bits), "{m:?} {n:?}");
+    }
+    let wgsl = skin_wgsl();
+    assert!(wgsl.starts_with("fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>"));
+    assert!(wgsl.contains("sqrt("), "{wgsl}");
 }
