@@ -262,6 +262,15 @@ pub enum RenderBackendArg {
     Gl,
 }
 
+/// `animate --skinning`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SkinningArg {
+    /// Pose on the CPU, build the nets there, upload them.
+    Cpu,
+    /// Skin and build the nets on the GPU from the frame's joint matrices.
+    Gpu,
+}
+
 #[derive(Debug, Args)]
 pub struct AnimateArgs {
     /// Input mesh.
@@ -286,6 +295,11 @@ pub struct AnimateArgs {
     /// With --clip: frames per second of the clip's time.
     #[arg(long, default_value_t = 24.0, requires = "clip")]
     pub fps: f32,
+    /// With --clip: where each frame is posed and its control nets built. `gpu` uploads the
+    /// frame's joint matrices (and morph weights) alone; it needs normals in the file and the
+    /// flat, phong, pn or pn-aen scheme.
+    #[arg(long, value_enum, default_value_t = SkinningArg::Cpu, requires = "clip")]
+    pub skinning: SkinningArg,
     /// Instead of the twist: fly the camera towards the mesh (zoom 0.8 to 2.5) with levels from
     /// the screen (`--lod screen:PX` of each frame's camera) and fractional-odd spacing, so the
     /// levels grow smoothly frame by frame.

@@ -199,10 +199,79 @@ fn animate_plays_a_clip_uploading_the_nets() {
         stdout(&o)
     );
     let pictures: Vec<_> = (0..3)
-        .map(|k| image::open(frames.join(format!("frame_{k:03}.png"))).unwrap().to_rgba8())
+        .map(|k| {
+            image::open(frames.join(format!("frame_{k:03}.png")))
+                .unwrap()
+                .to_rgba8()
+        })
         .collect();
     assert_ne!(pictures[0], pictures[2], "the clip does not move");
     let o = tessella(&["animate", SAMPLE, "--clip", "dance", "-o", s(&frames)]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("dance"), "{}", stderr(&o));
+}
+
+/// `--skinning gpu`: the GPU skins the creature and builds its nets from the frame's deform
+/// matrices, so a frame uploads 64 bytes a joint matrix and 4 a morph weight (the sample: one
+/// skin of 7 joints, one morph target), and draws what the CPU's poses draw.
+#[test]
+fn animate_with_gpu_skinning_uploads_the_matrices_and_draws_the_same_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |skinning: &str| {
+        let frames = dir.path().join(skinning);
+        let o = tessella(&[
+            "animate",
+            SAMPLE,
+            "--clip",
+            "wave",
+            "-o",
+            s(&frames),
+            "--fps",
+            "6",
+            "--frames",
+            "4",
+            "--size",
+            "96x96",
+            "--skinning",
+            skinning,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let pictures: Vec<_> = (0..4)
+            .map(|k| {
+                image::open(frames.join(format!("frame_{k:03}.png")))
+                    .unwrap()
+                    .to_rgba8()
+            })
+            .collect();
+        (stdout(&o), pictures)
+    };
+    let model = poser();
+    let joints: usize = model.model().skins.iter().map(|s| s.joints.len()).sum();
+    let weights: usize = model
+        .model()
+        .instances
+        .iter()
+        .map(|i| i.targets.len())
+        .sum();
+    assert!(joints > 0 && weights > 0, "the sample skins and morphs");
+    let expected = 64 * joints + 4 * weights;
+    let (said, gpu) = run("gpu");
+    assert!(
+        said.contains(&format!("{expected} bytes uploaded per frame")),
+        "{said}"
+    );
+    let (_, cpu) = run("cpu");
+    for (k, (a, b)) in cpu.iter().zip(&gpu).enumerate() {
+        let off = a
+            .pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 8))
+            .count();
+        // Float rounding may move a silhouette pixel or two; a wrong pose moves hundreds.
+        assert!(
+            off <= 6,
+            "frame {k}: {off} pixels differ between CPU and GPU skinning"
+        );
+    }
+    assert_ne!(gpu[0], gpu[3], "the GPU frames do not move");
 }

@@ -2,7 +2,8 @@
 //! per frame [`Plan::update`] rebuilds the control nets (O(coarse triangles)) and
 //! [`PatternRenderer::update`] uploads them (GMR section 3.1), never a refined vertex buffer.
 //! The coarse mesh moves by a twist ([`render_twist`]) or by a glTF clip's skinning and morph
-//! targets ([`render_clip`]). The fly-in changes the levels every frame instead, drawn by one
+//! targets ([`render_clip`]), posed on the CPU or, uploading only the frame's joint matrices,
+//! on the GPU ([`Skinning`]). The fly-in changes the levels every frame instead, drawn by one
 //! [`AdaptiveRenderer`].
 
 use crate::appearance::Appearance;
@@ -11,9 +12,11 @@ use crate::scene::{scene_uniforms, RenderOptions};
 use crate::target::Target;
 use std::path::{Path, PathBuf};
 use tessella_core::animation::Poser;
-use tessella_core::refine::{Plan, Surface};
+use tessella_core::refine::{Frame, Plan, Surface};
 use tessella_core::{AnimationError, Mesh, OutputLayout, RefineOptions};
-use tessella_gpu::{AdaptiveRenderer, GpuContext, GpuError, PatternRenderer};
+use tessella_gpu::{
+    AdaptiveRenderer, GpuContext, GpuError, GpuNetBuilder, GpuSkinner, PatternRenderer,
+};
 
 /// What an animation cost on the bus.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,43 +77,126 @@ pub fn render_twist(
     max_angle_degrees: f32,
     out_dir: &Path,
 ) -> Result<AnimationStats, GpuError> {
-    render_frames(ctx, mesh, refine, options, frames, out_dir, |k| {
+    render_frames(ctx, mesh, refine, options, frames, out_dir, |k, cpu| {
         let phase = k as f32 / frames as f32 * std::f32::consts::TAU;
         let (positions, normals) = twist_points(mesh, max_angle_degrees * phase.sin());
-        Ok((positions, Some(normals)))
+        cpu.plan.update(cpu.frame, &positions, Some(&normals))?;
+        cpu.renderer.update(cpu.frame)
     })
 }
 
-/// Renders `frames` pictures of an animation clip played at `fps` frames per second from its
-/// start (frame `k` at `k / fps` seconds; past the clip's end its last pose holds) into
-/// `out_dir/frame_000.png`, ...: per frame the poser poses the coarse mesh (morph targets,
-/// skinning), [`Plan::update`] rebuilds its nets and the renderer uploads them. The camera is
-/// framed on the rest pose.
-#[allow(clippy::too_many_arguments)]
+/// Where a clip's frames are posed and their control nets built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Skinning {
+    /// On the CPU: [`Poser::pose_into`], then [`Plan::update`] builds the nets and the renderer
+    /// uploads them (the nets' bytes every frame).
+    #[default]
+    Cpu,
+    /// On the GPU: [`GpuSkinner`] poses the coarse mesh from the frame's deform matrices (and
+    /// morph weights), [`GpuNetBuilder`] builds the nets from its output into the renderer's
+    /// buffers; a frame uploads the matrices and weights alone. Needs a mesh with normals and
+    /// a scheme the GPU builds (flat, Phong, PN, PN-AEN).
+    Gpu,
+}
+
+/// A clip played into pictures: which, how many frames at what rate, and where they are posed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClipFrames {
+    pub clip: usize,
+    pub frames: u32,
+    /// Frames per second of the clip's time: frame `k` shows `k / fps` seconds.
+    pub fps: f32,
+    pub skinning: Skinning,
+}
+
+/// Renders the frames of an animation clip played from its start (frame `k` at `k / fps`
+/// seconds; past the clip's end its last pose holds) into `out_dir/frame_000.png`, ...: per
+/// frame the coarse mesh is posed (morph targets, skinning) and its nets rebuilt, on the CPU
+/// or the GPU ([`Skinning`]), and the pattern renderer draws them. The camera is framed on the
+/// rest pose. [`AnimationStats::bytes_per_frame`] is what the last frame uploaded.
 pub fn render_clip(
     ctx: &GpuContext,
     poser: &Poser,
-    clip: usize,
     refine: &RefineOptions,
     options: &RenderOptions,
-    (frames, fps): (u32, f32),
+    play: &ClipFrames,
     out_dir: &Path,
 ) -> Result<AnimationStats, GpuError> {
     let bad = |e: AnimationError| GpuError::BadOption(e.to_string());
+    let fps = play.fps;
     if !(fps.is_finite() && fps > 0.0) {
         return Err(GpuError::BadOption(format!(
             "frames per second must be positive, got {fps}"
         )));
     }
-    poser.duration(clip).map_err(bad)?;
+    let clip = Some(play.clip);
+    poser.duration(play.clip).map_err(bad)?;
     let rest = poser.mesh(None, 0.0).map_err(bad)?;
-    render_frames(ctx, &rest, refine, options, frames, out_dir, |k| {
-        poser.pose(Some(clip), k as f32 / fps).map_err(bad)
-    })
+    let time = |k: u32| k as f32 / fps;
+    match play.skinning {
+        Skinning::Cpu => {
+            let mut positions = vec![[0.0; 3]; poser.vertex_count()];
+            let mut normals = poser
+                .has_normals()
+                .then(|| vec![[0.0; 3]; poser.vertex_count()]);
+            render_frames(
+                ctx,
+                &rest,
+                refine,
+                options,
+                play.frames,
+                out_dir,
+                |k, cpu| {
+                    poser
+                        .pose_into(clip, time(k), &mut positions, normals.as_deref_mut())
+                        .map_err(bad)?;
+                    cpu.plan.update(cpu.frame, &positions, normals.as_deref())?;
+                    cpu.renderer.update(cpu.frame)
+                },
+            )
+        }
+        Skinning::Gpu => {
+            let mut skinner = GpuSkinner::new(ctx, poser)?;
+            // Made on the first frame, from the plan's own surface (topology computed once).
+            let mut builder: Option<GpuNetBuilder> = None;
+            render_frames(
+                ctx,
+                &rest,
+                refine,
+                options,
+                play.frames,
+                out_dir,
+                |k, gpu| {
+                    let builder = match &mut builder {
+                        Some(b) => b,
+                        None => builder.insert(GpuNetBuilder::new(ctx, gpu.plan.surface())?),
+                    };
+                    let mut bytes = skinner.update(poser, clip, time(k))?;
+                    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+                    skinner.record(&mut encoder)?;
+                    bytes += builder.record(
+                        &mut encoder,
+                        skinner.output(),
+                        gpu.renderer.nets_target()?,
+                    )?;
+                    ctx.submit(encoder)?;
+                    Ok(bytes)
+                },
+            )
+        }
+    }
 }
 
-/// The loop both animations share: one plan and renderer, per frame `pose(k)`'s positions (and
-/// normals; `None`: computed) → nets → upload → picture.
+/// What a frame step may move: the plan's frame and the renderer's nets.
+struct FrameStep<'a> {
+    plan: &'a Plan,
+    frame: &'a mut Frame<'static>,
+    renderer: &'a PatternRenderer,
+}
+
+/// The loop every deforming animation shares: one plan and renderer; per frame `step(k)` moves
+/// the nets (posing the coarse mesh, rebuilding and uploading its nets, returning the bytes
+/// uploaded), then the picture is drawn and saved.
 fn render_frames(
     ctx: &GpuContext,
     mesh: &Mesh,
@@ -118,7 +204,7 @@ fn render_frames(
     options: &RenderOptions,
     frames: u32,
     out_dir: &Path,
-    mut pose: impl FnMut(u32) -> Result<(Vec<[f32; 3]>, Option<Vec<[f32; 3]>>), GpuError>,
+    mut step: impl FnMut(u32, FrameStep<'_>) -> Result<u64, GpuError>,
 ) -> Result<AnimationStats, GpuError> {
     if frames == 0 {
         return Err(GpuError::BadOption(
@@ -126,7 +212,8 @@ fn render_frames(
         ));
     }
     options.validate()?;
-    let (plan, mut frame) = Plan::with_frame(mesh, refine)?;
+    let (plan, frame) = Plan::with_frame(mesh, refine)?;
+    let mut frame = frame.into_owned();
     let look = Appearance::new(ctx, Target::FORMATS);
     let renderer =
         PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &options.displacement)?;
@@ -144,9 +231,14 @@ fn render_frames(
         paths: Vec::new(),
     };
     for k in 0..frames {
-        let (positions, normals) = pose(k)?;
-        plan.update(&mut frame, &positions, normals.as_deref())?;
-        stats.bytes_per_frame = renderer.update(&frame)?;
+        stats.bytes_per_frame = step(
+            k,
+            FrameStep {
+                plan: &plan,
+                frame: &mut frame,
+                renderer: &renderer,
+            },
+        )?;
         target.draw(ctx, options.background, |pass| look.draw(pass, &renderer))?;
         let picture = target.read(ctx)?;
         let path = out_dir.join(format!("frame_{k:03}.png"));

@@ -2,7 +2,7 @@
 //! targets), re-uploading only its control nets per frame.
 
 use super::{gpu, tags};
-use crate::args::AnimateArgs;
+use crate::args::{AnimateArgs, SkinningArg};
 use anyhow::Context;
 use tessella_core::refine::Spacing;
 use tessella_core::RefineOptions;
@@ -60,15 +60,25 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
             let index = poser
                 .clip_index(clip)
                 .with_context(|| format!("cannot play {}", args.input.display()))?;
-            animate::render_clip(
-                &ctx,
-                &poser,
-                index,
-                &options,
-                &view,
-                (args.frames, args.fps),
-                &args.output,
-            )?
+            let skinning = match args.skinning {
+                SkinningArg::Cpu => animate::Skinning::Cpu,
+                SkinningArg::Gpu => animate::Skinning::Gpu,
+            };
+            let play = animate::ClipFrames {
+                clip: index,
+                frames: args.frames,
+                fps: args.fps,
+                skinning,
+            };
+            let stats = animate::render_clip(&ctx, &poser, &options, &view, &play, &args.output)?;
+            let what = match skinning {
+                animate::Skinning::Cpu => "control nets",
+                animate::Skinning::Gpu => {
+                    "deform matrices and morph weights; skinned and nets built on the GPU"
+                }
+            };
+            report(args, &stats, what);
+            return Ok(());
         }
         None => animate::render_twist(
             &ctx,
@@ -80,13 +90,18 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
             &args.output,
         )?,
     };
+    report(args, &stats, "control nets");
+    Ok(())
+}
+
+/// The frames written and what each uploaded (`what`), against a refined vertex buffer.
+fn report(args: &AnimateArgs, stats: &animate::AnimationStats, what: &str) {
     println!(
-        "{} frames in {}: {} bytes uploaded per frame (control nets) instead of {} for a refined vertex buffer ({:.1}x less)",
+        "{} frames in {}: {} bytes uploaded per frame ({what}) instead of {} for a refined vertex buffer ({:.1}x less)",
         stats.frames,
         args.output.display(),
         stats.bytes_per_frame,
         stats.refined_bytes_per_frame,
-        stats.refined_bytes_per_frame as f64 / stats.bytes_per_frame as f64
+        stats.refined_bytes_per_frame as f64 / stats.bytes_per_frame.max(1) as f64
     );
-    Ok(())
 }

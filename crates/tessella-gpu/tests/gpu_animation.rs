@@ -1,0 +1,90 @@
+//! A frame of an animated mesh done wholly on the GPU: [`GpuSkinner`] poses the coarse mesh
+//! from the frame's deform matrices, [`GpuNetBuilder`] builds the control nets from its output.
+//! The nets must equal the CPU's frame (`Poser::pose_into`, `Mesh::update`, the scheme's net
+//! builder) within 1e-6 relative, for every scheme the GPU builds and both normal nets.
+mod common;
+
+use common::ctx;
+use tessella_core::animation::Poser;
+use tessella_core::refine::{Surface, SurfaceOptions};
+use tessella_core::{samples, NormalMode, Scheme};
+use tessella_gpu::{GpuContext, GpuNetBuilder, GpuSkinner, NetsTarget};
+
+fn read_vec3s(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Vec<[f32; 3]> {
+    let bytes = ctx.read_buffer(buffer, 0, buffer.size()).unwrap();
+    bytemuck::pod_collect_to_vec(&bytes)
+}
+
+/// The largest `|gpu - cpu| / max(1, |cpu|)`.
+fn worst_relative(gpu: &[[f32; 3]], cpu: &[[f32; 3]]) -> f64 {
+    assert_eq!(gpu.len(), cpu.len(), "net lengths");
+    gpu.iter()
+        .flatten()
+        .zip(cpu.iter().flatten())
+        .map(|(&g, &c)| (f64::from(g) - f64::from(c)).abs() / f64::from(c.abs()).max(1.0))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn gpu_skinned_nets_equal_the_cpu_frames_nets() {
+    let ctx = ctx();
+    let poser = Poser::new(samples::animated_creature(1)).unwrap();
+    let rest = poser.mesh(None, 0.0).unwrap();
+    let mut skinner = GpuSkinner::new(&ctx, &poser).unwrap();
+    let faces = rest.face_count();
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+    let sentinel = |label, floats: usize| {
+        ctx.buffer_init(
+            label,
+            bytemuck::cast_slice(&vec![-7777.0f32; floats]),
+            usage,
+        )
+    };
+    let (points, normals) = (
+        sentinel("points", faces * 30),
+        sentinel("normals", faces * 18),
+    );
+    let schemes = [
+        (Scheme::Flat, NormalMode::Linear),
+        (Scheme::Phong { alpha: 0.75 }, NormalMode::Quadratic),
+        (Scheme::Pn, NormalMode::Linear),
+        (Scheme::Pn, NormalMode::Quadratic),
+        (Scheme::Pn, NormalMode::Real),
+        (Scheme::PnAen, NormalMode::Quadratic),
+    ];
+    for (scheme, mode) in schemes {
+        let options = SurfaceOptions::new(scheme).with_normals(mode);
+        let surface = Surface::new(&rest, &options).unwrap();
+        let builder = GpuNetBuilder::new(&ctx, &surface).unwrap();
+        let still = surface.frame(&rest).unwrap().nets().clone();
+        for clip in 0..poser.clip_count() {
+            let mut moved = 0.0f64;
+            for time in [0.0, 0.37, 0.61, 1.1] {
+                skinner.update(&poser, Some(clip), time).unwrap();
+                let mut encoder = ctx.device.create_command_encoder(&Default::default());
+                skinner.record(&mut encoder).unwrap();
+                let target = NetsTarget::new(&points, &normals, faces, mode);
+                builder
+                    .record(&mut encoder, skinner.output(), target)
+                    .unwrap();
+                ctx.submit_and_wait(encoder).unwrap();
+                let posed = poser.mesh(Some(clip), time).unwrap();
+                let cpu = surface.frame(&posed).unwrap().nets().clone();
+                let what = format!("{} {mode:?}, clip {clip} at {time}", scheme.name());
+                let worst_points = worst_relative(&read_vec3s(&ctx, &points), &cpu.points);
+                let worst_normals = worst_relative(&read_vec3s(&ctx, &normals), &cpu.normals);
+                assert!(
+                    worst_points <= 1e-6,
+                    "{what}: points off by {worst_points:e}"
+                );
+                assert!(
+                    worst_normals <= 1e-6,
+                    "{what}: normals off by {worst_normals:e}"
+                );
+                moved = moved.max(worst_relative(&cpu.points, &still.points));
+            }
+            // The clip moved the nets away from the rest pose's (else this proves little).
+            assert!(moved > 1e-3, "{} clip {clip} does not move", scheme.name());
+        }
+    }
+}
