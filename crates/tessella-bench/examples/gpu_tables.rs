@@ -5,8 +5,10 @@ use tessella_bench::gpu::{
     figure7, figure7_table, refine_table, refine_throughput, scheme_frame_times, scheme_table,
     Figure7Config,
 };
+use tessella_bench::gpu_animated::{animated_paths, animated_paths_table};
+use tessella_core::animation::Poser;
 use tessella_core::{samples, Scheme};
-use tessella_gpu::{AdapterChoice, GpuContext};
+use tessella_gpu::{AdapterChoice, GpuContext, GpuError};
 
 fn main() {
     let ctx = match GpuContext::new(AdapterChoice::Auto) {
@@ -20,7 +22,7 @@ fn main() {
         .ok()
         .and_then(|f| f.parse().ok())
         .unwrap_or(5);
-    let run = || -> Result<(), tessella_gpu::GpuError> {
+    let run = || -> Result<(), GpuError> {
         let mesh = samples::icosphere(2);
         let rows = refine_throughput(&ctx, &mesh, Scheme::Pn, &[4, 16, 64], 3)?;
         println!("{}", refine_table(&rows));
@@ -33,6 +35,10 @@ fn main() {
         let rows =
             scheme_frame_times(&ctx, &samples::creature(), &schemes, 64, frames, (512, 512))?;
         println!("{}", scheme_table(&rows));
+        let poser = Poser::new(samples::animated_creature(4)).map_err(GpuError::from)?;
+        let wave = poser.clip_index("wave").map_err(GpuError::from)?;
+        let rows = animated_paths(&ctx, &poser, wave, &[8, 16], frames, (512, 512))?;
+        println!("{}", animated_paths_table(&rows));
         Ok(())
     };
     if let Err(e) = run() {

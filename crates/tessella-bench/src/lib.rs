@@ -13,6 +13,9 @@
 //!   refined vertex buffer against the instanced pattern), frame time by scheme, mixed
 //!   patterns, and levels that change every frame. The frame-timed bodies are `async`, so the
 //!   same code runs natively (the blocking forms, feature `blocking`) and in a browser.
+//! - [`gpu_animated`] (feature `blocking`): an animated mesh's frame on its three paths to
+//!   the pattern renderer (CPU nets, GPU nets from the caller's buffer, GPU skinning), timed
+//!   with the bytes each uploads.
 //! - [`web`] (feature `gpu`): the browser's `bench()`: its JSON configuration, checked before
 //!   anything runs, and its report; tessella-viewer's wasm entry `WebViewer::bench` calls it.
 //! - [`gl`] (feature `gl`): PN on the OpenGL 4 tessellator against the CPU refinement of the
@@ -28,5 +31,7 @@ pub mod cpu;
 pub mod gl;
 #[cfg(feature = "gpu")]
 pub mod gpu;
+#[cfg(feature = "blocking")]
+pub mod gpu_animated;
 #[cfg(feature = "gpu")]
 pub mod web;

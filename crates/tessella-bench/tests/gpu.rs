@@ -120,3 +120,38 @@ fn ratios_of_a_time_that_read_zero_are_left_out() {
     assert_eq!(ratio(f64::NAN, 1.0), None);
     assert_eq!(ratio(f64::MAX, f64::MIN_POSITIVE), None);
 }
+
+/// The three paths of an animated frame upload what each is meant to: the nets (16 entries of
+/// 12 bytes a triangle), nothing but the caller's own vertices, or the deform matrices (64
+/// bytes each) and morph weights (4 bytes each).
+#[test]
+fn animated_paths_upload_nets_nothing_or_matrices() {
+    use tessella_bench::gpu_animated::{animated_paths, animated_paths_table, PATHS};
+    let poser = tessella_core::animation::Poser::new(samples::animated_creature(1)).unwrap();
+    let rows = animated_paths(ctx(), &poser, 0, &[2], 2, (32, 32)).unwrap();
+    assert_eq!(rows.iter().map(|r| r.path).collect::<Vec<_>>(), PATHS);
+    let faces = poser.model().triangles.len();
+    let joints: usize = poser.model().skins.iter().map(|s| s.joints.len()).sum();
+    let weights: usize = poser
+        .model()
+        .instances
+        .iter()
+        .map(|i| i.targets.len())
+        .sum();
+    let expected = [
+        (faces * 16 * 12, 0),
+        (0, poser.vertex_count() * 24),
+        (joints * 64 + weights * 4, 0),
+    ];
+    for (row, (tessella, caller)) in rows.iter().zip(expected) {
+        assert_eq!(row.coarse_triangles, faces);
+        assert_eq!(
+            (row.tessella_bytes, row.caller_bytes),
+            (tessella as u64, caller as u64),
+            "{}",
+            row.path
+        );
+        assert!(row.frame_ms > 0.0);
+    }
+    assert_eq!(animated_paths_table(&rows).lines().count(), 5);
+}

@@ -100,5 +100,16 @@ fn gpu_tables(mesh: &Mesh, args: &BenchArgs) -> anyhow::Result<()> {
     println!();
     let rows = bench::changing_levels(&ctx, &samples::icosphere(2), 24.0, 8, (512, 512))?;
     print!("{}", bench::changing_levels_table(&rows));
+    println!();
+    println!("An animated mesh (the animated creature on 5,120 triangles, `wave` clip, PN) on its three paths to the pattern renderer, adapter: {label}");
+    println!();
+    let poser = tessella_core::animation::Poser::new(samples::animated_creature(4))?;
+    let wave = poser.clip_index("wave")?;
+    let rows =
+        tessella_bench::gpu_animated::animated_paths(&ctx, &poser, wave, &[8, 16], 8, (512, 512))?;
+    print!(
+        "{}",
+        tessella_bench::gpu_animated::animated_paths_table(&rows)
+    );
     Ok(())
 }
