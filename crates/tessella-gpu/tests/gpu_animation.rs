@@ -30,7 +30,7 @@ fn gpu_skinned_nets_equal_the_cpu_frames_nets() {
     let ctx = ctx();
     let poser = Poser::new(samples::animated_creature(1)).unwrap();
     let rest = poser.mesh(None, 0.0).unwrap();
-    let mut skinner = GpuSkinner::new(&ctx, &poser).unwrap();
+    let mut skinner = GpuSkinner::new(ctx, &poser).unwrap();
     let faces = rest.face_count();
     let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
     let sentinel = |label, floats: usize| {
@@ -55,7 +55,7 @@ fn gpu_skinned_nets_equal_the_cpu_frames_nets() {
     for (scheme, mode) in schemes {
         let options = SurfaceOptions::new(scheme).with_normals(mode);
         let surface = Surface::new(&rest, &options).unwrap();
-        let builder = GpuNetBuilder::new(&ctx, &surface).unwrap();
+        let builder = GpuNetBuilder::new(ctx, &surface).unwrap();
         let still = surface.frame(&rest).unwrap().nets().clone();
         for clip in 0..poser.clip_count() {
             let mut moved = 0.0f64;
@@ -71,8 +71,8 @@ fn gpu_skinned_nets_equal_the_cpu_frames_nets() {
                 let posed = poser.mesh(Some(clip), time).unwrap();
                 let cpu = surface.frame(&posed).unwrap().nets().clone();
                 let what = format!("{} {mode:?}, clip {clip} at {time}", scheme.name());
-                let worst_points = worst_relative(&read_vec3s(&ctx, &points), &cpu.points);
-                let worst_normals = worst_relative(&read_vec3s(&ctx, &normals), &cpu.normals);
+                let worst_points = worst_relative(&read_vec3s(ctx, &points), &cpu.points);
+                let worst_normals = worst_relative(&read_vec3s(ctx, &normals), &cpu.normals);
                 assert!(
                     worst_points <= 1e-6,
                     "{what}: points off by {worst_points:e}"
