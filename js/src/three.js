@@ -206,14 +206,18 @@ function vertexPatch(glsl, flags) {
 
 function patchMaterial(material, uniforms, glsl, flags, key) {
   const { head, body } = vertexPatch(glsl, flags);
-  material.onBeforeCompile = (shader) => {
+  // A material's own onBeforeCompile and cache key still apply, after tessella's patch.
+  const own = material.onBeforeCompile;
+  const ownKey = material.customProgramCacheKey;
+  material.onBeforeCompile = (shader, renderer) => {
     const at = shader.vertexShader.indexOf('void main() {');
     if (at < 0) throw new TessellaError('TessellatedMesh: the material\'s vertex shader has no `void main() {` to patch');
     Object.assign(shader.uniforms, uniforms);
     const main = at + 'void main() {'.length;
     shader.vertexShader = `${shader.vertexShader.slice(0, at)}${head}${shader.vertexShader.slice(at, main)}\n${body}${shader.vertexShader.slice(main)}`;
+    own.call(material, shader, renderer);
   };
-  material.customProgramCacheKey = () => key;
+  material.customProgramCacheKey = () => `${key}|${ownKey.call(material)}`;
   material.needsUpdate = true;
 }
 
@@ -274,7 +278,12 @@ export class TessellatedMesh extends Mesh {
     const points = surface.patternPoints();
     const tri = surface.patternIndices();
     g.setIndex(new BufferAttribute(points.length / 3 <= 0xffff ? Uint16Array.from(tri) : tri, 1));
-    g.setAttribute('tessellaBarycentric', new BufferAttribute(points, 3));
+    const barycentric = new BufferAttribute(points, 3);
+    g.setAttribute('tessellaBarycentric', barycentric);
+    // three shades a lit material flat (normals from screen derivatives) when the geometry has
+    // no normal attribute; the shader's normal is the patch's (a local that hides the
+    // attribute), so this one only has to exist: the same buffer, uploaded once.
+    g.setAttribute('normal', barycentric);
     g.instanceCount = surface.faceCount;
     g.boundingBox = new Box3();
     g.boundingSphere = new Sphere();
