@@ -339,13 +339,9 @@ pub fn glsl(basis: Basis, mode: NormalMode) -> String {
         Basis::Cubic => "cubic",
         Basis::Png1 => "png1",
     };
-    let mut s = String::from(
-        "uniform highp sampler2D tessellaNets;\nuniform int tessellaFacesPerRow;\n",
-    );
-    s += &shader::constants(
-        Lang::Glsl,
-        &[("TESSELLA_TEXELS_PER_FACE", texels as u32)],
-    );
+    let mut s =
+        String::from("uniform highp sampler2D tessellaNets;\nuniform int tessellaFacesPerRow;\n");
+    s += &shader::constants(Lang::Glsl, &[("TESSELLA_TEXELS_PER_FACE", texels as u32)]);
     s += &shader::weights(Lang::Glsl, basis);
     s += &shader::normal_net(Lang::Glsl);
     s += "vec4 tessella_texel(int face, int j) {\n    int row = face / tessellaFacesPerRow;\n    \
@@ -417,13 +413,23 @@ mod tests {
     fn layouts_hold_whole_nets_within_the_width() {
         assert_eq!(texels_per_face(10), 12);
         assert_eq!(texels_per_face(21), 21);
-        for (faces, texels) in [(1, 12), (80, 12), (170, 12), (171, 12), (5000, 21), (99999, 12)] {
+        for (faces, texels) in [
+            (1, 12),
+            (80, 12),
+            (170, 12),
+            (171, 12),
+            (5000, 21),
+            (99999, 12),
+        ] {
             let l = Layout::new(faces, texels);
             assert!(l.width <= MAX_TEXTURE_WIDTH, "{l:?}");
             assert_eq!(l.width, l.faces_per_row * texels);
             assert!(l.faces_per_row * l.height >= faces, "{l:?}");
             // Less than one net of padding per row.
-            assert!(l.faces_per_row * l.height - faces < l.height, "{faces}: {l:?}");
+            assert!(
+                l.faces_per_row * l.height - faces < l.height,
+                "{faces}: {l:?}"
+            );
         }
     }
 
@@ -449,7 +455,8 @@ mod tests {
             let k = want.basis.len();
             let l = s.layout;
             for f in 0..want.len() {
-                let start = ((f / l.faces_per_row) * l.width + (f % l.faces_per_row) * l.texels) * 4;
+                let start =
+                    ((f / l.faces_per_row) * l.width + (f % l.faces_per_row) * l.texels) * 4;
                 let got = &s.nets[start..start + 3 * (k + NORMAL_NET_LEN)];
                 let expect: Vec<f32> = want
                     .patch_points(f)
@@ -464,9 +471,15 @@ mod tests {
             let b = s.bounds;
             for p in &refined.positions {
                 for a in 0..3 {
-                    assert!(p[a] >= b[a] - 1e-6 && p[a] <= b[3 + a] + 1e-6, "{json}: {p:?}");
+                    assert!(
+                        p[a] >= b[a] - 1e-6 && p[a] <= b[3 + a] + 1e-6,
+                        "{json}: {p:?}"
+                    );
                 }
-                let d: f32 = (0..3).map(|a| (p[a] - b[6 + a]).powi(2)).sum::<f32>().sqrt();
+                let d: f32 = (0..3)
+                    .map(|a| (p[a] - b[6 + a]).powi(2))
+                    .sum::<f32>()
+                    .sqrt();
                 assert!(d <= b[9] * (1.0 + 1e-5), "{json}: {d} > {}", b[9]);
             }
         }
@@ -504,7 +517,11 @@ mod tests {
             (Basis::Png1, NormalMode::Real),
         ] {
             let g = glsl(basis, mode);
-            let name = if basis == Basis::Cubic { "cubic" } else { "png1" };
+            let name = if basis == Basis::Cubic {
+                "cubic"
+            } else {
+                "png1"
+            };
             assert!(g.contains(&shader::weights(Lang::Glsl, basis)));
             assert!(g.contains(&format!("tessella_{name}_weights(l, w);")));
             assert!(g.contains("tessella_normal_weights(l, nw);"));
