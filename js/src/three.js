@@ -160,6 +160,9 @@ const patched = new WeakSet();
 
 /** What the renderer lacks for TessellatedMesh, or null. */
 function missing(renderer) {
+  if (renderer != null && renderer.isWebGPURenderer === true) {
+    return 'TessellatedMesh draws with three.js\'s WebGLRenderer (WebGL2); WebGPURenderer (node materials) is not supported yet';
+  }
   if (renderer == null || typeof renderer.getContext !== 'function' || renderer.capabilities == null) {
     return 'TessellatedMesh draws with three.js\'s WebGLRenderer (WebGL2); this renderer is not one';
   }

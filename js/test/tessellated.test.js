@@ -225,5 +225,6 @@ test('a renderer without instancing, float textures or vertex textures is refuse
   assert.throws(() => mesh.onBeforeShadow(renderer(webgl2, { maxVertexTextures: 0 })), /lacks textures in the vertex shader/);
   assert.throws(() => mesh.onBeforeRender(renderer(webgl2, { maxTextureSize: 8 })), /over this renderer's largest texture/);
   assert.throws(() => mesh.onBeforeRender({}), /WebGLRenderer/);
+  assert.throws(() => mesh.onBeforeRender({ isWebGPURenderer: true }), /WebGPURenderer \(node materials\) is not supported yet/);
   mesh.dispose();
 });

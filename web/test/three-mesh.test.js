@@ -57,15 +57,15 @@ function darker(a, b, by = 30) {
 }
 
 test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn as a Mesh, in one instanced draw', async () => {
-  for (const [scheme, level] of [['pn', 8], ['png1', 6], ['phong', 5]]) {
+  for (const [scheme, level, normals] of [['pn', 8], ['png1', 6], ['phong', 5], ['pn-aen', 4, 'real']]) {
     // No shadow casting here: one pass, so one draw.
-    const cpu = await run({ scheme, level, plain: true, castShadow: false });
-    const gpu = await run({ scheme, level, castShadow: false });
+    const cpu = await run({ scheme, level, normals, plain: true, castShadow: false });
+    const gpu = await run({ scheme, level, normals, castShadow: false });
     const a = mask(cpu.img);
     const b = mask(gpu.img);
     assert.ok(count(b) > 0.08 * b.length, `${scheme}: only ${count(b)} pixels drawn`);
     const score = iou(a, b);
-    console.log(`${scheme} level ${level}: silhouette IoU ${score.toFixed(5)} (${count(a)} / ${count(b)} pixels)`);
+    console.log(`${scheme}${normals ? ` (${normals} normals)` : ''} level ${level}: silhouette IoU ${score.toFixed(5)} (${count(a)} / ${count(b)} pixels)`);
     assert.ok(score >= 0.99, `${scheme}: IoU ${score}`);
     // The shading too: the GPU's normals are the CPU's.
     const off = differing(cpu.img, gpu.img);

@@ -57,7 +57,7 @@ function pose(geometry, rest, frame) {
  * refinement of the last pose instead of the TessellatedMesh.
  */
 async function run({
-  scheme = 'pn', level = 8, plain = false, frames = 1, deform = false, plane = false,
+  scheme = 'pn', level = 8, normals = undefined, plain = false, frames = 1, deform = false, plane = false,
   castShadow = true, occluder = false, occluderCasts = true, material = 'standard',
   extras = false,
 } = {}) {
@@ -120,7 +120,7 @@ async function run({
   source.receiveShadow = true;
   source.rotation.y = 0.3;
   scene.add(source);
-  const options = { scheme, level };
+  const options = { scheme, level, normals };
   let drawn;
   if (plain) {
     if (deform) pose(geometry, rest, frames - 1);
