@@ -58,8 +58,11 @@ function darker(a, b, by = 30) {
 
 test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn as a Mesh, in one instanced draw', async () => {
   for (const [scheme, level, normals] of [['pn', 8], ['png1', 6], ['phong', 5], ['pn-aen', 4, 'real']]) {
-    // No shadow casting here: one pass, so one draw.
-    const cpu = await run({ scheme, level, normals, plain: true, castShadow: false });
+    // No shadow casting here: one pass, so one draw. Real normals (Du x Dv) differ on the two
+    // sides of an edge where the surface is only C0 (PN): each instance has its own edge
+    // vertices, as in refine's soup, where the welded CPU mesh shares one.
+    const soup = normals === 'real' ? true : undefined;
+    const cpu = await run({ scheme, level, normals, soup, plain: true, castShadow: false });
     const gpu = await run({ scheme, level, normals, castShadow: false });
     const a = mask(cpu.img);
     const b = mask(gpu.img);

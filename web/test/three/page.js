@@ -57,7 +57,7 @@ function pose(geometry, rest, frame) {
  * refinement of the last pose instead of the TessellatedMesh.
  */
 async function run({
-  scheme = 'pn', level = 8, normals = undefined, plain = false, frames = 1, deform = false, plane = false,
+  scheme = 'pn', level = 8, normals = undefined, soup = undefined, plain = false, frames = 1, deform = false, plane = false,
   castShadow = true, occluder = false, occluderCasts = true, material = 'standard',
   extras = false,
 } = {}) {
@@ -124,7 +124,7 @@ async function run({
   let drawn;
   if (plain) {
     if (deform) pose(geometry, rest, frames - 1);
-    drawn = new THREE.Mesh(refineGeometry(geometry, options), source.material);
+    drawn = new THREE.Mesh(refineGeometry(geometry, { ...options, soup }), source.material);
     drawn.castShadow = castShadow;
     drawn.receiveShadow = true;
     drawn.rotation.copy(source.rotation);
