@@ -177,6 +177,13 @@ test("the materials' vertex shaders evaluate the patch and hide three's attribut
     assert.match(m.customProgramCacheKey(), /^tessella:10:quadratic:uv:4\|/);
   }
   assert.equal(mesh.geometry.getAttribute('tessellaColor2').array[3], 0.5);
+  // A changed colour (or uv) attribute is copied to the corners before the next render.
+  const color = source.getAttribute('color');
+  color.setXYZW(2, 0.25, 0.25, 0.25, 1); // the source is not indexed: corner 2 of triangle 0
+  color.needsUpdate = true;
+  mesh.updateMatrixWorld();
+  assert.deepEqual(Array.from(mesh.geometry.getAttribute('tessellaColor2').array.subarray(0, 4)), [0.25, 0.25, 0.25, 1]);
+  assert.ok(mesh.uploadedBytes > mesh.netsTexture.image.data.byteLength, 'the colours are uploaded too');
   mesh.dispose();
 });
 
