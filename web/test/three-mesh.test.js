@@ -1,7 +1,7 @@
 // tessella/three's TessellatedMesh in headless Chromium (WebGL2 on SwiftShader): drawn by the
 // GPU from the nets texture it looks like the CPU refinement drawn as a plain Mesh, in one
 // instanced draw; while the source deforms each frame uploads the nets alone; it casts and
-// receives shadows. The page (three/page.html) and the package come from the repository
+// receives shadows (directional and point lights). The page (three/page.html) and the package come from the repository
 // (js/src, js/dist, js/node_modules/three): build js/ first (`cd js && npm ci && npm run build`).
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
@@ -106,7 +106,7 @@ test('while the source deforms, a frame uploads the nets alone: at most 256 byte
   assert.deepEqual(problems, []);
 });
 
-test('it casts shadows (on a plane) and receives them (from a ball), like the CPU mesh', async () => {
+test('it casts shadows (on a plane, from a directional and a point light) and receives them (from a ball), like the CPU mesh', async () => {
   const lit = await run({ plane: true, castShadow: false });
   const shaded = await run({ plane: true, castShadow: true });
   const cpuShaded = await run({ plane: true, castShadow: true, plain: true });
@@ -119,6 +119,15 @@ test('it casts shadows (on a plane) and receives them (from a ball), like the CP
   console.log(`cast shadow: ${count(cast)} pixels darker (CPU mesh: ${count(cpuCast)}), IoU ${iou(cast, cpuCast).toFixed(4)}`);
   assert.ok(count(cast) > 2000, `only ${count(cast)} pixels darker with castShadow`);
   assert.ok(iou(cast, cpuCast) > 0.9, `shadow IoU ${iou(cast, cpuCast)}`);
+  // A point light's shadow map takes the distance material (customDistanceMaterial).
+  const pointLit = await run({ plane: true, castShadow: false, point: true });
+  const pointShaded = await run({ plane: true, castShadow: true, point: true });
+  const cpuPointShaded = await run({ plane: true, castShadow: true, point: true, plain: true });
+  const pointCast = darker(pointShaded.img, pointLit.img);
+  const cpuPointCast = darker(cpuPointShaded.img, pointLit.img);
+  console.log(`point light: ${count(pointCast)} pixels darker (CPU mesh: ${count(cpuPointCast)}), IoU ${iou(pointCast, cpuPointCast).toFixed(4)}`);
+  assert.ok(count(pointCast) > 2000, `only ${count(pointCast)} pixels darker under the point light`);
+  assert.ok(iou(pointCast, cpuPointCast) > 0.9, `point shadow IoU ${iou(pointCast, cpuPointCast)}`);
   const open = await run({ occluder: true, occluderCasts: false });
   const covered = await run({ occluder: true, occluderCasts: true });
   // No plane: whatever gets darker is the tessellated surface, in the ball's shadow.

@@ -59,7 +59,7 @@ function pose(geometry, rest, frame) {
 async function run({
   scheme = 'pn', level = 8, normals = undefined, soup = undefined, plain = false, frames = 1, deform = false, plane = false,
   castShadow = true, occluder = false, occluderCasts = true, material = 'standard',
-  extras = false,
+  extras = false, point = false,
 } = {}) {
   await ready;
   const scene = new THREE.Scene();
@@ -67,11 +67,13 @@ async function run({
   camera.position.set(0, 2.2, 5.2);
   camera.lookAt(0, -0.3, 0);
   scene.add(new THREE.AmbientLight(0xffffff, 0.4));
-  const light = new THREE.DirectionalLight(0xffffff, 2.5);
+  // A directional light, or (point) a point light, whose shadows take the distance material.
+  const light = point ? new THREE.PointLight(0xffffff, 40, 0, 2) : new THREE.DirectionalLight(0xffffff, 2.5);
   light.position.set(1.5, 5, 1);
   light.castShadow = true;
   light.shadow.mapSize.set(1024, 1024);
-  Object.assign(light.shadow.camera, { left: -3, right: 3, top: 3, bottom: -3, near: 0.5, far: 12 });
+  if (point) Object.assign(light.shadow.camera, { near: 0.5, far: 12 });
+  else Object.assign(light.shadow.camera, { left: -3, right: 3, top: 3, bottom: -3, near: 0.5, far: 12 });
   scene.add(light);
   if (plane) {
     const ground = new THREE.Mesh(new THREE.PlaneGeometry(10, 10), new THREE.MeshStandardMaterial({ color: 0xdddddd }));
