@@ -156,3 +156,51 @@ export class AnimatedMesh {
  * Throws TessellaError for a broken file, an invalid animation or another format.
  */
 export function readAnimated(bytes: Uint8Array | ArrayBuffer, format: string, options?: ReadMeshOptions): AnimatedMesh;
+
+/** The options of an InstancedSurface (and of tessella/three's TessellatedMesh). */
+export interface InstancedSurfaceOptions {
+  /** 'flat', 'phong', 'pn' (default), 'png1', 'pn-aen', 'st' or 'quadratic'; see `schemes()`. */
+  scheme?: string;
+  /** Segments per coarse edge: a whole number from 1 to 256 (default 8). */
+  level?: number;
+  /** 'linear', 'quadratic' or 'real'; default: the scheme's own. */
+  normals?: 'linear' | 'quadratic' | 'real';
+  /** Phong's shape factor (default 0.75). */
+  alpha?: number;
+}
+
+/**
+ * What a GPU draws a curved surface from in one instanced call: the pattern and the GLSL fixed
+ * by the topology and options; per frame, the control nets packed as RGBA float texels (face
+ * `f`'s `texelsPerFace` texels start at texel `((f % facesPerRow) * texelsPerFace,
+ * floor(f / facesPerRow))`: its control points, then its 6 normal-net entries, 3 floats each).
+ */
+export class InstancedSurface {
+  constructor(indices: IndexArray, options?: InstancedSurfaceOptions);
+  readonly level: number;
+  /** Control points per net: 10 (cubic basis) or 21 (PNG1). */
+  readonly basisLength: number;
+  readonly normalMode: 'linear' | 'quadratic' | 'real';
+  /** Coarse triangles: the instances. */
+  readonly faceCount: number;
+  readonly texelsPerFace: number;
+  readonly facesPerRow: number;
+  /** The nets texture's size in texels. */
+  readonly width: number;
+  readonly height: number;
+  /** The last frame's control-point bounds: box min xyz, box max xyz, sphere centre xyz, radius. */
+  readonly bounds: Float32Array;
+  /** The pattern's barycentric points (l1, l2, l3), 3 per point. */
+  patternPoints(): Float32Array;
+  /** The pattern's triangles, 3 point indices each. */
+  patternIndices(): Uint32Array;
+  /** GLSL ES 3.00 declaring `tessella_evaluate(int face, vec3 l, out vec3 position, out vec3 normal)`. */
+  glsl(): string;
+  /**
+   * Builds one frame's nets (normals left out are computed) into `out`, a Float32Array of
+   * `width * height * 4` floats, and the bounds into `bounds`. Returns `out`.
+   */
+  update(positions: Float32Array | Float64Array, normals: Float32Array | Float64Array | undefined | null, out: Float32Array): Float32Array;
+  /** Frees its wasm memory. */
+  free(): void;
+}

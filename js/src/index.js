@@ -292,6 +292,103 @@ export class Refiner {
   }
 }
 
+/**
+ * What a GPU draws a curved surface from in one instanced call (`tessella/three`'s
+ * `TessellatedMesh` is built on it): fixed by the topology and options, the refinement pattern
+ * (`patternPoints()`, barycentric, and `patternIndices()`), the nets' texture layout and the
+ * vertex shader's GLSL (`glsl()`, generated from the core's formulas); every frame,
+ * `update(positions, normals?, out)` packs the coarse mesh's control nets as RGBA float texels
+ * into `out` and their bounds into `bounds`. Options: `scheme`, `level` (a whole number, at
+ * most 256), `normals`, `alpha`.
+ */
+export class InstancedSurface {
+  #inner;
+  #inputs = {};
+
+  constructor(indices, options = {}) {
+    const idx = indexArray(indices);
+    const json = optionsJson(options);
+    const inner = call((g) => new g.InstancedSurface(idx, json));
+    this.#inner = inner;
+    /** Segments per coarse edge. */
+    this.level = inner.level();
+    /** Control points per net: 10 (cubic basis) or 21 (PNG1). */
+    this.basisLength = inner.basisLength();
+    /** The normal mode in effect: 'linear', 'quadratic' or 'real'. */
+    this.normalMode = inner.normalMode();
+    /** Coarse triangles: the instances. */
+    this.faceCount = inner.faceCount();
+    /** RGBA texels per net; `facesPerRow` nets to a texture row. */
+    this.texelsPerFace = inner.texelsPerFace();
+    this.facesPerRow = inner.facesPerRow();
+    this.width = inner.textureWidth();
+    this.height = inner.textureHeight();
+    /** The last frame's control-point bounds: box min xyz, box max xyz, sphere centre xyz, radius. */
+    this.bounds = new Float32Array(10);
+  }
+
+  #live() {
+    if (this.#inner === null) throw new TessellaError('this InstancedSurface was freed');
+    return this.#inner;
+  }
+
+  /** The pattern's points, barycentric (l1, l2, l3) on the coarse triangle, 3 per point. */
+  patternPoints() {
+    const inner = this.#live();
+    return call(() => inner.patternPoints());
+  }
+
+  /** The pattern's triangles, 3 point indices each. */
+  patternIndices() {
+    const inner = this.#live();
+    return call(() => inner.patternIndices());
+  }
+
+  /** GLSL ES 3.00 declaring `tessella_evaluate(int face, vec3 l, out vec3 position, out vec3 normal)`. */
+  glsl() {
+    const inner = this.#live();
+    return call(() => inner.glsl());
+  }
+
+  #input(which, length) {
+    const inner = this.#inner;
+    const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
+    const old = this.#inputs[which];
+    if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
+    return (this.#inputs[which] = view(Float32Array, ptr, length));
+  }
+
+  /**
+   * Builds one frame's nets from `positions` (and `normals`, or leave them out to have them
+   * computed), copies them into `out` (a Float32Array of `width * height * 4` floats) and the
+   * bounds into `bounds`. Returns `out`.
+   */
+  update(positions, normals, out) {
+    const inner = this.#live();
+    const p = positions instanceof Float32Array || positions instanceof Float64Array ? positions : floats(positions, 'positions', 3);
+    const n = normals == null ? null : normals instanceof Float32Array || normals instanceof Float64Array ? normals : floats(normals, 'normals', 3);
+    const length = this.width * this.height * 4;
+    if (!(out instanceof Float32Array) || out.length !== length) {
+      throw new TessellaError(`the nets go into a Float32Array of ${length} floats (width * height * 4)`);
+    }
+    call(() => {
+      this.#input('positions', p.length).set(p);
+      if (n !== null) this.#input('normals', n.length).set(n);
+      inner.frame(n !== null);
+      out.set(view(Float32Array, inner.netsOutput(), length));
+      this.bounds.set(view(Float32Array, inner.boundsOutput(), 10));
+    });
+    return out;
+  }
+
+  /** Frees the wasm memory; it cannot be used afterwards. */
+  free() {
+    if (this.#inner !== null) this.#inner.free();
+    this.#inner = null;
+    this.#inputs = {};
+  }
+}
+
 // Makes AnimatedMesh's constructor private to readAnimated.
 const INTERNAL = Symbol('tessella internal');
 

@@ -1,5 +1,5 @@
-import type { BufferGeometry } from 'three';
-import type { RefineOptions } from './index.js';
+import type { BufferGeometry, DataTexture, InstancedBufferGeometry, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial } from 'three';
+import type { InstancedSurface, InstancedSurfaceOptions, RefineOptions } from './index.js';
 
 /**
  * Refines a BufferGeometry into a new indexed one: position, normal, uv from tessella; other
@@ -20,5 +20,37 @@ export class RefinedGeometry {
   /** Refines the source's current positions (and normals) into `geometry`. */
   update(): BufferGeometry;
   /** Frees the wasm memory. */
+  dispose(): void;
+}
+
+export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
+  /** Use the source's normal attribute (default: when it has one); false computes them each frame. */
+  normalsFromSource?: boolean;
+}
+
+/**
+ * A curved surface drawn by WebGLRenderer (WebGL2) in one instanced draw: the refinement
+ * pattern once per coarse triangle, the vertex shader evaluating each triangle's patch from
+ * control nets in a float texture. A Mesh source is hidden and replaced (same parent,
+ * transform, shadow flags). The material is patched for it (onBeforeCompile and
+ * customProgramCacheKey, chained after its own) and draws this mesh only.
+ */
+export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
+  constructor(source: BufferGeometry | Mesh, material?: Material, options?: TessellatedMeshOptions);
+  /** The source (the coarse Mesh or BufferGeometry). */
+  readonly source: BufferGeometry | Mesh;
+  /** The nets texture (RGBA32F) the vertex shader reads. */
+  readonly netsTexture: DataTexture;
+  /** The wasm side: pattern, texture layout, GLSL. */
+  readonly surface: InstancedSurface;
+  /** Update before each render when the source's position, normal, uv or color attribute changed (default true). */
+  autoUpdate: boolean;
+  /** Bytes the last `update()` marked for upload: the nets texture (and uvs or colours when they changed). */
+  uploadedBytes: number;
+  customDepthMaterial: MeshDepthMaterial;
+  customDistanceMaterial: MeshDistanceMaterial;
+  /** Rebuilds the nets from the source's current attributes; the bounds follow. */
+  update(): this;
+  /** Frees the wasm memory, the nets texture, the pattern and the shadow materials. */
   dispose(): void;
 }

@@ -1,12 +1,27 @@
 // tessella/three: refine three.js BufferGeometry. `three` is a peer dependency (the caller's
 // own copy), never bundled.
-import { BufferAttribute, BufferGeometry } from 'three';
-import { refine, Refiner, TessellaError } from './index.js';
+import {
+  Box3,
+  BufferAttribute,
+  BufferGeometry,
+  DataTexture,
+  FloatType,
+  InstancedBufferAttribute,
+  InstancedBufferGeometry,
+  Mesh,
+  MeshDepthMaterial,
+  MeshDistanceMaterial,
+  MeshStandardMaterial,
+  NearestFilter,
+  RGBAFormat,
+  Sphere,
+} from 'three';
+import { InstancedSurface, refine, Refiner, TessellaError } from './index.js';
 
 // Attributes tessella computes itself; every other float attribute is interpolated.
 const OWN = new Set(['position', 'normal', 'uv']);
 
-function source(geometry) {
+function sourceOf(geometry) {
   if (!(geometry instanceof BufferGeometry) && !(geometry && geometry.isBufferGeometry)) {
     throw new TessellaError('expected a three.js BufferGeometry');
   }
@@ -55,7 +70,7 @@ function interpolate(data, itemSize, indices, faces, bary) {
  * attribute (colors, extra uvs, ...) interpolated linearly over each coarse triangle.
  */
 export function refineGeometry(geometry, options = {}) {
-  const { position, indices } = source(geometry);
+  const { position, indices } = sourceOf(geometry);
   const normal = geometry.getAttribute('normal');
   const uv = geometry.getAttribute('uv');
   const extra = Object.entries(geometry.attributes)
@@ -95,7 +110,7 @@ export class RefinedGeometry {
   #useNormals;
 
   constructor(geometry, options = {}) {
-    const { indices } = source(geometry);
+    const { indices } = sourceOf(geometry);
     const uv = geometry.getAttribute('uv');
     this.#source = geometry;
     this.#useNormals = options.normalsFromSource ?? geometry.getAttribute('normal') !== undefined;
@@ -132,5 +147,351 @@ export class RefinedGeometry {
   /** Frees the wasm memory (the geometry stays). */
   dispose() {
     this.#refiner.free();
+  }
+}
+
+// The options TessellatedMesh reads itself; the others go to InstancedSurface (the wasm side
+// checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there).
+const MESH_OPTIONS = ['normalsFromSource'];
+
+// Materials a TessellatedMesh has patched: one material draws one TessellatedMesh (its
+// uniforms hold that mesh's nets texture).
+const patched = new WeakSet();
+
+/** What the renderer lacks for TessellatedMesh, or null. */
+function missing(renderer) {
+  if (renderer != null && renderer.isWebGPURenderer === true) {
+    return 'TessellatedMesh draws with three.js\'s WebGLRenderer (WebGL2); WebGPURenderer (node materials) is not supported yet';
+  }
+  if (renderer == null || typeof renderer.getContext !== 'function' || renderer.capabilities == null) {
+    return 'TessellatedMesh draws with three.js\'s WebGLRenderer (WebGL2); this renderer is not one';
+  }
+  const gl = renderer.getContext();
+  const lacks = [];
+  if (typeof gl.drawElementsInstanced !== 'function' || typeof gl.vertexAttribDivisor !== 'function') lacks.push('instanced drawing');
+  if (typeof gl.texStorage2D !== 'function' || gl.RGBA32F === undefined) lacks.push('float (RGBA32F) textures');
+  if (!(renderer.capabilities.maxVertexTextures > 0)) lacks.push('textures in the vertex shader');
+  return lacks.length === 0 ? null : `TessellatedMesh cannot draw with this renderer: it lacks ${lacks.join(' and ')} (WebGL2 has them)`;
+}
+
+// The vertex shader's additions: the GLSL from the wasm (the generated weights and the nets
+// reader), the attributes, and at the top of main() locals named as three's attributes
+// (position, normal, uv, color) that hide them, so every chunk of three's shaders (lighting,
+// shadows, fog, clipping, maps) reads the curved surface.
+function vertexPatch(glsl, flags) {
+  let head = `${glsl}in vec3 tessellaBarycentric;\n`;
+  let body = [
+    'vec3 tessellaPosition;',
+    'vec3 tessellaNormal;',
+    'tessella_evaluate(gl_InstanceID, tessellaBarycentric, tessellaPosition, tessellaNormal);',
+    'vec3 position = tessellaPosition;',
+    'vec3 normal = tessellaNormal;',
+  ];
+  const l = 'tessellaBarycentric';
+  if (flags.uv) {
+    head += 'in vec4 tessellaUv01;\nin vec2 tessellaUv2;\n';
+    body.push(`vec2 uv = ${l}.x * tessellaUv01.xy + ${l}.y * tessellaUv01.zw + ${l}.z * tessellaUv2;`);
+  }
+  if (flags.color > 0) {
+    const t = flags.color === 4 ? 'vec4' : 'vec3';
+    head += `in ${t} tessellaColor0;\nin ${t} tessellaColor1;\nin ${t} tessellaColor2;\n`;
+    body.push(
+      `${t} tessellaColor = ${l}.x * tessellaColor0 + ${l}.y * tessellaColor1 + ${l}.z * tessellaColor2;`,
+      '#if defined( USE_COLOR_ALPHA )',
+      flags.color === 4 ? 'vec4 color = tessellaColor;' : 'vec4 color = vec4(tessellaColor, 1.0);',
+      '#elif defined( USE_COLOR )',
+      flags.color === 4 ? 'vec3 color = tessellaColor.rgb;' : 'vec3 color = tessellaColor;',
+      '#endif',
+    );
+  }
+  return { head, body: body.join('\n') + '\n' };
+}
+
+function patchMaterial(material, uniforms, glsl, flags, key) {
+  const { head, body } = vertexPatch(glsl, flags);
+  // A material's own onBeforeCompile and cache key still apply, after tessella's patch.
+  const own = material.onBeforeCompile;
+  const ownKey = material.customProgramCacheKey;
+  material.onBeforeCompile = (shader, renderer) => {
+    const at = shader.vertexShader.indexOf('void main() {');
+    if (at < 0) throw new TessellaError('TessellatedMesh: the material\'s vertex shader has no `void main() {` to patch');
+    Object.assign(shader.uniforms, uniforms);
+    const main = at + 'void main() {'.length;
+    shader.vertexShader = `${shader.vertexShader.slice(0, at)}${head}${shader.vertexShader.slice(at, main)}\n${body}${shader.vertexShader.slice(main)}`;
+    own.call(material, shader, renderer);
+  };
+  material.customProgramCacheKey = () => `${key}|${ownKey.call(material)}`;
+  material.needsUpdate = true;
+}
+
+/**
+ * A curved surface drawn by the GPU in one instanced call: the refinement pattern stored once
+ * and drawn once per coarse triangle, its vertex shader evaluating each triangle's patch from
+ * control nets in a float texture, which `update()` rebuilds (on the CPU, in wasm) when the
+ * source moves. `source` is a BufferGeometry or a Mesh; a Mesh is hidden and this takes its
+ * place (its parent, transform, shadow flags). Options: `scheme`, `level`, `normals`, `alpha`,
+ * `normalsFromSource`.
+ */
+export class TessellatedMesh extends Mesh {
+  #source;
+  #sourceMesh;
+  #surface;
+  #texture;
+  #useNormals;
+  #versions = null;
+  #checked = null;
+  #proxy = null;
+  #flags;
+
+  constructor(source, material, options = {}) {
+    let sourceMesh = null;
+    let geometry = source;
+    if (source != null && source.isMesh === true) {
+      sourceMesh = source;
+      geometry = source.geometry;
+    }
+    if (geometry == null || geometry.isBufferGeometry !== true) {
+      throw new TessellaError('TessellatedMesh takes a three.js BufferGeometry or Mesh as its source');
+    }
+    if (options == null || typeof options !== 'object') throw new TessellaError('options must be an object');
+    if (material === undefined || material === null) {
+      material = sourceMesh !== null && !Array.isArray(sourceMesh.material) ? sourceMesh.material.clone() : new MeshStandardMaterial();
+    }
+    if (Array.isArray(material) || material.isMaterial !== true) {
+      throw new TessellaError('TessellatedMesh takes one three.js Material (not an array of them)');
+    }
+    if (patched.has(material)) {
+      throw new TessellaError('this material already draws a TessellatedMesh: give each its own (material.clone())');
+    }
+    const { indices } = sourceOf(geometry);
+    const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !MESH_OPTIONS.includes(k)));
+    const surface = new InstancedSurface(indices, rest);
+    super(new InstancedBufferGeometry(), material);
+    this.#surface = surface;
+    this.#source = geometry;
+    this.#sourceMesh = sourceMesh;
+    this.#useNormals = options.normalsFromSource ?? geometry.getAttribute('normal') !== undefined;
+    /** Update when the source's position or normal attribute changes (its `version`), before each render. */
+    this.autoUpdate = true;
+    /** Bytes the last `update()` handed to the renderer to upload (the nets texture; uvs and colours when they changed). */
+    this.uploadedBytes = 0;
+
+    // The pattern: barycentric points, drawn once per coarse triangle.
+    const g = this.geometry;
+    const points = surface.patternPoints();
+    const tri = surface.patternIndices();
+    g.setIndex(new BufferAttribute(points.length / 3 <= 0xffff ? Uint16Array.from(tri) : tri, 1));
+    const barycentric = new BufferAttribute(points, 3);
+    g.setAttribute('tessellaBarycentric', barycentric);
+    // three shades a lit material flat (normals from screen derivatives) when the geometry has
+    // no normal attribute; the shader's normal is the patch's (a local that hides the
+    // attribute), so this one only has to exist: the same buffer, uploaded once.
+    g.setAttribute('normal', barycentric);
+    g.instanceCount = surface.faceCount;
+    g.boundingBox = new Box3();
+    g.boundingSphere = new Sphere();
+    const uv = geometry.getAttribute('uv');
+    const color = geometry.getAttribute('color');
+    this.#flags = { uv: uv !== undefined, color: color === undefined ? 0 : color.itemSize };
+    if (this.#flags.color !== 0 && this.#flags.color !== 3 && this.#flags.color !== 4) {
+      throw new TessellaError(`the source's color attribute has ${color.itemSize} components; TessellatedMesh reads 3 or 4`);
+    }
+    if (uv !== undefined) {
+      g.setAttribute('tessellaUv01', new InstancedBufferAttribute(new Float32Array(surface.faceCount * 4), 4));
+      g.setAttribute('tessellaUv2', new InstancedBufferAttribute(new Float32Array(surface.faceCount * 2), 2));
+    }
+    if (color !== undefined) {
+      const c = color.itemSize;
+      for (let k = 0; k < 3; k++) g.setAttribute(`tessellaColor${k}`, new InstancedBufferAttribute(new Float32Array(surface.faceCount * c), c));
+      // Tells three the colours' width (USE_COLOR_ALPHA for 4); the shader reads the instanced ones.
+      g.setAttribute('color', new BufferAttribute(new Float32Array((points.length / 3) * c), c));
+    }
+    this.#indices = Uint32Array.from(indices);
+
+    const data = new Float32Array(surface.width * surface.height * 4);
+    const texture = new DataTexture(data, surface.width, surface.height, RGBAFormat, FloatType);
+    texture.minFilter = NearestFilter;
+    texture.magFilter = NearestFilter;
+    texture.generateMipmaps = false;
+    this.#texture = texture;
+    const uniforms = {
+      tessellaNets: { value: texture },
+      tessellaFacesPerRow: { value: surface.facesPerRow },
+    };
+    const glsl = surface.glsl();
+    const key = `tessella:${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}`;
+    patchMaterial(material, uniforms, glsl, this.#flags, key);
+    patched.add(material);
+    this.customDepthMaterial = new MeshDepthMaterial();
+    patchMaterial(this.customDepthMaterial, uniforms, glsl, this.#flags, key);
+    this.customDistanceMaterial = new MeshDistanceMaterial();
+    patchMaterial(this.customDistanceMaterial, uniforms, glsl, this.#flags, key);
+
+    if (sourceMesh !== null) {
+      this.castShadow = sourceMesh.castShadow;
+      this.receiveShadow = sourceMesh.receiveShadow;
+      this.#follow();
+      if (sourceMesh.parent !== null) sourceMesh.parent.add(this);
+      sourceMesh.visible = false;
+    }
+    this.update();
+  }
+
+  #indices;
+
+  /** The source geometry (the coarse mesh this draws curved). */
+  get source() {
+    return this.#sourceMesh ?? this.#source;
+  }
+
+  /** The nets texture (RGBA32F) the vertex shader reads. */
+  get netsTexture() {
+    return this.#texture;
+  }
+
+  /** The InstancedSurface (wasm) that builds the nets: pattern, layout, GLSL. */
+  get surface() {
+    return this.#surface;
+  }
+
+  #follow() {
+    const m = this.#sourceMesh;
+    if (m === null) return;
+    this.position.copy(m.position);
+    this.quaternion.copy(m.quaternion);
+    this.scale.copy(m.scale);
+  }
+
+  /**
+   * Rebuilds the nets from the source's current position (and normal) attributes and marks
+   * the texture for upload; the bounding box and sphere become those of the new control
+   * points (which hold the curved surface). Returns this.
+   */
+  update() {
+    if (this.#surface === null) throw new TessellaError('this TessellatedMesh was disposed');
+    const g = this.#source;
+    const position = g.getAttribute('position');
+    const normal = this.#useNormals ? g.getAttribute('normal') : undefined;
+    if (position === undefined) throw new TessellaError('the source geometry has no position attribute');
+    if (this.#useNormals && normal === undefined) throw new TessellaError('normalsFromSource: the source geometry has no normal attribute');
+    const data = this.#texture.image.data;
+    this.#surface.update(values(position), normal === undefined ? undefined : values(normal), data);
+    this.#texture.needsUpdate = true;
+    let bytes = data.byteLength;
+    bytes += this.#corners();
+    this.uploadedBytes = bytes;
+    const b = this.#surface.bounds;
+    this.geometry.boundingBox.min.set(b[0], b[1], b[2]);
+    this.geometry.boundingBox.max.set(b[3], b[4], b[5]);
+    this.geometry.boundingSphere.center.set(b[6], b[7], b[8]);
+    this.geometry.boundingSphere.radius = b[9];
+    this.#versions = this.#sourceVersions();
+    return this;
+  }
+
+  // Copies the coarse uvs and colours to the per-triangle corner attributes when they changed;
+  // returns the bytes marked for upload.
+  #corners() {
+    const g = this.#source;
+    const v = this.#sourceVersions();
+    let bytes = 0;
+    const idx = this.#indices;
+    const uv = g.getAttribute('uv');
+    if (this.#flags.uv && (this.#versions === null || v.uv !== this.#versions.uv)) {
+      const data = values(uv);
+      const a = this.geometry.getAttribute('tessellaUv01');
+      const b = this.geometry.getAttribute('tessellaUv2');
+      for (let f = 0; f < idx.length / 3; f++) {
+        const [i0, i1, i2] = [idx[3 * f], idx[3 * f + 1], idx[3 * f + 2]];
+        a.array.set([data[2 * i0], data[2 * i0 + 1], data[2 * i1], data[2 * i1 + 1]], 4 * f);
+        b.array.set([data[2 * i2], data[2 * i2 + 1]], 2 * f);
+      }
+      a.needsUpdate = true;
+      b.needsUpdate = true;
+      bytes += a.array.byteLength + b.array.byteLength;
+    }
+    const color = g.getAttribute('color');
+    if (this.#flags.color > 0 && (this.#versions === null || v.color !== this.#versions.color)) {
+      const c = this.#flags.color;
+      const data = values(color);
+      for (let k = 0; k < 3; k++) {
+        const a = this.geometry.getAttribute(`tessellaColor${k}`);
+        for (let f = 0; f < idx.length / 3; f++) a.array.set(data.subarray(idx[3 * f + k] * c, idx[3 * f + k] * c + c), c * f);
+        a.needsUpdate = true;
+        bytes += a.array.byteLength;
+      }
+    }
+    return bytes;
+  }
+
+  #sourceVersions() {
+    const g = this.#source;
+    const version = (name) => g.getAttribute(name)?.version ?? -1;
+    return { position: version('position'), normal: version('normal'), uv: version('uv'), color: version('color') };
+  }
+
+  // Updates when the source's attributes changed since the last update.
+  #sync() {
+    if (!this.autoUpdate || this.#surface === null) return;
+    const v = this.#sourceVersions();
+    const w = this.#versions;
+    if (w === null || v.position !== w.position || v.normal !== w.normal || v.uv !== w.uv || v.color !== w.color) this.update();
+  }
+
+  /** Follows the source's transform and (autoUpdate) its moved vertices: three calls this before culling. */
+  updateMatrixWorld(force) {
+    if (this.#surface !== undefined) {
+      this.#follow();
+      this.#sync();
+    }
+    super.updateMatrixWorld(force);
+  }
+
+  /** Checks the renderer once (a TessellaError says what it lacks) and updates if the source moved. */
+  onBeforeRender(renderer) {
+    this.#check(renderer);
+    this.#sync();
+  }
+
+  onBeforeShadow(renderer) {
+    this.#check(renderer);
+    this.#sync();
+  }
+
+  #check(renderer) {
+    if (this.#checked === renderer) return;
+    const why = missing(renderer);
+    if (why !== null) throw new TessellaError(why);
+    const size = renderer.capabilities.maxTextureSize;
+    if (this.#surface.width > size || this.#surface.height > size) {
+      throw new TessellaError(`the nets texture is ${this.#surface.width}x${this.#surface.height}, over this renderer's largest texture, ${size}`);
+    }
+    this.#checked = renderer;
+  }
+
+  /** Ray hits on the coarse source mesh (placed where this is), reported with this object. */
+  raycast(raycaster, intersects) {
+    const proxy = (this.#proxy ??= new Mesh());
+    proxy.geometry = this.#source;
+    proxy.material = this.material;
+    proxy.matrixWorld.copy(this.matrixWorld);
+    const hits = [];
+    proxy.raycast(raycaster, hits);
+    for (const hit of hits) {
+      hit.object = this;
+      intersects.push(hit);
+    }
+  }
+
+  /** Frees the wasm memory, the texture, the pattern geometry and the shadow materials. */
+  dispose() {
+    if (this.#surface === null) return;
+    this.#surface.free();
+    this.#surface = null;
+    this.#texture.dispose();
+    this.geometry.dispose();
+    this.customDepthMaterial.dispose();
+    this.customDistanceMaterial.dispose();
+    patched.delete(this.material);
   }
 }

@@ -2,8 +2,9 @@
 // other tests exercise; the lines marked @ts-expect-error must be refused.
 import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
 import type { MeshOutput, Pose, RefineOutput } from 'tessella';
-import { refineGeometry, RefinedGeometry } from 'tessella/three';
-import { BufferGeometry } from 'three';
+import { refineGeometry, RefinedGeometry, TessellatedMesh } from 'tessella/three';
+import { InstancedSurface } from 'tessella';
+import { BufferGeometry, Mesh, MeshStandardMaterial } from 'three';
 
 await ready;
 const v: 'simd' | 'scalar' = variant;
@@ -34,6 +35,16 @@ const rest: Float32Array = anim.pose(null).normals;
 const corners: Uint32Array = anim.indices;
 const count: number = anim.vertexCount;
 anim.free();
+const tm = new TessellatedMesh(new Mesh(new BufferGeometry()), new MeshStandardMaterial(), { scheme: 'pn', level: 4, normalsFromSource: false });
+const bytes: number = tm.update().uploadedBytes;
+const instances: number = tm.geometry.instanceCount;
+tm.dispose();
+const surface = new InstancedSurface(new Uint32Array(3), { level: 2 });
+const nets: Float32Array = surface.update(new Float32Array(9), null, new Float32Array(surface.width * surface.height * 4));
+const glsl: string = surface.glsl();
+surface.free();
+// @ts-expect-error: no lod on the instanced path
+new InstancedSurface(new Uint32Array(3), { lod: 'tolerance:0.1' });
 // @ts-expect-error: made by readAnimated only
 new AnimatedMesh();
 // @ts-expect-error: a clip is a name or an index
@@ -44,4 +55,4 @@ refine({ positions: [0, 0, 0], indices: new Uint32Array(3) });
 refine({ positions: new Float32Array(9), indices: new Uint32Array(3) }, { normals: 'cubic' });
 // @ts-expect-error: not a format writeMesh writes
 writeMesh(m, 'fbx');
-export { v, names, p, faces, i, computed, glb, e, g, same, clips, seconds, pose, rest, corners, count };
+export { v, names, p, faces, i, computed, glb, e, g, same, clips, seconds, pose, rest, corners, count, bytes, instances, nets, glsl };
