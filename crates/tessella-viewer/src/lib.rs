@@ -29,6 +29,7 @@ mod error;
 mod panel;
 pub mod params;
 mod pick;
+pub mod playback;
 pub mod present;
 mod stats;
 mod viewer;

@@ -65,6 +65,13 @@ pub struct Params {
     pub panels: Vec<Scheme>,
     /// Tags JSON text (the CLI's `--tags` format); empty: none.
     pub tags: String,
+    /// The loaded file's animation clip played, by name or index as given (checked against
+    /// the file's clips by the viewer); `None`: the rest pose. A clip overrides `animate`.
+    pub clip: Option<String>,
+    /// Seconds into the clip: where it is paused, or where it plays from.
+    pub time: f32,
+    /// The clip plays (its time advances with the frames, looping) or stays at `time`.
+    pub playing: bool,
 }
 
 impl Default for Params {
@@ -88,12 +95,15 @@ impl Default for Params {
             animate: Animation::None,
             panels: Vec::new(),
             tags: String::new(),
+            clip: None,
+            time: 0.0,
+            playing: true,
         }
     }
 }
 
 /// The keys [`Params::apply`] takes, in `CONTRACT.md`'s order.
-pub const KEYS: [&str; 17] = [
+pub const KEYS: [&str; 20] = [
     "scheme",
     "level",
     "spacing",
@@ -110,19 +120,25 @@ pub const KEYS: [&str; 17] = [
     "animate",
     "panels",
     "tags",
+    "clip",
+    "time",
+    "playing",
     // Accepted for the URL's sake (`?mesh=...`): the page loads meshes itself, so it is
     // ignored here.
     "mesh",
 ];
 
 /// Keys whose change only moves the camera or the per-frame work: no surface rebuild.
-const VIEW_ONLY: [&str; 7] = [
+const VIEW_ONLY: [&str; 10] = [
     "wireframe",
     "yaw",
     "pitch",
     "zoom",
     "pan",
     "animate",
+    "clip",
+    "time",
+    "playing",
     "mesh",
 ];
 
@@ -351,6 +367,21 @@ impl Params {
                     }
                     p.tags = json.to_string();
                 }
+                "clip" => {
+                    let clip = text("clip", value)?.trim();
+                    p.clip = (!clip.is_empty() && clip != "none").then(|| clip.to_string());
+                }
+                "time" => {
+                    let time = float("time", value)?;
+                    if time < 0.0 {
+                        return Err(bad(
+                            "time",
+                            format!("must be 0 or more seconds, got {time}"),
+                        ));
+                    }
+                    p.time = time;
+                }
+                "playing" => p.playing = boolean("playing", value)?,
                 "mesh" => {}
                 other => {
                     return Err(ViewerError::Param {
@@ -400,6 +431,9 @@ impl Params {
             zoom: 1.0,
             pan: [0.0; 2],
             animate: Animation::None,
+            clip: None,
+            time: 0.0,
+            playing: true,
             ..p.clone()
         };
         debug_assert!(VIEW_ONLY.iter().all(|k| KEYS.contains(k)));
@@ -425,6 +459,9 @@ impl Params {
             "animate": self.animate.name(),
             "panels": self.panels.iter().map(|s| s.name()).collect::<Vec<_>>(),
             "tags": self.tags,
+            "clip": self.clip.as_deref().unwrap_or("none"),
+            "time": self.time,
+            "playing": self.playing,
         })
     }
 }

@@ -24,6 +24,12 @@ pub struct Stats {
     pub level: f32,
     /// `"webgpu"` in the browser, else wgpu's backend (`"vulkan"`, `"metal"`, ...).
     pub backend: String,
+    /// The loaded file's animation clips (empty: none).
+    pub clips: Vec<String>,
+    /// The duration of the clip playing, seconds (0 without one).
+    pub duration: f32,
+    /// Why the last frame kept the previous pose (a pose the surfaces refuse), if it did.
+    pub pose_error: Option<String>,
 }
 
 /// The backend's name as `stats()` gives it.
@@ -47,6 +53,9 @@ impl Stats {
             static_bytes: 0,
             level: 0.0,
             backend: backend_name(ctx.info.backend),
+            clips: Vec::new(),
+            duration: 0.0,
+            pose_error: None,
         }
     }
 

@@ -7,6 +7,7 @@ use crate::error::ViewerError;
 use crate::panel::Panel;
 use crate::params::Params;
 use crate::pick::{self, Picked};
+use crate::playback::{Playback, ANIMATED_SAMPLE};
 use crate::stats::Stats;
 use glam::Mat4;
 use serde_json::{Map, Value};
@@ -57,6 +58,12 @@ pub struct Viewer {
     deformed: bool,
     /// Bytes uploaded outside a frame (a moved vertex), counted with the next frame.
     pending_upload: u64,
+    /// The loaded file's animation clips, when it has any.
+    playback: Option<Playback>,
+    /// The clip `params.clip` names, resolved.
+    clip: Option<usize>,
+    /// The clip and time (bits) the panels show; a paused clip is not posed again.
+    posed: Option<(usize, u32)>,
     stats: Stats,
 }
 
@@ -109,6 +116,25 @@ fn build_panels(
         .collect()
 }
 
+/// The samples `load_sample` takes: the core's static ones and the animated creature.
+pub fn sample_names() -> Vec<String> {
+    samples::NAMES
+        .iter()
+        .map(|s| s.to_string())
+        .chain([ANIMATED_SAMPLE.to_string()])
+        .collect()
+}
+
+/// A glTF file's animation clips, when it has any (other formats hold none).
+fn animation_of(name: &str, bytes: &[u8]) -> Result<Option<Playback>, ViewerError> {
+    let lower = name.to_ascii_lowercase();
+    if !(lower.ends_with(".glb") || lower.ends_with(".gltf")) {
+        return Ok(None);
+    }
+    let model = tessella_io::read_animated_bytes(name, bytes, &[])?;
+    Playback::new(name, model)
+}
+
 fn tag_file(text: &str) -> Result<TagFile, ViewerError> {
     if text.trim().is_empty() {
         return Ok(TagFile::default());
@@ -147,6 +173,9 @@ impl Viewer {
             panels,
             deformed: false,
             pending_upload: 0,
+            playback: None,
+            clip: None,
+            posed: None,
             stats,
         })
     }
@@ -160,31 +189,57 @@ impl Viewer {
     /// format). On error the previous mesh stays. Tags are cleared (they named the old mesh's
     /// vertices).
     pub fn load(&mut self, name: &str, bytes: &[u8]) -> Result<(), ViewerError> {
-        let raw = tessella_io::read_raw_bytes(name, bytes, &[])?;
-        let mesh = Mesh::new(
-            raw.positions.clone(),
-            raw.normals.clone(),
-            raw.uvs.clone(),
-            raw.triangles.clone(),
-        )
-        .map_err(|e| ViewerError::Refused(format!("cannot use {name}: {e}")))?;
-        self.replace_mesh(mesh, Some(raw))
+        let mut raw = tessella_io::read_raw_bytes(name, bytes, &[])?;
+        let playback = animation_of(name, bytes)?;
+        let mesh = match &playback {
+            // An animated file's mesh is its rest pose, in the scene's space.
+            Some(playback) if playback.vertex_count() == raw.positions.len() => {
+                let rest = playback.rest()?;
+                raw.positions = rest.positions().to_vec();
+                raw.normals = Some(rest.normals().to_vec());
+                rest
+            }
+            _ => Mesh::new(
+                raw.positions.clone(),
+                raw.normals.clone(),
+                raw.uvs.clone(),
+                raw.triangles.clone(),
+            )
+            .map_err(|e| ViewerError::Refused(format!("cannot use {name}: {e}")))?,
+        };
+        let playback = playback.filter(|p| p.vertex_count() == mesh.vertex_count());
+        self.replace_mesh(mesh, Some(raw), playback)
     }
 
     /// Replaces the mesh with a bundled sample ([`samples::NAMES`]).
     pub fn load_sample(&mut self, name: &str) -> Result<(), ViewerError> {
+        if name == ANIMATED_SAMPLE {
+            let playback = Playback::sample()?;
+            return self.replace_mesh(playback.rest()?, None, Some(playback));
+        }
         let mesh = samples::by_name(name).ok_or_else(|| {
             ViewerError::Refused(format!(
                 "no sample {name:?}; use one of {:?}",
-                samples::NAMES
+                sample_names()
             ))
         })?;
-        self.replace_mesh(mesh, None)
+        self.replace_mesh(mesh, None, None)
     }
 
-    fn replace_mesh(&mut self, mesh: Mesh, raw: Option<RawMesh>) -> Result<(), ViewerError> {
+    fn replace_mesh(
+        &mut self,
+        mesh: Mesh,
+        raw: Option<RawMesh>,
+        playback: Option<Playback>,
+    ) -> Result<(), ViewerError> {
+        // The clip stays when the new file has one of that name (a reload), else none.
+        let clip = match (&playback, &self.params.clip) {
+            (Some(p), Some(name)) => p.resolve(name).ok(),
+            _ => None,
+        };
         let params = Params {
             tags: String::new(),
+            clip: clip.and(self.params.clip.clone()),
             ..self.params.clone()
         };
         let tags = TagFile::default();
@@ -203,6 +258,9 @@ impl Viewer {
         self.tags = tags;
         self.panels = panels;
         self.deformed = false;
+        self.playback = playback;
+        self.clip = clip;
+        self.posed = None;
         Ok(())
     }
 
@@ -210,6 +268,26 @@ impl Viewer {
     /// validated and the surfaces rebuilt before anything changes.
     pub fn set(&mut self, changes: &Map<String, Value>) -> Result<(), ViewerError> {
         let next = self.params.apply(changes)?;
+        let clip = match (&next.clip, &self.playback) {
+            (None, _) => None,
+            (Some(name), Some(playback)) => Some(playback.resolve(name)?),
+            (Some(_), None) => {
+                return Err(ViewerError::Param {
+                    name: "clip",
+                    message: "this mesh has no animation clips".into(),
+                })
+            }
+        };
+        // A new clip, time or play state restarts the clip's clock from `time`.
+        if ["clip", "time", "playing"]
+            .iter()
+            .any(|k| changes.contains_key(*k))
+        {
+            if let Some(playback) = &mut self.playback {
+                playback.restart();
+            }
+        }
+        self.clip = clip;
         let tags = if changes.contains_key("tags") {
             tag_file(&next.tags)?
         } else {
@@ -244,6 +322,7 @@ impl Viewer {
         self.tags = tags;
         self.panels = panels;
         self.deformed = false;
+        self.posed = None;
         Ok(())
     }
 
@@ -336,14 +415,46 @@ impl Viewer {
     pub fn draw(&mut self, view: &wgpu::TextureView, time_ms: f64) -> Result<(), ViewerError> {
         let start = crate::clock::now_ms();
         let mut uploaded = std::mem::take(&mut self.pending_upload);
-        match deform::at(&self.rest, self.params.animate, time_ms) {
+        let clip = match (&mut self.playback, self.clip) {
+            (Some(playback), Some(clip)) => Some((playback, clip)),
+            _ => None,
+        };
+        let synthetic = match clip {
+            Some(_) => None,
+            None => deform::at(&self.rest, self.params.animate, time_ms),
+        };
+        if let Some((playback, clip)) = clip {
+            let time = playback.time_at(clip, self.params.time, self.params.playing, time_ms);
+            self.params.time = time;
+            if self.posed != Some((clip, time.to_bits())) {
+                // A pose the panels refuse (a triangle collapsed to no area) keeps the last
+                // good frame on screen; the stats say why.
+                self.stats.pose_error = None;
+                let (positions, normals) = playback.pose(clip, time)?;
+                for panel in &mut self.panels {
+                    match panel.deform(positions, normals) {
+                        Ok(bytes) => uploaded += bytes,
+                        Err(ViewerError::Refine(e)) => {
+                            self.stats.pose_error = Some(format!("clip at {time} s: {e}"));
+                            break;
+                        }
+                        Err(e) => return Err(e),
+                    }
+                }
+                self.posed = Some((clip, time.to_bits()));
+                self.deformed = true;
+            }
+        } else {
+            self.posed = None;
+        }
+        match synthetic {
             Some((positions, normals)) => {
                 for panel in &mut self.panels {
                     uploaded += panel.deform(&positions, Some(&normals))?;
                 }
                 self.deformed = true;
             }
-            None if self.deformed => {
+            None if self.deformed && self.clip.is_none() => {
                 for panel in &mut self.panels {
                     uploaded += panel.deform(self.rest.positions(), Some(self.rest.normals()))?;
                 }
@@ -383,6 +494,14 @@ impl Viewer {
         self.ctx.check()?;
         self.stats
             .frame(&self.panels, uploaded, crate::clock::now_ms() - start);
+        self.stats.clips = self
+            .playback
+            .as_ref()
+            .map_or_else(Vec::new, Playback::clip_names);
+        self.stats.duration = match (&self.playback, self.clip) {
+            (Some(playback), Some(clip)) => playback.duration(clip),
+            _ => 0.0,
+        };
         Ok(())
     }
 

@@ -102,10 +102,7 @@ impl WebViewer {
     }
 
     pub fn samples(&self) -> Vec<String> {
-        tessella_core::samples::NAMES
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
+        crate::viewer::sample_names()
     }
 
     pub fn set(&mut self, params: JsValue) -> Result<(), JsError> {

@@ -260,3 +260,83 @@ fn pick_finds_the_vertex_drawn_at_a_pixel() {
     // Off the mesh: nothing.
     assert_eq!(v.pick(1.0, 1.0), None);
 }
+
+/// The bundled animated sample's bytes.
+fn animated_glb() -> Vec<u8> {
+    std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../samples/animated-creature.glb"
+    ))
+    .unwrap()
+}
+
+/// A glTF file with clips plays them: paused at a given time the panels hold the pose
+/// `Poser::pose_into` gives, a frame uploads the control nets alone (nothing while paused),
+/// playing moves the time and the picture, and bad clips are refused by name.
+#[test]
+fn a_files_clip_plays_posed_as_the_poser_poses_it() {
+    use tessella_core::animation::Poser;
+    let size = (160, 160);
+    let mut v = viewer(size);
+    v.load("animated-creature.glb", &animated_glb()).unwrap();
+    let poser =
+        Poser::new(tessella_io::read_animated_bytes("a.glb", &animated_glb(), &[]).unwrap())
+            .unwrap();
+    let wave = poser.clip_index("wave").unwrap();
+    set(
+        &mut v,
+        json!({"clip": "wave", "time": "0.5", "playing": false}),
+    )
+    .unwrap();
+    let paused = frame(&mut v, 1000.0);
+    let (expected, _) = poser.pose(Some(wave), 0.5).unwrap();
+    let shown = v.panels()[0].mesh().positions().to_vec();
+    let gap = shown
+        .iter()
+        .zip(&expected)
+        .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
+        .fold(0.0f32, f32::max);
+    assert!(
+        gap <= 1e-6 * v.mesh().diagonal(),
+        "the panel's mesh is {gap} off the pose"
+    );
+    let faces = poser.model().triangles.len() as u64;
+    assert_eq!(v.stats().uploaded_bytes, faces * 16 * 12, "PN's nets alone");
+    assert_eq!(v.stats().clips, ["wave", "hop", "breathe"]);
+    assert!(v.stats().duration > 0.5);
+    let rest = poser.mesh(None, 0.0).unwrap();
+    // Paused: the same frame again uploads nothing.
+    frame(&mut v, 1500.0);
+    assert_eq!(v.stats().uploaded_bytes, 0);
+    assert_eq!(v.params().time, 0.5);
+    // Playing from 0.5: 250 ms later the clip is at 0.75 and the picture moved.
+    set(&mut v, json!({"playing": true})).unwrap();
+    frame(&mut v, 2000.0);
+    let later = frame(&mut v, 2250.0);
+    assert!((v.params().time - 0.75).abs() < 1e-4, "{}", v.params().time);
+    assert_eq!(v.stats().uploaded_bytes, faces * 16 * 12);
+    assert!(differing(&paused, &later, 8) > 20);
+    // Bad clips name the parameter; the clip playing stays.
+    for bad in [
+        json!({"clip": "dance"}),
+        json!({"time": -1}),
+        json!({"time": "soon"}),
+    ] {
+        let e = set(&mut v, bad.clone()).unwrap_err().to_string();
+        assert!(
+            e.starts_with("clip:") || e.starts_with("time:"),
+            "{bad}: {e}"
+        );
+    }
+    assert_eq!(v.params().clip.as_deref(), Some("wave"));
+    // No clip: the rest pose again.
+    set(&mut v, json!({"clip": "none"})).unwrap();
+    frame(&mut v, 3000.0);
+    assert_eq!(v.panels()[0].mesh().positions(), rest.positions());
+    // A mesh without clips refuses one.
+    v.load_sample("icosphere").unwrap();
+    let e = set(&mut v, json!({"clip": "wave"}))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("clip:"), "{e}");
+}
