@@ -353,6 +353,13 @@ pub struct ViewArgs {
     /// Deformation played over time: none, twist or bend.
     #[arg(long, default_value = "none")]
     pub animate: String,
+    /// Play this animation clip of the input (a glTF file's, by name or index); it overrides
+    /// --animate. Space plays and pauses, `,` and `.` step a frame back and forth.
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub clip: Option<String>,
+    /// With --clip: open paused at this many seconds into the clip.
+    #[arg(long, value_name = "SECONDS", requires = "clip", allow_negative_numbers = true)]
+    pub time: Option<f32>,
     /// Draw this many frames, then exit (with --screenshot: save the last one first).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: Option<u32>,

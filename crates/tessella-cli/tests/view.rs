@@ -79,6 +79,34 @@ fn dragging_orbits_and_pans_as_the_page_does() {
 }
 
 #[test]
+fn clip_keys_play_pause_and_step() {
+    let p = Params::default();
+    // Without a clip the keys mean nothing.
+    for key in [' ', ',', '.'] {
+        assert!(view_input::key(&p, Key::Char(key), NONE, 600).is_none());
+    }
+    let p = after(
+        &p,
+        &view_input_changes(serde_json::json!({"clip": "wave", "time": 1.0})),
+    );
+    assert!(p.playing);
+    let paused = press(&p, Key::Char(' '), NONE);
+    assert!(!paused.playing);
+    assert!(press(&paused, Key::Char(' '), NONE).playing);
+    let back = press(&p, Key::Char(','), NONE);
+    assert!(close(back.time, 1.0 - 1.0 / 24.0) && !back.playing);
+    let on = press(&back, Key::Char('.'), NONE);
+    assert!(close(on.time, 1.0));
+    // Never before the clip's start.
+    let start = after(&p, &view_input_changes(serde_json::json!({"time": 0.01})));
+    assert_eq!(press(&start, Key::Char(','), NONE).time, 0.0);
+}
+
+fn view_input_changes(value: Value) -> Map<String, Value> {
+    value.as_object().expect("an object").clone()
+}
+
+#[test]
 fn keys_change_the_parameters_the_page_changes() {
     let p = Params::default();
     assert!(close(press(&p, Key::Left, NONE).yaw, p.yaw + 5.0));
@@ -249,6 +277,12 @@ fn bad_files_and_parameters_are_refused_before_a_window_opens() {
             "level: must be a finite number above 0",
         ),
         (&["view", "--animate", "spin"], "animate: unknown animation"),
+        (&["view", ANIMATED, "--clip", "dance"], "clip: "),
+        (
+            &["view", ANIMATED, "--clip", "wave", "--time", "-2"],
+            "time: ",
+        ),
+        (&["view", "--clip", "wave"], "clip: "),
         (
             &["view", "--displace", "sine:0.1,5", "--lod", "screen:4"],
             "displace:",
@@ -361,6 +395,12 @@ fn assert_same_view(what: &str, window: &image::RgbaImage, render: &image::RgbaI
 const CAMERA: [&str; 10] = [
     "--size", "320x240", "--yaw", "40", "--pitch", "15", "--scheme", "pn", "--level", "8",
 ];
+
+/// The bundled animated sample: three clips (wave, hop, breathe).
+const ANIMATED: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../samples/animated-creature.glb"
+);
 
 fn creature() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/creature.obj")
@@ -508,4 +548,42 @@ fn read_xwd(bytes: &[u8]) -> image::RgbaImage {
         let channel = |m: u32| ((v & m) >> m.trailing_zeros()) as u8;
         image::Rgba([channel(masks[0]), channel(masks[1]), channel(masks[2]), 255])
     })
+}
+
+/// `--clip NAME --time T` opens the animated sample paused at T: two times give two poses, and
+/// the same time twice the same picture (paused, the clock does not move it).
+#[test]
+fn a_clip_opens_paused_at_its_time() {
+    let _one = XVFB.lock().unwrap_or_else(|p| p.into_inner());
+    let Some(xvfb) = display_tool("xvfb-run") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let shot = |time: &str, frames: &str| {
+        let path = dir.path().join(format!("clip-{time}-{frames}.png"));
+        let mut view = Command::new(&xvfb);
+        view.args(["-a", "-s", "-screen 0 1024x768x24"])
+            .arg(env!("CARGO_BIN_EXE_tessella"))
+            .args(["view", ANIMATED, "--clip", "wave", "--time", time])
+            .args(["--frames", frames, "--screenshot"])
+            .arg(&path)
+            .args(CAMERA);
+        run(&mut view);
+        image::open(&path).unwrap().to_rgba8()
+    };
+    let at = shot("0.5", "2");
+    let again = shot("0.5", "5");
+    let start = shot("0", "2");
+    let covered = mask(&at).iter().filter(|&&m| m).count();
+    assert!(covered > 2000, "the creature covers {covered} pixels");
+    assert_eq!(at, again, "a paused clip moved");
+    let moved = at
+        .pixels()
+        .zip(start.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        moved > 200,
+        "wave at 0.5 s and at 0 differ in {moved} pixels"
+    );
 }

@@ -38,9 +38,16 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         Some(path) => {
             // The CLI's own reader first, for its usual messages on a broken file.
             super::tags::read(path)?;
+            if let Some(clip) = &args.clip {
+                let poser = super::pose::load(path)?;
+                poser.clip_index(clip).map_err(|e| anyhow!("clip: {e}"))?;
+            }
             let bytes =
                 std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
             Some((path.display().to_string(), bytes))
+        }
+        None if args.clip.is_some() => {
+            anyhow::bail!("clip: the first sample has no animation clips; give a glTF file")
         }
         None => None,
     };
@@ -100,7 +107,17 @@ fn changes(args: &ViewArgs) -> anyhow::Result<Map<String, Value>> {
         "tags": tags,
     });
     match value {
-        Value::Object(map) => Ok(map),
+        Value::Object(mut map) => {
+            if let Some(clip) = &args.clip {
+                map.insert("clip".into(), json!(clip));
+            }
+            // A given time opens paused there, as the page's URL does.
+            if let Some(time) = args.time {
+                map.insert("time".into(), json!(time));
+                map.insert("playing".into(), json!(false));
+            }
+            Ok(map)
+        }
         _ => Err(anyhow!("the parameters are not an object")),
     }
 }
@@ -277,7 +294,9 @@ impl App {
             }
             return Ok(true);
         }
-        if frames.is_some() || r.viewer.params().animate != Animation::None {
+        let p = r.viewer.params();
+        let clip_playing = p.clip.is_some() && p.playing;
+        if frames.is_some() || p.animate != Animation::None || clip_playing {
             r.window.request_redraw();
         }
         Ok(false)
@@ -344,8 +363,18 @@ fn title(viewer: &Viewer, fps: f64) -> String {
         Some(lod) => format!("lod {lod} (level {:.1})", s.level),
         None => format!("level {}", p.level),
     };
+    let clip = match &p.clip {
+        Some(clip) => format!(
+            " | {clip} {:.2}/{:.2} s{} | {} bytes a frame",
+            p.time,
+            s.duration,
+            if p.playing { "" } else { " (paused)" },
+            s.uploaded_bytes
+        ),
+        None => String::new(),
+    };
     format!(
-        "tessella view: {schemes} {levels} | {} triangles | {fps:.0} fps",
+        "tessella view: {schemes} {levels} | {} triangles | {fps:.0} fps{clip}",
         s.refined_triangles
     )
 }
@@ -393,6 +422,7 @@ fn key_of(key: &WinitKey) -> Option<Key> {
         WinitKey::Named(NamedKey::ArrowDown) => Key::Down,
         WinitKey::Named(NamedKey::Tab) => Key::Tab,
         WinitKey::Named(NamedKey::Escape) => Key::Escape,
+        WinitKey::Named(NamedKey::Space) => Key::Char(' '),
         WinitKey::Character(text) => {
             let mut chars = text.chars();
             match (chars.next(), chars.next()) {

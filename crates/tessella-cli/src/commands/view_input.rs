@@ -96,6 +96,9 @@ pub fn acts(key: Key, repeat: bool, synthetic: bool) -> bool {
     !synthetic && (!repeat || repeats(key))
 }
 
+/// What `,` and `.` step a paused clip by, seconds: a frame at 24 fps.
+const CLIP_STEP: f32 = 1.0 / 24.0;
+
 /// What `key` does with modifiers `m` to parameters `p` in a view `height` pixels high; `None`
 /// for keys without a meaning.
 pub fn key(p: &Params, key: Key, m: Modifiers, height: u32) -> Option<Action> {
@@ -130,6 +133,14 @@ pub fn key(p: &Params, key: Key, m: Modifiers, height: u32) -> Option<Action> {
             set(json!({ "animate": next }))
         }
         Key::Char('s') => Some(Action::Screenshot),
+        // A clip: play and pause, or step one frame (1/24 s) and pause.
+        Key::Char(' ') if p.clip.is_some() => set(json!({"playing": !p.playing})),
+        Key::Char(',') if p.clip.is_some() => {
+            set(json!({"time": (p.time - CLIP_STEP).max(0.0), "playing": false}))
+        }
+        Key::Char('.') if p.clip.is_some() => {
+            set(json!({"time": p.time + CLIP_STEP, "playing": false}))
+        }
         // One whole level up or down from wherever a fractional level is.
         Key::Char(']') => set(json!({"level": p.level.floor() + 1.0})),
         Key::Char('[') => set(json!({"level": (p.level.ceil() - 1.0).max(1.0)})),
