@@ -55,6 +55,11 @@ export function bindControls({ state, set, load, getCore, capture }) {
     });
   }
 
+  // A file's animation clips: the menu, play/pause, and the time slider (dragging pauses).
+  $('clip').addEventListener('change', () => set({ clip: $('clip').value }));
+  $('play').addEventListener('click', () => set({ playing: !state.playing }));
+  $('clip-time').addEventListener('input', () => set({ time: Number($('clip-time').value), playing: false }));
+
   $('sample').addEventListener('change', () => {
     if ($('sample').value) load($('sample').value);
   });
@@ -104,6 +109,8 @@ export function bindControls({ state, set, load, getCore, capture }) {
       ['static refined buffer', formatBytes(s.staticBytes)],
       ['level', s.level],
     ];
+    if (s.clips?.length) rows.push(['clip', `${state.clip} ${Number(core.get().time).toFixed(2)} / ${Number(s.duration).toFixed(2)} s`]);
+    if (s.poseError) rows.push(['pose refused', s.poseError]);
     const table = $('stats');
     table.replaceChildren(
       ...rows.map(([k, v]) => {
@@ -159,8 +166,48 @@ export function bindControls({ state, set, load, getCore, capture }) {
         $('displace-frequency').value = f;
       }
       for (const box of form.querySelectorAll('[data-panel]')) box.checked = state.panels.includes(box.dataset.panel);
+      this.refreshClip();
       const sample = [...$('sample').options].find((o) => o.value === state.mesh);
       $('sample').value = sample ? sample.value : '';
+    },
+
+    /** The clip controls: shown when the loaded file has clips, holding the engine's state. */
+    refreshClip() {
+      const core = getCore();
+      let s = null;
+      try {
+        s = core?.stats();
+      } catch {
+        s = null;
+      }
+      const clips = s?.clips ?? [];
+      $('clip-row').hidden = clips.length === 0;
+      if (clips.length === 0) return;
+      const names = ['none', ...clips];
+      if ([...$('clip').options].map((o) => o.value).join('\n') !== names.join('\n')) {
+        $('clip').replaceChildren(
+          ...names.map((n) => {
+            const o = document.createElement('option');
+            o.value = n;
+            o.textContent = n === 'none' ? '(rest pose)' : n;
+            return o;
+          }),
+        );
+      }
+      // A clip given by index shows by name.
+      const index = Number(state.clip);
+      $('clip').value = Number.isInteger(index) && clips[index] !== undefined && !clips.includes(state.clip) ? clips[index] : state.clip;
+      $('play').textContent = state.playing ? 'pause' : 'play';
+      $('play').disabled = state.clip === 'none';
+      $('clip-time').disabled = state.clip === 'none';
+      $('clip-time').max = String(Math.max(Number(s.duration) || 0, 0.01));
+      this.showTime(state.time);
+    },
+
+    /** The time slider and its label at `time` seconds. */
+    showTime(time) {
+      $('clip-time').value = String(time);
+      $('clip-time-label').textContent = `${Number(time).toFixed(2)} s`;
     },
 
     editTag(target) {

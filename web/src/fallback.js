@@ -13,6 +13,7 @@ export const MAX_TRIANGLES = 4_000_000;
 const UNSUPPORTED = {
   displace: 'none',
   animate: 'none',
+  clip: 'none',
   tags: '',
 };
 

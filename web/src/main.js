@@ -97,6 +97,7 @@ async function load(source) {
     core.load(name, bytes);
     coarse = await readCoarse(name, bytes);
     state.mesh = isFile ? name : String(source);
+    syncClip();
     dirty = true;
     clearMessage();
     updateUrl();
@@ -108,12 +109,23 @@ async function load(source) {
   }
 }
 
+/** The clip state as the engine has it (a new file may not have the clip that played). */
+function syncClip() {
+  const p = core.get();
+  if (p.clip === undefined) return; // the WebGL2 fallback plays no clips
+  state.clip = p.clip;
+  state.time = p.time;
+  state.playing = p.playing;
+}
+
 /** Sets parameters (URL names); all are checked first and nothing changes on an error. */
 async function set(params) {
   try {
     const { mesh, size, ...rest } = params;
     if (size !== undefined) parseSize(size);
     const checked = checkParams(rest);
+    // Pausing keeps the time the engine is at (it moves while the clip plays).
+    if (checked.playing === false && checked.time === undefined && state.playing) syncClip();
     if (Object.keys(checked).length > 0) core.set(checked);
     Object.assign(state, checked);
     if (size !== undefined) {
@@ -145,8 +157,10 @@ function drawFrame(time) {
 
 function loop(time) {
   try {
-    const moving = !benching && (state.animate !== 'none' || dirty);
+    const playing = state.clip !== 'none' && state.playing;
+    const moving = !benching && (state.animate !== 'none' || playing || dirty);
     if (moving) drawFrame(time);
+    if (playing) controls.showTime(core.get().time);
   } catch (e) {
     showMessage(`drawing failed: ${asError(e).message}`);
     dirty = false;
@@ -385,7 +399,7 @@ async function start() {
   await controls.fillSamples();
 
   // The URL's state: the page's own keys, then the engine's (a bad one is reported, the rest kept).
-  const { mesh = DEFAULTS.mesh, size = 'auto', ...params } = query;
+  const { mesh = DEFAULTS.mesh, size = 'auto', clip, time, playing, ...params } = query;
   for (const k of PAGE_KEYS) delete params[k];
   try {
     parseSize(size);
@@ -401,6 +415,11 @@ async function start() {
   }
   const problem = $('message').hidden ? null : $('message').textContent;
   await load(mesh).catch(() => {});
+  // A clip names one of the loaded file's: set after the load. A given time opens paused there.
+  if (clip !== undefined) {
+    const at = time === undefined ? {} : { time, playing: false };
+    await set({ clip, ...at, ...(playing === undefined ? {} : { playing }) }).catch(() => {});
+  }
   if (problem && $('message').hidden) showMessage(problem);
   // The first picture is drawn before `ready` resolves, so stats() then describe a drawn frame.
   try {

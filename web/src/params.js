@@ -29,6 +29,9 @@ export const DEFAULTS = Object.freeze({
   animate: 'none',
   panels: [],
   tags: '',
+  clip: 'none',
+  time: 0,
+  playing: true,
 });
 
 /** The parameters the engine's `set` takes (everything but `mesh`, which `load` takes). */
@@ -115,6 +118,12 @@ const CHECKS = {
     if (xs.length > 8) throw new Error(`panels takes at most 8 schemes, got ${xs.length}`);
     return xs.map((s) => s.trim());
   },
+  clip: (v) => {
+    const s = String(v ?? '').trim();
+    return s === '' ? 'none' : s;
+  },
+  time: (v) => number('time', v, (x) => x >= 0, 'a number of seconds, 0 or more'),
+  playing: (v) => bool('playing', v),
   tags: (v) => {
     const s = String(v ?? '');
     if (s !== '') {

@@ -358,7 +358,12 @@ pub struct ViewArgs {
     #[arg(long, value_name = "NAME|INDEX")]
     pub clip: Option<String>,
     /// With --clip: open paused at this many seconds into the clip.
-    #[arg(long, value_name = "SECONDS", requires = "clip", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        requires = "clip",
+        allow_negative_numbers = true
+    )]
     pub time: Option<f32>,
     /// Draw this many frames, then exit (with --screenshot: save the last one first).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]

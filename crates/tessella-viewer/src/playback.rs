@@ -15,7 +15,7 @@ const ANIMATED_SAMPLE_SUBDIVISIONS: u32 = 2;
 /// `elapsed` seconds since: looping, so always within `[0, duration]` (a clip of no duration
 /// stays at 0).
 pub fn looped(from: f32, elapsed: f64, duration: f32) -> f32 {
-    if !(duration > 0.0) {
+    if duration.is_nan() || duration <= 0.0 {
         return 0.0;
     }
     let t = (f64::from(from) + elapsed.max(0.0)).rem_euclid(f64::from(duration));

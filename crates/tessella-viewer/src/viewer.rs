@@ -261,6 +261,7 @@ impl Viewer {
         self.playback = playback;
         self.clip = clip;
         self.posed = None;
+        self.clip_stats();
         Ok(())
     }
 
@@ -278,6 +279,16 @@ impl Viewer {
                 })
             }
         };
+        let tags = if changes.contains_key("tags") {
+            tag_file(&next.tags)?
+        } else {
+            self.tags.clone()
+        };
+        if self.params.needs_rebuild(&next) || tags != self.tags {
+            self.rebuild(next, tags)?;
+        } else {
+            self.params = next;
+        }
         // A new clip, time or play state restarts the clip's clock from `time`.
         if ["clip", "time", "playing"]
             .iter()
@@ -288,17 +299,8 @@ impl Viewer {
             }
         }
         self.clip = clip;
-        let tags = if changes.contains_key("tags") {
-            tag_file(&next.tags)?
-        } else {
-            self.tags.clone()
-        };
-        if self.params.needs_rebuild(&next) || tags != self.tags {
-            self.rebuild(next, tags)
-        } else {
-            self.params = next;
-            Ok(())
-        }
+        self.clip_stats();
+        Ok(())
     }
 
     /// Builds the panels for `params` and `tags` on the current rest pose, then takes them.
@@ -324,6 +326,19 @@ impl Viewer {
         self.deformed = false;
         self.posed = None;
         Ok(())
+    }
+
+    /// The clips and the playing clip's duration in the stats (they change with the file and
+    /// the `clip` parameter, not per frame).
+    fn clip_stats(&mut self) {
+        self.stats.clips = self
+            .playback
+            .as_ref()
+            .map_or_else(Vec::new, Playback::clip_names);
+        self.stats.duration = match (&self.playback, self.clip) {
+            (Some(playback), Some(clip)) => playback.duration(clip),
+            _ => 0.0,
+        };
     }
 
     /// The parameters in effect.
@@ -494,14 +509,6 @@ impl Viewer {
         self.ctx.check()?;
         self.stats
             .frame(&self.panels, uploaded, crate::clock::now_ms() - start);
-        self.stats.clips = self
-            .playback
-            .as_ref()
-            .map_or_else(Vec::new, Playback::clip_names);
-        self.stats.duration = match (&self.playback, self.clip) {
-            (Some(playback), Some(clip)) => playback.duration(clip),
-            _ => 0.0,
-        };
         Ok(())
     }
 
