@@ -4,26 +4,11 @@
 //! builder) within 1e-6 relative, for every scheme the GPU builds and both normal nets.
 mod common;
 
-use common::ctx;
+use common::{ctx, read_vec3s, worst_relative};
 use tessella_core::animation::Poser;
 use tessella_core::refine::{Surface, SurfaceOptions};
 use tessella_core::{samples, NormalMode, Scheme};
-use tessella_gpu::{GpuContext, GpuNetBuilder, GpuSkinner, NetsTarget};
-
-fn read_vec3s(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Vec<[f32; 3]> {
-    let bytes = ctx.read_buffer(buffer, 0, buffer.size()).unwrap();
-    bytemuck::pod_collect_to_vec(&bytes)
-}
-
-/// The largest `|gpu - cpu| / max(1, |cpu|)`.
-fn worst_relative(gpu: &[[f32; 3]], cpu: &[[f32; 3]]) -> f64 {
-    assert_eq!(gpu.len(), cpu.len(), "net lengths");
-    gpu.iter()
-        .flatten()
-        .zip(cpu.iter().flatten())
-        .map(|(&g, &c)| (f64::from(g) - f64::from(c)).abs() / f64::from(c.abs()).max(1.0))
-        .fold(0.0, f64::max)
-}
+use tessella_gpu::{GpuNetBuilder, GpuSkinner, NetsTarget};
 
 #[test]
 fn gpu_skinned_nets_equal_the_cpu_frames_nets() {

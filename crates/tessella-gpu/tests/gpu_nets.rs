@@ -3,12 +3,14 @@
 //! where the input or the consumer cannot take them.
 mod common;
 
-use common::{ctx, dist, torus_with_uvs, PlainShading};
+use common::{
+    ctx, dist, pixels, read_vec3s, torus_with_uvs, worst_relative, PlainShading, FORMATS,
+};
 use tessella_core::refine::{Evaluator, Plan, Spacing, Surface, SurfaceOptions};
 use tessella_core::{samples, Mesh, NormalMode, PatchNets, RefineOptions, Scheme};
 use tessella_gpu::{
     AdaptiveRenderer, CoarseInput, CoarseStream, Displacement, GpuContext, GpuError, GpuEvaluator,
-    GpuNetBuilder, GpuOutput, GpuRefineOptions, NetsTarget, PatternRenderer, TargetFormats,
+    GpuNetBuilder, GpuOutput, GpuRefineOptions, NetsTarget, PatternRenderer,
 };
 
 /// The engine's vertex: 9 words (36 bytes), the normal before the position, padding between
@@ -75,22 +77,6 @@ fn target_buffers(ctx: &GpuContext, faces: usize) -> (wgpu::Buffer, wgpu::Buffer
         filled("points", faces * 10 * 3),
         filled("normals", faces * 6 * 3),
     )
-}
-
-fn read_vec3s(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Vec<[f32; 3]> {
-    let bytes = ctx.read_buffer(buffer, 0, buffer.size()).unwrap();
-    bytemuck::cast_slice::<u8, [f32; 3]>(&bytes).to_vec()
-}
-
-/// The largest `|gpu - cpu| / max(1, |cpu|)` over every component; panics on a length
-/// mismatch.
-fn worst_relative(gpu: &[[f32; 3]], cpu: &[[f32; 3]]) -> f64 {
-    assert_eq!(gpu.len(), cpu.len(), "net lengths");
-    gpu.iter()
-        .flatten()
-        .zip(cpu.iter().flatten())
-        .map(|(&g, &c)| (f64::from(g) - f64::from(c)).abs() / f64::from(c.abs()).max(1.0))
-        .fold(0.0, f64::max)
 }
 
 /// Builds the nets of `scheme`/`mode` for `mesh` deformed, on the GPU from the engine's
@@ -315,69 +301,6 @@ fn the_evaluator_evaluates_gpu_nets_as_it_evaluates_cpu_nets() {
             .filter(|(a, b)| (*a - *b).abs() > 1e-3);
         assert!(moved.count() > got.len() / 4);
     }
-}
-
-const SIZE: u32 = 64;
-const FORMATS: TargetFormats = TargetFormats {
-    color: wgpu::TextureFormat::Rgba8Unorm,
-    depth: None,
-    samples: 1,
-};
-
-/// The RGBA pixels of one pass drawn by `draw` on a transparent black target.
-fn pixels(ctx: &GpuContext, draw: impl FnOnce(&mut wgpu::RenderPass<'_>)) -> Vec<[u8; 4]> {
-    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("picture"),
-        size: wgpu::Extent3d {
-            width: SIZE,
-            height: SIZE,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMATS.color,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("picture readback"),
-        size: (SIZE * SIZE * 4) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
-        draw(&mut pass);
-    }
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(SIZE * 4),
-                rows_per_image: None,
-            },
-        },
-        texture.size(),
-    );
-    ctx.submit_and_wait(encoder).unwrap();
-    let bytes = ctx.read_buffer(&buffer, 0, buffer.size()).unwrap();
-    bytemuck::cast_slice::<u8, [u8; 4]>(&bytes).to_vec()
 }
 
 /// Pixels whose colour differs by more than 2 in a channel.

@@ -2,21 +2,11 @@
 //! pipelines are cached, and what a broken one gives.
 mod common;
 
-use common::{ctx, PlainShading};
+use common::{ctx, pixels, PlainShading, FORMATS, SIZE};
 use std::collections::BTreeSet;
 use tessella_core::refine::{Plan, Spacing};
 use tessella_core::{samples, RefineOptions, Scheme};
-use tessella_gpu::{
-    AdaptiveRenderer, GpuContext, GpuError, PatternRenderer, Shading, TargetFormats, UNIFORM,
-};
-
-const SIZE: u32 = 64;
-
-const FORMATS: TargetFormats = TargetFormats {
-    color: wgpu::TextureFormat::Rgba8Unorm,
-    depth: None,
-    samples: 1,
-};
+use tessella_gpu::{AdaptiveRenderer, GpuContext, GpuError, PatternRenderer, Shading, UNIFORM};
 
 /// A shading that writes what it was handed: red `face + 1` (0 for `TESSELLA_NO_FACE`),
 /// green and blue the barycentric `l.x`, `l.y` of the coarse triangle, alpha 255 · `scale`
@@ -61,66 +51,6 @@ impl IdShading {
             formats: FORMATS,
         }
     }
-}
-
-/// The RGBA pixels of one pass drawn by `draw` on a transparent black target.
-fn pixels(ctx: &GpuContext, draw: impl FnOnce(&mut wgpu::RenderPass<'_>)) -> Vec<[u8; 4]> {
-    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("ids"),
-        size: wgpu::Extent3d {
-            width: SIZE,
-            height: SIZE,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMATS.color,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    // 64 pixels of 4 bytes: rows already 256-byte aligned.
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("ids readback"),
-        size: (SIZE * SIZE * 4) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
-        draw(&mut pass);
-    }
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(SIZE * 4),
-                rows_per_image: None,
-            },
-        },
-        texture.size(),
-    );
-    ctx.submit_and_wait(encoder).unwrap();
-    let bytes = ctx.read_buffer(&buffer, 0, buffer.size()).unwrap();
-    bytes
-        .chunks_exact(4)
-        .map(|p| [p[0], p[1], p[2], p[3]])
-        .collect()
 }
 
 /// Every covered pixel names a face of the mesh and a barycentric point inside it, and many

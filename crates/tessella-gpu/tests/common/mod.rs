@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 use tessella_core::{Mesh, RefinedMesh};
-use tessella_gpu::{AdapterChoice, GpuContext, GpuError};
+use tessella_gpu::{AdapterChoice, GpuContext, GpuError, TargetFormats};
 
 /// The software adapter every test runs on (CI installs mesa-vulkan-drivers). A missing
 /// adapter fails the tests with the install hint rather than skipping them.
@@ -158,4 +158,86 @@ impl PlainShading {
             formats: self.formats,
         }
     }
+}
+
+/// The side of the pictures [`pixels`] draws.
+pub const SIZE: u32 = 64;
+pub const FORMATS: TargetFormats = TargetFormats {
+    color: wgpu::TextureFormat::Rgba8Unorm,
+    depth: None,
+    samples: 1,
+};
+
+/// The RGBA pixels of one pass drawn by `draw` on a transparent black [`SIZE`]² target of
+/// [`FORMATS`] (64 pixels of 4 bytes: rows already 256-byte aligned).
+pub fn pixels(ctx: &GpuContext, draw: impl FnOnce(&mut wgpu::RenderPass<'_>)) -> Vec<[u8; 4]> {
+    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("picture"),
+        size: wgpu::Extent3d {
+            width: SIZE,
+            height: SIZE,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMATS.color,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("picture readback"),
+        size: (SIZE * SIZE * 4) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..Default::default()
+        });
+        draw(&mut pass);
+    }
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(SIZE * 4),
+                rows_per_image: None,
+            },
+        },
+        texture.size(),
+    );
+    ctx.submit_and_wait(encoder).unwrap();
+    let bytes = ctx.read_buffer(&buffer, 0, buffer.size()).unwrap();
+    bytemuck::cast_slice::<u8, [u8; 4]>(&bytes).to_vec()
+}
+
+/// A buffer of `[f32; 3]` read back.
+pub fn read_vec3s(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Vec<[f32; 3]> {
+    let bytes = ctx.read_buffer(buffer, 0, buffer.size()).unwrap();
+    bytemuck::cast_slice::<u8, [f32; 3]>(&bytes).to_vec()
+}
+
+/// The largest `|gpu - cpu| / max(1, |cpu|)` over every component; panics on a length
+/// mismatch.
+pub fn worst_relative(gpu: &[[f32; 3]], cpu: &[[f32; 3]]) -> f64 {
+    assert_eq!(gpu.len(), cpu.len(), "net lengths");
+    gpu.iter()
+        .flatten()
+        .zip(cpu.iter().flatten())
+        .map(|(&g, &c)| (f64::from(g) - f64::from(c)).abs() / f64::from(c.abs()).max(1.0))
+        .fold(0.0, f64::max)
 }
