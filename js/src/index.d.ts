@@ -204,3 +204,31 @@ export class InstancedSurface {
   /** Frees its wasm memory. */
   free(): void;
 }
+
+/**
+ * A mesh posed by an engine's own skeleton (what TessellatedMesh follows a SkinnedMesh or a
+ * morphing Mesh with), by the core's skinning: built once from the rest pose, four joint
+ * indices and weights per vertex, and morph target displacements.
+ */
+export class Deformer {
+  constructor(source: {
+    positions: Float32Array | Float64Array;
+    normals?: Float32Array | Float64Array;
+    /** Four joint indices per vertex (with a skeleton). */
+    joints?: ArrayLike<number>;
+    /** Four weights per vertex (with a skeleton). */
+    weights?: Float32Array | Float64Array;
+    /** The skeleton's joints; 0 (default) for none: poses then take one matrix. */
+    jointCount?: number;
+    /** `targets × vertices × 3` position displacements. */
+    positionDeltas?: Float32Array | Float64Array;
+    normalDeltas?: Float32Array | Float64Array;
+    targets?: number;
+  });
+  readonly matrixCount: number;
+  readonly vertexCount: number;
+  readonly hasNormals: boolean;
+  /** Poses with `matrices` (16 column-major numbers each) and the morph `weights` into `positions` and `normals`. */
+  pose(matrices: Float32Array, weights: Float32Array, positions: Float32Array, normals?: Float32Array): void;
+  free(): void;
+}

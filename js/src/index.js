@@ -390,6 +390,49 @@ export class InstancedSurface {
 }
 
 // Makes AnimatedMesh's constructor private to readAnimated.
+/**
+ * A mesh posed by an engine's own skeleton (what `TessellatedMesh` follows a three.js
+ * `SkinnedMesh` or morphing `Mesh` with): built once from the rest `positions` and `normals`,
+ * four `joints` indices and `weights` per vertex with the skeleton's `jointCount` (0: no
+ * skeleton), and `targets` morph targets' `positionDeltas` (and `normalDeltas`), each
+ * `targets × vertices × 3` numbers. `pose(matrices, weights, positions, normals)` then poses it
+ * with the core's skinning (the code `readAnimated`'s poses run).
+ */
+export class Deformer {
+  #inner;
+
+  constructor({ positions, normals, joints, weights, jointCount = 0, positionDeltas, normalDeltas, targets = 0 }) {
+    const p = floats(positions, 'positions', 3);
+    const n = normals == null ? new Float32Array(0) : floats(normals, 'normals', 3);
+    const j = joints == null ? new Uint32Array(0) : Uint32Array.from(joints);
+    const w = weights == null ? new Float32Array(0) : floats(weights, 'weights', 4);
+    const dp = positionDeltas == null ? new Float32Array(0) : floats(positionDeltas, 'positionDeltas', 3);
+    const dn = normalDeltas == null ? new Float32Array(0) : floats(normalDeltas, 'normalDeltas', 3);
+    this.#inner = call((g) => new g.Deformer(p, n, j, w, jointCount, dp, dn, targets));
+    /** Matrices a pose takes: the joint count, or 1 without a skeleton. */
+    this.matrixCount = this.#inner.matrixCount();
+    this.vertexCount = this.#inner.vertexCount();
+    /** Whether poses carry normals (the source had them). */
+    this.hasNormals = this.#inner.hasNormals();
+  }
+
+  /**
+   * Poses with `matrices` (Float32Array, 16 column-major numbers each: a joint's matrix from
+   * the mesh's bind space to its posed space) and the morph `weights`, into `positions` and
+   * `normals` (Float32Arrays of `vertexCount * 3`; `normals` ignored without `hasNormals`).
+   */
+  pose(matrices, weights, positions, normals) {
+    if (this.#inner === null) throw new TessellaError('this Deformer was freed');
+    const inner = this.#inner;
+    call(() => inner.pose(matrices, weights, positions, this.hasNormals ? normals : new Float32Array(0)));
+  }
+
+  free() {
+    if (this.#inner !== null) this.#inner.free();
+    this.#inner = null;
+  }
+}
+
 const INTERNAL = Symbol('tessella internal');
 
 /**

@@ -1,4 +1,4 @@
-import type { BufferGeometry, DataTexture, InstancedBufferGeometry, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial } from 'three';
+import type { BufferGeometry, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Raycaster, SkinnedMesh } from 'three';
 import type { InstancedSurface, InstancedSurfaceOptions, RefineOptions } from './index.js';
 
 /**
@@ -32,13 +32,14 @@ export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
  * A curved surface drawn by WebGLRenderer (WebGL2) in one instanced draw: the refinement
  * pattern once per coarse triangle, the vertex shader evaluating each triangle's patch from
  * control nets in a float texture. A Mesh source is hidden and replaced (same parent,
- * transform, shadow flags). The material is patched for it (onBeforeCompile and
- * customProgramCacheKey, chained after its own) and draws this mesh only.
+ * transform, shadow flags); a SkinnedMesh's skeleton and a Mesh's morph influences are followed
+ * every frame (posed in wasm, as getVertexPosition poses them). The material is patched for it
+ * (onBeforeCompile and customProgramCacheKey, chained after its own) and draws this mesh only.
  */
 export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
-  constructor(source: BufferGeometry | Mesh, material?: Material, options?: TessellatedMeshOptions);
-  /** The source (the coarse Mesh or BufferGeometry). */
-  readonly source: BufferGeometry | Mesh;
+  constructor(source: BufferGeometry | Mesh | SkinnedMesh, material?: Material, options?: TessellatedMeshOptions);
+  /** The source (the coarse Mesh, SkinnedMesh or BufferGeometry). */
+  readonly source: BufferGeometry | Mesh | SkinnedMesh;
   /** The nets texture (RGBA32F) the vertex shader reads. */
   readonly netsTexture: DataTexture;
   /** The wasm side: pattern, texture layout, GLSL. */
@@ -49,8 +50,10 @@ export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
   uploadedBytes: number;
   customDepthMaterial: MeshDepthMaterial;
   customDistanceMaterial: MeshDistanceMaterial;
-  /** Rebuilds the nets from the source's current attributes; the bounds follow. */
+  /** Rebuilds the nets from the source's current attributes (posed, for a skinned or morphing source); the bounds follow. */
   update(): this;
+  /** Hits on the curved surface of the last frame (its CPU refinement), reported with this object. */
+  raycast(raycaster: Raycaster, intersects: Intersection[]): void;
   /** Frees the wasm memory, the nets texture, the pattern and the shadow materials. */
   dispose(): void;
 }

@@ -16,7 +16,8 @@ import {
   RGBAFormat,
   Sphere,
 } from 'three';
-import { InstancedSurface, refine, Refiner, TessellaError } from './index.js';
+import { Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
+import { Matrix4 } from 'three';
 
 // Attributes tessella computes itself; every other float attribute is interpolated.
 const OWN = new Set(['position', 'normal', 'uv']);
@@ -46,6 +47,120 @@ function values(attribute) {
   const a = attribute.array;
   if (!(a instanceof Float32Array || a instanceof Float64Array)) return null;
   return a instanceof Float32Array && a.length === n ? a : Float32Array.from(a.subarray(0, n));
+}
+
+// Any attribute's values (integer or normalized ones too) as numbers, `itemSize` per vertex.
+function numbers(attribute, Type) {
+  const out = new Type(attribute.count * attribute.itemSize);
+  for (let i = 0; i < attribute.count; i++) {
+    for (let k = 0; k < attribute.itemSize; k++) out[i * attribute.itemSize + k] = attribute.getComponent(i, k);
+  }
+  return out;
+}
+
+// The morph targets' displacements of one attribute ('position' or 'normal'), all targets
+// one after the other; absolute targets (morphTargetsRelative false) minus the base.
+function deltas(geometry, name) {
+  const targets = geometry.morphAttributes[name];
+  const base = geometry.getAttribute(name);
+  if (targets === undefined || targets.length === 0 || base === undefined) return null;
+  const n = base.count * 3;
+  const out = new Float32Array(targets.length * n);
+  const rest = numbers(base, Float32Array);
+  targets.forEach((target, t) => {
+    if (target.count !== base.count || target.itemSize !== 3) {
+      throw new TessellaError(`morph target ${t} of ${name} has ${target.count} entries of ${target.itemSize}; the geometry has ${base.count} of 3`);
+    }
+    const d = numbers(target, Float32Array);
+    if (!geometry.morphTargetsRelative) for (let i = 0; i < n; i++) d[i] -= rest[i];
+    out.set(d, t * n);
+  });
+  return out;
+}
+
+// What moves a skinned or morphing source's coarse vertices every frame: three's skeleton and
+// morph influences, turned into the core's deform matrices and weights and posed in wasm.
+class SourcePose {
+  #mesh;
+  #deformer;
+  #matrices;
+  #last;
+  #weights;
+  #m = new Matrix4();
+
+  constructor(mesh) {
+    const g = mesh.geometry;
+    const position = g.getAttribute('position');
+    const normal = g.getAttribute('normal');
+    const skinned = mesh.isSkinnedMesh === true;
+    const bones = skinned ? mesh.skeleton?.bones : undefined;
+    if (skinned && (bones === undefined || bones.length === 0)) throw new TessellaError('the SkinnedMesh has no skeleton (bind one first)');
+    const skinIndex = g.getAttribute('skinIndex');
+    const skinWeight = g.getAttribute('skinWeight');
+    if (skinned && (skinIndex === undefined || skinWeight === undefined || skinIndex.itemSize !== 4 || skinWeight.itemSize !== 4)) {
+      throw new TessellaError('the SkinnedMesh\'s geometry needs skinIndex and skinWeight attributes of 4 components');
+    }
+    const dp = deltas(g, 'position');
+    const targets = dp === null ? 0 : dp.length / (position.count * 3);
+    const dn = targets > 0 && normal !== undefined && g.morphAttributes.normal?.length === targets ? deltas(g, 'normal') : null;
+    this.#mesh = mesh;
+    this.#deformer = new Deformer({
+      positions: numbers(position, Float32Array),
+      normals: normal === undefined ? undefined : numbers(normal, Float32Array),
+      joints: skinned ? numbers(skinIndex, Uint32Array) : undefined,
+      weights: skinned ? numbers(skinWeight, Float32Array) : undefined,
+      jointCount: skinned ? bones.length : 0,
+      positionDeltas: dp ?? undefined,
+      normalDeltas: dn ?? undefined,
+      targets,
+    });
+    this.#matrices = new Float32Array(this.#deformer.matrixCount * 16);
+    this.#last = new Float32Array(this.#matrices.length + targets).fill(NaN);
+    this.#weights = new Float32Array(targets);
+    this.positions = new Float32Array(position.count * 3);
+    this.normals = this.#deformer.hasNormals ? new Float32Array(position.count * 3) : undefined;
+  }
+
+  // The frame's joint matrices (bind space to posed mesh space, as three's
+  // SkinnedMesh.applyBoneTransform composes them) and morph weights; whether they changed.
+  #read() {
+    const mesh = this.#mesh;
+    if (mesh.isSkinnedMesh === true) {
+      const { bones, boneInverses } = mesh.skeleton;
+      const m = this.#m;
+      bones.forEach((bone, i) => {
+        m.multiplyMatrices(mesh.bindMatrixInverse, bone.matrixWorld).multiply(boneInverses[i]).multiply(mesh.bindMatrix);
+        this.#matrices.set(m.elements, 16 * i);
+      });
+    } else {
+      this.#matrices.set(this.#m.identity().elements);
+    }
+    const influences = mesh.morphTargetInfluences ?? [];
+    for (let t = 0; t < this.#weights.length; t++) this.#weights[t] = influences[t] ?? 0;
+    let changed = false;
+    const last = this.#last;
+    const k = this.#matrices.length;
+    for (let i = 0; i < k; i++) if (last[i] !== this.#matrices[i]) changed = true;
+    for (let t = 0; t < this.#weights.length; t++) if (last[k + t] !== this.#weights[t]) changed = true;
+    return changed;
+  }
+
+  /** Whether the skeleton or the morph weights moved since the last `pose()`. */
+  moved() {
+    return this.#read();
+  }
+
+  /** Poses the coarse mesh into `positions` and `normals`. */
+  pose() {
+    this.#read();
+    this.#deformer.pose(this.#matrices, this.#weights, this.positions, this.normals);
+    this.#last.set(this.#matrices);
+    this.#last.set(this.#weights, this.#matrices.length);
+  }
+
+  free() {
+    this.#deformer.free();
+  }
 }
 
 // Interpolates a per-vertex attribute at each refined vertex: the barycentric blend of its
@@ -228,8 +343,11 @@ function patchMaterial(material, uniforms, glsl, flags, key) {
  * A curved surface drawn by the GPU in one instanced call: the refinement pattern stored once
  * and drawn once per coarse triangle, its vertex shader evaluating each triangle's patch from
  * control nets in a float texture, which `update()` rebuilds (on the CPU, in wasm) when the
- * source moves. `source` is a BufferGeometry or a Mesh; a Mesh is hidden and this takes its
- * place (its parent, transform, shadow flags). Options: `scheme`, `level`, `normals`, `alpha`,
+ * source moves. `source` is a BufferGeometry, a Mesh or a SkinnedMesh; a Mesh is hidden and
+ * this takes its place (its parent, transform, shadow flags). A SkinnedMesh's skeleton (posed by
+ * three, e.g. an AnimationMixer) and a Mesh's morph target influences are followed every frame:
+ * the coarse vertices are posed in wasm as three poses them (`SkinnedMesh.getVertexPosition`),
+ * and only the nets are uploaded. Options: `scheme`, `level`, `normals`, `alpha`,
  * `normalsFromSource`.
  */
 export class TessellatedMesh extends Mesh {
@@ -242,6 +360,13 @@ export class TessellatedMesh extends Mesh {
   #checked = null;
   #proxy = null;
   #flags;
+  /** Poses a skinned or morphing source each frame (null for a plain one). */
+  #pose = null;
+  /** The options the surface was built with (raycasts refine the frame with them). */
+  #options;
+  /** Frames built so far, and the CPU refinement raycasts hit (rebuilt when a frame is newer). */
+  #frames = 0;
+  #hitGeometry = null;
 
   constructor(source, material, options = {}) {
     let sourceMesh = null;
@@ -267,6 +392,7 @@ export class TessellatedMesh extends Mesh {
     const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !MESH_OPTIONS.includes(k)));
     const surface = new InstancedSurface(indices, rest);
     super(new InstancedBufferGeometry(), material);
+    this.#options = rest;
     this.#surface = surface;
     this.#source = geometry;
     this.#sourceMesh = sourceMesh;
@@ -327,6 +453,9 @@ export class TessellatedMesh extends Mesh {
     this.customDistanceMaterial = new MeshDistanceMaterial();
     patchMaterial(this.customDistanceMaterial, uniforms, glsl, this.#flags, key);
 
+    if (sourceMesh !== null && (sourceMesh.isSkinnedMesh === true || (geometry.morphAttributes.position?.length ?? 0) > 0)) {
+      this.#pose = new SourcePose(sourceMesh);
+    }
     if (sourceMesh !== null) {
       this.castShadow = sourceMesh.castShadow;
       this.receiveShadow = sourceMesh.receiveShadow;
@@ -375,7 +504,13 @@ export class TessellatedMesh extends Mesh {
     if (position === undefined) throw new TessellaError('the source geometry has no position attribute');
     if (this.#useNormals && normal === undefined) throw new TessellaError('normalsFromSource: the source geometry has no normal attribute');
     const data = this.#texture.image.data;
-    this.#surface.update(values(position), normal === undefined ? undefined : values(normal), data);
+    if (this.#pose !== null) {
+      // The coarse mesh as three skins and morphs it (SkinnedMesh.getVertexPosition), posed in wasm.
+      this.#pose.pose();
+      this.#surface.update(this.#pose.positions, this.#useNormals ? this.#pose.normals : undefined, data);
+    } else {
+      this.#surface.update(values(position), normal === undefined ? undefined : values(normal), data);
+    }
     this.#texture.needsUpdate = true;
     let bytes = data.byteLength;
     bytes += this.#corners();
@@ -386,6 +521,7 @@ export class TessellatedMesh extends Mesh {
     this.geometry.boundingSphere.center.set(b[6], b[7], b[8]);
     this.geometry.boundingSphere.radius = b[9];
     this.#versions = this.#sourceVersions();
+    this.#frames++;
     return this;
   }
 
@@ -435,7 +571,13 @@ export class TessellatedMesh extends Mesh {
     if (!this.autoUpdate || this.#surface === null) return;
     const v = this.#sourceVersions();
     const w = this.#versions;
-    if (w === null || v.position !== w.position || v.normal !== w.normal || v.uv !== w.uv || v.color !== w.color) this.update();
+    const edited = w === null || v.position !== w.position || v.normal !== w.normal || v.uv !== w.uv || v.color !== w.color;
+    if (edited && this.#pose !== null && w !== null && (v.position !== w.position || v.normal !== w.normal)) {
+      // New rest vertices of a skinned or morphing source: pose those from now on.
+      this.#pose.free();
+      this.#pose = new SourcePose(this.#sourceMesh);
+    }
+    if (edited || (this.#pose !== null && this.#pose.moved())) this.update();
   }
 
   /** Follows the source's transform and (autoUpdate) its moved vertices: three calls this before culling. */
@@ -469,18 +611,47 @@ export class TessellatedMesh extends Mesh {
     this.#checked = renderer;
   }
 
-  /** Ray hits on the coarse source mesh (placed where this is), reported with this object. */
+  /**
+   * Ray hits on the refined surface of the last frame (the CPU refinement of the coarse
+   * mesh this draws, at its level and scheme, placed where this is), reported with this
+   * object; `face` and `uv` are the refined triangle's.
+   */
   raycast(raycaster, intersects) {
+    if (this.#surface === null) return;
+    const hit = this.#hitGeometry;
+    if (hit === null || hit.frame !== this.#frames) {
+      hit?.geometry.dispose();
+      this.#hitGeometry = { frame: this.#frames, geometry: this.#refinedFrame() };
+    }
     const proxy = (this.#proxy ??= new Mesh());
-    proxy.geometry = this.#source;
+    proxy.geometry = this.#hitGeometry.geometry;
     proxy.material = this.material;
     proxy.matrixWorld.copy(this.matrixWorld);
     const hits = [];
     proxy.raycast(raycaster, hits);
-    for (const hit of hits) {
-      hit.object = this;
-      intersects.push(hit);
+    for (const h of hits) {
+      h.object = this;
+      intersects.push(h);
     }
+  }
+
+  // The last frame's coarse mesh refined on the CPU (positions and normals; uvs when the
+  // source has them).
+  #refinedFrame() {
+    const g = this.#source;
+    const pose = this.#pose;
+    const positions = pose !== null ? pose.positions : values(g.getAttribute('position'));
+    const sourceNormal = this.#useNormals ? g.getAttribute('normal') : undefined;
+    const normals = pose !== null ? (this.#useNormals ? pose.normals : undefined) : sourceNormal === undefined ? undefined : values(sourceNormal);
+    const uv = g.getAttribute('uv');
+    const out = refine({ positions, indices: this.#indices, normals, uvs: uv === undefined ? undefined : values(uv) }, this.#options);
+    const geometry = new BufferGeometry();
+    geometry.setIndex(new BufferAttribute(out.indices, 1));
+    geometry.setAttribute('position', new BufferAttribute(out.positions, 3));
+    geometry.setAttribute('normal', new BufferAttribute(out.normals, 3));
+    if (out.uvs !== undefined) geometry.setAttribute('uv', new BufferAttribute(out.uvs, 2));
+    geometry.computeBoundingSphere();
+    return geometry;
   }
 
   /** Frees the wasm memory, the texture, the pattern geometry and the shadow materials. */
@@ -488,6 +659,10 @@ export class TessellatedMesh extends Mesh {
     if (this.#surface === null) return;
     this.#surface.free();
     this.#surface = null;
+    this.#pose?.free();
+    this.#pose = null;
+    this.#hitGeometry?.geometry.dispose();
+    this.#hitGeometry = null;
     this.#texture.dispose();
     this.geometry.dispose();
     this.customDepthMaterial.dispose();

@@ -344,6 +344,16 @@ pub enum AnimationError {
         got: usize,
         expected: usize,
     },
+    #[error(
+        "{got} {what} were given; the animated mesh takes {expected} (see Poser::deform_into)"
+    )]
+    DeformCount {
+        what: &'static str,
+        got: usize,
+        expected: usize,
+    },
+    #[error("{what} {index} is not finite")]
+    NonFiniteDeform { what: &'static str, index: usize },
     #[error("normals were asked for, but some instance has none; pass no normal buffer and let the core compute them (see Poser::has_normals)")]
     NoNormals,
     #[error("the posed mesh: {0}")]

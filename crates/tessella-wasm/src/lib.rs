@@ -17,6 +17,7 @@
 
 mod animated;
 mod arrays;
+mod deformer;
 mod errors;
 mod files;
 mod instanced;

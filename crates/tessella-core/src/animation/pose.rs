@@ -196,9 +196,83 @@ impl Poser {
         clip: Option<usize>,
         time: f32,
         positions: &mut [[f32; 3]],
-        mut normals: Option<&mut [[f32; 3]]>,
+        normals: Option<&mut [[f32; 3]]>,
     ) -> Result<(), AnimationError> {
         let state = self.node_state(clip, time)?;
+        self.check_buffers(positions, normals.as_deref())?;
+        // The frame's deform matrices and weights, as `deform_into` gives them to a GPU.
+        let mut matrices: Vec<Mat4> = Vec::with_capacity(self.bases.matrix_count);
+        let mut weights = Vec::with_capacity(self.bases.weight_count);
+        deform(&self.model, &state, |m| matrices.push(m), &mut weights);
+        self.pose_deformed(&matrices, &weights, positions, normals);
+        Ok(())
+    }
+
+    /// Poses the mesh with a frame's deform matrices and morph weights given by the caller
+    /// (an engine's own skeleton, e.g. three.js's bones posed by its `AnimationMixer`), laid
+    /// out as [`Poser::deform_into`] gives them: [`Poser::deform_matrix_count`] column-major
+    /// matrices (each skin's joint matrices, then each unskinned instance's world matrix) and
+    /// [`Poser::morph_weight_count`] weights. Morphing, blending and the normals are those of
+    /// [`Poser::pose_into`], which poses with this same code.
+    ///
+    /// Errors on a matrix or weight count other than the model's, a non-finite matrix entry
+    /// or weight, a buffer of the wrong length, or normals asked for that the mesh does not
+    /// have; the buffers are then left untouched.
+    ///
+    /// ```
+    /// use tessella_core::animation::Poser;
+    /// let poser = Poser::new(tessella_core::samples::animated_creature(0))?;
+    /// let (mut matrices, mut weights) = (Vec::new(), Vec::new());
+    /// poser.deform_into(Some(0), 0.5, &mut matrices, &mut weights)?;
+    /// let mut ours = vec![[0.0; 3]; poser.vertex_count()];
+    /// poser.pose_with(&matrices, &weights, &mut ours, None)?;
+    /// let (clip, _) = poser.pose(Some(0), 0.5)?;
+    /// assert_eq!(ours, clip);
+    /// # Ok::<(), tessella_core::AnimationError>(())
+    /// ```
+    pub fn pose_with(
+        &self,
+        matrices: &[[f32; 16]],
+        weights: &[f32],
+        positions: &mut [[f32; 3]],
+        normals: Option<&mut [[f32; 3]]>,
+    ) -> Result<(), AnimationError> {
+        let counts = [
+            ("deform matrices", matrices.len(), self.bases.matrix_count),
+            ("morph weights", weights.len(), self.bases.weight_count),
+        ];
+        for (what, got, expected) in counts {
+            if got != expected {
+                return Err(AnimationError::DeformCount {
+                    what,
+                    got,
+                    expected,
+                });
+            }
+        }
+        if let Some(index) = matrices
+            .iter()
+            .position(|m| !m.iter().all(|x| x.is_finite()))
+        {
+            let what = "deform matrix";
+            return Err(AnimationError::NonFiniteDeform { what, index });
+        }
+        if let Some(index) = weights.iter().position(|w| !w.is_finite()) {
+            let what = "morph weight";
+            return Err(AnimationError::NonFiniteDeform { what, index });
+        }
+        self.check_buffers(positions, normals.as_deref())?;
+        let matrices: Vec<Mat4> = matrices.iter().map(Mat4::from_cols_array).collect();
+        self.pose_deformed(&matrices, weights, positions, normals);
+        Ok(())
+    }
+
+    /// The output buffers' lengths, and normals only where the mesh has them.
+    fn check_buffers(
+        &self,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<(), AnimationError> {
         let expected = self.vertex_count();
         if positions.len() != expected {
             return Err(AnimationError::BufferLength {
@@ -207,7 +281,7 @@ impl Poser {
                 expected,
             });
         }
-        if let Some(normals) = &normals {
+        if let Some(normals) = normals {
             if !self.has_normals() {
                 return Err(AnimationError::NoNormals);
             }
@@ -219,11 +293,18 @@ impl Poser {
                 });
             }
         }
+        Ok(())
+    }
+
+    /// Poses every instance with the frame's deform matrices and morph weights (checked).
+    fn pose_deformed(
+        &self,
+        matrices: &[Mat4],
+        all_weights: &[f32],
+        positions: &mut [[f32; 3]],
+        mut normals: Option<&mut [[f32; 3]]>,
+    ) {
         let model = &self.model;
-        // The frame's deform matrices and weights, as `deform_into` gives them to a GPU.
-        let mut matrices: Vec<Mat4> = Vec::with_capacity(self.bases.matrix_count);
-        let mut all_weights = Vec::with_capacity(self.bases.weight_count);
-        deform(model, &state, |m| matrices.push(m), &mut all_weights);
         let mut positions = positions;
         for (index, instance) in model.instances.iter().enumerate() {
             let count = instance.positions.len();
@@ -249,7 +330,6 @@ impl Poser {
             };
             pose_instance(instance, weights, &deform, out, out_normals);
         }
-        Ok(())
     }
 
     /// Poses the mesh into new buffers: positions, and normals when [`Poser::has_normals`].
@@ -548,5 +628,45 @@ mod tests {
             flips += usize::from(det < 0.0);
         }
         assert!(flips > 1000, "{flips} negative determinants");
+    }
+
+    #[test]
+    fn posing_with_given_matrices_is_posing_the_clip_and_bad_ones_are_refused() {
+        let poser = Poser::new(crate::samples::animated_creature(0)).unwrap();
+        let n = poser.vertex_count();
+        let (mut matrices, mut weights) = (Vec::new(), Vec::new());
+        for clip in 0..poser.clip_count() {
+            poser
+                .deform_into(Some(clip), 0.3, &mut matrices, &mut weights)
+                .unwrap();
+            let (mut p, mut nn) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+            poser
+                .pose_with(&matrices, &weights, &mut p, Some(&mut nn))
+                .unwrap();
+            let (want_p, want_n) = poser.pose(Some(clip), 0.3).unwrap();
+            assert_eq!(p, want_p);
+            assert_eq!(Some(nn), want_n);
+        }
+        let mut p = vec![[7.0; 3]; n];
+        let short = &matrices[..matrices.len() - 1];
+        let e = poser.pose_with(short, &weights, &mut p, None).unwrap_err();
+        assert!(e.to_string().contains("deform matrices"), "{e}");
+        let mut bad = matrices.clone();
+        bad[1][5] = f32::NAN;
+        let e = poser.pose_with(&bad, &weights, &mut p, None).unwrap_err();
+        assert!(
+            e.to_string().contains("deform matrix 1 is not finite"),
+            "{e}"
+        );
+        if !weights.is_empty() {
+            let mut w = weights.clone();
+            w[0] = f32::INFINITY;
+            let e = poser.pose_with(&matrices, &w, &mut p, None).unwrap_err();
+            assert!(e.to_string().contains("morph weight 0"), "{e}");
+        }
+        assert!(
+            p.iter().all(|v| *v == [7.0; 3]),
+            "a refused pose wrote the buffer"
+        );
     }
 }

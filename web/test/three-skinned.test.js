@@ -1,0 +1,85 @@
+// tessella/three's TessellatedMesh following a SkinnedMesh in headless Chromium (WebGL2 on
+// SwiftShader): the creature loaded by three's GLTFLoader and played by its AnimationMixer
+// looks, at a given time, like refineGeometry of the vertices three itself skins
+// (getVertexPosition) drawn as a plain Mesh; while it plays, each frame uploads the nets alone.
+// Build js/ first (`cd js && npm ci && npm run build`).
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { existsSync, writeFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { PNG } from 'pngjs';
+import { serve } from '../scripts/serve.js';
+import { CHROMIUM, NO_WEBGPU_FLAGS, count, iou, mask } from './harness.js';
+
+const repo = fileURLToPath(new URL('../../', import.meta.url));
+const SHOT = process.env.TESSELLA_SKINNED_SHOT;
+
+let server;
+let browser;
+let page;
+const problems = [];
+before(async () => {
+  for (const need of ['js/dist/simd/tessella_bg.wasm', 'js/node_modules/three/build/three.module.js']) {
+    if (!existsSync(repo + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
+  }
+  server = await serve({ root: repo, port: 0 });
+  browser = await chromium.launch({ executablePath: CHROMIUM, args: NO_WEBGPU_FLAGS });
+  page = await browser.newPage();
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('console', (m) => {
+    if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`);
+  });
+  await page.goto(`${server.url}/web/test/three/skinned.html`);
+  await page.waitForFunction(() => window.tessellaSkinned !== undefined);
+  await page.evaluate(() => window.tessellaSkinned.ready);
+});
+after(async () => {
+  await browser?.close();
+  await server?.close();
+});
+
+async function run(config) {
+  const out = await page.evaluate((c) => window.tessellaSkinned.run(c), config);
+  out.img = PNG.sync.read(Buffer.from(out.png.split(',')[1], 'base64'));
+  return out;
+}
+
+test('a SkinnedMesh played by AnimationMixer matches refineGeometry of the vertices three skins, at each time', async () => {
+  const shots = [];
+  for (const [clip, time] of [['wave', 0.5], ['hop', 0.3], ['breathe', 1.2]]) {
+    const cpu = await run({ clip, times: [time], plain: true });
+    const gpu = await run({ clip, times: [time] });
+    const rest = await run({ clip, times: [0], plain: true });
+    const a = mask(cpu.img);
+    const b = mask(gpu.img);
+    const score = iou(a, b);
+    console.log(`${clip} at ${time} s: silhouette IoU ${score.toFixed(5)} (${count(a)} / ${count(b)} pixels), ${iou(b, mask(rest.img)).toFixed(4)} with the clip's start`);
+    assert.ok(count(b) > 0.03 * b.length, `${clip}: only ${count(b)} pixels drawn`);
+    assert.ok(score >= 0.99, `${clip} at ${time}: IoU ${score}`);
+    assert.equal(gpu.log[0].instanced, 1, 'one instanced draw');
+    shots.push(cpu.img, gpu.img);
+  }
+  if (SHOT) {
+    // Each clip: left the CPU refinement of three's skinned vertices, right TessellatedMesh.
+    const { width, height } = shots[0];
+    const out = new PNG({ width: 2 * width, height: height * (shots.length / 2) });
+    shots.forEach((img, i) => PNG.bitblt(img, out, 0, 0, width, height, (i % 2) * width, Math.floor(i / 2) * height));
+    writeFileSync(SHOT, PNG.sync.write(out));
+  }
+  assert.deepEqual(problems, []);
+});
+
+test('while the clip plays, a frame uploads the nets alone: at most 256 bytes per coarse triangle', async () => {
+  const times = [0.1, 0.2, 0.3, 0.4, 0.5];
+  for (const level of [8, 16]) {
+    const gpu = await run({ clip: 'wave', times, level });
+    for (const [f, frame] of gpu.log.entries()) {
+      if (f === 0) continue; // the first frame also uploads the pattern
+      console.log(`level ${level}, frame ${f}: ${frame.uploaded} bytes (${(frame.uploaded / gpu.faces).toFixed(1)} per coarse triangle)`);
+      assert.ok(frame.uploaded > 0, 'the moved nets are uploaded');
+      assert.ok(frame.uploaded <= 256 * gpu.faces, `${frame.uploaded} bytes for ${gpu.faces} triangles`);
+    }
+  }
+  assert.deepEqual(problems, []);
+});
