@@ -71,3 +71,23 @@ for (const name of PAGES) {
     await page.close();
   });
 }
+
+test('the benchmark page (npm run bench:three) measures the four ways; the tessellated ones hold and upload less', async () => {
+  const page = await browser.newPage();
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  await page.goto(`${server.url}js/bench/three/page.html`);
+  await page.waitForFunction(() => window.benchThree !== undefined);
+  await page.evaluate(() => window.benchThree.ready);
+  const { rows } = await page.evaluate(() => window.benchThree.run({ levels: [8], frames: 1, size: 128 }));
+  const by = Object.fromEntries(rows.map((r) => [r.way, r]));
+  assert.deepEqual(Object.keys(by).sort(), ['deforming refined', 'deforming tessellated', 'static refined', 'static tessellated']);
+  for (const r of rows) assert.ok(r.ms > 0 && r.allocated > 0, JSON.stringify(r));
+  // The nets (12 RGBA32F texels a triangle) against every refined vertex's position and normal.
+  assert.equal(by['deforming tessellated'].uploaded, by['deforming tessellated'].triangles * 192);
+  assert.ok(by['deforming refined'].uploaded >= 24 * (by['deforming refined'].drawn / 2), JSON.stringify(by['deforming refined']));
+  assert.equal(by['static tessellated'].uploaded, 0);
+  assert.ok(by['static tessellated'].allocated < by['static refined'].allocated / 4);
+  assert.deepEqual(problems, []);
+  await page.close();
+});
