@@ -178,3 +178,17 @@ test("three's other materials draw it too (Lambert, Phong, Physical, Normal), an
   assert.ok(count(mask(extras.img)) < 0.9 * count(mask(plain.img)), 'the clipping plane cut nothing');
   assert.deepEqual(problems, []);
 });
+
+test("a user's own ShaderMaterial draws it: calling tessella_evaluate itself, or reading position and normal", async () => {
+  for (const material of ['ShaderMaterial', 'ShaderMaterialAttributes']) {
+    const cpu = await run({ material: 'ShaderMaterialAttributes', plain: true, castShadow: false });
+    const gpu = await run({ material, castShadow: false });
+    const score = iou(mask(cpu.img), mask(gpu.img));
+    const off = differing(cpu.img, gpu.img);
+    console.log(`${material}: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
+    assert.ok(score >= 0.99, `${material}: IoU ${score}`);
+    assert.ok(off < 0.01 * count(mask(cpu.img)), `${material}: ${off} pixels of other colours`);
+    assert.equal(gpu.log[0].instanced.length, 1);
+  }
+  assert.deepEqual(problems, []);
+});

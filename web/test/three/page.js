@@ -51,6 +51,30 @@ function pose(geometry, rest, frame) {
   geometry.computeVertexNormals();
 }
 
+// A user's own ShaderMaterial, coloured by its normal: the tessellated one calls the documented
+// GLSL function itself; the other reads three's position and normal (which, patched, are the
+// curved surface's).
+function shaderMaterial(callsTessella) {
+  const main = callsTessella
+    ? `vec3 p;
+  vec3 n;
+  tessella_evaluate(gl_InstanceID, tessellaBarycentric, p, n);`
+    : `vec3 p = position;
+  vec3 n = normal;`;
+  return new THREE.ShaderMaterial({
+    vertexShader: `varying vec3 vNormal;
+void main() {
+  ${main}
+  vNormal = normalize(normalMatrix * n);
+  gl_Position = projectionMatrix * modelViewMatrix * vec4(p, 1.0);
+}`,
+    fragmentShader: `varying vec3 vNormal;
+void main() {
+  gl_FragColor = vec4(0.5 + 0.5 * normalize(vNormal), 1.0);
+}`,
+  });
+}
+
 /**
  * Draws the scene `frames` times (the source bent a little more each frame when `deform`) and
  * returns the last picture (PNG data URL) with per-frame counts. `plain`: a Mesh of the CPU
@@ -90,8 +114,13 @@ async function run({
   }
   const geometry = new THREE.TorusKnotGeometry(0.8, 0.3, 40, 6);
   const rest = geometry.getAttribute('position').array.slice();
-  const make0 = () =>
-    material === 'standard' ? new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 }) : material === 'MeshNormalMaterial' ? new THREE.MeshNormalMaterial() : new THREE[material]({ color: 0x3377cc });
+  const make0 = (tessellated) => {
+    if (material === 'standard') return new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 });
+    if (material === 'MeshNormalMaterial') return new THREE.MeshNormalMaterial();
+    if (material === 'ShaderMaterial') return shaderMaterial(tessellated);
+    if (material === 'ShaderMaterialAttributes') return shaderMaterial(false);
+    return new THREE[material]({ color: 0x3377cc });
+  };
   // extras: fog, a clipping plane, a texture (by the coarse uvs) and vertex colours.
   if (extras) {
     scene.fog = new THREE.Fog(0xffffff, 4, 8);
@@ -107,8 +136,8 @@ async function run({
   }
   const map = new THREE.DataTexture(checker, 64, 64);
   map.needsUpdate = true;
-  const make = () => {
-    const m = make0();
+  const make = (tessellated = false) => {
+    const m = make0(tessellated);
     if (extras) {
       m.map = map;
       m.vertexColors = true;
@@ -133,7 +162,7 @@ async function run({
     scene.remove(source);
     scene.add(drawn);
   } else {
-    drawn = new TessellatedMesh(source, make(), options);
+    drawn = new TessellatedMesh(source, make(true), options);
   }
   const log = [];
   for (let f = 0; f < frames; f++) {
