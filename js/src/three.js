@@ -8,6 +8,7 @@ import {
   FloatType,
   InstancedBufferAttribute,
   InstancedBufferGeometry,
+  Matrix4,
   Mesh,
   MeshDepthMaterial,
   MeshDistanceMaterial,
@@ -17,7 +18,6 @@ import {
   Sphere,
 } from 'three';
 import { Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
-import { Matrix4 } from 'three';
 
 // Attributes tessella computes itself; every other float attribute is interpolated.
 const OWN = new Set(['position', 'normal', 'uv']);
