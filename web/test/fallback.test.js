@@ -97,7 +97,7 @@ test('NaN typed into a field, bad URL values and what needs WebGPU: a message, n
     [{ level: Number.NaN }, /level must be/],
     [{ lod: 'screen:-3' }, /lod must be/],
     [{ displace: 'sine:0.05,10' }, /displace needs the WebGPU engine/],
-    [{ level: 4000 }, /over the limit of/], // the npm package's memory cap
+    [{ level: 4000 }, /level: 4000 is over 256/], // the instanced pattern's largest level
     [{ level: 240 }, /more than the WebGL2 fallback draws/], // 4.6 M triangles: the fallback's own cap
   ]) {
     const err = await page.evaluate((p) => window.viewer.set(p).then(() => null, (e) => e.message), params);
