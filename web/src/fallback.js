@@ -235,7 +235,11 @@ export class FallbackViewer {
     return seen.size;
   }
 
-  /** The coarse vertex nearest to pixel (x, y) within 16 pixels and the coarse edge nearest to it. */
+  /**
+   * The coarse vertex and edge under pixel (x, y): with the engine's coarse viewer its ray cast
+   * (as the WebGPU engine picks); without, the vertex nearest on screen within 16 pixels and
+   * its edge nearest to the pixel.
+   */
   pick(x, y) {
     if (this.#mesh === null) return null;
     const { cameras, viewports } = this.#layout(this.#params);
@@ -243,8 +247,12 @@ export class FallbackViewer {
     if (panel < 0) return null;
     const v = viewports[panel];
     const vp = cameras[panel].viewProj;
-    // The vertices where they are drawn (posed, deformed).
-    const p = this.#coarse !== null ? this.#coarse.shownPositions() : this.#mesh.positions;
+    if (this.#coarse !== null) {
+      // The engine's pick: a ray through the pixel cast against the coarse mesh as drawn.
+      const ndc = [(2 * (x - v.x)) / v.width - 1, 1 - (2 * y) / v.height];
+      return this.#coarse.pick(Float32Array.from(vp), ndc[0], ndc[1]);
+    }
+    const p = this.#mesh.positions;
     const screen = [];
     for (let i = 0; i < p.length / 3; i++) screen.push(project(vp, [p[3 * i], p[3 * i + 1], p[3 * i + 2]], v.width, v.height));
     const px = x - v.x;

@@ -8,8 +8,10 @@
 use crate::error::ViewerError;
 use crate::panel::refine_options;
 use crate::params::Params;
+use crate::pick::{self, Picked};
 use crate::playback::Playback;
 use crate::scene::{self, gather_tags, tag_file, Deform, Motion};
+use glam::Mat4;
 use serde_json::{Map, Value};
 use tessella_core::basis::NORMAL_NET_LEN;
 use tessella_core::refine::{Frame, Surface};
@@ -251,6 +253,15 @@ impl CoarseViewer {
     /// The first panel's coarse mesh as drawn now (posed, deformed).
     pub fn shown(&self) -> &Mesh {
         self.panels.first().map_or(&self.rest, |p| p.frame.mesh())
+    }
+
+    /// The coarse vertex and edge under `ndc` (x, y in -1..1, y up) of a view drawn with
+    /// `view_proj` (column-major, wgpu's 0..1 depth), ray-cast against the mesh as drawn, as
+    /// [`crate::Viewer::pick`] does; `None` when the ray misses.
+    pub fn pick(&self, view_proj: &[f32; 16], ndc: [f32; 2]) -> Option<Picked> {
+        let (origin, dir) = pick::ray(&Mat4::from_cols_array(view_proj), ndc)?;
+        let mesh = self.shown();
+        pick::pick(mesh.positions(), mesh.triangles(), origin, dir)
     }
 
     /// As [`crate::Viewer::move_vertex`].

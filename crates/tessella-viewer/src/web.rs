@@ -297,6 +297,18 @@ impl WebCoarseViewer {
             .collect()
     }
 
+    /// `{ vertex, edge }` under `(ndcX, ndcY)` (y up) of a view drawn with `viewProj` (16
+    /// numbers, column-major, wgpu's depth), ray-cast as `WebViewer.pick` does, or null.
+    pub fn pick(&self, view_proj: &[f32], ndc_x: f32, ndc_y: f32) -> Result<JsValue, JsError> {
+        let m: &[f32; 16] = view_proj
+            .try_into()
+            .map_err(|_| JsError::new("pick: viewProj must have 16 numbers"))?;
+        match self.inner.pick(m, [ndc_x, ndc_y]) {
+            None => Ok(JsValue::NULL),
+            Some(p) => from_json(&serde_json::json!({ "vertex": p.vertex, "edge": p.edge })),
+        }
+    }
+
     #[wasm_bindgen(js_name = moveVertex)]
     pub fn move_vertex(&mut self, index: u32, x: f32, y: f32, z: f32) -> Result<(), JsError> {
         self.inner.move_vertex(index, [x, y, z]).map_err(js)
