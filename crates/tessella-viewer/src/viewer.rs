@@ -89,8 +89,6 @@ fn build_panels(
         .collect()
 }
 
-pub use scene::sample_names;
-
 impl Deform for Panel {
     fn deform(
         &mut self,
@@ -146,7 +144,7 @@ impl Viewer {
         self.replace_mesh(mesh, Some(raw), playback)
     }
 
-    /// Replaces the mesh with a bundled sample ([`sample_names`]).
+    /// Replaces the mesh with a bundled sample ([`scene::sample_names`]).
     pub fn load_sample(&mut self, name: &str) -> Result<(), ViewerError> {
         let (mesh, playback) = scene::read_sample(name)?;
         self.replace_mesh(mesh, None, playback)

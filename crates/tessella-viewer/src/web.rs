@@ -102,7 +102,7 @@ impl WebViewer {
     }
 
     pub fn samples(&self) -> Vec<String> {
-        crate::viewer::sample_names()
+        crate::scene::sample_names()
     }
 
     pub fn set(&mut self, params: JsValue) -> Result<(), JsError> {
