@@ -176,6 +176,11 @@ describe('animation clips on the WebGL2 fallback', { skip }, () => {
     assert.equal(await engine.evaluate(() => window.viewer.backend), 'webgpu');
     const reference = await capture(engine);
     const same = iou(mask(fallback), mask(reference));
+    // The same counts: triangles drawn, and the static refined mesh they stand in for.
+    const [mine, theirs] = [await page.evaluate(() => window.viewer.stats()), await engine.evaluate(() => window.viewer.stats())];
+    for (const key of ['coarseTriangles', 'refinedTriangles', 'staticBytes', 'level', 'duration']) assert.equal(mine[key], theirs[key], key);
+    assert.deepEqual(mine.clips, theirs.clips);
+    assert.equal(mine.instanced, true);
     // The slider to 0: the fallback's picture moves away from the engine's at 0.5.
     await page.locator('#clip-time').fill('0');
     await page.waitForFunction(() => window.viewer.get().time === 0);
