@@ -186,6 +186,13 @@ test('instanced: tags, animation and a dragged vertex change the picture; tags a
   await page.evaluate((v) => window.viewer.moveVertex(v, 0, 1.8, 0), hit.vertex);
   const dragged = await capture(page);
   assert.ok(differing(edited, dragged, 8) > 50, 'the dragged vertex did not move the picture');
+  // The GLB export is the surface drawn: level 8, 64 triangles a coarse one, the vertex dragged.
+  const glb = Buffer.from(await page.evaluate(() => Array.from(window.viewer.exportGlb())));
+  assert.equal(glb.subarray(0, 4).toString('latin1'), 'glTF');
+  const gltf = JSON.parse(glb.subarray(20, 20 + glb.readUInt32LE(12)).toString('utf8'));
+  const primitive = gltf.meshes[0].primitives[0];
+  assert.equal(gltf.accessors[primitive.indices].count, s.coarseTriangles * 64 * 3);
+  assert.ok(gltf.accessors[primitive.attributes.POSITION].max[1] >= 1.8 - 1e-4, JSON.stringify(gltf.accessors[primitive.attributes.POSITION]));
   // Animation: the twist moves the picture, every frame sending the nets alone (≤ 256 B a triangle).
   await page.evaluate(() => window.viewer.set({ tags: '', animate: 'twist' }));
   const frames = [];
