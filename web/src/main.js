@@ -388,7 +388,7 @@ async function start() {
   $('adapter').textContent = adapterInfo ? `${core.adapter()}: ${adapterInfo}` : core.adapter();
   if (reason) {
     $('banner').hidden = false;
-    $('banner').textContent = `Drawing with the WebGL2 fallback (CPU refinement in wasm): ${reason}. Displacement, tags and animation need WebGPU.`;
+    $('banner').textContent = `Drawing with the WebGL2 fallback: ${reason}. Displacement needs WebGPU.`;
   }
   bindPointer();
   // Resizing the canvas inside the observer's callback changes the observed layout again

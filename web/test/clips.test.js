@@ -1,14 +1,16 @@
 // A glTF file's animation clips in the page (WebGPU engine, headless Chromium's SwiftShader):
 // `?clip=wave&time=0.5` opens paused there with the clip menu, slider and stats showing it; a
 // frame uploads the control nets alone (counted here from the file's triangle count, not from
-// the engine); two times give two pictures; play and pause; the WebGL2 fallback refuses clips.
+// the engine); two times give two pictures; play and pause. The WebGL2 fallback plays them too
+// (the engine's poses, its nets in a texture): the same picture as the engine at the same time,
+// one instanced draw and at most 256 bytes handed to WebGL per coarse triangle per frame.
 // Needs dist/pkg (the engine); TESSELLA_WEB_NO_ENGINE=1 skips the suite with that reason.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { existsSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { DIST } from '../scripts/serve.js';
-import { assertClean, capture, count, mask, message, open, start } from './harness.js';
+import { assertClean, capture, count, differing as differingBy, iou, mask, message, open, start } from './harness.js';
 
 const skip = process.env.TESSELLA_WEB_NO_ENGINE === '1' ? 'TESSELLA_WEB_NO_ENGINE=1: the site was built without the engine' : false;
 const SAMPLE = 'samples/animated-creature.glb';
@@ -110,17 +112,120 @@ describe('animation clips in the page', { skip }, () => {
   });
 });
 
-describe('animation clips on the WebGL2 fallback', () => {
+// Counts what the page hands WebGL2: draw calls by name and the bytes of every typed array
+// given to bufferData/bufferSubData/texImage2D/texSubImage2D (what crosses to the GPU).
+const GL_COUNTER = () => {
+  window.glCount = { draws: {}, bytes: 0 };
+  const proto = WebGL2RenderingContext.prototype;
+  for (const name of ['drawElements', 'drawArrays', 'drawElementsInstanced', 'drawArraysInstanced']) {
+    const f = proto[name];
+    proto[name] = function (...args) {
+      window.glCount.draws[name] = (window.glCount.draws[name] ?? 0) + 1;
+      return f.apply(this, args);
+    };
+  }
+  for (const name of ['bufferData', 'bufferSubData', 'texImage2D', 'texSubImage2D']) {
+    const f = proto[name];
+    proto[name] = function (...args) {
+      const data = args.find((a) => ArrayBuffer.isView(a));
+      if (data) window.glCount.bytes += data.byteLength;
+      return f.apply(this, args);
+    };
+  }
+};
+
+async function openCounted(env, query) {
+  const page = await env.browser.newPage();
+  page.problems = [];
+  page.on('pageerror', (e) => page.problems.push(`page error: ${e.message}`));
+  page.on('console', (m) => {
+    if (m.type() === 'error') page.problems.push(`console error: ${m.text()}`);
+  });
+  await page.addInitScript(GL_COUNTER);
+  await page.goto(env.url + query);
+  await page.evaluate(async () => {
+    while (window.viewer?.ready === undefined) await new Promise((r) => setTimeout(r, 20));
+    await window.viewer.ready;
+  });
+  return page;
+}
+
+describe('animation clips on the WebGL2 fallback', { skip }, () => {
   let env;
+  let gpu;
   before(async () => {
     env = await start({ webgpu: false });
+    gpu = await start({ webgpu: true });
   });
-  after(async () => env?.close());
+  after(async () => {
+    await env?.close();
+    await gpu?.close();
+  });
 
-  test('a clip needs the WebGPU engine, said by name', async () => {
-    const page = await open(env, `?mesh=${SAMPLE}&size=160x160&clip=wave`);
+  test('a paused clip is the WebGPU engine\'s picture at the same time; the pose moves with the time', async () => {
+    const query = `?mesh=${SAMPLE}&size=320x320&clip=wave&time=0.5`;
+    const page = await open(env, query);
     assert.equal(await page.evaluate(() => window.viewer.backend), 'webgl2');
-    assert.match(await message(page), /clip needs the WebGPU engine/);
+    assert.equal(await message(page), '');
+    const options = await page.locator('#clip option').evaluateAll((os) => os.map((o) => o.value));
+    assert.deepEqual(options, ['none', 'wave', 'hop', 'breathe']);
+    const state = await page.evaluate(() => window.viewer.get());
+    assert.deepEqual([state.clip, state.time, state.playing], ['wave', 0.5, false]);
+    const fallback = await capture(page);
+    const engine = await open(gpu, query);
+    assert.equal(await engine.evaluate(() => window.viewer.backend), 'webgpu');
+    const reference = await capture(engine);
+    const same = iou(mask(fallback), mask(reference));
+    // The same counts: triangles drawn, and the static refined mesh they stand in for.
+    const [mine, theirs] = [await page.evaluate(() => window.viewer.stats()), await engine.evaluate(() => window.viewer.stats())];
+    for (const key of ['coarseTriangles', 'refinedTriangles', 'staticBytes', 'level', 'duration']) assert.equal(mine[key], theirs[key], key);
+    assert.deepEqual(mine.clips, theirs.clips);
+    assert.equal(mine.instanced, true);
+    // The slider to 0: the fallback's picture moves away from the engine's at 0.5.
+    await page.locator('#clip-time').fill('0');
+    await page.waitForFunction(() => window.viewer.get().time === 0);
+    const atZero = await capture(page);
+    const moved = iou(mask(atZero), mask(reference));
+    if (process.env.TESSELLA_CLIP_SHOT) {
+      writeFileSync(process.env.TESSELLA_CLIP_SHOT, await page.screenshot());
+    }
+    console.log(`fallback vs engine, wave at 0.5 s: IoU ${same.toFixed(4)}; fallback at 0 s vs engine at 0.5 s: IoU ${moved.toFixed(4)}`);
+    assert.ok(same >= 0.98, `fallback vs engine at 0.5 s: silhouette IoU ${same}`);
+    const off = differingBy(fallback, reference, 48);
+    assert.ok(off < 0.02 * count(mask(reference)), `${off} pixels differ from the engine's by more than 48/255`);
+    assert.ok(moved < same - 0.02, `the pose at 0 s (IoU ${moved}) is no further from 0.5 s than the fallback is from the engine (${same})`);
+    assertClean(assert, page);
+    assertClean(assert, engine);
+    await page.close();
+    await engine.close();
+  });
+
+  test('playing, a frame uploads only the nets: one instanced draw, at most 256 bytes per coarse triangle', async () => {
+    const page = await openCounted(env, `?mesh=${SAMPLE}&size=320x320&clip=wave&level=8`);
+    const coarse = (await page.evaluate(() => window.viewer.stats())).coarseTriangles;
+    assert.equal(coarse, 320);
+    // Play for a while; count every frame's GL calls and bytes.
+    const { frames, counted, perFrame, drawn } = await page.evaluate(async () => {
+      const per = [];
+      await new Promise((r) => requestAnimationFrame(r));
+      window.glCount.bytes = 0;
+      window.glCount.draws = {};
+      for (let i = 0; i < 12; i++) {
+        await new Promise((r) => requestAnimationFrame(r));
+        per.push(window.viewer.stats().uploadedBytes);
+      }
+      return { frames: window.glCount.draws.drawElementsInstanced ?? 0, counted: window.glCount.bytes, perFrame: per, drawn: { ...window.glCount.draws } };
+    });
+    console.log(`fallback playing wave at level 8: ${JSON.stringify(perFrame)} bytes per frame (${coarse} coarse triangles), ${counted} bytes handed to WebGL in ${frames} frames`);
+    assert.ok(frames >= 6, `only ${frames} frames drawn while playing: ${JSON.stringify(drawn)}`);
+    // One instanced draw per frame and nothing else drawn.
+    assert.deepEqual(Object.keys(drawn), ['drawElementsInstanced']);
+    assert.ok(counted > 0, 'nothing uploaded while the clip plays');
+    assert.ok(counted <= frames * 256 * coarse, `${counted / frames} bytes a frame, over 256 per coarse triangle`);
+    // PN's nets: 16 entries of 3 floats in 12 RGBA32F texels, 320 nets in whole rows.
+    for (const b of perFrame) assert.ok(b === 0 || b === coarse * 12 * 16, `stats say ${b} bytes in a frame`);
+    assert.ok(perFrame.some((b) => b > 0));
+    assertClean(assert, page);
     await page.close();
   });
 });

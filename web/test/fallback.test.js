@@ -5,7 +5,9 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
-import { assertClean, capture, count, holes, iou, mask, message, open, start } from './harness.js';
+import { assertClean, capture, count, differing, holes, iou, mask, message, open, start } from './harness.js';
+
+const noEngine = process.env.TESSELLA_WEB_NO_ENGINE === '1' ? 'TESSELLA_WEB_NO_ENGINE=1: the site was built without the engine, whose coarse side the fallback draws tags with' : false;
 
 const repo = fileURLToPath(new URL('../../', import.meta.url));
 const corpus = `${repo}tests/corpus/`;
@@ -97,7 +99,9 @@ test('NaN typed into a field, bad URL values and what needs WebGPU: a message, n
     [{ level: Number.NaN }, /level must be/],
     [{ lod: 'screen:-3' }, /lod must be/],
     [{ displace: 'sine:0.05,10' }, /displace needs the WebGPU engine/],
-    [{ level: 4000 }, /over the limit of/], // the npm package's memory cap
+    // The instanced pattern's largest level (without the engine: the npm package's memory cap).
+    [{ level: 4000 }, noEngine ? /over the limit of/ : /level: 4000 is over 256/],
+    [{ animate: 'twist', lod: 'screen:6' }, noEngine ? /animate needs the WebGPU engine/ : /animate needs a whole level on the grid/],
     [{ level: 240 }, /more than the WebGL2 fallback draws/], // 4.6 M triangles: the fallback's own cap
   ]) {
     const err = await page.evaluate((p) => window.viewer.set(p).then(() => null, (e) => e.message), params);
@@ -128,6 +132,79 @@ test('the state is in the URL: a copied link opens the same view', async () => {
   assertClean(assert, page);
   await page.close();
   await again.close();
+});
+
+test('instanced: tags, animation and a dragged vertex change the picture; tags as the WebGPU engine draws them', { skip: noEngine }, async () => {
+  const query = '?mesh=samples/icosphere.obj&size=320x240&scheme=st';
+  const page = await open(env, query);
+  const s = await page.evaluate(() => window.viewer.stats());
+  assert.equal(s.instanced, true, JSON.stringify(s));
+  assert.equal(s.refinedTriangles, s.coarseTriangles * 64);
+  const before = await capture(page);
+  // Tension 1 on the first 12 vertices flattens the scalar-tagged patches around them.
+  const tags = JSON.stringify({ edges: [], vertices: Array.from({ length: 12 }, (_, i) => ({ index: i, tension: 1 })) });
+  await page.evaluate((t) => window.viewer.set({ tags: t }), tags);
+  const tagged = await capture(page);
+  const changed = differing(before, tagged, 8);
+  assert.ok(changed > 1000, `tags changed ${changed} pixels`);
+  // The engine with the same tags: the same picture.
+  const gpu = await start({ webgpu: true });
+  try {
+    const engine = await open(gpu, query);
+    assert.equal(await engine.evaluate(() => window.viewer.backend), 'webgpu');
+    await engine.evaluate((t) => window.viewer.set({ tags: t }), tags);
+    const reference = await capture(engine);
+    // Both pick the same coarse vertex and edge at a pixel (the same ray cast).
+    for (const [x, y] of [[160, 120], [130, 90], [200, 150]]) {
+      const mine = await page.evaluate(([x, y]) => window.viewer.pick(x, y), [x, y]);
+      const theirs = await engine.evaluate(([x, y]) => window.viewer.pick(x, y), [x, y]);
+      assert.deepEqual(mine, theirs, `pick(${x}, ${y})`);
+    }
+    const overlap = iou(mask(tagged), mask(reference));
+    const off = differing(tagged, reference, 48);
+    console.log(`tagged icosphere, fallback vs engine: IoU ${overlap.toFixed(4)}, ${off} pixels differ by > 48/255; the tags changed ${changed} pixels by > 8/255`);
+    assert.ok(overlap >= 0.98, `IoU ${overlap}`);
+    assert.ok(off < 0.02 * count(mask(reference)) && off < changed / 4, `${off} pixels differ from the engine's`);
+    assertClean(assert, engine);
+    await engine.close();
+  } finally {
+    await gpu.close();
+  }
+  // The pointer's tag edits go to the same tags.
+  const hit = await page.evaluate(() => window.viewer.pick(160, 120));
+  assert.ok(hit && Number.isInteger(hit.vertex) && hit.edge.length === 2, JSON.stringify(hit));
+  const json = await page.evaluate((h) => {
+    window.viewer.setEdgeSharpness(h.edge[0], h.edge[1], 1);
+    window.viewer.setVertexTension(h.vertex, -1, 0);
+    return window.viewer.tagsJson();
+  }, hit);
+  assert.ok(JSON.parse(json).vertices.some((v) => v.index === hit.vertex && v.tension === -1), json);
+  assert.equal(JSON.parse(json).edges.length, 1, json);
+  const edited = await capture(page);
+  assert.ok(differing(tagged, edited, 0) > 0, 'the edited tags did not change the picture');
+  // A dragged vertex moves the surface: pulled up out of the unit sphere, a spike on top.
+  await page.evaluate((v) => window.viewer.moveVertex(v, 0, 1.8, 0), hit.vertex);
+  const dragged = await capture(page);
+  assert.ok(differing(edited, dragged, 8) > 50, 'the dragged vertex did not move the picture');
+  // The GLB export is the surface drawn: level 8, 64 triangles a coarse one, the vertex dragged.
+  const glb = Buffer.from(await page.evaluate(() => Array.from(window.viewer.exportGlb())));
+  assert.equal(glb.subarray(0, 4).toString('latin1'), 'glTF');
+  const gltf = JSON.parse(glb.subarray(20, 20 + glb.readUInt32LE(12)).toString('utf8'));
+  const primitive = gltf.meshes[0].primitives[0];
+  assert.equal(gltf.accessors[primitive.indices].count, s.coarseTriangles * 64 * 3);
+  assert.ok(gltf.accessors[primitive.attributes.POSITION].max[1] >= 1.8 - 1e-4, JSON.stringify(gltf.accessors[primitive.attributes.POSITION]));
+  // Animation: the twist moves the picture, every frame sending the nets alone (≤ 256 B a triangle).
+  await page.evaluate(() => window.viewer.set({ tags: '', animate: 'twist' }));
+  const frames = [];
+  for (let i = 0; i < 3; i++) {
+    await page.waitForTimeout(300);
+    frames.push(await capture(page));
+    const u = (await page.evaluate(() => window.viewer.stats())).uploadedBytes;
+    assert.ok(u > 0 && u <= 256 * s.coarseTriangles, `${u} bytes in an animated frame`);
+  }
+  assert.ok(differing(frames[0], frames[2], 8) > 50, 'the twist did not move');
+  assertClean(assert, page);
+  await page.close();
 });
 
 /** Pixels much darker than the lit surface: wireframe lines (and the unlit rim). */

@@ -19,11 +19,15 @@
 //!   and save as the CLI's tags JSON ([`Viewer::tags_json`]).
 //! - Every call returns a `Result`; on error the previous mesh, parameters and surfaces stay.
 //!
+//! [`CoarseViewer`] is the same coarse side (files, clips, parameters, tags, poses: the shared
+//! [`scene`]) without a GPU: the web page's WebGL2 fallback draws its packed control nets.
+//!
 //! In the browser, `web.rs` (wasm32 only) is the `WebViewer` of `CONTRACT.md`, built by
 //! `build-web.sh`; its `bench()` runs tessella-bench's browser benchmark (GMR's Figure 7 and the
 //! scheme tables) on the viewer's device. `docs/viewer.md` says what is drawn and what crosses the bus.
 
 mod clock;
+mod coarse;
 mod deform;
 mod error;
 mod panel;
@@ -31,11 +35,13 @@ pub mod params;
 mod pick;
 pub mod playback;
 pub mod present;
+pub mod scene;
 mod stats;
 mod viewer;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
 
+pub use coarse::CoarseViewer;
 pub use error::ViewerError;
 pub use params::{Animation, Params};
 pub use pick::Picked;

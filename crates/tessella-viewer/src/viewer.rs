@@ -2,19 +2,19 @@
 //! drawn into the caller's texture view. Every call either succeeds or leaves the viewer as it
 //! was; nothing waits for the GPU.
 
-use crate::deform;
 use crate::error::ViewerError;
 use crate::panel::Panel;
 use crate::params::Params;
 use crate::pick::{self, Picked};
-use crate::playback::{Playback, ANIMATED_SAMPLE};
+use crate::playback::Playback;
+use crate::scene::{self, gather_tags, tag_file, Deform, Motion};
 use crate::stats::Stats;
 use glam::Mat4;
 use serde_json::{Map, Value};
 use tessella_core::refine::{Levels, Lod};
 use tessella_core::{samples, Mesh, Refiner};
 use tessella_gpu::{GpuContext, TargetFormats};
-use tessella_io::tags::{JsonSource, TagFile, TagFileEdge, TagFileVertex, TagSources};
+use tessella_io::tags::TagFile;
 use tessella_io::RawMesh;
 use tessella_view::{lod_camera, panel_widths, scene_uniforms, RenderOptions, RenderUniforms};
 
@@ -54,16 +54,10 @@ pub struct Viewer {
     /// The tags in effect: `params.tags` and the edits since.
     tags: TagFile,
     panels: Vec<Panel>,
-    /// The panels' meshes are not the rest pose (an animation ran, a vertex moved).
-    deformed: bool,
     /// Bytes uploaded outside a frame (a moved vertex), counted with the next frame.
     pending_upload: u64,
-    /// The loaded file's animation clips, when it has any.
-    playback: Option<Playback>,
-    /// The clip `params.clip` names, resolved.
-    clip: Option<usize>,
-    /// The clip and time (bits) the panels show; a paused clip is not posed again.
-    posed: Option<(usize, u32)>,
+    /// The file's clips and the pose the panels hold (shared with [`crate::CoarseViewer`]).
+    motion: Motion,
     stats: Stats,
 }
 
@@ -74,27 +68,6 @@ impl std::fmt::Debug for Viewer {
             .field("panels", &self.panels)
             .finish()
     }
-}
-
-/// The tags `scheme` gets on `mesh` from the file's PLY properties and `tags`, layered as the
-/// CLI layers them (split normals first, for the scalar-tagged scheme).
-fn gather_tags(
-    mesh: &Mesh,
-    raw: Option<&RawMesh>,
-    tags: &TagFile,
-    scheme: tessella_core::Scheme,
-) -> Result<Option<tessella_core::Tags>, ViewerError> {
-    let text = tags.to_json();
-    let empty = tags.edges.is_empty() && tags.vertices.is_empty();
-    let sources = TagSources {
-        crease_angle: None,
-        file: raw,
-        json: (!empty).then_some(JsonSource::Text {
-            text: &text,
-            origin: "in the viewer's tags",
-        }),
-    };
-    tessella_io::tags::gather(mesh, scheme, &sources).map_err(|e| ViewerError::Tags(e.to_string()))
 }
 
 /// Builds every panel of `params` on `mesh`.
@@ -116,33 +89,14 @@ fn build_panels(
         .collect()
 }
 
-/// The samples `load_sample` takes: the core's static ones and the animated creature.
-pub fn sample_names() -> Vec<String> {
-    samples::NAMES
-        .iter()
-        .map(|s| s.to_string())
-        .chain([ANIMATED_SAMPLE.to_string()])
-        .collect()
-}
-
-/// A glTF file's animation clips, when it has any (other formats hold none).
-fn animation_of(name: &str, bytes: &[u8]) -> Result<Option<Playback>, ViewerError> {
-    let lower = name.to_ascii_lowercase();
-    if !(lower.ends_with(".glb") || lower.ends_with(".gltf")) {
-        return Ok(None);
+impl Deform for Panel {
+    fn deform(
+        &mut self,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<u64, ViewerError> {
+        Panel::deform(self, positions, normals)
     }
-    let model = tessella_io::read_animated_bytes(name, bytes, &[])?;
-    Playback::new(name, model)
-}
-
-fn tag_file(text: &str) -> Result<TagFile, ViewerError> {
-    if text.trim().is_empty() {
-        return Ok(TagFile::default());
-    }
-    TagFile::parse(text).map_err(|e| ViewerError::Param {
-        name: "tags",
-        message: e.to_string(),
-    })
 }
 
 impl Viewer {
@@ -171,11 +125,8 @@ impl Viewer {
             params,
             tags,
             panels,
-            deformed: false,
             pending_upload: 0,
-            playback: None,
-            clip: None,
-            posed: None,
+            motion: Motion::default(),
             stats,
         })
     }
@@ -189,41 +140,14 @@ impl Viewer {
     /// format). On error the previous mesh stays. Tags are cleared (they named the old mesh's
     /// vertices).
     pub fn load(&mut self, name: &str, bytes: &[u8]) -> Result<(), ViewerError> {
-        let mut raw = tessella_io::read_raw_bytes(name, bytes, &[])?;
-        let playback = animation_of(name, bytes)?;
-        let mesh = match &playback {
-            // An animated file's mesh is its rest pose, in the scene's space.
-            Some(playback) if playback.vertex_count() == raw.positions.len() => {
-                let rest = playback.rest()?;
-                raw.positions = rest.positions().to_vec();
-                raw.normals = Some(rest.normals().to_vec());
-                rest
-            }
-            _ => Mesh::new(
-                raw.positions.clone(),
-                raw.normals.clone(),
-                raw.uvs.clone(),
-                raw.triangles.clone(),
-            )
-            .map_err(|e| ViewerError::Refused(format!("cannot use {name}: {e}")))?,
-        };
-        let playback = playback.filter(|p| p.vertex_count() == mesh.vertex_count());
+        let (mesh, raw, playback) = scene::read_file(name, bytes)?;
         self.replace_mesh(mesh, Some(raw), playback)
     }
 
-    /// Replaces the mesh with a bundled sample ([`samples::NAMES`]).
+    /// Replaces the mesh with a bundled sample ([`scene::sample_names`]).
     pub fn load_sample(&mut self, name: &str) -> Result<(), ViewerError> {
-        if name == ANIMATED_SAMPLE {
-            let playback = Playback::sample()?;
-            return self.replace_mesh(playback.rest()?, None, Some(playback));
-        }
-        let mesh = samples::by_name(name).ok_or_else(|| {
-            ViewerError::Refused(format!(
-                "no sample {name:?}; use one of {:?}",
-                sample_names()
-            ))
-        })?;
-        self.replace_mesh(mesh, None, None)
+        let (mesh, playback) = scene::read_sample(name)?;
+        self.replace_mesh(mesh, None, playback)
     }
 
     fn replace_mesh(
@@ -257,10 +181,7 @@ impl Viewer {
         self.params = params;
         self.tags = tags;
         self.panels = panels;
-        self.deformed = false;
-        self.playback = playback;
-        self.clip = clip;
-        self.posed = None;
+        self.motion = Motion::new(playback, clip);
         self.clip_stats();
         Ok(())
     }
@@ -269,16 +190,7 @@ impl Viewer {
     /// validated and the surfaces rebuilt before anything changes.
     pub fn set(&mut self, changes: &Map<String, Value>) -> Result<(), ViewerError> {
         let next = self.params.apply(changes)?;
-        let clip = match (&next.clip, &self.playback) {
-            (None, _) => None,
-            (Some(name), Some(playback)) => Some(playback.resolve(name)?),
-            (Some(_), None) => {
-                return Err(ViewerError::Param {
-                    name: "clip",
-                    message: "this mesh has no animation clips".into(),
-                })
-            }
-        };
+        let clip = self.motion.resolve(&next)?;
         let tags = if changes.contains_key("tags") {
             tag_file(&next.tags)?
         } else {
@@ -289,16 +201,7 @@ impl Viewer {
         } else {
             self.params = next;
         }
-        // A new clip, time or play state restarts the clip's clock from `time`.
-        if ["clip", "time", "playing"]
-            .iter()
-            .any(|k| changes.contains_key(*k))
-        {
-            if let Some(playback) = &mut self.playback {
-                playback.restart();
-            }
-        }
-        self.clip = clip;
+        self.motion.after_set(changes, clip);
         self.clip_stats();
         Ok(())
     }
@@ -314,31 +217,20 @@ impl Viewer {
             &tags,
         )?;
         self.params = Params {
-            tags: if tags == TagFile::default() {
-                String::new()
-            } else {
-                tags.to_json()
-            },
+            tags: scene::tags_text(&tags),
             ..params
         };
         self.tags = tags;
         self.panels = panels;
-        self.deformed = false;
-        self.posed = None;
+        self.motion.at_rest();
         Ok(())
     }
 
     /// The clips and the playing clip's duration in the stats (they change with the file and
     /// the `clip` parameter, not per frame).
     fn clip_stats(&mut self) {
-        self.stats.clips = self
-            .playback
-            .as_ref()
-            .map_or_else(Vec::new, Playback::clip_names);
-        self.stats.duration = match (&self.playback, self.clip) {
-            (Some(playback), Some(clip)) => playback.duration(clip),
-            _ => 0.0,
-        };
+        self.stats.clips = self.motion.clip_names();
+        self.stats.duration = self.motion.duration();
     }
 
     /// The parameters in effect.
@@ -430,52 +322,12 @@ impl Viewer {
     pub fn draw(&mut self, view: &wgpu::TextureView, time_ms: f64) -> Result<(), ViewerError> {
         let start = crate::clock::now_ms();
         let mut uploaded = std::mem::take(&mut self.pending_upload);
-        let clip = match (&mut self.playback, self.clip) {
-            (Some(playback), Some(clip)) => Some((playback, clip)),
-            _ => None,
-        };
-        let synthetic = match clip {
-            Some(_) => None,
-            None => deform::at(&self.rest, self.params.animate, time_ms),
-        };
-        if let Some((playback, clip)) = clip {
-            let time = playback.time_at(clip, self.params.time, self.params.playing, time_ms);
-            self.params.time = time;
-            if self.posed != Some((clip, time.to_bits())) {
-                // A pose the panels refuse (a triangle collapsed to no area) keeps the last
-                // good frame on screen; the stats say why.
-                self.stats.pose_error = None;
-                let (positions, normals) = playback.pose(clip, time)?;
-                for panel in &mut self.panels {
-                    match panel.deform(positions, normals) {
-                        Ok(bytes) => uploaded += bytes,
-                        Err(ViewerError::Refine(e)) => {
-                            self.stats.pose_error = Some(format!("clip at {time} s: {e}"));
-                            break;
-                        }
-                        Err(e) => return Err(e),
-                    }
-                }
-                self.posed = Some((clip, time.to_bits()));
-                self.deformed = true;
-            }
-        } else {
-            self.posed = None;
-        }
-        match synthetic {
-            Some((positions, normals)) => {
-                for panel in &mut self.panels {
-                    uploaded += panel.deform(&positions, Some(&normals))?;
-                }
-                self.deformed = true;
-            }
-            None if self.deformed && self.clip.is_none() => {
-                for panel in &mut self.panels {
-                    uploaded += panel.deform(self.rest.positions(), Some(self.rest.normals()))?;
-                }
-                self.deformed = false;
-            }
-            None => {}
+        let stepped = self
+            .motion
+            .step(&self.rest, &mut self.params, time_ms, &mut self.panels)?;
+        uploaded += stepped.uploaded;
+        if let Some(error) = stepped.pose_error {
+            self.stats.pose_error = error;
         }
         let layout = self.layout()?;
         for (i, &(_, width)) in layout.iter().enumerate() {
@@ -540,36 +392,16 @@ impl Viewer {
     /// alone. Refused (nothing changes) for an unknown vertex, a non-finite position or one
     /// that makes a triangle degenerate.
     pub fn move_vertex(&mut self, index: u32, position: [f32; 3]) -> Result<(), ViewerError> {
-        let mut positions = self.rest.positions().to_vec();
-        let old = *positions.get(index as usize).ok_or_else(|| {
-            ViewerError::Refused(format!(
-                "no vertex {index}: the mesh has {}",
-                positions.len()
-            ))
-        })?;
-        for p in positions.iter_mut().filter(|p| **p == old) {
-            *p = position;
-        }
-        let mut rest = self.rest.clone();
-        // Computed normals follow the move; the file's own normals stay as the file gave them.
-        let normals = (!rest.normals_computed()).then(|| rest.normals().to_vec());
-        rest.update(&positions, normals.as_deref())?;
-        let mut uploaded = 0;
-        for i in 0..self.panels.len() {
-            match self.panels[i].deform(rest.positions(), Some(rest.normals())) {
-                Ok(bytes) => uploaded += bytes,
-                Err(e) => {
-                    // Put the panels already moved back where they were.
-                    for panel in &mut self.panels[..i] {
-                        panel.deform(self.rest.positions(), Some(self.rest.normals()))?;
-                    }
-                    return Err(e);
-                }
-            }
-        }
+        let rest = scene::moved(&self.rest, index, position)?;
+        let uploaded = scene::deform_all(
+            &mut self.panels,
+            rest.positions(),
+            Some(rest.normals()),
+            &self.rest,
+        )?;
         self.rest = rest;
         self.pending_upload += uploaded;
-        self.deformed = false;
+        self.motion.rest_moved();
         Ok(())
     }
 
@@ -582,23 +414,7 @@ impl Viewer {
         b: u32,
         sharpness: f32,
     ) -> Result<(), ViewerError> {
-        if !(0.0..=1.0).contains(&sharpness) {
-            return Err(ViewerError::Tags(format!(
-                "edge sharpness must be within 0..=1, got {sharpness}"
-            )));
-        }
-        let mut tags = self.tags.clone();
-        let same = |e: &TagFileEdge| e.vertices == [a, b] || e.vertices == [b, a];
-        match tags.edges.iter_mut().find(|e| same(e)) {
-            Some(e) => e.sharpness = sharpness,
-            None => tags.edges.push(TagFileEdge {
-                vertices: [a, b],
-                sharpness,
-                kappa: 0.0,
-            }),
-        }
-        tags.edges.retain(|e| e.sharpness != 0.0 || e.kappa != 0.0);
-        self.check_tags(&tags)?;
+        let tags = scene::with_edge_sharpness(&self.tags, &self.rest, a, b, sharpness)?;
         self.rebuild(self.params.clone(), tags)
     }
 
@@ -610,33 +426,8 @@ impl Viewer {
         tension: f32,
         bias: f32,
     ) -> Result<(), ViewerError> {
-        let mut tags = self.tags.clone();
-        match tags.vertices.iter_mut().find(|t| t.index == v) {
-            Some(t) => {
-                t.tag.tension = tension;
-                t.tag.bias = bias;
-            }
-            None => tags.vertices.push(TagFileVertex {
-                index: v,
-                tag: tessella_core::tags::VertexTag {
-                    tension,
-                    bias,
-                    ..Default::default()
-                },
-            }),
-        }
-        tags.vertices
-            .retain(|t| t.tag != tessella_core::tags::VertexTag::default());
-        self.check_tags(&tags)?;
+        let tags = scene::with_vertex_tension(&self.tags, &self.rest, v, tension, bias)?;
         self.rebuild(self.params.clone(), tags)
-    }
-
-    /// Checks `tags` against the mesh (whatever the schemes drawn, so a saved file is one the
-    /// CLI reads).
-    fn check_tags(&self, tags: &TagFile) -> Result<(), ViewerError> {
-        tags.tags(&self.rest)
-            .map(|_| ())
-            .map_err(|e| ViewerError::Tags(e.to_string()))
     }
 
     /// The tags in effect as the JSON `tessella refine --tags FILE` reads.

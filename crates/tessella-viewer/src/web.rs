@@ -102,7 +102,7 @@ impl WebViewer {
     }
 
     pub fn samples(&self) -> Vec<String> {
-        crate::viewer::sample_names()
+        crate::scene::sample_names()
     }
 
     pub fn set(&mut self, params: JsValue) -> Result<(), JsError> {
@@ -190,5 +190,164 @@ impl WebViewer {
             let report = run(&ctx, &config).await.map_err(thrown)?;
             from_json(&report).map_err(JsValue::from)
         })
+    }
+}
+
+/// The viewer's coarse side without a GPU ([`crate::CoarseViewer`]), for the WebGL2 fallback:
+/// files, clips, parameters, tags and poses as `WebViewer` takes them, and every frame the
+/// control nets of the pose packed for `tessella`'s `InstancedSurface` GLSL.
+#[wasm_bindgen]
+pub struct WebCoarseViewer {
+    inner: crate::CoarseViewer,
+}
+
+fn flat(points: &[[f32; 3]]) -> Vec<f32> {
+    points.iter().flatten().copied().collect()
+}
+
+#[wasm_bindgen]
+impl WebCoarseViewer {
+    /// Shows the first sample with the default parameters until `load`.
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> Result<WebCoarseViewer, JsError> {
+        Ok(WebCoarseViewer {
+            inner: crate::CoarseViewer::new().map_err(js)?,
+        })
+    }
+
+    /// As `WebViewer.load`.
+    pub fn load(&mut self, name: &str, bytes: &[u8]) -> Result<(), JsError> {
+        self.inner.load(name, bytes).map_err(js)
+    }
+
+    /// As `WebViewer.set`: the same checks and messages.
+    pub fn set(&mut self, params: JsValue) -> Result<(), JsError> {
+        let value = to_json(&params)?;
+        let changes = value
+            .as_object()
+            .ok_or_else(|| JsError::new("params: set() takes a plain object"))?;
+        self.inner.set(changes).map_err(js)
+    }
+
+    pub fn get(&self) -> Result<JsValue, JsError> {
+        from_json(&self.inner.params().to_json())
+    }
+
+    /// Poses the surfaces for page time `timeMs` (clip, `animate`, or the rest pose).
+    pub fn frame(&mut self, time_ms: f64) -> Result<(), JsError> {
+        self.inner.frame(time_ms).map_err(js)
+    }
+
+    #[wasm_bindgen(js_name = panelCount)]
+    pub fn panel_count(&self) -> usize {
+        self.inner.panel_count()
+    }
+
+    /// Whether panel `i`'s nets moved since `nets(i, ...)` last packed them.
+    pub fn changed(&self, i: usize) -> bool {
+        self.inner.changed(i)
+    }
+
+    /// Panel `i`'s control nets, packed `facesPerRow` nets of `texelsPerFace` RGBA texels to
+    /// a row (`InstancedSurface`'s layout), `facesPerRow * texelsPerFace * rows * 4` floats.
+    pub fn nets(
+        &mut self,
+        i: usize,
+        faces_per_row: usize,
+        texels_per_face: usize,
+    ) -> Result<Vec<f32>, JsError> {
+        let mut out = Vec::new();
+        self.inner
+            .pack(i, faces_per_row, texels_per_face, &mut out)
+            .map_err(js)?;
+        Ok(out)
+    }
+
+    /// The mesh as loaded (what the camera frames): positions, 3 numbers a vertex.
+    #[wasm_bindgen(js_name = modelPositions)]
+    pub fn model_positions(&self) -> Vec<f32> {
+        flat(self.inner.model().positions())
+    }
+
+    /// The first panel's coarse mesh as drawn now (posed): positions.
+    #[wasm_bindgen(js_name = shownPositions)]
+    pub fn shown_positions(&self) -> Vec<f32> {
+        flat(self.inner.shown().positions())
+    }
+
+    /// The rest pose (dragged vertices moved): positions and normals.
+    #[wasm_bindgen(js_name = restPositions)]
+    pub fn rest_positions(&self) -> Vec<f32> {
+        flat(self.inner.rest().positions())
+    }
+
+    #[wasm_bindgen(js_name = restNormals)]
+    pub fn rest_normals(&self) -> Vec<f32> {
+        flat(self.inner.rest().normals())
+    }
+
+    /// The coarse triangles, 3 vertex indices each.
+    pub fn indices(&self) -> Vec<u32> {
+        self.inner
+            .rest()
+            .triangles()
+            .iter()
+            .flatten()
+            .copied()
+            .collect()
+    }
+
+    /// `{ vertex, edge }` under `(ndcX, ndcY)` (y up) of a view drawn with `viewProj` (16
+    /// numbers, column-major, wgpu's depth), ray-cast as `WebViewer.pick` does, or null.
+    pub fn pick(&self, view_proj: &[f32], ndc_x: f32, ndc_y: f32) -> Result<JsValue, JsError> {
+        let m: &[f32; 16] = view_proj
+            .try_into()
+            .map_err(|_| JsError::new("pick: viewProj must have 16 numbers"))?;
+        match self.inner.pick(m, [ndc_x, ndc_y]) {
+            None => Ok(JsValue::NULL),
+            Some(p) => from_json(&serde_json::json!({ "vertex": p.vertex, "edge": p.edge })),
+        }
+    }
+
+    #[wasm_bindgen(js_name = moveVertex)]
+    pub fn move_vertex(&mut self, index: u32, x: f32, y: f32, z: f32) -> Result<(), JsError> {
+        self.inner.move_vertex(index, [x, y, z]).map_err(js)
+    }
+
+    #[wasm_bindgen(js_name = setEdgeSharpness)]
+    pub fn set_edge_sharpness(&mut self, a: u32, b: u32, s: f32) -> Result<(), JsError> {
+        self.inner.set_edge_sharpness(a, b, s).map_err(js)
+    }
+
+    #[wasm_bindgen(js_name = setVertexTension)]
+    pub fn set_vertex_tension(&mut self, v: u32, tension: f32, bias: f32) -> Result<(), JsError> {
+        self.inner.set_vertex_tension(v, tension, bias).map_err(js)
+    }
+
+    #[wasm_bindgen(js_name = tagsJson)]
+    pub fn tags_json(&self) -> String {
+        self.inner.tags_json()
+    }
+
+    /// The first panel's refined mesh as drawn (pose, tags), as GLB.
+    #[wasm_bindgen(js_name = exportGlb)]
+    pub fn export_glb(&self) -> Result<Vec<u8>, JsError> {
+        self.inner.export_glb().map_err(js)
+    }
+
+    /// The loaded file's clips (`[]`: none).
+    pub fn clips(&self) -> Vec<String> {
+        self.inner.clips()
+    }
+
+    /// The playing clip's duration, seconds (0 without one).
+    pub fn duration(&self) -> f32 {
+        self.inner.duration()
+    }
+
+    /// Why the last clip pose was refused, or `undefined`.
+    #[wasm_bindgen(js_name = poseError)]
+    pub fn pose_error(&self) -> Option<String> {
+        self.inner.pose_error().map(str::to_string)
     }
 }

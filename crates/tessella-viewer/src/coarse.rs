@@ -1,0 +1,435 @@
+//! [`CoarseViewer`]: the viewer's coarse side without a GPU, for the web page's WebGL2
+//! fallback. It loads files (with their clips), takes the same parameters, tags, dragged
+//! vertices and `animate`/clip poses as the WebGPU [`crate::Viewer`] (through [`crate::scene`],
+//! the same code) and keeps one surface per panel; every frame it hands out the control nets
+//! of the pose, packed as RGBA float texels in the layout `tessella`'s `InstancedSurface`
+//! reads (its GLSL draws them): O(coarse triangles) per frame, nothing refined here.
+
+use crate::error::ViewerError;
+use crate::panel::refine_options;
+use crate::params::Params;
+use crate::pick::{self, Picked};
+use crate::playback::Playback;
+use crate::scene::{self, gather_tags, tag_file, Deform, Motion};
+use glam::Mat4;
+use serde_json::{Map, Value};
+use tessella_core::basis::NORMAL_NET_LEN;
+use tessella_core::refine::{Frame, Surface};
+use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
+use tessella_io::tags::TagFile;
+use tessella_io::RawMesh;
+
+/// One panel's surface: its scheme's control nets of the pose shown.
+struct Nets {
+    scheme: Scheme,
+    options: RefineOptions,
+    surface: Surface,
+    frame: Frame<'static>,
+    /// The nets moved since [`CoarseViewer::pack`] last packed them.
+    changed: bool,
+}
+
+impl Deform for Nets {
+    fn deform(
+        &mut self,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<u64, ViewerError> {
+        self.surface.update(&mut self.frame, positions, normals)?;
+        self.changed = true;
+        // What crosses to the GPU is the caller's to count (it uploads the packed nets).
+        Ok(0)
+    }
+}
+
+fn build(
+    mesh: &Mesh,
+    raw: Option<&RawMesh>,
+    params: &Params,
+    tags: &TagFile,
+) -> Result<Vec<Nets>, ViewerError> {
+    params
+        .schemes()
+        .into_iter()
+        .map(|scheme| {
+            let tags = gather_tags(mesh, raw, tags, scheme)?;
+            let options = refine_options(params, scheme, tags.as_ref())?;
+            let surface = Surface::new(mesh, &options.surface_options())?;
+            let frame = surface.frame(mesh.clone())?;
+            Ok(Nets {
+                scheme,
+                options,
+                surface,
+                frame,
+                changed: true,
+            })
+        })
+        .collect()
+}
+
+/// The viewer without a GPU (see the module docs). Every call succeeds or changes nothing.
+pub struct CoarseViewer {
+    /// The mesh as loaded: what the camera frames.
+    model: Mesh,
+    raw: Option<RawMesh>,
+    /// The rest pose (with dragged vertices) that animations deform.
+    rest: Mesh,
+    params: Params,
+    tags: TagFile,
+    panels: Vec<Nets>,
+    motion: Motion,
+    pose_error: Option<String>,
+}
+
+impl CoarseViewer {
+    /// The viewer's first sample with the default parameters.
+    pub fn new() -> Result<CoarseViewer, ViewerError> {
+        let mesh = samples::by_name(crate::FIRST_SAMPLE)
+            .ok_or_else(|| ViewerError::Refused("no first sample".into()))?;
+        let params = Params::default();
+        let tags = TagFile::default();
+        let panels = build(&mesh, None, &params, &tags)?;
+        Ok(CoarseViewer {
+            rest: mesh.clone(),
+            model: mesh,
+            raw: None,
+            params,
+            tags,
+            panels,
+            motion: Motion::default(),
+            pose_error: None,
+        })
+    }
+
+    /// As [`crate::Viewer::load`].
+    pub fn load(&mut self, name: &str, bytes: &[u8]) -> Result<(), ViewerError> {
+        let (mesh, raw, playback) = scene::read_file(name, bytes)?;
+        self.replace_mesh(mesh, Some(raw), playback)
+    }
+
+    /// As [`crate::Viewer::load_sample`].
+    pub fn load_sample(&mut self, name: &str) -> Result<(), ViewerError> {
+        let (mesh, playback) = scene::read_sample(name)?;
+        self.replace_mesh(mesh, None, playback)
+    }
+
+    fn replace_mesh(
+        &mut self,
+        mesh: Mesh,
+        raw: Option<RawMesh>,
+        playback: Option<Playback>,
+    ) -> Result<(), ViewerError> {
+        // The clip stays when the new file has one of that name (a reload), else none.
+        let clip = match (&playback, &self.params.clip) {
+            (Some(p), Some(name)) => p.resolve(name).ok(),
+            _ => None,
+        };
+        let params = Params {
+            tags: String::new(),
+            clip: clip.and(self.params.clip.clone()),
+            ..self.params.clone()
+        };
+        let tags = TagFile::default();
+        self.panels = build(&mesh, raw.as_ref(), &params, &tags)?;
+        self.rest = mesh.clone();
+        self.model = mesh;
+        self.raw = raw;
+        self.params = params;
+        self.tags = tags;
+        self.motion = Motion::new(playback, clip);
+        self.pose_error = None;
+        Ok(())
+    }
+
+    /// As [`crate::Viewer::set`]: the same checks and messages.
+    pub fn set(&mut self, changes: &Map<String, Value>) -> Result<(), ViewerError> {
+        let next = self.params.apply(changes)?;
+        let clip = self.motion.resolve(&next)?;
+        let tags = if changes.contains_key("tags") {
+            tag_file(&next.tags)?
+        } else {
+            self.tags.clone()
+        };
+        if self.params.needs_rebuild(&next) || tags != self.tags {
+            self.rebuild(next, tags)?;
+        } else {
+            self.params = next;
+        }
+        self.motion.after_set(changes, clip);
+        Ok(())
+    }
+
+    fn rebuild(&mut self, params: Params, tags: TagFile) -> Result<(), ViewerError> {
+        self.panels = build(&self.rest, self.raw.as_ref(), &params, &tags)?;
+        self.params = Params {
+            tags: scene::tags_text(&tags),
+            ..params
+        };
+        self.tags = tags;
+        self.motion.at_rest();
+        Ok(())
+    }
+
+    /// The parameters in effect.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// Moves the surfaces to the pose at page time `time_ms` (the clip's, the `animate`
+    /// deformation's, or the rest pose after one), as the WebGPU viewer's frame does.
+    pub fn frame(&mut self, time_ms: f64) -> Result<(), ViewerError> {
+        let stepped = self
+            .motion
+            .step(&self.rest, &mut self.params, time_ms, &mut self.panels)?;
+        if let Some(error) = stepped.pose_error {
+            self.pose_error = error;
+        }
+        Ok(())
+    }
+
+    /// Panels (one surface each).
+    pub fn panel_count(&self) -> usize {
+        self.panels.len()
+    }
+
+    /// Panel `i`'s scheme, as its name.
+    pub fn scheme(&self, i: usize) -> Option<&Scheme> {
+        self.panels.get(i).map(|p| &p.scheme)
+    }
+
+    /// Whether panel `i`'s nets moved since they were last packed.
+    pub fn changed(&self, i: usize) -> bool {
+        self.panels.get(i).is_some_and(|p| p.changed)
+    }
+
+    /// Panel `i`'s control nets packed into `out` as `InstancedSurface` lays them out: face
+    /// `f`'s net is `texels` RGBA texels, its control points then its normal-net entries,
+    /// 3 floats each, at texel `((f % faces_per_row) * texels, f / faces_per_row)`, rows of
+    /// `faces_per_row * texels` texels; the rest of `out` is zero. Marks the nets packed.
+    pub fn pack(
+        &mut self,
+        i: usize,
+        faces_per_row: usize,
+        texels: usize,
+        out: &mut Vec<f32>,
+    ) -> Result<(), ViewerError> {
+        let panel = self
+            .panels
+            .get_mut(i)
+            .ok_or_else(|| ViewerError::Refused(format!("no panel {i}")))?;
+        let nets = panel.frame.nets();
+        let k = nets.basis.len();
+        if faces_per_row == 0 || texels * 4 < 3 * (k + NORMAL_NET_LEN) {
+            return Err(ViewerError::Refused(format!(
+                "nets of {k} control points do not fit {texels} texels a face ({faces_per_row} a row)"
+            )));
+        }
+        let faces = nets.len();
+        let width = faces_per_row * texels;
+        let height = faces.div_ceil(faces_per_row);
+        out.clear();
+        out.resize(width * height * 4, 0.0);
+        for f in 0..faces {
+            let start = ((f / faces_per_row) * width + (f % faces_per_row) * texels) * 4;
+            let entries = nets.patch_points(f).iter().chain(nets.patch_normals(f));
+            for (e, v) in entries.enumerate() {
+                out[start + 3 * e..start + 3 * e + 3].copy_from_slice(v);
+            }
+        }
+        panel.changed = false;
+        Ok(())
+    }
+
+    /// The mesh as loaded (what the camera frames).
+    pub fn model(&self) -> &Mesh {
+        &self.model
+    }
+
+    /// The rest pose (dragged vertices moved).
+    pub fn rest(&self) -> &Mesh {
+        &self.rest
+    }
+
+    /// The first panel's coarse mesh as drawn now (posed, deformed).
+    pub fn shown(&self) -> &Mesh {
+        self.panels.first().map_or(&self.rest, |p| p.frame.mesh())
+    }
+
+    /// The coarse vertex and edge under `ndc` (x, y in -1..1, y up) of a view drawn with
+    /// `view_proj` (column-major, wgpu's 0..1 depth), ray-cast against the mesh as drawn, as
+    /// [`crate::Viewer::pick`] does; `None` when the ray misses.
+    pub fn pick(&self, view_proj: &[f32; 16], ndc: [f32; 2]) -> Option<Picked> {
+        let (origin, dir) = pick::ray(&Mat4::from_cols_array(view_proj), ndc)?;
+        let mesh = self.shown();
+        pick::pick(mesh.positions(), mesh.triangles(), origin, dir)
+    }
+
+    /// As [`crate::Viewer::move_vertex`].
+    pub fn move_vertex(&mut self, index: u32, position: [f32; 3]) -> Result<(), ViewerError> {
+        let rest = scene::moved(&self.rest, index, position)?;
+        scene::deform_all(
+            &mut self.panels,
+            rest.positions(),
+            Some(rest.normals()),
+            &self.rest,
+        )?;
+        self.rest = rest;
+        self.motion.rest_moved();
+        Ok(())
+    }
+
+    /// As [`crate::Viewer::set_edge_sharpness`].
+    pub fn set_edge_sharpness(&mut self, a: u32, b: u32, s: f32) -> Result<(), ViewerError> {
+        let tags = scene::with_edge_sharpness(&self.tags, &self.rest, a, b, s)?;
+        self.rebuild(self.params.clone(), tags)
+    }
+
+    /// As [`crate::Viewer::set_vertex_tension`].
+    pub fn set_vertex_tension(
+        &mut self,
+        v: u32,
+        tension: f32,
+        bias: f32,
+    ) -> Result<(), ViewerError> {
+        let tags = scene::with_vertex_tension(&self.tags, &self.rest, v, tension, bias)?;
+        self.rebuild(self.params.clone(), tags)
+    }
+
+    /// The tags in effect as the JSON `tessella refine --tags FILE` reads.
+    pub fn tags_json(&self) -> String {
+        self.tags.to_json()
+    }
+
+    /// The loaded file's clips (`[]`: none).
+    pub fn clips(&self) -> Vec<String> {
+        self.motion.clip_names()
+    }
+
+    /// The playing clip's duration, seconds (0 without one).
+    pub fn duration(&self) -> f32 {
+        self.motion.duration()
+    }
+
+    /// Why the last clip pose was refused (the previous one stays), if it was.
+    pub fn pose_error(&self) -> Option<&str> {
+        self.pose_error.as_deref()
+    }
+
+    /// The first panel's refined mesh as drawn (pose, tags), refined on the CPU, as GLB.
+    pub fn export_glb(&self) -> Result<Vec<u8>, ViewerError> {
+        let panel = self
+            .panels
+            .first()
+            .ok_or_else(|| ViewerError::Refused("nothing to export".into()))?;
+        let options = panel.options.clone().with_max_output_bytes(1 << 30);
+        let refined = Refiner::new(panel.frame.mesh(), &options)?.refine();
+        Ok(tessella_io::write_mesh_bytes(
+            tessella_io::Format::Glb,
+            (&refined).into(),
+        )?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+    use tessella_core::animation::Poser;
+
+    fn set(v: &mut CoarseViewer, changes: Value) -> Result<(), ViewerError> {
+        v.set(changes.as_object().unwrap())
+    }
+
+    fn glb() -> Vec<u8> {
+        std::fs::read(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../samples/animated-creature.glb"
+        ))
+        .unwrap()
+    }
+
+    /// The packed nets of a paused clip are the core's nets of the poser's pose (built here
+    /// independently, with a `Plan` of the pose), in InstancedSurface's layout.
+    #[test]
+    fn a_paused_clip_packs_the_nets_of_the_posers_pose() {
+        let mut v = CoarseViewer::new().unwrap();
+        v.load("animated-creature.glb", &glb()).unwrap();
+        assert_eq!(v.clips(), ["wave", "hop", "breathe"]);
+        set(
+            &mut v,
+            json!({"clip": "wave", "time": 0.5, "playing": false}),
+        )
+        .unwrap();
+        v.frame(1000.0).unwrap();
+        assert!(v.changed(0));
+        let poser =
+            Poser::new(tessella_io::read_animated_bytes("a.glb", &glb(), &[]).unwrap()).unwrap();
+        let posed = poser
+            .mesh(Some(poser.clip_index("wave").unwrap()), 0.5)
+            .unwrap();
+        let (_, frame) =
+            tessella_core::refine::Plan::with_frame(posed, &RefineOptions::new(Scheme::Pn, 8))
+                .unwrap();
+        let want = frame.nets();
+        let (fpr, texels) = (160, 12);
+        let mut out = Vec::new();
+        v.pack(0, fpr, texels, &mut out).unwrap();
+        assert!(!v.changed(0));
+        assert_eq!(out.len(), 2 * fpr * texels * 4);
+        let mut worst = 0.0f32;
+        for f in 0..want.len() {
+            let start = ((f / fpr) * fpr * texels + (f % fpr) * texels) * 4;
+            let expect = want
+                .patch_points(f)
+                .iter()
+                .chain(want.patch_normals(f))
+                .flatten();
+            for (i, e) in expect.enumerate() {
+                worst = worst.max((out[start + i] - e).abs());
+            }
+        }
+        assert!(worst < 1e-4, "packed nets {worst} off the poser's");
+        // Paused: the next frame poses nothing.
+        v.frame(1500.0).unwrap();
+        assert!(!v.changed(0));
+        // Too few texels for PN's 16 entries is refused.
+        assert!(v.pack(0, fpr, 11, &mut out).is_err());
+    }
+
+    #[test]
+    fn animate_tags_and_bad_values_go_through_the_viewers_checks() {
+        let mut v = CoarseViewer::new().unwrap();
+        let rest = v.rest().positions().to_vec();
+        set(&mut v, json!({"animate": "twist"})).unwrap();
+        v.frame(1000.0).unwrap();
+        assert!(
+            v.shown().positions() != &rest[..],
+            "a quarter period twists"
+        );
+        set(&mut v, json!({"animate": "none"})).unwrap();
+        v.frame(1100.0).unwrap();
+        assert!(v.shown().positions() == &rest[..], "back at rest");
+        // Tags shape the scalar-tagged scheme.
+        set(&mut v, json!({"scheme": "st"})).unwrap();
+        let mut before = Vec::new();
+        v.pack(0, 170, 12, &mut before).unwrap();
+        let tri = v.rest().triangles()[0];
+        v.set_edge_sharpness(tri[0], tri[1], 1.0).unwrap();
+        v.set_vertex_tension(tri[0], 0.8, 0.3).unwrap();
+        assert!(v.tags_json().contains("sharpness"));
+        assert_eq!(v.params().tags, v.tags_json());
+        let mut after = Vec::new();
+        v.pack(0, 170, 12, &mut after).unwrap();
+        assert!(before != after, "tags change the nets");
+        for bad in [
+            json!({"clip": "wave"}),
+            json!({"level": 0}),
+            json!({"tags": "{"}),
+        ] {
+            let name = bad.as_object().unwrap().keys().next().unwrap().clone();
+            let e = set(&mut v, bad).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("{name}:")), "{e}");
+        }
+        assert!(v.set_edge_sharpness(0, 0, 2.0).is_err());
+    }
+}

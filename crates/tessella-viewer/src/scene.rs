@@ -1,0 +1,378 @@
+//! The viewer's coarse side, without a GPU: reading a file (with its clips), the tags and
+//! their edits, a moved vertex, and which pose each frame shows ([`Motion`]). The WebGPU
+//! [`crate::Viewer`] and the GPU-less [`crate::CoarseViewer`] (the WebGL2 fallback's source
+//! of control nets) both go through these, so they pose and tag alike.
+
+use crate::deform;
+use crate::error::ViewerError;
+use crate::params::Params;
+use crate::playback::{Playback, ANIMATED_SAMPLE};
+use tessella_core::{samples, Mesh};
+use tessella_io::tags::{JsonSource, TagFile, TagFileEdge, TagFileVertex, TagSources};
+use tessella_io::RawMesh;
+
+/// The samples `load_sample` takes: the core's static ones and the animated creature.
+pub fn sample_names() -> Vec<String> {
+    samples::NAMES
+        .iter()
+        .map(|s| s.to_string())
+        .chain([ANIMATED_SAMPLE.to_string()])
+        .collect()
+}
+
+/// A glTF file's animation clips, when it has any (other formats hold none).
+fn animation_of(name: &str, bytes: &[u8]) -> Result<Option<Playback>, ViewerError> {
+    let lower = name.to_ascii_lowercase();
+    if !(lower.ends_with(".glb") || lower.ends_with(".gltf")) {
+        return Ok(None);
+    }
+    let model = tessella_io::read_animated_bytes(name, bytes, &[])?;
+    Playback::new(name, model)
+}
+
+/// A mesh file's coarse mesh (an animated file's rest pose, in the scene's space), its raw
+/// form (PLY tag properties) and its clips.
+pub fn read_file(
+    name: &str,
+    bytes: &[u8],
+) -> Result<(Mesh, RawMesh, Option<Playback>), ViewerError> {
+    let mut raw = tessella_io::read_raw_bytes(name, bytes, &[])?;
+    let playback = animation_of(name, bytes)?;
+    let mesh = match &playback {
+        Some(playback) if playback.vertex_count() == raw.positions.len() => {
+            let rest = playback.rest()?;
+            raw.positions = rest.positions().to_vec();
+            raw.normals = Some(rest.normals().to_vec());
+            rest
+        }
+        _ => Mesh::new(
+            raw.positions.clone(),
+            raw.normals.clone(),
+            raw.uvs.clone(),
+            raw.triangles.clone(),
+        )
+        .map_err(|e| ViewerError::Refused(format!("cannot use {name}: {e}")))?,
+    };
+    let playback = playback.filter(|p| p.vertex_count() == mesh.vertex_count());
+    Ok((mesh, raw, playback))
+}
+
+/// A bundled sample ([`sample_names`]) and its clips.
+pub fn read_sample(name: &str) -> Result<(Mesh, Option<Playback>), ViewerError> {
+    if name == ANIMATED_SAMPLE {
+        let playback = Playback::sample()?;
+        return Ok((playback.rest()?, Some(playback)));
+    }
+    let mesh = samples::by_name(name).ok_or_else(|| {
+        ViewerError::Refused(format!(
+            "no sample {name:?}; use one of {:?}",
+            sample_names()
+        ))
+    })?;
+    Ok((mesh, None))
+}
+
+/// The tags `scheme` gets on `mesh` from the file's PLY properties and `tags`, layered as the
+/// CLI layers them (split normals first, for the scalar-tagged scheme).
+pub fn gather_tags(
+    mesh: &Mesh,
+    raw: Option<&RawMesh>,
+    tags: &TagFile,
+    scheme: tessella_core::Scheme,
+) -> Result<Option<tessella_core::Tags>, ViewerError> {
+    let text = tags.to_json();
+    let empty = tags.edges.is_empty() && tags.vertices.is_empty();
+    let sources = TagSources {
+        crease_angle: None,
+        file: raw,
+        json: (!empty).then_some(JsonSource::Text {
+            text: &text,
+            origin: "in the viewer's tags",
+        }),
+    };
+    tessella_io::tags::gather(mesh, scheme, &sources).map_err(|e| ViewerError::Tags(e.to_string()))
+}
+
+/// The `tags` parameter's JSON text as tags (`""`: none).
+pub fn tag_file(text: &str) -> Result<TagFile, ViewerError> {
+    if text.trim().is_empty() {
+        return Ok(TagFile::default());
+    }
+    TagFile::parse(text).map_err(|e| ViewerError::Param {
+        name: "tags",
+        message: e.to_string(),
+    })
+}
+
+/// The `tags` parameter's text for `tags` (`""` for none).
+pub fn tags_text(tags: &TagFile) -> String {
+    if *tags == TagFile::default() {
+        String::new()
+    } else {
+        tags.to_json()
+    }
+}
+
+/// `tags` with the edge `a`–`b` at `sharpness` (0 removes the tag), checked against `rest`
+/// (whatever the schemes drawn, so a saved file is one the CLI reads).
+pub fn with_edge_sharpness(
+    tags: &TagFile,
+    rest: &Mesh,
+    a: u32,
+    b: u32,
+    sharpness: f32,
+) -> Result<TagFile, ViewerError> {
+    if !(0.0..=1.0).contains(&sharpness) {
+        return Err(ViewerError::Tags(format!(
+            "edge sharpness must be within 0..=1, got {sharpness}"
+        )));
+    }
+    let mut tags = tags.clone();
+    let same = |e: &TagFileEdge| e.vertices == [a, b] || e.vertices == [b, a];
+    match tags.edges.iter_mut().find(|e| same(e)) {
+        Some(e) => e.sharpness = sharpness,
+        None => tags.edges.push(TagFileEdge {
+            vertices: [a, b],
+            sharpness,
+            kappa: 0.0,
+        }),
+    }
+    tags.edges.retain(|e| e.sharpness != 0.0 || e.kappa != 0.0);
+    check_tags(&tags, rest)?;
+    Ok(tags)
+}
+
+/// `tags` with vertex `v`'s tension and bias (keeping its sharpness and crease), checked.
+pub fn with_vertex_tension(
+    tags: &TagFile,
+    rest: &Mesh,
+    v: u32,
+    tension: f32,
+    bias: f32,
+) -> Result<TagFile, ViewerError> {
+    let mut tags = tags.clone();
+    match tags.vertices.iter_mut().find(|t| t.index == v) {
+        Some(t) => {
+            t.tag.tension = tension;
+            t.tag.bias = bias;
+        }
+        None => tags.vertices.push(TagFileVertex {
+            index: v,
+            tag: tessella_core::tags::VertexTag {
+                tension,
+                bias,
+                ..Default::default()
+            },
+        }),
+    }
+    tags.vertices
+        .retain(|t| t.tag != tessella_core::tags::VertexTag::default());
+    check_tags(&tags, rest)?;
+    Ok(tags)
+}
+
+fn check_tags(tags: &TagFile, rest: &Mesh) -> Result<(), ViewerError> {
+    tags.tags(rest)
+        .map(|_| ())
+        .map_err(|e| ViewerError::Tags(e.to_string()))
+}
+
+/// `rest` with vertex `index` (and every vertex at its position, so hard edges stay closed)
+/// at `position`; refused for an unknown vertex, a non-finite position or a degenerate
+/// triangle. Computed normals follow the move; a file's own normals stay as it gave them.
+pub fn moved(rest: &Mesh, index: u32, position: [f32; 3]) -> Result<Mesh, ViewerError> {
+    let mut positions = rest.positions().to_vec();
+    let old = *positions.get(index as usize).ok_or_else(|| {
+        ViewerError::Refused(format!(
+            "no vertex {index}: the mesh has {}",
+            positions.len()
+        ))
+    })?;
+    for p in positions.iter_mut().filter(|p| **p == old) {
+        *p = position;
+    }
+    let mut out = rest.clone();
+    let normals = (!out.normals_computed()).then(|| out.normals().to_vec());
+    out.update(&positions, normals.as_deref())?;
+    Ok(out)
+}
+
+/// Something a frame's coarse pose is handed to: a WebGPU panel, a fallback's surface.
+pub trait Deform {
+    /// Moves the coarse mesh to `positions` (and `normals`, or computed ones); returns the
+    /// bytes this costs the GPU.
+    fn deform(
+        &mut self,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<u64, ViewerError>;
+}
+
+/// Moves every one of `targets` to `positions`/`normals`; on an error the ones already moved
+/// go back to `rest`.
+pub fn deform_all<T: Deform>(
+    targets: &mut [T],
+    positions: &[[f32; 3]],
+    normals: Option<&[[f32; 3]]>,
+    rest: &Mesh,
+) -> Result<u64, ViewerError> {
+    let mut bytes = 0;
+    for i in 0..targets.len() {
+        match targets[i].deform(positions, normals) {
+            Ok(b) => bytes += b,
+            Err(e) => {
+                for t in &mut targets[..i] {
+                    t.deform(rest.positions(), Some(rest.normals()))?;
+                }
+                return Err(e);
+            }
+        }
+    }
+    Ok(bytes)
+}
+
+/// The loaded file's clips and which pose the surfaces hold: the clip playing (its time in
+/// `params.time`), the `animate` deformation, or the rest pose.
+#[derive(Debug, Default)]
+pub struct Motion {
+    /// The loaded file's animation clips, when it has any.
+    pub playback: Option<Playback>,
+    /// The clip `params.clip` names, resolved.
+    pub clip: Option<usize>,
+    /// The clip and time (bits) the surfaces show; a paused clip is not posed again.
+    posed: Option<(usize, u32)>,
+    /// The surfaces are not the rest pose (an animation ran).
+    deformed: bool,
+}
+
+/// What [`Motion::step`] did.
+#[derive(Debug, Default)]
+pub struct Stepped {
+    /// Bytes the surfaces' updates cost.
+    pub uploaded: u64,
+    /// When a new clip pose was tried: `Some(None)` when the surfaces took it, `Some(why)`
+    /// when they refused it (the previous pose stays drawn).
+    pub pose_error: Option<Option<String>>,
+}
+
+impl Motion {
+    pub fn new(playback: Option<Playback>, clip: Option<usize>) -> Motion {
+        Motion {
+            playback,
+            clip,
+            posed: None,
+            deformed: false,
+        }
+    }
+
+    /// The surfaces were rebuilt on the rest pose (new parameters, tags, a moved vertex).
+    pub fn at_rest(&mut self) {
+        self.deformed = false;
+        self.posed = None;
+    }
+
+    /// The surfaces were moved to a new rest pose (a dragged vertex); a paused clip's pose is
+    /// not taken again.
+    pub fn rest_moved(&mut self) {
+        self.deformed = false;
+    }
+
+    /// The clips' names (`[]`: none).
+    pub fn clip_names(&self) -> Vec<String> {
+        self.playback
+            .as_ref()
+            .map_or_else(Vec::new, Playback::clip_names)
+    }
+
+    /// The playing clip's duration, seconds (0 without one).
+    pub fn duration(&self) -> f32 {
+        match (&self.playback, self.clip) {
+            (Some(playback), Some(clip)) => playback.duration(clip),
+            _ => 0.0,
+        }
+    }
+
+    /// The clip `params.clip` names, checked against the file's clips.
+    pub fn resolve(&self, params: &Params) -> Result<Option<usize>, ViewerError> {
+        match (&params.clip, &self.playback) {
+            (None, _) => Ok(None),
+            (Some(name), Some(playback)) => Ok(Some(playback.resolve(name)?)),
+            (Some(_), None) => Err(ViewerError::Param {
+                name: "clip",
+                message: "this mesh has no animation clips".into(),
+            }),
+        }
+    }
+
+    /// After `set` took `changes` and `clip`: a new clip, time or play state restarts the
+    /// clip's clock from `time`.
+    pub fn after_set(
+        &mut self,
+        changes: &serde_json::Map<String, serde_json::Value>,
+        clip: Option<usize>,
+    ) {
+        if ["clip", "time", "playing"]
+            .iter()
+            .any(|k| changes.contains_key(*k))
+        {
+            if let Some(playback) = &mut self.playback {
+                playback.restart();
+            }
+        }
+        self.clip = clip;
+    }
+
+    /// Moves `targets` to this frame's pose at page time `time_ms`: the clip's (written to
+    /// `params.time`; posed again only when its time changed), else the `animate`
+    /// deformation of `rest`, else `rest` once after a deformation.
+    pub fn step<T: Deform>(
+        &mut self,
+        rest: &Mesh,
+        params: &mut Params,
+        time_ms: f64,
+        targets: &mut [T],
+    ) -> Result<Stepped, ViewerError> {
+        let mut out = Stepped::default();
+        if let (Some(playback), Some(clip)) = (&mut self.playback, self.clip) {
+            let time = playback.time_at(clip, params.time, params.playing, time_ms);
+            params.time = time;
+            if self.posed != Some((clip, time.to_bits())) {
+                // A pose the surfaces refuse (a triangle collapsed to no area) keeps the last
+                // good frame on screen; the stats say why.
+                let mut error = None;
+                let (positions, normals) = playback.pose(clip, time)?;
+                for target in targets.iter_mut() {
+                    match target.deform(positions, normals) {
+                        Ok(bytes) => out.uploaded += bytes,
+                        Err(ViewerError::Refine(e)) => {
+                            error = Some(format!("clip at {time} s: {e}"));
+                            break;
+                        }
+                        Err(e) => return Err(e),
+                    }
+                }
+                out.pose_error = Some(error);
+                self.posed = Some((clip, time.to_bits()));
+                self.deformed = true;
+            }
+            return Ok(out);
+        }
+        self.posed = None;
+        match deform::at(rest, params.animate, time_ms) {
+            Some((positions, normals)) => {
+                for target in targets.iter_mut() {
+                    out.uploaded += target.deform(&positions, Some(&normals))?;
+                }
+                self.deformed = true;
+            }
+            None if self.deformed => {
+                for target in targets.iter_mut() {
+                    out.uploaded += target.deform(rest.positions(), Some(rest.normals()))?;
+                }
+                self.deformed = false;
+            }
+            None => {}
+        }
+        Ok(out)
+    }
+}
