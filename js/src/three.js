@@ -221,10 +221,7 @@ function patchMaterial(material, uniforms, glsl, flags, key) {
     shader.vertexShader = `${shader.vertexShader.slice(0, at)}${head}${shader.vertexShader.slice(at, main)}\n${body}${shader.vertexShader.slice(main)}`;
     own.call(material, shader, renderer);
   };
-  // WebGPURenderer's node material copy keeps its own key (its node graph's: the nets' nodes).
-  material.customProgramCacheKey = function () {
-    return this.isNodeMaterial === true ? Object.getPrototypeOf(this).customProgramCacheKey.call(this) : `${key}|${ownKey.call(material)}`;
-  };
+  material.customProgramCacheKey = () => `${key}|${ownKey.call(material)}`;
   material.needsUpdate = true;
 }
 

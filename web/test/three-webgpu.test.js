@@ -188,6 +188,23 @@ test('under WebGPURenderer a map reads the coarse uvs, and vertex colours the co
   assert.deepEqual(problems, []);
 });
 
+test('under WebGPURenderer two TessellatedMeshes of one scheme and topology draw each its own nets and material (one instanced draw each)', async () => {
+  const cpu = await run({ plain: true, castShadow: false, twin: true });
+  const gpu = await run({ castShadow: false, twin: true });
+  const one = await run({ castShadow: false });
+  const score = iou(mask(cpu.img), mask(gpu.img));
+  const off = differing(cpu.img, gpu.img, 12);
+  console.log(`two meshes: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
+  if (SHOT) save(SHOT.replace(/\.png$/, '-twin.png'), cpu.img, gpu.img);
+  assert.ok(score >= 0.99, `IoU ${score}`);
+  assert.ok(off < 0.01 * count(mask(cpu.img)), `${off} pixels of other colours`);
+  assert.ok(count(mask(gpu.img)) > count(mask(one.img)) + 1000, 'the second mesh drew nothing');
+  // three orders the draws (front to back): either order.
+  const draws = gpu.log[0].instanced.slice().sort((a, b) => a.instances - b.instances);
+  assert.deepEqual(draws, [{ count: 3 * 64, instances: gpu.faces }, { count: 3 * 64, instances: gpu.faces }]);
+  assert.deepEqual(problems, []);
+});
+
 test("under WebGPURenderer three's other materials draw it too (Lambert, Phong, Physical, Normal), with fog and clipping", async () => {
   const configs = ['MeshLambertMaterial', 'MeshPhongMaterial', 'MeshPhysicalMaterial', 'MeshNormalMaterial'].map((material) => ({ material }));
   configs.push({ fogClip: true }, { material: 'MeshLambertMaterial', fogClip: true });

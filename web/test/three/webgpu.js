@@ -6,7 +6,7 @@
 // render target (no canvas snapshot needed).
 import * as THREE from 'three';
 import { ClippingGroup, MeshBasicNodeMaterial, WebGPURenderer } from 'three/webgpu';
-import { attribute, instanceIndex, normalGeometry, texture, varying } from 'three/tsl';
+import { attribute, instanceIndex, normalGeometry, texture, varying, vec4 } from 'three/tsl';
 import { ready, TessellaError } from 'tessella';
 import { refineGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
 
@@ -71,7 +71,7 @@ function pose(geometry, rest, frame) {
 async function run({
   scheme = 'pn', level = 8, normals = undefined, soup = undefined, plain = false, frames = 1, deform = false,
   plane = false, castShadow = true, occluder = false, occluderCasts = true, point = false, custom = false, map = false, colours = false,
-  material = 'MeshStandardMaterial', fogClip = false,
+  material = 'MeshStandardMaterial', fogClip = false, twin = false,
 } = {}) {
   await ready;
   await started;
@@ -157,6 +157,25 @@ async function run({
       drawn.material.colorNode = varying(n).mul(0.5).add(0.5);
     }
   }
+  // twin: a second mesh of the same scheme (the same WGSL, its own nets) beside the first, its
+  // material of the same kind but for its own colorNode (so its own program).
+  let second = null;
+  if (twin) {
+    const red = () => Object.assign(make(), { colorNode: vec4(0.8, 0.2, 0.2, 1) });
+    const other = new THREE.Mesh(new THREE.TorusKnotGeometry(0.8, 0.3, 40, 6), red());
+    other.scale.setScalar(0.4);
+    other.position.set(1.6, 0.4, 0);
+    parent.add(other);
+    if (plain) {
+      second = new THREE.Mesh(refineGeometry(other.geometry, options), other.material);
+      second.position.copy(other.position);
+      second.scale.copy(other.scale);
+      parent.remove(other);
+      parent.add(second);
+    } else {
+      second = new TessellatedMesh(other, red(), options);
+    }
+  }
   const log = [];
   renderer.setRenderTarget(target);
   for (let f = 0; f < frames; f++) {
@@ -179,6 +198,7 @@ async function run({
   renderer.setRenderTarget(null);
   const faces = geometry.index.count / 3;
   if (!plain) drawn.dispose();
+  if (!plain && second !== null) second.dispose();
   let binary = '';
   const bytes = new Uint8Array(pixels.buffer, pixels.byteOffset, WIDTH * HEIGHT * 4);
   for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
