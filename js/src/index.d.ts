@@ -197,6 +197,12 @@ export class InstancedSurface {
   /** GLSL ES 3.00 declaring `tessella_evaluate(int face, vec3 l, out vec3 position, out vec3 normal)`. */
   glsl(): string;
   /**
+   * WGSL ending with `fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32>`
+   * and `fn tessella_normal(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32>` (unit length),
+   * for three.js's TSL `wgslFn`; the nets texture's layout is `glsl()`'s.
+   */
+  wgsl(): string;
+  /**
    * Builds one frame's nets (normals left out are computed) into `out`, a Float32Array of
    * `width * height * 4` floats, and the bounds into `bounds`. Returns `out`.
    */

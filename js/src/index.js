@@ -350,6 +350,15 @@ export class InstancedSurface {
     return call(() => inner.glsl());
   }
 
+  /**
+   * WGSL ending with `fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32>`
+   * and `fn tessella_normal(...)` (same parameters, a unit normal), for TSL's `wgslFn`.
+   */
+  wgsl() {
+    const inner = this.#live();
+    return call(() => inner.wgsl());
+  }
+
   #input(which, length) {
     const inner = this.#inner;
     const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);

@@ -1,4 +1,5 @@
 import type { BufferGeometry, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Raycaster, SkinnedMesh } from 'three';
+import type { Node } from 'three/webgpu';
 import type { InstancedSurface, InstancedSurfaceOptions, RefineOptions } from './index.js';
 
 /**
@@ -29,12 +30,15 @@ export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
 }
 
 /**
- * A curved surface drawn by WebGLRenderer (WebGL2) in one instanced draw: the refinement
- * pattern once per coarse triangle, the vertex shader evaluating each triangle's patch from
- * control nets in a float texture. A Mesh source is hidden and replaced (same parent,
- * transform, shadow flags); a SkinnedMesh's skeleton and a Mesh's morph influences are followed
- * every frame (posed in wasm, as getVertexPosition poses them). The material is patched for it
- * (onBeforeCompile and customProgramCacheKey, chained after its own) and draws this mesh only.
+ * A curved surface drawn by WebGLRenderer (WebGL2) or WebGPURenderer (its WebGPU backend) in
+ * one instanced draw: the refinement pattern once per coarse triangle, the vertex stage
+ * evaluating each triangle's patch from control nets in a float texture. A Mesh source is
+ * hidden and replaced (same parent, transform, shadow flags); a SkinnedMesh's skeleton and a
+ * Mesh's morph influences are followed every frame (posed in wasm, as getVertexPosition poses
+ * them). The material is patched for it (onBeforeCompile and customProgramCacheKey, chained
+ * after its own, for WebGLRenderer; `positionNode`, and `contextNode`/`colorNode` for
+ * uvs/colours unless it has its own, for WebGPURenderer) and draws this mesh only. A material
+ * with a positionNode is refused.
  */
 export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
   constructor(source: BufferGeometry | Mesh | SkinnedMesh, material?: Material, options?: TessellatedMeshOptions);
@@ -42,7 +46,7 @@ export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
   readonly source: BufferGeometry | Mesh | SkinnedMesh;
   /** The nets texture (RGBA32F) the vertex shader reads. */
   readonly netsTexture: DataTexture;
-  /** The wasm side: pattern, texture layout, GLSL. */
+  /** The wasm side: pattern, texture layout, GLSL and WGSL. */
   readonly surface: InstancedSurface;
   /** Update before each render when the source's position, normal, uv or color attribute changed (default true). */
   autoUpdate: boolean;
@@ -57,3 +61,13 @@ export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
   /** Frees the wasm memory, the nets texture, the pattern and the shadow materials. */
   dispose(): void;
 }
+
+/** A TSL function of the surface: `{ nets: texture(mesh.netsTexture), face: instanceIndex, l: attribute('tessellaBarycentric', 'vec3') }` to a vec3. */
+export type TessellaFunction = (args: { nets: Node; face: Node; l: Node }) => Node;
+
+/**
+ * TSL (`wgslFn`) functions from `InstancedSurface.wgsl()`: the patch's point and its unit
+ * normal, for a node material's own graph beside TessellatedMesh's. The same text gives the
+ * same nodes.
+ */
+export function tessellaFunctions(wgsl: string): { position: TessellaFunction; normal: TessellaFunction };

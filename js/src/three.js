@@ -18,6 +18,9 @@ import {
   Sphere,
 } from 'three';
 import { Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
+import { missingNodes, setupNodes } from './three-nodes.js';
+
+export { tessellaFunctions } from './three-nodes.js';
 
 // Attributes tessella computes itself; every other float attribute is interpolated.
 const OWN = new Set(['position', 'normal', 'uv']);
@@ -275,11 +278,9 @@ const patched = new WeakSet();
 
 /** What the renderer lacks for TessellatedMesh, or null. */
 function missing(renderer) {
-  if (renderer != null && renderer.isWebGPURenderer === true) {
-    return 'TessellatedMesh draws with three.js\'s WebGLRenderer (WebGL2); WebGPURenderer (node materials) is not supported yet';
-  }
+  if (renderer != null && renderer.isWebGPURenderer === true) return missingNodes(renderer);
   if (renderer == null || typeof renderer.getContext !== 'function' || renderer.capabilities == null) {
-    return 'TessellatedMesh draws with three.js\'s WebGLRenderer (WebGL2); this renderer is not one';
+    return 'TessellatedMesh draws with three.js\'s WebGLRenderer (WebGL2) or WebGPURenderer; this renderer is neither';
   }
   const gl = renderer.getContext();
   const lacks = [];
@@ -388,6 +389,9 @@ export class TessellatedMesh extends Mesh {
     if (patched.has(material)) {
       throw new TessellaError('this material already draws a TessellatedMesh: give each its own (material.clone())');
     }
+    if (material.positionNode != null) {
+      throw new TessellaError('the material has a positionNode: TessellatedMesh sets it (the curved surface under WebGPURenderer)');
+    }
     const { indices } = sourceOf(geometry);
     const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !MESH_OPTIONS.includes(k)));
     const surface = new InstancedSurface(indices, rest);
@@ -413,6 +417,8 @@ export class TessellatedMesh extends Mesh {
     // no normal attribute; the shader's normal is the patch's (a local that hides the
     // attribute), so this one only has to exist: the same buffer, uploaded once.
     g.setAttribute('normal', barycentric);
+    // WebGPURenderer reads a position attribute before the node replaces it (a warning if none).
+    g.setAttribute('position', barycentric);
     g.instanceCount = surface.faceCount;
     g.boundingBox = new Box3();
     g.boundingSphere = new Sphere();
@@ -429,8 +435,9 @@ export class TessellatedMesh extends Mesh {
     if (color !== undefined) {
       const c = color.itemSize;
       for (let k = 0; k < 3; k++) g.setAttribute(`tessellaColor${k}`, new InstancedBufferAttribute(new Float32Array(surface.faceCount * c), c));
-      // Tells three the colours' width (USE_COLOR_ALPHA for 4); the shader reads the instanced ones.
-      g.setAttribute('color', new BufferAttribute(new Float32Array((points.length / 3) * c), c));
+      // Tells three the colours' width (USE_COLOR_ALPHA for 4); the shader reads the instanced
+      // ones. Ones: the factor WebGPURenderer's node materials take from it changes nothing.
+      g.setAttribute('color', new BufferAttribute(new Float32Array((points.length / 3) * c).fill(1), c));
     }
     this.#indices = Uint32Array.from(indices);
 
@@ -447,6 +454,8 @@ export class TessellatedMesh extends Mesh {
     const glsl = surface.glsl();
     const key = `tessella:${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}`;
     patchMaterial(material, uniforms, glsl, this.#flags, key);
+    // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too).
+    setupNodes(material, surface, texture, this.#flags);
     patched.add(material);
     this.customDepthMaterial = new MeshDepthMaterial();
     patchMaterial(this.customDepthMaterial, uniforms, glsl, this.#flags, key);
@@ -604,7 +613,8 @@ export class TessellatedMesh extends Mesh {
     if (this.#checked === renderer) return;
     const why = missing(renderer);
     if (why !== null) throw new TessellaError(why);
-    const size = renderer.capabilities.maxTextureSize;
+    // WebGPU's guaranteed 8192 texels hold every layout (at most 2048 wide and high).
+    const size = renderer.isWebGPURenderer === true ? 8192 : renderer.capabilities.maxTextureSize;
     if (this.#surface.width > size || this.#surface.height > size) {
       throw new TessellaError(`the nets texture is ${this.#surface.width}x${this.#surface.height}, over this renderer's largest texture, ${size}`);
     }

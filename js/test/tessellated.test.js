@@ -1,8 +1,8 @@
 // tessella/three's TessellatedMesh without a GPU: its options and errors, the nets texture's
 // layout (evaluated here with the cubic Bernstein basis, it gives the CPU's refined surface),
 // the bounds that cover the refined surface, following the source, the patched shaders, and a
-// renderer that lacks what it needs. The GPU side is tested in a browser:
-// web/test/three-mesh.test.js.
+// renderer that lacks what it needs, the WGSL for WebGPURenderer as TSL reads it. The GPU side
+// is tested in a browser: web/test/three-mesh.test.js (WebGL2), three-webgpu.test.js (WebGPU).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
@@ -17,7 +17,8 @@ import {
   Vector3,
 } from 'three';
 import { ready, refine, TessellaError } from '../src/index.js';
-import { TessellatedMesh } from '../src/three.js';
+import { TessellatedMesh, tessellaFunctions } from '../src/three.js';
+import WGSLNodeFunction from 'three/src/renderers/webgpu/nodes/WGSLNodeFunction.js';
 
 await ready;
 
@@ -232,6 +233,43 @@ test('a renderer without instancing, float textures or vertex textures is refuse
   assert.throws(() => mesh.onBeforeShadow(renderer(webgl2, { maxVertexTextures: 0 })), /lacks textures in the vertex shader/);
   assert.throws(() => mesh.onBeforeRender(renderer(webgl2, { maxTextureSize: 8 })), /over this renderer's largest texture/);
   assert.throws(() => mesh.onBeforeRender({}), /WebGLRenderer/);
-  assert.throws(() => mesh.onBeforeRender({ isWebGPURenderer: true }), /WebGPURenderer \(node materials\) is not supported yet/);
+  // WebGPURenderer: its WebGPU backend draws the nodes; its WebGL2 fallback is refused by name.
+  mesh.onBeforeRender({ isWebGPURenderer: true, backend: { isWebGPUBackend: true } });
+  assert.throws(() => mesh.onBeforeRender({ isWebGPURenderer: true, backend: { isWebGLBackend: true } }), (e) => e instanceof TessellaError && /needs its WebGPU backend/.test(e.message));
   mesh.dispose();
+});
+
+test("the WGSL for WebGPURenderer: TSL's parser finds tessella_position and tessella_normal with the parameters the node passes", () => {
+  for (const scheme of ['pn', 'png1']) {
+    const mesh = new TessellatedMesh(new IcosahedronGeometry(1, 0), undefined, { scheme, level: 3 });
+    const code = mesh.surface.wgsl();
+    const { position, normal } = tessellaFunctions(code);
+    for (const [fn, name] of [[position, 'tessella_position'], [normal, 'tessella_normal']]) {
+      // What wgslFn does with the code: three's WGSL function parser (the first function's
+      // signature; the rest of its text is its body).
+      const parsed = new WGSLNodeFunction(fn.code);
+      assert.equal(parsed.name, name);
+      assert.equal(parsed.type, 'vec3');
+      assert.deepEqual(parsed.inputs.map((i) => [i.name, i.type]), [['nets', 'texture'], ['face', 'uint'], ['l', 'vec3']]);
+      // One function each: the helpers are the include, shared.
+      assert.equal(fn.code.match(/\bfn /g).length, 1);
+      assert.equal(fn.includes.length, 1);
+    }
+    assert.equal(position.includes[0], normal.includes[0]);
+    // The same text, the same nodes: a user's material calling them includes the helpers once.
+    assert.equal(tessellaFunctions(code), tessellaFunctions(code));
+    const helpers = position.includes[0].code;
+    for (const name of ['tessella_texel', 'tessella_normal_weights', `tessella_${scheme === 'pn' ? 'cubic' : 'png1'}_weights`]) {
+      assert.match(helpers, new RegExp(`fn ${name}\\(`));
+    }
+    // The nets texture's layout is the GLSL's: the same texels per face.
+    assert.match(code, new RegExp(`const TESSELLA_TEXELS_PER_FACE: u32 = ${mesh.surface.texelsPerFace}u;`));
+    // The material draws the node under WebGPURenderer (and its onBeforeCompile under WebGLRenderer).
+    assert.equal(mesh.material.positionNode.isNode, true);
+    mesh.dispose();
+  }
+  const material = new MeshStandardMaterial();
+  material.positionNode = tessellaFunctions(new TessellatedMesh(new IcosahedronGeometry(1, 0)).surface.wgsl()).position;
+  assert.throws(() => new TessellatedMesh(new IcosahedronGeometry(1, 0), material), /has a positionNode/);
+  assert.throws(() => tessellaFunctions('fn f() {}'), (e) => e instanceof TessellaError);
 });

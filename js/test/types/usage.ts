@@ -2,9 +2,10 @@
 // other tests exercise; the lines marked @ts-expect-error must be refused.
 import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
 import type { MeshOutput, Pose, RefineOutput } from 'tessella';
-import { refineGeometry, RefinedGeometry, TessellatedMesh } from 'tessella/three';
+import { refineGeometry, RefinedGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
 import { InstancedSurface } from 'tessella';
 import { BufferGeometry, Mesh, MeshStandardMaterial } from 'three';
+import { attribute, instanceIndex, texture } from 'three/tsl';
 
 await ready;
 const v: 'simd' | 'scalar' = variant;
@@ -38,13 +39,18 @@ anim.free();
 const tm = new TessellatedMesh(new Mesh(new BufferGeometry()), new MeshStandardMaterial(), { scheme: 'pn', level: 4, normalsFromSource: false });
 const bytes: number = tm.update().uploadedBytes;
 const instances: number = tm.geometry.instanceCount;
+const { normal } = tessellaFunctions(tm.surface.wgsl());
+const tsl = normal({ nets: texture(tm.netsTexture), face: instanceIndex, l: attribute('tessellaBarycentric', 'vec3') });
 tm.dispose();
 const surface = new InstancedSurface(new Uint32Array(3), { level: 2 });
 const nets: Float32Array = surface.update(new Float32Array(9), null, new Float32Array(surface.width * surface.height * 4));
 const glsl: string = surface.glsl();
+const wgsl: string = surface.wgsl();
 surface.free();
 // @ts-expect-error: no lod on the instanced path
 new InstancedSurface(new Uint32Array(3), { lod: 'tolerance:0.1' });
+// @ts-expect-error: the TSL functions take named nodes
+normal(texture(tm.netsTexture), instanceIndex);
 // @ts-expect-error: made by readAnimated only
 new AnimatedMesh();
 // @ts-expect-error: a clip is a name or an index
@@ -55,4 +61,4 @@ refine({ positions: [0, 0, 0], indices: new Uint32Array(3) });
 refine({ positions: new Float32Array(9), indices: new Uint32Array(3) }, { normals: 'cubic' });
 // @ts-expect-error: not a format writeMesh writes
 writeMesh(m, 'fbx');
-export { v, names, p, faces, i, computed, glb, e, g, same, clips, seconds, pose, rest, corners, count, bytes, instances, nets, glsl };
+export { v, names, p, faces, i, computed, glb, e, g, same, clips, seconds, pose, rest, corners, count, bytes, instances, nets, glsl, wgsl, tsl };

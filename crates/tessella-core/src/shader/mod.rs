@@ -167,6 +167,21 @@ pub fn normal_net(lang: Lang) -> String {
     }
 }
 
+/// WGSL: `fn tessella_normal_weights(l: vec3<f32>) -> array<f32, 6>`, the quadratic normal
+/// net's weights at `l` alone (what [`normal_net`]'s GLSL fills in), for a shader that reads
+/// the normal net itself rather than through `tessella_net_normal` (one whose nets arrive as a
+/// function's texture parameter, as three.js's TSL passes them).
+pub fn normal_weights_wgsl() -> String {
+    let (tape, w) = trace(|| normal_weights(traced_l()));
+    let body = Body::new(&tape, Lang::Wgsl, &w);
+    let items: Vec<String> = w.iter().map(|e| body.name(*e)).collect();
+    format!(
+        "fn tessella_normal_weights(l: vec3<f32>) -> array<f32, {NORMAL_NET_LEN}> {{\n{}    return array<f32, {NORMAL_NET_LEN}>({});\n}}\n",
+        body.statements,
+        items.join(", ")
+    )
+}
+
 /// WGSL: `fn tessella_p2_weights(l: vec3<f32>) -> array<f32, 6>`, the six-node triangle's
 /// shape functions at `l` ([`crate::mesh::quadratic::shape_functions`]: corners, then the
 /// mid-edges of edges 0-1, 1-2, 2-0). A P2 field's value is their sum with its six nodal values.

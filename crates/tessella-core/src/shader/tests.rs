@@ -365,6 +365,12 @@ fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
     }
     let p2 = p2_weights_wgsl();
     assert_eq!(p2.matches("array<f32, 6>").count(), 2, "{p2}");
+    let normal = normal_weights_wgsl();
+    assert!(normal.starts_with("fn tessella_normal_weights(l: vec3<f32>) -> array<f32, 6>"));
+    // Six weights returned (their values are the traced tape's, checked above).
+    let returned = normal.lines().rev().nth(1).unwrap();
+    let items = returned.split_once("6>(").unwrap().1;
+    assert_eq!(items.matches(", ").count(), 5, "{normal}");
     for text in [
         wgsl,
         glsl,
@@ -372,6 +378,7 @@ fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
         normal_net(Lang::Wgsl),
         edge_weights_wgsl(),
         p2,
+        normal,
     ] {
         for line in text.lines() {
             for keyword in ["fn ", "struct ", "void "] {
