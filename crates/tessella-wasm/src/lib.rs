@@ -15,6 +15,7 @@
 //! The crate also builds natively (a workspace member), so its option and array handling is
 //! tested by `cargo test` like the rest.
 
+mod adaptive;
 mod animated;
 mod arrays;
 mod deformer;
