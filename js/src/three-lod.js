@@ -329,6 +329,11 @@ export class LodParts {
     return { ...base, camera: [...v.eye, ...v.target, v.fov], size: v.size };
   }
 
+  /** The corners texture (RGBA32F: per face its corners' uvs, then colours), or null without uvs and colours. */
+  get cornersTexture() {
+    return this.#corners?.texture ?? null;
+  }
+
   /** Triangles the last levels draw. */
   get triangleCount() {
     return this.#surface.triangleCount;
