@@ -44,6 +44,9 @@ test('the levels of a camera draw the triangles of refine with the same lod, cam
       const visible = mesh.lod.children.filter((c) => c.visible);
       assert.equal(visible.length, mesh.surface.draws.length / 3);
       assert.ok(visible.every((c) => c.material === mesh.material && c.geometry.boundingSphere === mesh.geometry.boundingSphere));
+      // The parts, built once: about 1.9 MB for the fractional spacings, 5.9 MB for equal.
+      const [lo, hi] = spacing === 'equal' ? [5.8e6, 6e6] : [1.8e6, 2e6];
+      assert.ok(mesh.lod.partBytes > lo && mesh.lod.partBytes < hi, `${spacing}: ${mesh.lod.partBytes} bytes of parts`);
       scene.remove(mesh);
       mesh.dispose();
     }

@@ -474,11 +474,13 @@ fn part_arrays(table: &PartTable) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
 /// formulas), the record layout constants, the tessellator's placement `tessella_locate` and the
 /// canonical edge weights, both generated from the core's Rust (`shader::locate_glsl`,
 /// `shader::edge_weights_glsl`), and
-/// `void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal)`:
+/// `void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal,
+/// out vec3 bary)`:
 /// the point the part's `code` names on instance `inst` (`face | side << 30`), placed with the
 /// face's record and evaluated there; a point on a coarse edge from the edge's four boundary
 /// control points in canonical order with weights from the edge's own 16.16 position, the same
-/// floats from both faces (as `adaptive.wgsl` does). It declares, beside the nets' uniforms,
+/// floats from both faces (as `adaptive.wgsl` does); `bary` is the point's barycentric
+/// coordinates in the coarse triangle. It declares, beside the nets' uniforms,
 /// `uniform highp usampler2D tessellaRecords` and `uniform int tessellaRecordsPerRow`.
 pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     let mut s = nets_glsl(basis, mode);
@@ -544,12 +546,13 @@ vec3 tessella_net_entry(int face, uint i) {
 }
 "#;
 
-const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal) {
+const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, out vec3 bary) {
     int face = int(inst & 0x3fffffffu);
     tessella_read_record(face);
     uvec3 p = tessella_locate(0u, code & 0x3fffffffu, inst >> 30u);
     uvec3 lf = uvec3(p.x, p.y, TESSELLA_FIXED_ONE - p.x - p.y);
     vec3 l = vec3(lf) / float(TESSELLA_FIXED_ONE);
+    bary = l;
     tessella_evaluate(face, l, position, normal);
     uint edge = p.z;
     if (edge != TESSELLA_NO_EDGE) {

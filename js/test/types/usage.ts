@@ -3,7 +3,7 @@
 import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
 import type { MeshOutput, Pose, RefineOutput } from 'tessella';
 import { refineGeometry, RefinedGeometry, TessellatedMesh } from 'tessella/three';
-import { InstancedSurface } from 'tessella';
+import { AdaptiveSurface, InstancedSurface } from 'tessella';
 import { BufferGeometry, Mesh, MeshStandardMaterial } from 'three';
 
 await ready;
@@ -45,6 +45,15 @@ const glsl: string = surface.glsl();
 surface.free();
 // @ts-expect-error: no lod on the instanced path
 new InstancedSurface(new Uint32Array(3), { lod: 'tolerance:0.1' });
+const lodMesh = new TessellatedMesh(new BufferGeometry(), undefined, { lod: 'screen:4', spacing: 'fractional-odd', size: [640, 480] });
+const lodBytes: number = lodMesh.lod === null ? 0 : lodMesh.lod.uploadedBytes + lodMesh.lod.triangleCount;
+lodMesh.lod?.setLevels([2, 3, 4]);
+const adaptive = new AdaptiveSurface(new Uint32Array(3), { spacing: 'equal', lod: 'tolerance:0.01' });
+adaptive.setLod({ eye: [0, 0, 5], target: [0, 0, 0], fov: 45 }, [640, 480]);
+const drawsOf: Uint32Array = adaptive.draws;
+adaptive.free();
+// @ts-expect-error: lod draws the tessellator's patterns, not the grid
+new AdaptiveSurface(new Uint32Array(3), { spacing: 'grid' });
 // @ts-expect-error: made by readAnimated only
 new AnimatedMesh();
 // @ts-expect-error: a clip is a name or an index
