@@ -106,6 +106,34 @@ test('the LOD picture is refineGeometry\'s with the same lod, camera and size, a
   assert.deepEqual(problems, []);
 });
 
+test('a map by the coarse uvs and vertex colours look as on refineGeometry\'s mesh', async () => {
+  const config = { spacing: 'fractional-odd', eye: [0.6, 0.5, 2.2], pixels: 5, extras: true, material: 'standard' };
+  const cpu = await run({ ...config, plain: true }, 'extras-cpu');
+  const gpu = await run(config, 'extras-gpu');
+  const a = mask(cpu.img);
+  const score = iou(a, mask(gpu.img));
+  const off = differing(cpu.img, gpu.img);
+  console.log(`map and colours: IoU ${score.toFixed(5)}, ${off} of ${count(a)} pixels shaded differently`);
+  assert.ok(score >= 0.99, `IoU ${score}`);
+  assert.ok(off < 0.01 * count(a), `${off} pixels shaded differently`);
+  assert.deepEqual(problems, []);
+});
+
+test('it casts a shadow like refineGeometry\'s mesh (the parts drawn into the shadow map too)', async () => {
+  const config = { spacing: 'equal', eye: [0.4, 0.3, 3.2], pixels: 6, material: 'standard' };
+  const lit = await run({ ...config, shadow: true, cast: false });
+  const cpu = await run({ ...config, shadow: true, plain: true }, 'shadow-cpu');
+  const gpu = await run({ ...config, shadow: true }, 'shadow-gpu');
+  const off = differing(cpu.img, gpu.img);
+  const cast = differing(lit.img, gpu.img);
+  console.log(`shadow: ${cast} pixels darkened by it, ${off} differ from the CPU mesh's picture`);
+  // Shadow map and picture: each draws the parts.
+  assert.ok(gpu.log[0].instanced.length >= 2 * lit.log[0].instanced.length);
+  assert.ok(cast > 2000, `only ${cast} pixels in the shadow`);
+  assert.ok(off < 0.01 * cast, `${off} pixels differ`);
+  assert.deepEqual(problems, []);
+});
+
 test('levels that differ wildly from edge to edge stay watertight', async () => {
   for (const spacing of ['fractional-odd', 'equal']) {
     const uniform = await run({ spacing, eye: [0.3, 0.5, 1.8], levels: [9] }, `${spacing}-uniform`);

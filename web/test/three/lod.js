@@ -15,6 +15,7 @@ const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDra
 renderer.setPixelRatio(1);
 renderer.setSize(WIDTH, HEIGHT);
 renderer.setClearColor(0xffffff, 1);
+renderer.shadowMap.enabled = true;
 
 const gl = renderer.getContext();
 const counts = { instanced: [], uploaded: 0 };
@@ -72,7 +73,8 @@ function coarse() {
  */
 async function run({
   scheme = 'pn', spacing = 'fractional-odd', pixels = 6, eye = [0, 0.4, 3], to = null, plain = false, frames = 1,
-  material = 'basic', cameraOption = true, deform = false, levels = null,
+  material = 'basic', cameraOption = true, deform = false, levels = null, extras = false,
+  shadow = false, cast = true,
 } = {}) {
   await ready;
   const scene = new THREE.Scene();
@@ -89,6 +91,17 @@ async function run({
   const light = new THREE.DirectionalLight(0xffffff, 2);
   light.position.set(1, 2, 3);
   scene.add(light);
+  // shadow: the surface casts onto a plane behind it (the light's shadow map draws the parts
+  // with the patched depth material).
+  if (shadow) {
+    light.castShadow = true;
+    light.shadow.mapSize.set(512, 512);
+    Object.assign(light.shadow.camera, { left: -3, right: 3, top: 3, bottom: -3, near: 0.5, far: 12 });
+    const ground = new THREE.Mesh(new THREE.PlaneGeometry(12, 12), new THREE.MeshStandardMaterial({ color: 0xdddddd }));
+    ground.position.z = -1.6;
+    ground.receiveShadow = true;
+    scene.add(ground);
+  }
   const geometry = coarse();
   const rest = geometry.getAttribute('position').array.slice();
   const bend = (f) => {
@@ -97,7 +110,33 @@ async function run({
     p.needsUpdate = true;
     geometry.computeVertexNormals();
   };
-  const make = () => (material === 'basic' ? new THREE.MeshBasicMaterial({ color: 0x2255aa }) : new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 }));
+  const make0 = () => (material === 'basic' ? new THREE.MeshBasicMaterial({ color: 0x2255aa }) : new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 }));
+  // extras: a checker map by the coarse uvs (spherical) and vertex colours.
+  let map = null;
+  if (extras) {
+    const p = geometry.getAttribute('position');
+    const uvs = new Float32Array(2 * p.count);
+    const colours = new Float32Array(3 * p.count);
+    for (let i = 0; i < p.count; i++) {
+      const [x, y, z] = [p.getX(i), p.getY(i), p.getZ(i)];
+      uvs.set([0.5 + Math.atan2(z, x) / (2 * Math.PI), 0.5 + 0.4 * y], 2 * i);
+      colours.set([1, 0.5 + 0.5 * Math.sin(3 * x), 0.5 + 0.5 * z], 3 * i);
+    }
+    geometry.setAttribute('uv', new THREE.BufferAttribute(uvs, 2));
+    geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+    const checker = new Uint8Array(64 * 64 * 4);
+    for (let i = 0; i < 64 * 64; i++) checker.set(((i % 64 >> 3) + (i >> 9)) % 2 ? [255, 255, 255, 255] : [60, 60, 60, 255], 4 * i);
+    map = new THREE.DataTexture(checker, 64, 64);
+    map.needsUpdate = true;
+  }
+  const make = () => {
+    const m = make0();
+    if (extras) {
+      m.map = map;
+      m.vertexColors = true;
+    }
+    return m;
+  };
   const lod = `screen:${pixels}`;
   const log = [];
   let drawn;
@@ -107,9 +146,11 @@ async function run({
     // Given levels: one level everywhere, as refine's `level` with the spacing.
     const options = levels !== null ? { scheme, spacing, level: levels[0] } : { scheme, spacing, lod, camera: [...e, 0, 0, 0, FOV], size: [WIDTH, HEIGHT] };
     drawn = new THREE.Mesh(refineGeometry(geometry, options), make());
+    drawn.castShadow = shadow && cast;
     scene.add(drawn);
   } else {
     drawn = new TessellatedMesh(geometry, make(), { scheme, spacing, lod, ...(cameraOption ? { camera, size: [WIDTH, HEIGHT] } : {}) });
+    drawn.castShadow = shadow && cast;
     scene.add(drawn);
     if (levels !== null) {
       drawn.update();
