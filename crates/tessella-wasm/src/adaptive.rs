@@ -21,7 +21,7 @@ use std::collections::HashMap;
 use tessella_core::refine::instanced::{
     self, FrameInstances, PartTable, FORWARD_WORD, RECORD_WORDS,
 };
-use tessella_core::refine::{canonical, lod, Camera, Levels, Lod, Spacing, SurfaceOptions};
+use tessella_core::refine::{canonical, lod, Camera, Lod, Spacing, SurfaceOptions};
 use tessella_core::shader::{self, Lang};
 use tessella_core::{Named, NormalMode};
 use wasm_bindgen::prelude::*;
@@ -58,7 +58,8 @@ pub fn pack_record(record: &[u32]) -> [u32; PACKED_WORDS] {
 
 /// Word `k` of ruler `r` from a packed record: the Rust twin of the GLSL's
 /// `tessella_ruler_word` (the tests check that it gives back every word the core wrote).
-pub fn packed_ruler_word(packed: &[u32; PACKED_WORDS], r: usize, k: usize) -> u32 {
+#[cfg(test)]
+fn packed_ruler_word(packed: &[u32; PACKED_WORDS], r: usize, k: usize) -> u32 {
     let [a, b, c] = [packed[3 * r], packed[3 * r + 1], packed[3 * r + 2]];
     match k {
         0 => a & FIXED_MASK,
@@ -70,7 +71,8 @@ pub fn packed_ruler_word(packed: &[u32; PACKED_WORDS], r: usize, k: usize) -> u3
 }
 
 /// The canonical edge bits of a packed record.
-pub fn packed_forward(packed: &[u32; PACKED_WORDS]) -> u32 {
+#[cfg(test)]
+fn packed_forward(packed: &[u32; PACKED_WORDS]) -> u32 {
     (packed[2] >> 18) & 7
 }
 
@@ -581,7 +583,7 @@ const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, u
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tessella_core::refine::Plan;
+    use tessella_core::refine::{Levels, Plan};
 
     fn sample() -> (tessella_core::Mesh, Vec<u32>) {
         let m = tessella_core::samples::icosphere(1);
@@ -663,8 +665,8 @@ mod tests {
                 .unwrap();
                 for record in frame.records.chunks_exact(RECORD_WORDS) {
                     let packed = pack_record(record);
-                    for i in 0..4 * RULER_WORDS {
-                        assert_eq!(packed_ruler_word(&packed, i / 5, i % 5), record[i]);
+                    for (i, &word) in record[..4 * RULER_WORDS].iter().enumerate() {
+                        assert_eq!(packed_ruler_word(&packed, i / 5, i % 5), word);
                     }
                 }
             }
