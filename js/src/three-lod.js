@@ -217,7 +217,8 @@ export class LodParts {
     const camera = this.camera ?? this.#seenCamera;
     const size = this.size ?? this.#seenSize;
     if (camera === null || size === null) return null;
-    if (camera.parent === null && camera.matrixWorldAutoUpdate === true) camera.updateMatrixWorld();
+    // Where the camera is now (three updates a parentless camera after the scene).
+    if (camera.matrixWorldAutoUpdate === true) camera.updateWorldMatrix(true, false);
     const inverse = this.#m.copy(this.#owner.matrixWorld).invert();
     const eye = this.#v.setFromMatrixPosition(camera.matrixWorld);
     const ahead = this.#t.set(0, 0, -1).transformDirection(camera.matrixWorld).add(eye);
@@ -323,8 +324,9 @@ export class LodParts {
 
   /** The options `refine` makes the drawn levels with (the camera and size of the last levels). */
   refineOptions(base) {
+    if (this.#given) throw new TessellaError('TessellatedMesh: raycasts hit the lod function\'s levels; levels given by setLevels have no CPU refinement to hit');
     const v = this.#levelsCamera;
-    if (v === null) return null;
+    if (v === null) throw new TessellaError('TessellatedMesh: no levels yet to raycast (render it once, or give the camera and size options)');
     if (v.camera === null) return { ...base };
     return { ...base, camera: [...v.eye, ...v.target, v.fov], size: v.size };
   }

@@ -675,7 +675,6 @@ export class TessellatedMesh extends Mesh {
     const normals = pose !== null ? (this.#useNormals ? pose.normals : undefined) : sourceNormal === undefined ? undefined : values(sourceNormal);
     const uv = g.getAttribute('uv');
     const options = this.#lod === null ? this.#options : this.#lod.refineOptions(this.#options);
-    if (options === null) throw new TessellaError('TessellatedMesh: no levels yet to raycast (render it once, or give the camera option)');
     const out = refine({ positions, indices: this.#indices, normals, uvs: uv === undefined ? undefined : values(uv) }, options);
     const geometry = new BufferGeometry();
     geometry.setIndex(new BufferAttribute(out.indices, 1));

@@ -136,6 +136,14 @@ test('lod options and cameras it cannot draw with throw TessellaErrors that say 
   ortho.position.set(0, 0, 5);
   const mesh = new TessellatedMesh(g, undefined, { lod: 'screen:4', spacing: 'equal', camera: ortho, size: [64, 64] });
   assert.throws(() => mesh.updateMatrixWorld(), (e) => e instanceof TessellaError && /PerspectiveCamera/.test(e.message));
+  // No camera yet (none given, no render), or levels of one's own: no CPU refinement to hit.
+  const ray = new Raycaster(new Vector3(0, 0, 5), new Vector3(0, 0, -1));
+  const unseen = new TessellatedMesh(g, undefined, { lod: 'screen:4', spacing: 'equal' });
+  unseen.updateMatrixWorld();
+  assert.equal(unseen.lod.triangleCount, 0);
+  assert.throws(() => ray.intersectObject(unseen), (e) => e instanceof TessellaError && /no levels yet/.test(e.message));
+  unseen.lod.setLevels(new Float32Array(unseen.surface.edgeCount).fill(3));
+  assert.throws(() => ray.intersectObject(unseen), (e) => e instanceof TessellaError && /setLevels/.test(e.message));
   // Distance LOD reads the eye only: an orthographic camera serves.
   const far = new TessellatedMesh(g, undefined, { lod: 'distance:1,10,8', spacing: 'equal', camera: ortho, size: [64, 64] });
   far.updateMatrixWorld();
