@@ -80,15 +80,20 @@ function holes(img, inside) {
 }
 
 test('the LOD picture is refineGeometry\'s with the same lod, camera and size, and has no holes', async () => {
-  for (const [spacing, eye, pixels] of [['fractional-odd', [0, 0.4, 3], 6], ['equal', [0.5, 0.3, 2.2], 5], ['fractional-even', [1.2, -0.2, 1.5], 4]]) {
-    const cpu = await run({ spacing, eye, pixels, plain: true }, `${spacing}-cpu`);
-    const gpu = await run({ spacing, eye, pixels }, `${spacing}-gpu`);
+  for (const [spacing, eye, pixels, scheme = 'pn'] of [
+    ['fractional-odd', [0, 0.4, 3], 6],
+    ['equal', [0.5, 0.3, 2.2], 5],
+    ['fractional-even', [1.2, -0.2, 1.5], 4],
+    ['fractional-odd', [0.3, 0.6, 2.4], 5, 'png1'],
+  ]) {
+    const cpu = await run({ scheme, spacing, eye, pixels, plain: true }, `${spacing}-${scheme}-cpu`);
+    const gpu = await run({ scheme, spacing, eye, pixels }, `${spacing}-${scheme}-gpu`);
     const a = mask(cpu.img);
     const b = mask(gpu.img);
     const score = iou(a, b);
     const frame = gpu.log[0];
     const gaps = holes(gpu.img, a);
-    console.log(`${spacing} from ${eye}: IoU ${score.toFixed(5)} (${count(a)} / ${count(b)} pixels), ${frame.triangles} triangles drawn in ${frame.instanced.length} instanced draws (CPU ${cpu.cpuTriangles}), ${gaps} holes`);
+    console.log(`${scheme} ${spacing} from ${eye}: IoU ${score.toFixed(5)} (${count(a)} / ${count(b)} pixels), ${frame.triangles} triangles drawn in ${frame.instanced.length} instanced draws (CPU ${cpu.cpuTriangles}), ${gaps} holes`);
     assert.ok(count(b) > 0.1 * b.length, `${spacing}: only ${count(b)} pixels drawn`);
     assert.ok(score >= 0.99, `${spacing}: IoU ${score}`);
     assert.equal(gaps, 0, `${spacing}: ${gaps} background pixels inside the silhouette`);
@@ -97,8 +102,8 @@ test('the LOD picture is refineGeometry\'s with the same lod, camera and size, a
     assert.equal(frame.triangles, cpu.cpuTriangles);
     assert.equal(frame.instanced.reduce((n, d) => n + (d.count / 3) * d.instances, 0), cpu.cpuTriangles);
     // Lit: the GPU's points and normals are the CPU's (shading within a few pixels).
-    const cpuLit = await run({ spacing, eye, pixels, plain: true, material: 'standard' }, `${spacing}-cpulit`);
-    const gpuLit = await run({ spacing, eye, pixels, material: 'standard' }, `${spacing}-lit`);
+    const cpuLit = await run({ scheme, spacing, eye, pixels, plain: true, material: 'standard' }, `${spacing}-${scheme}-cpulit`);
+    const gpuLit = await run({ scheme, spacing, eye, pixels, material: 'standard' }, `${spacing}-${scheme}-lit`);
     const off = differing(cpuLit.img, gpuLit.img);
     console.log(`  lit: ${off} pixels shaded differently`);
     assert.ok(off < 0.01 * count(a), `${spacing}: ${off} pixels shaded differently`);
