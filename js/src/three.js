@@ -267,7 +267,8 @@ export class RefinedGeometry {
 }
 
 // The options TessellatedMesh reads itself; the others go to InstancedSurface (the wasm side
-// checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there).
+// checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there), or with
+// `lod` to AdaptiveSurface (scheme, normals, alpha, spacing, lod; camera and size stay here).
 const MESH_OPTIONS = ['normalsFromSource'];
 
 // Materials a TessellatedMesh has patched: one material draws one TessellatedMesh (its
@@ -349,7 +350,9 @@ function patchMaterial(material, uniforms, glsl, flags, key, patch = vertexPatch
  * three, e.g. an AnimationMixer) and a Mesh's morph target influences are followed every frame:
  * the coarse vertices are posed in wasm as three poses them (`SkinnedMesh.getVertexPosition`),
  * and only the nets are uploaded. Options: `scheme`, `level`, `normals`, `alpha`,
- * `normalsFromSource`.
+ * `normalsFromSource`; or, instead of `level`, `lod` with `spacing` (and `camera`, `size`):
+ * per-edge levels from the camera every frame, drawn with the GPU tessellator's patterns by child
+ * meshes, one instanced draw per part used (three-lod.js).
  */
 export class TessellatedMesh extends Mesh {
   #source;
