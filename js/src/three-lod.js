@@ -90,6 +90,7 @@ export class LodParts {
   #instances;
   #children = new Map();
   #corners = null;
+  #color = null;
   #key = null;
   #stale = true;
   #seenCamera = null;
@@ -127,6 +128,10 @@ export class LodParts {
     g.setIndex(this.#index);
     g.setAttribute('tessellaCode', this.#codes);
     g.setAttribute('normal', this.#normal);
+    // Four-component colours: three reads their width from a color attribute (USE_COLOR_ALPHA);
+    // the shader's colour is a local from the corners texture, so a stand-in of one entry.
+    this.#color = flags.color === 4 ? new BufferAttribute(new Float32Array(4), 4) : null;
+    if (this.#color !== null) g.setAttribute('color', this.#color);
     g.setDrawRange(0, 0);
     const records = new DataTexture(
       new Uint32Array(surface.recordsWidth * surface.recordsHeight * 4),
@@ -297,6 +302,7 @@ export class LodParts {
         g.setIndex(this.#index);
         g.setAttribute('tessellaCode', this.#codes);
         g.setAttribute('normal', this.#normal);
+        if (this.#color !== null) g.setAttribute('color', this.#color);
         g.setDrawRange(this.#ranges[2 * part], this.#ranges[2 * part + 1]);
         g.boundingBox = owner.geometry.boundingBox;
         g.boundingSphere = owner.geometry.boundingSphere;
