@@ -211,6 +211,72 @@ export class InstancedSurface {
   free(): void;
 }
 
+/** The options of an AdaptiveSurface (and of TessellatedMesh with `lod`). */
+export interface AdaptiveSurfaceOptions {
+  /** 'flat', 'phong', 'pn' (default), 'png1', 'pn-aen', 'st' or 'quadratic'; see `schemes()`. */
+  scheme?: string;
+  /** 'linear', 'quadratic' or 'real'; default: the scheme's own. */
+  normals?: 'linear' | 'quadratic' | 'real';
+  /** Phong's shape factor (default 0.75). */
+  alpha?: number;
+  /** The GPU tessellator's patterns (required: the grid is not drawn adaptively here). */
+  spacing: 'equal' | 'fractional-odd' | 'fractional-even';
+  /** 'tolerance:D', 'screen:PX' or 'distance:NEAR,FAR,MAX'; left out, the levels come from `setLevels`. */
+  lod?: string;
+}
+
+/**
+ * What a GPU draws an adaptive surface from: the tessellator's parts (strips and interiors of
+ * its patterns) built once; per frame the nets (as InstancedSurface packs them) and, from
+ * per-edge levels (given, or the `lod` function's for a camera), one packed record per face
+ * (three RGBA32UI texels) and one instance (`face | side << 30`) per face and part, grouped
+ * into one draw per part used.
+ */
+export class AdaptiveSurface {
+  constructor(indices: IndexArray, options: AdaptiveSurfaceOptions);
+  /** The LOD function's text ('' without one). */
+  readonly lod: string;
+  readonly basisLength: number;
+  readonly normalMode: 'linear' | 'quadratic' | 'real';
+  readonly spacing: string;
+  readonly faceCount: number;
+  readonly texelsPerFace: number;
+  readonly facesPerRow: number;
+  /** The nets texture's size in texels. */
+  readonly width: number;
+  readonly height: number;
+  /** The records texture (RGBA32UI, three texels per face): faces per row and size. */
+  readonly recordsPerRow: number;
+  readonly recordsWidth: number;
+  readonly recordsHeight: number;
+  readonly bounds: Float32Array;
+  /** The last levels' draws: part id, first instance, instance count per part used. */
+  readonly draws: Uint32Array;
+  readonly instanceCount: number;
+  readonly triangleCount: number;
+  /** Unique edges (after the first frame): the length of `setLevels`' array. */
+  readonly edgeCount: number;
+  /** The parts' point codes, one per vertex. */
+  partCodes(): Uint32Array;
+  /** The parts' triangles, indices into `partCodes()`. */
+  partIndices(): Uint32Array;
+  /** Per part id its first index and index count. */
+  partRanges(): Uint32Array;
+  /** GLSL ES 3.00 declaring `tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, out vec3 bary)`. */
+  glsl(): string;
+  /** One frame's nets into `out` and the bounds, as InstancedSurface's. */
+  update(positions: Float32Array | Float64Array, normals: Float32Array | Float64Array | undefined | null, out: Float32Array): Float32Array;
+  /** Levels of the `lod` function on the last frame for a camera (the mesh's coordinates, vertical fov in degrees) and image size. */
+  setLod(camera: { eye: ArrayLike<number>; target: ArrayLike<number>; fov: number }, size: [number, number]): void;
+  /** Levels given, one per unique edge. */
+  setLevels(levels: Float32Array | number[]): void;
+  /** The last levels, one per unique edge. */
+  edgeLevels(): Float32Array;
+  /** Copies the records (`recordsWidth * recordsHeight * 4` words) and instances (room for `4 * faceCount`); returns the bytes that matter. */
+  read(records: Uint32Array, instances: Uint32Array): number;
+  free(): void;
+}
+
 /**
  * A mesh posed by an engine's own skeleton (what TessellatedMesh follows a SkinnedMesh or a
  * morphing Mesh with), by the core's skinning: built once from the rest pose, four joint

@@ -398,6 +398,180 @@ export class InstancedSurface {
   }
 }
 
+/**
+ * What a GPU draws an adaptive curved surface from (`TessellatedMesh`'s `lod` option): the GPU
+ * tessellator's parts (strips and interiors of its patterns for `spacing`) built once; per
+ * frame the nets (as `InstancedSurface` packs them) and, from per-edge levels (`setLevels`, or
+ * `setLod` with the `lod` function and a camera), one packed record per face (three RGBA32UI
+ * texels) and one instance per face and part, drawn one instanced draw per part used.
+ * `options`: `scheme`, `normals`, `alpha`, `spacing` (`'equal'`, `'fractional-odd'` or
+ * `'fractional-even'`), `lod` (`'tolerance:D'`, `'screen:PX'`, `'distance:NEAR,FAR,MAX'`).
+ */
+export class AdaptiveSurface {
+  #inner;
+  #inputs = {};
+
+  constructor(indices, options = {}) {
+    const idx = indexArray(indices);
+    if (options == null || typeof options !== 'object') throw new TessellaError('options must be an object');
+    const lod = options.lod ?? '';
+    if (typeof lod !== 'string') throw new TessellaError('lod must be a string: tolerance:D, screen:PX or distance:NEAR,FAR,MAX');
+    const json = optionsJson(options, ['lod']);
+    const inner = call((g) => new g.AdaptiveSurface(idx, json, lod));
+    this.#inner = inner;
+    /** The LOD function's text ('' when the levels are given by `setLevels`). */
+    this.lod = lod;
+    /** Control points per net: 10 (cubic basis) or 21 (PNG1). */
+    this.basisLength = inner.basisLength();
+    this.normalMode = inner.normalMode();
+    /** The spacing's name. */
+    this.spacing = inner.spacing();
+    this.faceCount = inner.faceCount();
+    /** The nets texture's layout (as InstancedSurface's). */
+    this.texelsPerFace = inner.texelsPerFace();
+    this.facesPerRow = inner.facesPerRow();
+    this.width = inner.textureWidth();
+    this.height = inner.textureHeight();
+    /** The records texture's layout (RGBA32UI, three texels per face). */
+    this.recordsPerRow = inner.recordsPerRow();
+    this.recordsWidth = inner.recordsWidth();
+    this.recordsHeight = inner.recordsHeight();
+    /** The last frame's control-point bounds: box min xyz, box max xyz, sphere centre xyz, radius. */
+    this.bounds = new Float32Array(10);
+    /** The last levels' draws: part id, first instance, instance count, one triple per part used. */
+    this.draws = new Uint32Array(0);
+    /** Instances and triangles the last levels draw. */
+    this.instanceCount = 0;
+    this.triangleCount = 0;
+  }
+
+  #live() {
+    if (this.#inner === null) throw new TessellaError('this AdaptiveSurface was freed');
+    return this.#inner;
+  }
+
+  /** The parts' point codes, one per vertex (built once). */
+  partCodes() {
+    const inner = this.#live();
+    return call(() => inner.partCodes());
+  }
+
+  /** The parts' triangles, indices into `partCodes()`. */
+  partIndices() {
+    const inner = this.#live();
+    return call(() => inner.partIndices());
+  }
+
+  /** Per part id its first index and index count. */
+  partRanges() {
+    const inner = this.#live();
+    return call(() => inner.partRanges());
+  }
+
+  /** GLSL ES 3.00 declaring `tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal)`. */
+  glsl() {
+    const inner = this.#live();
+    return call(() => inner.glsl());
+  }
+
+  /** Unique edges (once a frame was built): `setLevels` takes one level each. */
+  get edgeCount() {
+    const inner = this.#live();
+    return call(() => inner.edgeCount());
+  }
+
+  #input(which, length) {
+    const inner = this.#inner;
+    const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
+    const old = this.#inputs[which];
+    if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
+    return (this.#inputs[which] = view(Float32Array, ptr, length));
+  }
+
+  /** One frame's nets into `out` (`width * height * 4` floats) and its bounds, as `InstancedSurface.update`. */
+  update(positions, normals, out) {
+    const inner = this.#live();
+    const p = positions instanceof Float32Array || positions instanceof Float64Array ? positions : floats(positions, 'positions', 3);
+    const n = normals == null ? null : normals instanceof Float32Array || normals instanceof Float64Array ? normals : floats(normals, 'normals', 3);
+    const length = this.width * this.height * 4;
+    if (!(out instanceof Float32Array) || out.length !== length) {
+      throw new TessellaError(`the nets go into a Float32Array of ${length} floats (width * height * 4)`);
+    }
+    call(() => {
+      this.#input('positions', p.length).set(p);
+      if (n !== null) this.#input('normals', n.length).set(n);
+      inner.frame(n !== null);
+      out.set(view(Float32Array, inner.netsOutput(), length));
+      this.bounds.set(view(Float32Array, inner.boundsOutput(), 10));
+    });
+    return out;
+  }
+
+  /**
+   * Levels from the `lod` function on the last frame: `camera` `{ eye: [x, y, z], target:
+   * [x, y, z], fov }` (degrees, vertical) in the mesh's coordinates and the image `size`
+   * `[width, height]` (`tolerance` reads neither). Then `read(records, instances)`.
+   */
+  setLod(camera, size) {
+    const inner = this.#live();
+    const { eye, target, fov } = camera ?? {};
+    if (!(eye?.length === 3 && target?.length === 3 && typeof fov === 'number' && size?.length === 2)) {
+      throw new TessellaError('setLod takes { eye: [x, y, z], target: [x, y, z], fov } and size [width, height]');
+    }
+    call(() => inner.setLod(eye[0], eye[1], eye[2], target[0], target[1], target[2], fov, size[0], size[1]));
+    this.#levelsSet();
+  }
+
+  /** Per-edge levels given: one per unique edge (`edgeCount`). Then `read(records, instances)`. */
+  setLevels(levels) {
+    const inner = this.#live();
+    const l = floats(levels, 'levels', 1);
+    call(() => inner.setLevels(l));
+    this.#levelsSet();
+  }
+
+  #levelsSet() {
+    const inner = this.#inner;
+    this.draws = call(() => inner.draws());
+    this.instanceCount = inner.instanceCount();
+    this.triangleCount = inner.triangleCount();
+  }
+
+  /** The last levels, one per unique edge. */
+  edgeLevels() {
+    const inner = this.#live();
+    return call(() => inner.edgeLevels());
+  }
+
+  /**
+   * Copies the last levels' records into `records` (a Uint32Array of `recordsWidth *
+   * recordsHeight * 4`) and instances into `instances` (`face | side << 30`, grouped by part,
+   * a Uint32Array of at least `4 * faceCount`); returns the bytes copied that matter.
+   */
+  read(records, instances) {
+    const inner = this.#live();
+    const length = this.recordsWidth * this.recordsHeight * 4;
+    if (!(records instanceof Uint32Array) || records.length !== length) {
+      throw new TessellaError(`the records go into a Uint32Array of ${length} words (recordsWidth * recordsHeight * 4)`);
+    }
+    if (!(instances instanceof Uint32Array) || instances.length < 4 * this.faceCount) {
+      throw new TessellaError(`the instances go into a Uint32Array of at least ${4 * this.faceCount} words (4 * faceCount)`);
+    }
+    call(() => {
+      records.set(view(Uint32Array, inner.recordsOutput(), length));
+      instances.set(view(Uint32Array, inner.instancesOutput(), this.instanceCount));
+    });
+    return records.byteLength + 4 * this.instanceCount;
+  }
+
+  /** Frees the wasm memory; it cannot be used afterwards. */
+  free() {
+    if (this.#inner !== null) this.#inner.free();
+    this.#inner = null;
+    this.#inputs = {};
+  }
+}
+
 // Makes AnimatedMesh's constructor private to readAnimated.
 /**
  * A mesh posed by an engine's own skeleton (what `TessellatedMesh` follows a three.js

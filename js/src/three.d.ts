@@ -1,6 +1,6 @@
-import type { BufferGeometry, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Raycaster, SkinnedMesh } from 'three';
+import type { BufferGeometry, Camera, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Raycaster, SkinnedMesh } from 'three';
 import type { Node } from 'three/webgpu';
-import type { InstancedSurface, InstancedSurfaceOptions, RefineOptions } from './index.js';
+import type { AdaptiveSurface, InstancedSurface, InstancedSurfaceOptions, RefineOptions } from './index.js';
 
 /**
  * Refines a BufferGeometry into a new indexed one: position, normal, uv from tessella; other
@@ -27,6 +27,38 @@ export class RefinedGeometry {
 export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
   /** Use the source's normal attribute (default: when it has one); false computes them each frame. */
   normalsFromSource?: boolean;
+  /**
+   * Per-edge levels every frame, crack-free: 'screen:PX' (segments about PX pixels long on the
+   * camera's image), 'tolerance:D' or 'distance:NEAR,FAR,MAX'; drawn with the GPU tessellator's
+   * patterns (`spacing` required, `level` refused).
+   */
+  lod?: string;
+  /** With `lod`: 'equal', 'fractional-odd' or 'fractional-even'. */
+  spacing?: 'equal' | 'fractional-odd' | 'fractional-even';
+  /** With `lod`: the camera the levels are for (default: the camera of the previous render). */
+  camera?: Camera;
+  /** With `lod`: the image size [width, height] in pixels (default: the viewport of the previous render). */
+  size?: [number, number];
+}
+
+/** TessellatedMesh's `lod` drawing: the levels' camera and size, and what they draw and upload. */
+export interface TessellatedMeshLod {
+  /** The camera the levels are for; null: the camera of the previous render. */
+  camera: Camera | null;
+  /** The image size the levels are for; null: the viewport of the previous render. */
+  size: [number, number] | null;
+  /** Bytes the last level change marked for upload (records and instances; 0 when the levels did not change). */
+  readonly uploadedBytes: number;
+  /** Bytes of the parts (strips and interiors), uploaded once. */
+  readonly partBytes: number;
+  /** Triangles the last levels draw. */
+  readonly triangleCount: number;
+  /** The child meshes that draw the parts (one per part used so far; hidden when unused). */
+  readonly children: Mesh[];
+  /** The corners texture (per face its corners' uvs, then colours), or null. */
+  readonly cornersTexture: DataTexture | null;
+  /** Draws these per-edge levels (one per unique edge, `surface.edgeCount`) from now on instead of the lod function's. */
+  setLevels(levels: Float32Array | number[]): void;
 }
 
 /**
@@ -46,8 +78,10 @@ export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
   readonly source: BufferGeometry | Mesh | SkinnedMesh;
   /** The nets texture (RGBA32F) the vertex shader reads. */
   readonly netsTexture: DataTexture;
-  /** The wasm side: pattern, texture layout, GLSL and WGSL. */
-  readonly surface: InstancedSurface;
+  /** The wasm side: pattern, texture layout, GLSL and WGSL (with `lod`, an AdaptiveSurface). */
+  readonly surface: InstancedSurface | AdaptiveSurface;
+  /** With `lod`: its levels and children; else null. */
+  readonly lod: TessellatedMeshLod | null;
   /** Update before each render when the source's position, normal, uv or color attribute changed (default true). */
   autoUpdate: boolean;
   /** Bytes the last `update()` marked for upload: the nets texture (and uvs or colours when they changed). */

@@ -17,7 +17,8 @@ import {
   RGBAFormat,
   Sphere,
 } from 'three';
-import { Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
+import { AdaptiveSurface, Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
+import { LOD_MESH_OPTIONS, LodParts } from './three-lod.js';
 import { missingNodes, setupNodes } from './three-nodes.js';
 
 export { tessellaFunctions } from './three-nodes.js';
@@ -269,7 +270,8 @@ export class RefinedGeometry {
 }
 
 // The options TessellatedMesh reads itself; the others go to InstancedSurface (the wasm side
-// checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there).
+// checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there), or with
+// `lod` to AdaptiveSurface (scheme, normals, alpha, spacing, lod; camera and size stay here).
 const MESH_OPTIONS = ['normalsFromSource'];
 
 // Materials a TessellatedMesh has patched: one material draws one TessellatedMesh (its
@@ -323,8 +325,8 @@ function vertexPatch(glsl, flags) {
   return { head, body: body.join('\n') + '\n' };
 }
 
-function patchMaterial(material, uniforms, glsl, flags, key) {
-  const { head, body } = vertexPatch(glsl, flags);
+function patchMaterial(material, uniforms, glsl, flags, key, patch = vertexPatch(glsl, flags)) {
+  const { head, body } = patch;
   // A material's own onBeforeCompile and cache key still apply, after tessella's patch.
   const own = material.onBeforeCompile;
   const ownKey = material.customProgramCacheKey;
@@ -349,7 +351,9 @@ function patchMaterial(material, uniforms, glsl, flags, key) {
  * three, e.g. an AnimationMixer) and a Mesh's morph target influences are followed every frame:
  * the coarse vertices are posed in wasm as three poses them (`SkinnedMesh.getVertexPosition`),
  * and only the nets are uploaded. Options: `scheme`, `level`, `normals`, `alpha`,
- * `normalsFromSource`.
+ * `normalsFromSource`; or, instead of `level`, `lod` with `spacing` (and `camera`, `size`):
+ * per-edge levels from the camera every frame, drawn with the GPU tessellator's patterns by child
+ * meshes, one instanced draw per part used (three-lod.js).
  */
 export class TessellatedMesh extends Mesh {
   #source;
@@ -368,6 +372,8 @@ export class TessellatedMesh extends Mesh {
   /** Frames built so far, and the CPU refinement raycasts hit (rebuilt when a frame is newer). */
   #frames = 0;
   #hitGeometry = null;
+  /** The `lod` option's drawing (three-lod.js), or null for one uniform pattern. */
+  #lod = null;
 
   constructor(source, material, options = {}) {
     let sourceMesh = null;
@@ -393,8 +399,10 @@ export class TessellatedMesh extends Mesh {
       throw new TessellaError('the material has a positionNode: TessellatedMesh sets it (the curved surface under WebGPURenderer)');
     }
     const { indices } = sourceOf(geometry);
-    const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !MESH_OPTIONS.includes(k)));
-    const surface = new InstancedSurface(indices, rest);
+    const lod = options.lod != null;
+    const own = lod ? [...MESH_OPTIONS, ...LOD_MESH_OPTIONS] : MESH_OPTIONS;
+    const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !own.includes(k)));
+    const surface = lod ? new AdaptiveSurface(indices, rest) : new InstancedSurface(indices, rest);
     super(new InstancedBufferGeometry(), material);
     this.#options = rest;
     this.#surface = surface;
@@ -406,20 +414,7 @@ export class TessellatedMesh extends Mesh {
     /** Bytes the last `update()` handed to the renderer to upload (the nets texture; uvs and colours when they changed). */
     this.uploadedBytes = 0;
 
-    // The pattern: barycentric points, drawn once per coarse triangle.
     const g = this.geometry;
-    const points = surface.patternPoints();
-    const tri = surface.patternIndices();
-    g.setIndex(new BufferAttribute(points.length / 3 <= 0xffff ? Uint16Array.from(tri) : tri, 1));
-    const barycentric = new BufferAttribute(points, 3);
-    g.setAttribute('tessellaBarycentric', barycentric);
-    // three shades a lit material flat (normals from screen derivatives) when the geometry has
-    // no normal attribute; the shader's normal is the patch's (a local that hides the
-    // attribute), so this one only has to exist: the same buffer, uploaded once.
-    g.setAttribute('normal', barycentric);
-    // WebGPURenderer reads a position attribute before the node replaces it (a warning if none).
-    g.setAttribute('position', barycentric);
-    g.instanceCount = surface.faceCount;
     g.boundingBox = new Box3();
     g.boundingSphere = new Sphere();
     const uv = geometry.getAttribute('uv');
@@ -428,11 +423,30 @@ export class TessellatedMesh extends Mesh {
     if (this.#flags.color !== 0 && this.#flags.color !== 3 && this.#flags.color !== 4) {
       throw new TessellaError(`the source's color attribute has ${color.itemSize} components; TessellatedMesh reads 3 or 4`);
     }
-    if (uv !== undefined) {
+    // With lod this draws nothing itself: its children draw the parts (three-lod.js).
+    if (lod) this.#lod = new LodParts(this, surface, options, this.#flags);
+    // The pattern: barycentric points, drawn once per coarse triangle.
+    const points = lod ? new Float32Array(0) : surface.patternPoints();
+    if (!lod) {
+      const tri = surface.patternIndices();
+      g.setIndex(new BufferAttribute(points.length / 3 <= 0xffff ? Uint16Array.from(tri) : tri, 1));
+      const barycentric = new BufferAttribute(points, 3);
+      g.setAttribute('tessellaBarycentric', barycentric);
+      // three shades a lit material flat (normals from screen derivatives) when the geometry has
+      // no normal attribute; the shader's normal is the patch's (a local that hides the
+      // attribute), so this one only has to exist: the same buffer, uploaded once.
+      g.setAttribute('normal', barycentric);
+      // WebGPURenderer reads a position attribute before the node replaces it (a warning if none).
+      g.setAttribute('position', barycentric);
+      g.instanceCount = surface.faceCount;
+    } else {
+      g.instanceCount = 0;
+    }
+    if (uv !== undefined && !lod) {
       g.setAttribute('tessellaUv01', new InstancedBufferAttribute(new Float32Array(surface.faceCount * 4), 4));
       g.setAttribute('tessellaUv2', new InstancedBufferAttribute(new Float32Array(surface.faceCount * 2), 2));
     }
-    if (color !== undefined) {
+    if (color !== undefined && !lod) {
       const c = color.itemSize;
       for (let k = 0; k < 3; k++) g.setAttribute(`tessellaColor${k}`, new InstancedBufferAttribute(new Float32Array(surface.faceCount * c), c));
       // Tells three the colours' width (USE_COLOR_ALPHA for 4); the shader reads the instanced
@@ -450,17 +464,20 @@ export class TessellatedMesh extends Mesh {
     const uniforms = {
       tessellaNets: { value: texture },
       tessellaFacesPerRow: { value: surface.facesPerRow },
+      ...(lod ? this.#lod.uniforms : {}),
     };
     const glsl = surface.glsl();
-    const key = `tessella:${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}`;
-    patchMaterial(material, uniforms, glsl, this.#flags, key);
-    // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too).
-    setupNodes(material, surface, texture, this.#flags);
+    const key = `tessella:${lod ? `lod:${surface.spacing}:` : ''}${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}`;
+    const patch = lod ? this.#lod.patch(glsl) : vertexPatch(glsl, this.#flags);
+    patchMaterial(material, uniforms, glsl, this.#flags, key, patch);
+    // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too);
+    // lod draws under WebGLRenderer only (#check refuses it under WebGPURenderer).
+    if (!lod) setupNodes(material, surface, texture, this.#flags);
     patched.add(material);
     this.customDepthMaterial = new MeshDepthMaterial();
-    patchMaterial(this.customDepthMaterial, uniforms, glsl, this.#flags, key);
+    patchMaterial(this.customDepthMaterial, uniforms, glsl, this.#flags, key, patch);
     this.customDistanceMaterial = new MeshDistanceMaterial();
-    patchMaterial(this.customDistanceMaterial, uniforms, glsl, this.#flags, key);
+    patchMaterial(this.customDistanceMaterial, uniforms, glsl, this.#flags, key, patch);
 
     if (sourceMesh !== null && (sourceMesh.isSkinnedMesh === true || (geometry.morphAttributes.position?.length ?? 0) > 0)) {
       this.#pose = new SourcePose(sourceMesh);
@@ -487,9 +504,14 @@ export class TessellatedMesh extends Mesh {
     return this.#texture;
   }
 
-  /** The InstancedSurface (wasm) that builds the nets: pattern, layout, GLSL. */
+  /** The InstancedSurface (wasm) that builds the nets: pattern, layout, GLSL (with `lod`: the AdaptiveSurface). */
   get surface() {
     return this.#surface;
+  }
+
+  /** With `lod`: the levels' drawing (camera, size, uploadedBytes, triangleCount, setLevels); else null. */
+  get lod() {
+    return this.#lod;
   }
 
   #follow() {
@@ -521,6 +543,7 @@ export class TessellatedMesh extends Mesh {
       this.#surface.update(values(position), normal === undefined ? undefined : values(normal), data);
     }
     this.#texture.needsUpdate = true;
+    this.#lod?.netsChanged();
     let bytes = data.byteLength;
     bytes += this.#corners();
     this.uploadedBytes = bytes;
@@ -542,6 +565,14 @@ export class TessellatedMesh extends Mesh {
     let bytes = 0;
     const idx = this.#indices;
     const uv = g.getAttribute('uv');
+    if (this.#lod !== null) {
+      const uvChanged = this.#flags.uv && (this.#versions === null || v.uv !== this.#versions.uv);
+      const colorChanged = this.#flags.color > 0 && (this.#versions === null || v.color !== this.#versions.color);
+      if (!uvChanged && !colorChanged) return 0;
+      const color = g.getAttribute('color');
+      const c = color === undefined ? null : { data: values(color), itemSize: color.itemSize };
+      return this.#lod.corners(uv === undefined ? null : values(uv), c, idx);
+    }
     if (this.#flags.uv && (this.#versions === null || v.uv !== this.#versions.uv)) {
       const data = values(uv);
       const a = this.geometry.getAttribute('tessellaUv01');
@@ -596,12 +627,15 @@ export class TessellatedMesh extends Mesh {
       this.#sync();
     }
     super.updateMatrixWorld(force);
+    // The levels for the camera, once this mesh's place is known and before three culls.
+    if (this.#lod !== null && this.#surface !== null) this.#lod.refresh();
   }
 
   /** Checks the renderer once (a TessellaError says what it lacks) and updates if the source moved. */
-  onBeforeRender(renderer) {
+  onBeforeRender(renderer, scene, camera) {
     this.#check(renderer);
     this.#sync();
+    this.#lod?.seen(renderer, camera);
   }
 
   onBeforeShadow(renderer) {
@@ -613,6 +647,9 @@ export class TessellatedMesh extends Mesh {
     if (this.#checked === renderer) return;
     const why = missing(renderer);
     if (why !== null) throw new TessellaError(why);
+    if (this.#lod !== null && renderer.isWebGPURenderer === true) {
+      throw new TessellaError('TessellatedMesh: lod draws under WebGLRenderer (WebGL2); under WebGPURenderer give a whole level instead');
+    }
     // WebGPU's guaranteed 8192 texels hold every layout (at most 2048 wide and high).
     const size = renderer.isWebGPURenderer === true ? 8192 : renderer.capabilities.maxTextureSize;
     if (this.#surface.width > size || this.#surface.height > size) {
@@ -629,9 +666,12 @@ export class TessellatedMesh extends Mesh {
   raycast(raycaster, intersects) {
     if (this.#surface === null) return;
     const hit = this.#hitGeometry;
-    if (hit === null || hit.frame !== this.#frames) {
+    // The surface drawn changes with each frame's nets, and with lod's levels.
+    const drawn = this.#lod === null ? `${this.#frames}` : `${this.#frames}:${this.#lod.levelsVersion}`;
+    if (hit === null || hit.frame !== drawn) {
       hit?.geometry.dispose();
-      this.#hitGeometry = { frame: this.#frames, geometry: this.#refinedFrame() };
+      this.#hitGeometry = null;
+      this.#hitGeometry = { frame: drawn, geometry: this.#refinedFrame() };
     }
     const proxy = (this.#proxy ??= new Mesh());
     proxy.geometry = this.#hitGeometry.geometry;
@@ -654,7 +694,8 @@ export class TessellatedMesh extends Mesh {
     const sourceNormal = this.#useNormals ? g.getAttribute('normal') : undefined;
     const normals = pose !== null ? (this.#useNormals ? pose.normals : undefined) : sourceNormal === undefined ? undefined : values(sourceNormal);
     const uv = g.getAttribute('uv');
-    const out = refine({ positions, indices: this.#indices, normals, uvs: uv === undefined ? undefined : values(uv) }, this.#options);
+    const options = this.#lod === null ? this.#options : this.#lod.refineOptions(this.#options);
+    const out = refine({ positions, indices: this.#indices, normals, uvs: uv === undefined ? undefined : values(uv) }, options);
     const geometry = new BufferGeometry();
     geometry.setIndex(new BufferAttribute(out.indices, 1));
     geometry.setAttribute('position', new BufferAttribute(out.positions, 3));
@@ -674,6 +715,7 @@ export class TessellatedMesh extends Mesh {
     this.#hitGeometry?.geometry.dispose();
     this.#hitGeometry = null;
     this.#texture.dispose();
+    this.#lod?.dispose();
     this.geometry.dispose();
     this.customDepthMaterial.dispose();
     this.customDistanceMaterial.dispose();

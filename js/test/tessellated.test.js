@@ -193,7 +193,7 @@ test('bad options, sources and materials throw TessellaErrors that say what is w
   const cases = [
     [() => new TessellatedMesh(g, undefined, { scheme: 'loop' }), /see schemes\(\)/],
     [() => new TessellatedMesh(g, undefined, { level: 2.5 }), /whole level on the grid/],
-    [() => new TessellatedMesh(g, undefined, { lod: 'tolerance:0.1' }), /whole level on the grid/],
+    [() => new TessellatedMesh(g, undefined, { lod: 'tolerance:0.1' }), /spacing: lod draws the GPU tessellator's patterns/],
     [() => new TessellatedMesh(g, undefined, { level: 300 }), /over 256/],
     [() => new TessellatedMesh(g, undefined, { soup: true }), /soup/],
     [() => new TessellatedMesh(g, undefined, { levle: 3 }), /levle: unknown option/],

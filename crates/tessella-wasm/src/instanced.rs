@@ -239,6 +239,51 @@ impl InstancedSurface {
         })
     }
 
+    /// The nets half of an adaptive surface (`adaptive.rs`): no pattern of its own (level 0),
+    /// the same nets, layout and bounds.
+    pub(crate) fn for_adaptive(
+        indices: &[u32],
+        options: SurfaceOptions,
+    ) -> Result<InstancedSurface, String> {
+        let faces = arrays::triangles(indices)?.len();
+        if faces == 0 {
+            return Err("the mesh has no triangles".into());
+        }
+        let layout = Layout::new(faces, texels_per_face(options.scheme.basis().len()));
+        if layout.height > MAX_TEXTURE_WIDTH {
+            return Err(format!(
+                "{faces} triangles need a nets texture of {} rows, over {MAX_TEXTURE_WIDTH}",
+                layout.height
+            ));
+        }
+        Ok(InstancedSurface {
+            triangles: indices.to_vec(),
+            options,
+            level: 0,
+            layout,
+            positions_in: Vec::new(),
+            normals_in: Vec::new(),
+            built: None,
+            nets: vec![0.0; layout.width * layout.height * 4],
+            bounds: [0.0; 10],
+        })
+    }
+
+    /// [`InstancedSurface::frame`] with a `String` error.
+    pub(crate) fn step_inputs(&mut self, normals: bool) -> Result<(), String> {
+        self.step(normals)
+    }
+
+    /// The surface and the last frame, once a frame was built.
+    pub(crate) fn built(&self) -> Option<(&Surface, &Frame<'static>)> {
+        self.built.as_ref().map(|b| (&b.surface, &b.frame))
+    }
+
+    /// The surface options (scheme, normals, tags).
+    pub(crate) fn surface_options(&self) -> &SurfaceOptions {
+        &self.options
+    }
+
     /// A frame from flat arrays (what [`InstancedSurface::frame`] does after JS filled the
     /// inputs).
     pub fn step_with(&mut self, positions: &[f32], normals: Option<&[f32]>) -> Result<(), String> {

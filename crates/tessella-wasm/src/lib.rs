@@ -2,8 +2,9 @@
 //!
 //! The Rust half of the npm package `tessella` (`js/`): wasm-bindgen exports over flat typed
 //! arrays. `js/src/index.js` wraps them into the documented API (`refine`, `Refiner`,
-//! `readMesh`, `writeMesh`, `readAnimated`, `TessellaError`, and `InstancedSurface`, what
-//! `tessella/three`'s `TessellatedMesh` draws from); nothing here is meant to be
+//! `readMesh`, `writeMesh`, `readAnimated`, `TessellaError`, and `InstancedSurface` and
+//! `AdaptiveSurface`, what `tessella/three`'s `TessellatedMesh` draws from, with one level or
+//! with `lod`); nothing here is meant to be
 //! called directly.
 //!
 //! Every input is validated before any work (`arrays.rs`, `options.rs`, the core's `Mesh::new`
@@ -15,6 +16,7 @@
 //! The crate also builds natively (a workspace member), so its option and array handling is
 //! tested by `cargo test` like the rest.
 
+mod adaptive;
 mod animated;
 mod arrays;
 mod deformer;

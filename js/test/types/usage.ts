@@ -3,7 +3,7 @@
 import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
 import type { MeshOutput, Pose, RefineOutput } from 'tessella';
 import { refineGeometry, RefinedGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
-import { InstancedSurface } from 'tessella';
+import { AdaptiveSurface, InstancedSurface } from 'tessella';
 import { BufferGeometry, Mesh, MeshStandardMaterial } from 'three';
 import { attribute, instanceIndex, texture } from 'three/tsl';
 
@@ -39,7 +39,7 @@ anim.free();
 const tm = new TessellatedMesh(new Mesh(new BufferGeometry()), new MeshStandardMaterial(), { scheme: 'pn', level: 4, normalsFromSource: false });
 const bytes: number = tm.update().uploadedBytes;
 const instances: number = tm.geometry.instanceCount;
-const { normal } = tessellaFunctions(tm.surface.wgsl());
+const { normal } = tessellaFunctions((tm.surface as InstancedSurface).wgsl());
 const tsl = normal({ nets: texture(tm.netsTexture), face: instanceIndex, l: attribute('tessellaBarycentric', 'vec3') });
 tm.dispose();
 const surface = new InstancedSurface(new Uint32Array(3), { level: 2 });
@@ -51,6 +51,15 @@ surface.free();
 new InstancedSurface(new Uint32Array(3), { lod: 'tolerance:0.1' });
 // @ts-expect-error: the TSL functions take named nodes
 normal(texture(tm.netsTexture), instanceIndex);
+const lodMesh = new TessellatedMesh(new BufferGeometry(), undefined, { lod: 'screen:4', spacing: 'fractional-odd', size: [640, 480] });
+const lodBytes: number = lodMesh.lod === null ? 0 : lodMesh.lod.uploadedBytes + lodMesh.lod.triangleCount;
+lodMesh.lod?.setLevels([2, 3, 4]);
+const adaptive = new AdaptiveSurface(new Uint32Array(3), { spacing: 'equal', lod: 'tolerance:0.01' });
+adaptive.setLod({ eye: [0, 0, 5], target: [0, 0, 0], fov: 45 }, [640, 480]);
+const drawsOf: Uint32Array = adaptive.draws;
+adaptive.free();
+// @ts-expect-error: lod draws the tessellator's patterns, not the grid
+new AdaptiveSurface(new Uint32Array(3), { spacing: 'grid' });
 // @ts-expect-error: made by readAnimated only
 new AnimatedMesh();
 // @ts-expect-error: a clip is a name or an index

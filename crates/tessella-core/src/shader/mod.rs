@@ -380,6 +380,35 @@ pub fn locate_wgsl() -> String {
     )
 }
 
+/// GLSL (ES 3.00): `uvec3 tessella_locate(uint rec, uint code, uint side_offset)`, the same
+/// trace as [`locate_wgsl`] (the hardware tessellator's placement, 16.16 `u`, `v` and the
+/// coarse edge) for WebGL2; the including shader defines
+/// `uint tessella_ruler_word(uint rec, uint r, uint k)`.
+pub fn locate_glsl() -> String {
+    let (tape, out) = traced_locate();
+    let body = Body::new(&tape, Lang::Glsl, &out);
+    let [u, v, edge] = out.map(|e| body.name(e));
+    format!(
+        "uvec3 tessella_locate(uint rec, uint code, uint side_offset) {{\n{}    return uvec3({u}, {v}, {edge});\n}}\n",
+        body.statements
+    )
+}
+
+/// GLSL (ES 3.00): `void tessella_edge_weights(float a, float b, out vec4 value, out vec3
+/// normal)`, [`edge_weights_wgsl`]'s weights of a point of a canonical edge for WebGL2.
+pub fn edge_weights_glsl() -> String {
+    let (tape, (value, normal)) = trace(|| EdgeWeights::new_of(Expr::input("a"), Expr::input("b")));
+    let outputs: Vec<Expr> = value.iter().chain(&normal).copied().collect();
+    let body = Body::new(&tape, Lang::Glsl, &outputs);
+    let v = value.map(|e| body.name(e)).join(", ");
+    let n = normal.map(|e| body.name(e)).join(", ");
+    format!(
+        "void tessella_edge_weights(float a, float b, out vec4 value, out vec3 normal) {{\n{}    \
+         value = vec4({v});\n    normal = vec3({n});\n}}\n",
+        body.statements
+    )
+}
+
 /// The displacement offsets of [`crate::displace`] as WGSL: `tessella_perlin(p: vec3<f32>)`
 /// ([`crate::displace::perlin_of`]), `tessella_height_map(uv: vec2<f32>, size: vec2<f32>)`
 /// ([`crate::displace::height_map_of`]) and `tessella_sine(a: f32, f: f32, p: vec3<f32>)`

@@ -557,6 +557,25 @@ fn traced_tessellator_placement_evaluates_to_the_cpu_placement() {
         wgsl.starts_with("fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32>")
     );
     assert!(wgsl.contains("tessella_ruler_word(rec, "), "{wgsl}");
+    // The GLSL is the same trace: as many operations, GLSL declarations.
+    let glsl = locate_glsl();
+    assert!(glsl.starts_with("uvec3 tessella_locate(uint rec, uint code, uint side_offset)"));
+    assert_eq!(
+        glsl.matches("    uint t").count(),
+        wgsl.matches("    let t").count()
+    );
+    assert!(
+        !glsl.contains("let ") && !glsl.contains("select("),
+        "{glsl}"
+    );
+    let edge = edge_weights_glsl();
+    assert!(edge.starts_with(
+        "void tessella_edge_weights(float a, float b, out vec4 value, out vec3 normal)"
+    ));
+    assert_eq!(
+        edge.matches("    float t").count(),
+        edge_weights_wgsl().matches("    let t").count()
+    );
 }
 
 /// The traced skin normal, run as a shader runs it (every operation in `f32`), gives the bits

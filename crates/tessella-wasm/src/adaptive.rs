@@ -1,0 +1,718 @@
+//! `AdaptiveSurface`: what `TessellatedMesh`'s `lod` option (js/src/three-lod.js) draws from in
+//! WebGL2, the counterpart of tessella-gpu's `AdaptiveRenderer` (whose storage buffers WebGL2
+//! lacks).
+//!
+//! Built once: the spacing's parts (strips and interiors of the hardware tessellator's patterns,
+//! `tessella_core::refine::instanced::PartTable`) as one vertex array of point codes and one
+//! index array, with each part's index range; the GLSL. Built per frame, O(coarse triangles):
+//! the nets ([`InstancedSurface`]'s packing and texture layout), and from per-edge levels (given,
+//! or from a LOD function and the camera, `tessella_core::refine::lod`, one level per unique
+//! edge so both faces of an edge agree) one record per face and one instance per face and part
+//! (`refine::instanced::frame_instances`), grouped into one draw per part used.
+//!
+//! A record is the core's 24 words ([`RECORD_WORDS`]) of which the tessellator reads 21 (four
+//! rulers of five words and the canonical edge bits); they are packed into 12 words (three
+//! `RGBA32UI` texels per face, see [`pack_record`]) so that a frame uploads 48 bytes of records
+//! and at most 16 of instances per coarse triangle.
+
+use crate::instanced::{glsl as nets_glsl, InstancedSurface, Layout, MAX_TEXTURE_WIDTH};
+use crate::{errors, options::Options};
+use std::collections::HashMap;
+use tessella_core::refine::instanced::{
+    self, FrameInstances, PartTable, FORWARD_WORD, RECORD_WORDS,
+};
+use tessella_core::refine::{canonical, lod, Camera, Lod, Spacing, SurfaceOptions};
+use tessella_core::shader::{self, Lang};
+use tessella_core::{Named, NormalMode};
+use wasm_bindgen::prelude::*;
+
+/// Words of a packed record: three per ruler.
+pub const PACKED_WORDS: usize = 12;
+/// Texels (RGBA32UI) of a packed record.
+pub const RECORD_TEXELS: usize = PACKED_WORDS / 4;
+/// Words of one ruler in the core's record (`tessellator::points::RULER_WORDS`; the GLSL's
+/// `TESSELLA_RULER_WORDS`, which a test compares).
+const RULER_WORDS: usize = 5;
+/// Bits of a 16.16 value in `[0, 1]` (1.0 is `1 << 16`).
+const FIXED_BITS: u32 = 17;
+const FIXED_MASK: u32 = (1 << FIXED_BITS) - 1;
+
+/// Packs a record's four rulers and canonical bits into 12 words. Ruler `r`'s five words
+/// `[inv_floor, inv_ceil, fraction, split, half | odd << 8 | points << 16]` become
+/// `inv_floor | split << 17 | half << 24`, `inv_ceil | points << 17`, `fraction | odd << 17`;
+/// the canonical bits go above ruler 0's third word (`<< 18`). Every 16.16 value is at most 1.0
+/// (17 bits), `split` below 128, `half` below 256 (levels are at most 64).
+pub fn pack_record(record: &[u32]) -> [u32; PACKED_WORDS] {
+    let mut out = [0u32; PACKED_WORDS];
+    for r in 0..4 {
+        let w = &record[RULER_WORDS * r..RULER_WORDS * (r + 1)];
+        let (half, odd, points) = (w[4] & 0xff, (w[4] >> 8) & 1, w[4] >> 16);
+        debug_assert!(w[..3].iter().all(|&x| x <= FIXED_MASK) && w[3] < 128 && points < 1 << 15);
+        out[3 * r] = w[0] | w[3] << FIXED_BITS | half << 24;
+        out[3 * r + 1] = w[1] | points << FIXED_BITS;
+        out[3 * r + 2] = w[2] | odd << FIXED_BITS;
+    }
+    out[2] |= record[FORWARD_WORD] << 18;
+    out
+}
+
+/// Word `k` of ruler `r` from a packed record: the Rust twin of the GLSL's
+/// `tessella_ruler_word` (the tests check that it gives back every word the core wrote).
+#[cfg(test)]
+fn packed_ruler_word(packed: &[u32; PACKED_WORDS], r: usize, k: usize) -> u32 {
+    let [a, b, c] = [packed[3 * r], packed[3 * r + 1], packed[3 * r + 2]];
+    match k {
+        0 => a & FIXED_MASK,
+        1 => b & FIXED_MASK,
+        2 => c & FIXED_MASK,
+        3 => (a >> FIXED_BITS) & 0x7f,
+        _ => (a >> 24) | ((c >> FIXED_BITS) & 1) << 8 | (b >> FIXED_BITS) << 16,
+    }
+}
+
+/// The canonical edge bits of a packed record.
+#[cfg(test)]
+fn packed_forward(packed: &[u32; PACKED_WORDS]) -> u32 {
+    (packed[2] >> 18) & 7
+}
+
+/// What the LOD function needs each frame, parsed once.
+#[derive(Debug, Clone, Copy)]
+enum LodKind {
+    /// Levels from the nets alone.
+    Tolerance(f32),
+    /// Pixels per segment; needs the camera and the image size.
+    Screen(f32),
+    /// Near, far, max; needs the eye.
+    Distance(f32, f32, f32),
+}
+
+#[wasm_bindgen]
+pub struct AdaptiveSurface {
+    nets: InstancedSurface,
+    spacing: Spacing,
+    lod: Option<LodKind>,
+    table: PartTable,
+    /// Every part's distinct point codes, one part after the other.
+    codes: Vec<u32>,
+    /// Every part's triangles as indices into `codes`.
+    indices: Vec<u32>,
+    /// Per part id: first index and index count.
+    ranges: Vec<u32>,
+    records_layout: Layout,
+    /// `records_layout.width * height * 4` words.
+    records: Vec<u32>,
+    /// `face | side << 30`, grouped by part; room for four per face.
+    instances: Vec<u32>,
+    frame: FrameInstances,
+    edge_levels: Vec<f32>,
+}
+
+#[wasm_bindgen]
+impl AdaptiveSurface {
+    /// `options`: `scheme`, `normals`, `alpha`, `spacing` (a tessellator spacing); `lod`: the
+    /// LOD function's text (`tolerance:D`, `screen:PX`, `distance:NEAR,FAR,MAX`) or empty, for
+    /// levels given by [`AdaptiveSurface::set_levels`].
+    #[wasm_bindgen(constructor)]
+    pub fn new(indices: &[u32], options: &str, lod: &str) -> Result<AdaptiveSurface, JsError> {
+        AdaptiveSurface::with(indices, options, lod).map_err(errors::text)
+    }
+
+    #[wasm_bindgen(js_name = basisLength)]
+    pub fn basis_length(&self) -> usize {
+        self.nets.basis_length()
+    }
+    #[wasm_bindgen(js_name = normalMode)]
+    pub fn normal_mode(&self) -> String {
+        self.nets.normal_mode()
+    }
+    /// The spacing's name.
+    pub fn spacing(&self) -> String {
+        self.spacing.name().to_string()
+    }
+    #[wasm_bindgen(js_name = faceCount)]
+    pub fn face_count(&self) -> usize {
+        self.nets.face_count()
+    }
+    #[wasm_bindgen(js_name = texelsPerFace)]
+    pub fn texels_per_face(&self) -> usize {
+        self.nets.texels_per_face()
+    }
+    #[wasm_bindgen(js_name = facesPerRow)]
+    pub fn faces_per_row(&self) -> usize {
+        self.nets.faces_per_row()
+    }
+    #[wasm_bindgen(js_name = textureWidth)]
+    pub fn texture_width(&self) -> usize {
+        self.nets.texture_width()
+    }
+    #[wasm_bindgen(js_name = textureHeight)]
+    pub fn texture_height(&self) -> usize {
+        self.nets.texture_height()
+    }
+    /// Records texture (RGBA32UI, three texels a face): faces per row, width, height.
+    #[wasm_bindgen(js_name = recordsPerRow)]
+    pub fn records_per_row(&self) -> usize {
+        self.records_layout.faces_per_row
+    }
+    #[wasm_bindgen(js_name = recordsWidth)]
+    pub fn records_width(&self) -> usize {
+        self.records_layout.width
+    }
+    #[wasm_bindgen(js_name = recordsHeight)]
+    pub fn records_height(&self) -> usize {
+        self.records_layout.height
+    }
+    /// Unique edges of the mesh (once a frame was built): the length of `setLevels`' array.
+    #[wasm_bindgen(js_name = edgeCount)]
+    pub fn edge_count(&self) -> usize {
+        self.nets
+            .built()
+            .map_or(0, |(s, _)| s.topology().edges.len())
+    }
+
+    /// The parts' point codes (one vertex each), built once.
+    #[wasm_bindgen(js_name = partCodes)]
+    pub fn part_codes(&self) -> Vec<u32> {
+        self.codes.clone()
+    }
+    /// The parts' triangles, indices into `partCodes`.
+    #[wasm_bindgen(js_name = partIndices)]
+    pub fn part_indices(&self) -> Vec<u32> {
+        self.indices.clone()
+    }
+    /// Per part id its first index and index count.
+    #[wasm_bindgen(js_name = partRanges)]
+    pub fn part_ranges(&self) -> Vec<u32> {
+        self.ranges.clone()
+    }
+
+    /// The vertex shader's GLSL (ES 3.00): see [`glsl`].
+    pub fn glsl(&self) -> String {
+        let o = self.nets.surface_options();
+        glsl(o.scheme.basis(), o.normal_mode())
+    }
+
+    #[wasm_bindgen(js_name = positionsInput)]
+    pub fn positions_input(&mut self, len: usize) -> *mut f32 {
+        self.nets.positions_input(len)
+    }
+    #[wasm_bindgen(js_name = normalsInput)]
+    pub fn normals_input(&mut self, len: usize) -> *mut f32 {
+        self.nets.normals_input(len)
+    }
+    /// Builds the nets of the frame in the input arrays (see `InstancedSurface::frame`).
+    pub fn frame(&mut self, normals: bool) -> Result<(), JsError> {
+        self.nets.step_inputs(normals).map_err(errors::text)
+    }
+    #[wasm_bindgen(js_name = netsOutput)]
+    pub fn nets_output(&self) -> *const f32 {
+        self.nets.nets_output()
+    }
+    #[wasm_bindgen(js_name = netsLength)]
+    pub fn nets_length(&self) -> usize {
+        self.nets.nets_length()
+    }
+    #[wasm_bindgen(js_name = boundsOutput)]
+    pub fn bounds_output(&self) -> *const f32 {
+        self.nets.bounds_output()
+    }
+
+    /// Levels of the LOD function on the last frame, seen by a camera at `eye` looking at
+    /// `target` with vertical field of view `fov` degrees on an image `width × height`
+    /// (the mesh's own coordinates; `tolerance` reads none of them).
+    #[allow(clippy::too_many_arguments)]
+    #[wasm_bindgen(js_name = setLod)]
+    pub fn set_lod(
+        &mut self,
+        ex: f32,
+        ey: f32,
+        ez: f32,
+        tx: f32,
+        ty: f32,
+        tz: f32,
+        fov: f32,
+        width: u32,
+        height: u32,
+    ) -> Result<(), JsError> {
+        let camera = Camera {
+            eye: [ex, ey, ez],
+            target: [tx, ty, tz],
+            fov_y_deg: fov,
+        };
+        self.lod_with(camera, [width, height]).map_err(errors::text)
+    }
+
+    /// Per-edge levels given by the caller: one per unique edge (the core's `Topology::edges`
+    /// order, `edgeCount` of them).
+    #[wasm_bindgen(js_name = setLevels)]
+    pub fn set_levels(&mut self, levels: &[f32]) -> Result<(), JsError> {
+        self.levels_with(levels, None).map_err(errors::text)
+    }
+
+    /// The last levels, one per unique edge.
+    #[wasm_bindgen(js_name = edgeLevels)]
+    pub fn edge_levels(&self) -> Vec<f32> {
+        self.edge_levels.clone()
+    }
+    /// The packed records (`recordsWidth * recordsHeight * 4` words) in wasm memory.
+    #[wasm_bindgen(js_name = recordsOutput)]
+    pub fn records_output(&self) -> *const u32 {
+        self.records.as_ptr()
+    }
+    #[wasm_bindgen(js_name = recordsLength)]
+    pub fn records_length(&self) -> usize {
+        self.records.len()
+    }
+    /// The instances (`face | side << 30`, grouped by part) in wasm memory: `instanceCount`
+    /// of them, in an array of room for `4 * faceCount`.
+    #[wasm_bindgen(js_name = instancesOutput)]
+    pub fn instances_output(&self) -> *const u32 {
+        self.instances.as_ptr()
+    }
+    #[wasm_bindgen(js_name = instanceCount)]
+    pub fn instance_count(&self) -> usize {
+        self.frame.instances.len()
+    }
+    /// One draw per part used: part id, first instance, instance count.
+    pub fn draws(&self) -> Vec<u32> {
+        self.frame
+            .draws
+            .iter()
+            .flat_map(|d| [d.part, d.instances.start, d.instances.len() as u32])
+            .collect()
+    }
+    /// Triangles the last levels draw.
+    #[wasm_bindgen(js_name = triangleCount)]
+    pub fn triangle_count(&self) -> f64 {
+        self.frame.triangles as f64
+    }
+}
+
+impl AdaptiveSurface {
+    /// [`AdaptiveSurface::new`] with a `String` error.
+    pub fn with(indices: &[u32], options: &str, lod: &str) -> Result<AdaptiveSurface, String> {
+        let given: serde_json::Value =
+            serde_json::from_str(options).map_err(|e| format!("bad options: {e}"))?;
+        if given.get("level").is_some_and(|v| !v.is_null()) {
+            return Err("level: with lod the levels come from the LOD function".into());
+        }
+        let Options {
+            refine: options,
+            origin,
+        } = Options::from_json(options)?;
+        if origin {
+            return Err("origin: not an option of an adaptive surface".into());
+        }
+        if !options.weld {
+            return Err("soup: not an option of an adaptive surface".into());
+        }
+        let spacing = options.spacing;
+        if spacing.tessellator().is_none() {
+            return Err(format!(
+                "spacing: lod draws the GPU tessellator's patterns: give spacing \
+                 'equal', 'fractional-odd' or 'fractional-even' (not '{}')",
+                spacing.name()
+            ));
+        }
+        let lod = parse_lod(lod)?;
+        let surface = SurfaceOptions {
+            scheme: options.scheme,
+            normals: options.normals,
+            tags: options.tags.clone(),
+        };
+        let nets = InstancedSurface::for_adaptive(indices, surface)?;
+        let faces = nets.face_count();
+        let records_layout = Layout::new(faces, RECORD_TEXELS);
+        if records_layout.height > MAX_TEXTURE_WIDTH {
+            return Err(format!(
+                "{faces} triangles need a records texture of {} rows, over {MAX_TEXTURE_WIDTH}",
+                records_layout.height
+            ));
+        }
+        let table = PartTable::new(spacing);
+        let (codes, indices, ranges) = part_arrays(&table);
+        Ok(AdaptiveSurface {
+            nets,
+            spacing,
+            lod,
+            table,
+            codes,
+            indices,
+            ranges,
+            records: vec![0; records_layout.width * records_layout.height * 4],
+            records_layout,
+            instances: vec![0; 4 * faces],
+            frame: FrameInstances::default(),
+            edge_levels: Vec::new(),
+        })
+    }
+
+    /// The LOD function's levels for `camera` and `size` on the last frame.
+    pub fn lod_with(&mut self, camera: Camera, size: [u32; 2]) -> Result<(), String> {
+        let kind = self
+            .lod
+            .ok_or("no lod: this surface takes its levels from setLevels")?;
+        let lod = match kind {
+            LodKind::Tolerance(d) => Lod::Tolerance { max_deviation: d },
+            LodKind::Screen(pixels) => Lod::Screen {
+                pixels,
+                camera,
+                size,
+            },
+            LodKind::Distance(near, far, max) => Lod::Distance {
+                near,
+                far,
+                max,
+                eye: camera.eye,
+            },
+        };
+        let (surface, frame) = self.nets.built().ok_or("no frame yet: update() first")?;
+        let (edges, faces) = lod::levels(frame.mesh(), surface.topology(), frame.nets(), &lod)
+            .map_err(|e| errors::message(&e))?;
+        self.levels_with(&edges, faces.as_deref())
+    }
+
+    /// Records and instances of per-edge levels (and per-face minimum inner levels).
+    pub fn levels_with(&mut self, edges: &[f32], faces: Option<&[f32]>) -> Result<(), String> {
+        let (surface, _) = self.nets.built().ok_or("no frame yet: update() first")?;
+        let topology = surface.topology();
+        let frame = instanced::frame_instances(
+            &self.table,
+            topology,
+            surface.triangles(),
+            &topology.position_ids,
+            edges,
+            faces,
+        )
+        .map_err(|e| errors::message(&e))?;
+        let Layout {
+            faces_per_row,
+            width,
+            ..
+        } = self.records_layout;
+        for (f, record) in frame.records.chunks_exact(RECORD_WORDS).enumerate() {
+            let start = ((f / faces_per_row) * width + (f % faces_per_row) * RECORD_TEXELS) * 4;
+            self.records[start..start + PACKED_WORDS].copy_from_slice(&pack_record(record));
+        }
+        self.instances[..frame.instances.len()].copy_from_slice(&frame.instances);
+        self.edge_levels.clear();
+        self.edge_levels.extend_from_slice(edges);
+        self.frame = frame;
+        Ok(())
+    }
+
+    /// The frame's draws (for the tests).
+    pub fn frame_instances(&self) -> &FrameInstances {
+        &self.frame
+    }
+
+    /// The packed record of face `f` (for the tests).
+    pub fn packed_record(&self, f: usize) -> [u32; PACKED_WORDS] {
+        let l = self.records_layout;
+        let start = ((f / l.faces_per_row) * l.width + (f % l.faces_per_row) * RECORD_TEXELS) * 4;
+        self.records[start..start + PACKED_WORDS]
+            .try_into()
+            .unwrap()
+    }
+
+    /// The nets half (frames, packing).
+    pub fn nets_mut(&mut self) -> &mut InstancedSurface {
+        &mut self.nets
+    }
+}
+
+fn parse_lod(text: &str) -> Result<Option<LodKind>, String> {
+    if text.is_empty() {
+        return Ok(None);
+    }
+    // The camera and size come every frame; a stand-in one validates the rest now.
+    let stand_in = Camera {
+        eye: [0.0, 0.0, 1.0],
+        target: [0.0; 3],
+        fov_y_deg: 45.0,
+    };
+    let lod = Lod::parse(text, Some(stand_in), Some([1, 1]))
+        .map_err(|e| format!("lod: {}", errors::message(&e)))?;
+    Ok(Some(match lod {
+        Lod::Tolerance { max_deviation } => LodKind::Tolerance(max_deviation),
+        Lod::Screen { pixels, .. } => LodKind::Screen(pixels),
+        Lod::Distance { near, far, max, .. } => LodKind::Distance(near, far, max),
+        other => {
+            return Err(format!(
+                "lod: {other:?} is not drawn by an adaptive surface"
+            ))
+        }
+    }))
+}
+
+/// The part table as arrays: per part its distinct codes and its triangles as absolute indices
+/// into them (WebGL2 has no base vertex), and per part id `[first index, index count]`.
+fn part_arrays(table: &PartTable) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let mut codes = Vec::new();
+    let mut indices = Vec::new();
+    let mut ranges = Vec::with_capacity(2 * table.ranges.len());
+    let mut local: HashMap<u32, u32> = HashMap::new();
+    for range in &table.ranges {
+        local.clear();
+        let first = indices.len() as u32;
+        for t in &table.triangles[range.start as usize..range.end as usize] {
+            for &code in t {
+                let next = codes.len() as u32;
+                let i = *local.entry(code).or_insert_with(|| {
+                    codes.push(code);
+                    next
+                });
+                indices.push(i);
+            }
+        }
+        ranges.extend([first, indices.len() as u32 - first]);
+    }
+    (codes, indices, ranges)
+}
+
+/// GLSL (ES 3.00) for a vertex shader that draws one part instance: [`nets_glsl`]'s nets
+/// reader and `tessella_evaluate` (the basis' and normal net's weights generated from the core's
+/// formulas), the record layout constants, the tessellator's placement `tessella_locate` and the
+/// canonical edge weights, both generated from the core's Rust (`shader::locate_glsl`,
+/// `shader::edge_weights_glsl`), and
+/// `void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal,
+/// out vec3 bary)`:
+/// the point the part's `code` names on instance `inst` (`face | side << 30`), placed with the
+/// face's record and evaluated there; a point on a coarse edge from the edge's four boundary
+/// control points in canonical order with weights from the edge's own 16.16 position, the same
+/// floats from both faces (as `adaptive.wgsl` does); `bary` is the point's barycentric
+/// coordinates in the coarse triangle. It declares, beside the nets' uniforms,
+/// `uniform highp usampler2D tessellaRecords` and `uniform int tessellaRecordsPerRow`.
+pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
+    let mut s = nets_glsl(basis, mode);
+    s += "uniform highp usampler2D tessellaRecords;\nuniform int tessellaRecordsPerRow;\n";
+    s += &shader::record_layout(Lang::Glsl);
+    s += &shader::constants(
+        Lang::Glsl,
+        &[
+            ("TESSELLA_BASIS_K", basis.len() as u32),
+            ("TESSELLA_RECORD_TEXELS", RECORD_TEXELS as u32),
+        ],
+    );
+    let controls: Vec<String> = (0..3)
+        .flat_map(|k| canonical::edge_controls(basis, k))
+        .map(|i| format!("{i}u"))
+        .collect();
+    let normals: Vec<String> = (0..3)
+        .flat_map(canonical::edge_normal_controls)
+        .map(|i| format!("{i}u"))
+        .collect();
+    s += &format!(
+        "const uint TESSELLA_EDGE_CONTROLS[12] = uint[12]({});\n\
+         const uint TESSELLA_EDGE_NORMALS[9] = uint[9]({});\n",
+        controls.join(", "),
+        normals.join(", ")
+    );
+    s += &format!(
+        "const bool TESSELLA_REAL_NORMALS = {};\n",
+        mode == NormalMode::Real
+    );
+    s += ADAPTIVE_GLSL_READERS;
+    s += &shader::locate_glsl();
+    s += &shader::edge_weights_glsl();
+    s += ADAPTIVE_GLSL_MAIN;
+    s
+}
+
+/// The packed record's reader (the twin of [`packed_ruler_word`]) and the nets' entries.
+const ADAPTIVE_GLSL_READERS: &str = r#"uvec4 tessella_rec[3];
+void tessella_read_record(int face) {
+    int row = face / tessellaRecordsPerRow;
+    int column = (face - row * tessellaRecordsPerRow) * int(TESSELLA_RECORD_TEXELS);
+    for (int j = 0; j < 3; j++) tessella_rec[j] = texelFetch(tessellaRecords, ivec2(column + j, row), 0);
+}
+uint tessella_packed(uint i) { return tessella_rec[i >> 2u][i & 3u]; }
+uint tessella_ruler_word(uint rec, uint r, uint k) {
+    uint a = tessella_packed(3u * r);
+    uint b = tessella_packed(3u * r + 1u);
+    uint c = tessella_packed(3u * r + 2u);
+    if (k == 0u) return a & 0x1ffffu;
+    if (k == 1u) return b & 0x1ffffu;
+    if (k == 2u) return c & 0x1ffffu;
+    if (k == 3u) return (a >> 17u) & 0x7fu;
+    return (a >> 24u) | ((c >> 17u) & 1u) << TESSELLA_RULER_ODD_SHIFT | (b >> 17u) << TESSELLA_RULER_POINTS_SHIFT;
+}
+float tessella_net_float(int face, int x) {
+    vec4 t = tessella_texel(face, x >> 2);
+    return t[x & 3];
+}
+vec3 tessella_net_entry(int face, uint i) {
+    int x = 3 * int(i);
+    return vec3(tessella_net_float(face, x), tessella_net_float(face, x + 1), tessella_net_float(face, x + 2));
+}
+"#;
+
+const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, out vec3 bary) {
+    int face = int(inst & 0x3fffffffu);
+    tessella_read_record(face);
+    uvec3 p = tessella_locate(0u, code & 0x3fffffffu, inst >> 30u);
+    uvec3 lf = uvec3(p.x, p.y, TESSELLA_FIXED_ONE - p.x - p.y);
+    vec3 l = vec3(lf) / float(TESSELLA_FIXED_ONE);
+    bary = l;
+    tessella_evaluate(face, l, position, normal);
+    uint edge = p.z;
+    if (edge != TESSELLA_NO_EDGE) {
+        // The edge's own data in canonical order, summed in the same order on both faces.
+        bool forward = ((tessella_rec[0].z >> (18u + edge)) & 1u) != 0u;
+        uint a = forward ? lf[edge] : TESSELLA_FIXED_ONE - lf[edge];
+        vec4 ew;
+        vec3 en;
+        tessella_edge_weights(float(a) / float(TESSELLA_FIXED_ONE), float(TESSELLA_FIXED_ONE - a) / float(TESSELLA_FIXED_ONE), ew, en);
+        vec3 q = vec3(0.0);
+        for (uint i = 0u; i < 4u; i++) {
+            q += ew[i] * tessella_net_entry(face, TESSELLA_EDGE_CONTROLS[4u * edge + (forward ? i : 3u - i)]);
+        }
+        position = q;
+        if (!TESSELLA_REAL_NORMALS) {
+            vec3 m = vec3(0.0);
+            for (uint i = 0u; i < 3u; i++) {
+                m += en[i] * tessella_net_entry(face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + (forward ? i : 2u - i)]);
+            }
+            if (dot(m, m) > 0.0) normal = normalize(m);
+        }
+    }
+}
+"#;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tessella_core::refine::{Levels, Plan};
+
+    fn sample() -> (tessella_core::Mesh, Vec<u32>) {
+        let m = tessella_core::samples::icosphere(1);
+        let indices = bytemuck::cast_slice(m.triangles()).to_vec();
+        (m, indices)
+    }
+
+    fn flat(p: &[[f32; 3]]) -> Vec<f32> {
+        p.iter().flatten().copied().collect()
+    }
+
+    #[test]
+    fn packed_records_give_back_every_word_and_the_cpus_triangle_count() {
+        let (m, indices) = sample();
+        for spacing in ["equal", "fractional-odd", "fractional-even"] {
+            let json = format!(r#"{{"scheme":"pn","spacing":"{spacing}"}}"#);
+            let mut s = AdaptiveSurface::with(&indices, &json, "screen:4").unwrap();
+            s.nets_mut()
+                .step_with(&flat(m.positions()), Some(&flat(m.normals())))
+                .unwrap();
+            for (eye, size) in [
+                ([0.0, 0.0, 3.0], [640, 480]),
+                ([0.3, 0.2, 1.3], [1920, 1080]),
+            ] {
+                let camera = Camera {
+                    eye,
+                    target: [0.0; 3],
+                    fov_y_deg: 50.0,
+                };
+                s.lod_with(camera, size).unwrap();
+                let frame = s.frame_instances().clone();
+                for (f, record) in frame.records.chunks_exact(RECORD_WORDS).enumerate() {
+                    let packed = s.packed_record(f);
+                    for r in 0..4 {
+                        for k in 0..RULER_WORDS {
+                            assert_eq!(
+                                packed_ruler_word(&packed, r, k),
+                                record[RULER_WORDS * r + k],
+                                "{spacing} face {f} ruler {r} word {k}"
+                            );
+                        }
+                    }
+                    assert_eq!(packed_forward(&packed), record[FORWARD_WORD]);
+                }
+                // The CPU's adaptive refinement with the same LOD makes as many triangles.
+                let options = Options::from_json(&json)
+                    .unwrap()
+                    .refine
+                    .with_levels(Levels::Lod(Lod::Screen {
+                        pixels: 4.0,
+                        camera,
+                        size,
+                    }));
+                let plan = Plan::new(&m, &options).unwrap();
+                assert_eq!(frame.triangles, plan.triangle_count() as u64, "{spacing}");
+            }
+        }
+        // Every level of every spacing: the packed words are the core's.
+        for spacing in [
+            Spacing::Equal,
+            Spacing::FractionalOdd,
+            Spacing::FractionalEven,
+        ] {
+            let topology = tessella_core::mesh::Topology::new(&m);
+            let table = PartTable::new(spacing);
+            for step in 0..=260 {
+                let level = 1.0 + step as f32 / 4.0;
+                let levels: Vec<f32> = (0..topology.edges.len())
+                    .map(|e| 1.0 + ((level - 1.0) + e as f32 * 0.7) % 64.0)
+                    .collect();
+                let frame = instanced::frame_instances(
+                    &table,
+                    &topology,
+                    m.triangles(),
+                    &topology.position_ids,
+                    &levels,
+                    None,
+                )
+                .unwrap();
+                for record in frame.records.chunks_exact(RECORD_WORDS) {
+                    let packed = pack_record(record);
+                    for (i, &word) in record[..4 * RULER_WORDS].iter().enumerate() {
+                        assert_eq!(packed_ruler_word(&packed, i / 5, i % 5), word);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_glsl_holds_the_generated_placement_and_the_record_layout() {
+        let g = glsl(tessella_core::Basis::Cubic, NormalMode::Quadratic);
+        assert!(g.contains(&shader::locate_glsl()));
+        assert!(g.contains(&shader::edge_weights_glsl()));
+        assert!(g.contains(&format!(
+            "const uint TESSELLA_RULER_WORDS = {RULER_WORDS}u;"
+        )));
+        assert!(g.contains("void tessella_evaluate(int face"));
+        assert!(g.contains("const bool TESSELLA_REAL_NORMALS = false;"));
+    }
+
+    #[test]
+    fn options_outside_the_adaptive_path_are_refused_by_name() {
+        let (_, indices) = sample();
+        for (json, lod, expected) in [
+            (r#"{}"#, "screen:4", "spacing: lod draws"),
+            (r#"{"spacing":"grid"}"#, "screen:4", "spacing: lod draws"),
+            (
+                r#"{"spacing":"equal","level":3}"#,
+                "screen:4",
+                "level: with lod",
+            ),
+            (r#"{"spacing":"equal"}"#, "screen:0", "lod: "),
+            (r#"{"spacing":"equal"}"#, "fast", "lod: "),
+            (r#"{"spacing":"equal","soup":true}"#, "screen:4", "soup"),
+        ] {
+            let err = AdaptiveSurface::with(&indices, json, lod).err().unwrap();
+            assert!(err.contains(expected), "{json} {lod}: {err}");
+        }
+        let mut s =
+            AdaptiveSurface::with(&indices, r#"{"spacing":"equal"}"#, "tolerance:0.01").unwrap();
+        let camera = Camera {
+            eye: [0.0, 0.0, 3.0],
+            target: [0.0; 3],
+            fov_y_deg: 50.0,
+        };
+        assert!(s
+            .lod_with(camera, [4, 4])
+            .unwrap_err()
+            .contains("no frame yet"));
+    }
+}
