@@ -87,11 +87,12 @@ export function run(setup) {
   let paused = false;
   window.example = (async () => {
     const { renderer, scene, camera, tick } = await setup();
-    const clock = new THREE.Clock();
+    const timer = new THREE.Timer();
     await new Promise((drawn) => {
       renderer.setAnimationLoop(() => {
         try {
-          const dt = clock.getDelta();
+          timer.update();
+          const dt = timer.getDelta();
           if (!paused) tick?.(dt);
           renderer.render(scene, camera);
         } catch (e) {

@@ -218,13 +218,13 @@ export class LodParts {
   }
 
   // Before any render has shown the camera (and without the camera and size options): the
-  // mesh seen whole from three radii away down -z, 45° and 1024×1024 pixels, so the first
+  // mesh seen whole from three radii away down -z, 45° and 256×256 pixels (a modest first frame), so the first
   // render draws a surface; the next takes the real camera's levels.
   #firstView() {
     const sphere = this.#owner.geometry.boundingSphere;
     const [x, y, z] = sphere.center.toArray();
     const r = sphere.radius > 0 ? sphere.radius : 1;
-    return { eye: [x, y, z + 3 * r], target: [x, y, z], fov: 45, size: [1024, 1024], camera: null, first: true };
+    return { eye: [x, y, z + 3 * r], target: [x, y, z], fov: 45, size: [256, 256], camera: null, first: true };
   }
 
   /** The camera and size the levels are for, in the mesh's coordinates. */

@@ -139,14 +139,14 @@ test('lod options and cameras it cannot draw with throw TessellaErrors that say 
   const mesh = new TessellatedMesh(g, undefined, { lod: 'screen:4', spacing: 'equal', camera: ortho, size: [64, 64] });
   assert.throws(() => mesh.updateMatrixWorld(), (e) => e instanceof TessellaError && /PerspectiveCamera/.test(e.message));
   // No camera yet (none given, no render): the levels of the mesh seen whole from three radii
-  // away down -z (45°, 1024 pixels), which raycasts hit too; levels of one's own: no CPU
+  // away down -z (45°, 256 pixels), which raycasts hit too; levels of one's own: no CPU
   // refinement to hit.
   const ray = new Raycaster(new Vector3(0, 0, 5), new Vector3(0, 0, -1));
   const unseen = new TessellatedMesh(g, undefined, { lod: 'screen:4', spacing: 'equal' });
   unseen.updateMatrixWorld();
   const sphere = unseen.geometry.boundingSphere;
   const eye = sphere.center.clone().add(new Vector3(0, 0, 3 * sphere.radius));
-  const first = refine(coarse(g), { lod: 'screen:4', spacing: 'equal', camera: [...eye.toArray(), ...sphere.center.toArray(), 45], size: [1024, 1024] });
+  const first = refine(coarse(g), { lod: 'screen:4', spacing: 'equal', camera: [...eye.toArray(), ...sphere.center.toArray(), 45], size: [256, 256] });
   assert.equal(unseen.lod.triangleCount, first.indices.length / 3);
   assert.ok(unseen.lod.triangleCount > 0);
   assert.equal(ray.intersectObject(unseen).length > 0, true);

@@ -12,7 +12,7 @@ import { CHROMIUM, NO_WEBGPU_FLAGS } from './harness.js';
 
 const repo = fileURLToPath(new URL('../../', import.meta.url));
 const SHOTS = process.env.TESSELLA_EXAMPLES_SHOTS;
-const PAGES = ['gltf', 'skinned', 'compare'];
+const PAGES = ['gltf', 'skinned', 'lod', 'compare'];
 
 let server;
 let browser;
