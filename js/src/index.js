@@ -292,26 +292,21 @@ export class Refiner {
   }
 }
 
-/**
- * What a GPU draws a curved surface from in one instanced call (`tessella/three`'s
- * `TessellatedMesh` is built on it): fixed by the topology and options, the refinement pattern
- * (`patternPoints()`, barycentric, and `patternIndices()`), the nets' texture layout and the
- * vertex shader's GLSL (`glsl()`, generated from the core's formulas); every frame,
- * `update(positions, normals?, out)` packs the coarse mesh's control nets as RGBA float texels
- * into `out` and their bounds into `bounds`. Options: `scheme`, `level` (a whole number, at
- * most 256), `normals`, `alpha`.
- */
-export class InstancedSurface {
-  #inner;
-  #inputs = {};
+// Where InstancedSurface and AdaptiveSurface keep their wasm object (and the views of its
+// input arrays), and the check that it was not freed: shared through NetsSurface.
+const INNER = Symbol('tessella wasm object');
+const INPUTS = Symbol('tessella input views');
+const LIVE = Symbol('tessella live wasm object');
 
-  constructor(indices, options = {}) {
-    const idx = indexArray(indices);
-    const json = optionsJson(options);
-    const inner = call((g) => new g.InstancedSurface(idx, json));
-    this.#inner = inner;
-    /** Segments per coarse edge. */
-    this.level = inner.level();
+// What InstancedSurface and AdaptiveSurface share: the wasm object, the nets texture's layout,
+// and per frame the nets and their bounds.
+class NetsSurface {
+  #name;
+
+  constructor(inner, name) {
+    this[INNER] = inner;
+    this[INPUTS] = {};
+    this.#name = name;
     /** Control points per net: 10 (cubic basis) or 21 (PNG1). */
     this.basisLength = inner.basisLength();
     /** The normal mode in effect: 'linear', 'quadratic' or 'real'. */
@@ -327,44 +322,17 @@ export class InstancedSurface {
     this.bounds = new Float32Array(10);
   }
 
-  #live() {
-    if (this.#inner === null) throw new TessellaError('this InstancedSurface was freed');
-    return this.#inner;
-  }
-
-  /** The pattern's points, barycentric (l1, l2, l3) on the coarse triangle, 3 per point. */
-  patternPoints() {
-    const inner = this.#live();
-    return call(() => inner.patternPoints());
-  }
-
-  /** The pattern's triangles, 3 point indices each. */
-  patternIndices() {
-    const inner = this.#live();
-    return call(() => inner.patternIndices());
-  }
-
-  /** GLSL ES 3.00 declaring `tessella_evaluate(int face, vec3 l, out vec3 position, out vec3 normal)`. */
-  glsl() {
-    const inner = this.#live();
-    return call(() => inner.glsl());
-  }
-
-  /**
-   * WGSL ending with `fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32>`
-   * and `fn tessella_normal(...)` (same parameters, a unit normal), for TSL's `wgslFn`.
-   */
-  wgsl() {
-    const inner = this.#live();
-    return call(() => inner.wgsl());
+  [LIVE]() {
+    if (this[INNER] === null) throw new TessellaError(`this ${this.#name} was freed`);
+    return this[INNER];
   }
 
   #input(which, length) {
-    const inner = this.#inner;
+    const inner = this[INNER];
     const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
-    const old = this.#inputs[which];
+    const old = this[INPUTS][which];
     if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
-    return (this.#inputs[which] = view(Float32Array, ptr, length));
+    return (this[INPUTS][which] = view(Float32Array, ptr, length));
   }
 
   /**
@@ -373,7 +341,7 @@ export class InstancedSurface {
    * bounds into `bounds`. Returns `out`.
    */
   update(positions, normals, out) {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     const p = positions instanceof Float32Array || positions instanceof Float64Array ? positions : floats(positions, 'positions', 3);
     const n = normals == null ? null : normals instanceof Float32Array || normals instanceof Float64Array ? normals : floats(normals, 'normals', 3);
     const length = this.width * this.height * 4;
@@ -392,10 +360,58 @@ export class InstancedSurface {
 
   /** Frees the wasm memory; it cannot be used afterwards. */
   free() {
-    if (this.#inner !== null) this.#inner.free();
-    this.#inner = null;
-    this.#inputs = {};
+    if (this[INNER] !== null) this[INNER].free();
+    this[INNER] = null;
+    this[INPUTS] = {};
   }
+}
+
+/**
+ * What a GPU draws a curved surface from in one instanced call (`tessella/three`'s
+ * `TessellatedMesh` is built on it): fixed by the topology and options, the refinement pattern
+ * (`patternPoints()`, barycentric, and `patternIndices()`), the nets' texture layout and the
+ * vertex shader's GLSL (`glsl()`, generated from the core's formulas); every frame,
+ * `update(positions, normals?, out)` packs the coarse mesh's control nets as RGBA float texels
+ * into `out` and their bounds into `bounds`. Options: `scheme`, `level` (a whole number, at
+ * most 256), `normals`, `alpha`.
+ */
+export class InstancedSurface extends NetsSurface {
+  constructor(indices, options = {}) {
+    const idx = indexArray(indices);
+    const json = optionsJson(options);
+    const inner = call((g) => new g.InstancedSurface(idx, json));
+    super(inner, 'InstancedSurface');
+    /** Segments per coarse edge. */
+    this.level = inner.level();
+  }
+
+  /** The pattern's points, barycentric (l1, l2, l3) on the coarse triangle, 3 per point. */
+  patternPoints() {
+    const inner = this[LIVE]();
+    return call(() => inner.patternPoints());
+  }
+
+  /** The pattern's triangles, 3 point indices each. */
+  patternIndices() {
+    const inner = this[LIVE]();
+    return call(() => inner.patternIndices());
+  }
+
+  /** GLSL ES 3.00 declaring `tessella_evaluate(int face, vec3 l, out vec3 position, out vec3 normal)`. */
+  glsl() {
+    const inner = this[LIVE]();
+    return call(() => inner.glsl());
+  }
+
+  /**
+   * WGSL ending with `fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32>`
+   * and `fn tessella_normal(...)` (same parameters, a unit normal), for TSL's `wgslFn`.
+   */
+  wgsl() {
+    const inner = this[LIVE]();
+    return call(() => inner.wgsl());
+  }
+
 }
 
 /**
@@ -407,10 +423,7 @@ export class InstancedSurface {
  * `options`: `scheme`, `normals`, `alpha`, `spacing` (`'equal'`, `'fractional-odd'` or
  * `'fractional-even'`), `lod` (`'tolerance:D'`, `'screen:PX'`, `'distance:NEAR,FAR,MAX'`).
  */
-export class AdaptiveSurface {
-  #inner;
-  #inputs = {};
-
+export class AdaptiveSurface extends NetsSurface {
   constructor(indices, options = {}) {
     const idx = indexArray(indices);
     if (options == null || typeof options !== 'object') throw new TessellaError('options must be an object');
@@ -418,26 +431,15 @@ export class AdaptiveSurface {
     if (typeof lod !== 'string') throw new TessellaError('lod must be a string: tolerance:D, screen:PX or distance:NEAR,FAR,MAX');
     const json = optionsJson(options, ['lod']);
     const inner = call((g) => new g.AdaptiveSurface(idx, json, lod));
-    this.#inner = inner;
+    super(inner, 'AdaptiveSurface');
     /** The LOD function's text ('' when the levels are given by `setLevels`). */
     this.lod = lod;
-    /** Control points per net: 10 (cubic basis) or 21 (PNG1). */
-    this.basisLength = inner.basisLength();
-    this.normalMode = inner.normalMode();
     /** The spacing's name. */
     this.spacing = inner.spacing();
-    this.faceCount = inner.faceCount();
-    /** The nets texture's layout (as InstancedSurface's). */
-    this.texelsPerFace = inner.texelsPerFace();
-    this.facesPerRow = inner.facesPerRow();
-    this.width = inner.textureWidth();
-    this.height = inner.textureHeight();
     /** The records texture's layout (RGBA32UI, three texels per face). */
     this.recordsPerRow = inner.recordsPerRow();
     this.recordsWidth = inner.recordsWidth();
     this.recordsHeight = inner.recordsHeight();
-    /** The last frame's control-point bounds: box min xyz, box max xyz, sphere centre xyz, radius. */
-    this.bounds = new Float32Array(10);
     /** The last levels' draws: part id, first instance, instance count, one triple per part used. */
     this.draws = new Uint32Array(0);
     /** Instances and triangles the last levels draw. */
@@ -445,66 +447,34 @@ export class AdaptiveSurface {
     this.triangleCount = 0;
   }
 
-  #live() {
-    if (this.#inner === null) throw new TessellaError('this AdaptiveSurface was freed');
-    return this.#inner;
-  }
-
   /** The parts' point codes, one per vertex (built once). */
   partCodes() {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     return call(() => inner.partCodes());
   }
 
   /** The parts' triangles, indices into `partCodes()`. */
   partIndices() {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     return call(() => inner.partIndices());
   }
 
   /** Per part id its first index and index count. */
   partRanges() {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     return call(() => inner.partRanges());
   }
 
   /** GLSL ES 3.00 declaring `tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal)`. */
   glsl() {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     return call(() => inner.glsl());
   }
 
   /** Unique edges (once a frame was built): `setLevels` takes one level each. */
   get edgeCount() {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     return call(() => inner.edgeCount());
-  }
-
-  #input(which, length) {
-    const inner = this.#inner;
-    const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
-    const old = this.#inputs[which];
-    if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
-    return (this.#inputs[which] = view(Float32Array, ptr, length));
-  }
-
-  /** One frame's nets into `out` (`width * height * 4` floats) and its bounds, as `InstancedSurface.update`. */
-  update(positions, normals, out) {
-    const inner = this.#live();
-    const p = positions instanceof Float32Array || positions instanceof Float64Array ? positions : floats(positions, 'positions', 3);
-    const n = normals == null ? null : normals instanceof Float32Array || normals instanceof Float64Array ? normals : floats(normals, 'normals', 3);
-    const length = this.width * this.height * 4;
-    if (!(out instanceof Float32Array) || out.length !== length) {
-      throw new TessellaError(`the nets go into a Float32Array of ${length} floats (width * height * 4)`);
-    }
-    call(() => {
-      this.#input('positions', p.length).set(p);
-      if (n !== null) this.#input('normals', n.length).set(n);
-      inner.frame(n !== null);
-      out.set(view(Float32Array, inner.netsOutput(), length));
-      this.bounds.set(view(Float32Array, inner.boundsOutput(), 10));
-    });
-    return out;
   }
 
   /**
@@ -513,7 +483,7 @@ export class AdaptiveSurface {
    * `[width, height]` (`tolerance` reads neither). Then `read(records, instances)`.
    */
   setLod(camera, size) {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     const { eye, target, fov } = camera ?? {};
     if (!(eye?.length === 3 && target?.length === 3 && typeof fov === 'number' && size?.length === 2)) {
       throw new TessellaError('setLod takes { eye: [x, y, z], target: [x, y, z], fov } and size [width, height]');
@@ -524,14 +494,14 @@ export class AdaptiveSurface {
 
   /** Per-edge levels given: one per unique edge (`edgeCount`). Then `read(records, instances)`. */
   setLevels(levels) {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     const l = floats(levels, 'levels', 1);
     call(() => inner.setLevels(l));
     this.#levelsSet();
   }
 
   #levelsSet() {
-    const inner = this.#inner;
+    const inner = this[INNER];
     this.draws = call(() => inner.draws());
     this.instanceCount = inner.instanceCount();
     this.triangleCount = inner.triangleCount();
@@ -539,7 +509,7 @@ export class AdaptiveSurface {
 
   /** The last levels, one per unique edge. */
   edgeLevels() {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     return call(() => inner.edgeLevels());
   }
 
@@ -549,7 +519,7 @@ export class AdaptiveSurface {
    * a Uint32Array of at least `4 * faceCount`); returns the bytes copied that matter.
    */
   read(records, instances) {
-    const inner = this.#live();
+    const inner = this[LIVE]();
     const length = this.recordsWidth * this.recordsHeight * 4;
     if (!(records instanceof Uint32Array) || records.length !== length) {
       throw new TessellaError(`the records go into a Uint32Array of ${length} words (recordsWidth * recordsHeight * 4)`);
@@ -564,15 +534,8 @@ export class AdaptiveSurface {
     return records.byteLength + 4 * this.instanceCount;
   }
 
-  /** Frees the wasm memory; it cannot be used afterwards. */
-  free() {
-    if (this.#inner !== null) this.#inner.free();
-    this.#inner = null;
-    this.#inputs = {};
-  }
 }
 
-// Makes AnimatedMesh's constructor private to readAnimated.
 /**
  * A mesh posed by an engine's own skeleton (what `TessellatedMesh` follows a three.js
  * `SkinnedMesh` or morphing `Mesh` with): built once from the rest `positions` and `normals`,
@@ -616,6 +579,7 @@ export class Deformer {
   }
 }
 
+// Makes AnimatedMesh's constructor private to readAnimated.
 const INTERNAL = Symbol('tessella internal');
 
 /**
