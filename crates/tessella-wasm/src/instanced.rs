@@ -325,29 +325,19 @@ impl InstancedSurface {
     fn pack(&mut self) {
         let Some(built) = &self.built else { return };
         let nets = built.frame.nets();
-        let k = nets.basis.len();
         let Layout {
             texels,
             faces_per_row,
-            width,
             ..
         } = self.layout;
+        nets.pack_texels(faces_per_row, texels, &mut self.nets);
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
-        for f in 0..nets.len() {
-            let start = ((f / faces_per_row) * width + (f % faces_per_row) * texels) * 4;
-            let out = &mut self.nets[start..start + texels * 4];
-            let points = nets.patch_points(f);
-            for (i, v) in points.iter().chain(nets.patch_normals(f)).enumerate() {
-                out[3 * i..3 * i + 3].copy_from_slice(v);
+        for p in &nets.points {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
             }
-            for p in points {
-                for a in 0..3 {
-                    lo[a] = lo[a].min(p[a]);
-                    hi[a] = hi[a].max(p[a]);
-                }
-            }
-            debug_assert_eq!(points.len(), k);
         }
         let centre = [0, 1, 2].map(|a| 0.5 * (lo[a] + hi[a]));
         let mut r2 = 0.0f64;

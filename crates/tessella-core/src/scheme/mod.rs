@@ -169,6 +169,25 @@ impl PatchNets {
     pub fn patch_normals(&self, f: usize) -> &[[f32; 3]] {
         &self.normals[f * NORMAL_NET_LEN..(f + 1) * NORMAL_NET_LEN]
     }
+
+    /// Packs the nets as RGBA float texels for a GPU that reads them from a texture (WebGL2's
+    /// `TessellatedMesh` and the viewer's fallback): patch `f` takes `texels` texels from
+    /// texel `((f % per_row) * texels, f / per_row)` of rows `per_row * texels` texels wide,
+    /// holding its control points then its normal net, 3 floats an entry one after the other
+    /// (an entry may straddle two texels). Floats past a patch's entries are left as they are.
+    ///
+    /// Panics when a patch's entries do not fit its texels or `out` is too short (the callers
+    /// size both from [`PatchNets::len`] and [`Basis::len`]).
+    pub fn pack_texels(&self, per_row: usize, texels: usize, out: &mut [f32]) {
+        let width = per_row * texels;
+        for f in 0..self.len() {
+            let start = ((f / per_row) * width + (f % per_row) * texels) * 4;
+            let entries = self.patch_points(f).iter().chain(self.patch_normals(f));
+            for (e, v) in entries.enumerate() {
+                out[start + 3 * e..start + 3 * e + 3].copy_from_slice(v);
+            }
+        }
+    }
 }
 
 /// What a net builder sees of one coarse triangle.
