@@ -5,56 +5,18 @@
 // (js/src, js/dist, js/node_modules/three): build js/ first (`cd js && npm ci && npm run build`).
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, writeFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { serve } from '../scripts/serve.js';
-import { CHROMIUM, NO_WEBGPU_FLAGS, count, iou, mask } from './harness.js';
+import { count, darker, differing, iou, mask, openRepoPage } from './harness.js';
 
-const repo = fileURLToPath(new URL('../../', import.meta.url));
 const SHOT = process.env.TESSELLA_THREE_SHOT;
 
-let server;
-let browser;
-let page;
-const problems = [];
+let three;
 before(async () => {
-  for (const need of ['js/dist/simd/tessella_bg.wasm', 'js/node_modules/three/build/three.module.js']) {
-    if (!existsSync(repo + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
-  }
-  server = await serve({ root: repo, port: 0 });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: NO_WEBGPU_FLAGS });
-  page = await browser.newPage();
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`);
-  });
-  await page.goto(`${server.url}/web/test/three/page.html`);
-  await page.waitForFunction(() => window.tessellaThree !== undefined);
-  await page.evaluate(() => window.tessellaThree.ready);
+  three = await openRepoPage('web/test/three/page.html', { global: 'tessellaThree' });
 });
-after(async () => {
-  await browser?.close();
-  await server?.close();
-});
-
-async function run(config) {
-  const out = await page.evaluate((c) => window.tessellaThree.run(c), config);
-  out.img = PNG.sync.read(Buffer.from(out.png.split(',')[1], 'base64'));
-  return out;
-}
-
-// Pixels at least `by` darker (sum of RGB) in `a` than in `b`.
-function darker(a, b, by = 30) {
-  const m = new Uint8Array(a.width * a.height);
-  for (let i = 0; i < m.length; i++) {
-    const sa = a.data[4 * i] + a.data[4 * i + 1] + a.data[4 * i + 2];
-    const sb = b.data[4 * i] + b.data[4 * i + 1] + b.data[4 * i + 2];
-    m[i] = sa + by < sb ? 1 : 0;
-  }
-  return m;
-}
+after(() => three?.close());
+const run = (config) => three.run(config);
 
 test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn as a Mesh, in one instanced draw', async () => {
   for (const [scheme, level, normals] of [['pn', 8], ['png1', 6], ['phong', 5], ['pn-aen', 4, 'real']]) {
@@ -71,7 +33,7 @@ test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn 
     console.log(`${scheme}${normals ? ` (${normals} normals)` : ''} level ${level}: silhouette IoU ${score.toFixed(5)} (${count(a)} / ${count(b)} pixels)`);
     assert.ok(score >= 0.99, `${scheme}: IoU ${score}`);
     // The shading too: the GPU's normals are the CPU's.
-    const off = differing(cpu.img, gpu.img);
+    const off = differing(cpu.img, gpu.img, 12);
     assert.ok(off < 0.01 * count(a), `${scheme}: ${off} pixels shaded differently`);
     const [frame] = gpu.log;
     // One draw call in all: instanced, the pattern's level² triangles once per coarse triangle.
@@ -80,7 +42,7 @@ test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn 
     assert.equal(frame.draws, 0);
     assert.equal(cpu.log[0].instanced.length, 0);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('while the source deforms, a frame uploads the nets alone: at most 256 bytes per coarse triangle', async () => {
@@ -103,7 +65,7 @@ test('while the source deforms, a frame uploads the nets alone: at most 256 byte
   console.log(`deformed: IoU ${score.toFixed(5)} with the CPU's last pose, ${moved.toFixed(5)} with the rest pose`);
   assert.ok(score >= 0.99, `IoU ${score}`);
   assert.ok(moved < 0.95, `IoU with the rest pose ${moved}: the surface did not follow`);
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('it casts shadows (on a plane, from a directional and a point light) and receives them (from a ball), like the CPU mesh', async () => {
@@ -143,22 +105,8 @@ test('it casts shadows (on a plane, from a directional and a point light) and re
     PNG.bitblt(shaded.img, out, 0, 0, shaded.img.width, shaded.img.height, shaded.img.width, 0);
     writeFileSync(SHOT, PNG.sync.write(out));
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
-
-// Pixels whose colour differs by more than `threshold` in a channel.
-function differing(a, b, threshold = 12) {
-  let n = 0;
-  for (let i = 0; i < a.width * a.height; i++) {
-    for (let k = 0; k < 3; k++) {
-      if (Math.abs(a.data[4 * i + k] - b.data[4 * i + k]) > threshold) {
-        n++;
-        break;
-      }
-    }
-  }
-  return n;
-}
 
 test("three's other materials draw it too (Lambert, Phong, Physical, Normal), and fog, clipping, maps and vertex colours work", async () => {
   const configs = ['MeshLambertMaterial', 'MeshPhongMaterial', 'MeshPhysicalMaterial', 'MeshNormalMaterial'].map((material) => ({ material }));
@@ -167,7 +115,7 @@ test("three's other materials draw it too (Lambert, Phong, Physical, Normal), an
     const cpu = await run({ ...config, plain: true });
     const gpu = await run(config);
     const score = iou(mask(cpu.img), mask(gpu.img));
-    const off = differing(cpu.img, gpu.img);
+    const off = differing(cpu.img, gpu.img, 12);
     console.log(`${config.material}${config.extras ? ' with fog, clipping, a map, vertex colours' : ''}: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
     assert.ok(score >= 0.99, `IoU ${score}`);
     assert.ok(off < 0.01 * count(mask(cpu.img)), `${off} pixels of other colours`);
@@ -176,7 +124,7 @@ test("three's other materials draw it too (Lambert, Phong, Physical, Normal), an
   const plain = await run({});
   const extras = await run({ extras: true });
   assert.ok(count(mask(extras.img)) < 0.9 * count(mask(plain.img)), 'the clipping plane cut nothing');
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test("a user's own ShaderMaterial draws it: calling tessella_evaluate itself, or reading position and normal", async () => {
@@ -184,11 +132,11 @@ test("a user's own ShaderMaterial draws it: calling tessella_evaluate itself, or
     const cpu = await run({ material: 'ShaderMaterialAttributes', plain: true, castShadow: false });
     const gpu = await run({ material, castShadow: false });
     const score = iou(mask(cpu.img), mask(gpu.img));
-    const off = differing(cpu.img, gpu.img);
+    const off = differing(cpu.img, gpu.img, 12);
     console.log(`${material}: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
     assert.ok(score >= 0.99, `${material}: IoU ${score}`);
     assert.ok(off < 0.01 * count(mask(cpu.img)), `${material}: ${off} pixels of other colours`);
     assert.equal(gpu.log[0].instanced.length, 1);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
