@@ -29,8 +29,13 @@ export const NO_WEBGPU_FLAGS = WEBGPU_FLAGS.filter((f) => f !== '--enable-unsafe
 /** Starts the server and a browser; `close()` stops both. */
 export async function start({ webgpu = true } = {}) {
   if (!existsSync(`${DIST}/index.html`)) throw new Error(`${DIST} has no index.html: run \`npm run build\` first`);
+  return launch(DIST, webgpu);
+}
+
+/** Serves `root` and starts Chromium (with WebGPU when `webgpu`); `close()` stops both. */
+async function launch(root, webgpu) {
   if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: apt-get install -y chromium (or set CHROMIUM)`);
-  const server = await serve({ root: DIST, port: 0 });
+  const server = await serve({ root, port: 0 });
   let browser;
   try {
     browser = await chromium.launch({ executablePath: CHROMIUM, args: webgpu ? WEBGPU_FLAGS : NO_WEBGPU_FLAGS });
@@ -83,26 +88,11 @@ export async function startRepo({ webgpu = false, needs = [] } = {}) {
   for (const need of ['js/dist/simd/tessella_bg.wasm', three, ...needs]) {
     if (!existsSync(REPO + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
   }
-  const server = await serve({ root: REPO, port: 0 });
-  let browser;
-  try {
-    browser = await chromium.launch({ executablePath: CHROMIUM, args: webgpu ? WEBGPU_FLAGS : NO_WEBGPU_FLAGS });
-  } catch (e) {
-    await server.close();
-    throw e;
-  }
-  return {
-    url: server.url,
-    browser,
-    async close() {
-      await browser.close();
-      await server.close();
-    },
-  };
+  return launch(REPO, webgpu);
 }
 
 /**
- * Opens the repository's test page at `path` (e.g. 'web/test/three/page.html') and waits for its
+ * Opens the repository's test page at `path` (e.g. 'web/test/three/index.html?page=mesh') and waits for its
  * `window[global].ready`, whose value is `ready`. `problems` records page errors and console
  * errors and warnings. `run(config)` returns `window[global].run(config)` with its picture
  * decoded as `img` (`{ width, height, data }`): from a PNG data URL (`png`) or from RGBA bytes

@@ -4,7 +4,7 @@
 // watertight (no background pixel inside a closed mesh's silhouette, even with levels that differ
 // wildly from edge to edge); a nearer camera draws more triangles; a frame that moves the camera
 // and deforms the source uploads at most 256 bytes per coarse triangle. The page
-// (three/lod.html) and the package come from the repository: build js/ first.
+// (three/index.html?page=lod: three/lod.js) and the package come from the repository: build js/ first.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
@@ -15,7 +15,7 @@ const SHOT = process.env.TESSELLA_THREE_SHOT;
 
 let three;
 before(async () => {
-  three = await openRepoPage('web/test/three/lod.html', { global: 'tessellaLod' });
+  three = await openRepoPage('web/test/three/index.html?page=lod', { global: 'tessellaLod' });
 });
 after(() => three?.close());
 

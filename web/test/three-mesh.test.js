@@ -1,7 +1,7 @@
 // tessella/three's TessellatedMesh in headless Chromium (WebGL2 on SwiftShader): drawn by the
 // GPU from the nets texture it looks like the CPU refinement drawn as a plain Mesh, in one
 // instanced draw; while the source deforms each frame uploads the nets alone; it casts and
-// receives shadows (directional and point lights). The page (three/page.html) and the package come from the repository
+// receives shadows (directional and point lights). The page (three/index.html?page=mesh: three/mesh.js) and the package come from the repository
 // (js/src, js/dist, js/node_modules/three): build js/ first (`cd js && npm ci && npm run build`).
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
@@ -13,7 +13,7 @@ const SHOT = process.env.TESSELLA_THREE_SHOT;
 
 let three;
 before(async () => {
-  three = await openRepoPage('web/test/three/page.html', { global: 'tessellaThree' });
+  three = await openRepoPage('web/test/three/index.html?page=mesh', { global: 'tessellaThree' });
 });
 after(() => three?.close());
 const run = (config) => three.run(config);

@@ -13,7 +13,7 @@ const SHOT = process.env.TESSELLA_SKINNED_SHOT;
 
 let three;
 before(async () => {
-  three = await openRepoPage('web/test/three/skinned.html', { global: 'tessellaSkinned' });
+  three = await openRepoPage('web/test/three/index.html?page=skinned', { global: 'tessellaSkinned' });
 });
 after(() => three?.close());
 const run = (config) => three.run(config);

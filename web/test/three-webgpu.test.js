@@ -2,7 +2,7 @@
 // in headless Chromium (WebGPU on SwiftShader): the WGSL from the wasm, called from TSL as the
 // material's positionNode, draws what the CPU refinement drawn as a plain Mesh looks like, in
 // one instanced draw; while the source deforms each frame uploads the nets texture (and three's
-// uniforms) alone; it casts and receives shadows. The page (three/webgpu.html) and the package
+// uniforms) alone; it casts and receives shadows. The page (three/index.html?page=webgpu: three/webgpu.js) and the package
 // come from the repository (js/src, js/dist, js/node_modules/three): build js/ first
 // (`cd js && npm ci && npm run build`).
 import { after, before, test } from 'node:test';
@@ -15,7 +15,7 @@ const SHOT = process.env.TESSELLA_THREE_SHOT;
 
 let three;
 before(async () => {
-  three = await openRepoPage('web/test/three/webgpu.html', { webgpu: true, global: 'tessellaThree' });
+  three = await openRepoPage('web/test/three/index.html?page=webgpu', { webgpu: true, global: 'tessellaThree' });
   // On the WebGPU backend, not three's WebGL2 fallback.
   assert.equal(three.ready, true);
 });

@@ -1,6 +1,6 @@
-// What the three.js test pages (page.js, webgpu.js, lod.js, skinned.js) share: a WebGLRenderer
+// What the three.js test pages (mesh.js, webgpu.js, lod.js, skinned.js) share: a WebGLRenderer
 // on a white canvas of one size, calls spied on (to count draws and uploaded bytes), and the
-// torus-knot scene of page.js and webgpu.js: its camera and lights, its bending, its vertex
+// torus-knot scene of mesh.js and webgpu.js: its camera and lights, its bending, its vertex
 // colours and checker texture.
 import * as THREE from 'three';
 

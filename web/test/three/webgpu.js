@@ -60,7 +60,7 @@ async function run({
   const { scene, camera } = torusScene({ width: WIDTH, height: HEIGHT, point, plane, occluder, occluderCasts });
   const geometry = new THREE.TorusKnotGeometry(0.8, 0.3, 40, 6);
   const rest = geometry.getAttribute('position').array.slice();
-  // colours: vertex colours (as page.js's extras).
+  // colours: vertex colours (as mesh.js's extras).
   if (colours) vertexColours(geometry);
   // custom: a user's node material showing the normal as a colour: the CPU mesh's normal
   // attribute, or on TessellatedMesh the documented TSL function's.
@@ -71,7 +71,7 @@ async function run({
   };
   // fogClip: fog and a clipping plane (WebGPURenderer clips by ClippingGroup).
   if (fogClip) scene.fog = new THREE.Fog(0xffffff, 4, 8);
-  // map: a checker texture, read by the coarse uvs (as page.js).
+  // map: a checker texture, read by the coarse uvs (as mesh.js).
   const checkers = checkerTexture();
   const make = () => {
     const m = make0();
