@@ -7,7 +7,8 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { count, darker, differing, iou, mask, openRepoPage } from './harness.js';
+import { count, differing, iou, mask, openRepoPage } from './harness.js';
+import { assertFollows, assertShadows, deformed } from './three-checks.js';
 
 const SHOT = process.env.TESSELLA_THREE_SHOT;
 
@@ -47,9 +48,8 @@ test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn 
 
 test('while the source deforms, a frame uploads the nets alone: at most 256 bytes per coarse triangle', async () => {
   const frames = 4;
-  const gpu = await run({ scheme: 'pn', level: 8, frames, deform: true, castShadow: false });
-  const cpu = await run({ scheme: 'pn', level: 8, frames, deform: true, plain: true, castShadow: false });
-  const rest = await run({ scheme: 'pn', level: 8, plain: true, castShadow: false });
+  const runs = await deformed(run, frames);
+  const { gpu } = runs;
   for (const [f, frame] of gpu.log.entries()) {
     console.log(`frame ${f}: ${frame.uploaded} bytes uploaded (${(frame.uploaded / gpu.faces).toFixed(1)} per coarse triangle), uploadedBytes ${frame.uploadedBytes}`);
     if (f === 0) continue; // the first frame also uploads the pattern
@@ -58,53 +58,19 @@ test('while the source deforms, a frame uploads the nets alone: at most 256 byte
     assert.equal(frame.uploaded, frame.uploadedBytes);
     assert.equal(frame.calls, 1);
   }
-  // It follows the source: the last pose drawn on the GPU is the CPU's refinement of it, and not
-  // the rest pose.
-  const score = iou(mask(gpu.img), mask(cpu.img));
-  const moved = iou(mask(gpu.img), mask(rest.img));
-  console.log(`deformed: IoU ${score.toFixed(5)} with the CPU's last pose, ${moved.toFixed(5)} with the rest pose`);
-  assert.ok(score >= 0.99, `IoU ${score}`);
-  assert.ok(moved < 0.95, `IoU with the rest pose ${moved}: the surface did not follow`);
+  assertFollows(runs);
   assert.deepEqual(three.problems, []);
 });
 
 test('it casts shadows (on a plane, from a directional and a point light) and receives them (from a ball), like the CPU mesh', async () => {
-  const lit = await run({ plane: true, castShadow: false });
-  const shaded = await run({ plane: true, castShadow: true });
-  const cpuShaded = await run({ plane: true, castShadow: true, plain: true });
-  const cpuLit = await run({ plane: true, castShadow: false, plain: true });
-  // Two passes, one instanced draw each: the shadow map's (the patched depth material) and the picture's.
-  assert.deepEqual(shaded.log[0].instanced, [{ count: 3 * 64, instances: shaded.faces }, { count: 3 * 64, instances: shaded.faces }]);
-  assert.equal(lit.log[0].instanced.length, 1);
-  const cast = darker(shaded.img, lit.img);
-  const cpuCast = darker(cpuShaded.img, cpuLit.img);
-  console.log(`cast shadow: ${count(cast)} pixels darker (CPU mesh: ${count(cpuCast)}), IoU ${iou(cast, cpuCast).toFixed(4)}`);
-  assert.ok(count(cast) > 2000, `only ${count(cast)} pixels darker with castShadow`);
-  assert.ok(iou(cast, cpuCast) > 0.9, `shadow IoU ${iou(cast, cpuCast)}`);
-  // A point light's shadow map takes the distance material (customDistanceMaterial).
-  const pointLit = await run({ plane: true, castShadow: false, point: true });
-  const pointShaded = await run({ plane: true, castShadow: true, point: true });
-  const cpuPointShaded = await run({ plane: true, castShadow: true, point: true, plain: true });
-  const pointCast = darker(pointShaded.img, pointLit.img);
-  const cpuPointCast = darker(cpuPointShaded.img, pointLit.img);
-  console.log(`point light: ${count(pointCast)} pixels darker (CPU mesh: ${count(cpuPointCast)}), IoU ${iou(pointCast, cpuPointCast).toFixed(4)}`);
-  assert.ok(count(pointCast) > 2000, `only ${count(pointCast)} pixels darker under the point light`);
-  assert.ok(iou(pointCast, cpuPointCast) > 0.9, `point shadow IoU ${iou(pointCast, cpuPointCast)}`);
-  const open = await run({ occluder: true, occluderCasts: false });
-  const covered = await run({ occluder: true, occluderCasts: true });
-  // No plane: whatever gets darker is the tessellated surface, in the ball's shadow.
-  const received = darker(covered.img, open.img);
-  console.log(`received shadow: ${count(received)} pixels darker`);
-  assert.ok(count(received) > 300, `only ${count(received)} pixels darker under the ball`);
-  const inside = mask(open.img);
-  for (let i = 0; i < received.length; i++) if (received[i]) assert.equal(inside[i], 1);
-  if (SHOT) {
+  await assertShadows(run, (cpuShaded, shaded) => {
+    if (!SHOT) return;
     // Left: the CPU refinement as a plain Mesh; right: TessellatedMesh.
-    const out = new PNG({ width: 2 * shaded.img.width, height: shaded.img.height });
-    PNG.bitblt(cpuShaded.img, out, 0, 0, shaded.img.width, shaded.img.height, 0, 0);
-    PNG.bitblt(shaded.img, out, 0, 0, shaded.img.width, shaded.img.height, shaded.img.width, 0);
+    const out = new PNG({ width: 2 * shaded.width, height: shaded.height });
+    PNG.bitblt(cpuShaded, out, 0, 0, shaded.width, shaded.height, 0, 0);
+    PNG.bitblt(shaded, out, 0, 0, shaded.width, shaded.height, shaded.width, 0);
     writeFileSync(SHOT, PNG.sync.write(out));
-  }
+  });
   assert.deepEqual(three.problems, []);
 });
 

@@ -9,7 +9,8 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { count, darker, differing, iou, mask, openRepoPage } from './harness.js';
+import { count, differing, iou, mask, openRepoPage } from './harness.js';
+import { assertFollows, assertShadows, deformed } from './three-checks.js';
 
 const SHOT = process.env.TESSELLA_THREE_SHOT;
 
@@ -62,9 +63,8 @@ test('under WebGPURenderer, TessellatedMesh with MeshStandardMaterial looks like
 
 test('under WebGPURenderer, while the source deforms, a frame uploads the nets texture and uniforms: at most 256 bytes per coarse triangle', async () => {
   const frames = 4;
-  const gpu = await run({ scheme: 'pn', level: 8, frames, deform: true, castShadow: false });
-  const cpu = await run({ scheme: 'pn', level: 8, frames, deform: true, plain: true, castShadow: false });
-  const rest = await run({ scheme: 'pn', level: 8, plain: true, castShadow: false });
+  const runs = await deformed(run, frames);
+  const { gpu, cpu } = runs;
   for (const [f, frame] of gpu.log.entries()) {
     const all = frame.buffers + frame.textures;
     console.log(`frame ${f}: ${all} bytes written (${(all / gpu.faces).toFixed(1)} per coarse triangle): nets texture ${frame.textures}, buffers ${frame.buffers}; uploadedBytes ${frame.uploadedBytes}`);
@@ -76,44 +76,14 @@ test('under WebGPURenderer, while the source deforms, a frame uploads the nets t
   }
   // The CPU mesh of the same frames rewrites every refined vertex.
   console.log(`refineGeometry's mesh, for comparison, holds ${cpu.faces} coarse triangles' ${cpu.faces * 64} refined ones`);
-  const score = iou(mask(gpu.img), mask(cpu.img));
-  const moved = iou(mask(gpu.img), mask(rest.img));
-  console.log(`deformed: IoU ${score.toFixed(5)} with the CPU's last pose, ${moved.toFixed(5)} with the rest pose`);
-  assert.ok(score >= 0.99, `IoU ${score}`);
-  assert.ok(moved < 0.95, `IoU with the rest pose ${moved}: the surface did not follow`);
+  assertFollows(runs);
   assert.deepEqual(three.problems, []);
 });
 
 test('under WebGPURenderer it casts shadows (directional and point lights) and receives them, like the CPU mesh', async () => {
-  const lit = await run({ plane: true, castShadow: false });
-  const shaded = await run({ plane: true, castShadow: true });
-  const cpuShaded = await run({ plane: true, castShadow: true, plain: true });
-  const cpuLit = await run({ plane: true, castShadow: false, plain: true });
-  // The shadow pass draws the surface by the same node, instanced too.
-  assert.deepEqual(shaded.log[0].instanced, [{ count: 3 * 64, instances: shaded.faces }, { count: 3 * 64, instances: shaded.faces }]);
-  assert.equal(lit.log[0].instanced.length, 1);
-  const cast = darker(shaded.img, lit.img);
-  const cpuCast = darker(cpuShaded.img, cpuLit.img);
-  console.log(`cast shadow: ${count(cast)} pixels darker (CPU mesh: ${count(cpuCast)}), IoU ${iou(cast, cpuCast).toFixed(4)}`);
-  if (SHOT) save(SHOT.replace(/\.png$/, '-shadow.png'), cpuShaded.img, shaded.img);
-  assert.ok(count(cast) > 2000, `only ${count(cast)} pixels darker with castShadow`);
-  assert.ok(iou(cast, cpuCast) > 0.9, `shadow IoU ${iou(cast, cpuCast)}`);
-  const pointLit = await run({ plane: true, castShadow: false, point: true });
-  const pointShaded = await run({ plane: true, castShadow: true, point: true });
-  const cpuPointShaded = await run({ plane: true, castShadow: true, point: true, plain: true });
-  const pointCast = darker(pointShaded.img, pointLit.img);
-  const cpuPointCast = darker(cpuPointShaded.img, pointLit.img);
-  console.log(`point light: ${count(pointCast)} pixels darker (CPU mesh: ${count(cpuPointCast)}), IoU ${iou(pointCast, cpuPointCast).toFixed(4)}`);
-  assert.ok(count(pointCast) > 2000, `only ${count(pointCast)} pixels darker under the point light`);
-  assert.ok(iou(pointCast, cpuPointCast) > 0.9, `point shadow IoU ${iou(pointCast, cpuPointCast)}`);
-  const open = await run({ occluder: true, occluderCasts: false });
-  const covered = await run({ occluder: true, occluderCasts: true });
-  // No plane: whatever gets darker is the tessellated surface, in the ball's shadow.
-  const received = darker(covered.img, open.img);
-  console.log(`received shadow: ${count(received)} pixels darker`);
-  assert.ok(count(received) > 300, `only ${count(received)} pixels darker under the ball`);
-  const inside = mask(open.img);
-  for (let i = 0; i < received.length; i++) if (received[i]) assert.equal(inside[i], 1);
+  await assertShadows(run, (cpuShaded, shaded) => {
+    if (SHOT) save(SHOT.replace(/\.png$/, '-shadow.png'), cpuShaded, shaded);
+  });
   assert.deepEqual(three.problems, []);
 });
 
