@@ -10,7 +10,7 @@ import assert from 'node:assert/strict';
 import { existsSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { DIST } from '../scripts/serve.js';
-import { assertClean, capture, count, differing as differingBy, iou, mask, message, open, start } from './harness.js';
+import { assertClean, capture, count, differing as differingBy, iou, mask, message, open, start, watch } from './harness.js';
 
 const skip = process.env.TESSELLA_WEB_NO_ENGINE === '1' ? 'TESSELLA_WEB_NO_ENGINE=1: the site was built without the engine' : false;
 const SAMPLE = 'samples/animated-creature.glb';
@@ -136,11 +136,7 @@ const GL_COUNTER = () => {
 
 async function openCounted(env, query) {
   const page = await env.browser.newPage();
-  page.problems = [];
-  page.on('pageerror', (e) => page.problems.push(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error') page.problems.push(`console error: ${m.text()}`);
-  });
+  page.problems = watch(page);
   await page.addInitScript(GL_COUNTER);
   await page.goto(env.url + query);
   await page.evaluate(async () => {

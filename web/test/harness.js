@@ -3,9 +3,13 @@
 // any), the viewer's canvas captured as PNG and decoded, and picture measures (masks, IoU,
 // holes inside a silhouette).
 import { existsSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
 import { serve, DIST } from '../scripts/serve.js';
+
+/** The repository's root: the three.js test pages are served from it (js/src, js/dist, js/node_modules). */
+export const REPO = fileURLToPath(new URL('../../', import.meta.url));
 
 export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 
@@ -25,8 +29,13 @@ export const NO_WEBGPU_FLAGS = WEBGPU_FLAGS.filter((f) => f !== '--enable-unsafe
 /** Starts the server and a browser; `close()` stops both. */
 export async function start({ webgpu = true } = {}) {
   if (!existsSync(`${DIST}/index.html`)) throw new Error(`${DIST} has no index.html: run \`npm run build\` first`);
+  return launch(DIST, webgpu);
+}
+
+/** Serves `root` and starts Chromium (with WebGPU when `webgpu`); `close()` stops both. */
+async function launch(root, webgpu) {
   if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: apt-get install -y chromium (or set CHROMIUM)`);
-  const server = await serve({ root: DIST, port: 0 });
+  const server = await serve({ root, port: 0 });
   let browser;
   try {
     browser = await chromium.launch({ executablePath: CHROMIUM, args: webgpu ? WEBGPU_FLAGS : NO_WEBGPU_FLAGS });
@@ -50,14 +59,70 @@ export async function start({ webgpu = true } = {}) {
  */
 export async function open(env, query = '', { waitReady = true } = {}) {
   const page = await env.browser.newPage();
-  page.problems = [];
-  page.on('pageerror', (e) => page.problems.push(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error') page.problems.push(`console error: ${m.text()}`);
-  });
+  page.problems = watch(page);
   await page.goto(env.url + query);
   if (waitReady) await ready(page);
   return page;
+}
+
+/**
+ * Records the page's uncaught errors and console errors (and console warnings when `warnings`)
+ * in the array it returns.
+ */
+export function watch(page, { warnings = false } = {}) {
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('console', (m) => {
+    if (m.type() === 'error' || (warnings && m.type() === 'warning')) problems.push(`console ${m.type()}: ${m.text()}`);
+  });
+  return problems;
+}
+
+/**
+ * Serves the repository's root (not dist/) and starts a browser (WebGL2 only unless `webgpu`),
+ * once the files the three.js pages load are there: the wasm, three (three.webgpu.js when
+ * `webgpu`) and `needs` (paths from the root). `close()` stops both.
+ */
+export async function startRepo({ webgpu = false, needs = [] } = {}) {
+  const three = webgpu ? 'js/node_modules/three/build/three.webgpu.js' : 'js/node_modules/three/build/three.module.js';
+  for (const need of ['js/dist/simd/tessella_bg.wasm', three, ...needs]) {
+    if (!existsSync(REPO + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
+  }
+  return launch(REPO, webgpu);
+}
+
+/**
+ * Opens the repository's test page at `path` (e.g. 'web/test/three/index.html?page=mesh') and waits for its
+ * `window[global].ready`, whose value is `ready`. `problems` records page errors and console
+ * errors and warnings. `run(config)` returns `window[global].run(config)` with its picture
+ * decoded as `img` (`{ width, height, data }`): from a PNG data URL (`png`) or from RGBA bytes
+ * in base64 (`rgba`, with `width` and `height`).
+ */
+export async function openRepoPage(path, { webgpu = false, global, needs = [] } = {}) {
+  const env = await startRepo({ webgpu, needs });
+  try {
+    const page = await env.browser.newPage();
+    const problems = watch(page, { warnings: true });
+    await page.goto(`${env.url}/${path}`);
+    await page.waitForFunction((g) => window[g] !== undefined, global);
+    const value = await page.evaluate((g) => window[g].ready, global);
+    return {
+      page,
+      problems,
+      ready: value,
+      async run(config) {
+        const out = await page.evaluate(([g, c]) => window[g].run(c), [global, config]);
+        out.img = out.png !== undefined
+          ? PNG.sync.read(Buffer.from(out.png.split(',')[1], 'base64'))
+          : { width: out.width, height: out.height, data: Buffer.from(out.rgba, 'base64') };
+        return out;
+      },
+      close: env.close,
+    };
+  } catch (e) {
+    await env.close();
+    throw e;
+  }
 }
 
 export async function ready(page) {
@@ -155,6 +220,17 @@ export function differing(a, b, threshold) {
     }
   }
   return n;
+}
+
+/** Pixels at least `by` darker (sum of RGB) in `a` than in `b`, as a mask. */
+export function darker(a, b, by = 30) {
+  const m = new Uint8Array(a.width * a.height);
+  for (let i = 0; i < m.length; i++) {
+    const sa = a.data[4 * i] + a.data[4 * i + 1] + a.data[4 * i + 2];
+    const sb = b.data[4 * i] + b.data[4 * i + 1] + b.data[4 * i + 2];
+    m[i] = sa + by < sb ? 1 : 0;
+  }
+  return m;
 }
 
 /** Fails with every problem the page recorded. */

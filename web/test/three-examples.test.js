@@ -3,54 +3,24 @@
 // (`cd js && npm ci && npm run build`). TESSELLA_EXAMPLES_SHOTS=DIR saves each picture there.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, mkdirSync, writeFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { mkdirSync, writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { serve } from '../scripts/serve.js';
-import { CHROMIUM, NO_WEBGPU_FLAGS } from './harness.js';
+import { differing, startRepo, watch } from './harness.js';
 
-const repo = fileURLToPath(new URL('../../', import.meta.url));
 const SHOTS = process.env.TESSELLA_EXAMPLES_SHOTS;
 const PAGES = ['gltf', 'skinned', 'lod', 'compare'];
 
-let server;
-let browser;
+let env;
 before(async () => {
-  for (const need of ['js/dist/simd/tessella_bg.wasm', 'js/node_modules/three/build/three.module.js', 'js/node_modules/three-subdivide/src/index.js']) {
-    if (!existsSync(repo + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
-  }
-  server = await serve({ root: repo, port: 0 });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: NO_WEBGPU_FLAGS });
+  env = await startRepo({ needs: ['js/node_modules/three-subdivide/src/index.js'] });
 });
-after(async () => {
-  await browser?.close();
-  await server?.close();
-});
-
-// Pixels whose colour differs by more than 24 in a channel.
-function differing(a, b) {
-  let n = 0;
-  for (let i = 0; i < a.width * a.height; i++) {
-    for (let k = 0; k < 3; k++) {
-      if (Math.abs(a.data[4 * i + k] - b.data[4 * i + k]) > 24) {
-        n++;
-        break;
-      }
-    }
-  }
-  return n;
-}
+after(() => env?.close());
 
 for (const name of PAGES) {
   test(`the ${name} example draws its scene without an error`, async () => {
-    const page = await browser.newPage({ viewport: { width: 800, height: 500 } });
-    const problems = [];
-    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-    page.on('console', (m) => {
-      if (m.type() === 'error') problems.push(`console error: ${m.text()}`);
-    });
-    await page.goto(`${server.url}js/examples/${name}.html`);
+    const page = await env.browser.newPage({ viewport: { width: 800, height: 500 } });
+    const problems = watch(page);
+    await page.goto(`${env.url}js/examples/${name}.html`);
     await page.waitForFunction(() => window.example !== undefined);
     await page.evaluate(() => window.example.then(() => true));
     assert.deepEqual(problems, []);
@@ -60,7 +30,8 @@ for (const name of PAGES) {
     await page.evaluate(() => window.example.then((e) => e.showTessellated(false)));
     const without = PNG.sync.read(await page.screenshot());
     const img = PNG.sync.read(shot);
-    const drawn = differing(img, without);
+    // Pixels whose colour differs by more than 24 in a channel.
+    const drawn = differing(img, without, 24);
     console.log(`${name}: the TessellatedMeshes draw ${drawn} pixels`);
     if (SHOTS) {
       mkdirSync(SHOTS, { recursive: true });
@@ -73,10 +44,10 @@ for (const name of PAGES) {
 }
 
 test('the benchmark page (npm run bench:three) measures the four ways; the tessellated ones hold and upload less', async () => {
-  const page = await browser.newPage();
+  const page = await env.browser.newPage();
   const problems = [];
   page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  await page.goto(`${server.url}js/bench/three/page.html`);
+  await page.goto(`${env.url}js/bench/three/page.html`);
   await page.waitForFunction(() => window.benchThree !== undefined);
   await page.evaluate(() => window.benchThree.ready);
   const { rows } = await page.evaluate(() => window.benchThree.run({ levels: [8], frames: 1, size: 128 }));

@@ -4,62 +4,25 @@
 // watertight (no background pixel inside a closed mesh's silhouette, even with levels that differ
 // wildly from edge to edge); a nearer camera draws more triangles; a frame that moves the camera
 // and deforms the source uploads at most 256 bytes per coarse triangle. The page
-// (three/lod.html) and the package come from the repository: build js/ first.
+// (three/index.html?page=lod: three/lod.js) and the package come from the repository: build js/ first.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, writeFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { serve } from '../scripts/serve.js';
-import { CHROMIUM, NO_WEBGPU_FLAGS, count, iou, mask } from './harness.js';
+import { count, differing, iou, mask, openRepoPage } from './harness.js';
 
-const repo = fileURLToPath(new URL('../../', import.meta.url));
 const SHOT = process.env.TESSELLA_THREE_SHOT;
 
-let server;
-let browser;
-let page;
-const problems = [];
+let three;
 before(async () => {
-  for (const need of ['js/dist/simd/tessella_bg.wasm', 'js/node_modules/three/build/three.module.js']) {
-    if (!existsSync(repo + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
-  }
-  server = await serve({ root: repo, port: 0 });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: NO_WEBGPU_FLAGS });
-  page = await browser.newPage();
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`);
-  });
-  await page.goto(`${server.url}/web/test/three/lod.html`);
-  await page.waitForFunction(() => window.tessellaLod !== undefined);
-  await page.evaluate(() => window.tessellaLod.ready);
+  three = await openRepoPage('web/test/three/index.html?page=lod', { global: 'tessellaLod' });
 });
-after(async () => {
-  await browser?.close();
-  await server?.close();
-});
+after(() => three?.close());
 
 async function run(config, shot) {
-  const out = await page.evaluate((c) => window.tessellaLod.run(c), config);
-  out.img = PNG.sync.read(Buffer.from(out.png.split(',')[1], 'base64'));
+  const out = await three.run(config);
   if (SHOT && shot) writeFileSync(`${SHOT}-${shot}.png`, PNG.sync.write(out.img));
   return out;
-}
-
-// Pixels whose colour differs by more than `threshold` in a channel.
-function differing(a, b, threshold = 12) {
-  let n = 0;
-  for (let i = 0; i < a.width * a.height; i++) {
-    for (let k = 0; k < 3; k++) {
-      if (Math.abs(a.data[4 * i + k] - b.data[4 * i + k]) > threshold) {
-        n++;
-        break;
-      }
-    }
-  }
-  return n;
 }
 
 // Background pixels of `img` whose 8 neighbours in `inside` (a silhouette) are all covered:
@@ -104,11 +67,11 @@ test('the LOD picture is refineGeometry\'s with the same lod, camera and size, a
     // Lit: the GPU's points and normals are the CPU's (shading within a few pixels).
     const cpuLit = await run({ scheme, spacing, eye, pixels, plain: true, material: 'standard' }, `${spacing}-${scheme}-cpulit`);
     const gpuLit = await run({ scheme, spacing, eye, pixels, material: 'standard' }, `${spacing}-${scheme}-lit`);
-    const off = differing(cpuLit.img, gpuLit.img);
+    const off = differing(cpuLit.img, gpuLit.img, 12);
     console.log(`  lit: ${off} pixels shaded differently`);
     assert.ok(off < 0.01 * count(a), `${spacing}: ${off} pixels shaded differently`);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('a map by the coarse uvs and vertex colours look as on refineGeometry\'s mesh', async () => {
@@ -117,11 +80,11 @@ test('a map by the coarse uvs and vertex colours look as on refineGeometry\'s me
   const gpu = await run(config, 'extras-gpu');
   const a = mask(cpu.img);
   const score = iou(a, mask(gpu.img));
-  const off = differing(cpu.img, gpu.img);
+  const off = differing(cpu.img, gpu.img, 12);
   console.log(`map and colours: IoU ${score.toFixed(5)}, ${off} of ${count(a)} pixels shaded differently`);
   assert.ok(score >= 0.99, `IoU ${score}`);
   assert.ok(off < 0.01 * count(a), `${off} pixels shaded differently`);
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('it casts a shadow like refineGeometry\'s mesh (the parts drawn into the shadow map too)', async () => {
@@ -129,14 +92,14 @@ test('it casts a shadow like refineGeometry\'s mesh (the parts drawn into the sh
   const lit = await run({ ...config, shadow: true, cast: false });
   const cpu = await run({ ...config, shadow: true, plain: true }, 'shadow-cpu');
   const gpu = await run({ ...config, shadow: true }, 'shadow-gpu');
-  const off = differing(cpu.img, gpu.img);
-  const cast = differing(lit.img, gpu.img);
+  const off = differing(cpu.img, gpu.img, 12);
+  const cast = differing(lit.img, gpu.img, 12);
   console.log(`shadow: ${cast} pixels darkened by it, ${off} differ from the CPU mesh's picture`);
   // Shadow map and picture: each draws the parts.
   assert.ok(gpu.log[0].instanced.length >= 2 * lit.log[0].instanced.length);
   assert.ok(cast > 2000, `only ${cast} pixels in the shadow`);
   assert.ok(off < 0.01 * cast, `${off} pixels differ`);
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('levels that differ wildly from edge to edge stay watertight', async () => {
@@ -150,7 +113,7 @@ test('levels that differ wildly from edge to edge stay watertight', async () => 
     assert.equal(gaps, 0);
     assert.ok(score >= 0.97, `IoU ${score}`);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('a nearer camera draws more triangles; a frame that moves the camera and deforms the source uploads at most 256 bytes per coarse triangle', async () => {
@@ -174,5 +137,5 @@ test('a nearer camera draws more triangles; a frame that moves the camera and de
   const given = await run({ eye: [0.5, 0.3, 2.5] });
   assert.ok(taken.log[0].triangles > moving.faces, `the first frame drew ${taken.log[0].triangles} triangles`);
   assert.equal(taken.log[1].triangles, given.log[0].triangles);
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });

@@ -1,60 +1,23 @@
 // tessella/three's TessellatedMesh in headless Chromium (WebGL2 on SwiftShader): drawn by the
 // GPU from the nets texture it looks like the CPU refinement drawn as a plain Mesh, in one
 // instanced draw; while the source deforms each frame uploads the nets alone; it casts and
-// receives shadows (directional and point lights). The page (three/page.html) and the package come from the repository
+// receives shadows (directional and point lights). The page (three/index.html?page=mesh: three/mesh.js) and the package come from the repository
 // (js/src, js/dist, js/node_modules/three): build js/ first (`cd js && npm ci && npm run build`).
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, writeFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { serve } from '../scripts/serve.js';
-import { CHROMIUM, NO_WEBGPU_FLAGS, count, iou, mask } from './harness.js';
+import { count, differing, iou, mask, openRepoPage } from './harness.js';
+import { assertFollows, assertShadows, deformed } from './three-checks.js';
 
-const repo = fileURLToPath(new URL('../../', import.meta.url));
 const SHOT = process.env.TESSELLA_THREE_SHOT;
 
-let server;
-let browser;
-let page;
-const problems = [];
+let three;
 before(async () => {
-  for (const need of ['js/dist/simd/tessella_bg.wasm', 'js/node_modules/three/build/three.module.js']) {
-    if (!existsSync(repo + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
-  }
-  server = await serve({ root: repo, port: 0 });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: NO_WEBGPU_FLAGS });
-  page = await browser.newPage();
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`);
-  });
-  await page.goto(`${server.url}/web/test/three/page.html`);
-  await page.waitForFunction(() => window.tessellaThree !== undefined);
-  await page.evaluate(() => window.tessellaThree.ready);
+  three = await openRepoPage('web/test/three/index.html?page=mesh', { global: 'tessellaThree' });
 });
-after(async () => {
-  await browser?.close();
-  await server?.close();
-});
-
-async function run(config) {
-  const out = await page.evaluate((c) => window.tessellaThree.run(c), config);
-  out.img = PNG.sync.read(Buffer.from(out.png.split(',')[1], 'base64'));
-  return out;
-}
-
-// Pixels at least `by` darker (sum of RGB) in `a` than in `b`.
-function darker(a, b, by = 30) {
-  const m = new Uint8Array(a.width * a.height);
-  for (let i = 0; i < m.length; i++) {
-    const sa = a.data[4 * i] + a.data[4 * i + 1] + a.data[4 * i + 2];
-    const sb = b.data[4 * i] + b.data[4 * i + 1] + b.data[4 * i + 2];
-    m[i] = sa + by < sb ? 1 : 0;
-  }
-  return m;
-}
+after(() => three?.close());
+const run = (config) => three.run(config);
 
 test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn as a Mesh, in one instanced draw', async () => {
   for (const [scheme, level, normals] of [['pn', 8], ['png1', 6], ['phong', 5], ['pn-aen', 4, 'real']]) {
@@ -71,7 +34,7 @@ test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn 
     console.log(`${scheme}${normals ? ` (${normals} normals)` : ''} level ${level}: silhouette IoU ${score.toFixed(5)} (${count(a)} / ${count(b)} pixels)`);
     assert.ok(score >= 0.99, `${scheme}: IoU ${score}`);
     // The shading too: the GPU's normals are the CPU's.
-    const off = differing(cpu.img, gpu.img);
+    const off = differing(cpu.img, gpu.img, 12);
     assert.ok(off < 0.01 * count(a), `${scheme}: ${off} pixels shaded differently`);
     const [frame] = gpu.log;
     // One draw call in all: instanced, the pattern's level² triangles once per coarse triangle.
@@ -80,14 +43,13 @@ test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn 
     assert.equal(frame.draws, 0);
     assert.equal(cpu.log[0].instanced.length, 0);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('while the source deforms, a frame uploads the nets alone: at most 256 bytes per coarse triangle', async () => {
   const frames = 4;
-  const gpu = await run({ scheme: 'pn', level: 8, frames, deform: true, castShadow: false });
-  const cpu = await run({ scheme: 'pn', level: 8, frames, deform: true, plain: true, castShadow: false });
-  const rest = await run({ scheme: 'pn', level: 8, plain: true, castShadow: false });
+  const runs = await deformed(run, frames);
+  const { gpu } = runs;
   for (const [f, frame] of gpu.log.entries()) {
     console.log(`frame ${f}: ${frame.uploaded} bytes uploaded (${(frame.uploaded / gpu.faces).toFixed(1)} per coarse triangle), uploadedBytes ${frame.uploadedBytes}`);
     if (f === 0) continue; // the first frame also uploads the pattern
@@ -96,69 +58,21 @@ test('while the source deforms, a frame uploads the nets alone: at most 256 byte
     assert.equal(frame.uploaded, frame.uploadedBytes);
     assert.equal(frame.calls, 1);
   }
-  // It follows the source: the last pose drawn on the GPU is the CPU's refinement of it, and not
-  // the rest pose.
-  const score = iou(mask(gpu.img), mask(cpu.img));
-  const moved = iou(mask(gpu.img), mask(rest.img));
-  console.log(`deformed: IoU ${score.toFixed(5)} with the CPU's last pose, ${moved.toFixed(5)} with the rest pose`);
-  assert.ok(score >= 0.99, `IoU ${score}`);
-  assert.ok(moved < 0.95, `IoU with the rest pose ${moved}: the surface did not follow`);
-  assert.deepEqual(problems, []);
+  assertFollows(runs);
+  assert.deepEqual(three.problems, []);
 });
 
 test('it casts shadows (on a plane, from a directional and a point light) and receives them (from a ball), like the CPU mesh', async () => {
-  const lit = await run({ plane: true, castShadow: false });
-  const shaded = await run({ plane: true, castShadow: true });
-  const cpuShaded = await run({ plane: true, castShadow: true, plain: true });
-  const cpuLit = await run({ plane: true, castShadow: false, plain: true });
-  // Two passes, one instanced draw each: the shadow map's (the patched depth material) and the picture's.
-  assert.deepEqual(shaded.log[0].instanced, [{ count: 3 * 64, instances: shaded.faces }, { count: 3 * 64, instances: shaded.faces }]);
-  assert.equal(lit.log[0].instanced.length, 1);
-  const cast = darker(shaded.img, lit.img);
-  const cpuCast = darker(cpuShaded.img, cpuLit.img);
-  console.log(`cast shadow: ${count(cast)} pixels darker (CPU mesh: ${count(cpuCast)}), IoU ${iou(cast, cpuCast).toFixed(4)}`);
-  assert.ok(count(cast) > 2000, `only ${count(cast)} pixels darker with castShadow`);
-  assert.ok(iou(cast, cpuCast) > 0.9, `shadow IoU ${iou(cast, cpuCast)}`);
-  // A point light's shadow map takes the distance material (customDistanceMaterial).
-  const pointLit = await run({ plane: true, castShadow: false, point: true });
-  const pointShaded = await run({ plane: true, castShadow: true, point: true });
-  const cpuPointShaded = await run({ plane: true, castShadow: true, point: true, plain: true });
-  const pointCast = darker(pointShaded.img, pointLit.img);
-  const cpuPointCast = darker(cpuPointShaded.img, pointLit.img);
-  console.log(`point light: ${count(pointCast)} pixels darker (CPU mesh: ${count(cpuPointCast)}), IoU ${iou(pointCast, cpuPointCast).toFixed(4)}`);
-  assert.ok(count(pointCast) > 2000, `only ${count(pointCast)} pixels darker under the point light`);
-  assert.ok(iou(pointCast, cpuPointCast) > 0.9, `point shadow IoU ${iou(pointCast, cpuPointCast)}`);
-  const open = await run({ occluder: true, occluderCasts: false });
-  const covered = await run({ occluder: true, occluderCasts: true });
-  // No plane: whatever gets darker is the tessellated surface, in the ball's shadow.
-  const received = darker(covered.img, open.img);
-  console.log(`received shadow: ${count(received)} pixels darker`);
-  assert.ok(count(received) > 300, `only ${count(received)} pixels darker under the ball`);
-  const inside = mask(open.img);
-  for (let i = 0; i < received.length; i++) if (received[i]) assert.equal(inside[i], 1);
-  if (SHOT) {
+  await assertShadows(run, (cpuShaded, shaded) => {
+    if (!SHOT) return;
     // Left: the CPU refinement as a plain Mesh; right: TessellatedMesh.
-    const out = new PNG({ width: 2 * shaded.img.width, height: shaded.img.height });
-    PNG.bitblt(cpuShaded.img, out, 0, 0, shaded.img.width, shaded.img.height, 0, 0);
-    PNG.bitblt(shaded.img, out, 0, 0, shaded.img.width, shaded.img.height, shaded.img.width, 0);
+    const out = new PNG({ width: 2 * shaded.width, height: shaded.height });
+    PNG.bitblt(cpuShaded, out, 0, 0, shaded.width, shaded.height, 0, 0);
+    PNG.bitblt(shaded, out, 0, 0, shaded.width, shaded.height, shaded.width, 0);
     writeFileSync(SHOT, PNG.sync.write(out));
-  }
-  assert.deepEqual(problems, []);
+  });
+  assert.deepEqual(three.problems, []);
 });
-
-// Pixels whose colour differs by more than `threshold` in a channel.
-function differing(a, b, threshold = 12) {
-  let n = 0;
-  for (let i = 0; i < a.width * a.height; i++) {
-    for (let k = 0; k < 3; k++) {
-      if (Math.abs(a.data[4 * i + k] - b.data[4 * i + k]) > threshold) {
-        n++;
-        break;
-      }
-    }
-  }
-  return n;
-}
 
 test("three's other materials draw it too (Lambert, Phong, Physical, Normal), and fog, clipping, maps and vertex colours work", async () => {
   const configs = ['MeshLambertMaterial', 'MeshPhongMaterial', 'MeshPhysicalMaterial', 'MeshNormalMaterial'].map((material) => ({ material }));
@@ -167,7 +81,7 @@ test("three's other materials draw it too (Lambert, Phong, Physical, Normal), an
     const cpu = await run({ ...config, plain: true });
     const gpu = await run(config);
     const score = iou(mask(cpu.img), mask(gpu.img));
-    const off = differing(cpu.img, gpu.img);
+    const off = differing(cpu.img, gpu.img, 12);
     console.log(`${config.material}${config.extras ? ' with fog, clipping, a map, vertex colours' : ''}: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
     assert.ok(score >= 0.99, `IoU ${score}`);
     assert.ok(off < 0.01 * count(mask(cpu.img)), `${off} pixels of other colours`);
@@ -176,7 +90,7 @@ test("three's other materials draw it too (Lambert, Phong, Physical, Normal), an
   const plain = await run({});
   const extras = await run({ extras: true });
   assert.ok(count(mask(extras.img)) < 0.9 * count(mask(plain.img)), 'the clipping plane cut nothing');
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test("a user's own ShaderMaterial draws it: calling tessella_evaluate itself, or reading position and normal", async () => {
@@ -184,11 +98,11 @@ test("a user's own ShaderMaterial draws it: calling tessella_evaluate itself, or
     const cpu = await run({ material: 'ShaderMaterialAttributes', plain: true, castShadow: false });
     const gpu = await run({ material, castShadow: false });
     const score = iou(mask(cpu.img), mask(gpu.img));
-    const off = differing(cpu.img, gpu.img);
+    const off = differing(cpu.img, gpu.img, 12);
     console.log(`${material}: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
     assert.ok(score >= 0.99, `${material}: IoU ${score}`);
     assert.ok(off < 0.01 * count(mask(cpu.img)), `${material}: ${off} pixels of other colours`);
     assert.equal(gpu.log[0].instanced.length, 1);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });

@@ -5,45 +5,18 @@
 // Build js/ first (`cd js && npm ci && npm run build`).
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, writeFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { serve } from '../scripts/serve.js';
-import { CHROMIUM, NO_WEBGPU_FLAGS, count, iou, mask } from './harness.js';
+import { count, iou, mask, openRepoPage } from './harness.js';
 
-const repo = fileURLToPath(new URL('../../', import.meta.url));
 const SHOT = process.env.TESSELLA_SKINNED_SHOT;
 
-let server;
-let browser;
-let page;
-const problems = [];
+let three;
 before(async () => {
-  for (const need of ['js/dist/simd/tessella_bg.wasm', 'js/node_modules/three/build/three.module.js']) {
-    if (!existsSync(repo + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
-  }
-  server = await serve({ root: repo, port: 0 });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: NO_WEBGPU_FLAGS });
-  page = await browser.newPage();
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`);
-  });
-  await page.goto(`${server.url}/web/test/three/skinned.html`);
-  await page.waitForFunction(() => window.tessellaSkinned !== undefined);
-  await page.evaluate(() => window.tessellaSkinned.ready);
+  three = await openRepoPage('web/test/three/index.html?page=skinned', { global: 'tessellaSkinned' });
 });
-after(async () => {
-  await browser?.close();
-  await server?.close();
-});
-
-async function run(config) {
-  const out = await page.evaluate((c) => window.tessellaSkinned.run(c), config);
-  out.img = PNG.sync.read(Buffer.from(out.png.split(',')[1], 'base64'));
-  return out;
-}
+after(() => three?.close());
+const run = (config) => three.run(config);
 
 test('a SkinnedMesh played by AnimationMixer matches refineGeometry of the vertices three skins, at each time', async () => {
   const shots = [];
@@ -67,7 +40,7 @@ test('a SkinnedMesh played by AnimationMixer matches refineGeometry of the verti
     shots.forEach((img, i) => PNG.bitblt(img, out, 0, 0, width, height, (i % 2) * width, Math.floor(i / 2) * height));
     writeFileSync(SHOT, PNG.sync.write(out));
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('while the clip plays, a frame uploads the nets alone: at most 256 bytes per coarse triangle', async () => {
@@ -81,5 +54,5 @@ test('while the clip plays, a frame uploads the nets alone: at most 256 bytes pe
       assert.ok(frame.uploaded <= 256 * gpu.faces, `${frame.uploaded} bytes for ${gpu.faces} triangles`);
     }
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });

@@ -2,62 +2,26 @@
 // in headless Chromium (WebGPU on SwiftShader): the WGSL from the wasm, called from TSL as the
 // material's positionNode, draws what the CPU refinement drawn as a plain Mesh looks like, in
 // one instanced draw; while the source deforms each frame uploads the nets texture (and three's
-// uniforms) alone; it casts and receives shadows. The page (three/webgpu.html) and the package
+// uniforms) alone; it casts and receives shadows. The page (three/index.html?page=webgpu: three/webgpu.js) and the package
 // come from the repository (js/src, js/dist, js/node_modules/three): build js/ first
 // (`cd js && npm ci && npm run build`).
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, writeFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { serve } from '../scripts/serve.js';
-import { CHROMIUM, WEBGPU_FLAGS, count, differing, iou, mask } from './harness.js';
+import { count, differing, iou, mask, openRepoPage } from './harness.js';
+import { assertFollows, assertShadows, deformed } from './three-checks.js';
 
-const repo = fileURLToPath(new URL('../../', import.meta.url));
 const SHOT = process.env.TESSELLA_THREE_SHOT;
 
-let server;
-let browser;
-let page;
-const problems = [];
+let three;
 before(async () => {
-  for (const need of ['js/dist/simd/tessella_bg.wasm', 'js/node_modules/three/build/three.webgpu.js']) {
-    if (!existsSync(repo + need)) throw new Error(`${need} is missing: run \`cd js && npm ci && npm run build\` first`);
-  }
-  server = await serve({ root: repo, port: 0 });
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: WEBGPU_FLAGS });
-  page = await browser.newPage();
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  page.on('console', (m) => {
-    if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`);
-  });
-  await page.goto(`${server.url}/web/test/three/webgpu.html`);
-  await page.waitForFunction(() => window.tessellaThree !== undefined);
+  three = await openRepoPage('web/test/three/index.html?page=webgpu', { webgpu: true, global: 'tessellaThree' });
   // On the WebGPU backend, not three's WebGL2 fallback.
-  assert.equal(await page.evaluate(() => window.tessellaThree.ready), true);
+  assert.equal(three.ready, true);
 });
-after(async () => {
-  await browser?.close();
-  await server?.close();
-});
-
-async function run(config) {
-  const out = await page.evaluate((c) => window.tessellaThree.run(c), config);
-  out.img = { width: out.width, height: out.height, data: Buffer.from(out.rgba, 'base64') };
-  return out;
-}
-
-// Pixels at least `by` darker (sum of RGB) in `a` than in `b`.
-function darker(a, b, by = 30) {
-  const m = new Uint8Array(a.width * a.height);
-  for (let i = 0; i < m.length; i++) {
-    const sa = a.data[4 * i] + a.data[4 * i + 1] + a.data[4 * i + 2];
-    const sb = b.data[4 * i] + b.data[4 * i + 1] + b.data[4 * i + 2];
-    m[i] = sa + by < sb ? 1 : 0;
-  }
-  return m;
-}
+after(() => three?.close());
+const run = (config) => three.run(config);
 
 function save(path, left, right) {
   const out = new PNG({ width: 2 * left.width, height: left.height });
@@ -94,14 +58,13 @@ test('under WebGPURenderer, TessellatedMesh with MeshStandardMaterial looks like
     assert.deepEqual(cpu.log[0].instanced, []);
     assert.equal(cpu.log[0].draws, 1);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('under WebGPURenderer, while the source deforms, a frame uploads the nets texture and uniforms: at most 256 bytes per coarse triangle', async () => {
   const frames = 4;
-  const gpu = await run({ scheme: 'pn', level: 8, frames, deform: true, castShadow: false });
-  const cpu = await run({ scheme: 'pn', level: 8, frames, deform: true, plain: true, castShadow: false });
-  const rest = await run({ scheme: 'pn', level: 8, plain: true, castShadow: false });
+  const runs = await deformed(run, frames);
+  const { gpu, cpu } = runs;
   for (const [f, frame] of gpu.log.entries()) {
     const all = frame.buffers + frame.textures;
     console.log(`frame ${f}: ${all} bytes written (${(all / gpu.faces).toFixed(1)} per coarse triangle): nets texture ${frame.textures}, buffers ${frame.buffers}; uploadedBytes ${frame.uploadedBytes}`);
@@ -113,45 +76,15 @@ test('under WebGPURenderer, while the source deforms, a frame uploads the nets t
   }
   // The CPU mesh of the same frames rewrites every refined vertex.
   console.log(`refineGeometry's mesh, for comparison, holds ${cpu.faces} coarse triangles' ${cpu.faces * 64} refined ones`);
-  const score = iou(mask(gpu.img), mask(cpu.img));
-  const moved = iou(mask(gpu.img), mask(rest.img));
-  console.log(`deformed: IoU ${score.toFixed(5)} with the CPU's last pose, ${moved.toFixed(5)} with the rest pose`);
-  assert.ok(score >= 0.99, `IoU ${score}`);
-  assert.ok(moved < 0.95, `IoU with the rest pose ${moved}: the surface did not follow`);
-  assert.deepEqual(problems, []);
+  assertFollows(runs);
+  assert.deepEqual(three.problems, []);
 });
 
 test('under WebGPURenderer it casts shadows (directional and point lights) and receives them, like the CPU mesh', async () => {
-  const lit = await run({ plane: true, castShadow: false });
-  const shaded = await run({ plane: true, castShadow: true });
-  const cpuShaded = await run({ plane: true, castShadow: true, plain: true });
-  const cpuLit = await run({ plane: true, castShadow: false, plain: true });
-  // The shadow pass draws the surface by the same node, instanced too.
-  assert.deepEqual(shaded.log[0].instanced, [{ count: 3 * 64, instances: shaded.faces }, { count: 3 * 64, instances: shaded.faces }]);
-  assert.equal(lit.log[0].instanced.length, 1);
-  const cast = darker(shaded.img, lit.img);
-  const cpuCast = darker(cpuShaded.img, cpuLit.img);
-  console.log(`cast shadow: ${count(cast)} pixels darker (CPU mesh: ${count(cpuCast)}), IoU ${iou(cast, cpuCast).toFixed(4)}`);
-  if (SHOT) save(SHOT.replace(/\.png$/, '-shadow.png'), cpuShaded.img, shaded.img);
-  assert.ok(count(cast) > 2000, `only ${count(cast)} pixels darker with castShadow`);
-  assert.ok(iou(cast, cpuCast) > 0.9, `shadow IoU ${iou(cast, cpuCast)}`);
-  const pointLit = await run({ plane: true, castShadow: false, point: true });
-  const pointShaded = await run({ plane: true, castShadow: true, point: true });
-  const cpuPointShaded = await run({ plane: true, castShadow: true, point: true, plain: true });
-  const pointCast = darker(pointShaded.img, pointLit.img);
-  const cpuPointCast = darker(cpuPointShaded.img, pointLit.img);
-  console.log(`point light: ${count(pointCast)} pixels darker (CPU mesh: ${count(cpuPointCast)}), IoU ${iou(pointCast, cpuPointCast).toFixed(4)}`);
-  assert.ok(count(pointCast) > 2000, `only ${count(pointCast)} pixels darker under the point light`);
-  assert.ok(iou(pointCast, cpuPointCast) > 0.9, `point shadow IoU ${iou(pointCast, cpuPointCast)}`);
-  const open = await run({ occluder: true, occluderCasts: false });
-  const covered = await run({ occluder: true, occluderCasts: true });
-  // No plane: whatever gets darker is the tessellated surface, in the ball's shadow.
-  const received = darker(covered.img, open.img);
-  console.log(`received shadow: ${count(received)} pixels darker`);
-  assert.ok(count(received) > 300, `only ${count(received)} pixels darker under the ball`);
-  const inside = mask(open.img);
-  for (let i = 0; i < received.length; i++) if (received[i]) assert.equal(inside[i], 1);
-  assert.deepEqual(problems, []);
+  await assertShadows(run, (cpuShaded, shaded) => {
+    if (SHOT) save(SHOT.replace(/\.png$/, '-shadow.png'), cpuShaded, shaded);
+  });
+  assert.deepEqual(three.problems, []);
 });
 
 test("a user's node material calls the documented TSL function (tessellaFunctions' normal): the CPU mesh's normals", async () => {
@@ -166,7 +99,7 @@ test("a user's node material calls the documented TSL function (tessellaFunction
     assert.ok(off < 0.01 * count(mask(cpu.img)), `${off} pixels of other colours`);
     assert.deepEqual(gpu.log[0].instanced, [{ count: 3 * level * level, instances: gpu.faces }]);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('under WebGPURenderer a map reads the coarse uvs, and vertex colours the coarse colours, blended over each coarse triangle as on the CPU mesh', async () => {
@@ -185,7 +118,7 @@ test('under WebGPURenderer a map reads the coarse uvs, and vertex colours the co
     assert.ok(off < 0.01 * count(mask(cpu.img)), `${name}: ${off} pixels of other colours`);
     assert.ok(changed > 0.3 * count(mask(cpu.img)), `${name}: ${changed} pixels changed`);
   }
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test('under WebGPURenderer two TessellatedMeshes of one scheme and topology draw each its own nets and material (one instanced draw each)', async () => {
@@ -202,7 +135,7 @@ test('under WebGPURenderer two TessellatedMeshes of one scheme and topology draw
   // three orders the draws (front to back): either order.
   const draws = gpu.log[0].instanced.slice().sort((a, b) => a.instances - b.instances);
   assert.deepEqual(draws, [{ count: 3 * 64, instances: gpu.faces }, { count: 3 * 64, instances: gpu.faces }]);
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test("under WebGPURenderer three's other materials draw it too (Lambert, Phong, Physical, Normal), with fog and clipping", async () => {
@@ -221,11 +154,11 @@ test("under WebGPURenderer three's other materials draw it too (Lambert, Phong, 
   const plain = await run({ castShadow: false });
   const cut = await run({ castShadow: false, fogClip: true });
   assert.ok(count(mask(cut.img)) < 0.9 * count(mask(plain.img)), 'the clipping plane cut nothing');
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });
 
 test("under WebGPURenderer's WebGL2 fallback backend, a TessellaError says what is missing", async () => {
-  const { thrown } = await page.evaluate(() => window.tessellaThree.fallback());
+  const { thrown } = await three.page.evaluate(() => window.tessellaThree.fallback());
   assert.match(thrown ?? '', /needs its WebGPU backend/);
-  assert.deepEqual(problems, []);
+  assert.deepEqual(three.problems, []);
 });

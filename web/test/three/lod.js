@@ -5,30 +5,19 @@
 import * as THREE from 'three';
 import { ready } from 'tessella';
 import { refineGeometry, TessellatedMesh } from 'tessella/three';
+import { checkerTexture, glRenderer, spy } from './common.js';
 
 const WIDTH = 320;
 const HEIGHT = 240;
 const FOV = 45;
-const canvas = document.createElement('canvas');
-document.body.append(canvas);
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
-renderer.setPixelRatio(1);
-renderer.setSize(WIDTH, HEIGHT);
-renderer.setClearColor(0xffffff, 1);
+const { canvas, renderer } = glRenderer(WIDTH, HEIGHT);
 renderer.shadowMap.enabled = true;
 
 const gl = renderer.getContext();
 const counts = { instanced: [], uploaded: 0 };
-function spy(name, record) {
-  const original = gl[name].bind(gl);
-  gl[name] = (...args) => {
-    record(args);
-    return original(...args);
-  };
-}
-spy('drawElementsInstanced', (a) => counts.instanced.push({ count: a[1], instances: a[4] }));
+spy(gl, 'drawElementsInstanced', (a) => counts.instanced.push({ count: a[1], instances: a[4] }));
 for (const name of ['texImage2D', 'texSubImage2D', 'bufferData', 'bufferSubData']) {
-  spy(name, (args) => {
+  spy(gl, name, (args) => {
     // bufferSubData(target, offset, data, srcOffset, length): the bytes given by length.
     if (name === 'bufferSubData' && args.length >= 5) {
       counts.uploaded += args[4] * args[2].BYTES_PER_ELEMENT;
@@ -124,10 +113,7 @@ async function run({
     }
     geometry.setAttribute('uv', new THREE.BufferAttribute(uvs, 2));
     geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
-    const checker = new Uint8Array(64 * 64 * 4);
-    for (let i = 0; i < 64 * 64; i++) checker.set(((i % 64 >> 3) + (i >> 9)) % 2 ? [255, 255, 255, 255] : [60, 60, 60, 255], 4 * i);
-    map = new THREE.DataTexture(checker, 64, 64);
-    map.needsUpdate = true;
+    map = checkerTexture();
   }
   const make = () => {
     const m = make0();

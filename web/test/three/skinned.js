@@ -6,30 +6,20 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { ready } from 'tessella';
 import { refineGeometry, TessellatedMesh } from 'tessella/three';
+import { glRenderer, spy } from './common.js';
 
 const WIDTH = 320;
 const HEIGHT = 320;
-const canvas = document.createElement('canvas');
-document.body.append(canvas);
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
-renderer.setPixelRatio(1);
-renderer.setSize(WIDTH, HEIGHT);
-renderer.setClearColor(0xffffff, 1);
+const { canvas, renderer } = glRenderer(WIDTH, HEIGHT);
 
 const gl = renderer.getContext();
 const counts = { uploaded: 0, instanced: 0 };
 for (const name of ['texImage2D', 'texSubImage2D', 'bufferData', 'bufferSubData']) {
-  const original = gl[name].bind(gl);
-  gl[name] = (...args) => {
+  spy(gl, name, (args) => {
     for (const a of args) if (ArrayBuffer.isView(a)) counts.uploaded += a.byteLength;
-    return original(...args);
-  };
+  });
 }
-const drawInstanced = gl.drawElementsInstanced.bind(gl);
-gl.drawElementsInstanced = (...args) => {
-  counts.instanced++;
-  return drawInstanced(...args);
-};
+spy(gl, 'drawElementsInstanced', () => counts.instanced++);
 
 async function load() {
   const buffer = await (await fetch('/samples/animated-creature.glb')).arrayBuffer();

@@ -9,18 +9,12 @@ import { ClippingGroup, MeshBasicNodeMaterial, WebGPURenderer } from 'three/webg
 import { attribute, instanceIndex, normalGeometry, texture, varying, vec4 } from 'three/tsl';
 import { ready, TessellaError } from 'tessella';
 import { refineGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
+import { checkerTexture, pose, spy, torusScene, vertexColours } from './common.js';
 
 const WIDTH = 320;
 const HEIGHT = 240;
 
 const counts = { instanced: [], draws: 0, buffers: 0, textures: 0 };
-function spy(proto, name, record) {
-  const original = proto[name];
-  proto[name] = function (...args) {
-    record(args);
-    return original.apply(this, args);
-  };
-}
 spy(GPURenderPassEncoder.prototype, 'drawIndexed', ([count, instances = 1]) => {
   if (instances > 1) counts.instanced.push({ count, instances });
   else counts.draws++;
@@ -51,18 +45,6 @@ renderer.shadowMap.type = THREE.PCFShadowMap;
 const target = new THREE.RenderTarget(WIDTH, HEIGHT, { colorSpace: THREE.SRGBColorSpace });
 const started = renderer.init();
 
-// The source's pose at a frame: frame 0 is the rest pose; later frames bend it (as page.js).
-function pose(geometry, rest, frame) {
-  const p = geometry.getAttribute('position');
-  for (let i = 0; i < p.count; i++) {
-    const [x, y, z] = [rest[3 * i], rest[3 * i + 1], rest[3 * i + 2]];
-    const b = 0.25 * frame;
-    p.setXYZ(i, x, y + b * x * x - 0.2 * b, z * (1 + 0.15 * frame));
-  }
-  p.needsUpdate = true;
-  geometry.computeVertexNormals();
-}
-
 /**
  * Draws the scene `frames` times (the source bent a little more each frame when `deform`) and
  * returns the last picture (RGBA bytes, base64, rows as read back) with per-frame counts.
@@ -75,39 +57,11 @@ async function run({
 } = {}) {
   await ready;
   await started;
-  const scene = new THREE.Scene();
-  const camera = new THREE.PerspectiveCamera(40, WIDTH / HEIGHT, 0.1, 50);
-  camera.position.set(0, 2.2, 5.2);
-  camera.lookAt(0, -0.3, 0);
-  scene.add(new THREE.AmbientLight(0xffffff, 0.4));
-  const light = point ? new THREE.PointLight(0xffffff, 40, 0, 2) : new THREE.DirectionalLight(0xffffff, 2.5);
-  light.position.set(1.5, 5, 1);
-  light.castShadow = true;
-  light.shadow.mapSize.set(1024, 1024);
-  if (point) Object.assign(light.shadow.camera, { near: 0.5, far: 12 });
-  else Object.assign(light.shadow.camera, { left: -3, right: 3, top: 3, bottom: -3, near: 0.5, far: 12 });
-  scene.add(light);
-  if (plane) {
-    const ground = new THREE.Mesh(new THREE.PlaneGeometry(10, 10), new THREE.MeshStandardMaterial({ color: 0xdddddd }));
-    ground.rotation.x = -Math.PI / 2;
-    ground.position.y = -1.4;
-    ground.receiveShadow = true;
-    scene.add(ground);
-  }
-  if (occluder) {
-    const ball = new THREE.Mesh(new THREE.SphereGeometry(0.35, 24, 12), new THREE.MeshBasicMaterial({ color: 0x222222 }));
-    ball.position.set(0.45, 2.2, 0.1);
-    ball.castShadow = occluderCasts;
-    scene.add(ball);
-  }
+  const { scene, camera } = torusScene({ width: WIDTH, height: HEIGHT, point, plane, occluder, occluderCasts });
   const geometry = new THREE.TorusKnotGeometry(0.8, 0.3, 40, 6);
   const rest = geometry.getAttribute('position').array.slice();
-  // colours: vertex colours (as page.js's extras).
-  if (colours) {
-    const c = new Float32Array(geometry.getAttribute('position').count * 3);
-    for (let i = 0; i < c.length; i += 3) c.set([1, (i / c.length) % 1, 0.5], i);
-    geometry.setAttribute('color', new THREE.BufferAttribute(c, 3));
-  }
+  // colours: vertex colours (as mesh.js's extras).
+  if (colours) vertexColours(geometry);
   // custom: a user's node material showing the normal as a colour: the CPU mesh's normal
   // attribute, or on TessellatedMesh the documented TSL function's.
   const make0 = () => {
@@ -117,11 +71,8 @@ async function run({
   };
   // fogClip: fog and a clipping plane (WebGPURenderer clips by ClippingGroup).
   if (fogClip) scene.fog = new THREE.Fog(0xffffff, 4, 8);
-  // map: a checker texture, read by the coarse uvs (as page.js).
-  const checker = new Uint8Array(64 * 64 * 4);
-  for (let i = 0; i < 64 * 64; i++) checker.set(((i % 64 >> 3) + (i >> 9)) % 2 ? [255, 255, 255, 255] : [60, 60, 60, 255], 4 * i);
-  const checkers = new THREE.DataTexture(checker, 64, 64);
-  checkers.needsUpdate = true;
+  // map: a checker texture, read by the coarse uvs (as mesh.js).
+  const checkers = checkerTexture();
   const make = () => {
     const m = make0();
     if (map) m.map = checkers;
