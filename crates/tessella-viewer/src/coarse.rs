@@ -9,15 +9,13 @@ use crate::error::ViewerError;
 use crate::panel::refine_options;
 use crate::params::Params;
 use crate::pick::{self, Picked};
-use crate::playback::Playback;
-use crate::scene::{self, gather_tags, tag_file, Deform, Motion};
+use crate::scene::{self, BuildPanels, Deform, Scene};
 use glam::Mat4;
 use serde_json::{Map, Value};
 use tessella_core::basis::NORMAL_NET_LEN;
+use tessella_core::displace::Displacement;
 use tessella_core::refine::{Frame, Surface};
-use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme};
-use tessella_io::tags::TagFile;
-use tessella_io::RawMesh;
+use tessella_core::{Mesh, RefineOptions, Scheme, Tags};
 
 /// One panel's surface: its scheme's control nets of the pose shown.
 struct Nets {
@@ -42,164 +40,82 @@ impl Deform for Nets {
     }
 }
 
-fn build(
-    mesh: &Mesh,
-    raw: Option<&RawMesh>,
-    params: &Params,
-    tags: &TagFile,
-) -> Result<Vec<Nets>, ViewerError> {
-    params
-        .schemes()
-        .into_iter()
-        .map(|scheme| {
-            let tags = gather_tags(mesh, raw, tags, scheme)?;
-            let options = refine_options(params, scheme, tags.as_ref())?;
-            let surface = Surface::new(mesh, &options.surface_options())?;
-            let frame = surface.frame(mesh.clone())?;
-            Ok(Nets {
-                scheme,
-                options,
-                surface,
-                frame,
-                changed: true,
-            })
+/// Builds the fallback's panels: one scheme's nets each.
+struct BuildNets;
+
+impl BuildPanels<Nets> for BuildNets {
+    fn panel(
+        &self,
+        mesh: &Mesh,
+        params: &Params,
+        scheme: Scheme,
+        tags: Option<&Tags>,
+    ) -> Result<Nets, ViewerError> {
+        let options = refine_options(params, scheme, tags)?;
+        let surface = Surface::new(mesh, &options.surface_options())?;
+        let frame = surface.frame(mesh.clone())?;
+        Ok(Nets {
+            scheme,
+            options,
+            surface,
+            frame,
+            changed: true,
         })
-        .collect()
+    }
 }
 
 /// The viewer without a GPU (see the module docs). Every call succeeds or changes nothing.
 pub struct CoarseViewer {
-    /// The mesh as loaded: what the camera frames.
-    model: Mesh,
-    raw: Option<RawMesh>,
-    /// The rest pose (with dragged vertices) that animations deform.
-    rest: Mesh,
-    params: Params,
-    tags: TagFile,
-    panels: Vec<Nets>,
-    motion: Motion,
-    pose_error: Option<String>,
+    scene: Scene<Nets>,
 }
 
 impl CoarseViewer {
     /// The viewer's first sample with the default parameters.
     pub fn new() -> Result<CoarseViewer, ViewerError> {
-        let mesh = samples::by_name(crate::FIRST_SAMPLE)
-            .ok_or_else(|| ViewerError::Refused("no first sample".into()))?;
-        let params = Params::default();
-        let tags = TagFile::default();
-        let panels = build(&mesh, None, &params, &tags)?;
         Ok(CoarseViewer {
-            rest: mesh.clone(),
-            model: mesh,
-            raw: None,
-            params,
-            tags,
-            panels,
-            motion: Motion::default(),
-            pose_error: None,
+            scene: Scene::new(&BuildNets)?,
         })
     }
 
     /// As [`crate::Viewer::load`].
     pub fn load(&mut self, name: &str, bytes: &[u8]) -> Result<(), ViewerError> {
-        let (mesh, raw, playback) = scene::read_file(name, bytes)?;
-        self.replace_mesh(mesh, Some(raw), playback)
+        self.scene.load(name, bytes, &BuildNets)
     }
 
     /// As [`crate::Viewer::load_sample`].
     pub fn load_sample(&mut self, name: &str) -> Result<(), ViewerError> {
-        let (mesh, playback) = scene::read_sample(name)?;
-        self.replace_mesh(mesh, None, playback)
-    }
-
-    fn replace_mesh(
-        &mut self,
-        mesh: Mesh,
-        raw: Option<RawMesh>,
-        playback: Option<Playback>,
-    ) -> Result<(), ViewerError> {
-        // The clip stays when the new file has one of that name (a reload), else none.
-        let clip = match (&playback, &self.params.clip) {
-            (Some(p), Some(name)) => p.resolve(name).ok(),
-            _ => None,
-        };
-        let params = Params {
-            tags: String::new(),
-            clip: clip.and(self.params.clip.clone()),
-            ..self.params.clone()
-        };
-        let tags = TagFile::default();
-        self.panels = build(&mesh, raw.as_ref(), &params, &tags)?;
-        self.rest = mesh.clone();
-        self.model = mesh;
-        self.raw = raw;
-        self.params = params;
-        self.tags = tags;
-        self.motion = Motion::new(playback, clip);
-        self.pose_error = None;
-        Ok(())
+        self.scene.load_sample(name, &BuildNets)
     }
 
     /// As [`crate::Viewer::set`]: the same checks and messages.
     pub fn set(&mut self, changes: &Map<String, Value>) -> Result<(), ViewerError> {
-        let next = self.params.apply(changes)?;
-        let clip = self.motion.resolve(&next)?;
-        let tags = if changes.contains_key("tags") {
-            tag_file(&next.tags)?
-        } else {
-            self.tags.clone()
-        };
-        if self.params.needs_rebuild(&next) || tags != self.tags {
-            self.rebuild(next, tags)?;
-        } else {
-            self.params = next;
-        }
-        self.motion.after_set(changes, clip);
-        Ok(())
-    }
-
-    fn rebuild(&mut self, params: Params, tags: TagFile) -> Result<(), ViewerError> {
-        self.panels = build(&self.rest, self.raw.as_ref(), &params, &tags)?;
-        self.params = Params {
-            tags: scene::tags_text(&tags),
-            ..params
-        };
-        self.tags = tags;
-        self.motion.at_rest();
-        Ok(())
+        self.scene.set(changes, &BuildNets)
     }
 
     /// The parameters in effect.
     pub fn params(&self) -> &Params {
-        &self.params
+        &self.scene.params
     }
 
     /// Moves the surfaces to the pose at page time `time_ms` (the clip's, the `animate`
     /// deformation's, or the rest pose after one), as the WebGPU viewer's frame does.
     pub fn frame(&mut self, time_ms: f64) -> Result<(), ViewerError> {
-        let stepped = self
-            .motion
-            .step(&self.rest, &mut self.params, time_ms, &mut self.panels)?;
-        if let Some(error) = stepped.pose_error {
-            self.pose_error = error;
-        }
-        Ok(())
+        self.scene.step(time_ms).map(|_| ())
     }
 
     /// Panels (one surface each).
     pub fn panel_count(&self) -> usize {
-        self.panels.len()
+        self.scene.panels.len()
     }
 
     /// Panel `i`'s scheme, as its name.
     pub fn scheme(&self, i: usize) -> Option<&Scheme> {
-        self.panels.get(i).map(|p| &p.scheme)
+        self.scene.panels.get(i).map(|p| &p.scheme)
     }
 
     /// Whether panel `i`'s nets moved since they were last packed.
     pub fn changed(&self, i: usize) -> bool {
-        self.panels.get(i).is_some_and(|p| p.changed)
+        self.scene.panels.get(i).is_some_and(|p| p.changed)
     }
 
     /// Panel `i`'s control nets packed into `out` as `InstancedSurface` lays them out: face
@@ -214,6 +130,7 @@ impl CoarseViewer {
         out: &mut Vec<f32>,
     ) -> Result<(), ViewerError> {
         let panel = self
+            .scene
             .panels
             .get_mut(i)
             .ok_or_else(|| ViewerError::Refused(format!("no panel {i}")))?;
@@ -242,17 +159,18 @@ impl CoarseViewer {
 
     /// The mesh as loaded (what the camera frames).
     pub fn model(&self) -> &Mesh {
-        &self.model
+        &self.scene.model
     }
 
     /// The rest pose (dragged vertices moved).
     pub fn rest(&self) -> &Mesh {
-        &self.rest
+        &self.scene.rest
     }
 
     /// The first panel's coarse mesh as drawn now (posed, deformed).
     pub fn shown(&self) -> &Mesh {
-        self.panels.first().map_or(&self.rest, |p| p.frame.mesh())
+        let scene = &self.scene;
+        scene.panels.first().map_or(&scene.rest, |p| p.frame.mesh())
     }
 
     /// The coarse vertex and edge under `ndc` (x, y in -1..1, y up) of a view drawn with
@@ -266,22 +184,12 @@ impl CoarseViewer {
 
     /// As [`crate::Viewer::move_vertex`].
     pub fn move_vertex(&mut self, index: u32, position: [f32; 3]) -> Result<(), ViewerError> {
-        let rest = scene::moved(&self.rest, index, position)?;
-        scene::deform_all(
-            &mut self.panels,
-            rest.positions(),
-            Some(rest.normals()),
-            &self.rest,
-        )?;
-        self.rest = rest;
-        self.motion.rest_moved();
-        Ok(())
+        self.scene.move_vertex(index, position).map(|_| ())
     }
 
     /// As [`crate::Viewer::set_edge_sharpness`].
     pub fn set_edge_sharpness(&mut self, a: u32, b: u32, s: f32) -> Result<(), ViewerError> {
-        let tags = scene::with_edge_sharpness(&self.tags, &self.rest, a, b, s)?;
-        self.rebuild(self.params.clone(), tags)
+        self.scene.set_edge_sharpness(a, b, s, &BuildNets)
     }
 
     /// As [`crate::Viewer::set_vertex_tension`].
@@ -291,42 +199,34 @@ impl CoarseViewer {
         tension: f32,
         bias: f32,
     ) -> Result<(), ViewerError> {
-        let tags = scene::with_vertex_tension(&self.tags, &self.rest, v, tension, bias)?;
-        self.rebuild(self.params.clone(), tags)
+        self.scene.set_vertex_tension(v, tension, bias, &BuildNets)
     }
 
     /// The tags in effect as the JSON `tessella refine --tags FILE` reads.
     pub fn tags_json(&self) -> String {
-        self.tags.to_json()
+        self.scene.tags.to_json()
     }
 
     /// The loaded file's clips (`[]`: none).
     pub fn clips(&self) -> Vec<String> {
-        self.motion.clip_names()
+        self.scene.motion.clip_names()
     }
 
     /// The playing clip's duration, seconds (0 without one).
     pub fn duration(&self) -> f32 {
-        self.motion.duration()
+        self.scene.motion.duration()
     }
 
     /// Why the last clip pose was refused (the previous one stays), if it was.
     pub fn pose_error(&self) -> Option<&str> {
-        self.pose_error.as_deref()
+        self.scene.pose_error.as_deref()
     }
 
     /// The first panel's refined mesh as drawn (pose, tags), refined on the CPU, as GLB.
     pub fn export_glb(&self) -> Result<Vec<u8>, ViewerError> {
-        let panel = self
-            .panels
-            .first()
-            .ok_or_else(|| ViewerError::Refused("nothing to export".into()))?;
-        let options = panel.options.clone().with_max_output_bytes(1 << 30);
-        let refined = Refiner::new(panel.frame.mesh(), &options)?.refine();
-        Ok(tessella_io::write_mesh_bytes(
-            tessella_io::Format::Glb,
-            (&refined).into(),
-        )?)
+        let panel = self.scene.first_panel()?;
+        // Without the `displacement` parameter, as this export always was.
+        scene::export_glb(panel.frame.mesh(), &panel.options, &Displacement::None)
     }
 }
 

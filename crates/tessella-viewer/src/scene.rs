@@ -1,13 +1,16 @@
 //! The viewer's coarse side, without a GPU: reading a file (with its clips), the tags and
-//! their edits, a moved vertex, and which pose each frame shows ([`Motion`]). The WebGPU
-//! [`crate::Viewer`] and the GPU-less [`crate::CoarseViewer`] (the WebGL2 fallback's source
-//! of control nets) both go through these, so they pose and tag alike.
+//! their edits, a moved vertex, and which pose each frame shows ([`Motion`]), held together
+//! with the panels by [`Scene`]. The WebGPU [`crate::Viewer`] and the GPU-less
+//! [`crate::CoarseViewer`] (the WebGL2 fallback's source of control nets) each hold a
+//! `Scene` of their own panel type, so they load, pose and tag alike.
 
 use crate::deform;
 use crate::error::ViewerError;
 use crate::params::Params;
 use crate::playback::{Playback, ANIMATED_SAMPLE};
-use tessella_core::{samples, Mesh};
+use serde_json::{Map, Value};
+use tessella_core::displace::Displacement;
+use tessella_core::{samples, Mesh, RefineOptions, Refiner, Scheme, Tags};
 use tessella_io::tags::{JsonSource, TagFile, TagFileEdge, TagFileVertex, TagSources};
 use tessella_io::RawMesh;
 
@@ -374,5 +377,249 @@ impl Motion {
             None => {}
         }
         Ok(out)
+    }
+}
+
+/// The largest CPU export: 32-bit wasm memory holds 4 GiB in all.
+const MAX_EXPORT_BYTES: u64 = 1 << 30;
+
+/// `mesh` refined on the CPU by tessella-core with `options` (and `displacement`), written
+/// as GLB by tessella-io.
+pub fn export_glb(
+    mesh: &Mesh,
+    options: &RefineOptions,
+    displacement: &Displacement,
+) -> Result<Vec<u8>, ViewerError> {
+    let options = options.clone().with_max_output_bytes(MAX_EXPORT_BYTES);
+    let refiner = Refiner::new(mesh, &options)?;
+    let mut refined = refiner.refine();
+    if displacement.is_some() {
+        let frame =
+            tessella_core::DisplaceFrame::new(refiner.mesh(), refiner.topology(), refiner.layout());
+        displacement.apply(&mut refined, &frame)?;
+    }
+    Ok(tessella_io::write_mesh_bytes(
+        tessella_io::Format::Glb,
+        (&refined).into(),
+    )?)
+}
+
+/// Makes one viewer's panels (of type `P`), one per scheme drawn.
+pub(crate) trait BuildPanels<P> {
+    /// The panel of `scheme` on `mesh`, with the tags [`gather_tags`] gave that scheme.
+    fn panel(
+        &self,
+        mesh: &Mesh,
+        params: &Params,
+        scheme: Scheme,
+        tags: Option<&Tags>,
+    ) -> Result<P, ViewerError>;
+
+    /// Every panel of `params` on `mesh` (`raw`: the file's PLY tag properties).
+    fn panels(
+        &self,
+        mesh: &Mesh,
+        raw: Option<&RawMesh>,
+        params: &Params,
+        tags: &TagFile,
+    ) -> Result<Vec<P>, ViewerError> {
+        params
+            .schemes()
+            .into_iter()
+            .map(|scheme| {
+                let tags = gather_tags(mesh, raw, tags, scheme)?;
+                self.panel(mesh, params, scheme, tags.as_ref())
+            })
+            .collect()
+    }
+}
+
+/// A viewer's coarse state and its panels of type `P` (a WebGPU panel, a fallback's
+/// surface): what [`crate::Viewer`] and [`crate::CoarseViewer`] share. The calls that make
+/// panels take the viewer's [`BuildPanels`]; each either succeeds or changes nothing.
+pub(crate) struct Scene<P> {
+    /// The mesh as loaded: what the camera frames (so deforming it does not move the camera).
+    pub model: Mesh,
+    /// The loaded file's raw form (PLY tag properties); `None` for a sample.
+    pub raw: Option<RawMesh>,
+    /// The model with dragged vertices moved: the rest pose that animations deform.
+    pub rest: Mesh,
+    pub params: Params,
+    /// The tags in effect: `params.tags` and the edits since.
+    pub tags: TagFile,
+    pub panels: Vec<P>,
+    /// The file's clips and the pose the panels hold.
+    pub motion: Motion,
+    /// Why the last clip pose was refused (the previous one stays), if it was.
+    pub pose_error: Option<String>,
+}
+
+impl<P: Deform> Scene<P> {
+    /// [`crate::FIRST_SAMPLE`] with the default parameters.
+    pub fn new(build: &impl BuildPanels<P>) -> Result<Scene<P>, ViewerError> {
+        let mesh = samples::by_name(crate::FIRST_SAMPLE)
+            .ok_or_else(|| ViewerError::Refused(format!("no sample {:?}", crate::FIRST_SAMPLE)))?;
+        let params = Params::default();
+        let tags = TagFile::default();
+        let panels = build.panels(&mesh, None, &params, &tags)?;
+        Ok(Scene {
+            rest: mesh.clone(),
+            model: mesh,
+            raw: None,
+            params,
+            tags,
+            panels,
+            motion: Motion::default(),
+            pose_error: None,
+        })
+    }
+
+    /// Replaces the mesh with one read from a file's bytes (`name`'s extension picks the
+    /// format). Tags are cleared (they named the old mesh's vertices).
+    pub fn load(
+        &mut self,
+        name: &str,
+        bytes: &[u8],
+        build: &impl BuildPanels<P>,
+    ) -> Result<(), ViewerError> {
+        let (mesh, raw, playback) = read_file(name, bytes)?;
+        self.replace_mesh(mesh, Some(raw), playback, build)
+    }
+
+    /// Replaces the mesh with a bundled sample ([`sample_names`]).
+    pub fn load_sample(
+        &mut self,
+        name: &str,
+        build: &impl BuildPanels<P>,
+    ) -> Result<(), ViewerError> {
+        let (mesh, playback) = read_sample(name)?;
+        self.replace_mesh(mesh, None, playback, build)
+    }
+
+    fn replace_mesh(
+        &mut self,
+        mesh: Mesh,
+        raw: Option<RawMesh>,
+        playback: Option<Playback>,
+        build: &impl BuildPanels<P>,
+    ) -> Result<(), ViewerError> {
+        // The clip stays when the new file has one of that name (a reload), else none.
+        let clip = match (&playback, &self.params.clip) {
+            (Some(p), Some(name)) => p.resolve(name).ok(),
+            _ => None,
+        };
+        let params = Params {
+            tags: String::new(),
+            clip: clip.and(self.params.clip.clone()),
+            ..self.params.clone()
+        };
+        let tags = TagFile::default();
+        self.panels = build.panels(&mesh, raw.as_ref(), &params, &tags)?;
+        self.rest = mesh.clone();
+        self.model = mesh;
+        self.raw = raw;
+        self.params = params;
+        self.tags = tags;
+        self.motion = Motion::new(playback, clip);
+        self.pose_error = None;
+        Ok(())
+    }
+
+    /// Applies `changes` (any subset of the parameters, see [`crate::params::KEYS`]); all are
+    /// validated and the panels rebuilt before anything changes.
+    pub fn set(
+        &mut self,
+        changes: &Map<String, Value>,
+        build: &impl BuildPanels<P>,
+    ) -> Result<(), ViewerError> {
+        let next = self.params.apply(changes)?;
+        let clip = self.motion.resolve(&next)?;
+        let tags = if changes.contains_key("tags") {
+            tag_file(&next.tags)?
+        } else {
+            self.tags.clone()
+        };
+        if self.params.needs_rebuild(&next) || tags != self.tags {
+            self.rebuild(next, tags, build)?;
+        } else {
+            self.params = next;
+        }
+        self.motion.after_set(changes, clip);
+        Ok(())
+    }
+
+    /// Builds the panels for `params` and `tags` on the current rest pose, then takes them.
+    fn rebuild(
+        &mut self,
+        params: Params,
+        tags: TagFile,
+        build: &impl BuildPanels<P>,
+    ) -> Result<(), ViewerError> {
+        self.panels = build.panels(&self.rest, self.raw.as_ref(), &params, &tags)?;
+        self.params = Params {
+            tags: tags_text(&tags),
+            ..params
+        };
+        self.tags = tags;
+        self.motion.at_rest();
+        Ok(())
+    }
+
+    /// Moves the panels to the pose at page time `time_ms` ([`Motion::step`]), keeping why a
+    /// clip pose was refused.
+    pub fn step(&mut self, time_ms: f64) -> Result<Stepped, ViewerError> {
+        let stepped = self
+            .motion
+            .step(&self.rest, &mut self.params, time_ms, &mut self.panels)?;
+        if let Some(error) = &stepped.pose_error {
+            self.pose_error.clone_from(error);
+        }
+        Ok(stepped)
+    }
+
+    /// Moves coarse vertex `index` (and every vertex at its position) to `position` in the
+    /// rest pose ([`moved`]); the panels follow. Returns the bytes this cost the GPU.
+    pub fn move_vertex(&mut self, index: u32, position: [f32; 3]) -> Result<u64, ViewerError> {
+        let rest = moved(&self.rest, index, position)?;
+        let uploaded = deform_all(
+            &mut self.panels,
+            rest.positions(),
+            Some(rest.normals()),
+            &self.rest,
+        )?;
+        self.rest = rest;
+        self.motion.rest_moved();
+        Ok(uploaded)
+    }
+
+    /// Sets the sharpness of the coarse edge `a`–`b` ([`with_edge_sharpness`]) and rebuilds.
+    pub fn set_edge_sharpness(
+        &mut self,
+        a: u32,
+        b: u32,
+        sharpness: f32,
+        build: &impl BuildPanels<P>,
+    ) -> Result<(), ViewerError> {
+        let tags = with_edge_sharpness(&self.tags, &self.rest, a, b, sharpness)?;
+        self.rebuild(self.params.clone(), tags, build)
+    }
+
+    /// Sets vertex `v`'s tension and bias ([`with_vertex_tension`]) and rebuilds.
+    pub fn set_vertex_tension(
+        &mut self,
+        v: u32,
+        tension: f32,
+        bias: f32,
+        build: &impl BuildPanels<P>,
+    ) -> Result<(), ViewerError> {
+        let tags = with_vertex_tension(&self.tags, &self.rest, v, tension, bias)?;
+        self.rebuild(self.params.clone(), tags, build)
+    }
+
+    /// The first panel (the one exported), refused when there is none.
+    pub fn first_panel(&self) -> Result<&P, ViewerError> {
+        self.panels
+            .first()
+            .ok_or_else(|| ViewerError::Refused("nothing to export".into()))
     }
 }

@@ -6,32 +6,20 @@ use crate::error::ViewerError;
 use crate::panel::Panel;
 use crate::params::Params;
 use crate::pick::{self, Picked};
-use crate::playback::Playback;
-use crate::scene::{self, gather_tags, tag_file, Deform, Motion};
+use crate::scene::{self, BuildPanels, Deform, Scene};
 use crate::stats::Stats;
 use glam::Mat4;
 use serde_json::{Map, Value};
 use tessella_core::refine::{Levels, Lod};
-use tessella_core::{samples, Mesh, Refiner};
+use tessella_core::{Mesh, Scheme, Tags};
 use tessella_gpu::{GpuContext, TargetFormats};
-use tessella_io::tags::TagFile;
-use tessella_io::RawMesh;
 use tessella_view::{lod_camera, panel_widths, scene_uniforms, RenderOptions, RenderUniforms};
 
 /// Multisampling, as `tessella render`'s pictures (the silhouettes are the point).
 pub const SAMPLES: u32 = 4;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// The largest CPU export: 32-bit wasm memory holds 4 GiB in all.
-const MAX_EXPORT_BYTES: u64 = 1 << 30;
 /// The sample shown before anything is loaded.
 pub const FIRST_SAMPLE: &str = "icosphere";
-
-/// The mesh as loaded: what the camera frames (so deforming it does not move the camera) and,
-/// for PLY files, the tag properties it carries.
-struct Model {
-    mesh: Mesh,
-    raw: Option<RawMesh>,
-}
 
 /// The multisampled colour and depth attachments of one size.
 struct Targets {
@@ -46,18 +34,11 @@ pub struct Viewer {
     formats: TargetFormats,
     size: (u32, u32),
     targets: Option<Targets>,
-    model: Model,
-    /// The model with the vertices moved by [`Viewer::move_vertex`]: the rest pose that
-    /// animations deform.
-    rest: Mesh,
-    params: Params,
-    /// The tags in effect: `params.tags` and the edits since.
-    tags: TagFile,
-    panels: Vec<Panel>,
+    /// The mesh, parameters, tags, clips and panels (the same code as
+    /// [`crate::CoarseViewer`]'s).
+    scene: Scene<Panel>,
     /// Bytes uploaded outside a frame (a moved vertex), counted with the next frame.
     pending_upload: u64,
-    /// The file's clips and the pose the panels hold (shared with [`crate::CoarseViewer`]).
-    motion: Motion,
     stats: Stats,
 }
 
@@ -65,28 +46,22 @@ impl std::fmt::Debug for Viewer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Viewer")
             .field("adapter", &self.ctx.adapter_label())
-            .field("panels", &self.panels)
+            .field("panels", &self.scene.panels)
             .finish()
     }
 }
 
-/// Builds every panel of `params` on `mesh`.
-fn build_panels(
-    ctx: &GpuContext,
-    formats: &TargetFormats,
-    mesh: &Mesh,
-    raw: Option<&RawMesh>,
-    params: &Params,
-    tags: &TagFile,
-) -> Result<Vec<Panel>, ViewerError> {
-    params
-        .schemes()
-        .into_iter()
-        .map(|scheme| {
-            let tags = gather_tags(mesh, raw, tags, scheme)?;
-            Panel::new(ctx, mesh, params, scheme, tags.as_ref(), formats)
-        })
-        .collect()
+/// The viewer's device and formats build its panels.
+impl BuildPanels<Panel> for (&GpuContext, &TargetFormats) {
+    fn panel(
+        &self,
+        mesh: &Mesh,
+        params: &Params,
+        scheme: Scheme,
+        tags: Option<&Tags>,
+    ) -> Result<Panel, ViewerError> {
+        Panel::new(self.0, mesh, params, scheme, tags, self.1)
+    }
 }
 
 impl Deform for Panel {
@@ -109,24 +84,15 @@ impl Viewer {
             depth: Some(DEPTH_FORMAT),
             samples: SAMPLES,
         };
-        let mesh = samples::by_name(FIRST_SAMPLE)
-            .ok_or_else(|| ViewerError::Refused(format!("no sample {FIRST_SAMPLE:?}")))?;
-        let params = Params::default();
-        let tags = TagFile::default();
-        let panels = build_panels(&ctx, &formats, &mesh, None, &params, &tags)?;
-        let stats = Stats::new(&ctx, mesh.face_count());
+        let scene = Scene::new(&(&ctx, &formats))?;
+        let stats = Stats::new(&ctx, scene.model.face_count());
         Ok(Viewer {
             ctx,
             formats,
             size: RenderOptions::default().size,
             targets: None,
-            rest: mesh.clone(),
-            model: Model { mesh, raw: None },
-            params,
-            tags,
-            panels,
+            scene,
             pending_upload: 0,
-            motion: Motion::default(),
             stats,
         })
     }
@@ -140,102 +106,42 @@ impl Viewer {
     /// format). On error the previous mesh stays. Tags are cleared (they named the old mesh's
     /// vertices).
     pub fn load(&mut self, name: &str, bytes: &[u8]) -> Result<(), ViewerError> {
-        let (mesh, raw, playback) = scene::read_file(name, bytes)?;
-        self.replace_mesh(mesh, Some(raw), playback)
+        self.scene.load(name, bytes, &(&self.ctx, &self.formats))?;
+        self.new_mesh();
+        Ok(())
     }
 
     /// Replaces the mesh with a bundled sample ([`scene::sample_names`]).
     pub fn load_sample(&mut self, name: &str) -> Result<(), ViewerError> {
-        let (mesh, playback) = scene::read_sample(name)?;
-        self.replace_mesh(mesh, None, playback)
+        self.scene.load_sample(name, &(&self.ctx, &self.formats))?;
+        self.new_mesh();
+        Ok(())
     }
 
-    fn replace_mesh(
-        &mut self,
-        mesh: Mesh,
-        raw: Option<RawMesh>,
-        playback: Option<Playback>,
-    ) -> Result<(), ViewerError> {
-        // The clip stays when the new file has one of that name (a reload), else none.
-        let clip = match (&playback, &self.params.clip) {
-            (Some(p), Some(name)) => p.resolve(name).ok(),
-            _ => None,
-        };
-        let params = Params {
-            tags: String::new(),
-            clip: clip.and(self.params.clip.clone()),
-            ..self.params.clone()
-        };
-        let tags = TagFile::default();
-        let panels = build_panels(
-            &self.ctx,
-            &self.formats,
-            &mesh,
-            raw.as_ref(),
-            &params,
-            &tags,
-        )?;
-        self.stats = Stats::new(&self.ctx, mesh.face_count());
-        self.rest = mesh.clone();
-        self.model = Model { mesh, raw };
-        self.params = params;
-        self.tags = tags;
-        self.panels = panels;
-        self.motion = Motion::new(playback, clip);
+    /// Fresh stats for a mesh just loaded.
+    fn new_mesh(&mut self) {
+        self.stats = Stats::new(&self.ctx, self.scene.model.face_count());
         self.clip_stats();
-        Ok(())
     }
 
     /// Applies `changes` (any subset of the parameters, see [`crate::params::KEYS`]); all are
     /// validated and the surfaces rebuilt before anything changes.
     pub fn set(&mut self, changes: &Map<String, Value>) -> Result<(), ViewerError> {
-        let next = self.params.apply(changes)?;
-        let clip = self.motion.resolve(&next)?;
-        let tags = if changes.contains_key("tags") {
-            tag_file(&next.tags)?
-        } else {
-            self.tags.clone()
-        };
-        if self.params.needs_rebuild(&next) || tags != self.tags {
-            self.rebuild(next, tags)?;
-        } else {
-            self.params = next;
-        }
-        self.motion.after_set(changes, clip);
+        self.scene.set(changes, &(&self.ctx, &self.formats))?;
         self.clip_stats();
-        Ok(())
-    }
-
-    /// Builds the panels for `params` and `tags` on the current rest pose, then takes them.
-    fn rebuild(&mut self, params: Params, tags: TagFile) -> Result<(), ViewerError> {
-        let panels = build_panels(
-            &self.ctx,
-            &self.formats,
-            &self.rest,
-            self.model.raw.as_ref(),
-            &params,
-            &tags,
-        )?;
-        self.params = Params {
-            tags: scene::tags_text(&tags),
-            ..params
-        };
-        self.tags = tags;
-        self.panels = panels;
-        self.motion.at_rest();
         Ok(())
     }
 
     /// The clips and the playing clip's duration in the stats (they change with the file and
     /// the `clip` parameter, not per frame).
     fn clip_stats(&mut self) {
-        self.stats.clips = self.motion.clip_names();
-        self.stats.duration = self.motion.duration();
+        self.stats.clips = self.scene.motion.clip_names();
+        self.stats.duration = self.scene.motion.duration();
     }
 
     /// The parameters in effect.
     pub fn params(&self) -> &Params {
-        &self.params
+        &self.scene.params
     }
 
     /// The drawing size, in pixels: the size of the views [`Viewer::draw`] draws into.
@@ -257,11 +163,11 @@ impl Viewer {
 
     /// Each panel's left edge and width.
     fn layout(&self) -> Result<Vec<(u32, u32)>, ViewerError> {
-        let widths = panel_widths(self.size.0, self.panels.len()).ok_or_else(|| {
+        let widths = panel_widths(self.size.0, self.scene.panels.len()).ok_or_else(|| {
             ViewerError::Refused(format!(
                 "a view {} pixels wide has no room for {} panels",
                 self.size.0,
-                self.panels.len()
+                self.scene.panels.len()
             ))
         })?;
         let mut x = 0;
@@ -279,19 +185,23 @@ impl Viewer {
     fn view(&self, width: u32) -> RenderOptions {
         RenderOptions {
             size: (width, self.size.1),
-            yaw: self.params.yaw,
-            pitch: self.params.pitch,
-            zoom: self.params.zoom,
-            pan: self.params.pan,
-            wireframe: self.params.wireframe,
-            displacement: self.params.displacement.clone(),
+            yaw: self.scene.params.yaw,
+            pitch: self.scene.params.pitch,
+            zoom: self.scene.params.zoom,
+            pan: self.scene.params.pan,
+            wireframe: self.scene.params.wireframe,
+            displacement: self.scene.params.displacement.clone(),
             ..RenderOptions::default()
         }
     }
 
     /// The uniforms of panel `i`, `width` pixels wide: the camera frames the mesh as loaded.
     fn uniforms(&self, i: usize, width: u32) -> RenderUniforms {
-        scene_uniforms(&self.model.mesh, &self.view(width), self.panels[i].reach())
+        scene_uniforms(
+            &self.scene.model,
+            &self.view(width),
+            self.scene.panels[i].reach(),
+        )
     }
 
     /// Makes the attachments for the current size unless they are there.
@@ -322,19 +232,17 @@ impl Viewer {
     pub fn draw(&mut self, view: &wgpu::TextureView, time_ms: f64) -> Result<(), ViewerError> {
         let start = crate::clock::now_ms();
         let mut uploaded = std::mem::take(&mut self.pending_upload);
-        let stepped = self
-            .motion
-            .step(&self.rest, &mut self.params, time_ms, &mut self.panels)?;
+        let stepped = self.scene.step(time_ms)?;
         uploaded += stepped.uploaded;
         if let Some(error) = stepped.pose_error {
             self.stats.pose_error = error;
         }
         let layout = self.layout()?;
         for (i, &(_, width)) in layout.iter().enumerate() {
-            self.panels[i].set_uniforms(&self.uniforms(i, width));
-            if self.panels[i].has_lod() {
-                let camera = lod_camera(&self.model.mesh, &self.view(width));
-                uploaded += self.panels[i].follow_camera(camera, [width, self.size.1])?;
+            self.scene.panels[i].set_uniforms(&self.uniforms(i, width));
+            if self.scene.panels[i].has_lod() {
+                let camera = lod_camera(&self.scene.model, &self.view(width));
+                uploaded += self.scene.panels[i].follow_camera(camera, [width, self.size.1])?;
             }
         }
         let background = RenderOptions::default().background;
@@ -352,7 +260,7 @@ impl Viewer {
             };
             let mut pass =
                 tessella_view::begin_pass(&mut encoder, "viewer frame", views, background);
-            for (panel, &(left, width)) in self.panels.iter().zip(&layout) {
+            for (panel, &(left, width)) in self.scene.panels.iter().zip(&layout) {
                 pass.set_viewport(left as f32, 0.0, width as f32, height, 0.0, 1.0);
                 panel.draw(&mut pass);
             }
@@ -360,7 +268,7 @@ impl Viewer {
         self.ctx.submit(encoder)?;
         self.ctx.check()?;
         self.stats
-            .frame(&self.panels, uploaded, crate::clock::now_ms() - start);
+            .frame(&self.scene.panels, uploaded, crate::clock::now_ms() - start);
         Ok(())
     }
 
@@ -383,7 +291,7 @@ impl Viewer {
         ];
         let view_proj = Mat4::from_cols_array_2d(&self.uniforms(i, width).view_proj);
         let (origin, dir) = pick::ray(&view_proj, ndc)?;
-        let mesh = self.panels[i].mesh();
+        let mesh = self.scene.panels[i].mesh();
         pick::pick(mesh.positions(), mesh.triangles(), origin, dir)
     }
 
@@ -392,16 +300,7 @@ impl Viewer {
     /// alone. Refused (nothing changes) for an unknown vertex, a non-finite position or one
     /// that makes a triangle degenerate.
     pub fn move_vertex(&mut self, index: u32, position: [f32; 3]) -> Result<(), ViewerError> {
-        let rest = scene::moved(&self.rest, index, position)?;
-        let uploaded = scene::deform_all(
-            &mut self.panels,
-            rest.positions(),
-            Some(rest.normals()),
-            &self.rest,
-        )?;
-        self.rest = rest;
-        self.pending_upload += uploaded;
-        self.motion.rest_moved();
+        self.pending_upload += self.scene.move_vertex(index, position)?;
         Ok(())
     }
 
@@ -414,8 +313,8 @@ impl Viewer {
         b: u32,
         sharpness: f32,
     ) -> Result<(), ViewerError> {
-        let tags = scene::with_edge_sharpness(&self.tags, &self.rest, a, b, sharpness)?;
-        self.rebuild(self.params.clone(), tags)
+        let build = (&self.ctx, &self.formats);
+        self.scene.set_edge_sharpness(a, b, sharpness, &build)
     }
 
     /// Sets vertex `v`'s tension and bias (keeping its sharpness and crease) and rebuilds the
@@ -426,61 +325,41 @@ impl Viewer {
         tension: f32,
         bias: f32,
     ) -> Result<(), ViewerError> {
-        let tags = scene::with_vertex_tension(&self.tags, &self.rest, v, tension, bias)?;
-        self.rebuild(self.params.clone(), tags)
+        let build = (&self.ctx, &self.formats);
+        self.scene.set_vertex_tension(v, tension, bias, &build)
     }
 
     /// The tags in effect as the JSON `tessella refine --tags FILE` reads.
     pub fn tags_json(&self) -> String {
-        self.tags.to_json()
+        self.scene.tags.to_json()
     }
 
     /// The first panel's refined mesh, as drawn (the current deformation, levels and
     /// displacement), refined on the CPU by tessella-core and written as GLB by tessella-io.
     pub fn export_glb(&self) -> Result<Vec<u8>, ViewerError> {
-        let panel = self
-            .panels
-            .first()
-            .ok_or_else(|| ViewerError::Refused("nothing to export".into()))?;
-        let mut options = panel
-            .options
-            .clone()
-            .with_max_output_bytes(MAX_EXPORT_BYTES);
-        if let Some(spec) = &self.params.lod {
+        let panel = self.scene.first_panel()?;
+        let mut options = panel.options.clone();
+        if let Some(spec) = &self.scene.params.lod {
             let (_, width) = self.layout()?[0];
-            let camera = lod_camera(&self.model.mesh, &self.view(width));
+            let camera = lod_camera(&self.scene.model, &self.view(width));
             let lod = Lod::parse(spec, Some(camera), Some([width, self.size.1]))?;
             options = options.with_levels(Levels::Lod(lod));
         }
-        let mesh = panel.mesh();
-        let refiner = Refiner::new(mesh, &options)?;
-        let mut refined = refiner.refine();
-        if self.params.displacement.is_some() {
-            let frame = tessella_core::DisplaceFrame::new(
-                refiner.mesh(),
-                refiner.topology(),
-                refiner.layout(),
-            );
-            self.params.displacement.apply(&mut refined, &frame)?;
-        }
-        Ok(tessella_io::write_mesh_bytes(
-            tessella_io::Format::Glb,
-            (&refined).into(),
-        )?)
+        scene::export_glb(panel.mesh(), &options, &self.scene.params.displacement)
     }
 
     /// The coarse mesh as loaded.
     pub fn mesh(&self) -> &Mesh {
-        &self.model.mesh
+        &self.scene.model
     }
 
     /// The panels drawn.
     pub fn panels(&self) -> &[Panel] {
-        &self.panels
+        &self.scene.panels
     }
 
     /// Every parameter as JSON (`get()`), the tags as they are now.
     pub fn params_json(&self) -> Value {
-        self.params.to_json()
+        self.scene.params.to_json()
     }
 }
