@@ -146,13 +146,7 @@ impl CoarseViewer {
         let height = faces.div_ceil(faces_per_row);
         out.clear();
         out.resize(width * height * 4, 0.0);
-        for f in 0..faces {
-            let start = ((f / faces_per_row) * width + (f % faces_per_row) * texels) * 4;
-            let entries = nets.patch_points(f).iter().chain(nets.patch_normals(f));
-            for (e, v) in entries.enumerate() {
-                out[start + 3 * e..start + 3 * e + 3].copy_from_slice(v);
-            }
-        }
+        nets.pack_texels(faces_per_row, texels, out);
         panel.changed = false;
         Ok(())
     }
