@@ -1,0 +1,183 @@
+//! The plugin's pictures against `tessella render` (the independent reference: tessella's own
+//! renderer, not Bevy) of the same mesh, scheme, level and camera: the silhouettes agree
+//! (IoU ≥ 0.98); removing `Tessellate` brings back the plain mesh's silhouette, which
+//! `tessella render --scheme flat` (the coarse triangles) draws.
+//!
+//! Runs the `view` example (which `cargo test` builds) and the CLI binary of the root
+//! workspace (`cargo build --release -p tessella-cli`, or `TESSELLA_BIN`), headless on
+//! whatever Vulkan device there is (lavapipe on a machine without a GPU).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn cli() -> PathBuf {
+    let bin = std::env::var_os("TESSELLA_BIN")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo().join("target/release/tessella"));
+    assert!(
+        bin.exists(),
+        "{} is missing: run `cargo build --release -p tessella-cli` in the repository root (or set TESSELLA_BIN)",
+        bin.display()
+    );
+    bin
+}
+
+fn view_example() -> PathBuf {
+    // CARGO_TARGET_TMPDIR is <target>/tmp; `cargo test` builds the examples into
+    // <target>/<profile>/examples.
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("..");
+    let profile = if cfg!(debug_assertions) {
+        "debug"
+    } else {
+        "release"
+    };
+    let bin = target.join(profile).join("examples/view");
+    assert!(
+        bin.exists(),
+        "{} is missing (cargo test builds it)",
+        bin.display()
+    );
+    bin
+}
+
+fn run(mut cmd: Command) {
+    let out = cmd.output().expect("the command starts");
+    assert!(
+        out.status.success(),
+        "{cmd:?} failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Pixels that differ from the white background by more than a little.
+fn silhouette(path: &Path) -> (Vec<bool>, (u32, u32)) {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8();
+    let mask = img
+        .pixels()
+        .map(|p| p.0[..3].iter().any(|&c| c < 215))
+        .collect();
+    (mask, img.dimensions())
+}
+
+fn iou(a: &Path, b: &Path) -> f64 {
+    let (ma, da) = silhouette(a);
+    let (mb, db) = silhouette(b);
+    assert_eq!(da, db, "{} and {} differ in size", a.display(), b.display());
+    let inter = ma.iter().zip(&mb).filter(|(x, y)| **x && **y).count();
+    let union = ma.iter().zip(&mb).filter(|(x, y)| **x || **y).count();
+    assert!(
+        union > 100,
+        "{} and {} show nothing",
+        a.display(),
+        b.display()
+    );
+    inter as f64 / union as f64
+}
+
+const SIZE: &str = "192x192";
+
+fn cli_render(
+    dir: &Path,
+    name: &str,
+    file: &str,
+    scheme: &str,
+    level: u32,
+    view: &[&str],
+) -> PathBuf {
+    let out = dir.join(format!("{name}.png"));
+    let mut cmd = Command::new(cli());
+    cmd.arg("render")
+        .arg(repo().join(file))
+        .args([
+            "--scheme",
+            scheme,
+            "--level",
+            &level.to_string(),
+            "--size",
+            SIZE,
+        ])
+        .args(view)
+        .arg("-o")
+        .arg(&out);
+    run(cmd);
+    out
+}
+
+#[test]
+fn tessellated_entity_matches_tessella_render_and_removing_it_brings_the_plain_mesh_back() {
+    let dir = tempfile_dir("silhouette");
+    for (file, scheme, level, view) in [
+        (
+            "samples/tetrahedron.obj",
+            "pn",
+            8u32,
+            ["--yaw", "30", "--pitch", "20", "--zoom", "1"],
+        ),
+        (
+            "samples/hard-cube.obj",
+            "phong",
+            6,
+            ["--yaw", "-40", "--pitch", "35", "--zoom", "1.3"],
+        ),
+    ] {
+        let stem = Path::new(file)
+            .file_stem()
+            .unwrap()
+            .to_string_lossy()
+            .to_string();
+        let tessellated = dir.join(format!("{stem}-bevy-{scheme}.png"));
+        let plain = dir.join(format!("{stem}-bevy-plain.png"));
+        let mut cmd = Command::new(view_example());
+        cmd.arg(repo().join(file))
+            .args([
+                "--scheme",
+                scheme,
+                "--level",
+                &level.to_string(),
+                "--size",
+                SIZE,
+            ])
+            .args(view)
+            .arg("--screenshot")
+            .arg(&tessellated)
+            .arg("--then-plain")
+            .arg(&plain);
+        run(cmd);
+        let reference = cli_render(
+            &dir,
+            &format!("{stem}-cli-{scheme}"),
+            file,
+            scheme,
+            level,
+            &view,
+        );
+        let reference_flat = cli_render(&dir, &format!("{stem}-cli-flat"), file, "flat", 1, &view);
+        let curved = iou(&tessellated, &reference);
+        let flat = iou(&plain, &reference_flat);
+        let changed = iou(&tessellated, &plain);
+        eprintln!("{file} {scheme} {level}: IoU tessellated/CLI {curved:.4}, plain/CLI flat {flat:.4}, tessellated/plain {changed:.4}");
+        assert!(
+            curved >= 0.98,
+            "{file}: tessellated vs tessella render IoU {curved}"
+        );
+        assert!(
+            flat >= 0.98,
+            "{file}: plain vs tessella render --scheme flat IoU {flat}"
+        );
+        // The curved surface's silhouette is not the coarse one's: Tessellate changed it.
+        assert!(changed < 0.97, "{file}: tessellated vs plain IoU {changed}");
+    }
+}
+
+fn tempfile_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
