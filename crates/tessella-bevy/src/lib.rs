@@ -207,7 +207,7 @@ impl Plugin for TessellaPlugin {
         );
         app.add_systems(
             PostUpdate,
-            (untessellate, tessellate)
+            (restore_material, untessellate, tessellate)
                 .chain()
                 .before(bevy::camera::visibility::VisibilitySystems::CalculateBounds),
         );
@@ -348,13 +348,16 @@ fn storage(buffers: &mut Assets<ShaderBuffer>, bytes: &[u8]) -> Handle<ShaderBuf
 #[allow(clippy::too_many_arguments)]
 fn tessellate(
     mut commands: Commands,
-    query: Query<(
-        Entity,
-        Ref<Tessellate>,
-        &Mesh3d,
-        Option<&MeshMaterial3d<StandardMaterial>>,
-        Option<&Untessellated>,
-    )>,
+    query: Query<
+        (
+            Entity,
+            Ref<Tessellate>,
+            &Mesh3d,
+            Option<&MeshMaterial3d<StandardMaterial>>,
+            Option<&Untessellated>,
+        ),
+        Without<PendingPlainMaterial>,
+    >,
     mut meshes: ResMut<Assets<Mesh>>,
     standard: Res<Assets<StandardMaterial>>,
     mut materials: ResMut<Assets<TessellaMaterial>>,
@@ -417,7 +420,14 @@ fn tessellate(
     }
 }
 
-/// Gives the plain mesh and material back to entities that lost [`Tessellate`].
+/// The plain material, given back one frame after the extended material went.
+#[derive(Component)]
+struct PendingPlainMaterial(Handle<StandardMaterial>);
+
+/// Gives the plain mesh back to entities that lost [`Tessellate`]; the plain material follows
+/// next frame ([`restore_material`]). Swapping the material type of an entity within one frame
+/// left Bevy 0.20.1 drawing it with the old type's pipeline and the new type's bind group (a
+/// wgpu validation error).
 fn untessellate(
     mut commands: Commands,
     mut removed: RemovedComponents<Tessellate>,
@@ -433,6 +443,18 @@ fn untessellate(
                 Aabb,
                 NoAutoAabb,
             )>()
-            .insert((Mesh3d(u.mesh.clone()), MeshMaterial3d(u.material.clone())));
+            .insert((
+                Mesh3d(u.mesh.clone()),
+                PendingPlainMaterial(u.material.clone()),
+            ));
+    }
+}
+
+fn restore_material(mut commands: Commands, query: Query<(Entity, &PendingPlainMaterial)>) {
+    for (entity, pending) in &query {
+        commands
+            .entity(entity)
+            .remove::<PendingPlainMaterial>()
+            .insert(MeshMaterial3d(pending.0.clone()));
     }
 }
