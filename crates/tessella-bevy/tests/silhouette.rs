@@ -121,7 +121,7 @@ fn tessellated_entity_matches_tessella_render_and_removing_it_brings_the_plain_m
             ["--yaw", "30", "--pitch", "20", "--zoom", "1"],
         ),
         (
-            "samples/hard-cube.obj",
+            "samples/torus.obj",
             "phong",
             6,
             ["--yaw", "-40", "--pitch", "35", "--zoom", "1.3"],
