@@ -39,6 +39,13 @@ struct Args {
     plain: bool,
     /// After the picture: remove `Tessellate` and write the plain mesh's picture here.
     then_plain: Option<PathBuf>,
+    /// Frame the camera on this file's mesh instead of FILE's (to view an offline-refined
+    /// mesh with the camera its coarse mesh gets).
+    frame: Option<PathBuf>,
+    /// A ground plane under the mesh, to receive its shadow.
+    ground: bool,
+    /// The light casts no shadows.
+    no_shadows: bool,
     /// Frames drawn before the first capture.
     warmup: u32,
 }
@@ -56,6 +63,9 @@ fn parse_args() -> Result<Args, String> {
         screenshot: PathBuf::from("view.png"),
         plain: false,
         then_plain: None,
+        frame: None,
+        ground: false,
+        no_shadows: false,
         warmup: 3,
     };
     let mut it = std::env::args().skip(1);
@@ -81,6 +91,9 @@ fn parse_args() -> Result<Args, String> {
             }
             "--screenshot" => args.screenshot = PathBuf::from(value()?),
             "--plain" => args.plain = true,
+            "--frame" => args.frame = Some(PathBuf::from(value()?)),
+            "--ground" => args.ground = true,
+            "--no-shadows" => args.no_shadows = true,
             "--then-plain" => args.then_plain = Some(PathBuf::from(value()?)),
             s if !s.starts_with('-') && input.is_none() => input = Some(PathBuf::from(s)),
             s => return Err(format!("unknown argument {s}")),
@@ -183,9 +196,20 @@ fn setup(
             return;
         }
     };
+    let framed = match &args.frame {
+        None => mesh.clone(),
+        Some(path) => match tessella_io::read_mesh(path) {
+            Ok(m) => m,
+            Err(e) => {
+                eprintln!("view: cannot read {}: {e}", path.display());
+                exit.write(AppExit::error());
+                return;
+            }
+        },
+    };
     let (w, h) = args.size;
     let (eye, center, up) = framing(
-        mesh.positions(),
+        framed.positions(),
         args.yaw,
         args.pitch,
         args.zoom,
@@ -205,6 +229,24 @@ fn setup(
         entity.insert(Tessellate::new(args.scheme, args.level));
     }
     let subject = entity.id();
+    if args.ground {
+        // A floor just under the framed mesh, facing up, wide enough to hold its shadow.
+        let (lo, hi) = framed.bounds();
+        let size = (Vec3::from(hi) - Vec3::from(lo)).length() * 3.0;
+        commands.spawn((
+            Mesh3d(meshes.add(Plane3d::new(Vec3::Y, Vec2::splat(size * 0.5)))),
+            MeshMaterial3d(materials.add(StandardMaterial {
+                base_color: Color::srgb_u8(200, 190, 170),
+                perceptual_roughness: 1.0,
+                ..default()
+            })),
+            Transform::from_translation(Vec3::new(
+                (lo[0] + hi[0]) * 0.5,
+                lo[1] - 0.02 * size,
+                (lo[2] + hi[2]) * 0.5,
+            )),
+        ));
+    }
     commands.insert_resource(Subject(subject));
     let mut target = Image::new_target_texture(w, h, TextureFormat::Rgba8UnormSrgb, None);
     target.texture_descriptor.usage |= TextureUsages::COPY_SRC;
@@ -217,8 +259,8 @@ fn setup(
     let light_dir = (-0.45 * right + 0.6 * cam_up - 0.65 * forward).normalize();
     commands.spawn((
         DirectionalLight {
-            shadow_maps_enabled: true,
-            illuminance: 8000.0,
+            shadow_maps_enabled: !args.no_shadows,
+            illuminance: 4000.0,
             ..default()
         },
         Transform::from_translation(center + light_dir).looking_at(center, up),

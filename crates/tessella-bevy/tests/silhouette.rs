@@ -181,3 +181,79 @@ fn tempfile_dir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+fn rgb(path: &Path) -> image::RgbaImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8()
+}
+
+/// Fraction of pixels whose colours differ by more than `tol` in some channel, and how many
+/// pixels of `a` are darker than `b`'s by more than `tol` in every channel.
+fn differ(a: &Path, b: &Path, tol: i32) -> (f64, usize) {
+    let (a, b) = (rgb(a), rgb(b));
+    assert_eq!(a.dimensions(), b.dimensions());
+    let mut diff = 0;
+    let mut darker = 0;
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        let d: Vec<i32> = (0..3).map(|c| p.0[c] as i32 - q.0[c] as i32).collect();
+        if d.iter().any(|x| x.abs() > tol) {
+            diff += 1;
+        }
+        if d.iter().all(|&x| x < -tol) {
+            darker += 1;
+        }
+    }
+    (diff as f64 / (a.width() * a.height()) as f64, darker)
+}
+
+/// Bevy's PBR of the tessellated entity, over a ground plane that receives its shadow, against
+/// Bevy's PBR of the same surface refined offline by `tessella refine` and loaded as a plain
+/// mesh (framed by the coarse mesh's camera): the lit surface, its normals and the shadow it
+/// casts (drawn by the extension's prepass vertex stage) agree; and the light's shadow is
+/// there (the ground darkens where it falls).
+#[test]
+fn tessellated_shading_and_shadow_match_the_offline_refined_mesh() {
+    let dir = tempfile_dir("shading");
+    let (file, scheme, level) = ("samples/torus.obj", "phong", 6u32);
+    let refined = dir.join("torus-refined.obj");
+    let mut cmd = Command::new(cli());
+    cmd.arg("refine")
+        .arg(repo().join(file))
+        .args(["--scheme", scheme, "--level", &level.to_string()])
+        .arg("-o")
+        .arg(&refined);
+    run(cmd);
+    let view = |name: &str, extra: &[&str], input: &Path| {
+        let out = dir.join(format!("{name}.png"));
+        let mut cmd = Command::new(view_example());
+        cmd.arg(input)
+            .args(["--size", SIZE, "--ground", "--scheme", scheme])
+            .args(["--level", &level.to_string()])
+            .args(extra)
+            .arg("--screenshot")
+            .arg(&out);
+        run(cmd);
+        out
+    };
+    let coarse = repo().join(file);
+    let tessellated = view("tessellated", &[], &coarse);
+    let frame = coarse.to_string_lossy().to_string();
+    let offline = view("offline", &["--plain", "--frame", &frame], &refined);
+    let unshadowed = view("no-shadows", &["--no-shadows"], &coarse);
+    let (d, _) = differ(&tessellated, &offline, 24);
+    let (_, shadowed) = differ(&tessellated, &unshadowed, 24);
+    eprintln!(
+        "tessellated vs offline: {:.4} of the pixels differ; {shadowed} pixels in shadow",
+        d
+    );
+    assert!(
+        d < 0.01,
+        "{:.4} of the pixels differ from the offline-refined mesh's",
+        d
+    );
+    assert!(
+        shadowed > 200,
+        "only {shadowed} pixels darkened by the shadow"
+    );
+}
