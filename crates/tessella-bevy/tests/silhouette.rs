@@ -4,7 +4,7 @@
 //! `tessella render --scheme flat` (the coarse triangles) draws.
 //!
 //! Runs the `view` example (which `cargo test` builds) and the CLI binary of the root
-//! workspace (`cargo build --release -p tessella-cli`, or `TESSELLA_BIN`), headless on
+//! workspace (`TESSELLA_BIN`, else `target/release/tessella`, else `target/debug/tessella`), headless on
 //! whatever Vulkan device there is (lavapipe on a machine without a GPU).
 
 use std::path::{Path, PathBuf};
@@ -15,15 +15,17 @@ fn repo() -> PathBuf {
 }
 
 fn cli() -> PathBuf {
-    let bin = std::env::var_os("TESSELLA_BIN")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| repo().join("target/release/tessella"));
-    assert!(
-        bin.exists(),
-        "{} is missing: run `cargo build --release -p tessella-cli` in the repository root (or set TESSELLA_BIN)",
-        bin.display()
-    );
-    bin
+    if let Some(bin) = std::env::var_os("TESSELLA_BIN") {
+        return PathBuf::from(bin);
+    }
+    ["target/release/tessella", "target/debug/tessella"]
+        .iter()
+        .map(|p| repo().join(p))
+        .find(|p| p.exists())
+        .expect(
+            "no tessella CLI: run `cargo build -p tessella-cli` (or --release) in the repository \
+             root, or set TESSELLA_BIN",
+        )
 }
 
 fn view_example() -> PathBuf {
