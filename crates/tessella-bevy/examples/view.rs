@@ -46,6 +46,9 @@ struct Args {
     ground: bool,
     /// The light casts no shadows.
     no_shadows: bool,
+    /// After the picture: draw this many frames more, each waited for on the GPU, and print
+    /// their mean time as one JSON line.
+    frames: u32,
     /// Frames drawn before the first capture.
     warmup: u32,
 }
@@ -66,6 +69,7 @@ fn parse_args() -> Result<Args, String> {
         frame: None,
         ground: false,
         no_shadows: false,
+        frames: 0,
         warmup: 3,
     };
     let mut it = std::env::args().skip(1);
@@ -94,6 +98,7 @@ fn parse_args() -> Result<Args, String> {
             "--frame" => args.frame = Some(PathBuf::from(value()?)),
             "--ground" => args.ground = true,
             "--no-shadows" => args.no_shadows = true,
+            "--frames" => args.frames = value()?.parse().map_err(|e| format!("--frames: {e}"))?,
             "--then-plain" => args.then_plain = Some(PathBuf::from(value()?)),
             s if !s.starts_with('-') && input.is_none() => input = Some(PathBuf::from(s)),
             s => return Err(format!("unknown argument {s}")),
@@ -133,9 +138,13 @@ fn main() -> AppExit {
         // No winit: this loop runs the frames.
         .add_plugins(ScheduleRunnerPlugin::run_loop(Duration::ZERO))
         .add_plugins(TessellaPlugin)
+        .add_plugins(WaitForGpu)
         .insert_resource(Capture::default())
         .add_systems(Startup, setup)
-        .add_systems(Update, capture)
+        .add_systems(
+            Update,
+            (capture, time_frames.run_if(resource_exists::<Timing>)),
+        )
         .run()
 }
 
@@ -285,6 +294,50 @@ fn setup(
 #[derive(Resource)]
 struct Target(Handle<Image>);
 
+/// Each frame waits for its GPU work, so frame times count the GPU's (lavapipe's) drawing.
+struct WaitForGpu;
+
+impl Plugin for WaitForGpu {
+    fn build(&self, app: &mut App) {
+        use bevy::render::renderer::RenderDevice;
+        use bevy::render::{Render, RenderApp, RenderSystems};
+        app.sub_app_mut(RenderApp).add_systems(
+            Render,
+            (|device: Res<RenderDevice>| {
+                let _ = device.poll(bevy::render::render_resource::PollType::wait_indefinitely());
+            })
+            .in_set(RenderSystems::Cleanup),
+        );
+    }
+}
+
+/// Frame timing after the picture (`--frames`).
+#[derive(Resource)]
+struct Timing {
+    left: u32,
+    start: Option<std::time::Instant>,
+}
+
+fn time_frames(mut timing: ResMut<Timing>, args: Res<Args>, mut exit: MessageWriter<AppExit>) {
+    let now = std::time::Instant::now();
+    let Some(start) = timing.start else {
+        timing.start = Some(now);
+        return;
+    };
+    timing.left -= 1;
+    if timing.left == 0 {
+        let ms = now.duration_since(start).as_secs_f64() * 1000.0 / args.frames as f64;
+        println!(
+            "{{\"file\":{:?},\"plain\":{},\"level\":{},\"frames\":{},\"mean_frame_ms\":{ms:.3}}}",
+            args.input.display().to_string(),
+            args.plain,
+            args.level,
+            args.frames
+        );
+        exit.write(AppExit::Success);
+    }
+}
+
 /// The mesh entity.
 #[derive(Resource)]
 struct Subject(Entity);
@@ -352,6 +405,13 @@ fn capture(
                 return;
             }
             state.done = true;
+            if args.frames > 0 {
+                commands.insert_resource(Timing {
+                    left: args.frames,
+                    start: None,
+                });
+                return;
+            }
             exit.write(AppExit::Success);
         },
     );
