@@ -119,6 +119,6 @@ cargo build --quiet -p tessella-cli
 # rust-version; rust-toolchain.toml there pins it). Its tests run its headless `view` example on
 # lavapipe and compare with `tessella render` / `tessella refine` of the CLI built above.
 echo "== tessella-bevy (Bevy plugin): fmt, tests (own workspace, Rust 1.97.1)"
-rustup toolchain install 1.97.1 --profile minimal
-(cd crates/tessella-bevy && cargo +stable fmt -- --check \
+rustup toolchain install 1.97.1 --profile minimal --component rustfmt
+(cd crates/tessella-bevy && cargo fmt -- --check \
   && TESSELLA_BIN="$PWD/../../target/debug/tessella" cargo test)
