@@ -343,21 +343,20 @@ fn storage(buffers: &mut Assets<ShaderBuffer>, bytes: &[u8]) -> Handle<ShaderBuf
     buffers.add(ShaderBuffer::new(data, RenderAssetUsages::RENDER_WORLD))
 }
 
+/// What [`tessellate`] reads of an entity.
+type TessellateItem<'a> = (
+    Entity,
+    Ref<'a, Tessellate>,
+    &'a Mesh3d,
+    Option<&'a MeshMaterial3d<StandardMaterial>>,
+    Option<&'a Untessellated>,
+);
+
 /// Swaps in the pattern mesh and the extended material for entities whose [`Tessellate`] is
 /// new or changed (once their mesh has loaded).
-#[allow(clippy::too_many_arguments)]
 fn tessellate(
     mut commands: Commands,
-    query: Query<
-        (
-            Entity,
-            Ref<Tessellate>,
-            &Mesh3d,
-            Option<&MeshMaterial3d<StandardMaterial>>,
-            Option<&Untessellated>,
-        ),
-        Without<PendingPlainMaterial>,
-    >,
+    query: Query<TessellateItem, Without<PendingPlainMaterial>>,
     mut meshes: ResMut<Assets<Mesh>>,
     standard: Res<Assets<StandardMaterial>>,
     mut materials: ResMut<Assets<TessellaMaterial>>,
@@ -456,5 +455,76 @@ fn restore_material(mut commands: Commands, query: Query<(Entity, &PendingPlainM
             .entity(entity)
             .remove::<PendingPlainMaterial>()
             .insert(MeshMaterial3d(pending.0.clone()));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tessella_core::samples;
+
+    /// The pattern mesh holds each coarse triangle's pattern once, with (triangle, pattern
+    /// vertex) ids in UV_1, and its box holds the curved surface that tessella's CPU refinement
+    /// computes (the independent reference: no shader involved).
+    #[test]
+    fn pattern_mesh_ids_and_box_cover_the_refined_surface() {
+        for (mesh, scheme, level) in [
+            (samples::tetrahedron(), Scheme::Pn, 8),
+            (
+                samples::torus(1.0, 0.35, 12, 8),
+                Scheme::Phong { alpha: 0.75 },
+                6,
+            ),
+            (samples::creature(), Scheme::PnAen, 4),
+        ] {
+            let options = RefineOptions::new(scheme, level);
+            let built = pattern_mesh(&mesh, &options).unwrap();
+            let points = tessella_core::Pattern::point_count(level) as usize;
+            let faces = mesh.face_count();
+            let Some(bevy::mesh::VertexAttributeValues::Float32x2(ids)) =
+                built.mesh.attribute(Mesh::ATTRIBUTE_UV_1)
+            else {
+                panic!("no UV_1");
+            };
+            assert_eq!(ids.len(), faces * points);
+            for (i, id) in ids.iter().enumerate() {
+                assert_eq!(*id, [(i / points) as f32, (i % points) as f32]);
+            }
+            let refined = tessella_core::refine(&mesh, &options).unwrap();
+            let (lo, hi) = built.aabb;
+            let slack = (hi - lo).length() * 1e-5;
+            for p in &refined.positions {
+                let p = Vec3::from(*p);
+                assert!(
+                    p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
+                    "{p} outside the box {lo}..{hi}"
+                );
+            }
+            // The refined surface leaves the coarse mesh's box: a box of the flat triangles
+            // would cut it.
+            let (clo, chi) = mesh.bounds();
+            assert!(refined
+                .positions
+                .iter()
+                .any(|p| (0..3).any(|k| p[k] < clo[k] - 1e-4 || p[k] > chi[k] + 1e-4)));
+        }
+    }
+
+    /// The module registered for Bevy declares its seven bindings in group 3 at 100 to 106,
+    /// none elsewhere, and no uniform.
+    #[test]
+    fn bevy_module_binds_in_the_material_group() {
+        for mode in [NormalMode::Linear, NormalMode::Quadratic, NormalMode::Real] {
+            let source = patch_module_for_bevy(mode);
+            for b in 100..107 {
+                assert!(
+                    source.contains(&format!("@group(3) @binding({b})")),
+                    "binding {b} missing"
+                );
+            }
+            assert_eq!(source.matches("@binding(").count(), 7);
+            assert!(!source.contains("var<uniform>"));
+            assert!(source.contains("fn tessella_point("));
+        }
     }
 }
