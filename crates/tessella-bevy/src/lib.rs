@@ -356,7 +356,7 @@ type TessellateItem<'a> = (
 /// new or changed (once their mesh has loaded).
 fn tessellate(
     mut commands: Commands,
-    query: Query<TessellateItem, Without<PendingPlainMaterial>>,
+    query: Query<TessellateItem, Without<PendingMaterial>>,
     mut meshes: ResMut<Assets<Mesh>>,
     standard: Res<Assets<StandardMaterial>>,
     mut materials: ResMut<Assets<TessellaMaterial>>,
@@ -401,32 +401,41 @@ fn tessellate(
             },
         });
         let (lo, hi) = built.aabb;
-        commands
-            .entity(entity)
-            .remove::<MeshMaterial3d<StandardMaterial>>()
-            .insert((
-                Mesh3d(meshes.add(built.mesh)),
-                MeshMaterial3d(material),
-                // Bevy's own box would be the flat triangles'; the curve bulges past them.
-                Aabb::from_min_max(lo, hi),
-                NoAutoAabb,
-                Untessellated {
-                    mesh: plain_mesh,
-                    material: plain_material,
-                    built_for: key,
-                },
-            ));
+        let mut e = commands.entity(entity);
+        if untessellated.is_some() {
+            // Rebuilt for new options: the material type stays.
+            e.insert(MeshMaterial3d(material));
+        } else {
+            // From StandardMaterial: the extended material comes next frame (see
+            // `untessellate`).
+            e.remove::<MeshMaterial3d<StandardMaterial>>()
+                .insert(PendingMaterial::Tessella(material));
+        }
+        e.insert((
+            Mesh3d(meshes.add(built.mesh)),
+            // Bevy's own box would be the flat triangles'; the curve bulges past them.
+            Aabb::from_min_max(lo, hi),
+            NoAutoAabb,
+            Untessellated {
+                mesh: plain_mesh,
+                material: plain_material,
+                built_for: key,
+            },
+        ));
     }
 }
 
-/// The plain material, given back one frame after the extended material went.
+/// A material put on one frame after the entity's other material type went.
 #[derive(Component)]
-struct PendingPlainMaterial(Handle<StandardMaterial>);
+enum PendingMaterial {
+    Plain(Handle<StandardMaterial>),
+    Tessella(Handle<TessellaMaterial>),
+}
 
 /// Gives the plain mesh back to entities that lost [`Tessellate`]; the plain material follows
 /// next frame ([`restore_material`]). Swapping the material type of an entity within one frame
-/// left Bevy 0.20.1 drawing it with the old type's pipeline and the new type's bind group (a
-/// wgpu validation error).
+/// sometimes left Bevy 0.20.1 drawing it with the old type's pipeline and the new type's bind
+/// group (a wgpu validation error in the prepass and the opaque pass, seen on removal).
 fn untessellate(
     mut commands: Commands,
     mut removed: RemovedComponents<Tessellate>,
@@ -444,17 +453,19 @@ fn untessellate(
             )>()
             .insert((
                 Mesh3d(u.mesh.clone()),
-                PendingPlainMaterial(u.material.clone()),
+                PendingMaterial::Plain(u.material.clone()),
             ));
     }
 }
 
-fn restore_material(mut commands: Commands, query: Query<(Entity, &PendingPlainMaterial)>) {
+fn restore_material(mut commands: Commands, query: Query<(Entity, &PendingMaterial)>) {
     for (entity, pending) in &query {
-        commands
-            .entity(entity)
-            .remove::<PendingPlainMaterial>()
-            .insert(MeshMaterial3d(pending.0.clone()));
+        let mut entity = commands.entity(entity);
+        entity.remove::<PendingMaterial>();
+        match pending {
+            PendingMaterial::Plain(m) => entity.insert(MeshMaterial3d(m.clone())),
+            PendingMaterial::Tessella(m) => entity.insert(MeshMaterial3d(m.clone())),
+        };
     }
 }
 

@@ -48,11 +48,19 @@ fn view_example() -> PathBuf {
 
 fn run(mut cmd: Command) {
     let out = cmd.output().expect("the command starts");
+    let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         out.status.success(),
-        "{cmd:?} failed:\n{}\n{}",
+        "{cmd:?} failed:\n{}\n{stderr}",
         String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
+    );
+    // Bevy logs wgpu validation errors and shader errors (and draws on): a picture is not
+    // enough, the log must be clean too.
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("ERROR")).collect();
+    assert!(
+        errors.is_empty(),
+        "{cmd:?} logged errors:\n{}",
+        errors.join("\n")
     );
 }
 
