@@ -159,6 +159,49 @@ impl PatchBindings {
     }
 }
 
+/// The patch group's contents, binding by binding (0 to 6: stencil, net points, net normals,
+/// evaluation uniform, displacement uniform, displacement data, canonical edge table), for an
+/// engine that makes the buffers itself (Bevy's material assets): the bytes
+/// [`PatchBindings::new`] uploads. A deforming mesh rewrites bindings 1 and 2 per frame
+/// (`frame.nets()`'s points and normals).
+pub fn patch_bytes(plan: &Plan, frame: &Frame) -> Result<[Vec<u8>; 7], GpuError> {
+    if plan.tiling().is_some() {
+        return Err(GpuError::BadOption(
+            "the exported WGSL module draws plans of one level; this plan has per-edge levels"
+                .into(),
+        ));
+    }
+    plan.check_frame(frame)?;
+    let nets = frame.nets();
+    let basis = plan.options().scheme.basis();
+    let edges = crate::canonical::edge_table(
+        basis,
+        &[plan.pattern()],
+        &[],
+        plan.triangles(),
+        &plan.topology().position_ids,
+    );
+    let eval = crate::gpu_types::EvalParams {
+        k: basis.len() as u32,
+        stride: tessella_core::Stencil::stride_for(basis.len()) as u32,
+        face_count: nets.len() as u32,
+        points_base: 0,
+        normals_base: 0,
+        _pad: [0; 3],
+    };
+    let (dparams, ddata) = crate::displace::gpu_data(&Displacement::None, nets.len());
+    let bytes = |b: &[u8]| b.to_vec();
+    Ok([
+        bytes(bytemuck::cast_slice(&plan.stencil().weights)),
+        bytes(bytemuck::cast_slice(&nets.points)),
+        bytes(bytemuck::cast_slice(&nets.normals)),
+        bytes(bytemuck::bytes_of(&eval)),
+        bytes(bytemuck::bytes_of(&dparams)),
+        bytes(bytemuck::cast_slice(&ddata)),
+        bytes(bytemuck::cast_slice(&edges)),
+    ])
+}
+
 /// The evaluation module (no displacement) with its bindings at `@group(group_index)`, and
 /// `tessella_point`.
 pub fn patch_module(group_index: u32, normal_mode: tessella_core::NormalMode) -> String {
