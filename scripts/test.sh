@@ -115,11 +115,3 @@ fi
 cargo build --quiet -p tessella-cli
 (cd web && npm ci --no-audit --no-fund && npm run build && npm test)
 
-# --- Bevy: crates/tessella-bevy is a cargo workspace of its own on Rust 1.97.1 (Bevy 0.20.1's
-# rust-version; rust-toolchain.toml there pins it). Its tests run its headless `view` example on
-# lavapipe and compare with `tessella render` / `tessella refine` of the CLI built above.
-echo "== tessella-bevy (Bevy plugin): fmt, clippy, tests (own workspace, Rust 1.97.1)"
-rustup toolchain install 1.97.1 --profile minimal --component rustfmt --component clippy
-(cd crates/tessella-bevy && cargo fmt -- --check \
-  && cargo clippy --quiet --all-targets -- -D warnings \
-  && TESSELLA_BIN="$PWD/../../target/debug/tessella" cargo test)

@@ -1,6 +1,6 @@
 //! The viewer's coarse side, without a GPU: reading a file (with its clips), the tags and
 //! their edits, a moved vertex, and which pose each frame shows ([`Motion`]), held together
-//! with the panels by [`Scene`]. The WebGPU [`crate::Viewer`] and the GPU-less
+//! with the panels by `Scene` (crate-private). The WebGPU [`crate::Viewer`] and the GPU-less
 //! [`crate::CoarseViewer`] (the WebGL2 fallback's source of control nets) each hold a
 //! `Scene` of their own panel type, so they load, pose and tag alike.
 
