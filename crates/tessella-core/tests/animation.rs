@@ -1072,3 +1072,43 @@ fn deform_layout_and_table() {
     ));
     assert_eq!(before, (matrices, weights));
 }
+
+#[test]
+fn posing_with_given_matrices_is_posing_the_clip_and_bad_ones_are_refused() {
+    let poser = Poser::new(tessella_core::samples::animated_creature(0)).unwrap();
+    let n = poser.vertex_count();
+    let (mut matrices, mut weights) = (Vec::new(), Vec::new());
+    for clip in 0..poser.clip_count() {
+        poser
+            .deform_into(Some(clip), 0.3, &mut matrices, &mut weights)
+            .unwrap();
+        let (mut p, mut nn) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        poser
+            .pose_with(&matrices, &weights, &mut p, Some(&mut nn))
+            .unwrap();
+        let (want_p, want_n) = poser.pose(Some(clip), 0.3).unwrap();
+        assert_eq!(p, want_p);
+        assert_eq!(Some(nn), want_n);
+    }
+    let mut p = vec![[7.0; 3]; n];
+    let short = &matrices[..matrices.len() - 1];
+    let e = poser.pose_with(short, &weights, &mut p, None).unwrap_err();
+    assert!(e.to_string().contains("deform matrices"), "{e}");
+    let mut bad = matrices.clone();
+    bad[1][5] = f32::NAN;
+    let e = poser.pose_with(&bad, &weights, &mut p, None).unwrap_err();
+    assert!(
+        e.to_string().contains("deform matrix 1 is not finite"),
+        "{e}"
+    );
+    if !weights.is_empty() {
+        let mut w = weights.clone();
+        w[0] = f32::INFINITY;
+        let e = poser.pose_with(&matrices, &w, &mut p, None).unwrap_err();
+        assert!(e.to_string().contains("morph weight 0"), "{e}");
+    }
+    assert!(
+        p.iter().all(|v| *v == [7.0; 3]),
+        "a refused pose wrote the buffer"
+    );
+}
