@@ -30,3 +30,28 @@ export function sameBits(a, b) {
   for (let i = 0; i < x.length; i++) if (x[i] !== y[i]) return false;
   return true;
 }
+
+const CUBIC = [
+  [3, 0, 0], [0, 3, 0], [0, 0, 3], [2, 1, 0], [1, 2, 0], [0, 2, 1], [0, 1, 2], [1, 0, 2], [2, 0, 1], [1, 1, 1],
+];
+const FACT = [1, 1, 2, 6];
+
+/** Net entry `i` of face `f` from a TessellatedMesh's nets texture data, as the vertex shader reads it. */
+export function netEntry(mesh, f, i) {
+  const s = mesh.surface;
+  const row = Math.floor(f / s.facesPerRow);
+  const start = (row * s.width + (f % s.facesPerRow) * s.texelsPerFace) * 4;
+  const d = mesh.netsTexture.image.data;
+  return [d[start + 3 * i], d[start + 3 * i + 1], d[start + 3 * i + 2]];
+}
+
+/** The cubic Bernstein patch's point of face `f` at barycentric `l`, from the nets texture. */
+export function cubicPoint(mesh, f, l) {
+  const p = [0, 0, 0];
+  CUBIC.forEach(([i, j, k], c) => {
+    const w = (6 / (FACT[i] * FACT[j] * FACT[k])) * l[0] ** i * l[1] ** j * l[2] ** k;
+    const q = netEntry(mesh, f, c);
+    for (let a = 0; a < 3; a++) p[a] += w * q[a];
+  });
+  return p;
+}

@@ -18,36 +18,18 @@ import {
 } from 'three';
 import { ready, refine, TessellaError } from '../src/index.js';
 import { TessellatedMesh, tessellaFunctions } from '../src/three.js';
+import { cubicPoint, netEntry } from './helpers.js';
 import WGSLNodeFunction from 'three/src/renderers/webgpu/nodes/WGSLNodeFunction.js';
 
 await ready;
 
-const CUBIC = [
-  [3, 0, 0], [0, 3, 0], [0, 0, 3], [2, 1, 0], [1, 2, 0], [0, 2, 1], [0, 1, 2], [1, 0, 2], [2, 0, 1], [1, 1, 1],
-];
-const FACT = [1, 1, 2, 6];
-
-// Net entry `i` of face `f` from the texture data, as the vertex shader reads it.
-function entry(mesh, f, i) {
-  const s = mesh.surface;
-  const row = Math.floor(f / s.facesPerRow);
-  const start = (row * s.width + (f % s.facesPerRow) * s.texelsPerFace) * 4;
-  const d = mesh.netsTexture.image.data;
-  return [d[start + 3 * i], d[start + 3 * i + 1], d[start + 3 * i + 2]];
-}
-
 // The cubic patch's point and (quadratic normal net) unit normal of face f at l.
 function evaluate(mesh, f, l) {
-  const p = [0, 0, 0];
-  CUBIC.forEach(([i, j, k], c) => {
-    const w = (6 / (FACT[i] * FACT[j] * FACT[k])) * l[0] ** i * l[1] ** j * l[2] ** k;
-    const q = entry(mesh, f, c);
-    for (let a = 0; a < 3; a++) p[a] += w * q[a];
-  });
+  const p = cubicPoint(mesh, f, l);
   const nw = [l[0] * l[0], l[1] * l[1], l[2] * l[2], l[0] * l[1], l[1] * l[2], l[2] * l[0]];
   const n = [0, 0, 0];
   nw.forEach((w, c) => {
-    const q = entry(mesh, f, 10 + c);
+    const q = netEntry(mesh, f, 10 + c);
     for (let a = 0; a < 3; a++) n[a] += w * q[a];
   });
   const len = Math.hypot(...n);

@@ -21,26 +21,9 @@ import {
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { ready, refine, TessellaError } from '../src/index.js';
 import { TessellatedMesh } from '../src/three.js';
+import { cubicPoint } from './helpers.js';
 
 await ready;
-
-const CUBIC = [
-  [3, 0, 0], [0, 3, 0], [0, 0, 3], [2, 1, 0], [1, 2, 0], [0, 2, 1], [0, 1, 2], [1, 0, 2], [2, 0, 1], [1, 1, 1],
-];
-const FACT = [1, 1, 2, 6];
-
-// The cubic patch's point of face f at barycentric l, from the nets texture's data.
-function evaluate(mesh, f, l) {
-  const s = mesh.surface;
-  const d = mesh.netsTexture.image.data;
-  const start = (Math.floor(f / s.facesPerRow) * s.width + (f % s.facesPerRow) * s.texelsPerFace) * 4;
-  const p = [0, 0, 0];
-  CUBIC.forEach(([i, j, k], c) => {
-    const w = (6 / (FACT[i] * FACT[j] * FACT[k])) * l[0] ** i * l[1] ** j * l[2] ** k;
-    for (let a = 0; a < 3; a++) p[a] += w * d[start + 3 * c + a];
-  });
-  return p;
-}
 
 async function creature() {
   const bytes = readFileSync(new URL('../../samples/animated-creature.glb', import.meta.url));
@@ -115,7 +98,7 @@ test('a SkinnedMesh played by AnimationMixer: the surface refines the vertices t
       let worst = 0;
       for (let v = 0; v < cpu.faces.length; v++) {
         const l = Array.from(cpu.barycentric.subarray(3 * v, 3 * v + 3));
-        const p = evaluate(mesh, cpu.faces[v], l);
+        const p = cubicPoint(mesh, cpu.faces[v], l);
         for (let a = 0; a < 3; a++) worst = Math.max(worst, Math.abs(p[a] - cpu.positions[3 * v + a]));
       }
       assert.ok(worst < 1e-5 * size, `${clip.name} at ${time}: the surface is off by ${worst} (size ${size})`);
@@ -172,7 +155,7 @@ test('a Mesh with morph targets: its influences move the surface; absolute targe
     const f = 7;
     const corner = geometry.index === null ? 3 * f : geometry.index.getX(3 * f);
     source.getVertexPosition(corner, v);
-    const p = evaluate(mesh, f, [1, 0, 0]);
+    const p = cubicPoint(mesh, f, [1, 0, 0]);
     assert.ok(v.distanceTo(new Vector3(...p)) < 1e-6, `${relative}: corner ${p} vs ${v.toArray()}`);
     mesh.dispose();
   }
