@@ -2,25 +2,40 @@
 //! `tessella render` uses (crates/tessella-view/src/camera.rs), written to a PNG headless:
 //!
 //! `cargo run --example view -- FILE --scheme S --level L --yaw Y --pitch P --zoom Z
-//!  --size WxH --screenshot OUT.png [--plain]`
+//!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--frames N --stats]`
+//!
+//! A glTF file is loaded by Bevy's glTF loader (its scene, `Tessellate` added to each of its
+//! meshes); with `--clip` Bevy's `AnimationPlayer` plays that clip, held at `--time` for the
+//! picture and playing on during `--frames`. `--stats` prints one JSON line a frame with the
+//! bytes tessella handed Bevy to upload in it.
 //!
 //! No window: the camera renders into an image, and Bevy's `Screenshot` of that image is
 //! saved once two successive captures agree (pipelines compile synchronously, so the picture
 //! settles within a few frames), then the app exits.
 
 use bevy::app::{AppExit, ScheduleRunnerPlugin};
+use bevy::asset::uuid::Uuid;
+use bevy::camera::NormalizedRenderTarget;
 use bevy::camera::RenderTarget;
+use bevy::gltf::{Gltf, GltfAssetLabel};
+use bevy::picking::backend::ray::{RayId, RayMap};
+use bevy::picking::hover::HoverMap;
+use bevy::picking::mesh_picking::MeshPickingPlugin;
+use bevy::picking::pointer::{Location, PointerId, PointerLocation};
+use bevy::picking::PickingSystems;
 use bevy::prelude::*;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::view::window::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::render::view::{Msaa, Tonemapping};
 use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
+use bevy::world_serialization::WorldAssetRoot;
 use std::path::PathBuf;
 use std::time::Duration;
+use tessella_bevy::tessella_core::animation::Poser;
 use tessella_bevy::tessella_core::names::parse_name;
 use tessella_bevy::tessella_core::Scheme;
-use tessella_bevy::{to_bevy_mesh, TessellaPlugin, Tessellate};
+use tessella_bevy::{to_bevy_mesh, Patch, TessellaPlugin, Tessellate, UploadStats};
 
 /// `tessella render`'s vertical field of view (tessella-view's `FOV_Y_DEGREES`).
 const FOV_Y_DEGREES: f32 = 30.0;
@@ -51,6 +66,25 @@ struct Args {
     frames: u32,
     /// Frames drawn before the first capture.
     warmup: u32,
+    /// A glTF animation clip (name or index) Bevy's `AnimationPlayer` plays.
+    clip: Option<String>,
+    /// Seconds into the clip the picture is taken at.
+    time: f32,
+    /// One JSON line a frame during `--frames`: the bytes tessella uploaded in it.
+    stats: bool,
+    /// A pointer at this pixel: after the picture, one JSON line says what Bevy's picking
+    /// found under it.
+    pick: Option<Vec2>,
+}
+
+impl Args {
+    fn is_gltf(&self) -> bool {
+        let ext = self.input.extension().and_then(|e| e.to_str());
+        matches!(
+            ext.map(str::to_ascii_lowercase).as_deref(),
+            Some("glb" | "gltf")
+        )
+    }
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -71,6 +105,10 @@ fn parse_args() -> Result<Args, String> {
         no_shadows: false,
         frames: 0,
         warmup: 3,
+        clip: None,
+        time: 0.0,
+        stats: false,
+        pick: None,
     };
     let mut it = std::env::args().skip(1);
     let mut input = None;
@@ -99,12 +137,23 @@ fn parse_args() -> Result<Args, String> {
             "--ground" => args.ground = true,
             "--no-shadows" => args.no_shadows = true,
             "--frames" => args.frames = value()?.parse().map_err(|e| format!("--frames: {e}"))?,
+            "--clip" => args.clip = Some(value()?),
+            "--time" => args.time = num(value()?)?,
+            "--stats" => args.stats = true,
+            "--pick" => {
+                let v = value()?;
+                let (x, y) = v.split_once(',').ok_or(format!("--pick {v}: want X,Y"))?;
+                args.pick = Some(Vec2::new(num(x.into())?, num(y.into())?));
+            }
             "--then-plain" => args.then_plain = Some(PathBuf::from(value()?)),
             s if !s.starts_with('-') && input.is_none() => input = Some(PathBuf::from(s)),
             s => return Err(format!("unknown argument {s}")),
         }
     }
     args.input = input.ok_or("usage: view FILE [--scheme S --level L ...]")?;
+    if args.clip.is_some() && !args.is_gltf() {
+        return Err("--clip needs a glTF file".into());
+    }
     args.scheme = args.scheme.with_alpha(args.alpha);
     Ok(args)
 }
@@ -117,6 +166,13 @@ fn main() -> AppExit {
             return AppExit::error();
         }
     };
+    // Bevy's assets are read below one folder: the input's.
+    let folder = args
+        .input
+        .canonicalize()
+        .ok()
+        .and_then(|p| p.parent().map(|p| p.display().to_string()))
+        .unwrap_or_else(|| ".".into());
     App::new()
         .insert_resource(args)
         .insert_resource(ClearColor(Color::WHITE))
@@ -133,17 +189,32 @@ fn main() -> AppExit {
                     synchronous_pipeline_compilation: true,
                     ..default()
                 })
+                .set(AssetPlugin {
+                    file_path: folder,
+                    ..default()
+                })
                 .disable::<bevy::render::pipelined_rendering::PipelinedRenderingPlugin>(),
         )
         // No winit: this loop runs the frames.
         .add_plugins(ScheduleRunnerPlugin::run_loop(Duration::ZERO))
-        .add_plugins(TessellaPlugin)
+        .add_plugins((MeshPickingPlugin, TessellaPlugin))
         .add_plugins(WaitForGpu)
         .insert_resource(Capture::default())
         .add_systems(Startup, setup)
         .add_systems(
+            PreUpdate,
+            image_pointer_rays
+                .after(PickingSystems::ProcessInput)
+                .before(PickingSystems::Backend),
+        )
+        .add_systems(
             Update,
-            (capture, time_frames.run_if(resource_exists::<Timing>)),
+            (
+                adopt_scene_meshes,
+                start_clip,
+                capture,
+                time_frames.run_if(resource_exists::<Timing>),
+            ),
         )
         .run()
 }
@@ -189,32 +260,56 @@ fn framing(
     (center + dir * distance, center, up)
 }
 
+/// The mesh the camera frames: `--frame`'s file, else FILE posed at `--clip`/`--time` (as
+/// `tessella render` poses it), else FILE.
+fn framed_mesh(args: &Args) -> Result<tessella_bevy::tessella_core::Mesh, String> {
+    let read = |path: &std::path::Path| {
+        tessella_io::read_mesh(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+    };
+    if let Some(path) = &args.frame {
+        return read(path);
+    }
+    let Some(clip) = &args.clip else {
+        return read(&args.input);
+    };
+    let model = tessella_io::read_animated(&args.input).map_err(|e| e.to_string())?;
+    let poser = Poser::new(model).map_err(|e| e.to_string())?;
+    let index = poser.clip_index(clip).map_err(|e| e.to_string())?;
+    poser
+        .mesh(Some(index), args.time)
+        .map_err(|e| e.to_string())
+}
+
+/// The colour every subject is drawn in: `tessella render`'s default, rough so no highlight
+/// reaches the background's white.
+#[derive(Resource)]
+struct SubjectMaterial(Handle<StandardMaterial>);
+
+/// A mesh entity the picture is of (FILE's mesh, or each mesh of its glTF scene).
+#[derive(Component)]
+struct Subject;
+
+/// The glTF file being shown, for its animation clips.
+#[derive(Resource)]
+struct GltfFile(Handle<Gltf>);
+
+#[allow(clippy::too_many_arguments)]
 fn setup(
     mut commands: Commands,
     args: Res<Args>,
+    assets: Res<AssetServer>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
     mut images: ResMut<Assets<Image>>,
     mut exit: MessageWriter<AppExit>,
 ) {
-    let mesh = match tessella_io::read_mesh(&args.input) {
+    let framed = match framed_mesh(&args) {
         Ok(m) => m,
         Err(e) => {
-            eprintln!("view: cannot read {}: {e}", args.input.display());
+            eprintln!("view: {e}");
             exit.write(AppExit::error());
             return;
         }
-    };
-    let framed = match &args.frame {
-        None => mesh.clone(),
-        Some(path) => match tessella_io::read_mesh(path) {
-            Ok(m) => m,
-            Err(e) => {
-                eprintln!("view: cannot read {}: {e}", path.display());
-                exit.write(AppExit::error());
-                return;
-            }
-        },
     };
     let (w, h) = args.size;
     let (eye, center, up) = framing(
@@ -224,20 +319,41 @@ fn setup(
         args.zoom,
         w as f32 / h as f32,
     );
-    let mut entity = commands.spawn((
-        Mesh3d(meshes.add(to_bevy_mesh(&mesh))),
-        MeshMaterial3d(materials.add(StandardMaterial {
-            // tessella render's default colour, rough so no highlight reaches the background's
-            // white.
-            base_color: Color::srgb_u8(120, 160, 215),
-            perceptual_roughness: 0.8,
-            ..default()
-        })),
-    ));
-    if !args.plain {
-        entity.insert(Tessellate::new(args.scheme, args.level));
+    let material = materials.add(StandardMaterial {
+        base_color: Color::srgb_u8(120, 160, 215),
+        perceptual_roughness: 0.8,
+        ..default()
+    });
+    commands.insert_resource(SubjectMaterial(material.clone()));
+    if args.is_gltf() {
+        // Bevy's glTF loader spawns the scene; `adopt_scene_meshes` tessellates its meshes.
+        let name = args
+            .input
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string());
+        let name = name.unwrap_or_default();
+        commands.spawn(WorldAssetRoot(
+            assets.load(GltfAssetLabel::Scene(0).from_asset(name.clone())),
+        ));
+        commands.insert_resource(GltfFile(assets.load(name)));
+    } else {
+        let mesh = match tessella_io::read_mesh(&args.input) {
+            Ok(m) => m,
+            Err(e) => {
+                eprintln!("view: cannot read {}: {e}", args.input.display());
+                exit.write(AppExit::error());
+                return;
+            }
+        };
+        let mut entity = commands.spawn((
+            Mesh3d(meshes.add(to_bevy_mesh(&mesh))),
+            MeshMaterial3d(material),
+            Subject,
+        ));
+        if !args.plain {
+            entity.insert(Tessellate::new(args.scheme, args.level));
+        }
     }
-    let subject = entity.id();
     if args.ground {
         // A floor just under the framed mesh, facing up, wide enough to hold its shadow.
         let (lo, hi) = framed.bounds();
@@ -254,13 +370,22 @@ fn setup(
                 lo[1] - 0.02 * size,
                 (lo[2] + hi[2]) * 0.5,
             )),
+            Ground,
         ));
     }
-    commands.insert_resource(Subject(subject));
     let mut target = Image::new_target_texture(w, h, TextureFormat::Rgba8UnormSrgb, None);
     target.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let target = images.add(target);
     commands.insert_resource(Target(target.clone()));
+    if let Some(position) = args.pick {
+        commands.spawn((
+            PICK_POINTER,
+            PointerLocation::new(Location {
+                target: NormalizedRenderTarget::Image(target.clone().into()),
+                position,
+            }),
+        ));
+    }
     let forward = (center - eye).normalize();
     let right = forward.cross(up).normalize();
     let cam_up = right.cross(forward);
@@ -304,7 +429,10 @@ impl Plugin for WaitForGpu {
         app.sub_app_mut(RenderApp).add_systems(
             Render,
             (|device: Res<RenderDevice>| {
-                let _ = device.poll(bevy::render::render_resource::PollType::wait_indefinitely());
+                let wait = bevy::render::render_resource::PollType::wait_indefinitely();
+                if let Err(e) = device.poll(wait) {
+                    error!("view: waiting for the GPU failed: {e}");
+                }
             })
             .in_set(RenderSystems::Cleanup),
         );
@@ -316,10 +444,31 @@ impl Plugin for WaitForGpu {
 struct Timing {
     left: u32,
     start: Option<std::time::Instant>,
+    /// The previous frame's end and tessella's upload total then.
+    last: Option<(std::time::Instant, u64)>,
 }
 
-fn time_frames(mut timing: ResMut<Timing>, args: Res<Args>, mut exit: MessageWriter<AppExit>) {
+fn time_frames(
+    mut timing: ResMut<Timing>,
+    args: Res<Args>,
+    stats: Res<UploadStats>,
+    mut exit: MessageWriter<AppExit>,
+) {
     let now = std::time::Instant::now();
+    // This frame's main-world work is done; its render (and upload) follows, so a frame's
+    // bytes are the total's growth from one Update to the next.
+    let total = stats.total();
+    if args.stats {
+        if let Some((then, before)) = timing.last {
+            let frame = args.frames - timing.left;
+            println!(
+                "{{\"frame\":{frame},\"uploaded_bytes\":{},\"frame_ms\":{:.3}}}",
+                total - before,
+                now.duration_since(then).as_secs_f64() * 1000.0
+            );
+        }
+    }
+    timing.last = Some((now, total));
     let Some(start) = timing.start else {
         timing.start = Some(now);
         return;
@@ -338,9 +487,123 @@ fn time_frames(mut timing: ResMut<Timing>, args: Res<Args>, mut exit: MessageWri
     }
 }
 
-/// The mesh entity.
-#[derive(Resource)]
-struct Subject(Entity);
+/// The `--pick` pointer.
+const PICK_POINTER: PointerId =
+    PointerId::Custom(Uuid::from_u128(0x7e55_e11a_0000_0000_0000_0000_0000_0001));
+
+/// The rays of pointers on the cameras' image targets. Bevy 0.20.1 makes a pointer's ray only
+/// when there is a primary window (`Location::is_in_viewport`), even for a camera drawing into
+/// an image; `RayMap` takes rays added by hand for such cameras, as its documentation says.
+fn image_pointer_rays(
+    mut rays: ResMut<RayMap>,
+    cameras: Query<(Entity, &Camera, &RenderTarget, &GlobalTransform)>,
+    pointers: Query<(&PointerId, &PointerLocation)>,
+) {
+    for (entity, camera, target, transform) in &cameras {
+        let RenderTarget::Image(image) = target else {
+            continue;
+        };
+        for (&id, location) in &pointers {
+            let Some(location) = location.location() else {
+                continue;
+            };
+            if location.target != NormalizedRenderTarget::Image(image.clone()) {
+                continue;
+            }
+            if let Ok(ray) = camera.viewport_to_world(transform, location.position) {
+                rays.map.insert(RayId::new(entity, id), ray);
+            }
+        }
+    }
+}
+
+/// What Bevy's picking has under the `--pick` pointer, nearest first: one JSON line.
+fn report_pick(hovers: &HoverMap, subjects: &Query<Entity, With<Subject>>) {
+    let mut hits: Vec<_> = hovers
+        .get(&PICK_POINTER)
+        .map(|h| h.iter().collect())
+        .unwrap_or_default();
+    hits.sort_by(|a, b| a.1.depth.total_cmp(&b.1.depth));
+    match hits.first() {
+        None => println!("{{\"pick\":{{\"hit\":false}}}}"),
+        Some((entity, hit)) => {
+            let p = hit.position.unwrap_or(Vec3::NAN);
+            println!(
+                "{{\"pick\":{{\"hit\":true,\"subject\":{},\"depth\":{},\"position\":[{},{},{}]}}}}",
+                subjects.contains(**entity),
+                hit.depth,
+                p.x,
+                p.y,
+                p.z
+            );
+        }
+    }
+}
+
+/// The ground plane (not a subject).
+#[derive(Component)]
+struct Ground;
+
+/// A mesh entity not yet seen: not a subject, the ground, or one of the plugin's patches.
+type Unadopted = (
+    With<Mesh3d>,
+    Without<Subject>,
+    Without<Ground>,
+    Without<Patch>,
+);
+
+/// Each mesh the glTF scene spawned becomes a subject: the subjects' material, and
+/// `Tessellate` unless `--plain`.
+fn adopt_scene_meshes(
+    mut commands: Commands,
+    args: Res<Args>,
+    material: Option<Res<SubjectMaterial>>,
+    found: Query<Entity, Unadopted>,
+) {
+    let Some(material) = material else { return };
+    for entity in &found {
+        let mut entity = commands.entity(entity);
+        entity.insert((MeshMaterial3d(material.0.clone()), Subject));
+        if !args.plain {
+            entity.insert(Tessellate::new(args.scheme, args.level));
+        }
+    }
+}
+
+/// Once the glTF file has loaded, each `AnimationPlayer` its scene spawned plays `--clip`,
+/// held at `--time` (the timed frames resume it).
+fn start_clip(
+    mut commands: Commands,
+    args: Res<Args>,
+    file: Option<Res<GltfFile>>,
+    gltfs: Res<Assets<Gltf>>,
+    mut graphs: ResMut<Assets<AnimationGraph>>,
+    mut players: Query<(Entity, &mut AnimationPlayer), Without<AnimationGraphHandle>>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    let (Some(clip), Some(file)) = (&args.clip, file) else {
+        return;
+    };
+    let Some(gltf) = gltfs.get(&file.0) else {
+        return;
+    };
+    for (entity, mut player) in &mut players {
+        let handle = match clip.parse::<usize>() {
+            Ok(i) => gltf.animations.get(i).cloned(),
+            Err(_) => gltf.named_animations.get(clip.as_str()).cloned(),
+        };
+        let Some(handle) = handle else {
+            eprintln!("view: the file has no clip {clip}");
+            exit.write(AppExit::error());
+            return;
+        };
+        let (graph, node) = AnimationGraph::from_clip(handle);
+        commands
+            .entity(entity)
+            .insert(AnimationGraphHandle(graphs.add(graph)));
+        player.play(node).seek_to(args.time).pause();
+    }
+}
 
 #[derive(Resource, Default)]
 struct Capture {
@@ -366,7 +629,9 @@ fn capture(
         |captured: On<ScreenshotCaptured>,
          mut state: ResMut<Capture>,
          mut args: ResMut<Args>,
-         subject: Res<Subject>,
+         subjects: Query<Entity, With<Subject>>,
+         mut players: Query<&mut AnimationPlayer>,
+         hovers: Res<HoverMap>,
          mut commands: Commands,
          mut exit: MessageWriter<AppExit>| {
             state.pending = false;
@@ -397,18 +662,28 @@ fn capture(
                 args.screenshot.display(),
                 state.frames
             );
+            if args.pick.is_some() {
+                report_pick(&hovers, &subjects);
+            }
             if let Some(next) = args.then_plain.take() {
                 // The same entity without Tessellate: the plugin gives its mesh back.
-                commands.entity(subject.0).remove::<Tessellate>();
+                for subject in &subjects {
+                    commands.entity(subject).remove::<Tessellate>();
+                }
                 args.screenshot = next;
                 *state = Capture::default();
                 return;
             }
             state.done = true;
             if args.frames > 0 {
+                // The clip plays on while the frames are timed.
+                for mut player in &mut players {
+                    player.resume_all();
+                }
                 commands.insert_resource(Timing {
                     left: args.frames,
                     start: None,
+                    last: None,
                 });
                 return;
             }

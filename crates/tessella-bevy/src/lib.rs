@@ -2,52 +2,49 @@
 //! `MeshMaterial3d<StandardMaterial>`, and [`TessellaPlugin`] draws it as one refinement
 //! pattern per coarse triangle whose vertex stage evaluates the triangle's patch, shaded by
 //! Bevy's PBR (the entity's own `StandardMaterial`, Bevy's lights and shadows). Removing
-//! `Tessellate` brings the plain mesh back.
+//! `Tessellate` brings the plain mesh back. An entity Bevy animates (a `SkinnedMesh` posed by
+//! its `AnimationPlayer`, morph weights) has its coarse mesh posed each frame by tessella's
+//! skinning, and only its control nets are uploaded again.
 //!
 //! How (see `docs/bevy.md`): the entity's material becomes an
 //! `ExtendedMaterial<StandardMaterial, TessellaExtension>` whose vertex shaders (main pass and
 //! prepass, so shadows and depth follow the curved surface) call `tessella_point(face,
 //! vertex)` from tessella-gpu's exported WGSL module, registered as the Bevy shader import
 //! `tessella_bevy::patch_<normals>`. The patch group's seven buffers are the material's
-//! storage bindings 100 to 106. The mesh drawn is the pattern repeated once per coarse
-//! triangle, each vertex carrying (coarse triangle, pattern vertex) in `UV_1`: this is the
-//! material-extension form of the refinement pattern (Bevy's mesh pipeline uses
-//! `instance_index` for its own per-mesh data, so the pattern is not instanced by the GPU).
+//! storage bindings 100 to 106. The refinement pattern of the level is one Bevy mesh, stored
+//! once; the tessellated entity gets one child entity per coarse triangle, each drawing that
+//! mesh with the triangle in its `MeshTag`, so Bevy batches them into one instanced draw of the
+//! pattern (and culls each triangle's patch by its own box).
 
-use bevy::asset::{uuid_handle, RenderAssetUsages};
+mod animate;
+mod gltf_influences;
+mod material;
+mod pattern;
+mod picking;
+
 use bevy::camera::primitives::Aabb;
 use bevy::camera::visibility::NoAutoAabb;
-use bevy::mesh::MeshVertexBufferLayoutRef;
-use bevy::mesh::{Indices, PrimitiveTopology};
-use bevy::pbr::{
-    ExtendedMaterial, MaterialExtension, MaterialExtensionKey, MaterialExtensionPipeline,
-};
+use bevy::light::{NotShadowCaster, NotShadowReceiver};
+use bevy::mesh::morph::MeshMorphWeights;
+use bevy::mesh::skinning::SkinnedMesh;
+use bevy::mesh::MeshTag;
+use bevy::picking::Pickable;
 use bevy::prelude::*;
-use bevy::render::render_resource::{
-    AsBindGroup, RenderPipelineDescriptor, SpecializedMeshPipelineError,
-};
 use bevy::render::storage::ShaderBuffer;
-use bevy::shader::ShaderRef;
-use tessella_core::refine::Plan;
-use tessella_core::{NormalMode, RefineOptions, Scheme};
+use tessella_core::{RefineOptions, Scheme};
 
+pub use animate::UploadStats;
+pub use gltf_influences::ExtraInfluences;
+pub use material::{
+    patch_module_for_bevy, NormalModeKey, TessellaExtension, TessellaKey, TessellaMaterial,
+    FIRST_BINDING,
+};
+pub use pattern::{build, face_boxes, pattern_mesh, to_bevy_mesh, to_tessella_mesh, Built};
 pub use tessella_core;
 
-/// The material a tessellated entity is drawn with: its own `StandardMaterial`, extended.
-pub type TessellaMaterial = ExtendedMaterial<StandardMaterial, TessellaExtension>;
-
-/// First binding of the patch group inside Bevy's material group (0..100 are the base
-/// material's, as Bevy's extended-material convention has it).
-pub const FIRST_BINDING: u32 = 100;
-
-/// Bevy's material bind group index (`bevy::pbr::MATERIAL_BIND_GROUP_INDEX`).
-const MATERIAL_GROUP: u32 = 3;
-
-const VERTEX_SHADER: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9a01");
-const PREPASS_SHADER: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9a02");
-const PATCH_LINEAR: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9a03");
-const PATCH_QUADRATIC: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9a04");
-const PATCH_REAL: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9a05");
+use animate::Animated;
+use pattern::storage;
+use picking::{PickMesh, Surface};
 
 /// Draws an entity's mesh as tessella's curved surface: the options of tessella's one
 /// options type ([`RefineOptions`]: scheme, level, normals, ...). Uniform whole levels only
@@ -67,309 +64,110 @@ impl Tessellate {
 pub struct Untessellated {
     pub mesh: Handle<Mesh>,
     pub material: Handle<StandardMaterial>,
-    /// The options the current pattern mesh was built for.
+    /// The options the current patches were built for.
     built_for: String,
 }
 
-/// The extension's data: the patch group's seven buffers (tessella-gpu's
-/// [`tessella_gpu::wgsl::patch_bytes`]), bound at 100 to 106 in Bevy's material group.
-#[derive(Asset, AsBindGroup, Reflect, Debug, Clone)]
-#[bind_group_data(TessellaKey)]
-pub struct TessellaExtension {
-    #[storage(100, read_only)]
-    pub stencil: Handle<ShaderBuffer>,
-    #[storage(101, read_only)]
-    pub net_points: Handle<ShaderBuffer>,
-    #[storage(102, read_only)]
-    pub net_normals: Handle<ShaderBuffer>,
-    #[storage(103, read_only)]
-    pub eval_params: Handle<ShaderBuffer>,
-    #[storage(104, read_only)]
-    pub displace_params: Handle<ShaderBuffer>,
-    #[storage(105, read_only)]
-    pub displace_data: Handle<ShaderBuffer>,
-    #[storage(106, read_only)]
-    pub edge_table: Handle<ShaderBuffer>,
-    /// Which evaluation module the shaders import (a compile-time constant of the module).
-    #[reflect(ignore)]
-    pub normal_mode: NormalModeKey,
-}
-
-/// The normal mode as a pipeline key.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
-pub enum NormalModeKey {
-    Linear,
-    #[default]
-    Quadratic,
-    Real,
-}
-
-impl NormalModeKey {
-    fn of(mode: NormalMode) -> NormalModeKey {
-        match mode {
-            NormalMode::Linear => NormalModeKey::Linear,
-            NormalMode::Real => NormalModeKey::Real,
-            _ => NormalModeKey::Quadratic,
-        }
-    }
-    fn def(self) -> &'static str {
-        match self {
-            NormalModeKey::Linear => "TESSELLA_NORMALS_LINEAR",
-            NormalModeKey::Quadratic => "TESSELLA_NORMALS_QUADRATIC",
-            NormalModeKey::Real => "TESSELLA_NORMALS_REAL",
-        }
-    }
-}
-
-/// Pipeline key of the extension: the normal mode picks the imported module.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct TessellaKey {
-    normal_mode: NormalModeKey,
-}
-
-impl From<&TessellaExtension> for TessellaKey {
-    fn from(e: &TessellaExtension) -> TessellaKey {
-        TessellaKey {
-            normal_mode: e.normal_mode,
-        }
-    }
-}
-
-impl MaterialExtension for TessellaExtension {
-    fn vertex_shader() -> ShaderRef {
-        VERTEX_SHADER.into()
-    }
-    fn prepass_vertex_shader() -> ShaderRef {
-        PREPASS_SHADER.into()
-    }
-    fn deferred_vertex_shader() -> ShaderRef {
-        PREPASS_SHADER.into()
-    }
-    fn specialize(
-        _pipeline: &MaterialExtensionPipeline,
-        descriptor: &mut RenderPipelineDescriptor,
-        _layout: &MeshVertexBufferLayoutRef,
-        key: MaterialExtensionKey<Self>,
-    ) -> Result<(), SpecializedMeshPipelineError> {
-        descriptor
-            .vertex
-            .shader_defs
-            .push(key.bind_group_data.normal_mode.def().into());
-        Ok(())
-    }
-}
-
-/// tessella-gpu's exported evaluation module for `mode`, rebound into Bevy's material group:
-/// group 3, bindings 100 to 106, and the two uniforms as read-only storage (a material's
-/// raw-byte buffers are storage buffers). Only the declarations change; the evaluation is
-/// tessella's generated code as it is.
-pub fn patch_module_for_bevy(mode: NormalMode) -> String {
-    let mut source = tessella_gpu::wgsl::patch_module(MATERIAL_GROUP, mode);
-    for b in (0..7).rev() {
-        source = source.replace(
-            &format!("@binding({b})"),
-            &format!("@binding({})", FIRST_BINDING + b),
-        );
-    }
-    source.replace("var<uniform>", "var<storage, read>")
-}
-
-const VERTEX_WESL: &str = include_str!("vertex.wesl");
-const PREPASS_WESL: &str = include_str!("prepass.wesl");
-
-/// Registers the material, the shader modules and the systems that swap an entity's mesh and
-/// material when [`Tessellate`] comes or goes.
+/// Registers the material, the shader modules, the glTF reader of extra joint influences and
+/// the systems that swap an entity's mesh and material when [`Tessellate`] comes or goes and
+/// pose the animated ones.
 pub struct TessellaPlugin;
 
 impl Plugin for TessellaPlugin {
     fn build(&self, app: &mut App) {
         app.add_plugins(MaterialPlugin::<TessellaMaterial>::default());
         let mut shaders = app.world_mut().resource_mut::<Assets<Shader>>();
-        for (handle, mode, name) in [
-            (PATCH_LINEAR, NormalMode::Linear, "patch_linear"),
-            (PATCH_QUADRATIC, NormalMode::Quadratic, "patch_quadratic"),
-            (PATCH_REAL, NormalMode::Real, "patch_real"),
-        ] {
-            let path = format!("embedded://tessella_bevy/{name}.wesl");
-            let _ = shaders.insert(
-                handle.id(),
-                Shader::from_wesl(patch_module_for_bevy(mode), path),
-            );
+        if let Err(e) = material::register_shaders(&mut shaders) {
+            error!("tessella: {e}");
         }
-        let _ = shaders.insert(
-            VERTEX_SHADER.id(),
-            Shader::from_wesl(VERTEX_WESL, "embedded://tessella_bevy/vertex.wesl"),
-        );
-        let _ = shaders.insert(
-            PREPASS_SHADER.id(),
-            Shader::from_wesl(PREPASS_WESL, "embedded://tessella_bevy/prepass.wesl"),
-        );
+        gltf_influences::register(app);
+        app.init_resource::<UploadStats>()
+            .init_resource::<PatternMeshes>();
         app.add_systems(
             PostUpdate,
-            (restore_material, untessellate, tessellate)
+            (untessellate, tessellate, animate::pose)
                 .chain()
+                .after(bevy::transform::TransformSystems::Propagate)
                 .before(bevy::camera::visibility::VisibilitySystems::CalculateBounds),
         );
     }
-}
 
-/// The pattern mesh and the extension's buffers of one plan.
-pub struct PatternMesh {
-    pub mesh: Mesh,
-    pub bytes: [Vec<u8>; 7],
-    pub normal_mode: NormalMode,
-    /// A box around the curved surface: the control points' (each patch lies in its control
-    /// net's convex hull).
-    pub aabb: (Vec3, Vec3),
-}
-
-/// Reads a Bevy triangle mesh as a tessella mesh (positions, normals if any, triangles).
-pub fn to_tessella_mesh(mesh: &Mesh) -> Result<tessella_core::Mesh, String> {
-    if mesh.primitive_topology() != PrimitiveTopology::TriangleList {
-        return Err("tessella refines triangle lists".into());
-    }
-    let positions: Vec<[f32; 3]> = match mesh.attribute(Mesh::ATTRIBUTE_POSITION) {
-        Some(bevy::mesh::VertexAttributeValues::Float32x3(p)) => p.clone(),
-        _ => return Err("the mesh has no Float32x3 positions".into()),
-    };
-    let normals = match mesh.attribute(Mesh::ATTRIBUTE_NORMAL) {
-        Some(bevy::mesh::VertexAttributeValues::Float32x3(n)) => Some(n.clone()),
-        _ => None,
-    };
-    let indices: Vec<u32> = match mesh.indices() {
-        Some(i) => i.iter().map(|i| i as u32).collect(),
-        None => (0..positions.len() as u32).collect(),
-    };
-    let triangles = indices
-        .chunks_exact(3)
-        .map(|t| [t[0], t[1], t[2]])
-        .collect();
-    tessella_core::Mesh::new(positions, normals, None, triangles).map_err(|e| e.to_string())
-}
-
-/// A Bevy mesh of a tessella mesh (what the examples load files into).
-pub fn to_bevy_mesh(mesh: &tessella_core::Mesh) -> Mesh {
-    Mesh::new(
-        PrimitiveTopology::TriangleList,
-        RenderAssetUsages::default(),
-    )
-    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, mesh.positions().to_vec())
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, mesh.normals().to_vec())
-    .with_inserted_indices(Indices::U32(
-        mesh.triangles().iter().flatten().copied().collect(),
-    ))
-}
-
-/// Builds the pattern mesh for `mesh` refined with `options`: per coarse triangle `f` and
-/// pattern vertex `v`, a vertex whose `UV_1` is `(f, v)` (exact in `f32` below 2^24), whose
-/// `UV_0` is the coarse mesh's texture coordinates interpolated linearly (the pattern point's
-/// barycentric `(l2, l3)` without them), and whose position and normal are the flat
-/// triangle's (unused by the shaders, which evaluate the patch; kept so the mesh is an
-/// ordinary Bevy mesh).
-pub fn pattern_mesh(
-    mesh: &tessella_core::Mesh,
-    options: &RefineOptions,
-) -> Result<PatternMesh, String> {
-    let plan = Plan::new(mesh, options).map_err(|e| e.to_string())?;
-    let frame = plan.frame(mesh).map_err(|e| e.to_string())?;
-    let bytes = tessella_gpu::wgsl::patch_bytes(&plan, &frame).map_err(|e| e.to_string())?;
-    let pattern = plan.pattern();
-    let faces = plan.triangles();
-    let n = pattern.points.len();
-    if faces.len() * n >= 1 << 24 {
-        return Err(format!(
-            "{} coarse triangles of {} pattern vertices: over the 2^24 vertex ids a float carries",
-            faces.len(),
-            n
-        ));
-    }
-    let mut positions = Vec::with_capacity(faces.len() * n);
-    let mut normals = Vec::with_capacity(faces.len() * n);
-    let mut ids = Vec::with_capacity(faces.len() * n);
-    let mut uvs = Vec::with_capacity(faces.len() * n);
-    let mut indices = Vec::with_capacity(faces.len() * pattern.triangles.len() * 3);
-    let p = mesh.positions();
-    let nm = mesh.normals();
-    for (f, t) in faces.iter().enumerate() {
-        let base = (f * n) as u32;
-        for (v, l) in pattern.points.iter().enumerate() {
-            let mix = |a: &[[f32; 3]]| {
-                let [x, y, z] = t.map(|i| Vec3::from(a[i as usize]));
-                (x * l[0] as f32 + y * l[1] as f32 + z * l[2] as f32).to_array()
-            };
-            positions.push(mix(p));
-            normals.push(Vec3::from(mix(nm)).normalize_or(Vec3::Z).to_array());
-            ids.push([f as f32, v as f32]);
-            uvs.push(match mesh.uvs() {
-                Some(uv) => {
-                    let [x, y, z] = t.map(|i| Vec2::from(uv[i as usize]));
-                    (x * l[0] as f32 + y * l[1] as f32 + z * l[2] as f32).to_array()
-                }
-                None => [l[1] as f32, l[2] as f32],
-            });
+    fn finish(&self, app: &mut App) {
+        // Tessellated entities are picked wherever the app picks Bevy's meshes
+        // (`MeshPickingPlugin`, added before or after this plugin).
+        let world = app.world();
+        if world.contains_resource::<bevy::picking::mesh_picking::MeshPickingSettings>()
+            && world.contains_resource::<bevy::picking::backend::ray::RayMap>()
+        {
+            app.add_systems(
+                PreUpdate,
+                picking::pick.in_set(bevy::picking::PickingSystems::Backend),
+            );
         }
-        indices.extend(pattern.triangles.iter().flatten().map(|&i| base + i));
     }
-    let bevy_mesh = Mesh::new(
-        PrimitiveTopology::TriangleList,
-        RenderAssetUsages::RENDER_WORLD,
-    )
-    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
-    // StandardMaterial's shaders read UV_0 whenever a mesh has UV channels.
-    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, ids)
-    .with_inserted_indices(Indices::U32(indices));
-    let mut lo = Vec3::splat(f32::INFINITY);
-    let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for c in &frame.nets().points {
-        let c = Vec3::from(*c);
-        lo = lo.min(c);
-        hi = hi.max(c);
-    }
-    Ok(PatternMesh {
-        mesh: bevy_mesh,
-        bytes,
-        normal_mode: plan.normal_mode(),
-        aabb: (lo, hi),
-    })
 }
 
-fn storage(buffers: &mut Assets<ShaderBuffer>, bytes: &[u8]) -> Handle<ShaderBuffer> {
-    // An empty binding is invalid; the shader never reads past the data.
-    let mut data = bytes.to_vec();
-    data.resize(data.len().max(16).next_multiple_of(4), 0);
-    buffers.add(ShaderBuffer::new(data, RenderAssetUsages::RENDER_WORLD))
+/// One coarse triangle's patch: a child of the tessellated entity drawing the shared pattern
+/// mesh with the triangle in its `MeshTag`.
+#[derive(Component, Clone, Copy, Debug)]
+pub struct Patch {
+    /// The coarse triangle.
+    pub face: u32,
 }
+
+/// A tessellated entity's patch children, one per coarse triangle, in triangle order.
+#[derive(Component, Clone, Debug, Default)]
+pub struct Patches(pub Vec<Entity>);
+
+/// The pattern mesh of each level drawn so far: one Bevy mesh a level, shared by every
+/// tessellated entity and every coarse triangle.
+#[derive(Resource, Default)]
+struct PatternMeshes(bevy::platform::collections::HashMap<u32, Handle<Mesh>>);
 
 /// What [`tessellate`] reads of an entity.
 type TessellateItem<'a> = (
     Entity,
     Ref<'a, Tessellate>,
-    &'a Mesh3d,
+    Option<&'a Mesh3d>,
     Option<&'a MeshMaterial3d<StandardMaterial>>,
     Option<&'a Untessellated>,
+    Option<&'a Patches>,
+    (
+        Option<&'a SkinnedMesh>,
+        Option<&'a MeshMorphWeights>,
+        Option<&'a ExtraInfluences>,
+    ),
+    (Has<NotShadowCaster>, Has<NotShadowReceiver>),
 );
 
-/// Swaps in the pattern mesh and the extended material for entities whose [`Tessellate`] is
-/// new or changed (once their mesh has loaded).
+/// The assets [`tessellate`] reads and adds.
+type TessellateAssets<'w> = (
+    ResMut<'w, Assets<Mesh>>,
+    Res<'w, Assets<StandardMaterial>>,
+    ResMut<'w, Assets<TessellaMaterial>>,
+    ResMut<'w, Assets<ShaderBuffer>>,
+    ResMut<'w, PatternMeshes>,
+);
+
+/// Builds the patches of entities whose [`Tessellate`] is new or changed (once their mesh and
+/// material have loaded): the entity's own mesh and material come off (kept in
+/// [`Untessellated`]) and one [`Patch`] child per coarse triangle draws the level's pattern.
 fn tessellate(
     mut commands: Commands,
-    query: Query<TessellateItem, Without<PendingMaterial>>,
-    mut meshes: ResMut<Assets<Mesh>>,
-    standard: Res<Assets<StandardMaterial>>,
-    mut materials: ResMut<Assets<TessellaMaterial>>,
-    mut buffers: ResMut<Assets<ShaderBuffer>>,
+    query: Query<TessellateItem>,
+    (mut meshes, standard, mut materials, mut buffers, mut patterns): TessellateAssets,
+    stats: Res<UploadStats>,
 ) {
-    for (entity, tess, mesh3d, material, untessellated) in &query {
+    for (entity, tess, mesh3d, material, untessellated, patches, deform, shadows) in &query {
+        let (skin, morph, extra) = deform;
         let key = format!("{:?}", tess.0);
-        let (plain_mesh, plain_material) = match (untessellated, material) {
-            (Some(u), _) if u.built_for == key => continue,
-            (Some(u), _) => (u.mesh.clone(), u.material.clone()),
-            (None, Some(m)) => (mesh3d.0.clone(), m.0.clone()),
-            (None, None) => {
-                warn!("Tessellate on {entity} needs MeshMaterial3d<StandardMaterial>");
+        let (plain_mesh, plain_material) = match (untessellated, mesh3d, material) {
+            (Some(u), _, _) if u.built_for == key => continue,
+            (Some(u), _, _) => (u.mesh.clone(), u.material.clone()),
+            (None, Some(m), Some(s)) => (m.0.clone(), s.0.clone()),
+            (None, _, _) => {
+                warn!("Tessellate on {entity} needs Mesh3d and MeshMaterial3d<StandardMaterial>");
+                commands.entity(entity).remove::<Tessellate>();
                 continue;
             }
         };
@@ -377,18 +175,59 @@ fn tessellate(
         else {
             continue; // not loaded yet: try again next frame
         };
-        let built = to_tessella_mesh(plain).and_then(|m| pattern_mesh(&m, &tess.0));
-        let built = match built {
-            Ok(b) => b,
-            Err(e) => {
+        // Copies of the coarse mesh and material: the pattern mesh may be added below.
+        let (plain, base) = (plain.clone(), base.clone());
+        let built = to_tessella_mesh(&plain).and_then(|m| pattern::build(&m, &tess.0));
+        let level = built.as_ref().map(|b| b.plan.pattern().level).unwrap_or(0);
+        let pattern = match patterns.0.get(&level) {
+            Some(p) => Ok(p.clone()),
+            None => built
+                .as_ref()
+                .map_err(Clone::clone)
+                .and_then(|b| pattern_mesh(b.plan.pattern()))
+                .map(|mesh| {
+                    let handle = meshes.add(mesh);
+                    patterns.0.insert(level, handle.clone());
+                    handle
+                }),
+        };
+        let (built, pattern) = match (built, pattern) {
+            (Ok(b), Ok(p)) => (b, p),
+            (Err(e), _) | (_, Err(e)) => {
                 error!("cannot tessellate {entity}: {e}");
                 commands.entity(entity).remove::<Tessellate>();
                 continue;
             }
         };
-        let [b0, b1, b2, b3, b4, b5, b6] = built.bytes.each_ref().map(|b| storage(&mut buffers, b));
+        // Bevy animates it: tessella poses the coarse mesh each frame (`animate::pose`).
+        let animated = (skin.is_some() || morph.is_some()).then(|| skin.map(|s| s.joints.len()));
+        let handles = built.bytes.each_ref().map(|b| storage(&mut buffers, b));
+        let made: usize = built.bytes.iter().map(|b| pattern::padded(b).len()).sum();
+        stats.add(made as u64);
+        let animated = match animated {
+            None => None,
+            Some(joints) => {
+                let made = Animated::new(
+                    &plain,
+                    extra,
+                    joints,
+                    &built.frame,
+                    handles[1].clone(),
+                    handles[2].clone(),
+                );
+                match made {
+                    Ok(a) => Some(a),
+                    Err(e) => {
+                        error!("cannot animate the tessellated {entity}: {e}");
+                        commands.entity(entity).remove::<Tessellate>();
+                        continue;
+                    }
+                }
+            }
+        };
+        let [b0, b1, b2, b3, b4, b5, b6, b7] = handles;
         let material = materials.add(TessellaMaterial {
-            base: base.clone(),
+            base,
             extension: TessellaExtension {
                 stencil: b0,
                 net_points: b1,
@@ -397,88 +236,98 @@ fn tessellate(
                 displace_params: b4,
                 displace_data: b5,
                 edge_table: b6,
+                face_uvs: b7,
                 normal_mode: NormalModeKey::of(built.normal_mode),
             },
         });
-        let (lo, hi) = built.aabb;
-        let mut e = commands.entity(entity);
-        if untessellated.is_some() {
-            // Rebuilt for new options: the material type stays.
-            e.insert(MeshMaterial3d(material));
-        } else {
-            // From StandardMaterial: the extended material comes next frame (see
-            // `untessellate`).
-            e.remove::<MeshMaterial3d<StandardMaterial>>()
-                .insert(PendingMaterial::Tessella(material));
+        if let Some(old) = patches {
+            for child in &old.0 {
+                commands.entity(*child).despawn();
+            }
         }
-        e.insert((
-            Mesh3d(meshes.add(built.mesh)),
-            // Bevy's own box would be the flat triangles'; the curve bulges past them.
-            Aabb::from_min_max(lo, hi),
-            NoAutoAabb,
-            Untessellated {
-                mesh: plain_mesh,
-                material: plain_material,
-                built_for: key,
-            },
-        ));
-    }
-}
-
-/// A material put on one frame after the entity's other material type went.
-#[derive(Component)]
-enum PendingMaterial {
-    Plain(Handle<StandardMaterial>),
-    Tessella(Handle<TessellaMaterial>),
-}
-
-/// Gives the plain mesh back to entities that lost [`Tessellate`]; the plain material follows
-/// next frame ([`restore_material`]). Swapping the material type of an entity within one frame
-/// sometimes left Bevy 0.20.1 drawing it with the old type's pipeline and the new type's bind
-/// group (a wgpu validation error in the prepass and the opaque pass, seen on removal).
-fn untessellate(
-    mut commands: Commands,
-    mut removed: RemovedComponents<Tessellate>,
-    query: Query<&Untessellated, Without<Tessellate>>,
-) {
-    for entity in removed.read() {
-        let Ok(u) = query.get(entity) else { continue };
-        commands
-            .entity(entity)
-            .remove::<(
-                MeshMaterial3d<TessellaMaterial>,
-                Untessellated,
-                Aabb,
-                NoAutoAabb,
-            )>()
+        let (no_cast, no_receive) = shadows;
+        let children: Vec<Entity> = built
+            .boxes
+            .iter()
+            .enumerate()
+            .map(|(face, &(lo, hi))| {
+                let mut child = commands.spawn((
+                    Patch { face: face as u32 },
+                    Mesh3d(pattern.clone()),
+                    MeshMaterial3d(material.clone()),
+                    MeshTag::new(face as u32),
+                    Transform::IDENTITY,
+                    // Bevy's own box would be the pattern's; each patch has its net's.
+                    Aabb::from_min_max(lo, hi),
+                    NoAutoAabb,
+                    // Picked through the parent's surface (`picking`), not the pattern.
+                    Pickable::IGNORE,
+                    ChildOf(entity),
+                ));
+                if no_cast {
+                    child.insert(NotShadowCaster);
+                }
+                if no_receive {
+                    child.insert(NotShadowReceiver);
+                }
+                child.id()
+            })
+            .collect();
+        let mut e = commands.entity(entity);
+        match animated {
+            Some(a) => e.insert(a),
+            None => e.remove::<Animated>(),
+        };
+        e.remove::<(Mesh3d, MeshMaterial3d<StandardMaterial>)>()
             .insert((
-                Mesh3d(u.mesh.clone()),
-                PendingMaterial::Plain(u.material.clone()),
+                Surface {
+                    plan: built.plan,
+                    frame: built.frame,
+                    version: 0,
+                },
+                PickMesh::default(),
+                Patches(children),
+                Untessellated {
+                    mesh: plain_mesh,
+                    material: plain_material,
+                    built_for: key,
+                },
             ));
     }
 }
 
-fn restore_material(mut commands: Commands, query: Query<(Entity, &PendingMaterial)>) {
-    for (entity, pending) in &query {
-        let mut entity = commands.entity(entity);
-        entity.remove::<PendingMaterial>();
-        match pending {
-            PendingMaterial::Plain(m) => entity.insert(MeshMaterial3d(m.clone())),
-            PendingMaterial::Tessella(m) => entity.insert(MeshMaterial3d(m.clone())),
+/// Gives the plain mesh and material back to entities that lost [`Tessellate`], and despawns
+/// their patches.
+fn untessellate(
+    mut commands: Commands,
+    mut removed: RemovedComponents<Tessellate>,
+    query: Query<(&Untessellated, Option<&Patches>), Without<Tessellate>>,
+) {
+    for entity in removed.read() {
+        let Ok((u, patches)) = query.get(entity) else {
+            continue;
         };
+        for child in patches.map(|p| p.0.as_slice()).unwrap_or_default() {
+            commands.entity(*child).despawn();
+        }
+        commands
+            .entity(entity)
+            .remove::<(Untessellated, Patches, Animated, Surface, PickMesh)>()
+            .insert((Mesh3d(u.mesh.clone()), MeshMaterial3d(u.material.clone())));
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tessella_core::samples;
+    use tessella_core::{samples, NormalMode};
 
-    /// The pattern mesh holds each coarse triangle's pattern once, with (triangle, pattern
-    /// vertex) ids in UV_1, and its box holds the curved surface that tessella's CPU refinement
-    /// computes (the independent reference: no shader involved).
+    /// The pattern mesh holds the level's pattern once, with each vertex's index in UV_1 and
+    /// its barycentric in UV_0; the per-triangle boxes together hold the curved surface that
+    /// tessella's CPU refinement computes (the independent reference: no shader involved),
+    /// which leaves the coarse mesh's box.
     #[test]
-    fn pattern_mesh_ids_and_box_cover_the_refined_surface() {
+    fn pattern_mesh_and_patch_boxes_cover_the_refined_surface() {
         for (mesh, scheme, level) in [
             (samples::tetrahedron(), Scheme::Pn, 8),
             (
@@ -489,26 +338,45 @@ mod tests {
             (samples::creature(), Scheme::PnAen, 4),
         ] {
             let options = RefineOptions::new(scheme, level);
-            let built = pattern_mesh(&mesh, &options).unwrap();
+            let built = build(&mesh, &options).unwrap();
+            let pattern = pattern_mesh(built.plan.pattern()).unwrap();
             let points = tessella_core::Pattern::point_count(level) as usize;
-            let faces = mesh.face_count();
             let Some(bevy::mesh::VertexAttributeValues::Float32x2(ids)) =
-                built.mesh.attribute(Mesh::ATTRIBUTE_UV_1)
+                pattern.attribute(Mesh::ATTRIBUTE_UV_1)
             else {
                 panic!("no UV_1");
             };
-            assert_eq!(ids.len(), faces * points);
+            assert_eq!(ids.len(), points);
             for (i, id) in ids.iter().enumerate() {
-                assert_eq!(*id, [(i / points) as f32, (i % points) as f32]);
+                assert_eq!(*id, [i as f32, 0.0]);
             }
+            let Some(bevy::mesh::VertexAttributeValues::Float32x2(bary)) =
+                pattern.attribute(Mesh::ATTRIBUTE_UV_0)
+            else {
+                panic!("no UV_0");
+            };
+            for (b, l) in bary.iter().zip(&built.plan.pattern().points) {
+                assert_eq!(*b, [l[1] as f32, l[2] as f32]);
+            }
+            assert_eq!(built.boxes.len(), mesh.face_count());
+            // Texture coordinates: three a coarse triangle.
+            assert_eq!(built.bytes[7].len(), mesh.face_count() * 3 * 8);
             let refined = tessella_core::refine(&mesh, &options).unwrap();
-            let (lo, hi) = built.aabb;
+            let (lo, hi) = built
+                .boxes
+                .iter()
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), (l, h)| {
+                    (a.min(*l), b.max(*h))
+                });
             let slack = (hi - lo).length() * 1e-5;
             for p in &refined.positions {
                 let p = Vec3::from(*p);
                 assert!(
-                    p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
-                    "{p} outside the box {lo}..{hi}"
+                    built
+                        .boxes
+                        .iter()
+                        .any(|(l, h)| p.cmpge(*l - slack).all() && p.cmple(*h + slack).all()),
+                    "{p} outside every patch box"
                 );
             }
             // The refined surface leaves the coarse mesh's box: a box of the flat triangles

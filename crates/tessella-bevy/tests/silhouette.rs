@@ -267,3 +267,187 @@ fn tessellated_shading_and_shadow_match_the_offline_refined_mesh() {
         "only {shadowed} pixels darkened by the shadow"
     );
 }
+
+/// Renders `view` arguments with the example into `out`.
+fn bevy_view(file: &str, args: &[&str], out: &Path) {
+    let mut cmd = Command::new(view_example());
+    cmd.arg(repo().join(file))
+        .args(["--size", SIZE])
+        .args(args)
+        .arg("--screenshot")
+        .arg(out);
+    run(cmd);
+}
+
+const CREATURE: &str = "samples/animated-creature.glb";
+
+/// The skinned, morphing creature loaded by Bevy's glTF loader and played by Bevy's
+/// `AnimationPlayer` (held at a time): the tessellated surface's silhouette matches `tessella
+/// render --clip --time` of the same file (tessella's own posing and renderer), for a skinning
+/// clip with two influence sets, a translating one and a morph-weight one.
+#[test]
+fn skinned_character_played_by_bevy_matches_tessella_render_of_the_clip() {
+    let dir = tempfile_dir("skinned");
+    let camera = ["--yaw", "25", "--pitch", "15", "--zoom", "1"];
+    let rest = dir.join("rest-bevy.png");
+    let mut args = vec!["--scheme", "pn", "--level", "8"];
+    args.extend(camera);
+    bevy_view(CREATURE, &args, &rest);
+    for (clip, time) in [("wave", "0.5"), ("hop", "0.3"), ("breathe", "1.2")] {
+        let posed = dir.join(format!("{clip}-bevy.png"));
+        let mut a = args.clone();
+        a.extend(["--clip", clip, "--time", time]);
+        bevy_view(CREATURE, &a, &posed);
+        let mut view = camera.to_vec();
+        view.extend(["--clip", clip, "--time", time]);
+        let reference = cli_render(&dir, &format!("{clip}-cli"), CREATURE, "pn", 8, &view);
+        let curved = iou(&posed, &reference);
+        let moved = iou(&posed, &rest);
+        eprintln!("{clip} at {time}: IoU Bevy/CLI {curved:.4}, posed/rest {moved:.4}");
+        assert!(
+            curved >= 0.98,
+            "{clip}: Bevy vs tessella render IoU {curved}"
+        );
+        assert!(
+            moved < curved,
+            "{clip}: the posed picture is no nearer tessella's pose than the rest pose"
+        );
+    }
+}
+
+/// While Bevy plays a clip, each frame uploads the coarse mesh's control nets and nothing
+/// else: the same bytes at levels 4 and 32, in proportion to the coarse triangles.
+#[test]
+fn a_deforming_entity_uploads_coarse_bytes_whatever_the_level() {
+    let dir = tempfile_dir("stats");
+    let triangles = tessella_io::read_mesh(&repo().join(CREATURE))
+        .unwrap()
+        .face_count() as u64;
+    let mut per_level = Vec::new();
+    for level in ["4", "32"] {
+        let out = dir.join(format!("stats-{level}.png"));
+        let mut cmd = Command::new(view_example());
+        cmd.arg(repo().join(CREATURE))
+            .args(["--size", "96x96", "--scheme", "pn", "--level", level])
+            .args([
+                "--clip", "wave", "--time", "0.1", "--frames", "6", "--stats",
+            ])
+            .arg("--screenshot")
+            .arg(&out);
+        let output = cmd.output().expect("the example starts");
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        let bytes: Vec<u64> = stdout
+            .lines()
+            .filter_map(|l| l.split("\"uploaded_bytes\":").nth(1))
+            .map(|rest| rest.split([',', '}']).next().unwrap().parse().unwrap())
+            .collect();
+        eprintln!("level {level}: bytes per frame {bytes:?} for {triangles} coarse triangles");
+        assert!(bytes.len() >= 4, "too few stats lines:\n{stdout}");
+        // Every frame of a playing clip deforms; each uploads at most 256 bytes a coarse
+        // triangle (PN's nets: 10 points and 6 normals of 16 bytes would be 256).
+        for &b in &bytes {
+            assert!(b > 0 && b <= 256 * triangles, "{b} bytes in a frame");
+        }
+        per_level.push(bytes[1..].to_vec());
+    }
+    assert_eq!(
+        per_level[0], per_level[1],
+        "the upload depends on the level"
+    );
+}
+
+/// The JSON `pick` line the example printed: (hit, subject, depth).
+fn picked(stdout: &str) -> (bool, bool, f64) {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("{\"pick\""))
+        .unwrap_or_else(|| panic!("no pick line in:\n{stdout}"));
+    let field = |name: &str| {
+        line.split(&format!("\"{name}\":"))
+            .nth(1)
+            .map(|r| r.split([',', '}']).next().unwrap().to_string())
+    };
+    let hit = field("hit").as_deref() == Some("true");
+    let subject = field("subject").as_deref() == Some("true");
+    let depth = field("depth").map_or(f64::NAN, |d| d.parse().unwrap());
+    (hit, subject, depth)
+}
+
+/// Bevy's picking convention reaches the tessellated entity through its curved surface: a
+/// pointer over a pixel that the curved patches cover but the coarse triangles do not
+/// (found from `tessella render`'s pictures) hits the entity; with the plain mesh it hits
+/// nothing. In the middle of the mesh both hit, the curved surface no farther away.
+#[test]
+fn picking_hits_the_curved_surface_not_the_coarse_mesh() {
+    let dir = tempfile_dir("picking");
+    let file = "samples/tetrahedron.obj";
+    let view = ["--yaw", "30", "--pitch", "20", "--zoom", "1"];
+    let curved = silhouette(&cli_render(&dir, "pn", file, "pn", 8, &view));
+    let flat = silhouette(&cli_render(&dir, "flat", file, "flat", 1, &view));
+    let ((curved, (w, h)), (flat, _)) = (curved, flat);
+    let at = |m: &[bool], x: i64, y: i64| {
+        x >= 0 && y >= 0 && x < w as i64 && y < h as i64 && m[(y * w as i64 + x) as usize]
+    };
+    // A pixel 3 pixels deep inside the curved silhouette and 3 pixels outside the flat one.
+    let deep = |x: i64, y: i64, m: &[bool], want: bool| {
+        (-3..=3).all(|dy| (-3..=3).all(|dx| at(m, x + dx, y + dy) == want))
+    };
+    let bulge = (0..h as i64)
+        .flat_map(|y| (0..w as i64).map(move |x| (x, y)))
+        .find(|&(x, y)| deep(x, y, &curved, true) && deep(x, y, &flat, false))
+        .expect("no pixel where the curved surface bulges past the coarse one");
+    // The coarse silhouette's centroid.
+    let inside: Vec<(i64, i64)> = (0..h as i64)
+        .flat_map(|y| (0..w as i64).map(move |x| (x, y)))
+        .filter(|&(x, y)| at(&flat, x, y))
+        .collect();
+    let n = inside.len() as i64;
+    let middle = inside
+        .iter()
+        .fold((0, 0), |(sx, sy), (x, y)| (sx + x, sy + y));
+    let middle = (middle.0 / n, middle.1 / n);
+    assert!(
+        deep(middle.0, middle.1, &flat, true),
+        "{middle:?} is not inside"
+    );
+    let pick = |(x, y): (i64, i64), plain: bool| {
+        let mut cmd = Command::new(view_example());
+        cmd.arg(repo().join(file))
+            .args(["--size", SIZE, "--scheme", "pn", "--level", "8"])
+            .args(view)
+            .args(["--pick", &format!("{x},{y}")])
+            .arg("--screenshot")
+            .arg(dir.join("pick.png"));
+        if plain {
+            cmd.arg("--plain");
+        }
+        let out = cmd.output().expect("the example starts");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        picked(&String::from_utf8_lossy(&out.stdout))
+    };
+    let (hit, subject, _) = pick(bulge, false);
+    eprintln!("bulge pixel {bulge:?}: tessellated hit {hit}, on the entity {subject}");
+    assert!(
+        hit && subject,
+        "the curved surface at {bulge:?} was not picked"
+    );
+    let (hit, _, _) = pick(bulge, true);
+    assert!(!hit, "the plain mesh was picked at {bulge:?}, outside it");
+    let (hit, subject, curved_depth) = pick(middle, false);
+    let (plain_hit, _, plain_depth) = pick(middle, true);
+    eprintln!("middle pixel {middle:?}: depths tessellated {curved_depth}, plain {plain_depth}");
+    assert!(hit && subject && plain_hit);
+    assert!(
+        curved_depth <= plain_depth + 1e-4,
+        "the curved surface is behind the flat one"
+    );
+}

@@ -1,0 +1,174 @@
+//! What Bevy draws for a tessellated entity: the refinement pattern (one triangle
+//! pre-tessellated at the level, stored once) drawn as one instance per coarse triangle, and
+//! the patch buffers its vertex stage reads; and the conversions between Bevy's meshes and
+//! tessella's.
+
+use bevy::asset::RenderAssetUsages;
+use bevy::mesh::{Indices, PrimitiveTopology};
+use bevy::prelude::*;
+use bevy::render::storage::{ShaderBuffer, ShaderBufferData};
+use std::sync::Arc;
+use tessella_core::refine::{Frame, Plan};
+use tessella_core::{NormalMode, RefineOptions};
+
+/// A tessellated mesh's GPU data: the patch group's buffers and what a deforming mesh rebuilds
+/// them with.
+pub struct Built {
+    /// The patch group's seven bindings (tessella-gpu's
+    /// [`patch_bytes`](tessella_gpu::wgsl::patch_bytes)), then the coarse texture coordinates
+    /// (binding 107: three `vec2<f32>` a coarse triangle).
+    pub bytes: [Vec<u8>; 8],
+    pub normal_mode: NormalMode,
+    /// Per coarse triangle, a box around its patch: its control points' (a patch lies in its
+    /// control net's convex hull).
+    pub boxes: Vec<(Vec3, Vec3)>,
+    /// What was built once for the mesh's topology: a deforming mesh builds each frame's nets
+    /// with it.
+    pub plan: Arc<Plan>,
+    /// The coarse mesh and its nets as built.
+    pub frame: Frame<'static>,
+}
+
+/// Reads a Bevy triangle mesh as a tessella mesh (positions, normals if any, triangles).
+pub fn to_tessella_mesh(mesh: &Mesh) -> Result<tessella_core::Mesh, String> {
+    if mesh.primitive_topology() != PrimitiveTopology::TriangleList {
+        return Err("tessella refines triangle lists".into());
+    }
+    let positions: Vec<[f32; 3]> = match mesh.attribute(Mesh::ATTRIBUTE_POSITION) {
+        Some(bevy::mesh::VertexAttributeValues::Float32x3(p)) => p.clone(),
+        _ => return Err("the mesh has no Float32x3 positions".into()),
+    };
+    let normals = match mesh.attribute(Mesh::ATTRIBUTE_NORMAL) {
+        Some(bevy::mesh::VertexAttributeValues::Float32x3(n)) => Some(n.clone()),
+        _ => None,
+    };
+    let indices: Vec<u32> = match mesh.indices() {
+        Some(i) => i.iter().map(|i| i as u32).collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let triangles = indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    tessella_core::Mesh::new(positions, normals, None, triangles).map_err(|e| e.to_string())
+}
+
+/// A Bevy mesh of a tessella mesh (what the examples load files into).
+pub fn to_bevy_mesh(mesh: &tessella_core::Mesh) -> Mesh {
+    Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::default(),
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, mesh.positions().to_vec())
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, mesh.normals().to_vec())
+    .with_inserted_indices(Indices::U32(
+        mesh.triangles().iter().flatten().copied().collect(),
+    ))
+}
+
+/// Builds the patch buffers of `mesh` refined with `options` (uniform levels: the one
+/// pattern all triangles share).
+pub fn build(mesh: &tessella_core::Mesh, options: &RefineOptions) -> Result<Built, String> {
+    let plan = Plan::new(mesh, options).map_err(|e| e.to_string())?;
+    let frame = plan.frame(mesh.clone()).map_err(|e| e.to_string())?;
+    let [b0, b1, b2, b3, b4, b5, b6] =
+        tessella_gpu::wgsl::patch_bytes(&plan, &frame).map_err(|e| e.to_string())?;
+    let uvs = face_uv_bytes(mesh, plan.triangles());
+    Ok(Built {
+        bytes: [b0, b1, b2, b3, b4, b5, b6, uvs],
+        normal_mode: plan.normal_mode(),
+        boxes: face_boxes(&frame),
+        plan: Arc::new(plan),
+        frame,
+    })
+}
+
+/// Per coarse triangle, its corners' texture coordinates (the barycentric corners (0, 0),
+/// (1, 0), (0, 1) for a mesh without them): the vertex stage interpolates them linearly at
+/// each pattern point.
+fn face_uv_bytes(mesh: &tessella_core::Mesh, triangles: &[[u32; 3]]) -> Vec<u8> {
+    let mut uvs: Vec<[f32; 2]> = Vec::with_capacity(triangles.len() * 3);
+    for t in triangles {
+        match mesh.uvs() {
+            Some(uv) => uvs.extend(t.map(|i| uv[i as usize])),
+            None => uvs.extend([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+        }
+    }
+    bytemuck::cast_slice(&uvs).to_vec()
+}
+
+/// A refinement pattern as a Bevy mesh, drawn once per coarse triangle: each
+/// vertex's `UV_0` is its barycentric `(l2, l3)` and its `UV_1` is `(index, 0)` (exact in
+/// `f32`); position and normal are the unit triangle's (unused by the shaders, which evaluate
+/// the patch; kept so the mesh is an ordinary Bevy mesh).
+pub fn pattern_mesh(pattern: &tessella_core::Pattern) -> Result<Mesh, String> {
+    let n = pattern.points.len();
+    if n >= 1 << 24 {
+        return Err(format!(
+            "{n} pattern vertices: over the 2^24 ids a float carries"
+        ));
+    }
+    let l2 = |l: &[f64; 3]| [l[1] as f32, l[2] as f32];
+    let positions: Vec<[f32; 3]> = pattern
+        .points
+        .iter()
+        .map(|l| [l[1] as f32, l[2] as f32, 0.0])
+        .collect();
+    let uvs: Vec<[f32; 2]> = pattern.points.iter().map(l2).collect();
+    let ids: Vec<[f32; 2]> = (0..n).map(|v| [v as f32, 0.0]).collect();
+    Ok(Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
+    // StandardMaterial's shaders read UV_0 whenever a mesh has UV channels.
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, ids)
+    .with_inserted_indices(Indices::U32(
+        pattern.triangles.iter().flatten().copied().collect(),
+    )))
+}
+
+/// Per coarse triangle, the box of its control points, which holds its patch.
+pub fn face_boxes(frame: &Frame) -> Vec<(Vec3, Vec3)> {
+    let nets = frame.nets();
+    let per_face = nets.points.len() / nets.len().max(1);
+    nets.points
+        .chunks_exact(per_face.max(1))
+        .map(|points| {
+            points.iter().fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(Vec3::from(*p)), hi.max(Vec3::from(*p))),
+            )
+        })
+        .collect()
+}
+
+/// The bytes a storage binding holds: `bytes`, grown to at least 16 and to a multiple of 4 (an
+/// empty binding is invalid; the shader never reads past the data).
+pub(crate) fn padded(bytes: &[u8]) -> Vec<u8> {
+    let mut data = bytes.to_vec();
+    data.resize(data.len().max(16).next_multiple_of(4), 0);
+    data
+}
+
+/// Replaces a storage buffer's contents by `bytes` of the same padded size: Bevy then writes
+/// them into the buffer it has (no new buffer, no new bind group). Returns the bytes handed
+/// over.
+pub(crate) fn rewrite(buffer: &mut ShaderBuffer, bytes: &[u8]) -> u64 {
+    let data = padded(bytes);
+    let len = data.len() as u64;
+    buffer.data = ShaderBufferData::Initialized {
+        data: data.into(),
+        buffer_size: len,
+    };
+    len
+}
+
+pub(crate) fn storage(buffers: &mut Assets<ShaderBuffer>, bytes: &[u8]) -> Handle<ShaderBuffer> {
+    buffers.add(ShaderBuffer::new(
+        padded(bytes),
+        RenderAssetUsages::RENDER_WORLD,
+    ))
+}

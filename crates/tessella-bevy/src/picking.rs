@@ -1,0 +1,129 @@
+//! Picking a tessellated entity the way Bevy picks meshes: a picking backend that casts each
+//! pointer's ray against the curved surface as drawn (tessella's CPU refinement of the
+//! entity's current frame, made again only when the pose changed and a ray asks) and reports
+//! the hit on the tessellated entity itself, so `Pointer<Click>` and friends reach it and
+//! bubble up its parents. Its patch children are `Pickable::IGNORE`: their pattern mesh is
+//! not where the surface is.
+
+use bevy::camera::visibility::RenderLayers;
+use bevy::picking::backend::ray::RayMap;
+use bevy::picking::backend::{HitData, PointerHits};
+use bevy::picking::mesh_picking::ray_cast::{ray_mesh_intersection, Backfaces};
+use bevy::picking::mesh_picking::{MeshPickingCamera, MeshPickingSettings};
+use bevy::picking::Pickable;
+use bevy::prelude::*;
+use std::sync::Arc;
+use tessella_core::refine::{Frame, Plan, RefinedMesh};
+
+/// A tessellated entity's surface as drawn: the plan and the current frame (posed, for an
+/// animated entity), with a count that changes whenever the frame does.
+#[derive(Component)]
+pub(crate) struct Surface {
+    pub plan: Arc<Plan>,
+    pub frame: Frame<'static>,
+    pub version: u64,
+}
+
+/// The refined triangles rays are cast against, and the surface version they were made for.
+#[derive(Component, Default)]
+pub(crate) struct PickMesh {
+    made_for: Option<u64>,
+    refined: RefinedMesh,
+    indices: Vec<u32>,
+}
+
+impl PickMesh {
+    fn refresh(&mut self, surface: &Surface) -> Result<(), String> {
+        if self.made_for == Some(surface.version) {
+            return Ok(());
+        }
+        surface
+            .plan
+            .refine_into(&surface.frame, &mut self.refined, &|_| {})
+            .map_err(|e| e.to_string())?;
+        self.indices.clear();
+        self.indices
+            .extend(self.refined.triangles.iter().flatten().copied());
+        self.made_for = Some(surface.version);
+        Ok(())
+    }
+}
+
+/// What [`pick`] reads of a tessellated entity.
+type Target<'a> = (
+    Entity,
+    &'a Surface,
+    &'a mut PickMesh,
+    &'a GlobalTransform,
+    Option<&'a InheritedVisibility>,
+    Option<&'a Pickable>,
+    Option<&'a RenderLayers>,
+);
+
+/// Bevy's picking cameras.
+type Cameras<'w, 's> = Query<
+    'w,
+    's,
+    (
+        &'static Camera,
+        Has<MeshPickingCamera>,
+        Option<&'static RenderLayers>,
+    ),
+>;
+
+/// Casts every pointer ray against every visible, pickable tessellated entity (following
+/// `MeshPickingSettings`' markers and render layers as Bevy's mesh backend does) and reports the
+/// nearest hit on each as a `PointerHits` message.
+pub(crate) fn pick(
+    settings: Option<Res<MeshPickingSettings>>,
+    rays: Res<RayMap>,
+    cameras: Cameras,
+    mut targets: Query<Target>,
+    mut hits: MessageWriter<PointerHits>,
+) {
+    let require_markers = settings.is_some_and(|s| s.require_markers);
+    for (&ray_id, &ray) in rays.iter() {
+        let Ok((camera, marked_camera, camera_layers)) = cameras.get(ray_id.camera) else {
+            continue;
+        };
+        if require_markers && !marked_camera {
+            continue;
+        }
+        let camera_layers = camera_layers.cloned().unwrap_or_default();
+        let mut picks = Vec::new();
+        for (entity, surface, mut mesh, global, visible, pickable, layers) in &mut targets {
+            let shown = visible.is_none_or(|v| v.get());
+            let hoverable = pickable.is_none_or(|p| p.is_hoverable);
+            let marked = !require_markers || pickable.is_some();
+            let layered = camera_layers.intersects(&layers.cloned().unwrap_or_default());
+            if !(shown && hoverable && marked && layered) {
+                continue;
+            }
+            if let Err(e) = mesh.refresh(surface) {
+                error!("cannot pick {entity}: {e}");
+                continue;
+            }
+            let hit = ray_mesh_intersection(
+                ray,
+                &global.affine(),
+                &mesh.refined.positions,
+                Some(&mesh.refined.normals),
+                Some(&mesh.indices),
+                None,
+                Backfaces::Cull,
+            );
+            if let Some(hit) = hit {
+                let data = HitData::new(
+                    ray_id.camera,
+                    hit.distance,
+                    Some(hit.point),
+                    Some(hit.normal),
+                );
+                picks.push((entity, data));
+            }
+        }
+        if !picks.is_empty() {
+            hits.write(PointerHits::new(ray_id.pointer, picks, camera.order as f32));
+        }
+    }
+}
