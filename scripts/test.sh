@@ -115,3 +115,14 @@ fi
 cargo build --quiet -p tessella-cli
 (cd web && npm ci --no-audit --no-fund && npm run build && npm test)
 
+
+# --- The Bevy plugin (crates/tessella-bevy): a workspace of its own on Rust 1.97.1 ---
+# Bevy 0.20.1 declares Rust 1.97.1 (the crate's rust-toolchain.toml); rustup installs it. Its
+# tests run the `view` example headless on lavapipe against the CLI built above
+# (target/debug/tessella) as the independent reference.
+echo "== Bevy plugin: fmt, clippy, tests (its own workspace, toolchain 1.97.1)"
+rustup toolchain install 1.97.1 --profile minimal --component rustfmt --component clippy
+(cd crates/tessella-bevy \
+  && cargo fmt -- --check \
+  && cargo clippy --all-targets --quiet -- -D warnings \
+  && TESSELLA_BIN="$PWD/../../target/debug/tessella" cargo test)
