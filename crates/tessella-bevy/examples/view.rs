@@ -34,8 +34,9 @@ use std::path::PathBuf;
 use std::time::Duration;
 use tessella_bevy::tessella_core::animation::Poser;
 use tessella_bevy::tessella_core::names::parse_name;
+use tessella_bevy::tessella_core::refine::{Camera as LodCamera, Lod, Spacing};
 use tessella_bevy::tessella_core::Scheme;
-use tessella_bevy::{to_bevy_mesh, Patch, TessellaPlugin, Tessellate, UploadStats};
+use tessella_bevy::{to_bevy_mesh, LodLevels, Patch, TessellaPlugin, Tessellate, UploadStats};
 
 /// `tessella render`'s vertical field of view (tessella-view's `FOV_Y_DEGREES`).
 const FOV_Y_DEGREES: f32 = 30.0;
@@ -72,6 +73,10 @@ struct Args {
     time: f32,
     /// One JSON line a frame during `--frames`: the bytes tessella uploaded in it.
     stats: bool,
+    /// Per-edge levels from this LOD (`screen:PX`, `tolerance:D`, `distance:NEAR,FAR,MAX`),
+    /// seen from the camera, divided with `spacing`.
+    lod: Option<String>,
+    spacing: Spacing,
     /// A pointer at this pixel: after the picture, one JSON line says what Bevy's picking
     /// found under it.
     pick: Option<Vec2>,
@@ -109,6 +114,8 @@ fn parse_args() -> Result<Args, String> {
         time: 0.0,
         stats: false,
         pick: None,
+        lod: None,
+        spacing: Spacing::FractionalOdd,
     };
     let mut it = std::env::args().skip(1);
     let mut input = None;
@@ -140,6 +147,8 @@ fn parse_args() -> Result<Args, String> {
             "--clip" => args.clip = Some(value()?),
             "--time" => args.time = num(value()?)?,
             "--stats" => args.stats = true,
+            "--lod" => args.lod = Some(value()?),
+            "--spacing" => args.spacing = parse_name(&value()?).map_err(|e| e.to_string())?,
             "--pick" => {
                 let v = value()?;
                 let (x, y) = v.split_once(',').ok_or(format!("--pick {v}: want X,Y"))?;
@@ -151,6 +160,15 @@ fn parse_args() -> Result<Args, String> {
         }
     }
     args.input = input.ok_or("usage: view FILE [--scheme S --level L ...]")?;
+    if let Some(lod) = &args.lod {
+        // Checked now; the camera and size are Bevy's, each frame.
+        let camera = LodCamera {
+            eye: [0.0, 0.0, 1.0],
+            target: [0.0; 3],
+            fov_y_deg: FOV_Y_DEGREES,
+        };
+        Lod::parse(lod, Some(camera), Some([1, 1])).map_err(|e| format!("--lod: {e}"))?;
+    }
     if args.clip.is_some() && !args.is_gltf() {
         return Err("--clip needs a glTF file".into());
     }
@@ -280,6 +298,24 @@ fn framed_mesh(args: &Args) -> Result<tessella_bevy::tessella_core::Mesh, String
         .map_err(|e| e.to_string())
 }
 
+impl Args {
+    /// The `Tessellate` the options ask for.
+    fn tessellate(&self) -> Tessellate {
+        let lod = self.lod.as_ref().and_then(|text| {
+            let camera = LodCamera {
+                eye: [0.0, 0.0, 1.0],
+                target: [0.0; 3],
+                fov_y_deg: FOV_Y_DEGREES,
+            };
+            Lod::parse(text, Some(camera), Some([1, 1])).ok()
+        });
+        match lod {
+            Some(lod) => Tessellate::lod(self.scheme, lod, self.spacing),
+            None => Tessellate::new(self.scheme, self.level),
+        }
+    }
+}
+
 /// The colour every subject is drawn in: `tessella render`'s default, rough so no highlight
 /// reaches the background's white.
 #[derive(Resource)]
@@ -351,7 +387,7 @@ fn setup(
             Subject,
         ));
         if !args.plain {
-            entity.insert(Tessellate::new(args.scheme, args.level));
+            entity.insert(args.tessellate());
         }
     }
     if args.ground {
@@ -540,6 +576,23 @@ fn report_pick(hovers: &HoverMap, subjects: &Query<Entity, With<Subject>>) {
     }
 }
 
+/// The triangles the subjects' LOD draws, and the LOD as the plugin evaluated it (Bevy's
+/// camera, the target's size): one JSON line, for `tessella refine --lod --camera --size`.
+fn report_lod(levels: &Query<&LodLevels>) {
+    let triangles: u64 = levels.iter().map(|l| l.triangles).sum();
+    let seen = levels.iter().find_map(|l| match &l.lod {
+        Some(Lod::Screen { camera, size, .. }) => Some((*camera, *size)),
+        _ => None,
+    });
+    match seen {
+        Some((c, [w, h])) => println!(
+            "{{\"lod\":{{\"triangles\":{triangles},\"camera\":\"{},{},{},{},{},{},{}\",\"size\":\"{w}x{h}\"}}}}",
+            c.eye[0], c.eye[1], c.eye[2], c.target[0], c.target[1], c.target[2], c.fov_y_deg
+        ),
+        None => println!("{{\"lod\":{{\"triangles\":{triangles}}}}}"),
+    }
+}
+
 /// The ground plane (not a subject).
 #[derive(Component)]
 struct Ground;
@@ -565,7 +618,7 @@ fn adopt_scene_meshes(
         let mut entity = commands.entity(entity);
         entity.insert((MeshMaterial3d(material.0.clone()), Subject));
         if !args.plain {
-            entity.insert(Tessellate::new(args.scheme, args.level));
+            entity.insert(args.tessellate());
         }
     }
 }
@@ -632,6 +685,7 @@ fn capture(
          subjects: Query<Entity, With<Subject>>,
          mut players: Query<&mut AnimationPlayer>,
          hovers: Res<HoverMap>,
+         levels: Query<&LodLevels>,
          mut commands: Commands,
          mut exit: MessageWriter<AppExit>| {
             state.pending = false;
@@ -664,6 +718,9 @@ fn capture(
             );
             if args.pick.is_some() {
                 report_pick(&hovers, &subjects);
+            }
+            if args.lod.is_some() {
+                report_lod(&levels);
             }
             if let Some(next) = args.then_plain.take() {
                 // The same entity without Tessellate: the plugin gives its mesh back.

@@ -18,6 +18,8 @@
 
 mod animate;
 mod gltf_influences;
+mod lod;
+mod lod_material;
 mod material;
 mod pattern;
 mod picking;
@@ -35,6 +37,8 @@ use tessella_core::{RefineOptions, Scheme};
 
 pub use animate::UploadStats;
 pub use gltf_influences::ExtraInfluences;
+pub use lod::{LodCameraMarker, LodLevels};
+pub use lod_material::{adaptive_module_for_bevy, TessellaLodMaterial};
 pub use material::{
     patch_module_for_bevy, NormalModeKey, TessellaExtension, TessellaKey, TessellaMaterial,
     FIRST_BINDING,
@@ -43,12 +47,15 @@ pub use pattern::{build, face_boxes, pattern_mesh, to_bevy_mesh, to_tessella_mes
 pub use tessella_core;
 
 use animate::Animated;
+use lod::LodState;
+use lod_material::{TessellaLodExtension, TessellaLodKey};
 use pattern::storage;
 use picking::{PickMesh, Surface};
+use tessella_core::refine::{instanced, Levels, Lod, Spacing};
 
 /// Draws an entity's mesh as tessella's curved surface: the options of tessella's one
-/// options type ([`RefineOptions`]: scheme, level, normals, ...). Uniform whole levels only
-/// for now (per-edge and screen-space levels are not drawn by this plugin yet).
+/// options type ([`RefineOptions`]: scheme, level or LOD, spacing, normals, ...): uniform
+/// whole levels ([`Tessellate::new`]) or per-edge levels from a LOD ([`Tessellate::lod`]).
 #[derive(Component, Clone, Debug)]
 pub struct Tessellate(pub RefineOptions);
 
@@ -56,6 +63,16 @@ impl Tessellate {
     /// `level` segments per coarse edge with `scheme`, the scheme's default normals.
     pub fn new(scheme: Scheme, level: u32) -> Tessellate {
         Tessellate(RefineOptions::new(scheme, level))
+    }
+
+    /// Per-edge levels chosen every frame by `lod` (crack-free), divided with `spacing`: a
+    /// screen LOD (`Lod::Screen`: pixels per refined edge) or a distance LOD sees from Bevy's
+    /// camera (one with [`LodCameraMarker`], else the first active 3D camera), its own camera
+    /// and size fields ignored; a tolerance LOD needs none.
+    pub fn lod(scheme: Scheme, lod: Lod, spacing: Spacing) -> Tessellate {
+        let mut options = RefineOptions::new(scheme, 1).with_spacing(spacing);
+        options.levels = Levels::Lod(lod);
+        Tessellate(options)
     }
 }
 
@@ -75,20 +92,27 @@ pub struct TessellaPlugin;
 
 impl Plugin for TessellaPlugin {
     fn build(&self, app: &mut App) {
-        app.add_plugins(MaterialPlugin::<TessellaMaterial>::default());
+        app.add_plugins((
+            MaterialPlugin::<TessellaMaterial>::default(),
+            MaterialPlugin::<TessellaLodMaterial>::default(),
+        ));
         let mut shaders = app.world_mut().resource_mut::<Assets<Shader>>();
-        if let Err(e) = material::register_shaders(&mut shaders) {
+        let registered = material::register_shaders(&mut shaders)
+            .and_then(|()| lod_material::register_shaders(&mut shaders));
+        if let Err(e) = registered {
             error!("tessella: {e}");
         }
         gltf_influences::register(app);
         app.init_resource::<UploadStats>()
-            .init_resource::<PatternMeshes>();
+            .init_resource::<PatternMeshes>()
+            .init_resource::<lod::PartMeshes>();
         app.add_systems(
             PostUpdate,
-            (untessellate, tessellate, animate::pose)
+            (untessellate, tessellate, animate::pose, lod::levels)
                 .chain()
                 .after(bevy::transform::TransformSystems::Propagate)
-                .before(bevy::camera::visibility::VisibilitySystems::CalculateBounds),
+                .before(bevy::camera::visibility::VisibilitySystems::CalculateBounds)
+                .before(bevy::camera::visibility::VisibilitySystems::VisibilityPropagate),
         );
     }
 
@@ -108,7 +132,8 @@ impl Plugin for TessellaPlugin {
 }
 
 /// One coarse triangle's patch: a child of the tessellated entity drawing the shared pattern
-/// mesh with the triangle in its `MeshTag`.
+/// mesh with the triangle in its `MeshTag` (with per-edge LOD: one of the triangle's one to four
+/// parts, `face | side << 30` in the tag).
 #[derive(Component, Clone, Copy, Debug)]
 pub struct Patch {
     /// The coarse triangle.
@@ -147,6 +172,8 @@ type TessellateAssets<'w> = (
     ResMut<'w, Assets<TessellaMaterial>>,
     ResMut<'w, Assets<ShaderBuffer>>,
     ResMut<'w, PatternMeshes>,
+    ResMut<'w, Assets<TessellaLodMaterial>>,
+    ResMut<'w, lod::PartMeshes>,
 );
 
 /// Builds the patches of entities whose [`Tessellate`] is new or changed (once their mesh and
@@ -155,9 +182,18 @@ type TessellateAssets<'w> = (
 fn tessellate(
     mut commands: Commands,
     query: Query<TessellateItem>,
-    (mut meshes, standard, mut materials, mut buffers, mut patterns): TessellateAssets,
+    assets: TessellateAssets,
     stats: Res<UploadStats>,
 ) {
+    let (
+        mut meshes,
+        standard,
+        mut materials,
+        mut buffers,
+        mut patterns,
+        mut lod_materials,
+        mut parts,
+    ) = assets;
     for (entity, tess, mesh3d, material, untessellated, patches, deform, shadows) in &query {
         let (skin, morph, extra) = deform;
         let key = format!("{:?}", tess.0);
@@ -177,10 +213,22 @@ fn tessellate(
         };
         // Copies of the coarse mesh and material: the pattern mesh may be added below.
         let (plain, base) = (plain.clone(), base.clone());
-        let built = to_tessella_mesh(&plain).and_then(|m| pattern::build(&m, &tess.0));
+        // With per-edge LOD the levels come every frame (`lod::levels`); the plan is made at
+        // level 1 for the topology, the nets and posing (nets do not depend on the level).
+        let lod = match &tess.0.levels {
+            Levels::Lod(l) => Some(l.clone()),
+            _ => None,
+        };
+        let mut options = tess.0.clone();
+        if lod.is_some() {
+            options.levels = Levels::Uniform(1.0);
+            options.spacing = Spacing::Grid;
+        }
+        let built = to_tessella_mesh(&plain).and_then(|m| pattern::build(&m, &options));
         let level = built.as_ref().map(|b| b.plan.pattern().level).unwrap_or(0);
         let pattern = match patterns.0.get(&level) {
             Some(p) => Ok(p.clone()),
+            None if lod.is_some() => Ok(Handle::default()),
             None => built
                 .as_ref()
                 .map_err(Clone::clone)
@@ -225,6 +273,60 @@ fn tessellate(
                 }
             }
         };
+        if let Some(old) = patches {
+            for child in &old.0 {
+                commands.entity(*child).despawn();
+            }
+        }
+        let (no_cast, no_receive) = shadows;
+        if let Some(lod) = lod {
+            // The LOD's children come with its first levels (`lod::levels`).
+            let basis = built.frame.nets().basis;
+            let params = storage(
+                &mut buffers,
+                &tessella_gpu::wgsl::adaptive_params_bytes(basis),
+            );
+            let record_bytes = built.boxes.len() * instanced::RECORD_WORDS * 4;
+            let records = storage(&mut buffers, &vec![0u8; record_bytes]);
+            let [_, b1, b2, _, _, _, _, b7] = handles;
+            let spacing = tess.0.spacing;
+            let material = lod_materials.add(TessellaLodMaterial {
+                base,
+                extension: TessellaLodExtension {
+                    net_points: b1,
+                    net_normals: b2,
+                    params,
+                    records: records.clone(),
+                    face_uvs: b7,
+                    key: TessellaLodKey::of(basis, built.normal_mode, spacing),
+                },
+            });
+            let state = LodState::new(
+                lod,
+                spacing,
+                parts.table(spacing),
+                records,
+                material,
+                (no_cast, no_receive),
+            );
+            commands
+                .entity(entity)
+                .insert((state, LodLevels::default()));
+            finish(
+                &mut commands,
+                entity,
+                animated,
+                built,
+                Vec::new(),
+                Untessellated {
+                    mesh: plain_mesh,
+                    material: plain_material,
+                    built_for: key,
+                },
+            );
+            continue;
+        }
+        commands.entity(entity).remove::<(LodState, LodLevels)>();
         let [b0, b1, b2, b3, b4, b5, b6, b7] = handles;
         let material = materials.add(TessellaMaterial {
             base,
@@ -240,12 +342,6 @@ fn tessellate(
                 normal_mode: NormalModeKey::of(built.normal_mode),
             },
         });
-        if let Some(old) = patches {
-            for child in &old.0 {
-                commands.entity(*child).despawn();
-            }
-        }
-        let (no_cast, no_receive) = shadows;
         let children: Vec<Entity> = built
             .boxes
             .iter()
@@ -273,27 +369,48 @@ fn tessellate(
                 child.id()
             })
             .collect();
-        let mut e = commands.entity(entity);
-        match animated {
-            Some(a) => e.insert(a),
-            None => e.remove::<Animated>(),
+        let untessellated = Untessellated {
+            mesh: plain_mesh,
+            material: plain_material,
+            built_for: key,
         };
-        e.remove::<(Mesh3d, MeshMaterial3d<StandardMaterial>)>()
-            .insert((
-                Surface {
-                    plan: built.plan,
-                    frame: built.frame,
-                    version: 0,
-                },
-                PickMesh::default(),
-                Patches(children),
-                Untessellated {
-                    mesh: plain_mesh,
-                    material: plain_material,
-                    built_for: key,
-                },
-            ));
+        finish(
+            &mut commands,
+            entity,
+            animated,
+            built,
+            children,
+            untessellated,
+        );
     }
+}
+
+/// The tessellated entity's own components: its mesh and material off, its surface, patches
+/// and animation on.
+fn finish(
+    commands: &mut Commands,
+    entity: Entity,
+    animated: Option<Animated>,
+    built: pattern::Built,
+    children: Vec<Entity>,
+    untessellated: Untessellated,
+) {
+    let mut e = commands.entity(entity);
+    match animated {
+        Some(a) => e.insert(a),
+        None => e.remove::<Animated>(),
+    };
+    e.remove::<(Mesh3d, MeshMaterial3d<StandardMaterial>)>()
+        .insert((
+            Surface {
+                plan: built.plan,
+                frame: built.frame,
+                version: 0,
+            },
+            PickMesh::default(),
+            Patches(children),
+            untessellated,
+        ));
 }
 
 /// Gives the plain mesh and material back to entities that lost [`Tessellate`], and despawns
@@ -312,7 +429,15 @@ fn untessellate(
         }
         commands
             .entity(entity)
-            .remove::<(Untessellated, Patches, Animated, Surface, PickMesh)>()
+            .remove::<(
+                Untessellated,
+                Patches,
+                Animated,
+                Surface,
+                PickMesh,
+                LodState,
+                LodLevels,
+            )>()
             .insert((Mesh3d(u.mesh.clone()), MeshMaterial3d(u.material.clone())));
     }
 }

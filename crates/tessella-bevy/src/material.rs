@@ -23,7 +23,7 @@ pub type TessellaMaterial = ExtendedMaterial<StandardMaterial, TessellaExtension
 pub const FIRST_BINDING: u32 = 100;
 
 /// Bevy's material bind group index (`bevy::pbr::MATERIAL_BIND_GROUP_INDEX`).
-const MATERIAL_GROUP: u32 = 3;
+pub(crate) const MATERIAL_GROUP: u32 = 3;
 
 const VERTEX_SHADER: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9a01");
 const PREPASS_SHADER: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9a02");

@@ -1,10 +1,12 @@
 //! Picking a tessellated entity the way Bevy picks meshes: a picking backend that casts each
 //! pointer's ray against the curved surface as drawn (tessella's CPU refinement of the
-//! entity's current frame, made again only when the pose changed and a ray asks) and reports
+//! entity's current frame at its current levels, made again only when the pose or the levels
+//! changed and a ray asks) and reports
 //! the hit on the tessellated entity itself, so `Pointer<Click>` and friends reach it and
 //! bubble up its parents. Its patch children are `Pickable::IGNORE`: their pattern mesh is
 //! not where the surface is.
 
+use crate::lod::LodState;
 use bevy::camera::visibility::RenderLayers;
 use bevy::picking::backend::ray::RayMap;
 use bevy::picking::backend::{HitData, PointerHits};
@@ -13,7 +15,7 @@ use bevy::picking::mesh_picking::{MeshPickingCamera, MeshPickingSettings};
 use bevy::picking::Pickable;
 use bevy::prelude::*;
 use std::sync::Arc;
-use tessella_core::refine::{Frame, Plan, RefinedMesh};
+use tessella_core::refine::{Frame, Levels, Plan, RefinedMesh};
 
 /// A tessellated entity's surface as drawn: the plan and the current frame (posed, for an
 /// animated entity), with a count that changes whenever the frame does.
@@ -24,23 +26,46 @@ pub(crate) struct Surface {
     pub version: u64,
 }
 
-/// The refined triangles rays are cast against, and the surface version they were made for.
+/// The refined triangles rays are cast against, and the surface version (and per-edge levels)
+/// they were made for.
 #[derive(Component, Default)]
 pub(crate) struct PickMesh {
     made_for: Option<u64>,
+    levels: Option<(Vec<f32>, Option<Vec<f32>>)>,
     refined: RefinedMesh,
     indices: Vec<u32>,
 }
 
 impl PickMesh {
-    fn refresh(&mut self, surface: &Surface) -> Result<(), String> {
-        if self.made_for == Some(surface.version) {
+    fn refresh(&mut self, surface: &Surface, lod: Option<&LodState>) -> Result<(), String> {
+        let levels = lod.and_then(|l| l.levels.as_ref());
+        if self.made_for == Some(surface.version) && self.levels.as_ref() == levels {
             return Ok(());
         }
-        surface
-            .plan
-            .refine_into(&surface.frame, &mut self.refined, &|_| {})
-            .map_err(|e| e.to_string())?;
+        match (lod, levels) {
+            // Per-edge levels: a plan of this frame's levels.
+            (Some(state), Some((edges, faces))) => {
+                let mut options = surface.plan.options().clone();
+                options.spacing = state.spacing;
+                options.levels = Levels::PerEdge {
+                    edges: edges.as_slice().into(),
+                    faces: faces.as_ref().map(|f| f.as_slice().into()),
+                };
+                let mesh = surface.frame.mesh();
+                let plan = Plan::new(mesh, &options).map_err(|e| e.to_string())?;
+                let frame = plan.frame(mesh).map_err(|e| e.to_string())?;
+                plan.refine_into(&frame, &mut self.refined, &|_| {})
+                    .map_err(|e| e.to_string())?;
+            }
+            (Some(_), None) => {
+                self.refined = RefinedMesh::default();
+            }
+            (None, _) => surface
+                .plan
+                .refine_into(&surface.frame, &mut self.refined, &|_| {})
+                .map_err(|e| e.to_string())?,
+        }
+        self.levels = levels.cloned();
         self.indices.clear();
         self.indices
             .extend(self.refined.triangles.iter().flatten().copied());
@@ -58,6 +83,7 @@ type Target<'a> = (
     Option<&'a InheritedVisibility>,
     Option<&'a Pickable>,
     Option<&'a RenderLayers>,
+    Option<&'a LodState>,
 );
 
 /// Bevy's picking cameras.
@@ -91,7 +117,7 @@ pub(crate) fn pick(
         }
         let camera_layers = camera_layers.cloned().unwrap_or_default();
         let mut picks = Vec::new();
-        for (entity, surface, mut mesh, global, visible, pickable, layers) in &mut targets {
+        for (entity, surface, mut mesh, global, visible, pickable, layers, lod) in &mut targets {
             let shown = visible.is_none_or(|v| v.get());
             let hoverable = pickable.is_none_or(|p| p.is_hoverable);
             let marked = !require_markers || pickable.is_some();
@@ -99,7 +125,7 @@ pub(crate) fn pick(
             if !(shown && hoverable && marked && layered) {
                 continue;
             }
-            if let Err(e) = mesh.refresh(surface) {
+            if let Err(e) = mesh.refresh(surface, lod) {
                 error!("cannot pick {entity}: {e}");
                 continue;
             }

@@ -451,3 +451,178 @@ fn picking_hits_the_curved_surface_not_the_coarse_mesh() {
         "the curved surface is behind the flat one"
     );
 }
+
+/// The JSON `lod` line the example printed: triangles, and the camera and size it saw with.
+fn lod_line(stdout: &str) -> (u64, Option<(String, String)>) {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("{\"lod\""))
+        .unwrap_or_else(|| panic!("no lod line in:\n{stdout}"));
+    let field = |name: &str| {
+        line.split(&format!("\"{name}\":")).nth(1).map(|r| {
+            r.trim_start_matches('"')
+                .split(['"', ',', '}'])
+                .next()
+                .unwrap()
+                .to_string()
+        })
+    };
+    let quoted = |name: &str| {
+        line.split(&format!("\"{name}\":\""))
+            .nth(1)
+            .map(|r| r.split('"').next().unwrap().to_string())
+    };
+    let triangles = field("triangles").unwrap().parse().unwrap();
+    (triangles, quoted("camera").zip(quoted("size")))
+}
+
+/// Background pixels the silhouette encloses (not reachable from the border through
+/// background): cracks between patches would show as these.
+fn holes(path: &Path) -> usize {
+    let (mask, (w, h)) = silhouette(path);
+    let (w, h) = (w as usize, h as usize);
+    let mut seen = vec![false; w * h];
+    let mut stack: Vec<usize> = (0..w * h)
+        .filter(|&i| {
+            let (x, y) = (i % w, i / w);
+            (x == 0 || y == 0 || x == w - 1 || y == h - 1) && !mask[i]
+        })
+        .collect();
+    while let Some(i) = stack.pop() {
+        if seen[i] || mask[i] {
+            continue;
+        }
+        seen[i] = true;
+        let (x, y) = (i % w, i / w);
+        if x > 0 {
+            stack.push(i - 1);
+        }
+        if x + 1 < w {
+            stack.push(i + 1);
+        }
+        if y > 0 {
+            stack.push(i - w);
+        }
+        if y + 1 < h {
+            stack.push(i + w);
+        }
+    }
+    (0..w * h).filter(|&i| !mask[i] && !seen[i]).count()
+}
+
+/// Runs the example and returns its stdout.
+fn view_stdout(file: &str, args: &[&str], out: &Path) -> String {
+    let mut cmd = Command::new(view_example());
+    cmd.arg(repo().join(file))
+        .args(args)
+        .arg("--screenshot")
+        .arg(out);
+    let output = cmd.output().expect("the example starts");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{cmd:?} failed:\n{stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("ERROR")).collect();
+    assert!(
+        errors.is_empty(),
+        "{cmd:?} logged errors:\n{}",
+        errors.join("\n")
+    );
+    String::from_utf8_lossy(&output.stdout).to_string()
+}
+
+/// Screen-space LOD from Bevy's camera: for each tessellator spacing, the entity draws as many
+/// triangles as `tessella refine --lod` makes with the camera and size the plugin saw (the same
+/// per-edge levels), its silhouette matches `tessella render --lod` of the same view, and no
+/// crack lets the background through. A camera nearer draws more triangles.
+#[test]
+fn lod_entity_draws_tessellas_levels_crack_free() {
+    let dir = tempfile_dir("lod");
+    let file = "samples/creature.obj";
+    let view = ["--yaw", "30", "--pitch", "20", "--zoom", "1"];
+    for spacing in ["fractional-odd", "fractional-even", "equal"] {
+        let out = dir.join(format!("lod-{spacing}.png"));
+        let mut args = vec!["--size", SIZE, "--scheme", "pn", "--lod", "screen:6"];
+        args.extend(["--spacing", spacing]);
+        args.extend(view);
+        let stdout = view_stdout(file, &args, &out);
+        let (triangles, seen) = lod_line(&stdout);
+        let (camera, size) = seen.expect("a screen LOD reports its camera");
+        let refined = dir.join("lod.ply");
+        let mut cmd = Command::new(cli());
+        cmd.arg("refine")
+            .arg(repo().join(file))
+            .args(["--scheme", "pn", "--lod", "screen:6", "--spacing", spacing])
+            .args(["--camera", &camera, "--size", &size])
+            .arg("-o")
+            .arg(&refined);
+        let output = cmd.output().expect("the CLI starts");
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let said = String::from_utf8_lossy(&output.stderr).to_string()
+            + &String::from_utf8_lossy(&output.stdout);
+        let cli_triangles: u64 = said
+            .split(" triangles (")
+            .next()
+            .and_then(|s| s.rsplit(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no triangle count in {said}"));
+        let mut render_view = view.to_vec();
+        render_view.extend(["--lod", "screen:6", "--spacing", spacing]);
+        let reference = cli_render(
+            &dir,
+            &format!("lod-cli-{spacing}"),
+            file,
+            "pn",
+            16,
+            &render_view,
+        );
+        let iou = iou(&out, &reference);
+        let holes = holes(&out);
+        eprintln!("{spacing}: {triangles} triangles (refine: {cli_triangles}), IoU {iou:.4}, {holes} holes");
+        assert_eq!(
+            triangles, cli_triangles,
+            "{spacing}: triangles differ from refine's"
+        );
+        assert!(
+            iou >= 0.98,
+            "{spacing}: IoU {iou} against tessella render --lod"
+        );
+        assert_eq!(holes, 0, "{spacing}: cracks");
+    }
+    let count = |zoom: &str| {
+        let mut args = vec!["--size", SIZE, "--scheme", "pn", "--lod", "screen:6"];
+        args.extend(["--yaw", "30", "--pitch", "20", "--zoom", zoom]);
+        lod_line(&view_stdout(file, &args, &dir.join("zoom.png"))).0
+    };
+    let (near, far) = (count("2"), count("0.5"));
+    eprintln!("zoom 2: {near} triangles, zoom 0.5: {far}");
+    assert!(near > 2 * far, "near {near} vs far {far}");
+}
+
+/// A skinned character with per-edge LOD while its clip plays: each frame uploads the nets and
+/// the level records, coarse data only.
+#[test]
+fn a_deforming_lod_entity_uploads_coarse_bytes() {
+    let dir = tempfile_dir("lod-stats");
+    let triangles = tessella_io::read_mesh(&repo().join(CREATURE))
+        .unwrap()
+        .face_count() as u64;
+    let args = [
+        "--size", "96x96", "--scheme", "pn", "--lod", "screen:4", "--clip", "wave", "--time",
+        "0.1", "--frames", "6", "--stats",
+    ];
+    let stdout = view_stdout(CREATURE, &args, &dir.join("lod-stats.png"));
+    let bytes: Vec<u64> = stdout
+        .lines()
+        .filter_map(|l| l.split("\"uploaded_bytes\":").nth(1))
+        .map(|rest| rest.split([',', '}']).next().unwrap().parse().unwrap())
+        .collect();
+    eprintln!("LOD, wave playing: bytes per frame {bytes:?} for {triangles} coarse triangles");
+    assert!(bytes.len() >= 4, "too few stats lines:\n{stdout}");
+    // Nets (192 bytes a triangle) and records (96) at most.
+    for &b in &bytes {
+        assert!(b > 0 && b <= 288 * triangles, "{b} bytes in a frame");
+    }
+}

@@ -194,29 +194,8 @@ impl AdaptiveRenderer {
         let table = PartTable::new(spacing);
         let arrays = PartArrays::new(&table);
         let basis = nets.basis;
-        // The pipeline's constants, then the weights generated from tessella-core's formulas.
-        let constants = [
-            crate::wgsl_constants::source(),
-            shader::record_layout(Lang::Wgsl),
-            format!(
-                "const TESSELLA_BASIS_K: u32 = {}u;\nconst TESSELLA_NORMAL_MODE: u32 = {}u;\nconst TESSELLA_GRID: bool = {};\n",
-                basis.len(),
-                normal_mode_code(nets.normal_mode),
-                spacing == Spacing::Grid
-            ),
-            shader::patch_sum_wgsl(basis),
-            shader::normal_net(Lang::Wgsl),
-            shader::edge_weights_wgsl(),
-            shader::locate_wgsl(),
-        ]
-        .join("\n");
-        let params = AdaptiveParams {
-            edge_controls: [0, 1, 2].map(|k| canonical::edge_controls(basis, k).map(|i| i as u32)),
-            edge_normals: [0, 1, 2].map(|k| {
-                let [a, b, c] = canonical::edge_normal_controls(k);
-                [a as u32, b as u32, c as u32, 0]
-            }),
-        };
+        let constants = constants(basis, nets.normal_mode, spacing);
+        let params = params(basis);
         ctx.scoped(|| {
             let copy = wgpu::BufferUsages::COPY_DST;
             let storage = |label, bytes: u64| {
@@ -544,4 +523,40 @@ fn adaptive_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     let stages = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE;
     let [r, u] = [(stages, READ), (stages, UNIFORM)];
     ctx.buffer_layout("adaptive", &[r, r, u, r, r])
+}
+
+/// The WGSL the adaptive shaders are compiled with, before `shaders/adaptive.wgsl`: the
+/// pipeline's constants (basis, normal mode, spacing), the record layout, then the weights
+/// generated from tessella-core's formulas.
+pub(crate) fn constants(
+    basis: tessella_core::basis::Basis,
+    normal_mode: tessella_core::NormalMode,
+    spacing: Spacing,
+) -> String {
+    [
+        crate::wgsl_constants::source(),
+        shader::record_layout(Lang::Wgsl),
+        format!(
+            "const TESSELLA_BASIS_K: u32 = {}u;\nconst TESSELLA_NORMAL_MODE: u32 = {}u;\nconst TESSELLA_GRID: bool = {};\n",
+            basis.len(),
+            normal_mode_code(normal_mode),
+            spacing == Spacing::Grid
+        ),
+        shader::patch_sum_wgsl(basis),
+        shader::normal_net(Lang::Wgsl),
+        shader::edge_weights_wgsl(),
+        shader::locate_wgsl(),
+    ]
+    .join("\n")
+}
+
+/// The adaptive shaders' uniform: each edge's boundary control points and normal-net entries.
+pub(crate) fn params(basis: tessella_core::basis::Basis) -> AdaptiveParams {
+    AdaptiveParams {
+        edge_controls: [0, 1, 2].map(|k| canonical::edge_controls(basis, k).map(|i| i as u32)),
+        edge_normals: [0, 1, 2].map(|k| {
+            let [a, b, c] = canonical::edge_normal_controls(k);
+            [a as u32, b as u32, c as u32, 0]
+        }),
+    }
 }

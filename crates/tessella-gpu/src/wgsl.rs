@@ -209,6 +209,36 @@ pub fn patch_module(group_index: u32, normal_mode: tessella_core::NormalMode) ->
     source.replace("@group(0)", &format!("@group({group_index})"))
 }
 
+/// The adaptive evaluation module (levels per edge that change every frame, the module
+/// [`AdaptiveRenderer`](crate::AdaptiveRenderer) draws with) for an engine's own vertex shader,
+/// its bindings at `@group(group_index)`: 0 net points, 1 net normals (the nets' bytes as
+/// [`patch_bytes`] gives them), 2 a uniform of [`adaptive_params_bytes`], 3 the per-face records
+/// (`tessella_core::refine::instanced::frame_instances`' `records`). The caller's shader calls
+/// `tessella_adaptive_point(code, instance)`, with `code` a vertex of one of
+/// `tessella_core::refine::instanced::PartTable`'s parts (a point code) and `instance` the
+/// instance drawing it (`face | side << 30`, `frame_instances`' `instances`); it returns the
+/// position, normal and barycentric point. Points on a coarse edge get the same bits from both
+/// faces.
+pub fn adaptive_module(
+    group_index: u32,
+    basis: tessella_core::Basis,
+    normal_mode: tessella_core::NormalMode,
+    spacing: tessella_core::refine::Spacing,
+) -> String {
+    let source = [
+        crate::adaptive::constants(basis, normal_mode, spacing),
+        include_str!("shaders/adaptive.wgsl").to_string(),
+    ]
+    .join("\n");
+    source.replace("@group(0)", &format!("@group({group_index})"))
+}
+
+/// The adaptive module's binding 2 (each edge's boundary control points and normal-net
+/// entries for `basis`).
+pub fn adaptive_params_bytes(basis: tessella_core::Basis) -> Vec<u8> {
+    bytemuck::bytes_of(&crate::adaptive::params(basis)).to_vec()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -250,5 +280,33 @@ mod tests {
             }
             assert!(source.contains("@group(2)") && !source.contains("@group(0)"));
         }
+    }
+
+    /// The adaptive module parses and validates for every basis, normal mode and spacing
+    /// family, with its four bindings in the group asked for.
+    #[test]
+    fn the_adaptive_module_validates() {
+        use tessella_core::refine::Spacing;
+        for basis in [tessella_core::Basis::Cubic, tessella_core::Basis::Png1] {
+            for mode in [
+                tessella_core::NormalMode::Quadratic,
+                tessella_core::NormalMode::Real,
+            ] {
+                for spacing in [Spacing::FractionalOdd, Spacing::Grid] {
+                    let source = adaptive_module(3, basis, mode, spacing);
+                    let module = naga::front::wgsl::parse_str(&source)
+                        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+                    naga::valid::Validator::new(
+                        naga::valid::ValidationFlags::all(),
+                        naga::valid::Capabilities::all(),
+                    )
+                    .validate(&module)
+                    .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+                    assert_eq!(source.matches("@group(3) @binding(").count(), 4);
+                    assert!(source.contains("fn tessella_adaptive_point("));
+                }
+            }
+        }
+        assert_eq!(adaptive_params_bytes(tessella_core::Basis::Cubic).len(), 96);
     }
 }
