@@ -1,0 +1,151 @@
+//! A skinned glTF character playing its clip, looped by Bevy's `AnimationPlayer`: each frame
+//! the plugin poses the coarse mesh with tessella's skinning (every joint influence set, morph
+//! weights) and uploads only its control nets.
+//!
+//! `cargo run --features window --example skinned [-- FILE.glb --clip wave --level 8]`; with
+//! `--screenshot OUT.png` it draws headless and exits.
+
+mod showcase;
+
+use bevy::gltf::{Gltf, GltfAssetLabel};
+use bevy::prelude::*;
+use bevy::world_serialization::WorldAssetRoot;
+use showcase::{orbit, stage, NewMesh, Output};
+use std::path::PathBuf;
+use tessella_bevy::tessella_core::Scheme;
+use tessella_bevy::{Tessellate, UploadStats};
+
+#[derive(Resource, Clone)]
+struct Options {
+    file: PathBuf,
+    clip: String,
+    level: u32,
+}
+
+#[derive(Resource)]
+struct File(Handle<Gltf>);
+
+fn options(args: Vec<String>) -> Result<Options, String> {
+    let samples = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
+    let mut o = Options {
+        file: samples.join("animated-creature.glb"),
+        clip: "wave".into(),
+        level: 8,
+    };
+    let mut it = args.into_iter();
+    while let Some(a) = it.next() {
+        let mut value = || it.next().ok_or(format!("{a} needs a value"));
+        match a.as_str() {
+            "--clip" => o.clip = value()?,
+            "--level" => o.level = value()?.parse().map_err(|e| format!("--level: {e}"))?,
+            s if !s.starts_with('-') => o.file = PathBuf::from(s),
+            s => return Err(format!("unknown argument {s}")),
+        }
+    }
+    Ok(o)
+}
+
+fn main() -> AppExit {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let built = Output::take(&mut args).and_then(|output| {
+        let o = options(args)?;
+        let file = o
+            .file
+            .canonicalize()
+            .map_err(|e| format!("{}: {e}", o.file.display()))?;
+        let folder = file
+            .parent()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default();
+        let mut app = output.app("tessella: a skinned character", folder)?;
+        app.insert_resource(o)
+            .add_systems(Startup, setup)
+            .add_systems(Update, (tessellate_meshes, play, report_uploads));
+        Ok(app)
+    });
+    match built {
+        Ok(mut app) => app.run(),
+        Err(e) => {
+            eprintln!("skinned: {e}");
+            AppExit::error()
+        }
+    }
+}
+
+fn setup(
+    mut commands: Commands,
+    options: Res<Options>,
+    assets: Res<AssetServer>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    let name = options
+        .file
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string());
+    let name = name.unwrap_or_default();
+    commands.spawn(WorldAssetRoot(
+        assets.load(GltfAssetLabel::Scene(0).from_asset(name.clone())),
+    ));
+    commands.insert_resource(File(assets.load(name)));
+    let (lo, hi) = match tessella_io::read_mesh(&options.file) {
+        Ok(m) => m.bounds(),
+        Err(_) => ([-1.0; 3], [1.0; 3]),
+    };
+    let bounds = (Vec3::from(lo), Vec3::from(hi));
+    let camera = orbit(bounds, Vec3::new(0.3, 0.35, 1.0), 3.4);
+    stage(&mut commands, &mut meshes, &mut materials, bounds, camera);
+}
+
+fn tessellate_meshes(mut commands: Commands, options: Res<Options>, found: Query<Entity, NewMesh>) {
+    for entity in &found {
+        commands
+            .entity(entity)
+            .insert(Tessellate::new(Scheme::Pn, options.level));
+    }
+}
+
+/// Once the file has loaded, its players loop the clip.
+fn play(
+    mut commands: Commands,
+    options: Res<Options>,
+    file: Res<File>,
+    gltfs: Res<Assets<Gltf>>,
+    mut graphs: ResMut<Assets<AnimationGraph>>,
+    mut players: Query<(Entity, &mut AnimationPlayer), Without<AnimationGraphHandle>>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    let Some(gltf) = gltfs.get(&file.0) else {
+        return;
+    };
+    for (entity, mut player) in &mut players {
+        let clip = match options.clip.parse::<usize>() {
+            Ok(i) => gltf.animations.get(i),
+            Err(_) => gltf.named_animations.get(options.clip.as_str()),
+        };
+        let Some(clip) = clip else {
+            eprintln!("skinned: the file has no clip {}", options.clip);
+            exit.write(AppExit::error());
+            return;
+        };
+        let (graph, node) = AnimationGraph::from_clip(clip.clone());
+        commands
+            .entity(entity)
+            .insert(AnimationGraphHandle(graphs.add(graph)));
+        player.play(node).repeat();
+    }
+}
+
+/// Prints, once a second, the bytes tessella uploaded in the last frame.
+fn report_uploads(stats: Res<UploadStats>, time: Res<Time>, mut last: Local<(u64, f32)>) {
+    let total = stats.total();
+    let now = time.elapsed_secs();
+    if now - last.1 >= 1.0 {
+        info!(
+            "tessella uploaded {} bytes in the last frame",
+            total - last.0
+        );
+        last.1 = now;
+    }
+    last.0 = total;
+}
