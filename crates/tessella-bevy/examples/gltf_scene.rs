@@ -6,10 +6,8 @@
 
 mod showcase;
 
-use bevy::gltf::GltfAssetLabel;
 use bevy::prelude::*;
-use bevy::world_serialization::WorldAssetRoot;
-use showcase::{orbit, stage, NewMesh, Output};
+use showcase::{orbit, stage, NewMesh};
 use std::path::PathBuf;
 use tessella_bevy::tessella_core::names::parse_name;
 use tessella_bevy::tessella_core::Scheme;
@@ -44,30 +42,14 @@ fn options(args: Vec<String>) -> Result<Options, String> {
 }
 
 fn main() -> AppExit {
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let built = Output::take(&mut args).and_then(|output| {
+    showcase::run("gltf_scene", |args, output| {
         let o = options(args)?;
-        let file = o
-            .file
-            .canonicalize()
-            .map_err(|e| format!("{}: {e}", o.file.display()))?;
-        let folder = file
-            .parent()
-            .map(|p| p.display().to_string())
-            .unwrap_or_default();
-        let mut app = output.app("tessella: a glTF scene", folder)?;
+        let mut app = output.app("tessella: a glTF scene", showcase::folder_of(&o.file)?)?;
         app.insert_resource(o)
             .add_systems(Startup, setup)
             .add_systems(Update, tessellate_scene_meshes);
         Ok(app)
-    });
-    match built {
-        Ok(mut app) => app.run(),
-        Err(e) => {
-            eprintln!("gltf_scene: {e}");
-            AppExit::error()
-        }
-    }
+    })
 }
 
 fn setup(
@@ -77,18 +59,7 @@ fn setup(
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
-    let name = options
-        .file
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string());
-    let scene = GltfAssetLabel::Scene(0).from_asset(name.unwrap_or_default());
-    commands.spawn(WorldAssetRoot(assets.load(scene)));
-    // The stage is framed on the file's mesh as tessella reads it.
-    let (lo, hi) = match tessella_io::read_mesh(&options.file) {
-        Ok(m) => m.bounds(),
-        Err(_) => ([-1.0; 3], [1.0; 3]),
-    };
-    let bounds = (Vec3::from(lo), Vec3::from(hi));
+    let (_, bounds) = showcase::spawn_gltf(&mut commands, &assets, &options.file);
     let camera = orbit(bounds, Vec3::new(0.6, 0.45, 1.0), 3.2);
     stage(&mut commands, &mut meshes, &mut materials, bounds, camera);
 }

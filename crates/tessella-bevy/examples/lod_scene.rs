@@ -8,16 +8,15 @@
 mod showcase;
 
 use bevy::prelude::*;
-use showcase::{stage, Output};
+use showcase::stage;
 use std::path::PathBuf;
 use tessella_bevy::tessella_core::refine::{Camera as LodCamera, Lod, Spacing};
 use tessella_bevy::tessella_core::Scheme;
 use tessella_bevy::{to_bevy_mesh, LodLevels, Tessellate};
 
 fn main() -> AppExit {
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
     let samples = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
-    let built = Output::take(&mut args).and_then(|output| {
+    showcase::run("lod_scene", |args, output| {
         if let Some(a) = args.first() {
             return Err(format!("unknown argument {a}"));
         }
@@ -26,14 +25,7 @@ fn main() -> AppExit {
             .add_systems(Update, report_triangles)
             .add_systems(Last, report_on_exit);
         Ok(app)
-    });
-    match built {
-        Ok(mut app) => app.run(),
-        Err(e) => {
-            eprintln!("lod_scene: {e}");
-            AppExit::error()
-        }
-    }
+    })
 }
 
 fn setup(

@@ -7,10 +7,9 @@
 
 mod showcase;
 
-use bevy::gltf::{Gltf, GltfAssetLabel};
+use bevy::gltf::Gltf;
 use bevy::prelude::*;
-use bevy::world_serialization::WorldAssetRoot;
-use showcase::{orbit, stage, NewMesh, Output};
+use showcase::{orbit, stage, NewMesh};
 use std::path::PathBuf;
 use tessella_bevy::tessella_core::Scheme;
 use tessella_bevy::{Tessellate, UploadStats};
@@ -46,30 +45,17 @@ fn options(args: Vec<String>) -> Result<Options, String> {
 }
 
 fn main() -> AppExit {
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let built = Output::take(&mut args).and_then(|output| {
+    showcase::run("skinned", |args, output| {
         let o = options(args)?;
-        let file = o
-            .file
-            .canonicalize()
-            .map_err(|e| format!("{}: {e}", o.file.display()))?;
-        let folder = file
-            .parent()
-            .map(|p| p.display().to_string())
-            .unwrap_or_default();
-        let mut app = output.app("tessella: a skinned character", folder)?;
+        let mut app = output.app(
+            "tessella: a skinned character",
+            showcase::folder_of(&o.file)?,
+        )?;
         app.insert_resource(o)
             .add_systems(Startup, setup)
             .add_systems(Update, (tessellate_meshes, play, report_uploads));
         Ok(app)
-    });
-    match built {
-        Ok(mut app) => app.run(),
-        Err(e) => {
-            eprintln!("skinned: {e}");
-            AppExit::error()
-        }
-    }
+    })
 }
 
 fn setup(
@@ -79,20 +65,8 @@ fn setup(
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
-    let name = options
-        .file
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string());
-    let name = name.unwrap_or_default();
-    commands.spawn(WorldAssetRoot(
-        assets.load(GltfAssetLabel::Scene(0).from_asset(name.clone())),
-    ));
-    commands.insert_resource(File(assets.load(name)));
-    let (lo, hi) = match tessella_io::read_mesh(&options.file) {
-        Ok(m) => m.bounds(),
-        Err(_) => ([-1.0; 3], [1.0; 3]),
-    };
-    let bounds = (Vec3::from(lo), Vec3::from(hi));
+    let (file, bounds) = showcase::spawn_gltf(&mut commands, &assets, &options.file);
+    commands.insert_resource(File(file));
     let camera = orbit(bounds, Vec3::new(0.3, 0.35, 1.0), 3.4);
     stage(&mut commands, &mut meshes, &mut materials, bounds, camera);
 }

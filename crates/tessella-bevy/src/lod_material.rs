@@ -3,7 +3,7 @@
 //! with, `tessella_gpu::wgsl::adaptive_module`), registered once per basis, normal mode and
 //! spacing family as the Bevy import `tessella_bevy::adaptive_<basis>_<normals>_<family>`.
 
-use crate::material::{FIRST_BINDING, MATERIAL_GROUP};
+use crate::material::{rebind, MATERIAL_GROUP};
 use bevy::asset::{uuid::Uuid, uuid_handle};
 use bevy::mesh::MeshVertexBufferLayoutRef;
 use bevy::pbr::{
@@ -135,14 +135,8 @@ impl MaterialExtension for TessellaLodExtension {
 /// tessella-gpu's adaptive module rebound into Bevy's material group: group 3, bindings 100
 /// to 103, the uniform as read-only storage. Only the declarations change.
 pub fn adaptive_module_for_bevy(basis: Basis, mode: NormalMode, spacing: Spacing) -> String {
-    let mut source = tessella_gpu::wgsl::adaptive_module(MATERIAL_GROUP, basis, mode, spacing);
-    for b in (0..4).rev() {
-        source = source.replace(
-            &format!("@binding({b})"),
-            &format!("@binding({})", FIRST_BINDING + b),
-        );
-    }
-    source.replace("var<uniform>", "var<storage, read>")
+    let source = tessella_gpu::wgsl::adaptive_module(MATERIAL_GROUP, basis, mode, spacing);
+    rebind(source, 4)
 }
 
 const LOD_VERTEX_WESL: &str = include_str!("lod_vertex.wesl");

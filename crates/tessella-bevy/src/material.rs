@@ -131,8 +131,13 @@ impl MaterialExtension for TessellaExtension {
 /// raw-byte buffers are storage buffers). Only the declarations change; the evaluation is
 /// tessella's generated code as it is.
 pub fn patch_module_for_bevy(mode: NormalMode) -> String {
-    let mut source = tessella_gpu::wgsl::patch_module(MATERIAL_GROUP, mode);
-    for b in (0..7).rev() {
+    rebind(tessella_gpu::wgsl::patch_module(MATERIAL_GROUP, mode), 7)
+}
+
+/// A tessella module's `count` bindings (0, 1, ...) moved to [`FIRST_BINDING`] on, and its
+/// uniforms declared as read-only storage (a material's raw-byte buffers are storage buffers).
+pub(crate) fn rebind(mut source: String, count: u32) -> String {
+    for b in (0..count).rev() {
         source = source.replace(
             &format!("@binding({b})"),
             &format!("@binding({})", FIRST_BINDING + b),

@@ -21,6 +21,52 @@ use std::path::PathBuf;
 use std::time::Duration;
 use tessella_bevy::{Patch, Patches, TessellaPlugin, Tessellate};
 
+/// Runs the app `build` makes from the example's own arguments (the output flags taken out) and
+/// `Output`; an error is printed with the example's `name`.
+pub fn run(name: &str, build: impl FnOnce(Vec<String>, Output) -> Result<App, String>) -> AppExit {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    match Output::take(&mut args).and_then(|output| build(args, output)) {
+        Ok(mut app) => app.run(),
+        Err(e) => {
+            eprintln!("{name}: {e}");
+            AppExit::error()
+        }
+    }
+}
+
+/// The folder a file lies in (Bevy reads assets below one folder).
+pub fn folder_of(file: &std::path::Path) -> Result<String, String> {
+    let file = file
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", file.display()))?;
+    Ok(file
+        .parent()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default())
+}
+
+/// Spawns scene 0 of the glTF `file` (read from the asset folder, [`folder_of`]) and returns
+/// the file's handle (its clips), and the box of its mesh as tessella reads it (to frame it).
+pub fn spawn_gltf(
+    commands: &mut Commands,
+    assets: &AssetServer,
+    file: &std::path::Path,
+) -> (Handle<bevy::gltf::Gltf>, (Vec3, Vec3)) {
+    let name = file
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let scene = bevy::gltf::GltfAssetLabel::Scene(0).from_asset(name.clone());
+    commands.spawn(bevy::world_serialization::WorldAssetRoot(
+        assets.load(scene),
+    ));
+    let (lo, hi) = match tessella_io::read_mesh(file) {
+        Ok(m) => m.bounds(),
+        Err(_) => ([-1.0; 3], [1.0; 3]),
+    };
+    (assets.load(name), (Vec3::from(lo), Vec3::from(hi)))
+}
+
 /// How an example shows its scene.
 #[derive(Resource, Clone, Debug)]
 pub struct Output {
