@@ -7,7 +7,7 @@
 
 use crate::gltf_influences::ExtraInfluences;
 use crate::pattern::{face_boxes, rewrite};
-use crate::picking::Surface;
+use crate::surface::Surface;
 use crate::{Patch, Patches};
 use bevy::camera::primitives::Aabb;
 use bevy::mesh::morph::{MeshMorphWeights, MorphWeights};

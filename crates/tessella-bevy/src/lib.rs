@@ -23,6 +23,7 @@ mod lod_material;
 mod material;
 mod pattern;
 mod picking;
+mod surface;
 
 use bevy::camera::primitives::Aabb;
 use bevy::camera::visibility::NoAutoAabb;
@@ -50,7 +51,8 @@ use animate::Animated;
 use lod::LodState;
 use lod_material::{TessellaLodExtension, TessellaLodKey};
 use pattern::storage;
-use picking::{PickMesh, Surface};
+use picking::PickMesh;
+use surface::Surface;
 use tessella_core::refine::{instanced, Levels, Lod, Spacing};
 
 /// Draws an entity's mesh as tessella's curved surface: the options of tessella's one

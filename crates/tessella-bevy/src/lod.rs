@@ -7,7 +7,7 @@
 //! part each patch child draws with which `face | side << 30` tag.
 
 use crate::pattern::{face_boxes, rewrite};
-use crate::picking::Surface;
+use crate::surface::Surface;
 use crate::{Patch, Patches, UploadStats};
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::primitives::Aabb;

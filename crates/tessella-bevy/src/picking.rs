@@ -7,6 +7,7 @@
 //! not where the surface is.
 
 use crate::lod::LodState;
+use crate::surface::Surface;
 use bevy::camera::visibility::RenderLayers;
 use bevy::picking::backend::ray::RayMap;
 use bevy::picking::backend::{HitData, PointerHits};
@@ -14,17 +15,7 @@ use bevy::picking::mesh_picking::ray_cast::{ray_mesh_intersection, Backfaces};
 use bevy::picking::mesh_picking::{MeshPickingCamera, MeshPickingSettings};
 use bevy::picking::Pickable;
 use bevy::prelude::*;
-use std::sync::Arc;
-use tessella_core::refine::{Frame, Levels, Plan, RefinedMesh};
-
-/// A tessellated entity's surface as drawn: the plan and the current frame (posed, for an
-/// animated entity), with a count that changes whenever the frame does.
-#[derive(Component)]
-pub(crate) struct Surface {
-    pub plan: Arc<Plan>,
-    pub frame: Frame<'static>,
-    pub version: u64,
-}
+use tessella_core::refine::{Levels, Plan, RefinedMesh};
 
 /// The refined triangles rays are cast against, and the surface version (and per-edge levels)
 /// they were made for.
