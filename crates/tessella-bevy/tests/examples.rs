@@ -2,24 +2,10 @@
 //! draw their subjects over the ground, without an error in the log; the LOD
 //! scene draws more triangles for the creatures near the camera than for the far ones.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn example(name: &str) -> PathBuf {
-    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("..");
-    let profile = if cfg!(debug_assertions) {
-        "debug"
-    } else {
-        "release"
-    };
-    let bin = target.join(profile).join("examples").join(name);
-    assert!(
-        bin.exists(),
-        "{} is missing (cargo test builds it)",
-        bin.display()
-    );
-    bin
-}
+use std::path::Path;
+use std::process::Command;
 
 /// Runs an example headless; returns its stdout and the pixels of its subjects: neither the
 /// sky (the clear colour) nor the ground (warm: red above blue).
@@ -27,19 +13,11 @@ fn run(name: &str, args: &[&str]) -> (String, usize) {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("examples");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join(format!("{name}.png"));
-    let mut cmd = Command::new(example(name));
+    let mut cmd = Command::new(common::example(name));
     cmd.args(args)
         .args(["--size", "200x150", "--screenshot"])
         .arg(&out);
-    let output = cmd.output().expect("the example starts");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{cmd:?} failed:\n{stderr}");
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("ERROR")).collect();
-    assert!(
-        errors.is_empty(),
-        "{cmd:?} logged errors:\n{}",
-        errors.join("\n")
-    );
+    let (stdout, _) = common::run(cmd);
     let img = image::open(&out).unwrap().to_rgba8();
     let sky = [237i32, 240, 245];
     let blue = img
@@ -51,7 +29,7 @@ fn run(name: &str, args: &[&str]) -> (String, usize) {
             !is_sky && !is_ground && g > 0
         })
         .count();
-    (String::from_utf8_lossy(&output.stdout).to_string(), blue)
+    (stdout, blue)
 }
 
 #[test]

@@ -7,6 +7,9 @@
 //! workspace (`TESSELLA_BIN`, else `target/release/tessella`, else `target/debug/tessella`), headless on
 //! whatever Vulkan device there is (lavapipe on a machine without a GPU).
 
+mod common;
+
+use common::run;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -29,39 +32,7 @@ fn cli() -> PathBuf {
 }
 
 fn view_example() -> PathBuf {
-    // CARGO_TARGET_TMPDIR is <target>/tmp; `cargo test` builds the examples into
-    // <target>/<profile>/examples.
-    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("..");
-    let profile = if cfg!(debug_assertions) {
-        "debug"
-    } else {
-        "release"
-    };
-    let bin = target.join(profile).join("examples/view");
-    assert!(
-        bin.exists(),
-        "{} is missing (cargo test builds it)",
-        bin.display()
-    );
-    bin
-}
-
-fn run(mut cmd: Command) {
-    let out = cmd.output().expect("the command starts");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        out.status.success(),
-        "{cmd:?} failed:\n{}\n{stderr}",
-        String::from_utf8_lossy(&out.stdout),
-    );
-    // Bevy logs wgpu validation errors and shader errors (and draws on): a picture is not
-    // enough, the log must be clean too.
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("ERROR")).collect();
-    assert!(
-        errors.is_empty(),
-        "{cmd:?} logged errors:\n{}",
-        errors.join("\n")
-    );
+    common::example("view")
 }
 
 /// Pixels that differ from the white background by more than a little.
@@ -334,18 +305,8 @@ fn a_deforming_entity_uploads_coarse_bytes_whatever_the_level() {
             ])
             .arg("--screenshot")
             .arg(&out);
-        let output = cmd.output().expect("the example starts");
-        assert!(
-            output.status.success(),
-            "{}",
-            String::from_utf8_lossy(&output.stderr)
-        );
-        let stdout = String::from_utf8_lossy(&output.stdout);
-        let bytes: Vec<u64> = stdout
-            .lines()
-            .filter_map(|l| l.split("\"uploaded_bytes\":").nth(1))
-            .map(|rest| rest.split([',', '}']).next().unwrap().parse().unwrap())
-            .collect();
+        let (stdout, _) = run(cmd);
+        let bytes = uploaded_bytes(&stdout);
         eprintln!("level {level}: bytes per frame {bytes:?} for {triangles} coarse triangles");
         assert!(bytes.len() >= 4, "too few stats lines:\n{stdout}");
         // Every frame of a playing clip deforms; each uploads at most 256 bytes a coarse
@@ -359,6 +320,15 @@ fn a_deforming_entity_uploads_coarse_bytes_whatever_the_level() {
         per_level[0], per_level[1],
         "the upload depends on the level"
     );
+}
+
+/// The `uploaded_bytes` of each `--stats` line the example printed.
+fn uploaded_bytes(stdout: &str) -> Vec<u64> {
+    stdout
+        .lines()
+        .filter_map(|l| l.split("\"uploaded_bytes\":").nth(1))
+        .map(|rest| rest.split([',', '}']).next().unwrap().parse().unwrap())
+        .collect()
 }
 
 /// The JSON `pick` line the example printed: (hit, subject, depth).
@@ -426,13 +396,7 @@ fn picking_hits_the_curved_surface_not_the_coarse_mesh() {
         if plain {
             cmd.arg("--plain");
         }
-        let out = cmd.output().expect("the example starts");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        picked(&String::from_utf8_lossy(&out.stdout))
+        picked(&run(cmd).0)
     };
     let (hit, subject, _) = pick(bulge, false);
     eprintln!("bulge pixel {bulge:?}: tessellated hit {hit}, on the entity {subject}");
@@ -517,16 +481,7 @@ fn view_stdout(file: &str, args: &[&str], out: &Path) -> String {
         .args(args)
         .arg("--screenshot")
         .arg(out);
-    let output = cmd.output().expect("the example starts");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{cmd:?} failed:\n{stderr}");
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("ERROR")).collect();
-    assert!(
-        errors.is_empty(),
-        "{cmd:?} logged errors:\n{}",
-        errors.join("\n")
-    );
-    String::from_utf8_lossy(&output.stdout).to_string()
+    run(cmd).0
 }
 
 /// Screen-space LOD from Bevy's camera: for each tessellator spacing, the entity draws as many
@@ -554,14 +509,8 @@ fn lod_entity_draws_tessellas_levels_crack_free() {
             .args(["--camera", &camera, "--size", &size])
             .arg("-o")
             .arg(&refined);
-        let output = cmd.output().expect("the CLI starts");
-        assert!(
-            output.status.success(),
-            "{}",
-            String::from_utf8_lossy(&output.stderr)
-        );
-        let said = String::from_utf8_lossy(&output.stderr).to_string()
-            + &String::from_utf8_lossy(&output.stdout);
+        let (stdout, stderr) = run(cmd);
+        let said = stderr + &stdout;
         let cli_triangles: u64 = said
             .split(" triangles (")
             .next()
@@ -614,11 +563,7 @@ fn a_deforming_lod_entity_uploads_coarse_bytes() {
         "0.1", "--frames", "6", "--stats",
     ];
     let stdout = view_stdout(CREATURE, &args, &dir.join("lod-stats.png"));
-    let bytes: Vec<u64> = stdout
-        .lines()
-        .filter_map(|l| l.split("\"uploaded_bytes\":").nth(1))
-        .map(|rest| rest.split([',', '}']).next().unwrap().parse().unwrap())
-        .collect();
+    let bytes = uploaded_bytes(&stdout);
     eprintln!("LOD, wave playing: bytes per frame {bytes:?} for {triangles} coarse triangles");
     assert!(bytes.len() >= 4, "too few stats lines:\n{stdout}");
     // Nets (192 bytes a triangle) and records (96) at most.
