@@ -170,6 +170,14 @@ pub struct RefineArgs {
     /// `perlin:AMP,FREQ[,SEED]`, or `heightmap:IMAGE,AMP` (needs UVs).
     #[arg(long, value_name = "SPEC")]
     pub displace: Option<String>,
+    /// glTF in and out: give each primitive its own level, so that refined edges are about
+    /// LENGTH long in world space (at most level 64), instead of one --level for all.
+    #[arg(long, value_name = "LENGTH", conflicts_with = "level")]
+    pub max_edge: Option<f32>,
+    /// glTF in and out: merge the default scene into one mesh in world space, as for other
+    /// formats, instead of writing the scene back with its nodes, materials and animations.
+    #[arg(long)]
+    pub flatten: bool,
 }
 
 #[derive(Debug, Args)]

@@ -53,6 +53,14 @@ pub enum IoError {
     /// The arrays handed to a writer do not fit together.
     #[error("{path}: cannot write this mesh: {message}", path = path.display())]
     BadMesh { path: PathBuf, message: String },
+    /// A part of the file (a glTF primitive) could not be refined as asked.
+    #[error("{path}: {part}: {source}", path = path.display())]
+    Refine {
+        path: PathBuf,
+        part: String,
+        #[source]
+        source: tessella_core::RefineError,
+    },
     /// The file was read but its mesh failed validation.
     #[error("{path}: {source}", path = path.display())]
     Mesh {

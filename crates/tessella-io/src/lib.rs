@@ -64,6 +64,7 @@ pub mod obj;
 pub mod ply;
 mod raw;
 mod refined;
+mod sample_scene;
 pub mod stl;
 pub mod stream;
 pub mod tags;
@@ -76,6 +77,7 @@ pub use format::Format;
 pub use height_map::read_height_map;
 pub use raw::{MeshView, RawEdge, RawMesh};
 pub use refined::RefinedSource;
+pub use sample_scene::sample_scene;
 pub use stream::{write_streamed, MeshSource};
 
 use std::io::BufReader;

@@ -17,6 +17,7 @@ mod pattern_svg;
 mod pose;
 mod refine;
 mod refine_gl;
+mod refine_scene;
 #[cfg(feature = "gpu")]
 mod render;
 #[cfg(feature = "gpu")]

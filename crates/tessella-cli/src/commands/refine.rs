@@ -20,8 +20,8 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
         done.what,
         done.refine_seconds * 1e3
     );
-    if args.report {
-        let report = tessella_core::quality::report(&done.mesh, &done.options)?;
+    if let (true, Some(mesh)) = (args.report, &done.mesh) {
+        let report = tessella_core::quality::report(mesh, &done.options)?;
         super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
     }
     Ok(())
@@ -29,7 +29,8 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
 
 /// What one refinement made.
 pub struct Refined {
-    pub mesh: tessella_core::Mesh,
+    /// The coarse mesh (none for a glTF scene, refined primitive by primitive).
+    pub mesh: Option<tessella_core::Mesh>,
     pub options: RefineOptions,
     pub input_triangles: usize,
     pub vertices: u64,
@@ -57,6 +58,12 @@ pub fn refine_file(
             args.output.display(),
             args.input.display()
         );
+    }
+    if args.max_edge.is_some() && !super::refine_scene::applies(args) {
+        anyhow::bail!("--max-edge chooses a level per glTF primitive; it needs a .gltf or .glb input and output, without --flatten or --clip");
+    }
+    if super::refine_scene::applies(args) {
+        return super::refine_scene::refine(args, options(args)?, durability);
     }
     let (mut raw, mesh) = super::pose::read(&args.input, &args.pose)?;
     let mut options = options(args)?;
@@ -143,7 +150,7 @@ pub fn refine_file(
         triangles: triangles as u64,
         refine_seconds: elapsed.as_secs_f64(),
         streamed: false,
-        mesh,
+        mesh: Some(mesh),
         options,
     })
 }
@@ -226,7 +233,7 @@ mod stream {
             triangles: plan.triangle_count() as u64,
             refine_seconds: start.elapsed().as_secs_f64(),
             streamed: true,
-            mesh,
+            mesh: Some(mesh),
             options,
         })
     }

@@ -7,6 +7,10 @@ use tessella_io::{write_atomic, write_mesh, MeshView, WriteOptions};
 
 /// The animated sample's file: [`samples::animated_creature`] on the creature's icosphere.
 pub const ANIMATED: &str = "animated-creature.glb";
+/// The sample scene's files ([`tessella_io::sample_scene`]): nodes, materials, a texture,
+/// lights, a camera, clips; float and quantised.
+pub const SCENE: &str = "scene.glb";
+pub const SCENE_QUANTIZED: &str = "scene-quantized.glb";
 
 pub fn run(args: &SamplesArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.output)
@@ -45,5 +49,15 @@ pub fn run(args: &SamplesArgs) -> anyhow::Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    for (name, quantized) in [(SCENE, false), (SCENE_QUANTIZED, true)] {
+        let path = args.output.join(name);
+        let bytes = tessella_io::sample_scene(quantized);
+        write_atomic(&path, |out| std::io::Write::write_all(out, &bytes))?;
+        println!(
+            "{}: the sample scene{}",
+            path.display(),
+            if quantized { ", quantised" } else { "" }
+        );
+    }
     Ok(())
 }

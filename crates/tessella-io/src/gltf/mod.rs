@@ -20,6 +20,7 @@
 
 mod animated;
 mod read;
+pub mod scene;
 mod write;
 mod write_animated;
 

@@ -297,7 +297,7 @@ pub(super) fn merge_attribute<T>(all: &mut Option<Vec<T>>, primitive: Option<Vec
 /// Checks the 12-byte GLB header's total length before the `gltf` crate reads it: that crate
 /// subtracts the header size from the declared length unchecked (an overflow panic in debug
 /// builds for a declared length under 12; found by `fuzz/fuzz_targets/gltf.rs`).
-fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
+pub(super) fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
     if !bytes.starts_with(b"glTF") {
         return Ok(());
     }
@@ -390,7 +390,7 @@ fn apply(
 
 /// Turns a primitive's index list into triangles (glTF 2.0 spec, section 3.7.2.1 "Topology
 /// Types").
-fn assemble(mode: Mode, corners: &[u32]) -> Result<Vec<[u32; 3]>, String> {
+pub(super) fn assemble(mode: Mode, corners: &[u32]) -> Result<Vec<[u32; 3]>, String> {
     let v = corners;
     Ok(match mode {
         Mode::Triangles => {
@@ -576,7 +576,7 @@ fn load_buffers(
     Ok(buffers)
 }
 
-fn load_uri(
+pub(super) fn load_uri(
     path: &Path,
     uri: &str,
     format: &'static str,
@@ -651,7 +651,7 @@ fn load_uri(
 }
 
 /// Decodes `%XX` escapes of a relative URI (glTF 2.0 spec, section 3.1 "URIs").
-fn percent_decode(uri: &str) -> String {
+pub(super) fn percent_decode(uri: &str) -> String {
     let bytes = uri.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;

@@ -1,0 +1,182 @@
+//! Reading a scene: the container, the JSON (kept whole, as a `serde_json::Value`), the
+//! buffers, the extension checks and the `gltf` crate's validation of every index.
+
+use super::super::read::{check_glb_header, load_uri};
+use super::super::Buffers;
+use super::{extensions, meshopt_views, Scene};
+use crate::IoError;
+use serde_json::Value;
+use std::path::Path;
+
+/// Reads `bytes` (a `.gltf` or `.glb` file named `path`) into a [`Scene`].
+pub(super) fn read(
+    path: &Path,
+    bytes: &[u8],
+    format: &'static str,
+    external: Buffers<'_>,
+) -> Result<Scene, IoError> {
+    let parse = |message: String| IoError::Parse {
+        path: path.to_path_buf(),
+        format,
+        message,
+    };
+    let unsupported = |message: String| IoError::Unsupported {
+        path: path.to_path_buf(),
+        format,
+        message,
+    };
+    check_glb_header(bytes).map_err(parse)?;
+    let (json_bytes, blob) = if bytes.starts_with(b"glTF") {
+        let glb = gltf::Glb::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
+        (glb.json, glb.bin.map(|b| b.into_owned()))
+    } else {
+        (std::borrow::Cow::Borrowed(bytes), None)
+    };
+    let mut json: Value =
+        serde_json::from_slice(&json_bytes).map_err(|e| parse(format!("bad JSON: {e}")))?;
+    if !json.is_object() {
+        return Err(parse("the JSON is not an object".into()));
+    }
+    for name in string_list(&json, "extensionsRequired") {
+        if let Some(why) = extensions::refusal(&name) {
+            return Err(unsupported(why));
+        }
+    }
+    refuse_draco_without_fallback(&json).map_err(unsupported)?;
+    let mut buffers = load_buffers(path, &json, blob, format, external)?;
+    meshopt_views::decode(&mut json, &mut buffers).map_err(parse)?;
+    let document = validate(&json).map_err(parse)?;
+    Ok(Scene {
+        json,
+        document,
+        buffers,
+        path: path.to_path_buf(),
+        format,
+    })
+}
+
+/// A top-level array of strings (`extensionsUsed`, `extensionsRequired`).
+pub(super) fn string_list(json: &Value, key: &str) -> Vec<String> {
+    json.get(key)
+        .and_then(Value::as_array)
+        .map(|a| {
+            a.iter()
+                .filter_map(|v| v.as_str().map(str::to_owned))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Draco that is only used (not required) leaves plain accessors beside the compressed data,
+/// and those are read; a primitive whose POSITION has no buffer view has nothing else.
+fn refuse_draco_without_fallback(json: &Value) -> Result<(), String> {
+    let accessors = json.get("accessors").and_then(Value::as_array);
+    for (m, mesh) in arr(json, "meshes").iter().enumerate() {
+        for (p, primitive) in arr(mesh, "primitives").iter().enumerate() {
+            if primitive
+                .pointer("/extensions/KHR_draco_mesh_compression")
+                .is_none()
+            {
+                continue;
+            }
+            let position = primitive
+                .pointer("/attributes/POSITION")
+                .and_then(Value::as_u64)
+                .and_then(|i| accessors?.get(i as usize));
+            if position.is_none_or(|a| a.get("bufferView").is_none()) {
+                return Err(format!(
+                    "mesh {m} primitive {p}: {}",
+                    extensions::refusal("KHR_draco_mesh_compression").unwrap_or_default()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The array at `key` of an object, or an empty one.
+pub(super) fn arr<'a>(json: &'a Value, key: &str) -> &'a [Value] {
+    json.get(key)
+        .and_then(Value::as_array)
+        .map_or(&[], Vec::as_slice)
+}
+
+/// Loads every buffer: the GLB chunk, `data:` URIs, files beside the `.gltf`. A fallback
+/// buffer of `EXT_meshopt_compression` (no data of its own) loads as empty.
+fn load_buffers(
+    path: &Path,
+    json: &Value,
+    mut blob: Option<Vec<u8>>,
+    format: &'static str,
+    external: Buffers<'_>,
+) -> Result<Vec<Vec<u8>>, IoError> {
+    let parse = |message: String| IoError::Parse {
+        path: path.to_path_buf(),
+        format,
+        message,
+    };
+    let mut out = Vec::new();
+    for (b, buffer) in arr(json, "buffers").iter().enumerate() {
+        let length = buffer
+            .get("byteLength")
+            .and_then(Value::as_u64)
+            .ok_or_else(|| parse(format!("buffer {b} has no byteLength")))?
+            as usize;
+        let fallback = buffer
+            .pointer("/extensions/EXT_meshopt_compression/fallback")
+            .and_then(Value::as_bool)
+            == Some(true);
+        let data = match buffer.get("uri").and_then(Value::as_str) {
+            Some(uri) => load_uri(path, uri, format, external)?,
+            None if fallback => Vec::new(),
+            None => blob.take().ok_or_else(|| {
+                parse(format!(
+                    "buffer {b} has no uri and the file has no binary chunk"
+                ))
+            })?,
+        };
+        if !fallback && data.len() < length {
+            return Err(parse(format!(
+                "buffer {b} holds {} bytes but declares byteLength {length}",
+                data.len()
+            )));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// The `gltf` crate's validation of the whole document (every index in range, every
+/// required property there), with the accepted required extensions taken off its list (it
+/// knows only those compiled into it).
+fn validate(json: &Value) -> Result<gltf::Document, String> {
+    let mut root: gltf::json::Root =
+        serde_json::from_value(json.clone()).map_err(|e| format!("bad glTF JSON: {e}"))?;
+    root.extensions_required.clear();
+    // The crate's validation indexes the accessors by each primitive's attribute indices
+    // before checking them: check those first (see `read::open`).
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let targets = primitive
+                .targets
+                .iter()
+                .flatten()
+                .flat_map(|t| [t.positions, t.normals, t.tangents].into_iter().flatten());
+            if let Some(index) = primitive
+                .attributes
+                .values()
+                .copied()
+                .chain(primitive.indices)
+                .chain(targets)
+                .map(|i| i.value())
+                .find(|&i| i >= root.accessors.len())
+            {
+                return Err(format!(
+                    "mesh {m} primitive {p} uses accessor {index}, but the file has only {} accessors",
+                    root.accessors.len()
+                ));
+            }
+        }
+    }
+    gltf::Document::from_json(root).map_err(|e| format!("invalid glTF: {e}"))
+}

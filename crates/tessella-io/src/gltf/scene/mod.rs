@@ -1,0 +1,275 @@
+//! A whole glTF scene, read once, refined primitive by primitive and written back with
+//! everything else it held.
+//!
+//! [`Scene::read`] parses a `.gltf` or `.glb` file once: its JSON is kept whole (every node,
+//! material, texture, image, sampler, camera, light, skin, animation, extension and extra),
+//! its buffers are loaded and `EXT_meshopt_compression` views decoded, and the `gltf` crate
+//! validates every index. [`Scene::refine`] refines every triangle primitive of every mesh on
+//! its own (a mesh used by several nodes once), keeping its material, carrying its attributes
+//! and morph targets; points and lines are copied. [`RefinedScene::write`] writes the same
+//! document with the refined primitives.
+//!
+//! ```
+//! use tessella_core::{RefineOptions, Scheme};
+//! use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions};
+//! let dir = tempfile::tempdir().unwrap();
+//! let path = dir.path().join("tetrahedron.glb");
+//! tessella_io::write_mesh(&path, (&tessella_core::samples::tetrahedron()).into(), &Default::default())?;
+//! let scene = Scene::read(&path)?;
+//! let options = SceneOptions::new(RefineOptions::new(Scheme::Pn, 1), SceneLevels::Uniform(4));
+//! let refined = scene.refine(&options)?;
+//! assert_eq!(refined.primitives[0].triangles, 4 * 16);
+//! refined.write(&dir.path().join("out.glb"), tessella_io::Durability::Synced)?;
+//! # Ok::<(), tessella_io::IoError>(())
+//! ```
+//!
+//! Conventions (docs/gltf.md has the whole story): attributes other than POSITION, NORMAL,
+//! TANGENT and skin influences are interpolated linearly over each coarse triangle; tangents
+//! are recomputed (MikkTSpace); skin influences are blended, the strongest kept; a morph
+//! target's refined delta is the refinement of its shape minus the refinement of the base.
+//! Degenerate (zero-area) triangles are refined flat and left out of the surface.
+
+mod accessor;
+mod carry;
+pub mod extensions;
+mod levels;
+mod load;
+mod meshopt_views;
+mod out;
+mod primitive;
+mod skin;
+mod tangents;
+mod write;
+
+pub use levels::{SceneLevels, MAX_SCENE_LEVEL};
+
+use super::Buffers;
+use crate::IoError;
+use serde_json::Value;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use tessella_core::RefineOptions;
+
+/// A glTF document as read: its JSON whole, its buffers, its validated structure.
+pub struct Scene {
+    json: Value,
+    document: gltf::Document,
+    buffers: Vec<Vec<u8>>,
+    path: PathBuf,
+    format: &'static str,
+}
+
+/// How to refine a scene: the scheme and its options (their level is replaced per primitive)
+/// and the levels.
+#[derive(Debug, Clone)]
+pub struct SceneOptions {
+    pub refine: RefineOptions,
+    pub levels: SceneLevels,
+}
+
+impl SceneOptions {
+    pub fn new(refine: RefineOptions, levels: SceneLevels) -> SceneOptions {
+        SceneOptions { refine, levels }
+    }
+}
+
+/// What refining one primitive made.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct PrimitiveReport {
+    pub level: u32,
+    pub coarse_triangles: usize,
+    /// Zero-area triangles among them, refined flat.
+    pub degenerate: usize,
+    pub vertices: usize,
+    pub triangles: usize,
+    /// Anything carried by a fallback (a morph target whose shape cannot be refined).
+    pub notes: Vec<String>,
+}
+
+/// Counts of what a scene holds, for `info` and tests.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct SceneCounts {
+    pub scenes: usize,
+    pub nodes: usize,
+    pub meshes: usize,
+    pub primitives: usize,
+    pub triangle_primitives: usize,
+    pub materials: usize,
+    pub textures: usize,
+    pub images: usize,
+    pub samplers: usize,
+    pub skins: usize,
+    pub animations: usize,
+    pub cameras: usize,
+    pub morph_targets: usize,
+    pub extensions_used: Vec<String>,
+}
+
+/// A refined scene, ready to write.
+pub struct RefinedScene {
+    json: Value,
+    bin: Vec<u8>,
+    /// One entry per refined primitive, mesh by mesh: (mesh, primitive) and its report.
+    pub primitives: Vec<PrimitiveReport>,
+    /// (mesh, primitive index) of each entry of `primitives`.
+    pub which: Vec<(usize, usize)>,
+    source_folder: PathBuf,
+}
+
+impl Scene {
+    /// Reads a `.gltf` or `.glb` file (external buffers from its folder).
+    pub fn read(path: &Path) -> Result<Scene, IoError> {
+        let format = crate::Format::from_path(path)?;
+        let bytes = std::fs::read(path).map_err(|source| IoError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        load::read(path, &bytes, format.name(), Buffers::Folder)
+    }
+
+    /// Reads a file held in memory; `name` names it in messages and gives its format, and a
+    /// `.gltf`'s external buffers come from `buffers`.
+    pub fn from_bytes(name: &str, bytes: &[u8], buffers: Buffers<'_>) -> Result<Scene, IoError> {
+        let path = Path::new(name);
+        let format = crate::Format::from_path(path)?;
+        load::read(path, bytes, format.name(), buffers)
+    }
+
+    /// What the scene holds.
+    pub fn counts(&self) -> SceneCounts {
+        let d = &self.document;
+        let primitives = d.meshes().flat_map(|m| m.primitives());
+        SceneCounts {
+            scenes: d.scenes().len(),
+            nodes: d.nodes().len(),
+            meshes: d.meshes().len(),
+            primitives: d.meshes().map(|m| m.primitives().len()).sum(),
+            triangle_primitives: primitives
+                .clone()
+                .filter(|p| is_triangles(p.mode()))
+                .count(),
+            materials: d.materials().len(),
+            textures: d.textures().len(),
+            images: d.images().len(),
+            samplers: d.samplers().len(),
+            skins: d.skins().len(),
+            animations: d.animations().len(),
+            cameras: d.cameras().len(),
+            morph_targets: primitives.map(|p| p.morph_targets().len()).sum(),
+            extensions_used: load::string_list(&self.json, "extensionsUsed"),
+        }
+    }
+
+    /// The level each triangle primitive gets under `levels`, in (mesh, primitive) order.
+    pub fn levels(&self, levels: &SceneLevels) -> Result<Vec<((usize, usize), u32)>, IoError> {
+        levels::choose(self, levels).map_err(|m| self.parse(m))
+    }
+
+    /// Refines every triangle primitive; see the module's documentation.
+    pub fn refine(&self, options: &SceneOptions) -> Result<RefinedScene, IoError> {
+        let chosen = self.levels(&options.levels)?;
+        let refined: BTreeSet<(usize, usize)> = chosen.iter().map(|(k, _)| *k).collect();
+        let mut out =
+            out::Out::new(self.json.clone(), &self.buffers, &refined).map_err(|m| self.parse(m))?;
+        let mut reports = Vec::new();
+        let mut which = Vec::new();
+        for &((m, p), level) in &chosen {
+            let mesh = self
+                .document
+                .meshes()
+                .nth(m)
+                .expect("chosen from the meshes");
+            let primitive = mesh
+                .primitives()
+                .nth(p)
+                .expect("chosen from the primitives");
+            let normal_uv_set = primitive
+                .material()
+                .normal_texture()
+                .map_or(0, |t| t.tex_coord());
+            let primitive_json = self.json["meshes"][m]["primitives"][p].clone();
+            let (new, report) = primitive::refine(
+                &self.document,
+                &self.buffers,
+                &primitive_json,
+                primitive.mode(),
+                &options.refine,
+                level,
+                normal_uv_set,
+                &mut out,
+            )
+            .map_err(|failure| {
+                let part = format!("mesh {m} primitive {p}");
+                match failure {
+                    primitive::Failure::Data(message) => self.parse(format!("{part}: {message}")),
+                    primitive::Failure::Refine(source) => IoError::Refine {
+                        path: self.path.clone(),
+                        part,
+                        source,
+                    },
+                }
+            })?;
+            out.json["meshes"][m]["primitives"][p] = new;
+            reports.push(report);
+            which.push((m, p));
+        }
+        let (json, bin) = out.finish(None);
+        Ok(RefinedScene {
+            json,
+            bin,
+            primitives: reports,
+            which,
+            source_folder: self.path.parent().unwrap_or(Path::new("")).to_path_buf(),
+        })
+    }
+
+    fn parse(&self, message: String) -> IoError {
+        IoError::Parse {
+            path: self.path.clone(),
+            format: self.format,
+            message,
+        }
+    }
+}
+
+/// A GLB container of `json` and its one buffer `bin` (no BIN chunk when `bin` is empty).
+pub fn glb(json: &Value, bin: &[u8]) -> std::io::Result<Vec<u8>> {
+    write::glb_bytes(json, bin)
+}
+
+pub(super) fn is_triangles(mode: gltf::mesh::Mode) -> bool {
+    use gltf::mesh::Mode;
+    matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    )
+}
+
+impl RefinedScene {
+    /// The document's JSON (the one buffer has no `uri`: a GLB's).
+    pub fn json(&self) -> &Value {
+        &self.json
+    }
+
+    /// The whole scene as GLB bytes.
+    pub fn to_glb(&self) -> Result<Vec<u8>, IoError> {
+        write::glb_bytes(&self.json, &self.bin).map_err(|source| IoError::Write {
+            path: PathBuf::from("<memory>"),
+            source,
+        })
+    }
+
+    /// Writes `path` (`.glb`: one file; `.gltf`: the JSON and `NAME.bin` beside it), and copies
+    /// the images the document names by relative URI next to it when it lies in another
+    /// folder. Returns warnings (an image that is missing is not copied; the geometry is
+    /// written all the same).
+    pub fn write(
+        &self,
+        path: &Path,
+        durability: crate::Durability,
+    ) -> Result<Vec<String>, IoError> {
+        write::write(self, path, durability)
+    }
+}
