@@ -445,4 +445,14 @@ fn samples_writes_the_repositorys_animated_sample_byte_for_byte() {
         "samples/animated-creature.glb differs from what `tessella samples` writes; regenerate it"
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("3 clips (wave, hop, breathe)"));
+    for scene in ["scene.glb", "scene-quantized.glb"] {
+        let written = std::fs::read(dir.path().join(scene)).unwrap();
+        let bundled = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../samples")
+            .join(scene);
+        assert!(
+            written == std::fs::read(&bundled).unwrap(),
+            "samples/{scene} differs from what `tessella samples` writes; regenerate it"
+        );
+    }
 }
