@@ -59,7 +59,7 @@ pub enum IoError {
         path: PathBuf,
         part: String,
         #[source]
-        source: tessella_core::RefineError,
+        source: Box<tessella_core::RefineError>,
     },
     /// The file was read but its mesh failed validation.
     #[error("{path}: {source}", path = path.display())]

@@ -5,7 +5,7 @@
 //! - a ball of two primitives with two materials (one painted with vertex colours, one
 //!   textured with an embedded PNG, a normal map and `KHR_texture_transform`, which the file
 //!   requires), `TEXCOORD_0`, `TEXCOORD_1`, `COLOR_0`, `TANGENT`, an integer `_REGION`
-//!   attribute, two degenerate triangles (a repeated corner and three collinear corners) and a
+//!   attribute, two degenerate triangles (a repeated corner, and two corners at one position) and a
 //!   morph target;
 //! - a ring mesh shown by two nodes (one a scaled child of the other), sharing the textured
 //!   material;
@@ -342,14 +342,12 @@ pub fn sample_scene(quantized: bool) -> Vec<u8> {
             .sum::<f32>()
             <= 0.0
     });
-    // Degenerate triangles, as exported assets have them: a repeated corner, and three
-    // collinear corners (an edge's midpoint, on the chord).
+    // Degenerate triangles, as exported assets have them: a repeated corner, and two corners
+    // at one position (a vertex and its copy).
     let [a, b, _] = lower.triangles[0];
     lower.triangles.push([a, a, b]);
-    let mid = lower.duplicate(a as usize);
-    let (pa, pb) = (lower.positions[a as usize], lower.positions[b as usize]);
-    lower.positions[mid as usize] = std::array::from_fn(|k| 0.5 * (pa[k] + pb[k]));
-    lower.triangles.push([a, mid, b]);
+    let twin = lower.duplicate(a as usize);
+    lower.triangles.push([a, twin, b]);
     let mut ball_upper = upper.store(&mut bin, quantized, true);
     let ball_lower = lower.store(&mut bin, quantized, true);
     // A morph target on the upper half: the cap pushed out along its normals.

@@ -25,7 +25,7 @@ pub enum SceneLevels {
 pub(super) fn choose(
     scene: &Scene,
     levels: &SceneLevels,
-) -> Result<Vec<((usize, usize), u32)>, String> {
+) -> Result<Vec<(super::PrimitiveId, u32)>, String> {
     let mut out = Vec::new();
     let scales = match levels {
         SceneLevels::MaxEdge(length) if !(length.is_finite() && *length > 0.0) => {

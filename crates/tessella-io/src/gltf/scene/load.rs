@@ -46,6 +46,7 @@ pub(super) fn read(
     let mut buffers = load_buffers(path, &json, blob, format, external)?;
     meshopt_views::decode(&mut json, &mut buffers).map_err(parse)?;
     let document = validate(&json).map_err(parse)?;
+    check_channels(&json).map_err(parse)?;
     Ok(Scene {
         json,
         document,
@@ -144,6 +145,31 @@ fn load_buffers(
         out.push(data);
     }
     Ok(out)
+}
+
+/// Animation channels name a sampler of their animation and an existing node (the `gltf`
+/// crate's validation leaves these to its reader).
+fn check_channels(json: &Value) -> Result<(), String> {
+    let nodes = arr(json, "nodes").len() as u64;
+    for (a, animation) in arr(json, "animations").iter().enumerate() {
+        let samplers = arr(animation, "samplers").len() as u64;
+        for (c, channel) in arr(animation, "channels").iter().enumerate() {
+            let sampler = channel.get("sampler").and_then(Value::as_u64);
+            if sampler.is_none_or(|s| s >= samplers) {
+                return Err(format!(
+                    "animations[{a}].channels[{c}].sampler: no sampler {sampler:?} among the animation's {samplers}"
+                ));
+            }
+            if let Some(node) = channel.pointer("/target/node").and_then(Value::as_u64) {
+                if node >= nodes {
+                    return Err(format!(
+                        "animations[{a}].channels[{c}].target.node: node {node} does not exist (the file has {nodes})"
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The `gltf` crate's validation of the whole document (every index in range, every

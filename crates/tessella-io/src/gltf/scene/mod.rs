@@ -43,6 +43,9 @@ mod write;
 
 pub use levels::{SceneLevels, MAX_SCENE_LEVEL};
 
+/// A primitive by its place in the document: (mesh index, primitive index).
+pub type PrimitiveId = (usize, usize);
+
 use super::Buffers;
 use crate::IoError;
 use serde_json::Value;
@@ -114,7 +117,7 @@ pub struct RefinedScene {
     /// One entry per refined primitive, mesh by mesh: (mesh, primitive) and its report.
     pub primitives: Vec<PrimitiveReport>,
     /// (mesh, primitive index) of each entry of `primitives`.
-    pub which: Vec<(usize, usize)>,
+    pub which: Vec<PrimitiveId>,
     source_folder: PathBuf,
 }
 
@@ -163,14 +166,14 @@ impl Scene {
     }
 
     /// The level each triangle primitive gets under `levels`, in (mesh, primitive) order.
-    pub fn levels(&self, levels: &SceneLevels) -> Result<Vec<((usize, usize), u32)>, IoError> {
+    pub fn levels(&self, levels: &SceneLevels) -> Result<Vec<(PrimitiveId, u32)>, IoError> {
         levels::choose(self, levels).map_err(|m| self.parse(m))
     }
 
     /// Refines every triangle primitive; see the module's documentation.
     pub fn refine(&self, options: &SceneOptions) -> Result<RefinedScene, IoError> {
         let chosen = self.levels(&options.levels)?;
-        let refined: BTreeSet<(usize, usize)> = chosen.iter().map(|(k, _)| *k).collect();
+        let refined: BTreeSet<PrimitiveId> = chosen.iter().map(|(k, _)| *k).collect();
         let mut out =
             out::Out::new(self.json.clone(), &self.buffers, &refined).map_err(|m| self.parse(m))?;
         let mut reports = Vec::new();
@@ -207,7 +210,7 @@ impl Scene {
                     primitive::Failure::Refine(source) => IoError::Refine {
                         path: self.path.clone(),
                         part,
-                        source,
+                        source: Box::new(source),
                     },
                 }
             })?;
