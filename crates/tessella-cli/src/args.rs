@@ -422,9 +422,13 @@ pub struct InfoArgs {
     /// defect), gaps (watertightness), distance from the coarse mesh.
     #[arg(long)]
     pub quality: bool,
-    /// Level whose pattern samples the distance from the coarse mesh (with --quality).
+    /// Level whose pattern samples the distance from the coarse mesh (with --quality), and
+    /// the level a glTF scene's primitives are shown with.
     #[arg(long, default_value_t = 8)]
     pub level: u32,
+    /// glTF: show the level `refine --max-edge LENGTH` gives each primitive.
+    #[arg(long, value_name = "LENGTH")]
+    pub max_edge: Option<f32>,
     #[command(flatten)]
     pub tags: TagArgs,
 }

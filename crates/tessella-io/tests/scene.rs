@@ -735,7 +735,7 @@ fn broken_files_are_refused_with_the_part_named() {
             Box::new(|j: &mut Value| {
                 j["animations"][0]["channels"][0]["target"]["node"] = json!(77)
             }),
-            "animations",
+            "targets node 77",
         ),
     ];
     for (what, edit, expected) in cases {

@@ -25,9 +25,81 @@ struct Info {
     /// Skins, morph targets and clips of a glTF file that has any.
     #[serde(skip_serializing_if = "Option::is_none")]
     animation: Option<AnimationInfo>,
+    /// A glTF file's scene: what it holds and each triangle primitive's level.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    scene: Option<SceneInfo>,
     /// Every scheme's surface quality (with --quality).
     #[serde(skip_serializing_if = "Option::is_none")]
     quality: Option<Vec<QualityRow>>,
+}
+
+/// What a glTF scene holds, as `refine` writes it back.
+#[derive(Serialize)]
+struct SceneInfo {
+    nodes: usize,
+    meshes: usize,
+    materials: usize,
+    textures: usize,
+    images: usize,
+    skins: usize,
+    animations: usize,
+    cameras: usize,
+    extensions_used: Vec<String>,
+    /// Per triangle primitive: mesh, primitive, triangles, degenerate triangles, level.
+    primitives: Vec<(usize, usize, usize, usize, u32)>,
+}
+
+/// The scene of a glTF `path` (`None` for other formats) with the levels `--level` or
+/// `--max-edge` give.
+fn scene_info(args: &InfoArgs) -> anyhow::Result<Option<SceneInfo>> {
+    use tessella_io::gltf::scene::{Scene, SceneLevels};
+    if !matches!(
+        tessella_io::Format::from_path(&args.input),
+        Ok(tessella_io::Format::Gltf | tessella_io::Format::Glb)
+    ) {
+        if args.max_edge.is_some() {
+            anyhow::bail!("--max-edge shows the levels of a glTF scene's primitives; give a .gltf or .glb file");
+        }
+        return Ok(None);
+    }
+    let scene = Scene::read(&args.input)?;
+    let levels = match args.max_edge {
+        Some(length) => SceneLevels::MaxEdge(length),
+        None => SceneLevels::Uniform(args.level),
+    };
+    let c = scene.counts();
+    Ok(Some(SceneInfo {
+        nodes: c.nodes,
+        meshes: c.meshes,
+        materials: c.materials,
+        textures: c.textures,
+        images: c.images,
+        skins: c.skins,
+        animations: c.animations,
+        cameras: c.cameras,
+        extensions_used: c.extensions_used,
+        primitives: scene
+            .primitives(&levels)?
+            .iter()
+            .map(|p| (p.id.0, p.id.1, p.triangles, p.degenerate, p.level))
+            .collect(),
+    }))
+}
+
+fn print_scene(s: &SceneInfo) {
+    println!(
+        "  scene               {} nodes, {} meshes, {} materials, {} textures, {} images, {} skins, {} animations, {} cameras",
+        s.nodes, s.meshes, s.materials, s.textures, s.images, s.skins, s.animations, s.cameras
+    );
+    if !s.extensions_used.is_empty() {
+        println!("  extensions          {}", s.extensions_used.join(", "));
+    }
+    for (m, p, triangles, degenerate, level) in &s.primitives {
+        println!(
+            "  mesh {m} primitive {p}  {triangles} triangles ({degenerate} degenerate), level {level} -> {} triangles",
+            triangles * (*level as usize).pow(2)
+        );
+    }
 }
 
 /// What a glTF file animates.
@@ -87,7 +159,19 @@ fn animation_info(path: &std::path::Path) -> anyhow::Result<Option<AnimationInfo
 }
 
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
-    let raw = read_raw(&args.input)?;
+    let scene = scene_info(args)?;
+    let raw = match (read_raw(&args.input), &scene) {
+        (Ok(raw), _) => raw,
+        // A scene refine reads (quantised, meshopt-compressed) that the merged reader cannot.
+        (Err(e), Some(scene)) if !args.json => {
+            println!("{}", args.input.display());
+            print_scene(scene);
+            println!("  merged mesh         not read ({e})");
+            println!("  ready to refine (as a scene)");
+            return Ok(());
+        }
+        (Err(e), _) => return Err(e.into()),
+    };
     let nv = raw.positions.len();
     let finite = |p: &[f32; 3]| p.iter().all(|c| c.is_finite());
     let non_finite_vertices = raw.positions.iter().filter(|p| !finite(p)).count();
@@ -119,7 +203,12 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         raw.uvs.clone(),
         raw.triangles.clone(),
     );
-    let problem = full.as_ref().err().map(|e| e.to_string());
+    // A glTF scene is refined primitive by primitive, its degenerate triangles flat: only the
+    // merged mesh of other formats is refused for them.
+    let problem = match &scene {
+        Some(_) => None,
+        None => full.as_ref().err().map(|e| e.to_string()),
+    };
     // Topology of what is usable: the whole mesh, or its valid triangles without normals.
     let topology = match full {
         Ok(mesh) => Some(mesh.topology().report),
@@ -144,6 +233,7 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         topology,
         problem,
         animation: animation_info(&args.input)?,
+        scene,
         quality: None,
     };
     let quality = if args.quality {
@@ -266,6 +356,9 @@ fn print_text(i: &Info) {
             "  closed manifold     {}",
             if t.is_closed_manifold() { "yes" } else { "no" }
         );
+    }
+    if let Some(s) = &i.scene {
+        print_scene(s);
     }
     if let Some(a) = &i.animation {
         for (k, (name, joints)) in a.skins.iter().enumerate() {

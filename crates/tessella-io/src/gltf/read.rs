@@ -23,7 +23,7 @@ use crate::{IoError, RawMesh};
 use glam::{Mat3, Mat4, Vec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
-use gltf::{Accessor, Document, Gltf};
+use gltf::{Accessor, Document};
 use std::path::Path;
 
 /// Reads a `.gltf` or `.glb` file held in memory; external buffers are read from `path`'s folder.
@@ -153,40 +153,17 @@ impl Context<'_> {
     }
 }
 
-/// Parses and validates a `.gltf` or `.glb` file and loads its buffers.
+/// Parses and validates a `.gltf` or `.glb` file and loads its buffers: the scene reader's
+/// one way of reading ([`super::scene::Scene`]), so every reader accepts the same extensions
+/// and decodes `EXT_meshopt_compression` alike.
 pub(super) fn open(
     path: &Path,
     bytes: &[u8],
     format: &'static str,
     buffers: Buffers<'_>,
 ) -> Result<(Document, Vec<Vec<u8>>), IoError> {
-    let ctx = Context { path, format };
-    let parse = |message: String| ctx.parse(message);
-    check_glb_header(bytes).map_err(parse)?;
-    let Gltf { document, blob } =
-        Gltf::from_slice_without_validation(bytes).map_err(|e| parse(e.to_string()))?;
-    // The `gltf` crate's validation indexes the accessors by each primitive's POSITION index
-    // before checking it (a panic for an index past the end; found by
-    // `fuzz/fuzz_targets/gltf.rs`): check attribute indices first, then validate.
-    let root = document.into_json();
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        for (p, primitive) in mesh.primitives.iter().enumerate() {
-            if let Some(index) = primitive
-                .attributes
-                .values()
-                .map(|i| i.value())
-                .find(|&i| i >= root.accessors.len())
-            {
-                return Err(parse(format!(
-                    "mesh {m} primitive {p} uses accessor {index}, but the file has only {} accessors",
-                    root.accessors.len()
-                )));
-            }
-        }
-    }
-    let document = gltf::Document::from_json(root).map_err(|e| parse(e.to_string()))?;
-    let buffers = load_buffers(path, &document, blob, format, buffers)?;
-    Ok((document, buffers))
+    let scene = super::scene::read_for_readers(path, bytes, format, buffers)?;
+    Ok(scene)
 }
 
 /// One triangle primitive's vertices and its triangles (indices local to the primitive).
@@ -221,16 +198,17 @@ pub(super) fn read_primitive(
     let normal = primitive.get(&gltf::Semantic::Normals);
     let uv = primitive.get(&gltf::Semantic::TexCoords(0));
     let indices = primitive.indices();
-    let float = [DataType::F32];
+    let any = [
+        DataType::F32,
+        DataType::I8,
+        DataType::U8,
+        DataType::I16,
+        DataType::U16,
+    ];
     let checks = [
-        (Some(&position), "POSITION", Dimensions::Vec3, &float[..]),
-        (normal.as_ref(), "NORMAL", Dimensions::Vec3, &float[..]),
-        (
-            uv.as_ref(),
-            "TEXCOORD_0",
-            Dimensions::Vec2,
-            &[DataType::F32, DataType::U8, DataType::U16],
-        ),
+        (Some(&position), "POSITION", Dimensions::Vec3, &any[..]),
+        (normal.as_ref(), "NORMAL", Dimensions::Vec3, &any[..]),
+        (uv.as_ref(), "TEXCOORD_0", Dimensions::Vec2, &any[..]),
         (
             indices.as_ref(),
             "indices",
@@ -248,18 +226,37 @@ pub(super) fn read_primitive(
     let count_mismatch = |name: &str, got: usize, n: usize| {
         parse(format!("{what} has {got} {name} values for {n} positions"))
     };
-    let positions: Vec<[f32; 3]> = reader
-        .read_positions()
-        .map(Iterator::collect)
-        .unwrap_or_default();
+    // Any component type: integers (KHR_mesh_quantization) read as the floats they stand for.
+    let floats = |accessor: &Accessor, name: &str| {
+        super::scene::read_floats(accessor, buffers)
+            .map_err(|m| parse(format!("{what} {name}: {m}")))
+    };
+    let positions: Vec<[f32; 3]> = floats(&position, "POSITION")?
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
     let n = positions.len();
     if n != position.count() {
         return Err(count_mismatch("POSITION", n, position.count()));
     }
-    let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
-    let uvs: Option<Vec<[f32; 2]>> = reader
-        .read_tex_coords(0)
-        .map(|t| t.into_f32().map(flip_v).collect());
+    let normals: Option<Vec<[f32; 3]>> = match &normal {
+        Some(a) => Some(
+            floats(a, "NORMAL")?
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect(),
+        ),
+        None => None,
+    };
+    let uvs: Option<Vec<[f32; 2]>> = match &uv {
+        Some(a) => Some(
+            floats(a, "TEXCOORD_0")?
+                .chunks_exact(2)
+                .map(|c| flip_v([c[0], c[1]]))
+                .collect(),
+        ),
+        None => None,
+    };
     for (name, got) in [
         ("NORMAL", normals.as_ref().map(Vec::len)),
         ("TEXCOORD_0", uvs.as_ref().map(Vec::len)),
@@ -536,44 +533,6 @@ fn check_elements(
         }
     }
     Ok(())
-}
-
-/// Loads every buffer: the GLB binary chunk, `data:` URIs, or files beside the `.gltf`.
-fn load_buffers(
-    path: &Path,
-    document: &Document,
-    blob: Option<Vec<u8>>,
-    format: &'static str,
-    external: Buffers<'_>,
-) -> Result<Vec<Vec<u8>>, IoError> {
-    let parse = |message: String| IoError::Parse {
-        path: path.to_path_buf(),
-        format,
-        message,
-    };
-    let mut blob = blob;
-    let mut buffers = Vec::new();
-    for buffer in document.buffers() {
-        let data = match buffer.source() {
-            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
-                parse(format!(
-                    "buffer {} has no uri and the file has no binary chunk",
-                    buffer.index()
-                ))
-            })?,
-            gltf::buffer::Source::Uri(uri) => load_uri(path, uri, format, external)?,
-        };
-        if data.len() < buffer.length() {
-            return Err(parse(format!(
-                "buffer {} holds {} bytes but declares byteLength {}",
-                buffer.index(),
-                data.len(),
-                buffer.length()
-            )));
-        }
-        buffers.push(data);
-    }
-    Ok(buffers)
 }
 
 pub(super) fn load_uri(

@@ -3,6 +3,7 @@
 use super::accessor::read_f32;
 use super::{is_triangles, Scene};
 use glam::{Mat4, Vec3};
+use tessella_core::mesh::has_zero_area;
 
 /// The largest level a target edge length may ask for (a level-64 primitive has 4096 times
 /// its coarse triangles).
@@ -21,11 +22,24 @@ pub enum SceneLevels {
     MaxEdge(f32),
 }
 
-/// (mesh, primitive) and level of every triangle primitive, in order.
-pub(super) fn choose(
+/// What a triangle primitive holds, and the level it gets.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct PrimitiveSummary {
+    pub id: super::PrimitiveId,
+    pub triangles: usize,
+    /// Zero-area triangles (a repeated corner, or corners on one line), refined flat.
+    pub degenerate: usize,
+    /// Mean coarse edge length in the mesh's own space.
+    pub mean_edge: f64,
+    pub level: u32,
+}
+
+/// Every triangle primitive, in order, with its level.
+pub(super) fn summaries(
     scene: &Scene,
     levels: &SceneLevels,
-) -> Result<Vec<(super::PrimitiveId, u32)>, String> {
+) -> Result<Vec<PrimitiveSummary>, String> {
     let mut out = Vec::new();
     let scales = match levels {
         SceneLevels::MaxEdge(length) if !(length.is_finite() && *length > 0.0) => {
@@ -44,18 +58,24 @@ pub(super) fn choose(
             if !is_triangles(primitive.mode()) {
                 continue;
             }
+            let id = (mesh.index(), primitive.index());
+            let (triangles, degenerate, mean_edge) = shape(scene, &primitive)
+                .map_err(|m| format!("mesh {} primitive {}: {m}", id.0, id.1))?;
             let level = match (levels, &scales) {
                 (SceneLevels::MaxEdge(length), Some(scales)) => {
-                    let edge = mean_edge(scene, &primitive).map_err(|m| {
-                        format!("mesh {} primitive {}: {m}", mesh.index(), primitive.index())
-                    })?;
-                    let world = edge * scales[mesh.index()] as f64;
+                    let world = mean_edge * scales[mesh.index()] as f64;
                     ((world / *length as f64).ceil() as u32).clamp(1, MAX_SCENE_LEVEL)
                 }
                 (SceneLevels::Uniform(n), _) => *n,
                 _ => 1,
             };
-            out.push(((mesh.index(), primitive.index()), level));
+            out.push(PrimitiveSummary {
+                id,
+                triangles,
+                degenerate,
+                mean_edge,
+                level,
+            });
         }
     }
     Ok(out)
@@ -90,8 +110,9 @@ fn mesh_scales(document: &gltf::Document) -> Vec<f32> {
         .collect()
 }
 
-/// The mean length of the primitive's edges (each triangle's three, in its own space).
-fn mean_edge(scene: &Scene, primitive: &gltf::Primitive) -> Result<f64, String> {
+/// The primitive's triangle count, its degenerate triangles and the mean length of its edges
+/// (each triangle's three, in its own space; degenerate ones too).
+fn shape(scene: &Scene, primitive: &gltf::Primitive) -> Result<(usize, usize, f64), String> {
     let position = primitive
         .get(&gltf::Semantic::Positions)
         .ok_or("no POSITION attribute")?;
@@ -102,15 +123,19 @@ fn mean_edge(scene: &Scene, primitive: &gltf::Primitive) -> Result<f64, String> 
         None => (0..n as u32).collect(),
     };
     let triangles = super::super::read::assemble(primitive.mode(), &corners)?;
-    let at = |i: u32| -> Result<Vec3, String> {
+    let at = |i: u32| -> Result<[f32; 3], String> {
         let i = i as usize;
         p.get(i * 3..i * 3 + 3)
-            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .map(|c| [c[0], c[1], c[2]])
             .ok_or_else(|| format!("uses vertex {i} but has only {n} vertices"))
     };
-    let (mut sum, mut count) = (0.0f64, 0usize);
+    let positions: Vec<[f32; 3]> = p.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let (mut sum, mut count, mut degenerate) = (0.0f64, 0usize, 0usize);
     for t in &triangles {
-        let [a, b, c] = [at(t[0])?, at(t[1])?, at(t[2])?];
+        let [a, b, c] = [at(t[0])?, at(t[1])?, at(t[2])?].map(Vec3::from);
+        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || has_zero_area(&positions, *t) {
+            degenerate += 1;
+        }
         for (u, v) in [(a, b), (b, c), (c, a)] {
             let d = u.distance(v) as f64;
             if d.is_finite() {
@@ -119,5 +144,6 @@ fn mean_edge(scene: &Scene, primitive: &gltf::Primitive) -> Result<f64, String> 
             }
         }
     }
-    Ok(if count == 0 { 0.0 } else { sum / count as f64 })
+    let mean = if count == 0 { 0.0 } else { sum / count as f64 };
+    Ok((triangles.len(), degenerate, mean))
 }

@@ -43,10 +43,15 @@ pub(super) fn read(
         }
     }
     refuse_draco_without_fallback(&json).map_err(unsupported)?;
-    let mut buffers = load_buffers(path, &json, blob, format, external)?;
-    meshopt_views::decode(&mut json, &mut buffers).map_err(parse)?;
-    let document = validate(&json).map_err(parse)?;
+    // Structure first (no buffer is read for a file whose indices are wrong), then the data.
+    let mut document = validate(&json).map_err(parse)?;
     check_channels(&json).map_err(parse)?;
+    check_quantization(&json).map_err(parse)?;
+    let mut buffers = load_buffers(path, &json, blob, format, external)?;
+    if meshopt_views::decode(&mut json, &mut buffers).map_err(parse)? {
+        // The decoded views point at new buffers: the document must see them.
+        document = validate(&json).map_err(parse)?;
+    }
     Ok(Scene {
         json,
         document,
@@ -147,6 +152,44 @@ fn load_buffers(
     Ok(out)
 }
 
+/// Integer positions, normals and tangents (and unnormalised integer texture coordinates) are
+/// glTF only with `KHR_mesh_quantization` (glTF 2.0 section 3.7.2.1 lists the core types).
+fn check_quantization(json: &Value) -> Result<(), String> {
+    if string_list(json, "extensionsUsed")
+        .iter()
+        .any(|e| e == "KHR_mesh_quantization")
+    {
+        return Ok(());
+    }
+    let accessors = arr(json, "accessors");
+    for (m, mesh) in arr(json, "meshes").iter().enumerate() {
+        for (p, primitive) in arr(mesh, "primitives").iter().enumerate() {
+            let Some(attributes) = primitive.get("attributes").and_then(Value::as_object) else {
+                continue;
+            };
+            for (name, index) in attributes {
+                let Some(a) = index.as_u64().and_then(|i| accessors.get(i as usize)) else {
+                    continue;
+                };
+                let float = a.get("componentType").and_then(Value::as_u64) == Some(5126);
+                let normalized = a.get("normalized").and_then(Value::as_bool) == Some(true);
+                let core = match name.as_str() {
+                    "POSITION" | "NORMAL" | "TANGENT" => float,
+                    n if n.starts_with("TEXCOORD_") => float || normalized,
+                    _ => true,
+                };
+                if !core {
+                    return Err(format!(
+                        "mesh {m} primitive {p}: {name} is stored as integers, which glTF allows \
+                         only with KHR_mesh_quantization, and the file does not use it"
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Animation channels name a sampler of their animation and an existing node (the `gltf`
 /// crate's validation leaves these to its reader).
 fn check_channels(json: &Value) -> Result<(), String> {
@@ -157,13 +200,13 @@ fn check_channels(json: &Value) -> Result<(), String> {
             let sampler = channel.get("sampler").and_then(Value::as_u64);
             if sampler.is_none_or(|s| s >= samplers) {
                 return Err(format!(
-                    "animations[{a}].channels[{c}].sampler: no sampler {sampler:?} among the animation's {samplers}"
+                    "animation {a} channel {c} uses sampler {sampler:?}, but the animation has only {samplers} samplers"
                 ));
             }
             if let Some(node) = channel.pointer("/target/node").and_then(Value::as_u64) {
                 if node >= nodes {
                     return Err(format!(
-                        "animations[{a}].channels[{c}].target.node: node {node} does not exist (the file has {nodes})"
+                        "animation {a} channel {c} targets node {node}, but the file has only {nodes} nodes"
                     ));
                 }
             }
@@ -180,20 +223,12 @@ fn validate(json: &Value) -> Result<gltf::Document, String> {
         serde_json::from_value(json.clone()).map_err(|e| format!("bad glTF JSON: {e}"))?;
     root.extensions_required.clear();
     // The crate's validation indexes the accessors by each primitive's attribute indices
-    // before checking them: check those first (see `read::open`).
+    // before checking them (a panic found by `fuzz/fuzz_targets/gltf.rs`): check those first.
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let targets = primitive
-                .targets
-                .iter()
-                .flatten()
-                .flat_map(|t| [t.positions, t.normals, t.tangents].into_iter().flatten());
             if let Some(index) = primitive
                 .attributes
                 .values()
-                .copied()
-                .chain(primitive.indices)
-                .chain(targets)
                 .map(|i| i.value())
                 .find(|&i| i >= root.accessors.len())
             {

@@ -41,7 +41,7 @@ mod skin;
 mod tangents;
 mod write;
 
-pub use levels::{SceneLevels, MAX_SCENE_LEVEL};
+pub use levels::{PrimitiveSummary, SceneLevels, MAX_SCENE_LEVEL};
 
 /// A primitive by its place in the document: (mesh index, primitive index).
 pub type PrimitiveId = (usize, usize);
@@ -167,7 +167,16 @@ impl Scene {
 
     /// The level each triangle primitive gets under `levels`, in (mesh, primitive) order.
     pub fn levels(&self, levels: &SceneLevels) -> Result<Vec<(PrimitiveId, u32)>, IoError> {
-        levels::choose(self, levels).map_err(|m| self.parse(m))
+        Ok(self
+            .primitives(levels)?
+            .iter()
+            .map(|s| (s.id, s.level))
+            .collect())
+    }
+
+    /// Every triangle primitive: its triangles, degenerate triangles, mean edge and level.
+    pub fn primitives(&self, levels: &SceneLevels) -> Result<Vec<PrimitiveSummary>, IoError> {
+        levels::summaries(self, levels).map_err(|m| self.parse(m))
     }
 
     /// Refines every triangle primitive; see the module's documentation.
@@ -240,6 +249,27 @@ impl Scene {
 /// A GLB container of `json` and its one buffer `bin` (no BIN chunk when `bin` is empty).
 pub fn glb(json: &Value, bin: &[u8]) -> std::io::Result<Vec<u8>> {
     write::glb_bytes(json, bin)
+}
+
+/// The reading every glTF reader of this crate shares: the validated document and its buffers
+/// (meshopt views decoded).
+pub(super) fn read_for_readers(
+    path: &Path,
+    bytes: &[u8],
+    format: &'static str,
+    buffers: Buffers<'_>,
+) -> Result<(gltf::Document, Vec<Vec<u8>>), IoError> {
+    let scene = load::read(path, bytes, format, buffers)?;
+    Ok((scene.document, scene.buffers))
+}
+
+/// An accessor's elements as floats, whatever its component type (normalised integers mapped
+/// to their range); sparse accessors included.
+pub(super) fn read_floats(
+    accessor: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+) -> Result<Vec<f32>, String> {
+    accessor::read_f32(accessor, buffers)
 }
 
 pub(super) fn is_triangles(mode: gltf::mesh::Mode) -> bool {
