@@ -22,12 +22,17 @@
 //! | --- | --- | --- |
 //! | `.obj` | `v`, `vt`, `vn`, polygons (fan-triangulated); one vertex per distinct `v/vt/vn` triple | `v`, `vt`, `vn`, `f a/a/a` |
 //! | `.ply` | ascii, binary LE/BE; `x y z`, `nx ny nz`, `u v`/`s t`/`texture_u texture_v`, extra vertex scalars, polygons (fan-triangulated), `edge` element | binary LE (default) or ascii; `x y z nx ny nz u v`, `vertex_indices` |
-//! | `.gltf`, `.glb` | triangle primitives of the default scene in world space, merged; `data:` URIs or `.bin` files beside it | one primitive: POSITION (with min/max), NORMAL, TEXCOORD_0, u32 indices; `.gltf` embeds the buffer as base64 |
+//! | `.gltf`, `.glb` | triangle primitives of the default scene in world space, merged (zero-area triangles left out); `data:` URIs or `.bin` files beside it; quantised and meshopt-compressed files | one primitive: POSITION (with min/max), NORMAL, TEXCOORD_0, u32 indices; `.gltf` embeds the buffer as base64 |
 //! | `.stl` | ascii or binary; corners with equal positions welded; facet normals ignored | binary; geometric facet normals; normals and uvs are lost |
 //!
 //! Conventions: triangles are counter-clockwise; texture coordinates have their origin at the
 //! image's bottom-left (OBJ/PLY), so glTF's `v` is flipped on read and write (see [`gltf`]).
 //! Details per format are in the module docs ([`obj`], [`ply`], [`gltf`], [`stl`]).
+//!
+//! ## Scenes
+//! [`gltf::scene`] reads a glTF file once, refines every triangle primitive on its own and
+//! writes the same document back, with its nodes, materials, textures, skins, animations and
+//! extensions (`tessella refine` for glTF in and out).
 //!
 //! ## Animation
 //! [`read_animated`] reads a glTF file's nodes, skins, morph targets and clips, with its meshes
@@ -77,7 +82,7 @@ pub use format::Format;
 pub use height_map::read_height_map;
 pub use raw::{MeshView, RawEdge, RawMesh};
 pub use refined::RefinedSource;
-pub use sample_scene::sample_scene;
+pub use sample_scene::{sample_scene, sample_scene_detailed};
 pub use stream::{write_streamed, MeshSource};
 
 use std::io::BufReader;

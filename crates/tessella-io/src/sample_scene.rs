@@ -250,15 +250,21 @@ impl Part {
                 .into();
             attributes["_REGION"] = bin.ints(&self.region, 1, U16, Some(34962)).into();
         }
-        let indices = bin.ints(self.triangles.as_flattened(), 1, U16, Some(34963));
+        let wide = self.positions.len() > u16::MAX as usize;
+        let indices = bin.ints(
+            self.triangles.as_flattened(),
+            1,
+            if wide { 5125 } else { U16 },
+            Some(34963),
+        );
         json!({ "attributes": attributes, "indices": indices })
     }
 }
 
 /// The ball: an icosphere with spherical texture coordinates, tangents along the parallels,
 /// colours by height and a region id per octant.
-fn ball() -> Part {
-    let sphere = tessella_core::samples::icosphere(2);
+fn ball(subdivisions: u32) -> Part {
+    let sphere = tessella_core::samples::icosphere(subdivisions);
     let mut part = Part::default();
     for p in sphere.positions() {
         let (x, y, z) = (p[0], p[1], p[2]);
@@ -292,8 +298,8 @@ fn split(whole: &Part, keep: impl Fn(&[u32; 3]) -> bool) -> Part {
 
 /// The ring: a torus within the unit cube (so 16-bit normalised positions hold it), with
 /// texture coordinates by angle.
-fn ring() -> Part {
-    let torus = tessella_core::samples::torus(0.68, 0.26, 24, 12);
+fn ring(around: u32, tube: u32) -> Part {
+    let torus = tessella_core::samples::torus(0.68, 0.26, around, tube);
     let mut part = Part::default();
     for (p, n) in torus.positions().iter().zip(torus.normals()) {
         let u = 0.5 + p[1].atan2(p[0]) / (2.0 * PI);
@@ -328,8 +334,14 @@ fn checker_png() -> Vec<u8> {
 
 /// The sample scene as GLB bytes (see the module's documentation).
 pub fn sample_scene(quantized: bool) -> Vec<u8> {
+    sample_scene_detailed(quantized, 2, [24, 12])
+}
+
+/// The sample scene with a finer ball (an icosphere subdivided `ball` times: `20 · 4^ball`
+/// triangles) and ring (`ring[0] × ring[1]` quads), for measurements at real sizes.
+pub fn sample_scene_detailed(quantized: bool, ball_subdivisions: u32, ring: [u32; 2]) -> Vec<u8> {
     let mut bin = Bin::default();
-    let whole = ball();
+    let whole = ball(ball_subdivisions);
     let upper = split(&whole, |t| {
         t.iter()
             .map(|&v| whole.positions[v as usize][2])
@@ -363,7 +375,7 @@ pub fn sample_scene(quantized: bool) -> Vec<u8> {
     // Every primitive of a mesh has the same targets: the lower half's moves nothing.
     let still = vec![0.0; lower.positions.len() * 3];
     let lower_target = json!([{ "POSITION": bin.attribute(&still, 3, F32, true) }]);
-    let ring = ring().store(&mut bin, quantized, true);
+    let ring = ring(ring[0], ring[1]).store(&mut bin, quantized, true);
     let lines = bin.attribute(
         &[0.0, 0.0, 0.0, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.5, 0.0],
         3,

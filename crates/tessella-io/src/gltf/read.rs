@@ -4,7 +4,8 @@
 //! applied to positions and normals; a mesh used by two nodes appears twice, and a mirroring
 //! transform flips the triangles' winding back to counter-clockwise. A file without scenes has
 //! its meshes read as stored. Primitives are merged with offset indices and are not welded to
-//! each other. Modes TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN are read (strip triangles with a
+//! each other. Zero-area triangles (a repeated corner, corners on a line) are left out: they
+//! draw nothing, and the core's mesh refuses them ([`super::scene`] keeps them, refined flat). Modes TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN are read (strip triangles with a
 //! repeated index, used to stitch strips, are dropped); points and lines are skipped.
 //!
 //! Attributes: POSITION (f32), NORMAL (f32), TEXCOORD_0 (f32 or normalised u8/u16), indices
@@ -274,7 +275,15 @@ pub(super) fn read_primitive(
             "{what} uses vertex {bad} but has only {n} vertices"
         )));
     }
-    let triangles = assemble(mode, &corners).map_err(|m| parse(format!("{what}: {m}")))?;
+    let mut triangles = assemble(mode, &corners).map_err(|m| parse(format!("{what}: {m}")))?;
+    // Zero-area triangles (valid glTF, common in exported assets) draw nothing: the merged
+    // mesh leaves them out. The scene path keeps them, refined flat.
+    triangles.retain(|t| {
+        t[0] != t[1]
+            && t[1] != t[2]
+            && t[0] != t[2]
+            && !tessella_core::mesh::has_zero_area(&positions, *t)
+    });
     Ok(Some(Primitive {
         positions,
         normals,

@@ -179,9 +179,12 @@ impl Scene {
         levels::summaries(self, levels).map_err(|m| self.parse(m))
     }
 
-    /// Refines every triangle primitive; see the module's documentation.
+    /// Refines every triangle primitive; see the module's documentation. The whole output's
+    /// size is checked against `options.refine.max_output_bytes` before any work.
     pub fn refine(&self, options: &SceneOptions) -> Result<RefinedScene, IoError> {
-        let chosen = self.levels(&options.levels)?;
+        let summaries = self.primitives(&options.levels)?;
+        check_size(&summaries, options.refine.max_output_bytes).map_err(|m| self.parse(m))?;
+        let chosen: Vec<(PrimitiveId, u32)> = summaries.iter().map(|s| (s.id, s.level)).collect();
         let refined: BTreeSet<PrimitiveId> = chosen.iter().map(|(k, _)| *k).collect();
         let mut out =
             out::Out::new(self.json.clone(), &self.buffers, &refined).map_err(|m| self.parse(m))?;
@@ -249,6 +252,39 @@ impl Scene {
 /// A GLB container of `json` and its one buffer `bin` (no BIN chunk when `bin` is empty).
 pub fn glb(json: &Value, bin: &[u8]) -> std::io::Result<Vec<u8>> {
     write::glb_bytes(json, bin)
+}
+
+/// Bytes a refined vertex may take in the output: position, normal, tangent, two texture
+/// coordinates, a colour, two skin sets and their weights (an estimate from above for the
+/// usual attributes).
+const BYTES_PER_VERTEX: u64 = 12 + 12 + 16 + 8 + 8 + 16 + 2 * (8 + 16);
+/// Bytes a refined triangle takes (32-bit indices).
+const BYTES_PER_TRIANGLE: u64 = 12;
+
+/// Refuses a refinement whose output would exceed `limit` bytes, before anything is allocated.
+fn check_size(summaries: &[PrimitiveSummary], limit: u64) -> Result<(), String> {
+    let mut total: u64 = 0;
+    for s in summaries {
+        let l = s.level as u64;
+        let faces = s.triangles as u64;
+        let bytes = faces
+            .saturating_mul(l.saturating_mul(l))
+            .saturating_mul(BYTES_PER_TRIANGLE)
+            .saturating_add(
+                faces
+                    .saturating_mul((l + 1).saturating_mul(l + 2) / 2)
+                    .saturating_mul(BYTES_PER_VERTEX),
+            );
+        total = total.saturating_add(bytes);
+    }
+    if total > limit {
+        return Err(format!(
+            "the refined scene would need about {:.1} GiB, over the limit of {:.1} GiB; choose a lower level or a longer --max-edge, or raise the limit (--max-memory)",
+            total as f64 / (1u64 << 30) as f64,
+            limit as f64 / (1u64 << 30) as f64
+        ));
+    }
+    Ok(())
 }
 
 /// The reading every glTF reader of this crate shares: the validated document and its buffers

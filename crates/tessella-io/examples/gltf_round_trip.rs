@@ -1,0 +1,97 @@
+//! The whole glTF round trip against refinement alone, in one run.
+//!
+//! A textured scene of about 100k triangles (the sample scene made finer: an icosphere of
+//! 20,480 triangles in two materials, a ring of 76,800, texture, tangents, colours, a morph
+//! target) is read, refined at level 4 and written as GLB bytes
+//! (`Scene::from_bytes` → `refine` → `to_glb`), against the core's `refine` of the same
+//! primitives' geometry (positions, normals, triangles: what `tessella refine` does to a mesh).
+//! Runs alternate, the median of each is printed with their ratio.
+//!
+//! `cargo run --release -p tessella-io --example gltf_round_trip [-- RUNS]`
+//! `-- --once round-trip|refine` runs one side once (for callgrind's instruction counts).
+
+use std::time::Instant;
+use tessella_core::{Mesh, RefineOptions, Scheme};
+use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions};
+use tessella_io::gltf::Buffers;
+
+const LEVEL: u32 = 4;
+
+/// The primitives' coarse meshes as `refine` would see them: positions, normals, triangles.
+fn geometry(scene_bytes: &[u8]) -> Vec<Mesh> {
+    let raw = tessella_io::read_raw_bytes("scene.glb", scene_bytes, &[]).expect("the scene reads");
+    // The merged reader gives every primitive in world space; the refinement cost is the same
+    // per triangle. One mesh per file is what `tessella refine` refines.
+    vec![Mesh::new(raw.positions, raw.normals, None, raw.triangles).expect("valid geometry")]
+}
+
+fn round_trip(bytes: &[u8]) -> usize {
+    let scene = Scene::from_bytes("scene.glb", bytes, Buffers::Given(&[])).expect("reads");
+    let options = SceneOptions::new(
+        RefineOptions::new(Scheme::Pn, 1),
+        SceneLevels::Uniform(LEVEL),
+    );
+    scene
+        .refine(&options)
+        .expect("refines")
+        .to_glb()
+        .expect("writes")
+        .len()
+}
+
+fn refine_alone(meshes: &[Mesh]) -> usize {
+    meshes
+        .iter()
+        .map(|m| {
+            tessella_core::refine(m, &RefineOptions::new(Scheme::Pn, LEVEL))
+                .expect("refines")
+                .triangles
+                .len()
+        })
+        .sum()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let bytes = tessella_io::sample_scene_detailed(false, 5, [240, 160]);
+    let meshes = geometry(&bytes);
+    let triangles: usize = meshes.iter().map(Mesh::face_count).sum();
+    if args.first().map(String::as_str) == Some("--once") {
+        match args.get(1).map(String::as_str) {
+            Some("round-trip") => println!("{} bytes", round_trip(&bytes)),
+            _ => println!("{} triangles", refine_alone(&meshes)),
+        }
+        return;
+    }
+    let runs: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(7);
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let mut size = 0;
+    for _ in 0..runs {
+        let t = Instant::now();
+        size = round_trip(&bytes);
+        a.push(t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        std::hint::black_box(refine_alone(&meshes));
+        b.push(t.elapsed().as_secs_f64());
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (ta, tb) = (median(&mut a), median(&mut b));
+    println!(
+        "scene: {} bytes, {triangles} coarse triangles, level {LEVEL}; output {size} bytes",
+        bytes.len()
+    );
+    println!("| what | median of {runs} (ms) |");
+    println!("|---|---:|");
+    println!(
+        "| glTF round trip (read, refine every primitive with its attributes, write GLB) | {:.1} |",
+        ta * 1e3
+    );
+    println!(
+        "| refine alone (positions, normals, triangles) | {:.1} |",
+        tb * 1e3
+    );
+    println!("ratio round trip / refine alone: {:.2}", ta / tb);
+}
