@@ -338,8 +338,12 @@ pub fn sample_scene(quantized: bool) -> Vec<u8> {
 }
 
 /// The sample scene with a finer ball (an icosphere subdivided `ball` times: `20 · 4^ball`
-/// triangles) and ring (`ring[0] × ring[1]` quads), for measurements at real sizes.
-pub fn sample_scene_detailed(quantized: bool, ball_subdivisions: u32, ring: [u32; 2]) -> Vec<u8> {
+/// triangles) and ring (`ring_quads[0] × ring_quads[1]` quads), for measurements at real sizes.
+pub fn sample_scene_detailed(
+    quantized: bool,
+    ball_subdivisions: u32,
+    ring_quads: [u32; 2],
+) -> Vec<u8> {
     let mut bin = Bin::default();
     let whole = ball(ball_subdivisions);
     let upper = split(&whole, |t| {
@@ -375,7 +379,7 @@ pub fn sample_scene_detailed(quantized: bool, ball_subdivisions: u32, ring: [u32
     // Every primitive of a mesh has the same targets: the lower half's moves nothing.
     let still = vec![0.0; lower.positions.len() * 3];
     let lower_target = json!([{ "POSITION": bin.attribute(&still, 3, F32, true) }]);
-    let ring = ring(ring[0], ring[1]).store(&mut bin, quantized, true);
+    let ring = ring(ring_quads[0], ring_quads[1]).store(&mut bin, quantized, true);
     let lines = bin.attribute(
         &[0.0, 0.0, 0.0, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.5, 0.0],
         3,
