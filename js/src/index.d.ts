@@ -117,6 +117,49 @@ export function readMesh(bytes: Uint8Array | ArrayBuffer, format: string, option
 /** Encodes a mesh as 'obj', 'ply' (binary), 'ply-ascii', 'gltf', 'glb' or 'stl'. */
 export function writeMesh(mesh: MeshInput, format: 'obj' | 'ply' | 'ply-ascii' | 'gltf' | 'glb' | 'stl'): Uint8Array;
 
+export interface RefineGltfOptions {
+  /** 'flat', 'phong', 'pn' (default), 'png1', 'pn-aen', 'st' or 'quadratic'; see `schemes()`. */
+  scheme?: string;
+  /** Segments per coarse edge, a whole number, the same for every primitive (default 8). */
+  level?: number;
+  /** Instead of `level`: refined edges about this long in world units, each primitive its own level (at most 64). */
+  maxEdge?: number;
+  /** 'linear', 'quadratic' or 'real'; default: the scheme's own. */
+  normals?: 'linear' | 'quadratic' | 'real';
+  /** Phong's shape factor (default 0.75). */
+  alpha?: number;
+  /** A .gltf file's external buffers by their URI (as written in the file). */
+  buffers?: Record<string, Uint8Array | ArrayBuffer>;
+}
+
+/** What refining one triangle primitive made. */
+export interface RefinedPrimitive {
+  /** Its mesh's index and its index in the mesh. */
+  mesh: number;
+  primitive: number;
+  level: number;
+  coarseTriangles: number;
+  /** Zero-area triangles among the coarse ones, refined flat. */
+  degenerate: number;
+  vertices: number;
+  triangles: number;
+  /** Anything carried by a fallback (a morph target whose shape cannot be refined). */
+  notes: string[];
+}
+
+/**
+ * Refines a whole glTF scene (.glb or .gltf bytes) into GLB bytes: every triangle primitive
+ * refined, keeping its material, attributes, morph targets and skin; everything else kept.
+ * Throws TessellaError for a broken file, a required extension tessella cannot read, or bad options.
+ */
+export function refineGltf(bytes: Uint8Array | ArrayBuffer, options?: RefineGltfOptions): Uint8Array;
+
+/** `refineGltf` with a report per refined primitive. */
+export function refineGltfWithReport(
+  bytes: Uint8Array | ArrayBuffer,
+  options?: RefineGltfOptions,
+): { glb: Uint8Array; primitives: RefinedPrimitive[] };
+
 /** A pose of an animated mesh: 3 numbers per vertex. */
 export interface Pose {
   positions: Float32Array;

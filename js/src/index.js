@@ -215,6 +215,43 @@ export function writeMesh(input, format) {
   return call((g) => g.writeMesh(format, m.positions, m.indices, m.normals, m.uvs));
 }
 
+// refineGltf's own keys: `buffers` stays on the JS side, `maxEdge` goes to the Rust side
+// beside the refine options.
+function refineGltfCall(bytes, options, fn) {
+  bytes = fileBytes(bytes, fn);
+  if (options != null && typeof options !== 'object') throw new TessellaError('options must be an object');
+  const { names, lengths, data } = buffers(options);
+  const json = optionsJson(options, ['buffers']);
+  return call((g) => {
+    const refined = withBuffers(g, names, lengths, data, (given) => g.refineGltf(bytes, given, json));
+    try {
+      return { glb: refined.takeGlb(), primitives: JSON.parse(refined.report) };
+    } finally {
+      refined.free();
+    }
+  });
+}
+
+/**
+ * Refines a whole glTF scene (`.glb` or `.gltf` bytes; `options.buffers` maps a .gltf file's
+ * external buffer URIs to their bytes) and returns it as GLB bytes: every triangle primitive
+ * refined with its material, attributes, morph targets and skin; nodes, materials, textures,
+ * animations, cameras, lights and extensions kept. Options: `scheme`, `level` (whole) or
+ * `maxEdge` (a target edge length in world units: each primitive's own level), `alpha`,
+ * `normals`. The same bytes as the CLI's `tessella refine in.glb -o out.glb`.
+ */
+export function refineGltf(bytes, options = {}) {
+  return refineGltfCall(bytes, options, 'refineGltf').glb;
+}
+
+/**
+ * `refineGltf` with what it did: `{ glb, primitives }`, one entry per refined primitive
+ * `{ mesh, primitive, level, coarseTriangles, degenerate, vertices, triangles, notes }`.
+ */
+export function refineGltfWithReport(bytes, options = {}) {
+  return refineGltfCall(bytes, options, 'refineGltfWithReport');
+}
+
 function view(Type, ptr, length) {
   return new Type(memory.buffer, ptr, length);
 }

@@ -11,9 +11,10 @@ const blocks = [...readme.matchAll(/```js\n([\s\S]*?)```/g)].map((m) => m[1]);
 const scratch = new URL('../node_modules/.cache/tessella-readme/', import.meta.url);
 const index = pathToFileURL(new URL('../src/index.js', import.meta.url).pathname).href;
 const three = pathToFileURL(new URL('../src/three.js', import.meta.url).pathname).href;
+const gltfTransform = pathToFileURL(new URL('../src/gltf-transform.js', import.meta.url).pathname).href;
 
 test('the README has an example per function', () => {
-  for (const name of ['refine(', 'new Refiner(', 'readMesh(', 'writeMesh(', 'readAnimated(', 'refineGeometry(', 'new RefinedGeometry(', 'new TessellatedMesh(', 'schemes()', 'TessellaError']) {
+  for (const name of ['refine(', 'new Refiner(', 'readMesh(', 'writeMesh(', 'readAnimated(', 'refineGltf(', 'refineGltfWithReport(', 'tessellate(', 'refineGeometry(', 'new RefinedGeometry(', 'new TessellatedMesh(', 'schemes()', 'TessellaError']) {
     assert.ok(blocks.some((b) => b.includes(name)), name);
   }
 });
@@ -23,6 +24,7 @@ blocks.forEach((block, n) => {
     const expected = [];
     const source = block
       .replaceAll("from 'tessella/three'", `from '${three}'`)
+      .replaceAll("from 'tessella/gltf-transform'", `from '${gltfTransform}'`)
       .replaceAll("from 'tessella'", `from '${index}'`)
       .split('\n')
       .map((line) => {

@@ -2,7 +2,8 @@
 //!
 //! The Rust half of the npm package `tessella` (`js/`): wasm-bindgen exports over flat typed
 //! arrays. `js/src/index.js` wraps them into the documented API (`refine`, `Refiner`,
-//! `readMesh`, `writeMesh`, `readAnimated`, `TessellaError`, and `InstancedSurface` and
+//! `readMesh`, `writeMesh`, `readAnimated`, `refineGltf` (a whole glTF scene, `scene.rs`),
+//! `TessellaError`, and `InstancedSurface` and
 //! `AdaptiveSurface`, what `tessella/three`'s `TessellatedMesh` draws from, with one level or
 //! with `lod`); nothing here is meant to be
 //! called directly.
@@ -26,6 +27,7 @@ mod instanced;
 mod options;
 mod refine;
 mod refiner;
+mod scene;
 
 use wasm_bindgen::prelude::*;
 

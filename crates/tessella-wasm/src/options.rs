@@ -48,12 +48,21 @@ fn key(name: &str) -> String {
     out
 }
 
+/// The options object the JS wrapper sends, as a JSON map.
+pub fn parse(json: &str) -> Result<Map<String, Value>, String> {
+    serde_json::from_str(json).map_err(|e| format!("bad options: {e}"))
+}
+
 impl Options {
     /// Parses and validates the JSON the JS wrapper sends; the messages say which option was
     /// wrong.
     pub fn from_json(json: &str) -> Result<Options, String> {
-        let map: Map<String, Value> =
-            serde_json::from_str(json).map_err(|e| format!("bad options: {e}"))?;
+        Options::from_map(&parse(json)?)
+    }
+
+    /// [`Options::from_json`] on options already parsed (`refineGltf` takes its own keys out
+    /// first).
+    pub fn from_map(map: &Map<String, Value>) -> Result<Options, String> {
         let mut origin = false;
         let mut pairs = Vec::new();
         // `null` is an option left out, as `undefined` is.

@@ -1,6 +1,9 @@
 // Compiled by test/types.test.js (tsc --noEmit, strict): the declarations describe the API the
 // other tests exercise; the lines marked @ts-expect-error must be refused.
-import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant } from 'tessella';
+import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant, refineGltf, refineGltfWithReport } from 'tessella';
+import type { RefinedPrimitive } from 'tessella';
+import { tessellate } from 'tessella/gltf-transform';
+import { Document } from '@gltf-transform/core';
 import type { MeshOutput, Pose, RefineOutput } from 'tessella';
 import { refineGeometry, RefinedGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
 import { AdaptiveSurface, InstancedSurface } from 'tessella';
@@ -70,4 +73,13 @@ refine({ positions: [0, 0, 0], indices: new Uint32Array(3) });
 refine({ positions: new Float32Array(9), indices: new Uint32Array(3) }, { normals: 'cubic' });
 // @ts-expect-error: not a format writeMesh writes
 writeMesh(m, 'fbx');
+const refinedGlb: Uint8Array = refineGltf(new Uint8Array(4), { scheme: 'pn', level: 3, buffers: { 'a.bin': new ArrayBuffer(4) } });
+const report: RefinedPrimitive[] = refineGltfWithReport(new ArrayBuffer(4), { maxEdge: 0.1, normals: 'real', alpha: 0.5 }).primitives;
+const triangles: number = report[0].triangles + report[0].coarseTriangles + report[0].level;
+await new Document().transform(tessellate({ scheme: 'phong', level: 2 }));
+// @ts-expect-error: the Document holds its buffers
+tessellate({ buffers: {} });
+// @ts-expect-error: lod works on one mesh, not on a scene
+refineGltf(new Uint8Array(4), { lod: 'tolerance:0.1' });
+export { refinedGlb, triangles };
 export { v, names, p, faces, i, computed, glb, e, g, same, clips, seconds, pose, rest, corners, count, bytes, instances, nets, glsl, wgsl, tsl };
