@@ -458,8 +458,9 @@ pub(super) fn check_accessor(
             element,
             buffers,
         )?,
-        // A sparse accessor without a view is zeros with its sparse values on top.
-        None if sparse_part.is_some() => {}
+        // An accessor without a view is zeros, with sparse values on top if it has them
+        // (accepted with `sparse`, the scene reader's).
+        None if sparse_part.is_some() || sparse => {}
         None => return Err(format!("accessor {index} has no bufferView")),
     }
     let Some(sparse_part) = sparse_part else {
@@ -554,11 +555,8 @@ pub(super) fn load_uri(
     if let Some(rest) = uri.strip_prefix("data:") {
         let (header, payload) = rest.split_once(',').unwrap_or((rest, ""));
         if !header.ends_with(";base64") {
-            return Err(IoError::Unsupported {
-                path: path.to_path_buf(),
-                format,
-                message: "a data: URI that is not base64".into(),
-            });
+            // Plain data: the bytes themselves, `%XX`-escaped (RFC 2397).
+            return Ok(percent_decode_bytes(payload));
         }
         return base64::engine::general_purpose::STANDARD
             .decode(payload)
@@ -620,6 +618,11 @@ pub(super) fn load_uri(
 
 /// Decodes `%XX` escapes of a relative URI (glTF 2.0 spec, section 3.1 "URIs").
 pub(super) fn percent_decode(uri: &str) -> String {
+    String::from_utf8_lossy(&percent_decode_bytes(uri)).into_owned()
+}
+
+/// The bytes `%XX` escapes stand for.
+fn percent_decode_bytes(uri: &str) -> Vec<u8> {
     let bytes = uri.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
@@ -639,5 +642,5 @@ pub(super) fn percent_decode(uri: &str) -> String {
             }
         }
     }
-    String::from_utf8_lossy(&out).into_owned()
+    out
 }

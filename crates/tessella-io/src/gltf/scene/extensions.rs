@@ -28,6 +28,15 @@ pub fn accepted(name: &str) -> bool {
     ACCEPTED.contains(&name) || name.starts_with("KHR_materials_")
 }
 
+/// Why the WebAssembly build refuses meshopt-compressed views (it has no decoder:
+/// meshoptimizer is C++).
+pub fn meshopt_unavailable() -> String {
+    "the file uses EXT_meshopt_compression, which the WebAssembly build cannot decode (it has \
+     no meshopt decoder); refine it with the native tool (`tessella refine`, Python), or decode \
+     it first: `npx @gltf-transform/cli copy in.glb plain.glb` writes it uncompressed"
+        .into()
+}
+
 /// Why a required extension is refused (`None`: accepted).
 pub fn refusal(name: &str) -> Option<String> {
     if accepted(name) {
@@ -40,13 +49,6 @@ pub fn refusal(name: &str) -> Option<String> {
              reading and writes plain geometry, `npx @gltf-transform/cli copy in.glb plain.glb`"
                 .into(),
         );
-    }
-    if name == "EXT_meshopt_compression" || name == "KHR_meshopt_compression" {
-        return Some(format!(
-            "the file requires {name}, which this build of tessella cannot decode (the \
-             WebAssembly build has no meshopt decoder); decode it first with \
-             `gltfpack -i in.glb -o plain.glb -noq` or refine it with the native tool"
-        ));
     }
     Some(format!(
         "the file requires the extension {name}, which tessella does not know; without it the \

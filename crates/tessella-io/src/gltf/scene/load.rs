@@ -27,13 +27,13 @@ pub(super) fn read(
     };
     check_glb_header(bytes).map_err(parse)?;
     let (json_bytes, blob) = if bytes.starts_with(b"glTF") {
-        let glb = gltf::Glb::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
-        (glb.json, glb.bin.map(|b| b.into_owned()))
+        let (json, bin) = glb_chunks(bytes).map_err(parse)?;
+        (json, bin.map(<[u8]>::to_vec))
     } else {
-        (std::borrow::Cow::Borrowed(bytes), None)
+        (bytes, None)
     };
     let mut json: Value =
-        serde_json::from_slice(&json_bytes).map_err(|e| parse(format!("bad JSON: {e}")))?;
+        serde_json::from_slice(json_bytes).map_err(|e| parse(format!("bad JSON: {e}")))?;
     if !json.is_object() {
         return Err(parse("the JSON is not an object".into()));
     }
@@ -87,7 +87,7 @@ fn refuse_draco_without_fallback(json: &Value) -> Result<(), String> {
             }
             let position = primitive
                 .pointer("/attributes/POSITION")
-                .and_then(Value::as_u64)
+                .and_then(super::json::whole)
                 .and_then(|i| accessors?.get(i as usize));
             if position.is_none_or(|a| a.get("bufferView").is_none()) {
                 return Err(format!(
@@ -125,23 +125,22 @@ fn load_buffers(
     for (b, buffer) in arr(json, "buffers").iter().enumerate() {
         let length = buffer
             .get("byteLength")
-            .and_then(Value::as_u64)
+            .and_then(super::json::whole)
             .ok_or_else(|| parse(format!("buffer {b} has no byteLength")))?
             as usize;
         let fallback = buffer
             .pointer("/extensions/EXT_meshopt_compression/fallback")
             .and_then(Value::as_bool)
             == Some(true);
+        // A buffer with nothing to load (no binary chunk, a remote URI, a meshopt fallback)
+        // loads as empty: only reading a view of it is an error, and that names the view.
         let data = match buffer.get("uri").and_then(Value::as_str) {
+            Some(uri) if uri.contains("://") => Vec::new(),
             Some(uri) => load_uri(path, uri, format, external)?,
             None if fallback => Vec::new(),
-            None => blob.take().ok_or_else(|| {
-                parse(format!(
-                    "buffer {b} has no uri and the file has no binary chunk"
-                ))
-            })?,
+            None => blob.take().unwrap_or_default(),
         };
-        if !fallback && data.len() < length {
+        if !data.is_empty() && data.len() < length {
             return Err(parse(format!(
                 "buffer {b} holds {} bytes but declares byteLength {length}",
                 data.len()
@@ -168,10 +167,11 @@ fn check_quantization(json: &Value) -> Result<(), String> {
                 continue;
             };
             for (name, index) in attributes {
-                let Some(a) = index.as_u64().and_then(|i| accessors.get(i as usize)) else {
+                let Some(a) = super::json::whole(index).and_then(|i| accessors.get(i as usize))
+                else {
                     continue;
                 };
-                let float = a.get("componentType").and_then(Value::as_u64) == Some(5126);
+                let float = a.get("componentType").and_then(super::json::whole) == Some(5126);
                 let normalized = a.get("normalized").and_then(Value::as_bool) == Some(true);
                 let core = match name.as_str() {
                     "POSITION" | "NORMAL" | "TANGENT" => float,
@@ -197,13 +197,13 @@ fn check_channels(json: &Value) -> Result<(), String> {
     for (a, animation) in arr(json, "animations").iter().enumerate() {
         let samplers = arr(animation, "samplers").len() as u64;
         for (c, channel) in arr(animation, "channels").iter().enumerate() {
-            let sampler = channel.get("sampler").and_then(Value::as_u64);
+            let sampler = channel.get("sampler").and_then(super::json::whole);
             if sampler.is_none_or(|s| s >= samplers) {
                 return Err(format!(
                     "animation {a} channel {c} uses sampler {sampler:?}, but the animation has only {samplers} samplers"
                 ));
             }
-            if let Some(node) = channel.pointer("/target/node").and_then(Value::as_u64) {
+            if let Some(node) = channel.pointer("/target/node").and_then(super::json::whole) {
                 if node >= nodes {
                     return Err(format!(
                         "animation {a} channel {c} targets node {node}, but the file has only {nodes} nodes"
@@ -219,8 +219,25 @@ fn check_channels(json: &Value) -> Result<(), String> {
 /// required property there), with the accepted required extensions taken off its list (it
 /// knows only those compiled into it).
 fn validate(json: &Value) -> Result<gltf::Document, String> {
+    let mut typed = super::json::with_whole_numbers(json);
+    // Optional in glTF 2.0 but required by the typed structures: a scene's `nodes`, and a
+    // channel's `target.node` (a channel without one is ignored, section 3.11).
+    if let Some(scenes) = typed.get_mut("scenes").and_then(Value::as_array_mut) {
+        for scene in scenes.iter_mut().filter_map(Value::as_object_mut) {
+            scene
+                .entry("nodes")
+                .or_insert_with(|| Value::Array(Vec::new()));
+        }
+    }
+    if let Some(animations) = typed.get_mut("animations").and_then(Value::as_array_mut) {
+        for animation in animations {
+            if let Some(channels) = animation.get_mut("channels").and_then(Value::as_array_mut) {
+                channels.retain(|c| c.pointer("/target/node").is_some());
+            }
+        }
+    }
     let mut root: gltf::json::Root =
-        serde_json::from_value(json.clone()).map_err(|e| format!("bad glTF JSON: {e}"))?;
+        serde_json::from_value(typed).map_err(|e| format!("bad glTF JSON: {e}"))?;
     root.extensions_required.clear();
     // The crate's validation indexes the accessors by each primitive's attribute indices
     // before checking them (a panic found by `fuzz/fuzz_targets/gltf.rs`): check those first.
@@ -239,5 +256,69 @@ fn validate(json: &Value) -> Result<gltf::Document, String> {
             }
         }
     }
-    gltf::Document::from_json(root).map_err(|e| format!("invalid glTF: {e}"))
+    use gltf::json::validation::{Error, Validate};
+    let mut errors = Vec::new();
+    root.validate(&root, gltf::json::Path::new, &mut |path, error| {
+        let path = path().to_string();
+        // glTF 2.0 allows what the crate calls missing here: an accessor without a buffer
+        // view is zeros (section 3.6.2.3), a texture's source may come from an extension.
+        let allowed = error == Error::Missing
+            && ((path.starts_with("accessors[") && path.ends_with("].bufferView"))
+                || (path.starts_with("textures[") && path.ends_with("].source")));
+        if !allowed {
+            errors.push(format!("{path}: {error}"));
+        }
+    });
+    if !errors.is_empty() {
+        return Err(format!("invalid glTF: {}", errors.join("; ")));
+    }
+    Ok(gltf::Document::from_json_without_validation(root))
+}
+
+/// The JSON and binary chunks of a GLB container (glTF 2.0 section 4.4): a 12-byte header, a
+/// JSON chunk, then chunks of which the first `BIN` one is the buffer; chunks of other types
+/// are skipped, as are bytes past the declared length.
+fn glb_chunks(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
+    let word = |at: usize| -> Option<u32> {
+        Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
+    };
+    let (Some(version), Some(length)) = (word(4), word(8)) else {
+        return Err(format!(
+            "the GLB header is cut short ({} of 12 bytes)",
+            bytes.len()
+        ));
+    };
+    if version != 2 {
+        return Err(format!(
+            "GLB version {version}; glTF 2.0 files are version 2"
+        ));
+    }
+    let length = length as usize;
+    if length > bytes.len() {
+        return Err(format!(
+            "the GLB header declares {length} bytes, but the file has {}",
+            bytes.len()
+        ));
+    }
+    let mut at = 12;
+    let (mut json, mut bin) = (None, None);
+    while at + 8 <= length {
+        let (size, kind) = (word(at).unwrap_or(0) as usize, word(at + 4).unwrap_or(0));
+        let data = at
+            .checked_add(8 + size)
+            .filter(|&end| end <= length)
+            .map(|end| &bytes[at + 8..end])
+            .ok_or_else(|| {
+                let name = if at == 12 { "JSON chunk" } else { "chunk" };
+                format!("{name} length exceeds the file: {size} bytes at byte {at}, past the declared end {length}")
+            })?;
+        match kind {
+            0x4E4F534A if json.is_none() => json = Some(data),
+            0x004E4942 if bin.is_none() => bin = Some(data),
+            _ => {}
+        }
+        at += 8 + size.next_multiple_of(4).max(size);
+    }
+    let json = json.ok_or("the GLB has no JSON chunk")?;
+    Ok((json, bin))
 }

@@ -43,9 +43,10 @@ pub(super) fn decode(json: &mut Value, buffers: &mut Vec<Vec<u8>>) -> Result<boo
     Ok(any)
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn field(ext: &Value, name: &str) -> Result<usize, String> {
     ext.get(name)
-        .and_then(Value::as_u64)
+        .and_then(super::json::whole)
         .map(|x| x as usize)
         .ok_or_else(|| format!("EXT_meshopt_compression has no whole number {name}"))
 }
@@ -53,7 +54,10 @@ fn field(ext: &Value, name: &str) -> Result<usize, String> {
 #[cfg(not(target_arch = "wasm32"))]
 fn decode_view(ext: &Value, buffers: &[Vec<u8>]) -> Result<Vec<u8>, String> {
     let buffer = field(ext, "buffer")?;
-    let offset = ext.get("byteOffset").and_then(Value::as_u64).unwrap_or(0) as usize;
+    let offset = ext
+        .get("byteOffset")
+        .and_then(super::json::whole)
+        .unwrap_or(0) as usize;
     let length = field(ext, "byteLength")?;
     let stride = field(ext, "byteStride")?;
     let count = field(ext, "count")?;
@@ -123,5 +127,5 @@ fn decode_view(ext: &Value, buffers: &[Vec<u8>]) -> Result<Vec<u8>, String> {
 
 #[cfg(target_arch = "wasm32")]
 fn decode_view(_ext: &Value, _buffers: &[Vec<u8>]) -> Result<Vec<u8>, String> {
-    Err(super::extensions::refusal("EXT_meshopt_compression").unwrap_or_default())
+    Err(super::extensions::meshopt_unavailable())
 }

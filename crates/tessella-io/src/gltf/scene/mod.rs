@@ -32,6 +32,7 @@
 mod accessor;
 mod carry;
 pub mod extensions;
+mod json;
 mod levels;
 mod load;
 mod meshopt_views;

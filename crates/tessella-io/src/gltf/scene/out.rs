@@ -117,7 +117,7 @@ impl Out {
     ) -> Result<Out, String> {
         let mut kept = BTreeSet::new();
         accessor_refs(&mut json, refined, &mut |v| {
-            if let Some(i) = v.as_u64() {
+            if let Some(i) = super::json::whole(v) {
                 kept.insert(i as usize);
             }
         });
@@ -129,7 +129,7 @@ impl Out {
             .map(|(new, &old)| (old, new))
             .collect();
         accessor_refs(&mut json, refined, &mut |v| {
-            if let Some(new) = v.as_u64().and_then(|i| accessor_map.get(&(i as usize))) {
+            if let Some(new) = super::json::whole(v).and_then(|i| accessor_map.get(&(i as usize))) {
                 *v = (*new).into();
             }
         });
@@ -145,13 +145,13 @@ impl Out {
         let mut views_used = BTreeSet::new();
         for accessor in &mut accessors {
             view_refs(accessor, &mut |v| {
-                if let Some(i) = v.as_u64() {
+                if let Some(i) = super::json::whole(v) {
                     views_used.insert(i as usize);
                 }
             });
         }
         for image in arr(&json, "images") {
-            if let Some(i) = image.get("bufferView").and_then(Value::as_u64) {
+            if let Some(i) = image.get("bufferView").and_then(super::json::whole) {
                 views_used.insert(i as usize);
             }
         }
@@ -168,9 +168,15 @@ impl Out {
             let view = old_views
                 .get(v)
                 .ok_or(format!("bufferView {v} is missing"))?;
-            let buffer = view.get("buffer").and_then(Value::as_u64).unwrap_or(0) as usize;
-            let offset = view.get("byteOffset").and_then(Value::as_u64).unwrap_or(0) as usize;
-            let length = view.get("byteLength").and_then(Value::as_u64).unwrap_or(0) as usize;
+            let buffer = view.get("buffer").and_then(super::json::whole).unwrap_or(0) as usize;
+            let offset = view
+                .get("byteOffset")
+                .and_then(super::json::whole)
+                .unwrap_or(0) as usize;
+            let length = view
+                .get("byteLength")
+                .and_then(super::json::whole)
+                .unwrap_or(0) as usize;
             let bytes = buffers
                 .get(buffer)
                 .and_then(|b| b.get(offset..offset.checked_add(length)?))
@@ -186,7 +192,7 @@ impl Out {
             out.views.push(view);
         }
         let remap_view = &mut |v: &mut Value| {
-            if let Some(new) = v.as_u64().and_then(|i| view_map.get(&(i as usize))) {
+            if let Some(new) = super::json::whole(v).and_then(|i| view_map.get(&(i as usize))) {
                 *v = (*new).into();
             }
         };
@@ -343,10 +349,10 @@ impl Out {
 /// glTF 2.0 alone wants floats (what `KHR_mesh_quantization` allows).
 fn quantized_left(json: &Value, refined: &BTreeSet<(usize, usize)>, accessors: &[Value]) -> bool {
     let integer = |i: &Value| {
-        i.as_u64()
+        super::json::whole(i)
             .and_then(|i| accessors.get(i as usize))
             .and_then(|a| a.get("componentType"))
-            .and_then(Value::as_u64)
+            .and_then(super::json::whole)
             != Some(F32 as u64)
     };
     let float_semantic = |name: &str| {

@@ -30,8 +30,7 @@ struct Source<'a> {
 
 impl Source<'_> {
     fn accessor(&self, index: &Value) -> Result<gltf::Accessor<'_>, String> {
-        let i = index
-            .as_u64()
+        let i = super::json::whole(index)
             .ok_or_else(|| format!("accessor index {index} is not a whole number"))?;
         self.document
             .accessors()
