@@ -8,6 +8,7 @@
 //! | other `RefineError`s (level, alpha, too large), `TagError`, `TagSourceError` (bad tags, bad crease angle), `DisplaceError`, bad or conflicting options | `OptionError` |
 //! | `IoError::{UnknownExtension, Parse, Unsupported, NoTriangles, IndexOutOfRange}` | `FileFormatError` |
 //! | `IoError::{Mesh, BadMesh}` (a file's mesh failed validation, arrays a writer refused) | `MeshError` |
+//! | `IoError::Refine` (a glTF primitive that cannot be refined): its `RefineError`, as above | `MeshError` or `OptionError` |
 //! | `IoError::Read` of a file the opened one refers to (a glTF's missing buffer) | `FileFormatError` |
 //! | `AnimationError` from `Poser::new` (a glTF animation the core refuses, `animated.rs`) | `FileFormatError` naming the file |
 //! | `AnimationError` posing: an unknown clip, a non-finite time; `AnimationError::Mesh` (a pose's triangles collapse) | `OptionError`; `MeshError` |
@@ -108,6 +109,14 @@ pub fn io_error(e: IoError) -> PyErr {
             os_error(source.kind(), message)
         }
         IoError::Mesh { .. } | IoError::BadMesh { .. } => bad_mesh(message),
+        // A part of a file (a glTF primitive) that cannot be refined: as `refine_error`, with
+        // the file and the part named.
+        IoError::Refine { source, .. } => match source.as_ref() {
+            RefineError::Mesh(_)
+            | RefineError::TopologyMismatch { .. }
+            | RefineError::ForeignFrame => bad_mesh(message),
+            _ => bad_option(message),
+        },
         _ => bad_file(message),
     }
 }

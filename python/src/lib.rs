@@ -22,6 +22,7 @@ mod options;
 mod pool;
 mod refiner;
 mod render;
+mod scene;
 mod stream;
 mod tags;
 
@@ -520,6 +521,7 @@ fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
     stream::register(m)?;
+    scene::register(m)?;
     pool::register(m)?;
     m.add_function(wrap_pyfunction!(schemes, m)?)?;
     m.add_function(wrap_pyfunction!(backends, m)?)?;

@@ -60,6 +60,19 @@ pub fn level(level: i64) -> PyResult<u32> {
     Ok(level as u32)
 }
 
+/// A target edge length for a glTF scene's levels (`max_edge=`): a positive, finite number
+/// (world units), as `tessella refine --max-edge` takes.
+pub fn max_edge(length: f64) -> PyResult<f32> {
+    let l = length as f32;
+    if !(l.is_finite() && l > 0.0) {
+        return Err(bad_option(format!(
+            "max_edge must be a positive length (refined edges about that long in world space), \
+             got {length}"
+        )));
+    }
+    Ok(l)
+}
+
 /// The largest level [`quality_level`] accepts: its pattern samples the distance from the coarse
 /// mesh, and a finer one adds time and memory (about 500 B a point) but no insight.
 pub const MAX_QUALITY_LEVEL: u32 = 256;

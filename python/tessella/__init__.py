@@ -29,6 +29,9 @@ cannot be combined), :class:`FileFormatError` (broken or unsupported files) and
 Besides: ``TypeError`` for unsupported dtypes and option types, ``OSError`` when the OS refuses
 a file, ``ImportError`` for a converter whose package (trimesh, pyvista, meshio) is missing.
 
+Whole glTF scenes (nodes, materials, animations kept): :func:`refine_gltf` and
+:func:`refine_gltf_bytes`.
+
 What this build has: :func:`schemes`; what works on this machine: :func:`backends` and
 :func:`gpu_info`.
 """
@@ -43,7 +46,7 @@ import numpy as np
 from . import _fields, _inputs, _options, _tessella
 from ._errors import FileFormatError, GpuError, MeshError, OptionError, TessellaError
 from ._options import Camera, Displace, Lod
-from ._result import RefinedMesh
+from ._result import PrimitiveReport, RefinedMesh, SceneReport
 from ._tessella import AnimatedMesh, __version__, backends, gpu_info, info, load, load_animated, pattern, save, schemes
 from ._types import BackendName, NormalsMode, SchemeName, Spacing
 
@@ -89,6 +92,10 @@ __all__ = [
     "boundary_faces",
     "batch",
     "refine_file",
+    "refine_gltf",
+    "refine_gltf_bytes",
+    "SceneReport",
+    "PrimitiveReport",
     "refine_to_file",
     "sync_folder",
     "release_memory",
@@ -650,5 +657,6 @@ def render(
 from ._interop import refine_trimesh, to_trimesh  # noqa: E402
 from ._fem import boundary_faces, read_fem, write_fem  # noqa: E402
 from ._batch import batch, refine_file, refine_to_file, sync_folder  # noqa: E402
+from ._gltf import refine_gltf, refine_gltf_bytes  # noqa: E402
 from ._memory import release_memory, reusable_bytes, set_memory_reuse  # noqa: E402
 from ._plot import plot  # noqa: E402

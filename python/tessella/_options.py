@@ -10,6 +10,7 @@ remain a shorthand: :func:`lod_spec` and :func:`displace_spec` accept both.
 from __future__ import annotations
 
 import math
+import operator
 from typing import Any, Dict, Optional, Sequence, Tuple
 
 from ._errors import OptionError
@@ -311,3 +312,69 @@ def check_conflicts(
                    "they refine on the CPU or on the GL tessellator: use backend='cpu' or 'gl'")
         if origin and backend == "gl":
             refuse("origin=True", "backend='gl'", "the GL tessellator does not report origins; use backend='cpu'")
+
+
+#: :func:`tessella.refine`'s options that work on one merged mesh only, as ``tessella refine``
+#: refuses them for a glTF scene written back whole: each with the value that means "not
+#: used" (``None`` for all others).
+SCENE_REFUSED: Dict[str, Any] = {
+    "lod": None, "camera": None, "size": None, "spacing": "grid", "displace": None,
+    "origin": False, "tags": None, "crease_angle": None, "weld": True, "backend": ("auto", "cpu"),
+    "point_data": None, "cell_data": None, "warp": None, "uvs": None,
+}
+
+
+def check_scene_options(
+    call: str, level: Any, max_edge: Any, options: Dict[str, Any], accepted: Sequence[str]
+) -> Optional[int]:
+    """Checks the options of a glTF scene's refinement (:func:`tessella.refine_gltf`) against
+    each other, and returns ``level`` as an int (or ``None``); the compiled module checks
+    their values.
+
+    ``level`` and ``max_edge`` cannot be combined. ``options`` are the keyword arguments
+    besides ``accepted``: :func:`refine`'s options that work on one merged mesh
+    (:data:`SCENE_REFUSED`) are refused when used, with the CLI's message; any other name is
+    unknown. A fractional ``level`` is refused like the CLI's."""
+
+    def refuse(what: str) -> None:
+        raise OptionError(
+            f"{call}(): {what} works on one merged mesh; a glTF scene is refined primitive by "
+            "primitive with level= or max_edge=. Use tessella.refine_file() (or tessella.load() "
+            "and tessella.refine()) to merge the scene into one mesh first (its nodes, materials "
+            "and animations are then dropped)"
+        )
+
+    if level is not None and max_edge is not None:
+        raise OptionError(
+            f"{call}(): level= cannot be combined with max_edge= (max_edge= chooses each "
+            "primitive's level from its edges; pass one of them)"
+        )
+    unknown = sorted(set(options) - set(SCENE_REFUSED))
+    if unknown:
+        raise OptionError(
+            f"{call}(): unknown option(s) {', '.join(unknown)}; the options are {', '.join(accepted)}"
+        )
+    for name, unused in SCENE_REFUSED.items():
+        if name not in options:
+            continue
+        value = options[name]
+        if isinstance(unused, tuple):
+            used = not (isinstance(value, str) and value.lower() in unused)
+        elif isinstance(unused, str):
+            used = not (isinstance(value, str) and value.lower() == unused)
+        elif isinstance(unused, bool):
+            used = bool(value) != unused
+        else:
+            used = value is not None
+        if used:
+            refuse(f"{name}={value!r}" if unused is not None else f"{name}=")
+    if level is None:
+        return None
+    if isinstance(level, float):
+        if not level.is_integer():
+            refuse(f"a fractional level ({level})")
+        return int(level)
+    try:
+        return operator.index(level)
+    except TypeError:
+        raise TypeError(f"level must be a whole number, got {type(level).__name__}") from None

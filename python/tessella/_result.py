@@ -1,4 +1,6 @@
-"""The one thing :func:`tessella.refine` returns: a :class:`RefinedMesh`, and its converters.
+"""The one thing :func:`tessella.refine` returns: a :class:`RefinedMesh`, and its converters;
+and what :func:`tessella.refine_gltf` returns: a :class:`SceneReport` of
+:class:`PrimitiveReport` rows.
 
 Each converter imports its package only when it is called (trimesh, pyvista, meshio are
 optional). Normals travel as the format's own normals where it has them (trimesh's
@@ -11,7 +13,7 @@ the fields as the format's point and cell data.
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Iterator, Optional, Tuple, Union
+from typing import Any, Dict, Iterator, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -179,3 +181,88 @@ class RefinedMesh:
                 cell_data=self.cell_data,
                 **kwargs,
             )
+
+
+class PrimitiveReport(NamedTuple):
+    """What refining one triangle primitive of a glTF scene made (one row of a
+    :class:`SceneReport`).
+
+    ``mesh`` and ``primitive`` index the document's ``meshes`` and that mesh's
+    ``primitives``; ``level`` is the primitive's level (segments per coarse edge);
+    ``coarse_triangles`` its triangles as read, ``degenerate`` the zero-area ones among them
+    (refined flat); ``vertices`` and ``triangles`` what was written
+    (``triangles = coarse_triangles * level**2``); ``notes`` anything carried by a fallback (a
+    morph target whose shape could not be refined)."""
+
+    mesh: int
+    primitive: int
+    level: int
+    coarse_triangles: int
+    degenerate: int
+    vertices: int
+    triangles: int
+    notes: Tuple[str, ...] = ()
+
+
+class SceneReport:
+    """What :func:`tessella.refine_gltf` did: one :class:`PrimitiveReport` per triangle
+    primitive of the scene (mesh by mesh, in the document's order; points and lines are
+    copied, not refined, and have none).
+
+    Attributes
+    ----------
+    path : str or None
+        The file written (``None`` for :func:`tessella.refine_gltf_bytes`'s scene).
+    primitives : list of PrimitiveReport
+    warnings : list of str
+        What the writer could not do but did not fail on (an image named by a relative URI
+        that is missing beside the input, so not copied beside the output).
+    levels : list of int
+        The distinct levels used, ascending.
+    coarse_triangles, triangles, vertices : int
+        Sums over the primitives.
+
+    ``len(report)``, ``report[i]`` and ``for row in report`` go through ``primitives``.
+    """
+
+    __slots__ = ("path", "primitives", "warnings")
+
+    def __init__(
+        self, path: Optional[str], primitives: Sequence[PrimitiveReport], warnings: Sequence[str] = ()
+    ) -> None:
+        self.path = path
+        self.primitives: List[PrimitiveReport] = list(primitives)
+        self.warnings: List[str] = list(warnings)
+
+    @property
+    def levels(self) -> List[int]:
+        return sorted({p.level for p in self.primitives})
+
+    @property
+    def coarse_triangles(self) -> int:
+        return sum(p.coarse_triangles for p in self.primitives)
+
+    @property
+    def triangles(self) -> int:
+        return sum(p.triangles for p in self.primitives)
+
+    @property
+    def vertices(self) -> int:
+        return sum(p.vertices for p in self.primitives)
+
+    def __iter__(self) -> Iterator[PrimitiveReport]:
+        return iter(self.primitives)
+
+    def __len__(self) -> int:
+        return len(self.primitives)
+
+    def __getitem__(self, index: int) -> PrimitiveReport:
+        return self.primitives[index]
+
+    def __repr__(self) -> str:
+        levels = "/".join(str(level) for level in self.levels) or "-"
+        where = "" if self.path is None else f", path={self.path!r}"
+        return (
+            f"SceneReport({len(self.primitives)} primitives, level {levels}, "
+            f"{self.coarse_triangles} -> {self.triangles} triangles{where})"
+        )

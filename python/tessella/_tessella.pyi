@@ -137,6 +137,23 @@ def _refine_to_file(
     **options: Any,
 ) -> Dict[str, Any]: ...
 def _sync_folder(path: _Path) -> None: ...
+def _refine_gltf(
+    source: Union[_Path, bytes],
+    output: Optional[_Path] = None,
+    *,
+    name: str = "scene.glb",
+    buffers: List[Tuple[str, bytes]] = ...,
+    scheme: SchemeName = "pn",
+    level: Optional[int] = None,
+    max_edge: Optional[float] = None,
+    alpha: float = 0.75,
+    normals_mode: Optional[NormalsMode] = None,
+    sync: bool = True,
+) -> Tuple[
+    List[Tuple[int, int, int, int, int, int, int, List[str]]],
+    List[str],
+    Optional[bytes],
+]: ...
 def _release_memory() -> int: ...
 def _set_memory_reuse(max_bytes: int) -> int: ...
 def _reusable_bytes() -> int: ...
