@@ -738,7 +738,46 @@ fn broken_files_are_refused_with_the_part_named() {
             "targets node 77",
         ),
     ];
-    for (what, edit, expected) in cases {
+    let more: Vec<(&str, Edit, &str)> = vec![
+        (
+            "unequal morph targets",
+            Box::new(|j: &mut Value| {
+                j["meshes"][0]["primitives"][1]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("targets");
+            }),
+            "primitive 1 has 0 morph targets but primitive 0 has 1",
+        ),
+        (
+            "too many weights",
+            Box::new(|j: &mut Value| j["meshes"][0]["weights"] = json!([0.0, 0.0])),
+            "2 weights for 1 morph targets",
+        ),
+        (
+            "a stride not a multiple of 4",
+            Box::new(|j: &mut Value| j["bufferViews"][0]["byteStride"] = json!(6)),
+            "byteStride is 6",
+        ),
+        (
+            "normalised floats",
+            Box::new(|j: &mut Value| j["accessors"][0]["normalized"] = json!(true)),
+            "normalized with component type 5126",
+        ),
+        (
+            "a skin without joints",
+            Box::new(|j: &mut Value| j["skins"] = json!([{ "joints": [] }])),
+            "no joints",
+        ),
+        (
+            "too few inverse bind matrices",
+            Box::new(|j: &mut Value| {
+                j["skins"] = json!([{ "joints": [0, 1], "inverseBindMatrices": 0 }])
+            }),
+            "inverseBindMatrices",
+        ),
+    ];
+    for (what, edit, expected) in cases.into_iter().chain(more) {
         let mut broken = json.clone();
         edit(&mut broken);
         let message = refused(&broken, &bin);

@@ -47,6 +47,7 @@ pub(super) fn read(
     let mut document = validate(&json).map_err(parse)?;
     check_channels(&json).map_err(parse)?;
     check_quantization(&json).map_err(parse)?;
+    check_structure(&json).map_err(parse)?;
     let mut buffers = load_buffers(path, &json, blob, format, external)?;
     if meshopt_views::decode(&mut json, &mut buffers).map_err(parse)? {
         // The decoded views point at new buffers: the document must see them.
@@ -149,6 +150,108 @@ fn load_buffers(
         out.push(data);
     }
     Ok(out)
+}
+
+/// What glTF 2.0 requires of skins, morph targets, views and accessors beyond valid indices
+/// (the rules the Khronos validator reports as errors and the `gltf` crate does not check):
+/// a file that breaks them is refused, since its refined copy would break them too.
+fn check_structure(json: &Value) -> Result<(), String> {
+    use super::json::whole;
+    let accessors = arr(json, "accessors");
+    let count_of = |i: &Value| whole(i).and_then(|i| accessors.get(i as usize));
+    for (i, buffer) in arr(json, "buffers").iter().enumerate() {
+        if buffer
+            .get("byteLength")
+            .and_then(whole)
+            .is_some_and(|n| n == 0)
+        {
+            return Err(format!(
+                "buffers[{i}].byteLength is 0; a buffer holds at least one byte"
+            ));
+        }
+    }
+    for (i, view) in arr(json, "bufferViews").iter().enumerate() {
+        if view
+            .get("byteLength")
+            .and_then(whole)
+            .is_some_and(|n| n == 0)
+        {
+            return Err(format!(
+                "bufferViews[{i}].byteLength is 0; a view holds at least one byte"
+            ));
+        }
+        if let Some(stride) = view.get("byteStride").and_then(whole) {
+            if !(4..=252).contains(&stride) || stride % 4 != 0 {
+                return Err(format!(
+                    "bufferViews[{i}].byteStride is {stride}; it must be a multiple of 4 from 4 to 252"
+                ));
+            }
+        }
+    }
+    for (i, a) in accessors.iter().enumerate() {
+        let component = a.get("componentType").and_then(whole).unwrap_or(0);
+        let size = match component {
+            5120 | 5121 => 1,
+            5122 | 5123 => 2,
+            _ => 4,
+        };
+        if a.get("normalized").and_then(Value::as_bool) == Some(true)
+            && matches!(component, 5125 | 5126)
+        {
+            return Err(format!(
+                "accessors[{i}] is normalized with component type {component}; only 8- and 16-bit integers are"
+            ));
+        }
+        if a.get("byteOffset")
+            .and_then(whole)
+            .is_some_and(|o| o % size != 0)
+        {
+            return Err(format!(
+                "accessors[{i}].byteOffset is not a multiple of its component size {size}"
+            ));
+        }
+    }
+    for (i, skin) in arr(json, "skins").iter().enumerate() {
+        let joints = arr(skin, "joints").len();
+        if joints == 0 {
+            return Err(format!("skin {i} has no joints"));
+        }
+        if let Some(ibm) = skin.get("inverseBindMatrices").and_then(count_of) {
+            let mat4 = ibm.get("type").and_then(Value::as_str) == Some("MAT4")
+                && ibm.get("componentType").and_then(whole) == Some(5126);
+            if !mat4 {
+                return Err(format!(
+                    "skin {i} inverseBindMatrices is not an accessor of float MAT4s"
+                ));
+            }
+            let count = ibm.get("count").and_then(whole).unwrap_or(0) as usize;
+            if count < joints {
+                return Err(format!(
+                    "skin {i} inverseBindMatrices holds {count} matrices for {joints} joints"
+                ));
+            }
+        }
+    }
+    for (m, mesh) in arr(json, "meshes").iter().enumerate() {
+        let targets: Vec<usize> = arr(mesh, "primitives")
+            .iter()
+            .map(|p| arr(p, "targets").len())
+            .collect();
+        if let Some(p) = (1..targets.len()).find(|&p| targets[p] != targets[0]) {
+            return Err(format!(
+                "mesh {m} primitive {p} has {} morph targets but primitive 0 has {}",
+                targets[p], targets[0]
+            ));
+        }
+        let n = targets.first().copied().unwrap_or(0);
+        if mesh.get("weights").is_some() && arr(mesh, "weights").len() != n {
+            return Err(format!(
+                "mesh {m} has {} weights for {n} morph targets",
+                arr(mesh, "weights").len()
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Integer positions, normals and tangents (and unnormalised integer texture coordinates) are

@@ -184,7 +184,13 @@ impl Scene {
     /// size is checked against `options.refine.max_output_bytes` before any work.
     pub fn refine(&self, options: &SceneOptions) -> Result<RefinedScene, IoError> {
         let summaries = self.primitives(&options.levels)?;
-        check_size(&summaries, options.refine.max_output_bytes).map_err(|m| self.parse(m))?;
+        check_size(&summaries, options.refine.max_output_bytes).map_err(|source| {
+            IoError::Refine {
+                path: self.path.clone(),
+                part: "the scene".into(),
+                source: Box::new(source),
+            }
+        })?;
         let chosen: Vec<(PrimitiveId, u32)> = summaries.iter().map(|s| (s.id, s.level)).collect();
         let refined: BTreeSet<PrimitiveId> = chosen.iter().map(|(k, _)| *k).collect();
         let mut out =
@@ -262,30 +268,41 @@ const BYTES_PER_VERTEX: u64 = 12 + 12 + 16 + 8 + 8 + 16 + 2 * (8 + 16);
 /// Bytes a refined triangle takes (32-bit indices).
 const BYTES_PER_TRIANGLE: u64 = 12;
 
-/// Refuses a refinement whose output would exceed `limit` bytes, before anything is allocated.
-fn check_size(summaries: &[PrimitiveSummary], limit: u64) -> Result<(), String> {
-    let mut total: u64 = 0;
+/// Refuses a refinement whose output would exceed `limit` bytes, before anything is allocated
+/// (the core's size error, for the scene as a whole).
+fn check_size(
+    summaries: &[PrimitiveSummary],
+    limit: u64,
+) -> Result<(), tessella_core::RefineError> {
+    let (mut bytes, mut faces, mut vertices, mut triangles, mut level) =
+        (0u64, 0usize, 0u64, 0u64, 0u32);
     for s in summaries {
         let l = s.level as u64;
-        let faces = s.triangles as u64;
-        let bytes = faces
-            .saturating_mul(l.saturating_mul(l))
-            .saturating_mul(BYTES_PER_TRIANGLE)
-            .saturating_add(
-                faces
-                    .saturating_mul((l + 1).saturating_mul(l + 2) / 2)
-                    .saturating_mul(BYTES_PER_VERTEX),
-            );
-        total = total.saturating_add(bytes);
+        let f = s.triangles as u64;
+        let v = f.saturating_mul((l + 1).saturating_mul(l + 2) / 2);
+        let t = f.saturating_mul(l.saturating_mul(l));
+        bytes = bytes
+            .saturating_add(t.saturating_mul(BYTES_PER_TRIANGLE))
+            .saturating_add(v.saturating_mul(BYTES_PER_VERTEX));
+        faces += s.triangles;
+        vertices = vertices.saturating_add(v);
+        triangles = triangles.saturating_add(t);
+        level = level.max(s.level);
     }
-    if total > limit {
-        return Err(format!(
-            "the refined scene would need about {:.1} GiB, over the limit of {:.1} GiB; choose a lower level or a longer --max-edge, or raise the limit (--max-memory)",
-            total as f64 / (1u64 << 30) as f64,
-            limit as f64 / (1u64 << 30) as f64
-        ));
+    if bytes <= limit {
+        return Ok(());
     }
-    Ok(())
+    let human = |b: u64| format!("{:.1} GiB", b as f64 / (1u64 << 30) as f64);
+    Err(tessella_core::RefineError::TooLarge {
+        level,
+        faces,
+        vertices,
+        triangles,
+        bytes,
+        bytes_human: human(bytes),
+        limit,
+        limit_human: human(limit),
+    })
 }
 
 /// The reading every glTF reader of this crate shares: the validated document and its buffers
