@@ -8,7 +8,8 @@
 //! Runs alternate, the median of each is printed with their ratio.
 //!
 //! `cargo run --release -p tessella-io --example gltf_round_trip [-- RUNS]`
-//! `-- --once round-trip|refine` runs one side once (for callgrind's instruction counts).
+//! `-- --once round-trip|refine` runs one side once (for callgrind's instruction counts);
+//! `--no-tangents` drops the TANGENT attributes first (MikkTSpace then does not run).
 
 use std::time::Instant;
 use tessella_core::{Mesh, RefineOptions, Scheme};
@@ -17,12 +18,33 @@ use tessella_io::gltf::Buffers;
 
 const LEVEL: u32 = 4;
 
-/// The primitives' coarse meshes as `refine` would see them: positions, normals, triangles.
+/// The primitives' coarse meshes as `refine` would see them: positions, normals, triangles
+/// (each mesh once, in its own space; zero-area triangles left out, as `refine` requires).
 fn geometry(scene_bytes: &[u8]) -> Vec<Mesh> {
-    let raw = tessella_io::read_raw_bytes("scene.glb", scene_bytes, &[]).expect("the scene reads");
-    // The merged reader gives every primitive in world space; the refinement cost is the same
-    // per triangle. One mesh per file is what `tessella refine` refines.
-    vec![Mesh::new(raw.positions, raw.normals, None, raw.triangles).expect("valid geometry")]
+    let gltf = gltf::Gltf::from_slice_without_validation(scene_bytes).expect("the scene parses");
+    let bin = gltf.blob.clone().expect("a GLB");
+    let mut meshes = Vec::new();
+    for mesh in gltf.document.meshes() {
+        for primitive in mesh
+            .primitives()
+            .filter(|p| p.mode() == gltf::mesh::Mode::Triangles)
+        {
+            let reader = primitive.reader(|_| Some(&bin));
+            let positions: Vec<[f32; 3]> = reader.read_positions().expect("positions").collect();
+            let normals: Vec<[f32; 3]> = reader.read_normals().expect("normals").collect();
+            let corners: Vec<u32> = reader.read_indices().expect("indices").into_u32().collect();
+            let triangles = corners
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .filter(|t| !tessella_core::mesh::has_zero_area(&positions, *t))
+                .collect();
+            meshes.push(
+                Mesh::new(positions, Some(normals), None, triangles).expect("valid geometry"),
+            );
+        }
+    }
+    meshes
 }
 
 fn round_trip(bytes: &[u8]) -> usize {
@@ -51,9 +73,32 @@ fn refine_alone(meshes: &[Mesh]) -> usize {
         .sum()
 }
 
+/// The scene's GLB, without TANGENT attributes when `tangents` is false.
+fn scene(tangents: bool) -> Vec<u8> {
+    let bytes = tessella_io::sample_scene_detailed(false, 5, [240, 160]);
+    if tangents {
+        return bytes;
+    }
+    let glb = gltf::Glb::from_slice(&bytes).expect("a GLB");
+    let mut json: serde_json::Value = serde_json::from_slice(&glb.json).expect("JSON");
+    for mesh in json["meshes"].as_array_mut().expect("meshes") {
+        for primitive in mesh["primitives"].as_array_mut().expect("primitives") {
+            primitive["attributes"]
+                .as_object_mut()
+                .expect("attributes")
+                .remove("TANGENT");
+        }
+    }
+    tessella_io::gltf::scene::glb(&json, &glb.bin.expect("a buffer")).expect("a GLB")
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let bytes = tessella_io::sample_scene_detailed(false, 5, [240, 160]);
+    // With `--no-tangents` the scene's primitives carry no TANGENT (most textured assets have
+    // none: tangents come with normal maps).
+    let tangents = !args.iter().any(|a| a == "--no-tangents");
+    let args: Vec<String> = args.into_iter().filter(|a| a != "--no-tangents").collect();
+    let bytes = scene(tangents);
     let meshes = geometry(&bytes);
     let triangles: usize = meshes.iter().map(Mesh::face_count).sum();
     if args.first().map(String::as_str) == Some("--once") {

@@ -53,13 +53,23 @@ impl Origins {
 
     /// `values` (`width` per coarse vertex) interpolated at every output vertex.
     pub fn interpolate(&self, values: &[f32], width: usize) -> Vec<f32> {
-        let mut out = Vec::with_capacity(self.len() * width);
-        for (t, l) in self.corners.iter().zip(&self.weights) {
-            for c in 0..width {
-                let v = |k: usize| values[t[k] as usize * width + c] as f64;
-                out.push((l[0] * v(0) + l[1] * v(1) + l[2] * v(2)) as f32);
-            }
-        }
+        use rayon::prelude::*;
+        let mut out = vec![0.0f32; self.len() * width];
+        // Each vertex on its own: the same bits in any order, on any number of threads.
+        out.par_chunks_mut(width * 4096)
+            .zip(
+                self.corners
+                    .par_chunks(4096)
+                    .zip(self.weights.par_chunks(4096)),
+            )
+            .for_each(|(out, (corners, weights))| {
+                for ((dst, t), l) in out.chunks_exact_mut(width).zip(corners).zip(weights) {
+                    for (c, d) in dst.iter_mut().enumerate() {
+                        let v = |k: usize| values[t[k] as usize * width + c] as f64;
+                        *d = (l[0] * v(0) + l[1] * v(1) + l[2] * v(2)) as f32;
+                    }
+                }
+            });
         out
     }
 

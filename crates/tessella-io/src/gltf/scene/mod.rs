@@ -184,7 +184,7 @@ impl Scene {
     /// size is checked against `options.refine.max_output_bytes` before any work.
     pub fn refine(&self, options: &SceneOptions) -> Result<RefinedScene, IoError> {
         let summaries = self.primitives(&options.levels)?;
-        check_size(&summaries, options.refine.max_output_bytes).map_err(|source| {
+        let bytes = check_size(&summaries, options.refine.max_output_bytes).map_err(|source| {
             IoError::Refine {
                 path: self.path.clone(),
                 part: "the scene".into(),
@@ -193,8 +193,8 @@ impl Scene {
         })?;
         let chosen: Vec<(PrimitiveId, u32)> = summaries.iter().map(|s| (s.id, s.level)).collect();
         let refined: BTreeSet<PrimitiveId> = chosen.iter().map(|(k, _)| *k).collect();
-        let mut out =
-            out::Out::new(self.json.clone(), &self.buffers, &refined).map_err(|m| self.parse(m))?;
+        let mut out = out::Out::new(self.json.clone(), &self.buffers, &refined, bytes as usize)
+            .map_err(|m| self.parse(m))?;
         let mut reports = Vec::new();
         let mut which = Vec::new();
         for &((m, p), level) in &chosen {
@@ -273,7 +273,7 @@ const BYTES_PER_TRIANGLE: u64 = 12;
 fn check_size(
     summaries: &[PrimitiveSummary],
     limit: u64,
-) -> Result<(), tessella_core::RefineError> {
+) -> Result<u64, tessella_core::RefineError> {
     let (mut bytes, mut faces, mut vertices, mut triangles, mut level) =
         (0u64, 0usize, 0u64, 0u64, 0u32);
     for s in summaries {
@@ -290,7 +290,7 @@ fn check_size(
         level = level.max(s.level);
     }
     if bytes <= limit {
-        return Ok(());
+        return Ok(bytes);
     }
     let human = |b: u64| format!("{:.1} GiB", b as f64 / (1u64 << 30) as f64);
     Err(tessella_core::RefineError::TooLarge {

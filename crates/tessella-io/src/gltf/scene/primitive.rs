@@ -139,8 +139,12 @@ pub(super) fn refine(
     };
     // The output: the refined surface, then each degenerate triangle's flat pattern.
     let base = refined.positions.len();
-    let mut out_positions = refined.positions.clone();
-    let mut out_normals = refined.normals.clone();
+    let RefinedMesh {
+        positions: mut out_positions,
+        normals: mut out_normals,
+        triangles: mut out_triangles,
+        ..
+    } = refined;
     let flat_part = Origins {
         corners: origins.corners[base..].to_vec(),
         weights: origins.weights[base..].to_vec(),
@@ -152,7 +156,6 @@ pub(super) fn refine(
             .chunks_exact(3)
             .map(|c| unit([c[0], c[1], c[2]])),
     );
-    let mut out_triangles = refined.triangles.clone();
     for (k, _) in flat.iter().enumerate() {
         let first = (base + k * pattern.points.len()) as u32;
         out_triangles.extend(pattern.triangles.iter().map(|t| t.map(|i| i + first)));
@@ -271,7 +274,8 @@ pub(super) fn refine(
             };
             let (dpos, dnorm) = match (&refiner, shape.mesh(&good)) {
                 (Some(refiner), Ok(Some(moved))) => {
-                    refine_target(refiner, &moved, &refined, &flat_part, &shape)
+                    let base_refined = (&out_positions[..base], &out_normals[..base]);
+                    refine_target(refiner, &moved, base_refined, &flat_part, &shape)
                         .map_err(Failure::Refine)?
                 }
                 (_, result) => {
@@ -416,7 +420,7 @@ impl TargetShape<'_> {
 fn refine_target(
     refiner: &Refiner<'_>,
     moved: &Mesh,
-    refined: &RefinedMesh,
+    (positions, normals): (&[[f32; 3]], &[[f32; 3]]),
     flat_part: &Origins,
     shape: &TargetShape<'_>,
 ) -> Result<(Vec<f32>, Vec<f32>), RefineError> {
@@ -426,10 +430,10 @@ fn refine_target(
     let frame = plan.frame(moved)?;
     let mut target = RefinedMesh::default();
     plan.refine_into(&frame, &mut target, &|_| {})?;
-    for (a, b) in target.positions.iter().zip(&refined.positions) {
+    for (a, b) in target.positions.iter().zip(positions) {
         dpos.extend([a[0] - b[0], a[1] - b[1], a[2] - b[2]]);
     }
-    for (a, b) in target.normals.iter().zip(&refined.normals) {
+    for (a, b) in target.normals.iter().zip(normals) {
         dnorm.extend([a[0] - b[0], a[1] - b[1], a[2] - b[2]]);
     }
     let (fp, fnorm) = shape.linear(flat_part);
