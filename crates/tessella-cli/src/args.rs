@@ -174,6 +174,11 @@ pub struct RefineArgs {
     /// LENGTH long in world space (at most level 64), instead of one --level for all.
     #[arg(long, value_name = "LENGTH", conflicts_with = "level")]
     pub max_edge: Option<f32>,
+    /// glTF in and out: the refined TANGENT of primitives that have one: `recomputed`
+    /// (MikkTSpace on the refined mesh) or `carried` (the file's, interpolated and made
+    /// orthogonal to the refined normal; many times faster).
+    #[arg(long, value_name = "HOW", default_value = "recomputed", value_parser = ["recomputed", "carried"])]
+    pub tangents: String,
     /// glTF in and out: merge the default scene into one mesh in world space, as for other
     /// formats, instead of writing the scene back with its nodes, materials and animations.
     #[arg(long)]

@@ -9,7 +9,9 @@
 //!
 //! `cargo run --release -p tessella-io --example gltf_round_trip [-- RUNS]`
 //! `-- --once round-trip|refine` runs one side once (for callgrind's instruction counts);
-//! `--no-tangents` drops the TANGENT attributes first (MikkTSpace then does not run).
+//! `--no-tangents` drops the TANGENT attributes first (MikkTSpace then does not run);
+//! `-- --write DIR` writes the scene and its bare geometry (`DIR/scene.glb`,
+//! `DIR/geometry.glb`) to time `tessella refine` on both.
 
 use std::time::Instant;
 use tessella_core::{Mesh, RefineOptions, Scheme};
@@ -101,6 +103,28 @@ fn main() {
     let bytes = scene(tangents);
     let meshes = geometry(&bytes);
     let triangles: usize = meshes.iter().map(Mesh::face_count).sum();
+    if args.first().map(String::as_str) == Some("--write") {
+        // The two files `tessella refine` is timed on: the scene, and its geometry alone (each
+        // mesh once, positions, normals and triangles, one primitive).
+        let dir = std::path::Path::new(args.get(1).map_or(".", String::as_str));
+        std::fs::write(dir.join("scene.glb"), &bytes).expect("write scene.glb");
+        let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+        for mesh in &meshes {
+            let base = positions.len() as u32;
+            positions.extend_from_slice(mesh.positions());
+            normals.extend_from_slice(mesh.normals());
+            triangles.extend(mesh.triangles().iter().map(|t| t.map(|i| i + base)));
+        }
+        let merged = Mesh::new(positions, Some(normals), None, triangles).expect("valid");
+        tessella_io::write_mesh(
+            &dir.join("geometry.glb"),
+            (&merged).into(),
+            &Default::default(),
+        )
+        .expect("write geometry.glb");
+        println!("{}: scene.glb and geometry.glb", dir.display());
+        return;
+    }
     if args.first().map(String::as_str) == Some("--once") {
         match args.get(1).map(String::as_str) {
             Some("round-trip") => println!("{} bytes", round_trip(&bytes)),

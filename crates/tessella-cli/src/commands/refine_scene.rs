@@ -6,7 +6,7 @@ use crate::args::RefineArgs;
 use anyhow::Context;
 use std::time::Instant;
 use tessella_core::refine::{Levels, Spacing};
-use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions};
+use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions, Tangents};
 use tessella_io::{Durability, Format};
 
 /// Whether `args` ask for the scene path: glTF in and out, no `--flatten`, no `--clip`.
@@ -63,8 +63,10 @@ pub fn refine(
     };
     let start = Instant::now();
     let scene = Scene::read(&args.input)?;
+    let tangents = Tangents::parse(&args.tangents)
+        .ok_or_else(|| anyhow::anyhow!("--tangents takes recomputed or carried"))?;
     let refined = scene
-        .refine(&SceneOptions::new(options.clone(), levels))
+        .refine(&SceneOptions::new(options.clone(), levels).with_tangents(tangents))
         .with_context(|| format!("cannot refine {}", args.input.display()))?;
     for warning in refined.write(&args.output, durability)? {
         eprintln!("note: {warning}");

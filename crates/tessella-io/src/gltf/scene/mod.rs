@@ -63,17 +63,55 @@ pub struct Scene {
     format: &'static str,
 }
 
-/// How to refine a scene: the scheme and its options (their level is replaced per primitive)
-/// and the levels.
+/// How to refine a scene: the scheme and its options (their level is replaced per primitive),
+/// the levels, and where refined tangents come from.
 #[derive(Debug, Clone)]
 pub struct SceneOptions {
     pub refine: RefineOptions,
     pub levels: SceneLevels,
+    pub tangents: Tangents,
 }
 
 impl SceneOptions {
+    /// `refine` and `levels`, tangents recomputed ([`Tangents::Recomputed`]).
     pub fn new(refine: RefineOptions, levels: SceneLevels) -> SceneOptions {
-        SceneOptions { refine, levels }
+        SceneOptions {
+            refine,
+            levels,
+            tangents: Tangents::Recomputed,
+        }
+    }
+
+    /// Sets where refined tangents come from.
+    pub fn with_tangents(mut self, tangents: Tangents) -> SceneOptions {
+        self.tangents = tangents;
+        self
+    }
+}
+
+/// The `TANGENT` of refined vertices, for primitives that have one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Tangents {
+    /// MikkTSpace on the refined mesh, from its normals and the normal map's texture
+    /// coordinates (the default): what a baker would compute for the refined mesh. The
+    /// costliest part of a round trip.
+    #[default]
+    Recomputed,
+    /// The file's tangents interpolated like texture coordinates and made orthogonal to the
+    /// refined normal: the frame a rasteriser gives the coarse mesh's pixels, at a fraction of
+    /// the cost.
+    Carried,
+}
+
+impl Tangents {
+    /// `recomputed` or `carried`.
+    pub fn parse(name: &str) -> Option<Tangents> {
+        match name {
+            "recomputed" | "mikktspace" => Some(Tangents::Recomputed),
+            "carried" => Some(Tangents::Carried),
+            _ => None,
+        }
     }
 }
 
@@ -220,6 +258,7 @@ impl Scene {
                 &options.refine,
                 level,
                 normal_uv_set,
+                options.tangents,
                 &mut out,
             )
             .map_err(|failure| {

@@ -288,17 +288,15 @@ impl Out {
     /// Triangle indices, 16-bit when every index fits.
     pub fn indices(&mut self, triangles: &[[u32; 3]], vertices: usize) -> usize {
         let flat = triangles.as_flattened();
-        let (bytes, component): (Vec<u8>, u32) = if vertices <= u16::MAX as usize {
-            (
-                flat.iter()
-                    .flat_map(|&i| (i as u16).to_le_bytes())
-                    .collect(),
-                U16,
-            )
+        let component = if vertices <= u16::MAX as usize {
+            let narrow: Vec<u16> = flat.iter().map(|&i| i as u16).collect();
+            self.view(bytemuck::cast_slice(&narrow), ELEMENT_ARRAY_BUFFER);
+            U16
         } else {
-            (bytemuck::cast_slice(flat).to_vec(), U32)
+            self.view(bytemuck::cast_slice(flat), ELEMENT_ARRAY_BUFFER);
+            U32
         };
-        let view = self.view(&bytes, ELEMENT_ARRAY_BUFFER);
+        let view = self.views.len() - 1;
         self.push(json!({
             "bufferView": view,
             "componentType": component,

@@ -72,6 +72,7 @@ pub(super) fn refine(
     options: &RefineOptions,
     level: u32,
     normal_uv_set: u32,
+    tangent_mode: super::Tangents,
     out: &mut Out,
 ) -> Result<(Value, PrimitiveReport), Failure> {
     let source = Source { document, buffers };
@@ -225,8 +226,10 @@ pub(super) fn refine(
         }
         let uv_name = format!("TEXCOORD_{normal_uv_set}");
         let uvs = match attributes.get(&uv_name) {
-            Some(uv) => Some(source.floats(uv, n, &uv_name)?.0),
-            None => None,
+            Some(uv) if tangent_mode == super::Tangents::Recomputed => {
+                Some(source.floats(uv, n, &uv_name)?.0)
+            }
+            _ => None,
         };
         let tangents = uvs
             .and_then(|uvs| {

@@ -8,10 +8,28 @@ use std::path::Path;
 
 /// The GLB container of `json` and its buffer `bin` (glTF 2.0 section 4.4).
 pub(super) fn glb_bytes(json: &Value, bin: &[u8]) -> std::io::Result<Vec<u8>> {
+    let head = glb_head(json, bin.len())?;
+    let mut out = Vec::with_capacity(head.len() + bin.len().next_multiple_of(4));
+    out.extend_from_slice(&head);
+    out.extend_from_slice(bin);
+    out.resize(out.len().next_multiple_of(4), 0);
+    Ok(out)
+}
+
+/// Writes the GLB container of `json` and `bin` to `out` without gathering it first.
+fn write_glb(out: &mut dyn std::io::Write, json: &Value, bin: &[u8]) -> std::io::Result<()> {
+    out.write_all(&glb_head(json, bin.len())?)?;
+    out.write_all(bin)?;
+    out.write_all(&[0; 3][..bin.len().next_multiple_of(4) - bin.len()])
+}
+
+/// Everything of a GLB before its buffer's bytes: the header, the JSON chunk and the BIN
+/// chunk's header (none when the buffer is empty).
+fn glb_head(json: &Value, bin_len: usize) -> std::io::Result<Vec<u8>> {
     let mut text = serde_json::to_vec(json).map_err(std::io::Error::other)?;
     text.resize(text.len().next_multiple_of(4), b' ');
-    let padded = bin.len().next_multiple_of(4);
-    let chunks = 8 + text.len() + if bin.is_empty() { 0 } else { 8 + padded };
+    let padded = bin_len.next_multiple_of(4);
+    let chunks = 8 + text.len() + if bin_len == 0 { 0 } else { 8 + padded };
     let total = u32::try_from(12 + chunks).map_err(|_| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
@@ -21,18 +39,16 @@ pub(super) fn glb_bytes(json: &Value, bin: &[u8]) -> std::io::Result<Vec<u8>> {
             ),
         )
     })?;
-    let mut out = Vec::with_capacity(total as usize);
+    let mut out = Vec::with_capacity(28 + text.len());
     out.extend_from_slice(b"glTF");
     out.extend_from_slice(&2u32.to_le_bytes());
     out.extend_from_slice(&total.to_le_bytes());
     out.extend_from_slice(&(text.len() as u32).to_le_bytes());
     out.extend_from_slice(b"JSON");
     out.extend_from_slice(&text);
-    if !bin.is_empty() {
+    if bin_len > 0 {
         out.extend_from_slice(&(padded as u32).to_le_bytes());
         out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(bin);
-        out.resize(out.len() + padded - bin.len(), 0);
     }
     Ok(out)
 }
@@ -51,8 +67,7 @@ pub(super) fn write(
     let warnings = copy_images(scene, folder);
     match format {
         crate::Format::Glb => {
-            let bytes = glb_bytes(&scene.json, &scene.bin).map_err(failed)?;
-            crate::write_atomic_with(path, durability, |w| w.write_all(&bytes))?;
+            crate::write_atomic_with(path, durability, |w| write_glb(w, &scene.json, &scene.bin))?;
         }
         crate::Format::Gltf => {
             let mut json = scene.json.clone();
