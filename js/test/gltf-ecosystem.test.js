@@ -52,10 +52,7 @@ test('glTF-Transform meshopt: the CLI refines it', async (t) => {
   await refineNative(file, 'gltf-transform meshopt');
 });
 
-// tessella-io's wasm refusal (meshopt_views.rs) looks its message up with
-// extensions::refusal("EXT_meshopt_compression"), which is None since the extension is accepted
-// natively, so the message comes out empty ("bufferView 2: "). Runs, reported as TODO until fixed.
-test('refineGltf (wasm) refuses EXT_meshopt_compression by name, pointing to the native tool', { todo: 'tessella-io: the wasm refusal of EXT_meshopt_compression has an empty message' }, () => {
+test('refineGltf (wasm) refuses EXT_meshopt_compression by name, pointing to the native tool', () => {
   const file = join(dir, 'meshopt-wasm.glb');
   gltfTransform('meshopt', sample, file);
   assert.throws(() => refineGltf(read(file), { level: LEVEL }), (e) => {
