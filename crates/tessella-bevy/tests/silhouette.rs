@@ -286,6 +286,43 @@ fn skinned_character_played_by_bevy_matches_tessella_render_of_the_clip() {
     }
 }
 
+/// The creature refined offline (`tessella refine` writes the glTF scene back: skin, morph
+/// targets and clips kept) plays in Bevy as a plain skinned mesh (Bevy's glTF loader, its own
+/// skinning and morphing, no tessellation): its silhouette matches tessella's own posing of
+/// the same file (`tessella render --clip --time --scheme flat --level 1`, which draws the
+/// refined triangles as they are). How far refined-then-skinned lies from posed-then-refined is
+/// measured in tessella-io's tests/scene.rs.
+#[test]
+fn the_offline_refined_character_plays_in_bevy() {
+    let dir = tempfile_dir("refined-skinned");
+    let refined = dir.join("creature-pn8.glb");
+    let mut cmd = Command::new(cli());
+    cmd.arg("refine")
+        .arg(repo().join(CREATURE))
+        .arg("-o")
+        .arg(&refined)
+        .args(["--scheme", "pn", "--level", "8"]);
+    run(cmd);
+    let file = refined.to_str().expect("a UTF-8 path");
+    let camera = ["--yaw", "25", "--pitch", "15", "--zoom", "1"];
+    for (clip, time) in [("wave", "0.5"), ("hop", "0.3"), ("breathe", "1.2")] {
+        let posed = dir.join(format!("{clip}-bevy-plain.png"));
+        let mut args = vec!["--plain"];
+        args.extend(camera);
+        args.extend(["--clip", clip, "--time", time]);
+        bevy_view(file, &args, &posed);
+        let mut view = camera.to_vec();
+        view.extend(["--clip", clip, "--time", time]);
+        let reference = cli_render(&dir, &format!("{clip}-cli"), file, "flat", 1, &view);
+        let overlap = iou(&posed, &reference);
+        eprintln!("refined offline, {clip} at {time}: IoU Bevy/CLI {overlap:.4}");
+        assert!(
+            overlap >= 0.98,
+            "{clip}: the offline-refined file played by Bevy vs tessella render IoU {overlap}"
+        );
+    }
+}
+
 /// While Bevy plays a clip, each frame uploads the coarse mesh's control nets and nothing
 /// else: the same bytes at levels 4 and 32, in proportion to the coarse triangles.
 #[test]

@@ -18,6 +18,7 @@ mod pose;
 mod refine;
 mod refine_gl;
 mod refine_scene;
+mod refined;
 #[cfg(feature = "gpu")]
 mod render;
 #[cfg(feature = "gpu")]

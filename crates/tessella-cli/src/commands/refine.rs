@@ -1,5 +1,6 @@
 //! `tessella refine`: file in, refined file out.
 
+pub use super::refined::Refined;
 use super::tags;
 use crate::args::RefineArgs;
 use crate::progress;
@@ -25,22 +26,6 @@ pub fn run(args: &RefineArgs) -> anyhow::Result<()> {
         super::info::print_quality(&[super::info::QualityRow::Measured(report)]);
     }
     Ok(())
-}
-
-/// What one refinement made.
-pub struct Refined {
-    /// The coarse mesh (none for a glTF scene, refined primitive by primitive).
-    pub mesh: Option<tessella_core::Mesh>,
-    pub options: RefineOptions,
-    pub input_triangles: usize,
-    pub vertices: u64,
-    pub triangles: u64,
-    /// Scheme and level, for messages.
-    pub what: String,
-    /// Seconds spent refining (and, when streamed, writing).
-    pub refine_seconds: f64,
-    /// Whether the output was written piece by piece.
-    pub streamed: bool,
 }
 
 /// Refines `args.input` into `args.output`; `bars`: show progress bars (on a terminal);

@@ -1,7 +1,7 @@
 //! `tessella refine` with glTF in and glTF out: the scene written back refined
 //! (`tessella_io::gltf::scene`), every primitive with its own level and material.
 
-use super::refine::Refined;
+use super::refined::Refined;
 use crate::args::RefineArgs;
 use anyhow::Context;
 use std::time::Instant;

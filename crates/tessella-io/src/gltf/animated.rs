@@ -38,9 +38,8 @@
 //! the skin, matrices that cannot be inverted, an animated node with a matrix) are left to the
 //! core's validation of the animated mesh.
 
-use super::read::{
-    check_accessor, merge_attribute, open, read_primitive, scene_nodes, Buffers, Context, Primitive,
-};
+use super::data::{check_accessor, Buffers};
+use super::read::{merge_attribute, open, read_primitive, scene_nodes, Context, Primitive};
 use crate::IoError;
 use gltf::accessor::{DataType, Dimensions, Item};
 use gltf::animation::Property as GltfProperty;

@@ -19,13 +19,15 @@
 //! space, for the core to pose.
 
 mod animated;
+mod data;
 mod read;
 pub mod scene;
 mod write;
 mod write_animated;
 
 pub use animated::read_animated;
-pub use read::{read, read_with, Buffers};
+pub use data::Buffers;
+pub use read::{read, read_with};
 pub(crate) use write::{
     fold_range, glb_document, gltf_document, write_glb_header, write_glb_padding, write_gltf_text,
     Shape,

@@ -1,10 +1,10 @@
 //! Any accessor's elements as numbers: every component type, normalised or not (glTF 2.0
 //! section 3.11 "Animation"/"Meshes" and `KHR_mesh_quantization` allow integer positions,
 //! normals, tangents and texture coordinates), any `byteStride`, sparse substitution on top.
-//! Bounds are checked first ([`super::super::read::check_accessor`]), so no read goes past
+//! Bounds are checked first ([`super::super::data::check_accessor`]), so no read goes past
 //! the end of a buffer.
 
-use super::super::read::check_accessor;
+use super::super::data::check_accessor;
 use gltf::accessor::{DataType, Dimensions};
 use gltf::Accessor;
 

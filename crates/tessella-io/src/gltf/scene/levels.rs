@@ -122,7 +122,7 @@ fn shape(scene: &Scene, primitive: &gltf::Primitive) -> Result<(usize, usize, f6
         Some(a) => super::accessor::read_u32(&a, &scene.buffers)?,
         None => (0..n as u32).collect(),
     };
-    let triangles = super::super::read::assemble(primitive.mode(), &corners)?;
+    let triangles = super::super::data::assemble(primitive.mode(), &corners)?;
     let at = |i: u32| -> Result<[f32; 3], String> {
         let i = i as usize;
         p.get(i * 3..i * 3 + 3)

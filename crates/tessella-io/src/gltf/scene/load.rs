@@ -1,7 +1,7 @@
 //! Reading a scene: the container, the JSON (kept whole, as a `serde_json::Value`), the
 //! buffers, the extension checks and the `gltf` crate's validation of every index.
 
-use super::super::read::{check_glb_header, load_uri};
+use super::super::data::{check_glb_header, load_uri};
 use super::super::Buffers;
 use super::{extensions, meshopt_views, Scene};
 use crate::IoError;

@@ -104,7 +104,7 @@ pub(super) fn refine(
             "uses vertex {bad} but has only {n} vertices"
         )));
     }
-    let triangles = super::super::read::assemble(mode, &corners)?;
+    let triangles = super::super::data::assemble(mode, &corners)?;
     // Zero-area triangles (a repeated corner, collinear corners) are valid glTF: they are
     // refined flat (each stays on its segment), and left out of the surface and its normals.
     let (good, flat): (Vec<[u32; 3]>, Vec<[u32; 3]>) = triangles.iter().partition(|t| {

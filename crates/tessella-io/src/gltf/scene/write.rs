@@ -109,7 +109,7 @@ fn copy_images(scene: &RefinedScene, folder: &Path) -> Vec<String> {
         if uri.starts_with("data:") || uri.contains("://") {
             continue;
         }
-        let relative = super::super::read::percent_decode(uri);
+        let relative = super::super::data::percent_decode(uri);
         if Path::new(&relative).has_root() || relative.split(['/', '\\']).any(|c| c == "..") {
             warnings.push(format!(
                 "image {i}: {uri:?} is not a path inside the input's folder; not copied"
