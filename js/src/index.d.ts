@@ -128,6 +128,8 @@ export interface RefineGltfOptions {
   normals?: 'linear' | 'quadratic' | 'real';
   /** Phong's shape factor (default 0.75). */
   alpha?: number;
+  /** The refined TANGENT of primitives that have one: 'recomputed' (MikkTSpace on the refined mesh, the default) or 'carried' (the file's tangents interpolated and made orthogonal to the refined normals, many times faster). */
+  tangents?: 'recomputed' | 'carried';
   /** A .gltf file's external buffers by their URI (as written in the file). */
   buffers?: Record<string, Uint8Array | ArrayBuffer>;
 }

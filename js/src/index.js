@@ -238,7 +238,8 @@ function refineGltfCall(bytes, options, fn) {
  * refined with its material, attributes, morph targets and skin; nodes, materials, textures,
  * animations, cameras, lights and extensions kept. Options: `scheme`, `level` (whole) or
  * `maxEdge` (a target edge length in world units: each primitive's own level), `alpha`,
- * `normals`. The same bytes as the CLI's `tessella refine in.glb -o out.glb`.
+ * `normals`, `tangents` ('recomputed' or 'carried'). The same bytes as the CLI's
+ * `tessella refine in.glb -o out.glb`.
  */
 export function refineGltf(bytes, options = {}) {
   return refineGltfCall(bytes, options, 'refineGltf').glb;

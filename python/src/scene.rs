@@ -17,7 +17,7 @@ use crate::options;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::path::{Path, PathBuf};
-use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions};
+use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions, Tangents};
 use tessella_io::gltf::Buffers;
 use tessella_io::{Durability, Format};
 
@@ -62,7 +62,8 @@ fn gltf_path(path: &Path, what: &str) -> PyResult<()> {
 /// length in world space) chooses each primitive's level. See `tessella.refine_gltf`.
 #[pyfunction]
 #[pyo3(name = "_refine_gltf", signature = (source, output=None, *, name="scene.glb", buffers=Vec::new(),
-                    scheme="pn", level=None, max_edge=None, alpha=0.75, normals_mode=None, sync=true))]
+                    scheme="pn", level=None, max_edge=None, alpha=0.75, normals_mode=None,
+                    tangents="recomputed", sync=true))]
 #[allow(clippy::too_many_arguments)]
 fn refine_gltf<'py>(
     py: Python<'py>,
@@ -75,8 +76,15 @@ fn refine_gltf<'py>(
     max_edge: Option<f64>,
     alpha: f64,
     normals_mode: Option<&str>,
+    tangents: &str,
     sync: bool,
 ) -> PyResult<Outcome<'py>> {
+    let tangents = Tangents::parse(tangents).ok_or_else(|| {
+        bad_option(format!(
+            "tangents={tangents:?}: give \"recomputed\" (MikkTSpace on the refined mesh) or \
+             \"carried\" (the file's tangents, interpolated)"
+        ))
+    })?;
     let levels = match (level, max_edge) {
         (Some(_), Some(_)) => {
             // `tessella/_options.py` refuses this first, naming the Python function.
@@ -118,7 +126,7 @@ fn refine_gltf<'py>(
         .iter()
         .map(|(uri, bytes)| (uri.as_str(), bytes.as_bytes()))
         .collect();
-    let options = SceneOptions::new(refine, levels);
+    let options = SceneOptions::new(refine, levels).with_tangents(tangents);
     let durability = Durability::synced_if(sync);
     let (reports, warnings, glb) = py.detach(|| -> PyResult<_> {
         let scene = match (&path, data) {

@@ -24,7 +24,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 BytesLike = Union[bytes, bytearray, memoryview]
 
 #: The options :func:`refine_gltf` and :func:`refine_gltf_bytes` take.
-OPTIONS = ("scheme", "level", "max_edge", "alpha", "normals_mode")
+OPTIONS = ("scheme", "level", "max_edge", "alpha", "normals_mode", "tangents")
 
 
 def refine_gltf(
@@ -36,6 +36,7 @@ def refine_gltf(
     max_edge: Optional[float] = None,
     alpha: float = 0.75,
     normals_mode: Optional[NormalsMode] = None,
+    tangents: str = "recomputed",
     sync: bool = True,
     **options: Any,
 ) -> SceneReport:
@@ -63,6 +64,10 @@ def refine_gltf(
         Phong's shape factor, as for :func:`tessella.refine`.
     normals_mode : {"linear", "quadratic", "real"} or None
         As for :func:`tessella.refine`.
+    tangents : {"recomputed", "carried"}
+        The refined ``TANGENT`` of primitives that have one: MikkTSpace on the refined mesh
+        (``"recomputed"``, the default), or the file's tangents interpolated and made
+        orthogonal to the refined normals (``"carried"``, many times faster).
     sync : bool
         ``True``: the files are flushed to the disk before they get their names (as
         :func:`tessella.refine_to_file`); both are written whole or not at all.
@@ -109,7 +114,7 @@ def refine_gltf(
     out = os.fspath(dst)
     rows, warnings, _ = _tessella._refine_gltf(
         os.fspath(src), out, scheme="pn" if scheme is None else scheme, level=level, max_edge=max_edge,
-        alpha=alpha, normals_mode=normals_mode, sync=sync,
+        alpha=alpha, normals_mode=normals_mode, tangents=tangents, sync=sync,
     )
     for warning in warnings:
         _warnings.warn(f"refine_gltf(): {warning}", RuntimeWarning, stacklevel=2)
@@ -126,6 +131,7 @@ def refine_gltf_bytes(
     max_edge: Optional[float] = None,
     alpha: float = 0.75,
     normals_mode: Optional[NormalsMode] = None,
+    tangents: str = "recomputed",
     **options: Any,
 ) -> bytes:
     """Refine a whole glTF scene held in memory: the bytes of a ``.glb`` (or ``.gltf``) file
@@ -144,7 +150,7 @@ def refine_gltf_bytes(
         A ``.gltf``'s external buffers by their relative URI (``{"scene.bin": b"..."}``);
         a buffer URI missing from it is a :class:`FileFormatError`. GLB files and ``data:``
         URIs need none. Images named by URI stay named by URI in the output.
-    scheme, level, max_edge, alpha, normals_mode, **options
+    scheme, level, max_edge, alpha, normals_mode, tangents, **options
         As for :func:`refine_gltf`.
 
     Returns
@@ -161,7 +167,7 @@ def refine_gltf_bytes(
     given = [(str(uri), bytes(b)) for uri, b in dict(buffers or {}).items()]
     _, _, glb = _tessella._refine_gltf(
         bytes(data), None, name=name, buffers=given, scheme="pn" if scheme is None else scheme,
-        level=level, max_edge=max_edge, alpha=alpha, normals_mode=normals_mode,
+        level=level, max_edge=max_edge, alpha=alpha, normals_mode=normals_mode, tangents=tangents,
     )
     assert glb is not None
     return glb

@@ -148,6 +148,7 @@ def _refine_gltf(
     max_edge: Optional[float] = None,
     alpha: float = 0.75,
     normals_mode: Optional[NormalsMode] = None,
+    tangents: str = "recomputed",
     sync: bool = True,
 ) -> Tuple[
     List[Tuple[int, int, int, int, int, int, int, List[str]]],

@@ -266,6 +266,7 @@ def test_defaults_of_refused_options_and_whole_float_levels_are_accepted(tmp_pat
         (dict(normals_mode="cubic"), tessella.OptionError, "normals_mode"),
         (dict(alpha=float("inf")), tessella.OptionError, "alpha"),
         (dict(colour="red"), tessella.OptionError, "unknown option"),
+        (dict(tangents="guessed"), tessella.OptionError, "tangents="),
     ],
 )
 def test_bad_options_raise(tmp_path, options, error, words):
@@ -313,3 +314,14 @@ def test_another_thread_runs_while_the_scene_is_refined():
         sys.setswitchinterval(old)
     assert stamps["start"] < ours[0]
     assert ours[-1] < stamps["end"], "the main thread could not run while the scene was refined"
+
+
+def test_tangents_recomputed_or_carried():
+    """Both tangent modes give the same surface; only the TANGENT accessor differs."""
+    data = SCENE.read_bytes()
+    recomputed = tessella.refine_gltf_bytes(data, level=2)
+    carried = tessella.refine_gltf_bytes(data, level=2, tangents="carried")
+    assert recomputed == tessella.refine_gltf_bytes(data, level=2, tangents="recomputed")
+    assert carried != recomputed
+    a, b = read_glb(recomputed)[0], read_glb(carried)[0]
+    assert [sorted(p["attributes"]) for _, p in primitives(a)] == [sorted(p["attributes"]) for _, p in primitives(b)]

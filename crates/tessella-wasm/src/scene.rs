@@ -8,7 +8,7 @@ use crate::files::GltfBuffers;
 use crate::options::{self, Options};
 use serde_json::{json, Map, Value};
 use tessella_core::refine::{Levels, Spacing};
-use tessella_io::gltf::scene::{RefinedScene, Scene, SceneLevels, SceneOptions};
+use tessella_io::gltf::scene::{RefinedScene, Scene, SceneLevels, SceneOptions, Tangents};
 use tessella_io::gltf::Buffers;
 use wasm_bindgen::prelude::*;
 
@@ -19,6 +19,16 @@ pub fn scene_options(json: &str) -> Result<SceneOptions, String> {
     let mut map: Map<String, Value> = options::parse(json)?;
     map.retain(|_, v| !v.is_null());
     let max_edge = map.remove("maxEdge");
+    let tangents = match map.remove("tangents") {
+        None => Tangents::Recomputed,
+        Some(Value::String(name)) => Tangents::parse(&name).ok_or_else(|| {
+            format!(
+                "tangents: 'recomputed' (MikkTSpace on the refined mesh) or 'carried' (the \
+                 file's tangents, interpolated), got '{name}'"
+            )
+        })?,
+        Some(other) => return Err(format!("tangents: 'recomputed' or 'carried', got {other}")),
+    };
     if max_edge.is_some() && map.contains_key("level") {
         return Err(
             "level and maxEdge both given: give one (level: the same level for every \
@@ -67,7 +77,7 @@ pub fn scene_options(json: &str) -> Result<SceneOptions, String> {
                 .expect("a whole grid level, checked above"),
         ),
     };
-    Ok(SceneOptions::new(refine, levels))
+    Ok(SceneOptions::new(refine, levels).with_tangents(tangents))
 }
 
 /// The name a file's bytes are read under (its format and the name in messages): a GLB
@@ -159,6 +169,9 @@ mod tests {
         let o = scene_options(r#"{"maxEdge":0.25,"level":null}"#).unwrap();
         assert_eq!(o.levels, SceneLevels::MaxEdge(0.25));
         assert_eq!(scene_options("{}").unwrap().levels, SceneLevels::Uniform(8));
+        assert_eq!(scene_options("{}").unwrap().tangents, Tangents::Recomputed);
+        let o = scene_options(r#"{"tangents":"carried"}"#).unwrap();
+        assert_eq!(o.tangents, Tangents::Carried);
     }
 
     #[test]
@@ -181,6 +194,11 @@ mod tests {
             (r#"{"origin":true}"#, "origin works on one mesh"),
             (r#"{"levle":3}"#, "levle: unknown option"),
             (r#"{"level":0}"#, "level: must be a finite number above 0"),
+            (r#"{"tangents":"guessed"}"#, "tangents: 'recomputed'"),
+            (
+                r#"{"tangents":3}"#,
+                "tangents: 'recomputed' or 'carried', got 3",
+            ),
         ] {
             let err = scene_options(json).map(|_| ()).unwrap_err();
             assert!(err.contains(expected), "{json}: {err:?} lacks {expected:?}");
