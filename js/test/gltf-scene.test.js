@@ -114,3 +114,26 @@ test('refineGltf errors: truncated bytes, an unknown required extension, level w
   // The module still works.
   assert.ok(refineGltf(input, { level: 1 }).length > 0);
 });
+
+test('refineGltf tangents: recomputed (default) or carried, the CLI\'s --tangents', async (t) => {
+  const input = bytes('samples/scene.glb');
+  const recomputed = refineGltf(input, { level: 2 });
+  const carried = refineGltf(input, { level: 2, tangents: 'carried' });
+  assert.ok(Buffer.from(refineGltf(input, { level: 2, tangents: 'recomputed' })).equals(Buffer.from(recomputed)));
+  assert.ok(!Buffer.from(carried).equals(Buffer.from(recomputed)));
+  await assertValid(assert, carried, 'scene.glb, tangents carried');
+  assert.throws(() => refineGltf(input, { level: 2, tangents: 'guessed' }), (e) => {
+    assert.ok(e instanceof TessellaError);
+    assert.match(e.message, /tangents/);
+    return true;
+  });
+  if (!hasCli) return t.skip(NO_CLI);
+  const dir = scratch();
+  try {
+    const out = join(dir, 'carried.glb');
+    tessella('refine', join(repo, 'samples', 'scene.glb'), '-o', out, '--level', '2', '--tangents', 'carried');
+    assert.ok(Buffer.from(carried).equals(readFileSync(out)), 'the CLI\'s bytes');
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
+});
