@@ -38,8 +38,7 @@ fn geometry(scene_bytes: &[u8]) -> Vec<Mesh> {
             let triangles = corners
                 .chunks_exact(3)
                 .map(|c| [c[0], c[1], c[2]])
-                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
-                .filter(|t| !tessella_core::mesh::has_zero_area(&positions, *t))
+                .filter(|t| !tessella_core::mesh::is_degenerate(&positions, *t))
                 .collect();
             meshes.push(
                 Mesh::new(positions, Some(normals), None, triangles).expect("valid geometry"),

@@ -2,7 +2,7 @@
 
 use crate::args::InfoArgs;
 use serde::Serialize;
-use tessella_core::mesh::has_zero_area;
+use tessella_core::mesh::is_degenerate;
 use tessella_core::{quality, Mesh, QualityReport, RefineOptions, Scheme, TopologyReport};
 use tessella_io::read_raw;
 
@@ -183,8 +183,7 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
             out_of_range += 1;
             continue;
         }
-        let repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-        if repeated || has_zero_area(&raw.positions, *t) {
+        if is_degenerate(&raw.positions, *t) {
             degenerate += 1;
             continue;
         }

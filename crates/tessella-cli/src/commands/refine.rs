@@ -44,10 +44,11 @@ pub fn refine_file(
             args.input.display()
         );
     }
-    if args.max_edge.is_some() && !super::refine_scene::applies(args) {
+    let scene = super::refine_scene::applies(args);
+    if args.max_edge.is_some() && !scene {
         anyhow::bail!("--max-edge chooses a level per glTF primitive; it needs a .gltf or .glb input and output, without --flatten or --clip");
     }
-    if super::refine_scene::applies(args) {
+    if scene {
         return super::refine_scene::refine(args, options(args)?, durability);
     }
     let (mut raw, mesh) = super::pose::read(&args.input, &args.pose)?;

@@ -259,6 +259,12 @@ fn check_finite(positions: &[[f32; 3]]) -> Result<(), MeshError> {
     }
 }
 
+/// True when triangle `t` has no area: a repeated corner, or corners that are collinear or
+/// coincide ([`has_zero_area`]). Valid glTF, refused by [`Mesh::new`]. Indices must be in range.
+pub fn is_degenerate(positions: &[[f32; 3]], t: [u32; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || has_zero_area(positions, t)
+}
+
 /// True when triangle `t`'s corners are collinear or coincide (its cross product is exactly zero
 /// in f64). Indices must be in range.
 pub fn has_zero_area(positions: &[[f32; 3]], t: [u32; 3]) -> bool {

@@ -156,8 +156,7 @@ pub(super) fn open(
     format: &'static str,
     buffers: Buffers<'_>,
 ) -> Result<(Document, Vec<Vec<u8>>), IoError> {
-    let scene = super::scene::read_for_readers(path, bytes, format, buffers)?;
-    Ok(scene)
+    super::scene::read_for_readers(path, bytes, format, buffers)
 }
 
 /// One triangle primitive's vertices and its triangles (indices local to the primitive).
@@ -271,12 +270,7 @@ pub(super) fn read_primitive(
     let mut triangles = assemble(mode, &corners).map_err(|m| parse(format!("{what}: {m}")))?;
     // Zero-area triangles (valid glTF, common in exported assets) draw nothing: the merged
     // mesh leaves them out. The scene path keeps them, refined flat.
-    triangles.retain(|t| {
-        t[0] != t[1]
-            && t[1] != t[2]
-            && t[0] != t[2]
-            && !tessella_core::mesh::has_zero_area(&positions, *t)
-    });
+    triangles.retain(|t| !tessella_core::mesh::is_degenerate(&positions, *t));
     Ok(Some(Primitive {
         positions,
         normals,

@@ -3,7 +3,7 @@
 use super::accessor::read_f32;
 use super::{is_triangles, Scene};
 use glam::{Mat4, Vec3};
-use tessella_core::mesh::has_zero_area;
+use tessella_core::mesh::is_degenerate;
 
 /// The largest level a target edge length may ask for (a level-64 primitive has 4096 times
 /// its coarse triangles).
@@ -122,18 +122,15 @@ fn shape(scene: &Scene, primitive: &gltf::Primitive) -> Result<(usize, usize, f6
         Some(a) => super::accessor::read_u32(&a, &scene.buffers)?,
         None => (0..n as u32).collect(),
     };
+    if let Some(&bad) = corners.iter().find(|&&i| i as usize >= n) {
+        return Err(format!("uses vertex {bad} but has only {n} vertices"));
+    }
     let triangles = super::super::data::assemble(primitive.mode(), &corners)?;
-    let at = |i: u32| -> Result<[f32; 3], String> {
-        let i = i as usize;
-        p.get(i * 3..i * 3 + 3)
-            .map(|c| [c[0], c[1], c[2]])
-            .ok_or_else(|| format!("uses vertex {i} but has only {n} vertices"))
-    };
     let positions: Vec<[f32; 3]> = p.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let (mut sum, mut count, mut degenerate) = (0.0f64, 0usize, 0usize);
     for t in &triangles {
-        let [a, b, c] = [at(t[0])?, at(t[1])?, at(t[2])?].map(Vec3::from);
-        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || has_zero_area(&positions, *t) {
+        let [a, b, c] = t.map(|i| Vec3::from(positions[i as usize]));
+        if is_degenerate(&positions, *t) {
             degenerate += 1;
         }
         for (u, v) in [(a, b), (b, c), (c, a)] {

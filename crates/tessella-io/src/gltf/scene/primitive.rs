@@ -7,7 +7,7 @@ use super::{skin, tangents, PrimitiveReport};
 use crate::gltf::flip_v;
 use gltf::accessor::DataType;
 use serde_json::{Map, Value};
-use tessella_core::mesh::has_zero_area;
+use tessella_core::mesh::is_degenerate;
 use tessella_core::{Mesh, Pattern, RefineError, RefineOptions, RefinedMesh, Refiner};
 
 /// What refining a primitive can fail on: the file's data, or the refinement itself.
@@ -107,9 +107,9 @@ pub(super) fn refine(
     let triangles = super::super::data::assemble(mode, &corners)?;
     // Zero-area triangles (a repeated corner, collinear corners) are valid glTF: they are
     // refined flat (each stays on its segment), and left out of the surface and its normals.
-    let (good, flat): (Vec<[u32; 3]>, Vec<[u32; 3]>) = triangles.iter().partition(|t| {
-        t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && !has_zero_area(&positions, **t)
-    });
+    let (flat, good): (Vec<[u32; 3]>, Vec<[u32; 3]>) = triangles
+        .iter()
+        .partition(|t| is_degenerate(&positions, **t));
     let given_normals = match attributes.get("NORMAL") {
         Some(index) => Some(vec3s(&source.floats(index, n, "NORMAL")?.0)),
         None => None,
@@ -209,8 +209,8 @@ pub(super) fn refine(
     }
     if !skin_sets.is_empty() {
         skin_sets.sort_by_key(|s| s.0);
-        let joints: Vec<Vec<u32>> = skin_sets.iter().map(|s| s.1.clone()).collect();
-        let weights: Vec<Vec<f32>> = skin_sets.iter().map(|s| s.2.clone()).collect();
+        let (joints, weights): (Vec<Vec<u32>>, Vec<Vec<f32>>) =
+            skin_sets.into_iter().map(|(_, j, w)| (j, w)).unzip();
         let (joints, weights) = skin::blend(&origins, &joints, &weights);
         let wide = joints.iter().flatten().any(|&j| j > 255);
         for (s, (j, w)) in joints.iter().zip(&weights).enumerate() {
