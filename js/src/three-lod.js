@@ -170,6 +170,8 @@ export class LodParts {
       this.uniforms.tessellaCornerTexels = { value: texels };
     }
     this.flags = flags;
+    /** Set by the owner: copies its own uniform values into its material's before a child draws. */
+    this.bind = null;
   }
 
   /** The vertex shader patch (head, body) for the material. */
@@ -318,6 +320,8 @@ export class LodParts {
         child = new Mesh(g, owner.material);
         child.name = `tessella part ${part}`;
         child.raycast = () => {};
+        // The owner's own values into the (possibly shared) material's uniforms before each draw.
+        child.onBeforeRender = (renderer) => this.bind?.(renderer);
         child.customDepthMaterial = owner.customDepthMaterial;
         child.customDistanceMaterial = owner.customDistanceMaterial;
         this.#children.set(part, child);

@@ -1,4 +1,4 @@
-import type { BufferGeometry, Camera, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Raycaster, SkinnedMesh } from 'three';
+import type { BufferGeometry, Camera, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Object3D, Raycaster, SkinnedMesh } from 'three';
 import type { Node } from 'three/webgpu';
 import type { AdaptiveSurface, InstancedSurface, InstancedSurfaceOptions, RefineOptions } from './index.js';
 
@@ -27,6 +27,11 @@ export class RefinedGeometry {
 export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
   /** Use the source's normal attribute (default: when it has one); false computes them each frame. */
   normalsFromSource?: boolean;
+  /**
+   * Draw only this group of the source geometry (an index into `geometry.groups`: its triangles;
+   * with no material given, a clone of the source Mesh's `material[group.materialIndex]`).
+   */
+  group?: number;
   /**
    * Per-edge levels every frame, crack-free: 'screen:PX' (segments about PX pixels long on the
    * camera's image), 'tolerance:D' or 'distance:NEAR,FAR,MAX'; drawn with the GPU tessellator's
@@ -65,12 +70,19 @@ export interface TessellatedMeshLod {
  * A curved surface drawn by WebGLRenderer (WebGL2) or WebGPURenderer (its WebGPU backend) in
  * one instanced draw: the refinement pattern once per coarse triangle, the vertex stage
  * evaluating each triangle's patch from control nets in a float texture. A Mesh source is
- * hidden and replaced (same parent, transform, shadow flags); a SkinnedMesh's skeleton and a
- * Mesh's morph influences are followed every frame (posed in wasm, as getVertexPosition poses
- * them). The material is patched for it (onBeforeCompile and customProgramCacheKey, chained
- * after its own, for WebGLRenderer; `positionNode`, and `contextNode`/`colorNode` for
- * uvs/colours unless it has its own, for WebGPURenderer) and draws this mesh only. A material
- * with a positionNode is refused.
+ * replaced (same parent, transform, shadow flags, layers) and hidden: `visible = false`, or,
+ * when it has children (which that would hide too), taken off every layer (`layers.mask = 0`;
+ * this then follows its `visible`). A SkinnedMesh's skeleton and a Mesh's morph influences are
+ * followed every frame (posed in wasm, as getVertexPosition poses them). Triangles without area
+ * are left out.
+ *
+ * **The material is patched in place** (no material given: a clone of the source's, which is
+ * untouched): `onBeforeCompile` and `customProgramCacheKey` (chained after its own) for
+ * WebGLRenderer; `positionNode`, and `contextNode`/`colorNode` for uvs/colours unless it has its
+ * own, for WebGPURenderer. Any number of TessellatedMeshes of one kind (scheme basis, normals,
+ * uvs, colours, lod) may share it, each drawing its own nets; one of another kind is refused.
+ * When the last one is disposed, the properties it set are put back (a clone it made is
+ * disposed). A material with a positionNode of its own is refused.
  */
 export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
   constructor(source: BufferGeometry | Mesh | SkinnedMesh, material?: Material, options?: TessellatedMeshOptions);
@@ -92,9 +104,54 @@ export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
   update(): this;
   /** Hits on the curved surface of the last frame (its CPU refinement), reported with this object. */
   raycast(raycaster: Raycaster, intersects: Intersection[]): void;
-  /** Frees the wasm memory, the nets texture, the pattern and the shadow materials. */
+  /**
+   * Frees the wasm memory, the nets texture, the pattern and the shadow materials; the last mesh
+   * of a material puts back what patching set on it (or disposes the clone it made). The source
+   * stays hidden (`untessellate` shows it again for meshes `tessellate` made).
+   */
   dispose(): void;
 }
+
+export interface TessellateOptions extends Omit<TessellatedMeshOptions, 'group'> {
+  /** Return false to leave a mesh as it is (listed in `skipped`). */
+  filter?: (mesh: Mesh) => boolean;
+}
+
+/** What `tessellate` made of a scene. */
+export class TessellatedScene {
+  /** The TessellatedMeshes drawing in the sources' places (one per mesh; one per geometry group for a material array). */
+  readonly meshes: TessellatedMesh[];
+  /** Objects left as they are, and why: points, lines, instanced or batched meshes, meshes without positions or triangles, TessellatedMeshes, filtered ones. */
+  readonly skipped: { object: Object3D; reason: string }[];
+  /**
+   * Source material to the patched clones its meshes draw with: one, unless meshes of the
+   * material differ in vertex layout (uvs; colours of 3 or 4 components), one per layout.
+   */
+  readonly materials: Map<Material, Material[]>;
+  /** Puts back the sources of these meshes (default: all), as `untessellate` does. */
+  restore(meshes?: TessellatedMesh[]): void;
+  /** Puts the whole scene back: `restore()`. */
+  dispose(): void;
+}
+
+/**
+ * Replaces every triangle Mesh and SkinnedMesh under `object3d` (itself included) by a
+ * TessellatedMesh with `options`; a mesh with a material array by one per geometry group.
+ * Meshes that shared a material share one patched clone of it (three's WebGLRenderer and
+ * WebGPURenderer each draw each mesh with its own nets through the shared material, without
+ * new programs); **the source materials are never changed**. The sources are hidden as
+ * TessellatedMesh hides them; the TessellatedMesh takes their `visible`, `layers`,
+ * `renderOrder`, `frustumCulled`. Other objects are listed in `skipped`; an error (a
+ * TessellaError) puts back what was done and is thrown.
+ */
+export function tessellate(object3d: Object3D, options?: TessellateOptions): TessellatedScene;
+
+/**
+ * Puts back every mesh `tessellate` replaced under `object3d` (itself included): the sources
+ * visible (and on their layers) as before, in their places; the TessellatedMeshes removed and
+ * disposed; the patched clones disposed. Returns how many TessellatedMeshes it removed.
+ */
+export function untessellate(object3d: Object3D): number;
 
 /** A TSL function of the surface: `{ nets: texture(mesh.netsTexture), face: instanceIndex, l: attribute('tessellaBarycentric', 'vec3') }` to a vec3. */
 export type TessellaFunction = (args: { nets: Node; face: Node; l: Node }) => Node;

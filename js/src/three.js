@@ -22,6 +22,7 @@ import { LOD_MESH_OPTIONS, LodParts } from './three-lod.js';
 import { missingNodes, setupNodes } from './three-nodes.js';
 
 export { tessellaFunctions } from './three-nodes.js';
+export { tessellate, TessellatedScene, untessellate } from './three-scene.js';
 
 // Attributes tessella computes itself; every other float attribute is interpolated.
 const OWN = new Set(['position', 'normal', 'uv']);
@@ -49,8 +50,16 @@ function values(attribute) {
     return out;
   }
   const a = attribute.array;
+  // Normalized integers (glTF's quantized colours and uvs) stand for floats: denormalized.
+  if (attribute.normalized === true && !(a instanceof Float32Array || a instanceof Float64Array)) return numbers(attribute, Float32Array);
   if (!(a instanceof Float32Array || a instanceof Float64Array)) return null;
   return a instanceof Float32Array && a.length === n ? a : Float32Array.from(a.subarray(0, n));
+}
+
+// A position, normal, uv or colour attribute's values as floats, whatever its storage
+// (integer ones, as KHR_mesh_quantization allows, by value).
+function floats(attribute) {
+  return values(attribute) ?? numbers(attribute, Float32Array);
 }
 
 // Any attribute's values (integer or normalized ones too) as numbers, `itemSize` per vertex.
@@ -198,10 +207,10 @@ export function refineGeometry(geometry, options = {}) {
     .filter(([, , data]) => data !== null);
   const out = refine(
     {
-      positions: values(position),
+      positions: floats(position),
       indices,
-      normals: normal === undefined ? undefined : values(normal),
-      uvs: uv === undefined ? undefined : values(uv),
+      normals: normal === undefined ? undefined : floats(normal),
+      uvs: uv === undefined ? undefined : floats(uv),
     },
     { ...options, origin: extra.length > 0 },
   );
@@ -234,7 +243,7 @@ export class RefinedGeometry {
     this.#source = geometry;
     this.#useNormals = options.normalsFromSource ?? geometry.getAttribute('normal') !== undefined;
     const { normalsFromSource, ...rest } = options;
-    this.#refiner = new Refiner(indices, { ...rest, uvs: uv === undefined ? undefined : values(uv) });
+    this.#refiner = new Refiner(indices, { ...rest, uvs: uv === undefined ? undefined : floats(uv) });
     const out = this.#step();
     this.geometry = new BufferGeometry();
     this.geometry.setIndex(new BufferAttribute(out.indices.slice(), 1));
@@ -247,7 +256,7 @@ export class RefinedGeometry {
   #step() {
     const g = this.#source;
     const normal = this.#useNormals ? g.getAttribute('normal') : undefined;
-    return this.#refiner.refine(values(g.getAttribute('position')), normal === undefined ? undefined : values(normal));
+    return this.#refiner.refine(floats(g.getAttribute('position')), normal === undefined ? undefined : floats(normal));
   }
 
   /** Refines the source's current positions into `geometry` (no new arrays). */
@@ -272,11 +281,35 @@ export class RefinedGeometry {
 // The options TessellatedMesh reads itself; the others go to InstancedSurface (the wasm side
 // checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there), or with
 // `lod` to AdaptiveSurface (scheme, normals, alpha, spacing, lod; camera and size stay here).
-const MESH_OPTIONS = ['normalsFromSource'];
+const MESH_OPTIONS = ['normalsFromSource', 'group'];
 
-// Materials a TessellatedMesh has patched: one material draws one TessellatedMesh (its
-// uniforms hold that mesh's nets texture).
-const patched = new WeakSet();
+// Materials TessellatedMeshes draw with, and their patch: `key` (the kind of surface the patched
+// shaders draw: basis, normals, uvs, colours, lod), `uniforms` (the `{ value }` objects the
+// patched WebGL programs read: each mesh's own values are copied into them before it draws, see
+// TessellatedMesh's #bind), `users` (the meshes drawing with it), `owned` (a clone tessella
+// made, disposed with its last user) and `saved` (what patching changed on a caller's material,
+// put back when its last user is disposed). Any number of TessellatedMeshes of one key share a
+// material.
+const patches = new WeakMap();
+
+// The properties patching sets on a material (WebGLRenderer: the shader hook and its cache key;
+// WebGPURenderer: the nodes).
+const PATCHED = ['onBeforeCompile', 'customProgramCacheKey', 'positionNode', 'contextNode', 'colorNode'];
+
+function savedProperties(material) {
+  return PATCHED.map((name) => ({ name, own: Object.hasOwn(material, name), value: material[name] }));
+}
+
+// Puts back what patching changed (a property that still holds tessella's value), so the
+// material draws plain meshes again.
+function restoreProperties(material, saved, set) {
+  for (const { name, own, value } of saved) {
+    if (material[name] !== set[name]) continue;
+    if (own) material[name] = value;
+    else delete material[name];
+  }
+  material.needsUpdate = true;
+}
 
 /** What the renderer lacks for TessellatedMesh, or null. */
 function missing(renderer) {
@@ -323,6 +356,50 @@ function vertexPatch(glsl, flags) {
     );
   }
   return { head, body: body.join('\n') + '\n' };
+}
+
+// Whether triangle (a, b, c) has area: three different vertices whose cross product is not
+// exactly zero (in doubles, as the core's tessella_core::mesh::is_degenerate decides).
+function hasArea(p, a, b, c) {
+  if (a === b || b === c || a === c) return false;
+  const [ux, uy, uz] = [p[3 * b] - p[3 * a], p[3 * b + 1] - p[3 * a + 1], p[3 * b + 2] - p[3 * a + 2]];
+  const [vx, vy, vz] = [p[3 * c] - p[3 * a], p[3 * c + 1] - p[3 * a + 1], p[3 * c + 2] - p[3 * a + 2]];
+  const [x, y, z] = [uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx];
+  return x * x + y * y + z * z !== 0;
+}
+
+// The triangles of `indices` that have area in `positions` (the same array when all do).
+function withoutCollapsed(indices, positions) {
+  const kept = [];
+  for (let t = 0; t + 2 < indices.length; t += 3) {
+    const [a, b, c] = [indices[t], indices[t + 1], indices[t + 2]];
+    if (Math.max(a, b, c) >= positions.length / 3 || hasArea(positions, a, b, c)) kept.push(a, b, c);
+  }
+  return kept.length === indices.length ? indices : Uint32Array.from(kept);
+}
+
+// The geometry group a TessellatedMesh draws (`options.group`, an index into geometry.groups):
+// its index range and material index; null without the option.
+function groupOf(geometry, group) {
+  if (group === undefined || group === null) return null;
+  const g = Number.isInteger(group) ? geometry.groups[group] : undefined;
+  if (g === undefined) throw new TessellaError(`group: ${group} is not an index into the geometry's ${geometry.groups.length} groups`);
+  const total = geometry.index !== null ? geometry.index.count : geometry.getAttribute('position')?.count ?? 0;
+  const start = Math.min(g.start, total);
+  const count = Math.min(g.count, total - start);
+  if (start % 3 !== 0 || count % 3 !== 0) throw new TessellaError(`group ${group} starts at ${g.start} and counts ${g.count}: not whole triangles`);
+  return { start, count, materialIndex: g.materialIndex ?? 0 };
+}
+
+/**
+ * A copy of `material` to patch, leaving the original untouched: `clone()`, with the
+ * original's own `onBeforeCompile` and `customProgramCacheKey` (which `copy` does not carry).
+ */
+export function cloneMaterial(material) {
+  const copy = material.clone();
+  if (Object.hasOwn(material, 'onBeforeCompile')) copy.onBeforeCompile = material.onBeforeCompile;
+  if (Object.hasOwn(material, 'customProgramCacheKey')) copy.customProgramCacheKey = material.customProgramCacheKey;
+  return copy;
 }
 
 function patchMaterial(material, uniforms, glsl, flags, key, patch = vertexPatch(glsl, flags)) {
@@ -374,6 +451,10 @@ export class TessellatedMesh extends Mesh {
   #hitGeometry = null;
   /** The `lod` option's drawing (three-lod.js), or null for one uniform pattern. */
   #lod = null;
+  /** This mesh's own uniform values (nets texture, layout, lod's textures); the shadow materials read these objects. */
+  #uniforms;
+  /** The material's patch (shared by every TessellatedMesh drawing with the material). */
+  #patch = null;
 
   constructor(source, material, options = {}) {
     let sourceMesh = null;
@@ -386,19 +467,24 @@ export class TessellatedMesh extends Mesh {
       throw new TessellaError('TessellatedMesh takes a three.js BufferGeometry or Mesh as its source');
     }
     if (options == null || typeof options !== 'object') throw new TessellaError('options must be an object');
-    if (material === undefined || material === null) {
-      material = sourceMesh !== null && !Array.isArray(sourceMesh.material) ? sourceMesh.material.clone() : new MeshStandardMaterial();
+    const group = groupOf(geometry, options.group);
+    const owned = material === undefined || material === null;
+    if (owned) {
+      let from = sourceMesh?.material;
+      if (Array.isArray(from)) from = group !== null ? from[group.materialIndex] : undefined;
+      material = from != null && from.isMaterial === true ? cloneMaterial(from) : new MeshStandardMaterial();
     }
     if (Array.isArray(material) || material.isMaterial !== true) {
       throw new TessellaError('TessellatedMesh takes one three.js Material (not an array of them)');
     }
-    if (patched.has(material)) {
-      throw new TessellaError('this material already draws a TessellatedMesh: give each its own (material.clone())');
-    }
-    if (material.positionNode != null) {
+    if (material.positionNode != null && !patches.has(material)) {
       throw new TessellaError('the material has a positionNode: TessellatedMesh sets it (the curved surface under WebGPURenderer)');
     }
-    const { indices } = sourceOf(geometry);
+    let { indices } = sourceOf(geometry);
+    if (group !== null) indices = indices.subarray(group.start, group.start + group.count);
+    // Triangles without area (a vertex used twice, or corners in a line: three draws nothing
+    // of them; glTF exporters leave some) are left out, as the core refuses them.
+    indices = withoutCollapsed(indices, floats(geometry.getAttribute('position')));
     const lod = options.lod != null;
     const own = lod ? [...MESH_OPTIONS, ...LOD_MESH_OPTIONS] : MESH_OPTIONS;
     const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !own.includes(k)));
@@ -461,19 +547,42 @@ export class TessellatedMesh extends Mesh {
     texture.magFilter = NearestFilter;
     texture.generateMipmaps = false;
     this.#texture = texture;
+    // This mesh's own values: what its shaders read besides the material's own uniforms.
     const uniforms = {
       tessellaNets: { value: texture },
       tessellaFacesPerRow: { value: surface.facesPerRow },
       ...(lod ? this.#lod.uniforms : {}),
     };
+    this.#uniforms = uniforms;
+    if (lod) this.#lod.bind = (renderer) => this.#bind(renderer);
     const glsl = surface.glsl();
     const key = `tessella:${lod ? `lod:${surface.spacing}:` : ''}${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}`;
     const patch = lod ? this.#lod.patch(glsl) : vertexPatch(glsl, this.#flags);
-    patchMaterial(material, uniforms, glsl, this.#flags, key, patch);
-    // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too);
-    // lod draws under WebGLRenderer only (#check refuses it under WebGPURenderer).
-    if (!lod) setupNodes(material, surface, texture, this.#flags);
-    patched.add(material);
+    let shared = patches.get(material);
+    if (shared !== undefined && shared.key !== key) {
+      if (owned) material.dispose();
+      this.#surface = null;
+      surface.free();
+      texture.dispose();
+      this.#lod?.dispose();
+      throw new TessellaError(`this material already draws TessellatedMeshes of another kind (${shared.key}; this one is ${key}: another scheme, lod, or uvs or colours the others lack): give it its own (material.clone())`);
+    }
+    if (shared === undefined) {
+      // The first mesh of this material patches it: the shaders read the material's uniform
+      // objects, into which each mesh's own values are copied before it draws (#bind).
+      const common = Object.fromEntries(Object.entries(uniforms).map(([name, u]) => [name, { value: u.value }]));
+      const saved = savedProperties(material);
+      patchMaterial(material, common, glsl, this.#flags, key, patch);
+      // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too)
+      // reading the drawn object's own nets texture; lod draws under WebGLRenderer only (#check
+      // refuses it under WebGPURenderer).
+      if (!lod) setupNodes(material, surface, this.#flags);
+      const set = Object.fromEntries(PATCHED.map((name) => [name, material[name]]));
+      shared = { key, uniforms: common, users: new Set(), owned, saved, set };
+      patches.set(material, shared);
+    }
+    shared.users.add(this);
+    this.#patch = shared;
     this.customDepthMaterial = new MeshDepthMaterial();
     patchMaterial(this.customDepthMaterial, uniforms, glsl, this.#flags, key, patch);
     this.customDistanceMaterial = new MeshDistanceMaterial();
@@ -487,10 +596,22 @@ export class TessellatedMesh extends Mesh {
       this.receiveShadow = sourceMesh.receiveShadow;
       this.#follow();
       if (sourceMesh.parent !== null) sourceMesh.parent.add(this);
-      sourceMesh.visible = false;
+      this.layers.mask = sourceMesh.layers.mask;
+      if (sourceMesh.children.length === 0) {
+        sourceMesh.visible = false;
+      } else {
+        // Hidden, the source would hide its children (other meshes, lights) too: it is taken off
+        // every layer instead (drawn by no camera, in no shadow map, hit by no raycaster), and
+        // this follows its `visible`.
+        this.#byLayers = true;
+        sourceMesh.layers.disableAll();
+      }
     }
     this.update();
   }
+
+  /** The source, having children, is hidden by its layers (not `visible`). */
+  #byLayers = false;
 
   #indices;
 
@@ -520,6 +641,7 @@ export class TessellatedMesh extends Mesh {
     this.position.copy(m.position);
     this.quaternion.copy(m.quaternion);
     this.scale.copy(m.scale);
+    if (this.#byLayers) this.visible = m.visible;
   }
 
   /**
@@ -540,7 +662,7 @@ export class TessellatedMesh extends Mesh {
       this.#pose.pose();
       this.#surface.update(this.#pose.positions, this.#useNormals ? this.#pose.normals : undefined, data);
     } else {
-      this.#surface.update(values(position), normal === undefined ? undefined : values(normal), data);
+      this.#surface.update(floats(position), normal === undefined ? undefined : floats(normal), data);
     }
     this.#texture.needsUpdate = true;
     this.#lod?.netsChanged();
@@ -570,11 +692,11 @@ export class TessellatedMesh extends Mesh {
       const colorChanged = this.#flags.color > 0 && (this.#versions === null || v.color !== this.#versions.color);
       if (!uvChanged && !colorChanged) return 0;
       const color = g.getAttribute('color');
-      const c = color === undefined ? null : { data: values(color), itemSize: color.itemSize };
-      return this.#lod.corners(uv === undefined ? null : values(uv), c, idx);
+      const c = color === undefined ? null : { data: floats(color), itemSize: color.itemSize };
+      return this.#lod.corners(uv === undefined ? null : floats(uv), c, idx);
     }
     if (this.#flags.uv && (this.#versions === null || v.uv !== this.#versions.uv)) {
-      const data = values(uv);
+      const data = floats(uv);
       const a = this.geometry.getAttribute('tessellaUv01');
       const b = this.geometry.getAttribute('tessellaUv2');
       for (let f = 0; f < idx.length / 3; f++) {
@@ -589,7 +711,7 @@ export class TessellatedMesh extends Mesh {
     const color = g.getAttribute('color');
     if (this.#flags.color > 0 && (this.#versions === null || v.color !== this.#versions.color)) {
       const c = this.#flags.color;
-      const data = values(color);
+      const data = floats(color);
       for (let k = 0; k < 3; k++) {
         const a = this.geometry.getAttribute(`tessellaColor${k}`);
         for (let f = 0; f < idx.length / 3; f++) a.array.set(data.subarray(idx[3 * f + k] * c, idx[3 * f + k] * c + c), c * f);
@@ -631,11 +753,40 @@ export class TessellatedMesh extends Mesh {
     if (this.#lod !== null && this.#surface !== null) this.#lod.refresh();
   }
 
-  /** Checks the renderer once (a TessellaError says what it lacks) and updates if the source moved. */
+  /**
+   * Checks the renderer once (a TessellaError says what it lacks), updates if the source moved,
+   * and (WebGLRenderer) puts this mesh's own values into the material's uniforms.
+   */
   onBeforeRender(renderer, scene, camera) {
     this.#check(renderer);
     this.#sync();
     this.#lod?.seen(renderer, camera);
+    // With lod the children draw (each binds before its draw).
+    if (this.#lod === null) this.#bind(renderer);
+  }
+
+  // WebGLRenderer: three calls this (onBeforeRender) just before it sets up the draw
+  // (setProgram). Several TessellatedMeshes may share the material, and with it its uniform
+  // objects: this mesh's own values (its nets texture, its row width, lod's textures) are copied
+  // into them. three uploads a material's uniforms when the program or the material changed
+  // since the last draw (setProgram's refreshMaterial) and sets only per-object ones (matrices,
+  // a SkinnedMesh's boneTexture) on every draw; when a value changed, the current program is
+  // let go (state.useProgram(null)) so the next setProgram binds it again and uploads the
+  // material's uniforms, this mesh's values among them: a uniform upload (cached per uniform
+  // by three), never a new program. WebGPURenderer reads the values per object itself (the
+  // nodes, three-nodes.js).
+  #bind(renderer) {
+    if (renderer == null || renderer.isWebGLRenderer !== true || this.#patch === null) return;
+    const common = this.#patch.uniforms;
+    let changed = false;
+    for (const name in this.#uniforms) {
+      const value = this.#uniforms[name].value;
+      if (common[name].value !== value) {
+        common[name].value = value;
+        changed = true;
+      }
+    }
+    if (changed) renderer.state.useProgram(null);
   }
 
   onBeforeShadow(renderer) {
@@ -690,12 +841,12 @@ export class TessellatedMesh extends Mesh {
   #refinedFrame() {
     const g = this.#source;
     const pose = this.#pose;
-    const positions = pose !== null ? pose.positions : values(g.getAttribute('position'));
+    const positions = pose !== null ? pose.positions : floats(g.getAttribute('position'));
     const sourceNormal = this.#useNormals ? g.getAttribute('normal') : undefined;
-    const normals = pose !== null ? (this.#useNormals ? pose.normals : undefined) : sourceNormal === undefined ? undefined : values(sourceNormal);
+    const normals = pose !== null ? (this.#useNormals ? pose.normals : undefined) : sourceNormal === undefined ? undefined : floats(sourceNormal);
     const uv = g.getAttribute('uv');
     const options = this.#lod === null ? this.#options : this.#lod.refineOptions(this.#options);
-    const out = refine({ positions, indices: this.#indices, normals, uvs: uv === undefined ? undefined : values(uv) }, options);
+    const out = refine({ positions, indices: this.#indices, normals, uvs: uv === undefined ? undefined : floats(uv) }, options);
     const geometry = new BufferGeometry();
     geometry.setIndex(new BufferAttribute(out.indices, 1));
     geometry.setAttribute('position', new BufferAttribute(out.positions, 3));
@@ -719,6 +870,17 @@ export class TessellatedMesh extends Mesh {
     this.geometry.dispose();
     this.customDepthMaterial.dispose();
     this.customDistanceMaterial.dispose();
-    patched.delete(this.material);
+    const shared = this.#patch;
+    this.#patch = null;
+    if (shared !== null) {
+      shared.users.delete(this);
+      if (shared.users.size === 0 && patches.get(this.material) === shared) {
+        // The last mesh of this material: a clone tessella made is disposed; a caller's
+        // material gets back what patching changed.
+        patches.delete(this.material);
+        if (shared.owned) this.material.dispose();
+        else restoreProperties(this.material, shared.saved, shared.set);
+      }
+    }
   }
 }

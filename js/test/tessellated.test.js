@@ -193,7 +193,11 @@ test('bad options, sources and materials throw TessellaErrors that say what is w
   }
   const material = new MeshStandardMaterial();
   const first = new TessellatedMesh(g, material);
-  assert.throws(() => new TessellatedMesh(g, material), /already draws a TessellatedMesh/);
+  // One material draws any number of meshes of one kind (each its own nets), not another kind.
+  const twin = new TessellatedMesh(g, material);
+  assert.equal(twin.material, first.material);
+  assert.throws(() => new TessellatedMesh(g, material, { scheme: 'png1' }), /another kind/);
+  twin.dispose();
   const noNormals = g.clone();
   noNormals.deleteAttribute('normal');
   assert.throws(() => new TessellatedMesh(noNormals, undefined, { normalsFromSource: true }), /no normal attribute/);

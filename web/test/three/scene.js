@@ -1,0 +1,217 @@
+// The test page of `tessellate` (web/test/three-scene.test.js): the repository's
+// samples/scene.glb loaded by three's GLTFLoader, with a half-size copy of each of its meshes
+// (sharing the mesh's geometry and material, as `Object3D.clone()` does), its normal maps
+// removed unless `normalMaps`, drawn by
+// WebGLRenderer or WebGPURenderer (its WebGPU backend) in one of these ways:
+// - `coarse`: as loaded;
+// - `scene`: after `tessellate(scene, options)` (one patched material per source material);
+// - `restored`: after `tessellate` then `untessellate` (the coarse scene again);
+// - `separate`: each triangle mesh replaced by its own `new TessellatedMesh(mesh, undefined,
+//   options)` (a clone of its material each: the path three-mesh.test.js checks);
+// - `cpu`: each triangle mesh's geometry replaced by `refineGeometry` (a plain Mesh).
+// `run` returns the picture and what the scene held (meshes, materials, what was skipped).
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { WebGPURenderer } from 'three/webgpu';
+import { ready } from 'tessella';
+import { refineGeometry, TessellatedMesh, tessellate, untessellate } from 'tessella/three';
+import { glRenderer, spy } from './common.js';
+
+const WIDTH = 400;
+const HEIGHT = 300;
+
+const gl = glRenderer(WIDTH, HEIGHT);
+const glCounts = { instanced: [] };
+spy(gl.renderer.getContext(), 'drawElementsInstanced', (a) => glCounts.instanced.push({ count: a[1], instances: a[4] }));
+
+// WebGPU, when the browser has it (the test starts Chromium with WebGPU on SwiftShader).
+let gpu = null;
+async function gpuRenderer() {
+  if (gpu !== null) return gpu;
+  if (navigator.gpu === undefined || (await navigator.gpu.requestAdapter()) === null) return null;
+  const canvas = document.createElement('canvas');
+  document.body.append(canvas);
+  const renderer = new WebGPURenderer({ canvas, antialias: false });
+  renderer.setPixelRatio(1);
+  renderer.setSize(WIDTH, HEIGHT);
+  renderer.setClearColor(0xffffff, 1);
+  await renderer.init();
+  const target = new THREE.RenderTarget(WIDTH, HEIGHT, { colorSpace: THREE.SRGBColorSpace });
+  gpu = { renderer, target, instanced: [] };
+  spy(GPURenderPassEncoder.prototype, 'drawIndexed', ([count, instances = 1]) => {
+    if (instances > 1) gpu.instanced.push({ count, instances });
+  });
+  return gpu;
+}
+
+let glb = null;
+async function load(normalMaps) {
+  glb ??= await (await fetch('/samples/scene.glb')).arrayBuffer();
+  const gltf = await new Promise((resolve, reject) => new GLTFLoader().parse(glb.slice(0), '', resolve, reject));
+  const scene = gltf.scene;
+  // The Checker material's normal map reads the second uv set (uv1) with the file's tangents,
+  // which TessellatedMesh does not carry (see js/README.md): without it, every way draws the
+  // same shading.
+  if (!normalMaps) {
+    scene.traverse((o) => {
+      if (o.material?.normalMap) {
+        o.material.normalMap = null;
+        o.material.needsUpdate = true;
+      }
+    });
+  }
+  // A half-size copy of each triangle mesh below the file's: meshes that share a material (and
+  // a geometry) with another, of other sizes (other nets textures, other row widths).
+  const copies = new THREE.Group();
+  copies.position.set(0, -1.75, 0);
+  copies.scale.setScalar(0.5);
+  const meshes = [];
+  scene.traverse((o) => {
+    if (o.isMesh) meshes.push(o);
+  });
+  for (const m of meshes) {
+    const copy = m.clone();
+    m.updateWorldMatrix(true, false);
+    m.matrixWorld.decompose(copy.position, copy.quaternion, copy.scale);
+    copies.add(copy);
+  }
+  scene.add(copies);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x8899aa, 1.2));
+  const key = new THREE.DirectionalLight(0xffffff, 1.6);
+  key.position.set(-3, 4, 5);
+  scene.add(key);
+  return scene;
+}
+
+function camera() {
+  const c = new THREE.PerspectiveCamera(38, WIDTH / HEIGHT, 0.05, 100);
+  c.position.set(-2.6, 1.2, 5.6);
+  c.lookAt(-0.1, -0.55, 0);
+  return c;
+}
+
+function triangleMeshes(scene) {
+  const out = [];
+  scene.traverse((o) => {
+    if (o.isMesh && !(o instanceof TessellatedMesh) && o.geometry.getAttribute('position') !== undefined) out.push(o);
+  });
+  return out;
+}
+
+// What a material looks like from outside: the properties tessella would patch, and its version.
+function fingerprint(m) {
+  return JSON.stringify({
+    version: m.version,
+    own: Object.keys(m).sort(),
+    onBeforeCompile: m.onBeforeCompile === THREE.Material.prototype.onBeforeCompile,
+    key: m.customProgramCacheKey(),
+    positionNode: m.positionNode ?? null,
+  });
+}
+
+async function draw(scene, which) {
+  if (which === 'webgpu') {
+    const g = await gpuRenderer();
+    g.instanced = [];
+    g.renderer.setRenderTarget(g.target);
+    g.renderer.render(scene, camera());
+    await g.renderer.backend.device.queue.onSubmittedWorkDone();
+    const pixels = await g.renderer.readRenderTargetPixelsAsync(g.target, 0, 0, WIDTH, HEIGHT);
+    g.renderer.setRenderTarget(null);
+    // Rows come back top first; the test flips nothing (it compares WebGPU pictures with each other).
+    let binary = '';
+    const bytes = new Uint8Array(pixels.buffer, pixels.byteOffset, WIDTH * HEIGHT * 4);
+    for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+    return { width: WIDTH, height: HEIGHT, rgba: btoa(binary), instanced: g.instanced.slice() };
+  }
+  glCounts.instanced = [];
+  gl.renderer.render(scene, camera());
+  return { png: gl.canvas.toDataURL('image/png'), instanced: glCounts.instanced.slice() };
+}
+
+/** Draws the scene one `way` (see the top) with `renderer` ('webgl' or 'webgpu'). */
+async function run({ way = 'coarse', renderer = 'webgl', scheme = 'pn', level = 6, normalMaps = false }) {
+  await ready;
+  const scene = await load(normalMaps);
+  const options = { scheme, level };
+  const sources = triangleMeshes(scene);
+  const info = {
+    triangleMeshes: sources.length,
+    sourceMaterials: new Set(sources.map((m) => m.material)).size,
+    names: sources.map((m) => `${m.name}${m.visible ? '' : ' (hidden)'}`),
+    faces: sources.map((m) => (m.geometry.index ? m.geometry.index.count : m.geometry.getAttribute('position').count) / 3),
+    morphInfluences: sources.map((m) => Array.from(m.morphTargetInfluences ?? [])).flat(),
+  };
+  let handle = null;
+  if (way === 'scene' || way === 'restored') {
+    const prints = new Map(sources.map((m) => [m.material, fingerprint(m.material)]));
+    handle = tessellate(scene, options);
+    const disposed = new Set();
+    for (const list of handle.materials.values()) for (const m of list) m.addEventListener('dispose', () => disposed.add(m));
+    const patched = new Set(handle.meshes.map((m) => m.material));
+    info.meshes = handle.meshes.length;
+    info.patchedMaterials = patched.size;
+    info.instances = handle.meshes.map((m) => m.geometry.instanceCount);
+    info.handleMaterials = [...handle.materials.values()].reduce((n, l) => n + l.length, 0);
+    info.patchedAreClones = [...patched].every((m) => !prints.has(m));
+    // Every triangle mesh replaced: hidden, and a TessellatedMesh of it in its parent.
+    // (A source with children, such as RingA holding RingB, is taken off every layer instead:
+    // hidden, it would hide them.)
+    const hidden = (s) => s.visible === false || s.layers.mask === 0;
+    info.replaced = sources.filter((s) => hidden(s) && s.parent.children.some((c) => c instanceof TessellatedMesh && c.source === s)).length;
+    info.hiddenByLayers = sources.filter((s) => s.visible && s.layers.mask === 0).map((s) => s.name);
+    // Meshes that shared a source material share the patched one.
+    info.sharedKept = sources.every((a) => sources.every((b) => {
+      const ta = handle.meshes.find((m) => m.source === a);
+      const tb = handle.meshes.find((m) => m.source === b);
+      return (a.material === b.material) === (ta.material === tb.material);
+    }));
+    info.skipped = handle.skipped.map((s) => `${s.object.type}: ${s.reason}`);
+    info.sourcesUntouched = sources.every((m) => prints.get(m.material) === fingerprint(m.material));
+    if (way === 'restored') {
+      const picture = await draw(scene, renderer);
+      info.tessellatedInstanced = picture.instanced;
+      info.removed = untessellate(scene);
+      info.left = [];
+      scene.traverse((o) => {
+        if (o instanceof TessellatedMesh) info.left.push(o.name);
+      });
+      info.visibleAgain = sources.filter((m) => m.visible && m.layers.mask === 1).length;
+      info.disposedMaterials = disposed.size;
+      info.sourcesUntouchedAfter = sources.every((m) => prints.get(m.material) === fingerprint(m.material));
+      info.handleMeshesAfter = handle.meshes.length;
+    }
+  } else if (way === 'separate') {
+    for (const s of sources) new TessellatedMesh(s, undefined, options);
+  } else if (way === 'cpu') {
+    // Triangles without area (the file has two) draw nothing: left out, as TessellatedMesh
+    // leaves them out (refine refuses them).
+    const [p, q, r] = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
+    for (const s of sources) {
+      const g = s.geometry.clone();
+      const idx = Array.from(g.index.array);
+      const position = g.getAttribute('position');
+      const kept = [];
+      for (let t = 0; t < idx.length; t += 3) {
+        const [a, b, c] = idx.slice(t, t + 3);
+        p.fromBufferAttribute(position, a);
+        q.fromBufferAttribute(position, b).sub(p);
+        r.fromBufferAttribute(position, c).sub(p);
+        if (q.cross(r).lengthSq() !== 0) kept.push(a, b, c);
+      }
+      g.setIndex(kept);
+      s.geometry = refineGeometry(g, options);
+    }
+  } else if (way !== 'coarse') {
+    throw new Error(`no way ${way}`);
+  }
+  const picture = await draw(scene, renderer);
+  // Free what this run made (the next run loads the file again).
+  handle?.dispose();
+  scene.traverse((o) => {
+    if (o instanceof TessellatedMesh) o.dispose();
+  });
+  return { ...picture, ...info };
+}
+
+window.tessellaScene = { run, ready: ready.then(() => true) };
