@@ -204,6 +204,9 @@ test('bad options, sources and materials throw TessellaErrors that say what is w
   // Without normals they are computed, as refine does.
   new TessellatedMesh(noNormals).dispose();
   first.dispose();
+  // The last mesh of a caller's material puts back what patching set.
+  assert.equal(Object.hasOwn(material, 'onBeforeCompile'), false);
+  assert.equal(material.positionNode ?? null, null);
   assert.throws(() => first.update(), /disposed/);
 });
 
