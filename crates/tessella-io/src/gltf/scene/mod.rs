@@ -36,6 +36,7 @@ mod json;
 mod levels;
 mod load;
 mod meshopt_views;
+mod mikktspace;
 mod out;
 mod primitive;
 mod skin;

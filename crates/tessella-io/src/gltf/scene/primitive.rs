@@ -232,7 +232,7 @@ pub(super) fn refine(
             _ => None,
         };
         let tangents = uvs
-            .and_then(|uvs| {
+            .map(|uvs| {
                 // glTF's v points down the image; MikkTSpace wants the OBJ/PLY convention.
                 let flipped: Vec<f32> = origins
                     .interpolate(&uvs, 2)
