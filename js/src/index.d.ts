@@ -128,8 +128,10 @@ export interface RefineGltfOptions {
   normals?: 'linear' | 'quadratic' | 'real';
   /** Phong's shape factor (default 0.75). */
   alpha?: number;
-  /** The refined TANGENT of primitives that have one: 'recomputed' (MikkTSpace on the refined mesh, the default) or 'carried' (the file's tangents interpolated and made orthogonal to the refined normals, many times faster). */
+  /** The refined TANGENT of primitives that have one: 'recomputed' (MikkTSpace on the refined mesh, the default) or 'carried' (the file's tangents interpolated and made orthogonal to the refined normals, about twice as fast). */
   tangents?: 'recomputed' | 'carried';
+  /** Skin influence sets: 'input' (as many JOINTS_n/WEIGHTS_n sets as the file has, the default; three.js and Bevy read the first only) or up to this many (1-8) where a refined vertex blends more influences than the file's sets hold. */
+  jointSets?: 'input' | number;
   /** A .gltf file's external buffers by their URI (as written in the file). */
   buffers?: Record<string, Uint8Array | ArrayBuffer>;
 }

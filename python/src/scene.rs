@@ -17,7 +17,9 @@ use crate::options;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::path::{Path, PathBuf};
-use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions, Tangents};
+use tessella_io::gltf::scene::{
+    JointSets, Scene, SceneLevels, SceneOptions, Tangents, MAX_JOINT_SETS,
+};
 use tessella_io::gltf::Buffers;
 use tessella_io::{Durability, Format};
 
@@ -63,7 +65,7 @@ fn gltf_path(path: &Path, what: &str) -> PyResult<()> {
 #[pyfunction]
 #[pyo3(name = "_refine_gltf", signature = (source, output=None, *, name="scene.glb", buffers=Vec::new(),
                     scheme="pn", level=None, max_edge=None, alpha=0.75, normals_mode=None,
-                    tangents="recomputed", sync=true))]
+                    tangents="recomputed", joint_sets=None, sync=true))]
 #[allow(clippy::too_many_arguments)]
 fn refine_gltf<'py>(
     py: Python<'py>,
@@ -77,6 +79,7 @@ fn refine_gltf<'py>(
     alpha: f64,
     normals_mode: Option<&str>,
     tangents: &str,
+    joint_sets: Option<i64>,
     sync: bool,
 ) -> PyResult<Outcome<'py>> {
     let tangents = Tangents::parse(tangents).ok_or_else(|| {
@@ -85,6 +88,15 @@ fn refine_gltf<'py>(
              \"carried\" (the file's tangents, interpolated)"
         ))
     })?;
+    let joint_sets = match joint_sets {
+        None => JointSets::AsInput,
+        Some(n) => JointSets::parse(&n.to_string()).ok_or_else(|| {
+            bad_option(format!(
+                "joint_sets={n}: give None (as many sets as the file has) or a number of sets \
+                 from 1 to {MAX_JOINT_SETS}"
+            ))
+        })?,
+    };
     let levels = match (level, max_edge) {
         (Some(_), Some(_)) => {
             // `tessella/_options.py` refuses this first, naming the Python function.
@@ -126,7 +138,9 @@ fn refine_gltf<'py>(
         .iter()
         .map(|(uri, bytes)| (uri.as_str(), bytes.as_bytes()))
         .collect();
-    let options = SceneOptions::new(refine, levels).with_tangents(tangents);
+    let options = SceneOptions::new(refine, levels)
+        .with_tangents(tangents)
+        .with_joint_sets(joint_sets);
     let durability = Durability::synced_if(sync);
     let (reports, warnings, glb) = py.detach(|| -> PyResult<_> {
         let scene = match (&path, data) {

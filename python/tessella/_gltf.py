@@ -24,7 +24,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 BytesLike = Union[bytes, bytearray, memoryview]
 
 #: The options :func:`refine_gltf` and :func:`refine_gltf_bytes` take.
-OPTIONS = ("scheme", "level", "max_edge", "alpha", "normals_mode", "tangents")
+OPTIONS = ("scheme", "level", "max_edge", "alpha", "normals_mode", "tangents", "joint_sets")
 
 
 def refine_gltf(
@@ -37,6 +37,7 @@ def refine_gltf(
     alpha: float = 0.75,
     normals_mode: Optional[NormalsMode] = None,
     tangents: str = "recomputed",
+    joint_sets: Optional[int] = None,
     sync: bool = True,
     **options: Any,
 ) -> SceneReport:
@@ -67,7 +68,12 @@ def refine_gltf(
     tangents : {"recomputed", "carried"}
         The refined ``TANGENT`` of primitives that have one: MikkTSpace on the refined mesh
         (``"recomputed"``, the default), or the file's tangents interpolated and made
-        orthogonal to the refined normals (``"carried"``, many times faster).
+        orthogonal to the refined normals (``"carried"``, about twice as fast).
+    joint_sets : int, optional
+        How many ``JOINTS_n``/``WEIGHTS_n`` sets skinned primitives get: ``None`` (the default)
+        as many as the file has (three.js and Bevy skin with the first set only), or up to
+        this many (1 to 8) where a refined vertex blends more influences than the file's sets
+        hold.
     sync : bool
         ``True``: the files are flushed to the disk before they get their names (as
         :func:`tessella.refine_to_file`); both are written whole or not at all.
@@ -114,7 +120,7 @@ def refine_gltf(
     out = os.fspath(dst)
     rows, warnings, _ = _tessella._refine_gltf(
         os.fspath(src), out, scheme="pn" if scheme is None else scheme, level=level, max_edge=max_edge,
-        alpha=alpha, normals_mode=normals_mode, tangents=tangents, sync=sync,
+        alpha=alpha, normals_mode=normals_mode, tangents=tangents, joint_sets=joint_sets, sync=sync,
     )
     for warning in warnings:
         _warnings.warn(f"refine_gltf(): {warning}", RuntimeWarning, stacklevel=2)
@@ -132,6 +138,7 @@ def refine_gltf_bytes(
     alpha: float = 0.75,
     normals_mode: Optional[NormalsMode] = None,
     tangents: str = "recomputed",
+    joint_sets: Optional[int] = None,
     **options: Any,
 ) -> bytes:
     """Refine a whole glTF scene held in memory: the bytes of a ``.glb`` (or ``.gltf``) file
@@ -150,7 +157,7 @@ def refine_gltf_bytes(
         A ``.gltf``'s external buffers by their relative URI (``{"scene.bin": b"..."}``);
         a buffer URI missing from it is a :class:`FileFormatError`. GLB files and ``data:``
         URIs need none. Images named by URI stay named by URI in the output.
-    scheme, level, max_edge, alpha, normals_mode, tangents, **options
+    scheme, level, max_edge, alpha, normals_mode, tangents, joint_sets, **options
         As for :func:`refine_gltf`.
 
     Returns
@@ -168,6 +175,7 @@ def refine_gltf_bytes(
     _, _, glb = _tessella._refine_gltf(
         bytes(data), None, name=name, buffers=given, scheme="pn" if scheme is None else scheme,
         level=level, max_edge=max_edge, alpha=alpha, normals_mode=normals_mode, tangents=tangents,
+        joint_sets=joint_sets,
     )
     assert glb is not None
     return glb

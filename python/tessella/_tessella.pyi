@@ -149,6 +149,7 @@ def _refine_gltf(
     alpha: float = 0.75,
     normals_mode: Optional[NormalsMode] = None,
     tangents: str = "recomputed",
+    joint_sets: Optional[int] = None,
     sync: bool = True,
 ) -> Tuple[
     List[Tuple[int, int, int, int, int, int, int, List[str]]],

@@ -267,6 +267,9 @@ def test_defaults_of_refused_options_and_whole_float_levels_are_accepted(tmp_pat
         (dict(alpha=float("inf")), tessella.OptionError, "alpha"),
         (dict(colour="red"), tessella.OptionError, "unknown option"),
         (dict(tangents="guessed"), tessella.OptionError, "tangents="),
+        (dict(joint_sets=0), tessella.OptionError, "joint_sets=0: give None"),
+        (dict(joint_sets=9), tessella.OptionError, "from 1 to 8"),
+        (dict(joint_sets=-1), tessella.OptionError, "joint_sets=-1"),
     ],
 )
 def test_bad_options_raise(tmp_path, options, error, words):
@@ -325,3 +328,15 @@ def test_tangents_recomputed_or_carried():
     assert carried != recomputed
     a, b = read_glb(recomputed)[0], read_glb(carried)[0]
     assert [sorted(p["attributes"]) for _, p in primitives(a)] == [sorted(p["attributes"]) for _, p in primitives(b)]
+
+
+def test_joint_sets_reach_the_scene():
+    """joint_sets=N adds sets only where a vertex needs them: the creature's seven joints fit its
+    two sets, so the bytes are the default's (the widening itself is tested in Rust)."""
+    creature = SAMPLES / "animated-creature.glb"
+    default = tessella.refine_gltf_bytes(creature.read_bytes(), level=2)
+    wide = tessella.refine_gltf_bytes(creature.read_bytes(), level=2, joint_sets=4)
+    json, _ = read_glb(wide)
+    attributes = json["meshes"][0]["primitives"][0]["attributes"]
+    assert "JOINTS_1" in attributes and "JOINTS_2" not in attributes  # seven joints fit two sets
+    assert wide == default

@@ -200,3 +200,49 @@ fn batch_refines_scenes_too() {
     assert_eq!(creature["animations"].as_array().unwrap().len(), 3);
     assert_eq!(creature["skins"].as_array().unwrap().len(), 1);
 }
+
+/// `--joint-sets`: more influence sets where a refined vertex needs them, refused with a
+/// clear message for a bad count and for outputs that are not a scene.
+#[test]
+fn joint_sets_widen_skins_and_are_refused_outside_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.glb");
+    let input = sample("animated-creature.glb");
+    let sets = |extra: &[&str]| {
+        let mut args = vec!["refine", s(&input), "-o", s(&out), "--level", "3"];
+        args.extend_from_slice(extra);
+        let o = tessella(&args);
+        assert!(o.status.success(), "{}", text(&o));
+        let json = json_of(&out);
+        let attributes = &json["meshes"][0]["primitives"][0]["attributes"];
+        (0..)
+            .take_while(|k| attributes[format!("JOINTS_{k}")].is_u64())
+            .count()
+    };
+    // The creature's seven joints fit its two sets: nothing to add.
+    assert_eq!(sets(&[]), 2);
+    assert_eq!(sets(&["--joint-sets", "8"]), 2);
+    for bad in ["0", "9", "many"] {
+        let o = tessella(&["refine", s(&input), "-o", s(&out), "--joint-sets", bad]);
+        assert!(!o.status.success());
+        assert!(
+            text(&o).contains("--joint-sets takes input or a number of sets from 1 to 8"),
+            "{}",
+            text(&o)
+        );
+    }
+    let o = tessella(&[
+        "refine",
+        s(&input),
+        "-o",
+        s(&dir.path().join("x.ply")),
+        "--joint-sets",
+        "2",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("--joint-sets and --tangents shape a glTF scene"),
+        "{}",
+        text(&o)
+    );
+}

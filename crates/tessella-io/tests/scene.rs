@@ -1000,3 +1000,153 @@ fn recomputed_tangents_are_the_maintained_mikktspace_ports_bit_for_bit() {
         );
     }
 }
+
+/// A VEC4 integer accessor (joints: u8 or u16, tightly packed or strided).
+fn ints4(json: &Value, bin: &[u8], accessor: u64) -> Vec<u32> {
+    let a = &json["accessors"][accessor as usize];
+    let view = &json["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
+        + a["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let size = if a["componentType"] == 5121 { 1 } else { 2 };
+    let stride = view["byteStride"].as_u64().map_or(4 * size, |s| s as usize);
+    let count = a["count"].as_u64().unwrap() as usize;
+    (0..count * 4)
+        .map(|i| {
+            let at = start + (i / 4) * stride + (i % 4) * size;
+            if size == 1 {
+                bin[at] as u32
+            } else {
+                u16::from_le_bytes([bin[at], bin[at + 1]]) as u32
+            }
+        })
+        .collect()
+}
+
+/// Every skin influence of a primitive, per vertex: joint to weight, summed over all sets.
+fn influences(
+    json: &Value,
+    bin: &[u8],
+    primitive: &Value,
+) -> Vec<std::collections::BTreeMap<u32, f64>> {
+    let a = &primitive["attributes"];
+    let mut out: Vec<std::collections::BTreeMap<u32, f64>> = Vec::new();
+    for set in 0.. {
+        let (Some(j), Some(w)) = (
+            a[format!("JOINTS_{set}")].as_u64(),
+            a[format!("WEIGHTS_{set}")].as_u64(),
+        ) else {
+            break;
+        };
+        let (joints, weights) = (ints4(json, bin, j), floats(json, bin, w).0);
+        out.resize(joints.len() / 4, Default::default());
+        for (i, (&j, &w)) in joints.iter().zip(&weights).enumerate() {
+            if w > 0.0 {
+                *out[i / 4].entry(j).or_default() += w;
+            }
+        }
+    }
+    out
+}
+
+/// With more sets allowed (`JointSets::UpTo`), a refined vertex keeps every influence of its
+/// corners: flat refinement puts a vertex where its barycentric weights say, and its weight for
+/// each joint is then the corners' weights for that joint blended with them (f64 here). With the
+/// input's one set, the weakest are dropped; the weight lost is printed. The input is the
+/// creature with one set of four influences per vertex, joints `i..i + 4` (mod its 7) at
+/// vertex `i`, so neighbours' blends need more than four.
+#[test]
+fn more_joint_sets_keep_every_blended_influence() {
+    use tessella_io::gltf::scene::JointSets;
+    let (mut inj, mut inb) = split(&sample("animated-creature.glb"));
+    let attributes = inj["meshes"][0]["primitives"][0]["attributes"]
+        .as_object_mut()
+        .unwrap();
+    attributes.remove("JOINTS_1");
+    attributes.remove("WEIGHTS_1");
+    let at = |name: &str| {
+        let a = &inj["accessors"][inj["meshes"][0]["primitives"][0]["attributes"][name]
+            .as_u64()
+            .unwrap() as usize];
+        assert!(a["byteOffset"].is_null() && (name != "JOINTS_0" || a["componentType"] == 5123));
+        inj["bufferViews"][a["bufferView"].as_u64().unwrap() as usize]["byteOffset"]
+            .as_u64()
+            .unwrap() as usize
+    };
+    let (joints_at, weights_at) = (at("JOINTS_0"), at("WEIGHTS_0"));
+    for v in 0..162 {
+        for c in 0..4 {
+            let j = ((v + c) % 7) as u16;
+            let w = [0.4f32, 0.3, 0.2, 0.1][c];
+            inb[joints_at + (v * 4 + c) * 2..][..2].copy_from_slice(&j.to_le_bytes());
+            inb[weights_at + (v * 4 + c) * 4..][..4].copy_from_slice(&w.to_le_bytes());
+        }
+    }
+    let input = join(&inj, &inb);
+    let pi = &inj["meshes"][0]["primitives"][0];
+    let (pos, _) = floats(&inj, &inb, pi["attributes"]["POSITION"].as_u64().unwrap());
+    let tris = indices(&inj, &inb, pi["indices"].as_u64().unwrap());
+    let coarse = influences(&inj, &inb, pi);
+    let scene = read("in.glb", &input).unwrap();
+    let options = SceneOptions::new(RefineOptions::new(Scheme::Flat, 1), SceneLevels::Uniform(3));
+    let run = |sets: JointSets| {
+        let (j, b) = split(
+            &scene
+                .refine(&options.clone().with_joint_sets(sets))
+                .unwrap()
+                .to_glb()
+                .unwrap(),
+        );
+        let p = j["meshes"][0]["primitives"][0].clone();
+        let (out_pos, _) = floats(&j, &b, p["attributes"]["POSITION"].as_u64().unwrap());
+        let count = (0..)
+            .take_while(|s| p["attributes"][format!("JOINTS_{s}")].is_u64())
+            .count();
+        (influences(&j, &b, &p), out_pos, count)
+    };
+    let (wide, out_pos, wide_sets) = run(JointSets::UpTo(8));
+    let (kept, _, kept_sets) = run(JointSets::AsInput);
+    assert_eq!(kept_sets, 1, "the input has one set");
+    assert!(
+        wide_sets > 1,
+        "some refined vertex has more than four influences ({wide_sets} sets)"
+    );
+    let corner = |i: u32| [0, 1, 2].map(|k| pos[i as usize * 3 + k]);
+    let mut lost: f64 = 0.0;
+    for v in 0..out_pos.len() / 3 {
+        let at = [0, 1, 2].map(|k| out_pos[v * 3 + k]);
+        let blends = tris.chunks_exact(3).any(|t| {
+            let Some(l) = barycentric(at, [corner(t[0]), corner(t[1]), corner(t[2])]) else {
+                return false;
+            };
+            let mut want = std::collections::BTreeMap::<u32, f64>::new();
+            for k in 0..3 {
+                for (&j, &w) in &coarse[t[k] as usize] {
+                    *want.entry(j).or_default() += l[k] * w;
+                }
+            }
+            let total: f64 = want.values().sum();
+            want.retain(|_, w| *w / total > 1e-7);
+            want.len() == wide[v].len()
+                && want
+                    .iter()
+                    .all(|(j, w)| wide[v].get(j).is_some_and(|g| (g - w / total).abs() < 2e-6))
+        });
+        assert!(
+            blends,
+            "vertex {v}: {:?} is not its corners' influences blended",
+            wide[v]
+        );
+        lost = lost.max(
+            wide[v]
+                .iter()
+                .filter(|(j, _)| !kept[v].contains_key(j))
+                .map(|(_, w)| w)
+                .sum(),
+        );
+    }
+    eprintln!("creature, flat level 3: {wide_sets} sets hold every influence; one set drops at most {:.2}% of a vertex's weight", 100.0 * lost);
+    assert!(
+        lost > 0.0,
+        "one set drops something, or the test shows nothing"
+    );
+}

@@ -8,7 +8,9 @@ use crate::files::GltfBuffers;
 use crate::options::{self, Options};
 use serde_json::{json, Map, Value};
 use tessella_core::refine::{Levels, Spacing};
-use tessella_io::gltf::scene::{RefinedScene, Scene, SceneLevels, SceneOptions, Tangents};
+use tessella_io::gltf::scene::{
+    JointSets, RefinedScene, Scene, SceneLevels, SceneOptions, Tangents, MAX_JOINT_SETS,
+};
 use tessella_io::gltf::Buffers;
 use wasm_bindgen::prelude::*;
 
@@ -28,6 +30,20 @@ pub fn scene_options(json: &str) -> Result<SceneOptions, String> {
             )
         })?,
         Some(other) => return Err(format!("tangents: 'recomputed' or 'carried', got {other}")),
+    };
+    let joint_sets = match map.remove("jointSets") {
+        None => JointSets::AsInput,
+        Some(value) => {
+            let text = match &value {
+                Value::String(s) => s.clone(),
+                other => other.to_string(),
+            };
+            JointSets::parse(&text).ok_or_else(|| {
+                format!(
+                    "jointSets: 'input' (as many sets as the file has) or a number of sets from 1 to {MAX_JOINT_SETS}, got {value}"
+                )
+            })?
+        }
     };
     if max_edge.is_some() && map.contains_key("level") {
         return Err(
@@ -77,7 +93,9 @@ pub fn scene_options(json: &str) -> Result<SceneOptions, String> {
                 .expect("a whole grid level, checked above"),
         ),
     };
-    Ok(SceneOptions::new(refine, levels).with_tangents(tangents))
+    Ok(SceneOptions::new(refine, levels)
+        .with_tangents(tangents)
+        .with_joint_sets(joint_sets))
 }
 
 /// The name a file's bytes are read under (its format and the name in messages): a GLB
@@ -172,6 +190,11 @@ mod tests {
         assert_eq!(scene_options("{}").unwrap().tangents, Tangents::Recomputed);
         let o = scene_options(r#"{"tangents":"carried"}"#).unwrap();
         assert_eq!(o.tangents, Tangents::Carried);
+        assert_eq!(o.joint_sets, JointSets::AsInput);
+        let o = scene_options(r#"{"jointSets":3}"#).unwrap();
+        assert_eq!(o.joint_sets, JointSets::UpTo(3));
+        let o = scene_options(r#"{"jointSets":"input"}"#).unwrap();
+        assert_eq!(o.joint_sets, JointSets::AsInput);
     }
 
     #[test]
@@ -195,6 +218,8 @@ mod tests {
             (r#"{"levle":3}"#, "levle: unknown option"),
             (r#"{"level":0}"#, "level: must be a finite number above 0"),
             (r#"{"tangents":"guessed"}"#, "tangents: 'recomputed'"),
+            (r#"{"jointSets":9}"#, "jointSets: 'input' (as many sets as the file has) or a number of sets from 1 to 8, got 9"),
+            (r#"{"jointSets":1.5}"#, "jointSets: 'input'"),
             (
                 r#"{"tangents":3}"#,
                 "tangents: 'recomputed' or 'carried', got 3",

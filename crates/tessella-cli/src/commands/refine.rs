@@ -48,6 +48,9 @@ pub fn refine_file(
     if args.max_edge.is_some() && !scene {
         anyhow::bail!("--max-edge chooses a level per glTF primitive; it needs a .gltf or .glb input and output, without --flatten or --clip");
     }
+    if !scene && (args.joint_sets != "input" || args.tangents != "recomputed") {
+        anyhow::bail!("--joint-sets and --tangents shape a glTF scene's refined primitives; they need a .gltf or .glb input and output, without --flatten or --clip");
+    }
     if scene {
         return super::refine_scene::refine(args, options(args)?, durability);
     }

@@ -6,7 +6,9 @@ use crate::args::RefineArgs;
 use anyhow::Context;
 use std::time::Instant;
 use tessella_core::refine::{Levels, Spacing};
-use tessella_io::gltf::scene::{Scene, SceneLevels, SceneOptions, Tangents};
+use tessella_io::gltf::scene::{
+    JointSets, Scene, SceneLevels, SceneOptions, Tangents, MAX_JOINT_SETS,
+};
 use tessella_io::{Durability, Format};
 
 /// Whether `args` ask for the scene path: glTF in and out, no `--flatten`, no `--clip`.
@@ -65,8 +67,18 @@ pub fn refine(
     let scene = Scene::read(&args.input)?;
     let tangents = Tangents::parse(&args.tangents)
         .ok_or_else(|| anyhow::anyhow!("--tangents takes recomputed or carried"))?;
+    let joint_sets = JointSets::parse(&args.joint_sets).ok_or_else(|| {
+        anyhow::anyhow!(
+            "--joint-sets takes input or a number of sets from 1 to {MAX_JOINT_SETS}, got {}",
+            args.joint_sets
+        )
+    })?;
     let refined = scene
-        .refine(&SceneOptions::new(options.clone(), levels).with_tangents(tangents))
+        .refine(
+            &SceneOptions::new(options.clone(), levels)
+                .with_tangents(tangents)
+                .with_joint_sets(joint_sets),
+        )
         .with_context(|| format!("cannot refine {}", args.input.display()))?;
     for warning in refined.write(&args.output, durability)? {
         eprintln!("note: {warning}");

@@ -65,12 +65,13 @@ pub struct Scene {
 }
 
 /// How to refine a scene: the scheme and its options (their level is replaced per primitive),
-/// the levels, and where refined tangents come from.
+/// the levels, where refined tangents come from and how many skin influence sets to write.
 #[derive(Debug, Clone)]
 pub struct SceneOptions {
     pub refine: RefineOptions,
     pub levels: SceneLevels,
     pub tangents: Tangents,
+    pub joint_sets: JointSets,
 }
 
 impl SceneOptions {
@@ -80,7 +81,14 @@ impl SceneOptions {
             refine,
             levels,
             tangents: Tangents::Recomputed,
+            joint_sets: JointSets::AsInput,
         }
+    }
+
+    /// Sets how many `JOINTS_n`/`WEIGHTS_n` sets skinned primitives get.
+    pub fn with_joint_sets(mut self, joint_sets: JointSets) -> SceneOptions {
+        self.joint_sets = joint_sets;
+        self
     }
 
     /// Sets where refined tangents come from.
@@ -115,6 +123,39 @@ impl Tangents {
         }
     }
 }
+
+/// How many `JOINTS_n`/`WEIGHTS_n` sets (four influences each) a refined skinned primitive
+/// gets. A refined vertex blends its coarse triangle's corners, so it can be influenced by up to
+/// three times as many joints as one corner; what does not fit is dropped and the rest
+/// renormalised.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum JointSets {
+    /// As many sets as the input primitive has (the default): three.js and Bevy skin with the
+    /// first set only, and a weight in a set they do not read is a weight lost.
+    #[default]
+    AsInput,
+    /// More sets where a vertex of the primitive has more influences than the input's sets
+    /// hold, up to this many sets (never fewer than the input's).
+    UpTo(u32),
+}
+
+impl JointSets {
+    /// `input`, or the largest number of sets (1 to [`MAX_JOINT_SETS`]).
+    pub fn parse(text: &str) -> Option<JointSets> {
+        match text {
+            "input" => Some(JointSets::AsInput),
+            n => match n.parse::<u32>() {
+                Ok(n) if (1..=MAX_JOINT_SETS).contains(&n) => Some(JointSets::UpTo(n)),
+                _ => None,
+            },
+        }
+    }
+}
+
+/// The most influence sets [`JointSets::UpTo`] takes: 32 influences, every one a refined
+/// vertex can have when the input has up to two sets (three corners of eight).
+pub const MAX_JOINT_SETS: u32 = 8;
 
 /// What refining one primitive made.
 #[derive(Debug, Clone, PartialEq)]
@@ -260,6 +301,7 @@ impl Scene {
                 level,
                 normal_uv_set,
                 options.tangents,
+                options.joint_sets,
                 &mut out,
             )
             .map_err(|failure| {

@@ -73,6 +73,7 @@ pub(super) fn refine(
     level: u32,
     normal_uv_set: u32,
     tangent_mode: super::Tangents,
+    joint_sets: super::JointSets,
     out: &mut Out,
 ) -> Result<(Value, PrimitiveReport), Failure> {
     let source = Source { document, buffers };
@@ -211,7 +212,7 @@ pub(super) fn refine(
         skin_sets.sort_by_key(|s| s.0);
         let (joints, weights): (Vec<Vec<u32>>, Vec<Vec<f32>>) =
             skin_sets.into_iter().map(|(_, j, w)| (j, w)).unzip();
-        let (joints, weights) = skin::blend(&origins, &joints, &weights);
+        let (joints, weights) = skin::blend(&origins, &joints, &weights, joint_sets);
         let wide = joints.iter().flatten().any(|&j| j > 255);
         for (s, (j, w)) in joints.iter().zip(&weights).enumerate() {
             let component = if wide { U16 } else { U8 };
