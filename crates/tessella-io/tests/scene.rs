@@ -1150,3 +1150,83 @@ fn more_joint_sets_keep_every_blended_influence() {
         "one set drops something, or the test shows nothing"
     );
 }
+
+/// Where accessor `a`'s first element starts in the binary chunk.
+fn data_at(json: &Value, a: u64) -> usize {
+    let a = &json["accessors"][a as usize];
+    let view = &json["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+    (view["byteOffset"].as_u64().unwrap_or(0) + a["byteOffset"].as_u64().unwrap_or(0)) as usize
+}
+
+/// Broken data that the structure does not show is refused with a message naming the part,
+/// before anything is refined: the failures the Khronos validator's corpus holds for joints,
+/// weights, indices, floats, animation times, views and GLB chunks.
+#[test]
+fn broken_values_and_containers_are_refused_naming_the_part() {
+    let creature = sample("animated-creature.glb");
+    let (cj, cb) = split(&creature);
+    let attribute = |name: &str| cj["meshes"][0]["primitives"][0]["attributes"][name].as_u64().unwrap();
+    let edit = |at: usize, bytes: &[u8]| {
+        let mut b = cb.clone();
+        b[at..at + bytes.len()].copy_from_slice(bytes);
+        refused(&cj, &b)
+    };
+    let m = edit(data_at(&cj, attribute("JOINTS_0")), &9u16.to_le_bytes());
+    assert!(m.contains("mesh 0 primitive 0: JOINTS_0 names joint 9, but skin 0"), "{m}");
+    let m = edit(data_at(&cj, attribute("WEIGHTS_0")), &(-0.5f32).to_le_bytes());
+    assert!(m.contains("mesh 0 primitive 0: WEIGHTS_0 holds the negative weight -0.5"), "{m}");
+    let input = cj["animations"][0]["samplers"][0]["input"].as_u64().unwrap();
+    let first = f32::from_le_bytes(cb[data_at(&cj, input)..][..4].try_into().unwrap());
+    let m = edit(data_at(&cj, input) + 4, &first.to_le_bytes());
+    assert!(m.contains("animation 0 sampler 0: its times"), "{m}");
+    assert!(m.contains("strictly increase"), "{m}");
+
+    let (sj, sb) = split(&sample("scene.glb"));
+    let p = &sj["meshes"][0]["primitives"][0];
+    let mut b = sb.clone();
+    let uv = data_at(&sj, p["attributes"]["TEXCOORD_0"].as_u64().unwrap());
+    b[uv..uv + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    let m = refused(&sj, &b);
+    assert!(m.contains("holds NaN") && m.contains("glTF floats are finite"), "{m}");
+    let indices = p["indices"].as_u64().unwrap();
+    let restart: &[u8] = match sj["accessors"][indices as usize]["componentType"].as_u64() {
+        Some(5123) => &[0xff, 0xff],
+        Some(5121) => &[0xff],
+        _ => &[0xff; 4],
+    };
+    let mut b = sb.clone();
+    let at = data_at(&sj, indices);
+    b[at..at + restart.len()].copy_from_slice(restart);
+    let m = refused(&sj, &b);
+    assert!(m.contains("mesh 0 primitive 0: index") && m.contains("primitive-restart"), "{m}");
+
+    let view = sj["accessors"][indices as usize]["bufferView"].as_u64().unwrap() as usize;
+    let mut j = sj.clone();
+    j["bufferViews"][view]["byteLength"] = json!(sb.len() * 2);
+    let m = refused(&j, &sb);
+    assert!(m.contains(&format!("bufferView {view} reaches past the end of buffer 0")), "{m}");
+    let mut j = sj.clone();
+    j["bufferViews"][view]["target"] = json!(34963);
+    j["bufferViews"][view]["byteStride"] = json!(4);
+    let m = refused(&j, &sb);
+    assert!(m.contains("index views are tightly packed"), "{m}");
+
+    // A GLB with a second BIN chunk, and one whose chunk length is not a multiple of 4.
+    let glb = sample("scene.glb");
+    let mut twice = glb.clone();
+    twice.extend_from_slice(&4u32.to_le_bytes());
+    twice.extend_from_slice(b"BIN\0");
+    twice.extend_from_slice(&[0; 4]);
+    let total = twice.len() as u32;
+    twice[8..12].copy_from_slice(&total.to_le_bytes());
+    let m = read("in.glb", &twice).map(|_| ()).unwrap_err().to_string();
+    assert!(m.contains("a second BIN chunk"), "{m}");
+    let mut odd = glb.clone();
+    odd.extend_from_slice(&3u32.to_le_bytes());
+    odd.extend_from_slice(b"XTRA");
+    odd.extend_from_slice(&[0; 3]);
+    let total = odd.len() as u32;
+    odd[8..12].copy_from_slice(&total.to_le_bytes());
+    let m = read("in.glb", &odd).map(|_| ()).unwrap_err().to_string();
+    assert!(m.contains("not a multiple of 4"), "{m}");
+}

@@ -53,6 +53,7 @@ pub(super) fn read(
         // The decoded views point at new buffers: the document must see them.
         document = validate(&json).map_err(parse)?;
     }
+    super::data_checks::check(&document, &buffers).map_err(parse)?;
     Ok(Scene {
         json,
         document,
@@ -170,7 +171,36 @@ fn check_structure(json: &Value) -> Result<(), String> {
             ));
         }
     }
-    for (i, view) in arr(json, "bufferViews").iter().enumerate() {
+    let buffers = arr(json, "buffers");
+    let views = arr(json, "bufferViews");
+    let uses = accessor_uses(json);
+    let named = |i: usize| match uses.get(&i) {
+        Some(what) => format!("accessors[{i}] ({what})"),
+        None => format!("accessors[{i}]"),
+    };
+    for (i, view) in views.iter().enumerate() {
+        let (offset, length) = (
+            view.get("byteOffset").and_then(whole).unwrap_or(0),
+            view.get("byteLength").and_then(whole).unwrap_or(0),
+        );
+        let buffer = view.get("buffer").and_then(whole).unwrap_or(0);
+        if let Some(buffer_length) = buffers
+            .get(buffer as usize)
+            .and_then(|b| b.get("byteLength"))
+            .and_then(whole)
+        {
+            if offset.saturating_add(length) > buffer_length {
+                return Err(format!(
+                    "bufferView {i} reaches past the end of buffer {buffer}: it ends at byte {}, the buffer's byteLength is {buffer_length}",
+                    offset.saturating_add(length)
+                ));
+            }
+        }
+        if view.get("target").and_then(whole) == Some(34963) && view.get("byteStride").is_some() {
+            return Err(format!(
+                "bufferViews[{i}] holds indices (target ELEMENT_ARRAY_BUFFER) and has a byteStride; index views are tightly packed"
+            ));
+        }
         if view
             .get("byteLength")
             .and_then(whole)
@@ -209,6 +239,41 @@ fn check_structure(json: &Value) -> Result<(), String> {
             return Err(format!(
                 "accessors[{i}].byteOffset is not a multiple of its component size {size}"
             ));
+        }
+        let count = a.get("count").and_then(whole).unwrap_or(0);
+        if let Some(sparse) = a.get("sparse").and_then(|s| s.get("count")).and_then(whole) {
+            if sparse > count {
+                return Err(format!(
+                    "accessors[{i}] replaces {sparse} sparse elements of its {count}"
+                ));
+            }
+        }
+        let kind = a.get("type").and_then(Value::as_str).unwrap_or("");
+        let element = element_size(kind, size);
+        let view_index = a.get("bufferView").and_then(whole);
+        let view = view_index.and_then(|v| views.get(v as usize));
+        if let (Some(view), Some(element)) = (view, element) {
+            let stride = view.get("byteStride").and_then(whole);
+            if stride.is_some_and(|s| s < element) {
+                return Err(format!(
+                    "{} has {element}-byte elements but its view has a byteStride of {}",
+                    named(i),
+                    stride.unwrap_or(0)
+                ));
+            }
+            let end = count.checked_sub(1).map_or(0, |last| {
+                a.get("byteOffset").and_then(whole).unwrap_or(0)
+                    + last.saturating_mul(stride.unwrap_or(element))
+                    + last_element_size(kind, size).unwrap_or(element)
+            });
+            let length = view.get("byteLength").and_then(whole).unwrap_or(0);
+            if end > length {
+                return Err(format!(
+                    "{} ({count} elements) reaches past the end of bufferView {}: it ends at byte {end}, the view's byteLength is {length}",
+                    named(i),
+                    view_index.unwrap_or(0)
+                ));
+            }
         }
     }
     for (i, skin) in arr(json, "skins").iter().enumerate() {
@@ -252,6 +317,92 @@ fn check_structure(json: &Value) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// What each accessor is first used for ("mesh 0 primitive 1 NORMAL", "animation 2 channel 0
+/// output", "skin 0 inverseBindMatrices"), for messages.
+fn accessor_uses(json: &Value) -> std::collections::HashMap<usize, String> {
+    use super::json::whole;
+    let mut uses = std::collections::HashMap::new();
+    let mut note = |accessor: Option<&Value>, what: String| {
+        if let Some(i) = accessor.and_then(whole) {
+            uses.entry(i as usize).or_insert(what);
+        }
+    };
+    for (m, mesh) in arr(json, "meshes").iter().enumerate() {
+        for (p, primitive) in arr(mesh, "primitives").iter().enumerate() {
+            note(
+                primitive.get("indices"),
+                format!("mesh {m} primitive {p} indices"),
+            );
+            for (name, a) in primitive
+                .get("attributes")
+                .and_then(Value::as_object)
+                .into_iter()
+                .flatten()
+            {
+                note(Some(a), format!("mesh {m} primitive {p} {name}"));
+            }
+            for (t, target) in arr(primitive, "targets").iter().enumerate() {
+                for (name, a) in target.as_object().into_iter().flatten() {
+                    note(Some(a), format!("mesh {m} primitive {p} target {t} {name}"));
+                }
+            }
+        }
+    }
+    for (a, animation) in arr(json, "animations").iter().enumerate() {
+        let samplers = arr(animation, "samplers");
+        for (c, channel) in arr(animation, "channels").iter().enumerate() {
+            let sampler = channel
+                .get("sampler")
+                .and_then(whole)
+                .and_then(|s| samplers.get(s as usize));
+            if let Some(sampler) = sampler {
+                note(
+                    sampler.get("input"),
+                    format!("animation {a} channel {c} input"),
+                );
+                note(
+                    sampler.get("output"),
+                    format!("animation {a} channel {c} output"),
+                );
+            }
+        }
+    }
+    for (k, skin) in arr(json, "skins").iter().enumerate() {
+        note(
+            skin.get("inverseBindMatrices"),
+            format!("skin {k} inverseBindMatrices"),
+        );
+    }
+    uses
+}
+
+/// Bytes per element of an accessor of `kind` with `size`-byte components; a matrix's columns
+/// start on 4-byte boundaries (glTF 2.0 section 3.6.2.4).
+fn element_size(kind: &str, size: u64) -> Option<u64> {
+    let column = |rows: u64| (rows * size).next_multiple_of(4);
+    Some(match kind {
+        "SCALAR" => size,
+        "VEC2" => 2 * size,
+        "VEC3" => 3 * size,
+        "VEC4" => 4 * size,
+        "MAT2" => 2 * column(2),
+        "MAT3" => 3 * column(3),
+        "MAT4" => 4 * column(4),
+        _ => return None,
+    })
+}
+
+/// The bytes the last element needs: a matrix's last column without its padding.
+fn last_element_size(kind: &str, size: u64) -> Option<u64> {
+    let rows = match kind {
+        "MAT2" => 2,
+        "MAT3" => 3,
+        "MAT4" => 4,
+        _ => return element_size(kind, size),
+    };
+    Some((rows - 1) * (rows * size).next_multiple_of(4) + rows * size)
 }
 
 /// Integer positions, normals and tangents (and unnormalised integer texture coordinates) are
@@ -415,12 +566,31 @@ fn glb_chunks(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
                 let name = if at == 12 { "JSON chunk" } else { "chunk" };
                 format!("{name} length exceeds the file: {size} bytes at byte {at}, past the declared end {length}")
             })?;
+        // glTF 2.0 section 4.4: chunks are 4-byte aligned, JSON first, at most one BIN and
+        // right after it; other chunk types are skipped.
+        if size % 4 != 0 {
+            return Err(format!(
+                "the GLB chunk at byte {at} is {size} bytes long, not a multiple of 4"
+            ));
+        }
         match kind {
-            0x4E4F534A if json.is_none() => json = Some(data),
-            0x004E4942 if bin.is_none() => bin = Some(data),
+            0x4E4F534A if at == 12 => json = Some(data),
+            0x4E4F534A => return Err(format!("a second JSON chunk at byte {at}; a GLB has one")),
+            _ if at == 12 => return Err("the GLB's first chunk is not its JSON".into()),
+            0x004E4942 if bin.is_some() => {
+                return Err(format!(
+                    "a second BIN chunk at byte {at}; a GLB has at most one"
+                ))
+            }
+            0x004E4942 if at != 12 + 8 + json.map_or(0, <[u8]>::len) => {
+                return Err(format!(
+                    "the BIN chunk at byte {at} does not follow the JSON chunk"
+                ))
+            }
+            0x004E4942 => bin = Some(data),
             _ => {}
         }
-        at += 8 + size.next_multiple_of(4).max(size);
+        at += 8 + size;
     }
     let json = json.ok_or("the GLB has no JSON chunk")?;
     Ok((json, bin))

@@ -31,6 +31,7 @@
 
 mod accessor;
 mod carry;
+mod data_checks;
 pub mod extensions;
 mod json;
 mod levels;
