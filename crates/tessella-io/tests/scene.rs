@@ -1165,17 +1165,32 @@ fn data_at(json: &Value, a: u64) -> usize {
 fn broken_values_and_containers_are_refused_naming_the_part() {
     let creature = sample("animated-creature.glb");
     let (cj, cb) = split(&creature);
-    let attribute = |name: &str| cj["meshes"][0]["primitives"][0]["attributes"][name].as_u64().unwrap();
+    let attribute = |name: &str| {
+        cj["meshes"][0]["primitives"][0]["attributes"][name]
+            .as_u64()
+            .unwrap()
+    };
     let edit = |at: usize, bytes: &[u8]| {
         let mut b = cb.clone();
         b[at..at + bytes.len()].copy_from_slice(bytes);
         refused(&cj, &b)
     };
     let m = edit(data_at(&cj, attribute("JOINTS_0")), &9u16.to_le_bytes());
-    assert!(m.contains("mesh 0 primitive 0: JOINTS_0 names joint 9, but skin 0"), "{m}");
-    let m = edit(data_at(&cj, attribute("WEIGHTS_0")), &(-0.5f32).to_le_bytes());
-    assert!(m.contains("mesh 0 primitive 0: WEIGHTS_0 holds the negative weight -0.5"), "{m}");
-    let input = cj["animations"][0]["samplers"][0]["input"].as_u64().unwrap();
+    assert!(
+        m.contains("mesh 0 primitive 0: JOINTS_0 names joint 9, but skin 0"),
+        "{m}"
+    );
+    let m = edit(
+        data_at(&cj, attribute("WEIGHTS_0")),
+        &(-0.5f32).to_le_bytes(),
+    );
+    assert!(
+        m.contains("mesh 0 primitive 0: WEIGHTS_0 holds the negative weight -0.5"),
+        "{m}"
+    );
+    let input = cj["animations"][0]["samplers"][0]["input"]
+        .as_u64()
+        .unwrap();
     let first = f32::from_le_bytes(cb[data_at(&cj, input)..][..4].try_into().unwrap());
     let m = edit(data_at(&cj, input) + 4, &first.to_le_bytes());
     assert!(m.contains("animation 0 sampler 0: its times"), "{m}");
@@ -1187,7 +1202,10 @@ fn broken_values_and_containers_are_refused_naming_the_part() {
     let uv = data_at(&sj, p["attributes"]["TEXCOORD_0"].as_u64().unwrap());
     b[uv..uv + 4].copy_from_slice(&f32::NAN.to_le_bytes());
     let m = refused(&sj, &b);
-    assert!(m.contains("holds NaN") && m.contains("glTF floats are finite"), "{m}");
+    assert!(
+        m.contains("holds NaN") && m.contains("glTF floats are finite"),
+        "{m}"
+    );
     let indices = p["indices"].as_u64().unwrap();
     let restart: &[u8] = match sj["accessors"][indices as usize]["componentType"].as_u64() {
         Some(5123) => &[0xff, 0xff],
@@ -1198,13 +1216,23 @@ fn broken_values_and_containers_are_refused_naming_the_part() {
     let at = data_at(&sj, indices);
     b[at..at + restart.len()].copy_from_slice(restart);
     let m = refused(&sj, &b);
-    assert!(m.contains("mesh 0 primitive 0: index") && m.contains("primitive-restart"), "{m}");
+    assert!(
+        m.contains("mesh 0 primitive 0: index") && m.contains("primitive-restart"),
+        "{m}"
+    );
 
-    let view = sj["accessors"][indices as usize]["bufferView"].as_u64().unwrap() as usize;
+    let view = sj["accessors"][indices as usize]["bufferView"]
+        .as_u64()
+        .unwrap() as usize;
     let mut j = sj.clone();
     j["bufferViews"][view]["byteLength"] = json!(sb.len() * 2);
     let m = refused(&j, &sb);
-    assert!(m.contains(&format!("bufferView {view} reaches past the end of buffer 0")), "{m}");
+    assert!(
+        m.contains(&format!(
+            "bufferView {view} reaches past the end of buffer 0"
+        )),
+        "{m}"
+    );
     let mut j = sj.clone();
     j["bufferViews"][view]["target"] = json!(34963);
     j["bufferViews"][view]["byteStride"] = json!(4);
