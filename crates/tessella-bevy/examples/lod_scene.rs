@@ -12,7 +12,7 @@ use showcase::stage;
 use std::path::PathBuf;
 use tessella_bevy::tessella_core::refine::{Camera as LodCamera, Lod, Spacing};
 use tessella_bevy::tessella_core::Scheme;
-use tessella_bevy::{to_bevy_mesh, LodLevels, Tessellate};
+use tessella_bevy::{to_bevy_mesh, LodLevels, TessellaSystems, Tessellate};
 
 fn main() -> AppExit {
     let samples = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
@@ -22,7 +22,8 @@ fn main() -> AppExit {
         }
         let mut app = output.app("tessella: screen-space LOD", samples.display().to_string())?;
         app.add_systems(Startup, setup)
-            .add_systems(Update, report_triangles)
+            // After tessella's systems: this frame's levels.
+            .add_systems(PostUpdate, report_triangles.after(TessellaSystems))
             .add_systems(Last, report_on_exit);
         Ok(app)
     })

@@ -58,7 +58,10 @@ use tessella_core::refine::{instanced, Levels, Lod, Spacing};
 /// Draws an entity's mesh as tessella's curved surface: the options of tessella's one
 /// options type ([`RefineOptions`]: scheme, level or LOD, spacing, normals, ...): uniform
 /// whole levels ([`Tessellate::new`]) or per-edge levels from a LOD ([`Tessellate::lod`]).
-#[derive(Component, Clone, Debug)]
+/// Reflected as an opaque value (the options are tessella's own type).
+#[derive(Component, Reflect, Clone, Debug)]
+#[reflect(opaque)]
+#[reflect(Component, Debug, Clone)]
 pub struct Tessellate(pub RefineOptions);
 
 impl Tessellate {
@@ -79,7 +82,8 @@ impl Tessellate {
 }
 
 /// What a tessellated entity had before [`Tessellate`] came: given back when it goes.
-#[derive(Component, Clone, Debug)]
+#[derive(Component, Reflect, Clone, Debug)]
+#[reflect(Component, Debug, Clone)]
 pub struct Untessellated {
     pub mesh: Handle<Mesh>,
     pub material: Handle<StandardMaterial>,
@@ -91,6 +95,13 @@ pub struct Untessellated {
 /// the systems that swap an entity's mesh and material when [`Tessellate`] comes or goes and
 /// pose the animated ones.
 pub struct TessellaPlugin;
+
+/// The plugin's systems, in `PostUpdate` after transform propagation and before Bevy computes
+/// bounds and visibility: patches built or removed, animated entities posed, LOD levels chosen.
+/// Order an app's own systems against it (`.after(TessellaSystems)` sees this frame's patches,
+/// poses and [`LodLevels`]).
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TessellaSystems;
 
 impl Plugin for TessellaPlugin {
     fn build(&self, app: &mut App) {
@@ -107,11 +118,18 @@ impl Plugin for TessellaPlugin {
         gltf_influences::register(app);
         app.init_resource::<UploadStats>()
             .init_resource::<PatternMeshes>()
-            .init_resource::<lod::PartMeshes>();
+            .init_resource::<lod::PartMeshes>()
+            .register_type::<Tessellate>()
+            .register_type::<Untessellated>()
+            .register_type::<Patch>()
+            .register_type::<Patches>()
+            .register_type::<LodLevels>()
+            .register_type::<LodCameraMarker>();
         app.add_systems(
             PostUpdate,
             (untessellate, tessellate, animate::pose, lod::levels)
                 .chain()
+                .in_set(TessellaSystems)
                 .after(bevy::transform::TransformSystems::Propagate)
                 .before(bevy::camera::visibility::VisibilitySystems::CalculateBounds)
                 .before(bevy::camera::visibility::VisibilitySystems::VisibilityPropagate),
@@ -136,14 +154,16 @@ impl Plugin for TessellaPlugin {
 /// One coarse triangle's patch: a child of the tessellated entity drawing the shared pattern
 /// mesh with the triangle in its `MeshTag` (with per-edge LOD: one of the triangle's one to four
 /// parts, `face | side << 30` in the tag).
-#[derive(Component, Clone, Copy, Debug)]
+#[derive(Component, Reflect, Clone, Copy, Debug)]
+#[reflect(Component, Debug, Clone)]
 pub struct Patch {
     /// The coarse triangle.
     pub face: u32,
 }
 
 /// A tessellated entity's patch children, one per coarse triangle, in triangle order.
-#[derive(Component, Clone, Debug, Default)]
+#[derive(Component, Reflect, Clone, Debug, Default)]
+#[reflect(Component, Debug, Clone, Default)]
 pub struct Patches(pub Vec<Entity>);
 
 /// The pattern mesh of each level drawn so far: one Bevy mesh a level, shared by every
@@ -448,6 +468,38 @@ fn untessellate(
 mod tests {
     use super::*;
     use tessella_core::{samples, NormalMode};
+
+    /// The plugin's components are registered for reflection (scene files, inspectors,
+    /// `Commands` by type name): each has its `ReflectComponent`, and the opaque `Tessellate`
+    /// clones through reflection with its options intact.
+    #[test]
+    fn components_are_reflected() {
+        let mut app = App::new();
+        app.register_type::<Tessellate>()
+            .register_type::<Untessellated>()
+            .register_type::<Patch>()
+            .register_type::<Patches>()
+            .register_type::<LodLevels>()
+            .register_type::<LodCameraMarker>();
+        let registry = app.world().resource::<AppTypeRegistry>().read();
+        for (name, id) in [
+            ("Tessellate", std::any::TypeId::of::<Tessellate>()),
+            ("Untessellated", std::any::TypeId::of::<Untessellated>()),
+            ("Patch", std::any::TypeId::of::<Patch>()),
+            ("Patches", std::any::TypeId::of::<Patches>()),
+            ("LodLevels", std::any::TypeId::of::<LodLevels>()),
+            ("LodCameraMarker", std::any::TypeId::of::<LodCameraMarker>()),
+        ] {
+            assert!(
+                registry.get_type_data::<ReflectComponent>(id).is_some(),
+                "{name} has no ReflectComponent"
+            );
+        }
+        let tessellate = Tessellate::new(Scheme::PnAen, 5);
+        let cloned = tessellate.reflect_clone().expect("clones");
+        let back = cloned.downcast_ref::<Tessellate>().expect("a Tessellate");
+        assert_eq!(format!("{:?}", back.0), format!("{:?}", tessellate.0));
+    }
 
     /// The pattern mesh holds the level's pattern once, with each vertex's index in UV_1 and
     /// its barycentric in UV_0; the per-triangle boxes together hold the curved surface that

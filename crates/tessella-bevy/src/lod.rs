@@ -66,15 +66,19 @@ impl LodState {
 /// What an entity's per-edge LOD chose this frame, for the app to read: the triangles drawn,
 /// and the LOD as evaluated (with Bevy's camera in the entity's own space and the target's
 /// size, for a screen or distance LOD).
-#[derive(Component, Clone, Debug, Default)]
+#[derive(Component, Reflect, Clone, Debug, Default)]
+#[reflect(Component, Debug, Clone, Default)]
 pub struct LodLevels {
     pub triangles: u64,
+    /// Not reflected (tessella's own type).
+    #[reflect(ignore)]
     pub lod: Option<Lod>,
 }
 
 /// Which camera the LOD sees from: a camera with this component, else the first active 3D
 /// camera.
-#[derive(Component, Clone, Copy, Debug, Default)]
+#[derive(Component, Reflect, Clone, Copy, Debug, Default)]
+#[reflect(Component, Debug, Clone, Default)]
 pub struct LodCameraMarker;
 
 /// The spacings' part tables and the Bevy meshes of the parts drawn so far.
