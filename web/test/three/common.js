@@ -1,7 +1,9 @@
-// What the three.js test pages (mesh.js, webgpu.js, lod.js, skinned.js) share: a WebGLRenderer
-// on a white canvas of one size, calls spied on (to count draws and uploaded bytes), and the
-// torus-knot scene of mesh.js and webgpu.js: its camera and lights, its bending, its vertex
-// colours and checker texture.
+// What the three.js test pages (mesh.js, webgpu.js, lod.js, skinned.js, scene.js,
+// webgpuskinned.js) share: a WebGLRenderer on a white canvas of one size, a WebGPURenderer
+// likewise with the render target its pictures are read back from, calls spied on (to count
+// draws and uploaded bytes), the torus-knot scene of mesh.js and webgpu.js (its camera and
+// lights, its bending, its vertex colours and checker texture), and the animated creature of
+// the skinned pages with the vertices three skins.
 import * as THREE from 'three';
 
 /** A WebGLRenderer on a new canvas of `width` x `height` pixels, cleared white, readable back. */
@@ -13,6 +15,38 @@ export function glRenderer(width, height) {
   renderer.setSize(width, height);
   renderer.setClearColor(0xffffff, 1);
   return { canvas, renderer };
+}
+
+/**
+ * A WebGPURenderer (three/webgpu) on a new canvas of `width` x `height` pixels, cleared white,
+ * with a render target of sRGB bytes (as the canvas would show them: the shading's differences
+ * are not lost in the darks) that `readTarget` reads back; `started` is its `init()`. three/webgpu
+ * is imported here on demand, so the WebGL pages never load it.
+ */
+export async function gpuRenderer(width, height) {
+  const { WebGPURenderer } = await import('three/webgpu');
+  const canvas = document.createElement('canvas');
+  document.body.append(canvas);
+  const renderer = new WebGPURenderer({ canvas, antialias: false });
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height);
+  renderer.setClearColor(0xffffff, 1);
+  const target = new THREE.RenderTarget(width, height, { colorSpace: THREE.SRGBColorSpace });
+  return { canvas, renderer, target, started: renderer.init() };
+}
+
+/**
+ * What `renderer` drew into `target` (once the queue is done), as the pages return pictures:
+ * `{ width, height, rgba }`, RGBA bytes in base64, rows top first (as a PNG's).
+ */
+export async function readTarget(renderer, target) {
+  const { width, height } = target;
+  await renderer.backend.device.queue.onSubmittedWorkDone();
+  const pixels = await renderer.readRenderTargetPixelsAsync(target, 0, 0, width, height);
+  let binary = '';
+  const bytes = new Uint8Array(pixels.buffer, pixels.byteOffset, width * height * 4);
+  for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+  return { width, height, rgba: btoa(binary) };
 }
 
 /** Calls `record(args)` before each call of `target[name]` (a context, or a prototype). */

@@ -12,10 +12,9 @@
 // `run` returns the picture and what the scene held (meshes, materials, what was skipped).
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
-import { WebGPURenderer } from 'three/webgpu';
 import { ready } from 'tessella';
 import { refineGeometry, TessellatedMesh, tessellate, untessellate } from 'tessella/three';
-import { glRenderer, spy } from './common.js';
+import { glRenderer, gpuRenderer, readTarget, spy } from './common.js';
 
 const WIDTH = 400;
 const HEIGHT = 300;
@@ -26,17 +25,11 @@ spy(gl.renderer.getContext(), 'drawElementsInstanced', (a) => glCounts.instanced
 
 // WebGPU, when the browser has it (the test starts Chromium with WebGPU on SwiftShader).
 let gpu = null;
-async function gpuRenderer() {
+async function webgpu() {
   if (gpu !== null) return gpu;
   if (navigator.gpu === undefined || (await navigator.gpu.requestAdapter()) === null) return null;
-  const canvas = document.createElement('canvas');
-  document.body.append(canvas);
-  const renderer = new WebGPURenderer({ canvas, antialias: false });
-  renderer.setPixelRatio(1);
-  renderer.setSize(WIDTH, HEIGHT);
-  renderer.setClearColor(0xffffff, 1);
-  await renderer.init();
-  const target = new THREE.RenderTarget(WIDTH, HEIGHT, { colorSpace: THREE.SRGBColorSpace });
+  const { renderer, target, started } = await gpuRenderer(WIDTH, HEIGHT);
+  await started;
   gpu = { renderer, target, instanced: [] };
   spy(GPURenderPassEncoder.prototype, 'drawIndexed', ([count, instances = 1]) => {
     if (instances > 1) gpu.instanced.push({ count, instances });
@@ -111,18 +104,14 @@ function fingerprint(m) {
 
 async function draw(scene, which) {
   if (which === 'webgpu') {
-    const g = await gpuRenderer();
+    const g = await webgpu();
     g.instanced = [];
     g.renderer.setRenderTarget(g.target);
     g.renderer.render(scene, camera());
-    await g.renderer.backend.device.queue.onSubmittedWorkDone();
-    const pixels = await g.renderer.readRenderTargetPixelsAsync(g.target, 0, 0, WIDTH, HEIGHT);
-    g.renderer.setRenderTarget(null);
     // Rows come back top first; the test flips nothing (it compares WebGPU pictures with each other).
-    let binary = '';
-    const bytes = new Uint8Array(pixels.buffer, pixels.byteOffset, WIDTH * HEIGHT * 4);
-    for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
-    return { width: WIDTH, height: HEIGHT, rgba: btoa(binary), instanced: g.instanced.slice() };
+    const picture = await readTarget(g.renderer, g.target);
+    g.renderer.setRenderTarget(null);
+    return { ...picture, instanced: g.instanced.slice() };
   }
   glCounts.instanced = [];
   gl.renderer.render(scene, camera());

@@ -3,13 +3,13 @@
 // WGSL from the wasm evaluates the patches, called from TSL) or as a plain Mesh of
 // refineGeometry's CPU refinement, with the GPU calls counted: draws (GPURenderPassEncoder) and
 // the bytes handed to the queue's buffer and texture writes. Pictures are read back from a
-// render target (no canvas snapshot needed).
+// render target (no canvas snapshot needed): the renderer and the read-back are common.js's.
 import * as THREE from 'three';
 import { ClippingGroup, MeshBasicNodeMaterial, WebGPURenderer } from 'three/webgpu';
 import { attribute, instanceIndex, normalGeometry, texture, varying, vec4 } from 'three/tsl';
 import { ready, TessellaError } from 'tessella';
 import { refineGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
-import { checkerTexture, pose, spy, torusScene, vertexColours } from './common.js';
+import { checkerTexture, gpuRenderer, pose, readTarget, spy, torusScene, vertexColours } from './common.js';
 
 const WIDTH = 320;
 const HEIGHT = 240;
@@ -33,17 +33,9 @@ spy(GPUQueue.prototype, 'writeTexture', ([, data, layout]) => {
   counts.textures += data.byteLength - (layout.offset ?? 0);
 });
 
-const canvas = document.createElement('canvas');
-document.body.append(canvas);
-const renderer = new WebGPURenderer({ canvas, antialias: false });
-renderer.setPixelRatio(1);
-renderer.setSize(WIDTH, HEIGHT);
-renderer.setClearColor(0xffffff, 1);
+const { renderer, target, started } = await gpuRenderer(WIDTH, HEIGHT);
 renderer.shadowMap.enabled = true;
 renderer.shadowMap.type = THREE.PCFShadowMap;
-// sRGB bytes, as the canvas would show them (the shading's differences are not lost in the darks).
-const target = new THREE.RenderTarget(WIDTH, HEIGHT, { colorSpace: THREE.SRGBColorSpace });
-const started = renderer.init();
 
 /**
  * Draws the scene `frames` times (the source bent a little more each frame when `deform`) and
@@ -144,16 +136,12 @@ async function run({
       uploadedBytes: plain ? 0 : drawn.uploadedBytes,
     });
   }
-  await renderer.backend.device.queue.onSubmittedWorkDone();
-  const pixels = await renderer.readRenderTargetPixelsAsync(target, 0, 0, WIDTH, HEIGHT);
+  const picture = await readTarget(renderer, target);
   renderer.setRenderTarget(null);
   const faces = geometry.index.count / 3;
   if (!plain) drawn.dispose();
   if (!plain && second !== null) second.dispose();
-  let binary = '';
-  const bytes = new Uint8Array(pixels.buffer, pixels.byteOffset, WIDTH * HEIGHT * 4);
-  for (let i = 0; i < bytes.length; i += 0x8000) binary += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
-  return { width: WIDTH, height: HEIGHT, rgba: btoa(binary), log, faces };
+  return { ...picture, log, faces };
 }
 
 /** The error TessellatedMesh throws under a WebGPURenderer forced onto its WebGL2 backend. */
