@@ -1,12 +1,15 @@
-// The test page of TessellatedMesh following a SkinnedMesh (web/test/three-skinned.test.js):
-// the bundled animated creature loaded by three's GLTFLoader and posed by its AnimationMixer,
-// drawn by WebGLRenderer either as a TessellatedMesh or as a plain Mesh of refineGeometry over
-// the vertices three skins (SkinnedMesh.getVertexPosition), with the bytes uploaded counted.
+// The test page of TessellatedMesh following a SkinnedMesh (web/test/three-skinned.test.js,
+// and under WebGPURenderer web/test/three-webgpu-skinned.test.js): the bundled animated
+// creature loaded by three's GLTFLoader and posed by its AnimationMixer, drawn by WebGLRenderer
+// (or, `renderer: 'webgpu'`, WebGPURenderer on its WebGPU backend) either as a TessellatedMesh
+// or as a plain Mesh of refineGeometry over the vertices three skins
+// (SkinnedMesh.getVertexPosition), with the bytes uploaded (WebGL) and the instanced draws
+// counted.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { ready } from 'tessella';
 import { refineGeometry, TessellatedMesh } from 'tessella/three';
-import { glRenderer, spy } from './common.js';
+import { glRenderer, gpuRenderer, readTarget, spy } from './common.js';
 
 const WIDTH = 320;
 const HEIGHT = 320;
@@ -20,6 +23,21 @@ for (const name of ['texImage2D', 'texSubImage2D', 'bufferData', 'bufferSubData'
   });
 }
 spy(gl, 'drawElementsInstanced', () => counts.instanced++);
+
+// WebGPURenderer, made on the first run that asks for it (the WebGL test's browser has no
+// WebGPU); its instanced draws counted in the same `counts`.
+let gpu = null;
+async function webgpu() {
+  if (gpu !== null) return gpu;
+  const { renderer: r, target, started } = await gpuRenderer(WIDTH, HEIGHT);
+  await started;
+  if (r.backend.isWebGPUBackend !== true) throw new Error('WebGPURenderer fell back to WebGL2: the browser has no WebGPU');
+  spy(GPURenderPassEncoder.prototype, 'drawIndexed', ([, instances = 1]) => {
+    if (instances > 1) counts.instanced++;
+  });
+  gpu = { renderer: r, target };
+  return gpu;
+}
 
 async function load() {
   const buffer = await (await fetch('/samples/animated-creature.glb')).arrayBuffer();
@@ -63,11 +81,13 @@ function skinnedGeometry(mesh) {
 
 /**
  * Plays `clip` and draws the frames at `times` (seconds); returns the last picture and, per
- * frame, the bytes uploaded and the instanced draws. `plain`: draw the last pose as a Mesh of
- * refineGeometry over three's skinned vertices instead.
+ * frame, the bytes uploaded (WebGL) and the instanced draws. `plain`: draw the last pose as a
+ * Mesh of refineGeometry over three's skinned vertices instead. `renderer`: 'webgl' or
+ * 'webgpu' (the picture then read back from a render target, rows top first as a PNG's).
  */
-async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, plain = false } = {}) {
+async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, plain = false, renderer: which = 'webgl' } = {}) {
   await ready;
+  const g = which === 'webgpu' ? await webgpu() : null;
   const gltf = await load();
   const scene = gltf.scene;
   const camera = new THREE.PerspectiveCamera(35, WIDTH / HEIGHT, 0.05, 50);
@@ -103,12 +123,20 @@ async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, pla
     }
     counts.uploaded = 0;
     counts.instanced = 0;
-    renderer.render(scene, camera);
-    log.push({ uploaded: counts.uploaded, instanced: counts.instanced, calls: renderer.info.render.calls });
+    if (g !== null) {
+      g.renderer.setRenderTarget(g.target);
+      g.renderer.render(scene, camera);
+      g.renderer.setRenderTarget(null);
+      log.push({ instanced: counts.instanced, calls: g.renderer.info.render.drawCalls });
+    } else {
+      renderer.render(scene, camera);
+      log.push({ uploaded: counts.uploaded, instanced: counts.instanced, calls: renderer.info.render.calls });
+    }
   }
   const faces = skinned.geometry.index.count / 3;
+  const picture = g !== null ? await readTarget(g.renderer, g.target) : { png: canvas.toDataURL('image/png') };
   drawn?.dispose();
-  return { png: canvas.toDataURL('image/png'), log, faces };
+  return { ...picture, log, faces };
 }
 
 window.tessellaSkinned = { run, ready: ready.then(() => true) };
