@@ -44,6 +44,15 @@ export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
   camera?: Camera;
   /** With `lod`: the image size [width, height] in pixels (default: the viewport of the previous render). */
   size?: [number, number];
+  /**
+   * 'per-draw' (default): every draw pass (shadow maps, the picture) evaluates the patches from
+   * the nets; GPU memory O(coarse). 'per-frame' (WebGLRenderer, WebGL2 with float render
+   * targets): when the nets change, one pass evaluates the refined mesh's vertices into vertex
+   * buffers the passes read; GPU memory O(refined), about 80 bytes a vertex more than a refined
+   * Mesh. Falls back to evaluating per draw (`evaluationFallback` says why) with `lod`, without
+   * EXT_color_buffer_float, under WebGPURenderer, or past the largest texture.
+   */
+  evaluation?: 'per-draw' | 'per-frame';
 }
 
 /** TessellatedMesh's `lod` drawing: the levels' camera and size, and what they draw and upload. */
@@ -85,6 +94,12 @@ export interface TessellatedMeshLod {
  * disposed). A material with a positionNode of its own is refused.
  */
 export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
+  /** The evaluation in effect: 'per-frame' (baked once per change of the nets) or 'per-draw'. */
+  readonly evaluation: 'per-draw' | 'per-frame';
+  /** Why the evaluation is 'per-draw' though 'per-frame' was asked for, or null. */
+  readonly evaluationFallback: string | null;
+  /** 'per-frame': GPU memory of the baked vertices (targets, origins, vertex buffers); else 0. */
+  readonly bakedBytes: number;
   constructor(source: BufferGeometry | Mesh | SkinnedMesh, material?: Material, options?: TessellatedMeshOptions);
   /** The source (the coarse Mesh, SkinnedMesh or BufferGeometry). */
   readonly source: BufferGeometry | Mesh | SkinnedMesh;

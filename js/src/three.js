@@ -20,6 +20,7 @@ import {
 import { AdaptiveSurface, Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
 import { LOD_MESH_OPTIONS, LodParts } from './three-lod.js';
 import { missingNodes, setupNodes } from './three-nodes.js';
+import { BAKED_BODY, BAKED_HEAD, BakedSurface, bakedUniforms, welded } from './three-bake.js';
 
 export { tessellaFunctions } from './three-nodes.js';
 export { tessellate, TessellatedScene, untessellate } from './three-scene.js';
@@ -281,7 +282,15 @@ export class RefinedGeometry {
 // The options TessellatedMesh reads itself; the others go to InstancedSurface (the wasm side
 // checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there), or with
 // `lod` to AdaptiveSurface (scheme, normals, alpha, spacing, lod; camera and size stay here).
-const MESH_OPTIONS = ['normalsFromSource', 'group'];
+const MESH_OPTIONS = ['normalsFromSource', 'group', 'evaluation'];
+
+// The evaluation a TessellatedMesh takes without the `evaluation` option. 'per-frame' measures
+// cheaper under WebGLRenderer (bench:three, js/README.md), but is chosen at construction, before
+// the renderer is known, and draws a welded, not instanced, geometry (WebGPURenderer then
+// evaluates it per draw): until the choice can wait for the renderer, 'per-draw' (today's
+// drawing under both renderers) stays the default.
+const EVALUATIONS = ['per-frame', 'per-draw'];
+const DEFAULT_EVALUATION = 'per-draw';
 
 // Materials TessellatedMeshes draw with, and their patch: `key` (the kind of surface the patched
 // shaders draw: basis, normals, uvs, colours, lod), `uniforms` (the `{ value }` objects the
@@ -328,13 +337,13 @@ function missing(renderer) {
 // The vertex shader's additions: the GLSL from the wasm (the generated weights and the nets
 // reader), the attributes, and at the top of main() locals named as three's attributes
 // (position, normal, uv, color) that hide them, so every chunk of three's shaders (lighting,
-// shadows, fog, clipping, maps) reads the curved surface.
+// shadows, fog, clipping, maps) reads the curved surface: the patch evaluated here ('per-draw'),
+// or read from the textures the mesh baked ('per-frame', three-bake.js), as its uniform
+// `tessellaBaked` says.
 function vertexPatch(glsl, flags) {
-  let head = `${glsl}in vec3 tessellaBarycentric;\n`;
+  let head = `${glsl}${BAKED_HEAD}in vec3 tessellaBarycentric;\n`;
   let body = [
-    'vec3 tessellaPosition;',
-    'vec3 tessellaNormal;',
-    'tessella_evaluate(gl_InstanceID, tessellaBarycentric, tessellaPosition, tessellaNormal);',
+    BAKED_BODY,
     'vec3 position = tessellaPosition;',
     'vec3 normal = tessellaNormal;',
   ];
@@ -455,6 +464,15 @@ export class TessellatedMesh extends Mesh {
   #uniforms;
   /** The material's patch (shared by every TessellatedMesh drawing with the material). */
   #patch = null;
+  /** 'per-frame' evaluation: the baked vertices (three-bake.js), or null (per draw). */
+  #baked = null;
+  /** The renderer and frame (#frames) the baked vertices are of. */
+  #bakedFor = null;
+  #bakedFrame = -1;
+  /** Why the `evaluation` asked for is not the one in effect, or null. */
+  #fallback = null;
+  /** 'per-frame': the welded refined mesh (three-bake.js's welded()), or null. */
+  #weld = null;
 
   constructor(source, material, options = {}) {
     let sourceMesh = null;
@@ -467,6 +485,9 @@ export class TessellatedMesh extends Mesh {
       throw new TessellaError('TessellatedMesh takes a three.js BufferGeometry or Mesh as its source');
     }
     if (options == null || typeof options !== 'object') throw new TessellaError('options must be an object');
+    if (options.evaluation != null && !EVALUATIONS.includes(options.evaluation)) {
+      throw new TessellaError(`evaluation: ${JSON.stringify(options.evaluation)} is none of ${EVALUATIONS.map((e) => `'${e}'`).join(', ')}`);
+    }
     const group = groupOf(geometry, options.group);
     const owned = material === undefined || material === null;
     if (owned) {
@@ -489,7 +510,14 @@ export class TessellatedMesh extends Mesh {
     const own = lod ? [...MESH_OPTIONS, ...LOD_MESH_OPTIONS] : MESH_OPTIONS;
     const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !own.includes(k)));
     const surface = lod ? new AdaptiveSurface(indices, rest) : new InstancedSurface(indices, rest);
-    super(new InstancedBufferGeometry(), material);
+    // 'per-frame' (asked for; never with lod; a ShaderMaterial, whose own code may call
+    // tessella_evaluate with gl_InstanceID, takes it only when asked): the refined mesh's
+    // vertices, welded, drawn by one indexed draw reading the vertex buffers the bake writes
+    // (three-bake.js).
+    const asked = options.evaluation ?? (material.isShaderMaterial === true ? 'per-draw' : DEFAULT_EVALUATION);
+    const perFrame = asked === 'per-frame' && !lod;
+    super(perFrame ? new BufferGeometry() : new InstancedBufferGeometry(), material);
+    if (asked === 'per-frame' && lod) this.#fallback = 'lod evaluates per draw';
     this.#options = rest;
     this.#surface = surface;
     this.#source = geometry;
@@ -511,9 +539,23 @@ export class TessellatedMesh extends Mesh {
     }
     // With lod this draws nothing itself: its children draw the parts (three-lod.js).
     if (lod) this.#lod = new LodParts(this, surface, options, this.#flags);
-    // The pattern: barycentric points, drawn once per coarse triangle.
+    // The pattern: barycentric points, drawn once per coarse triangle; or (per-frame) the refined
+    // mesh, each vertex with its coarse triangle and point in it.
     const points = lod ? new Float32Array(0) : surface.patternPoints();
-    if (!lod) {
+    const weld = perFrame ? welded(refine({ positions: floats(geometry.getAttribute('position')), indices }, { ...rest, origin: true, soup: rest.normals === 'real' ? true : undefined })) : null;
+    this.#weld = weld;
+    // The corners' elements: one per coarse triangle (instanced), or one per vertex (welded).
+    const corners = weld === null ? surface.faceCount : weld.count;
+    const Corner = weld === null ? InstancedBufferAttribute : BufferAttribute;
+    if (weld !== null) {
+      g.setIndex(new BufferAttribute(weld.index, 1));
+      const barycentric = new BufferAttribute(weld.barycentric, 3);
+      weld.attributes = { barycentric, face: new BufferAttribute(weld.face, 1) };
+      g.setAttribute('tessellaBarycentric', barycentric);
+      g.setAttribute('tessellaFace', weld.attributes.face);
+      g.setAttribute('normal', barycentric);
+      g.setAttribute('position', barycentric);
+    } else if (!lod) {
       const tri = surface.patternIndices();
       g.setIndex(new BufferAttribute(points.length / 3 <= 0xffff ? Uint16Array.from(tri) : tri, 1));
       const barycentric = new BufferAttribute(points, 3);
@@ -529,15 +571,15 @@ export class TessellatedMesh extends Mesh {
       g.instanceCount = 0;
     }
     if (uv !== undefined && !lod) {
-      g.setAttribute('tessellaUv01', new InstancedBufferAttribute(new Float32Array(surface.faceCount * 4), 4));
-      g.setAttribute('tessellaUv2', new InstancedBufferAttribute(new Float32Array(surface.faceCount * 2), 2));
+      g.setAttribute('tessellaUv01', new Corner(new Float32Array(corners * 4), 4));
+      g.setAttribute('tessellaUv2', new Corner(new Float32Array(corners * 2), 2));
     }
     if (color !== undefined && !lod) {
       const c = color.itemSize;
-      for (let k = 0; k < 3; k++) g.setAttribute(`tessellaColor${k}`, new InstancedBufferAttribute(new Float32Array(surface.faceCount * c), c));
+      for (let k = 0; k < 3; k++) g.setAttribute(`tessellaColor${k}`, new Corner(new Float32Array(corners * c), c));
       // Tells three the colours' width (USE_COLOR_ALPHA for 4); the shader reads the instanced
       // ones. Ones: the factor WebGPURenderer's node materials take from it changes nothing.
-      g.setAttribute('color', new BufferAttribute(new Float32Array((points.length / 3) * c).fill(1), c));
+      g.setAttribute('color', new BufferAttribute(new Float32Array((weld === null ? points.length / 3 : weld.count) * c).fill(1), c));
     }
     this.#indices = Uint32Array.from(indices);
 
@@ -551,12 +593,14 @@ export class TessellatedMesh extends Mesh {
     const uniforms = {
       tessellaNets: { value: texture },
       tessellaFacesPerRow: { value: surface.facesPerRow },
-      ...(lod ? this.#lod.uniforms : {}),
+      ...(lod ? this.#lod.uniforms : bakedUniforms(weld !== null)),
     };
     this.#uniforms = uniforms;
     if (lod) this.#lod.bind = (renderer) => this.#bind(renderer);
     const glsl = surface.glsl();
-    const key = `tessella:${lod ? `lod:${surface.spacing}:` : ''}${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}`;
+    if (weld !== null) this.#baked = new BakedSurface(glsl, uniforms, weld);
+    // (WebGPURenderer's node reads the coarse triangle from the instance or, welded, an attribute.)
+    const key = `tessella:${lod ? `lod:${surface.spacing}:` : ''}${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}${weld !== null ? ':welded' : ''}`;
     const patch = lod ? this.#lod.patch(glsl) : vertexPatch(glsl, this.#flags);
     let shared = patches.get(material);
     if (shared !== undefined && shared.key !== key) {
@@ -576,7 +620,7 @@ export class TessellatedMesh extends Mesh {
       // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too)
       // reading the drawn object's own nets texture; lod draws under WebGLRenderer only (#check
       // refuses it under WebGPURenderer).
-      if (!lod) setupNodes(material, surface, this.#flags);
+      if (!lod) setupNodes(material, surface, { ...this.#flags, welded: weld !== null });
       const set = Object.fromEntries(PATCHED.map((name) => [name, material[name]]));
       shared = { key, uniforms: common, users: new Set(), owned, saved, set };
       patches.set(material, shared);
@@ -633,6 +677,78 @@ export class TessellatedMesh extends Mesh {
   /** With `lod`: the levels' drawing (camera, size, uploadedBytes, triangleCount, setLevels); else null. */
   get lod() {
     return this.#lod;
+  }
+
+  /**
+   * The evaluation in effect: 'per-frame' (the vertices evaluated into textures once per change
+   * of the nets, the draws reading them) or 'per-draw' (every draw pass evaluates the patches).
+   */
+  get evaluation() {
+    return this.#baked !== null ? 'per-frame' : 'per-draw';
+  }
+
+  /** Why the evaluation is 'per-draw' though 'per-frame' was asked for (or is the default), or null. */
+  get evaluationFallback() {
+    return this.#fallback;
+  }
+
+  /** GPU memory of the baked vertices ('per-frame': two RGBA32F texels a vertex drawn), else 0. */
+  get bakedBytes() {
+    return this.#baked?.bytes ?? 0;
+  }
+
+  /** 'per-frame': the render target of the baked vertices (textures: positions, normals), once baked; else null. */
+  get bakedTarget() {
+    return this.#baked?.target ?? null;
+  }
+
+  // 'per-frame': once baked, the geometry's position and normal are the baked vertex buffers and
+  // the shaders read them (tessellaBaked). Here, before three updates the objects it draws (which
+  // tells it of a geometry's new attributes): a draw seeing an attribute three does not know yet
+  // leaves it out of the vertex array it keeps; so the frame that first bakes evaluates per draw.
+  #useBaked() {
+    const baked = this.#baked;
+    if (baked === undefined || baked === null || baked.attributes === null) return;
+    const g = this.geometry;
+    if (g.getAttribute('position') !== baked.attributes[0]) {
+      g.setAttribute('position', baked.attributes[0]);
+      g.setAttribute('normal', baked.attributes[1]);
+      // Without uvs and colours the draws read nothing else: the evaluation's inputs, unused
+      // now, are left out of the draws (three then reads no buffer for them).
+      if (!this.#flags.uv && this.#flags.color === 0) {
+        g.deleteAttribute('tessellaBarycentric');
+        g.deleteAttribute('tessellaFace');
+      }
+    }
+    this.#uniforms.tessellaBaked.value = true;
+  }
+
+  // 'per-frame': evaluates the vertices when the nets changed since the last bake (or the
+  // renderer is another), in whichever pass draws this first (shadow maps, then the picture).
+  #bake(renderer) {
+    const baked = this.#baked;
+    if (baked === null) return;
+    if (this.#bakedFor === renderer && this.#bakedFrame === this.#frames) return;
+    let why = baked.missing(renderer);
+    if (why === null && this.#bakedFor !== null && this.#bakedFor !== renderer) why = 'drawn by a second renderer (the baked buffers are the first one\'s)';
+    if (why !== null) {
+      // Falls back to evaluating per draw (the shaders branch on tessellaBaked, now false), on
+      // the welded vertices.
+      baked.dispose();
+      this.#baked = null;
+      this.#fallback = why;
+      // (Before any bake the geometry is as made; after one, its first attributes are put back.)
+      const { barycentric, face } = this.#weld.attributes;
+      const g = this.geometry;
+      if (g.getAttribute('position') !== barycentric) {
+        for (const name of ['tessellaBarycentric', 'position', 'normal']) g.setAttribute(name, barycentric);
+        g.setAttribute('tessellaFace', face);
+      }
+      return;
+    }
+    baked.bake(renderer);
+    this.#bakedFor = renderer;
+    this.#bakedFrame = this.#frames;
   }
 
   #follow() {
@@ -699,10 +815,11 @@ export class TessellatedMesh extends Mesh {
       const data = floats(uv);
       const a = this.geometry.getAttribute('tessellaUv01');
       const b = this.geometry.getAttribute('tessellaUv2');
-      for (let f = 0; f < idx.length / 3; f++) {
+      for (let e = 0; e < a.count; e++) {
+        const f = this.#weld === null ? e : this.#weld.faces[e];
         const [i0, i1, i2] = [idx[3 * f], idx[3 * f + 1], idx[3 * f + 2]];
-        a.array.set([data[2 * i0], data[2 * i0 + 1], data[2 * i1], data[2 * i1 + 1]], 4 * f);
-        b.array.set([data[2 * i2], data[2 * i2 + 1]], 2 * f);
+        a.array.set([data[2 * i0], data[2 * i0 + 1], data[2 * i1], data[2 * i1 + 1]], 4 * e);
+        b.array.set([data[2 * i2], data[2 * i2 + 1]], 2 * e);
       }
       a.needsUpdate = true;
       b.needsUpdate = true;
@@ -714,7 +831,10 @@ export class TessellatedMesh extends Mesh {
       const data = floats(color);
       for (let k = 0; k < 3; k++) {
         const a = this.geometry.getAttribute(`tessellaColor${k}`);
-        for (let f = 0; f < idx.length / 3; f++) a.array.set(data.subarray(idx[3 * f + k] * c, idx[3 * f + k] * c + c), c * f);
+        for (let e = 0; e < a.count; e++) {
+          const f = this.#weld === null ? e : this.#weld.faces[e];
+          a.array.set(data.subarray(idx[3 * f + k] * c, idx[3 * f + k] * c + c), c * e);
+        }
         a.needsUpdate = true;
         bytes += a.array.byteLength;
       }
@@ -747,6 +867,7 @@ export class TessellatedMesh extends Mesh {
     if (this.#surface !== undefined) {
       this.#follow();
       this.#sync();
+      this.#useBaked();
     }
     super.updateMatrixWorld(force);
     // The levels for the camera, once this mesh's place is known and before three culls.
@@ -760,6 +881,7 @@ export class TessellatedMesh extends Mesh {
   onBeforeRender(renderer, scene, camera) {
     this.#check(renderer);
     this.#sync();
+    this.#bake(renderer);
     this.#lod?.seen(renderer, camera);
     // With lod the children draw (each binds before its draw).
     if (this.#lod === null) this.#bind(renderer);
@@ -792,6 +914,7 @@ export class TessellatedMesh extends Mesh {
   onBeforeShadow(renderer) {
     this.#check(renderer);
     this.#sync();
+    this.#bake(renderer);
   }
 
   #check(renderer) {
@@ -867,6 +990,8 @@ export class TessellatedMesh extends Mesh {
     this.#hitGeometry = null;
     this.#texture.dispose();
     this.#lod?.dispose();
+    this.#baked?.dispose();
+    this.#baked = null;
     this.geometry.dispose();
     this.customDepthMaterial.dispose();
     this.customDistanceMaterial.dispose();

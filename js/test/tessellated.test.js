@@ -262,3 +262,34 @@ test("the WGSL for WebGPURenderer: TSL's parser finds tessella_position and tess
   assert.throws(() => new TessellatedMesh(new IcosahedronGeometry(1, 0), material), /has a positionNode/);
   assert.throws(() => tessellaFunctions('fn f() {}'), (e) => e instanceof TessellaError);
 });
+
+test("evaluation: 'per-draw' (the default) draws the pattern instanced; 'per-frame' the refined mesh's welded vertices, and falls back with lod or a ShaderMaterial", () => {
+  const source = new IcosahedronGeometry(1, 1);
+  const plain = new TessellatedMesh(source, undefined, { scheme: 'pn', level: 4 });
+  assert.equal(plain.evaluation, 'per-draw');
+  assert.equal(plain.evaluationFallback, null);
+  assert.equal(plain.geometry.isInstancedBufferGeometry, true);
+  assert.equal(plain.bakedBytes, 0);
+  const baked = new TessellatedMesh(source, undefined, { scheme: 'pn', level: 4, evaluation: 'per-frame' });
+  assert.equal(baked.evaluation, 'per-frame');
+  assert.notEqual(baked.geometry.isInstancedBufferGeometry, true);
+  // The refined Mesh's topology: its triangles, its (shared) vertices, each with its coarse
+  // triangle and barycentric point, which evaluated give the refined vertex.
+  const cpu = refine({ positions: source.getAttribute('position').array, indices: Uint32Array.from({ length: 240 }, (_, i) => i) }, { scheme: 'pn', level: 4, origin: true });
+  assert.deepEqual(Array.from(baked.geometry.index.array), Array.from(cpu.indices));
+  assert.deepEqual(Array.from(baked.geometry.getAttribute('tessellaFace').array), Array.from(cpu.faces));
+  assert.ok(baked.bakedBytes >= 80 * cpu.faces.length);
+  // Its shaders name the coarse triangle by the attribute (tessellaWelded) and read the baked
+  // position and normal once tessellaBaked.
+  const shader = { vertexShader: ShaderLib.standard.vertexShader, fragmentShader: ShaderLib.standard.fragmentShader, uniforms: {} };
+  baked.material.onBeforeCompile(shader);
+  assert.equal(shader.uniforms.tessellaWelded.value, true);
+  assert.equal(shader.uniforms.tessellaBaked.value, false);
+  assert.ok(shader.vertexShader.includes('int tessellaFaceIndex = tessellaWelded ? int(tessellaFace) : gl_InstanceID;'));
+  assert.ok(shader.vertexShader.includes('tessellaPosition = position;'));
+  const lod = new TessellatedMesh(source, undefined, { scheme: 'pn', lod: 'screen:8', spacing: 'equal', evaluation: 'per-frame' });
+  assert.equal(lod.evaluation, 'per-draw');
+  assert.match(lod.evaluationFallback, /lod/);
+  assert.throws(() => new TessellatedMesh(source, undefined, { evaluation: 'per-vertex' }), (e) => e instanceof TessellaError && /evaluation/.test(e.message));
+  for (const m of [plain, baked, lod]) m.dispose();
+});

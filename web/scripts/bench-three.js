@@ -1,7 +1,7 @@
 // Runs tessella/three's benchmark page (js/bench/three/page.html) in headless Chromium (WebGL2 on
 // SwiftShader here) and prints its table: frame time, GPU memory and bytes uploaded per frame of
 // TessellatedMesh against a static refineGeometry Mesh and RefinedGeometry.update(), at levels
-// 8, 16 and 32. `--json FILE` also writes the rows; `--frames N`, `--levels 8,16`.
+// 4, 8, 16 and 32 (static and deforming, per-draw and per-frame, a shadow-casting light). `--json FILE` also writes the rows; `--frames N`, `--levels 8,16`.
 import { renameSync, writeFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';

@@ -7,7 +7,7 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { count, differing, iou, mask, openRepoPage } from './harness.js';
+import { count, darker, differing, iou, mask, openRepoPage } from './harness.js';
 import { assertFollows, assertShadows, deformed } from './three-checks.js';
 
 const SHOT = process.env.TESSELLA_THREE_SHOT;
@@ -17,7 +17,10 @@ before(async () => {
   three = await openRepoPage('web/test/three/index.html?page=mesh', { global: 'tessellaThree' });
 });
 after(() => three?.close());
-const run = (config) => three.run(config);
+// The tests of the draws' make-up (one instanced draw a pass, the nets alone uploaded) are those
+// of 'per-draw' evaluation (the default; said here all the same); 'per-frame' has its own below.
+const run = (config) => three.run({ evaluation: 'per-draw', ...config });
+const perFrame = (config) => three.run({ evaluation: 'per-frame', ...config });
 
 test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn as a Mesh, in one instanced draw', async () => {
   for (const [scheme, level, normals] of [['pn', 8], ['png1', 6], ['phong', 5], ['pn-aen', 4, 'real']]) {
@@ -104,5 +107,81 @@ test("a user's own ShaderMaterial draws it: calling tessella_evaluate itself, or
     assert.ok(off < 0.01 * count(mask(cpu.img)), `${material}: ${off} pixels of other colours`);
     assert.equal(gpu.log[0].instanced.length, 1);
   }
+  assert.deepEqual(three.problems, []);
+});
+
+test("'per-frame' evaluation draws the pictures of 'per-draw' and of the CPU refinement, shadows cast on a plane: the vertices baked once, then read", async () => {
+  for (const [scheme, level, normals] of [['pn', 8], ['png1', 6], ['phong', 5], ['pn-aen', 4, 'real']]) {
+    const soup = normals === 'real' ? true : undefined;
+    // Two frames: the first bakes (and evaluates per draw), the second reads the baked vertices.
+    const config = { scheme, level, normals, plane: true, frames: 2 };
+    const cpu = await run({ ...config, soup, plain: true });
+    const perDraw = await run({ ...config, evaluation: 'per-draw' });
+    const baked = await perFrame(config);
+    assert.equal(baked.evaluation, 'per-frame');
+    assert.equal(baked.fallback, null);
+    assert.ok(baked.bakedBytes > 0);
+    assert.equal(perDraw.evaluation, 'per-draw');
+    for (const [name, other] of [['per-draw', perDraw], ['CPU', cpu]]) {
+      const score = iou(mask(other.img), mask(baked.img));
+      const off = differing(other.img, baked.img, 12);
+      console.log(`${scheme} level ${level}: per-frame against ${name}: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
+      assert.ok(score >= 0.99, `${scheme} against ${name}: IoU ${score}`);
+      assert.ok(off < 0.01 * count(mask(other.img)), `${scheme} against ${name}: ${off} pixels of other colours`);
+    }
+    // The first frame bakes (one more draw, not instanced); then the shadow map's and the
+    // picture's draws of the surface, indexed, not instanced, and nothing uploaded.
+    const [first, second] = baked.log;
+    assert.equal(first.instanced.length, 0);
+    assert.equal(second.instanced.length, 0);
+    assert.equal(second.draws, first.draws - 1);
+    assert.equal(second.uploaded, 0);
+    // The shadows are cast: darker than the picture without the casting.
+    const lit = await perFrame({ ...config, castShadow: false });
+    assert.ok(count(darker(baked.img, lit.img)) > 2000, `${scheme}: no shadow cast`);
+  }
+  assert.deepEqual(three.problems, []);
+});
+
+test("'per-frame' follows a deforming source (nets uploaded, vertices baked each frame) as 'per-draw' and the CPU do, with a shadow-casting light", async () => {
+  const config = { scheme: 'pn', level: 8, frames: 4, deform: true, plane: true };
+  const baked = await perFrame(config);
+  const perDraw = await run({ ...config, evaluation: 'per-draw' });
+  const cpu = await run({ ...config, plain: true });
+  const rest = await run({ scheme: 'pn', level: 8, plane: true, plain: true });
+  assert.equal(baked.evaluation, 'per-frame');
+  for (const [f, frame] of baked.log.entries()) {
+    if (f === 0) continue;
+    // The nets alone reach WebGL (the bake and its copy stay on the GPU).
+    assert.equal(frame.uploaded, frame.uploadedBytes);
+    assert.ok(frame.uploaded > 0 && frame.uploaded <= 256 * baked.faces);
+    assert.equal(frame.instanced.length, 0);
+  }
+  for (const [name, other] of [['per-draw', perDraw], ['CPU', cpu]]) {
+    const score = iou(mask(other.img), mask(baked.img));
+    const off = differing(other.img, baked.img, 12);
+    console.log(`deformed, per-frame against ${name}: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
+    assert.ok(score >= 0.99, `against ${name}: IoU ${score}`);
+    assert.ok(off < 0.01 * count(mask(other.img)), `against ${name}: ${off} pixels of other colours`);
+  }
+  const moved = iou(mask(baked.img), mask(rest.img));
+  assert.ok(moved < 0.97, `IoU with the rest pose ${moved}: the surface did not follow`);
+  assert.deepEqual(three.problems, []);
+});
+
+test("'per-frame' falls back to evaluating per draw where WebGL has no float render targets, and still draws the surface", async () => {
+  const config = { scheme: 'pn', level: 8, frames: 2, plane: true };
+  const fallback = await perFrame({ ...config, noFloatTargets: true });
+  const cpu = await run({ ...config, plain: true });
+  assert.equal(fallback.evaluation, 'per-draw');
+  assert.match(fallback.fallback, /EXT_color_buffer_float/);
+  assert.equal(fallback.bakedBytes, 0);
+  const score = iou(mask(cpu.img), mask(fallback.img));
+  const off = differing(cpu.img, fallback.img, 12);
+  console.log(`fallen back: IoU ${score.toFixed(5)} with the CPU's, ${off} pixels of other colours`);
+  assert.ok(score >= 0.99, `IoU ${score}`);
+  assert.ok(off < 0.01 * count(mask(cpu.img)), `${off} pixels of other colours`);
+  // No bake: the second frame draws as the first.
+  assert.equal(fallback.log[1].draws, fallback.log[0].draws);
   assert.deepEqual(three.problems, []);
 });

@@ -60,9 +60,12 @@ void main() {
 async function run({
   scheme = 'pn', level = 8, normals = undefined, soup = undefined, plain = false, frames = 1, deform = false, plane = false,
   castShadow = true, occluder = false, occluderCasts = true, material = 'standard',
-  extras = false, point = false,
+  extras = false, point = false, evaluation = undefined, noFloatTargets = false,
 } = {}) {
   await ready;
+  // noFloatTargets: the renderer says it has no EXT_color_buffer_float (per-frame falls back).
+  const has = renderer.extensions.has;
+  if (noFloatTargets) renderer.extensions.has = (name) => name !== 'EXT_color_buffer_float' && has.call(renderer.extensions, name);
   const { scene, camera } = torusScene({ width: WIDTH, height: HEIGHT, point, plane, occluder, occluderCasts });
   const geometry = new THREE.TorusKnotGeometry(0.8, 0.3, 40, 6);
   const rest = geometry.getAttribute('position').array.slice();
@@ -106,7 +109,7 @@ async function run({
     scene.remove(source);
     scene.add(drawn);
   } else {
-    drawn = new TessellatedMesh(source, make(true), options);
+    drawn = new TessellatedMesh(source, make(true), { ...options, evaluation });
   }
   const log = [];
   for (let f = 0; f < frames; f++) {
@@ -123,10 +126,12 @@ async function run({
       uploadedBytes: plain ? 0 : drawn.uploadedBytes,
     });
   }
+  renderer.extensions.has = has;
   const png = canvas.toDataURL('image/png');
   const faces = geometry.index.count / 3;
+  const mode = plain ? {} : { evaluation: drawn.evaluation, fallback: drawn.evaluationFallback, bakedBytes: drawn.bakedBytes };
   if (!plain) drawn.dispose();
-  return { png, log, faces };
+  return { png, log, faces, ...mode };
 }
 
 window.tessellaThree = { run, ready: ready.then(() => true) };
