@@ -230,6 +230,7 @@ fn main() -> AppExit {
             (
                 adopt_scene_meshes,
                 start_clip,
+                exit_on_failed_load,
                 capture,
                 time_frames.run_if(resource_exists::<Timing>),
             ),
@@ -620,6 +621,18 @@ fn adopt_scene_meshes(
         if !args.plain {
             entity.insert(args.tessellate());
         }
+    }
+}
+
+/// A file that fails to load (the glTF, one of its images) ends the app with an error: a
+/// blank picture and exit 0 would hide it.
+fn exit_on_failed_load(
+    mut failed: MessageReader<bevy::asset::UntypedAssetLoadFailedEvent>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    for e in failed.read() {
+        eprintln!("view: cannot load {}: {}", e.path, e.error);
+        exit.write(AppExit::error());
     }
 }
 

@@ -5,8 +5,8 @@
 //! two net buffers are rewritten: bytes in proportion to the coarse triangles, whatever the
 //! level.
 
-use crate::gltf_influences::ExtraInfluences;
-use crate::pattern::{face_boxes, rewrite};
+use crate::gltf_extras::ExtraInfluences;
+use crate::pattern::{face_boxes, rewrite, run_box};
 use crate::surface::Surface;
 use crate::{Patch, Patches};
 use bevy::camera::primitives::Aabb;
@@ -171,7 +171,7 @@ type Posed<'a> = (
 /// after Bevy's transform propagation (the joints' global transforms are this frame's).
 pub(crate) fn pose(
     mut query: Query<Posed>,
-    mut boxes: Query<&mut Aabb, With<Patch>>,
+    mut boxes: Query<(&Patch, &mut Aabb)>,
     (transforms, morph_weights, bindposes): Deformers,
     mut buffers: ResMut<Assets<ShaderBuffer>>,
     stats: Res<UploadStats>,
@@ -247,8 +247,12 @@ pub(crate) fn pose(
                 stats.add(rewrite(&mut buffer, bytes));
             }
         }
-        for (child, (lo, hi)) in patches.0.iter().zip(face_boxes(&surface.frame)) {
-            if let Ok(mut aabb) = boxes.get_mut(*child) {
+        let face_boxes = face_boxes(&surface.frame);
+        for child in &patches.0 {
+            if let Ok((patch, mut aabb)) = boxes.get_mut(*child) {
+                let first = patch.face as usize;
+                let run = first..(first + patch.count as usize).min(face_boxes.len());
+                let (lo, hi) = run_box(&face_boxes[run]);
                 *aabb = Aabb::from_min_max(lo, hi);
             }
         }

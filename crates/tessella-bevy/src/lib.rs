@@ -11,13 +11,14 @@
 //! prepass, so shadows and depth follow the curved surface) call `tessella_point(face,
 //! vertex)` from tessella-gpu's exported WGSL module, registered as the Bevy shader import
 //! `tessella_bevy::patch_<normals>`. The patch group's seven buffers are the material's
-//! storage bindings 100 to 106. The refinement pattern of the level is one Bevy mesh, stored
-//! once; the tessellated entity gets one child entity per coarse triangle, each drawing that
-//! mesh with the triangle in its `MeshTag`, so Bevy batches them into one instanced draw of the
-//! pattern (and culls each triangle's patch by its own box).
+//! storage bindings 100 to 106. The refinement pattern of the level, repeated for a run of up
+//! to [`run_faces`] coarse triangles ([`RUN_VERTICES`] vertices), is one Bevy mesh stored once;
+//! the tessellated entity gets one child entity per run, each drawing that mesh with the run's
+//! first triangle in its `MeshTag`, so Bevy batches them into one instanced draw (and culls each
+//! run by its own box). A few children at any size: 80k coarse triangles at level 2 are 8.
 
 mod animate;
-mod gltf_influences;
+mod gltf_extras;
 mod lod;
 mod lod_material;
 mod material;
@@ -37,14 +38,16 @@ use bevy::render::storage::ShaderBuffer;
 use tessella_core::{RefineOptions, Scheme};
 
 pub use animate::UploadStats;
-pub use gltf_influences::ExtraInfluences;
+pub use gltf_extras::{ExtraInfluences, InventedNormals};
 pub use lod::{LodCameraMarker, LodLevels};
 pub use lod_material::{adaptive_module_for_bevy, TessellaLodMaterial};
 pub use material::{
     patch_module_for_bevy, NormalModeKey, TessellaExtension, TessellaKey, TessellaMaterial,
     FIRST_BINDING,
 };
-pub use pattern::{build, face_boxes, pattern_mesh, to_bevy_mesh, to_tessella_mesh, Built};
+pub use pattern::{
+    build, face_boxes, pattern_mesh, run_faces, to_bevy_mesh, to_tessella_mesh, Built, RUN_VERTICES,
+};
 pub use tessella_core;
 
 use animate::Animated;
@@ -115,7 +118,7 @@ impl Plugin for TessellaPlugin {
         if let Err(e) = registered {
             error!("tessella: {e}");
         }
-        gltf_influences::register(app);
+        gltf_extras::register(app);
         app.init_resource::<UploadStats>()
             .init_resource::<PatternMeshes>()
             .init_resource::<lod::PartMeshes>()
@@ -151,25 +154,48 @@ impl Plugin for TessellaPlugin {
     }
 }
 
-/// One coarse triangle's patch: a child of the tessellated entity drawing the shared pattern
-/// mesh with the triangle in its `MeshTag` (with per-edge LOD: one of the triangle's one to four
-/// parts, `face | side << 30` in the tag).
+/// A child of the tessellated entity drawing the patches of coarse triangles `face..face +
+/// count`: with uniform levels, a run of up to [`run_faces`] triangles drawing the level's
+/// shared run mesh with `face` in its `MeshTag` (one instanced draw for all the runs of the
+/// entity); with per-edge LOD, one of a triangle's one to four parts (`count` 1, `face | side
+/// << 30` in the tag).
 #[derive(Component, Reflect, Clone, Copy, Debug)]
 #[reflect(Component, Debug, Clone)]
 pub struct Patch {
-    /// The coarse triangle.
+    /// The first coarse triangle.
     pub face: u32,
+    /// How many coarse triangles, from `face` on.
+    pub count: u32,
 }
 
-/// A tessellated entity's patch children, one per coarse triangle, in triangle order.
+/// A tessellated entity's patch children, in triangle order.
 #[derive(Component, Reflect, Clone, Debug, Default)]
 #[reflect(Component, Debug, Clone, Default)]
 pub struct Patches(pub Vec<Entity>);
 
-/// The pattern mesh of each level drawn so far: one Bevy mesh a level, shared by every
-/// tessellated entity and every coarse triangle.
+/// The run meshes drawn so far, by level and number of triangles: the full run of a level is
+/// shared by every tessellated entity and every run; a shorter last run by the entities whose
+/// triangle count leaves it.
 #[derive(Resource, Default)]
-struct PatternMeshes(bevy::platform::collections::HashMap<u32, Handle<Mesh>>);
+struct PatternMeshes(bevy::platform::collections::HashMap<(u32, usize), Handle<Mesh>>);
+
+impl PatternMeshes {
+    /// The mesh of `faces` triangles of `pattern`, made the first time it is asked for.
+    fn get(
+        &mut self,
+        meshes: &mut Assets<Mesh>,
+        pattern: &tessella_core::Pattern,
+        faces: usize,
+    ) -> Result<Handle<Mesh>, String> {
+        let key = (pattern.level, faces);
+        if let Some(handle) = self.0.get(&key) {
+            return Ok(handle.clone());
+        }
+        let handle = meshes.add(pattern_mesh(pattern, faces)?);
+        self.0.insert(key, handle.clone());
+        Ok(handle)
+    }
+}
 
 /// What [`tessellate`] reads of an entity.
 type TessellateItem<'a> = (
@@ -184,7 +210,11 @@ type TessellateItem<'a> = (
         Option<&'a MeshMorphWeights>,
         Option<&'a ExtraInfluences>,
     ),
-    (Has<NotShadowCaster>, Has<NotShadowReceiver>),
+    (
+        Has<NotShadowCaster>,
+        Has<NotShadowReceiver>,
+        Has<InventedNormals>,
+    ),
 );
 
 /// The assets [`tessellate`] reads and adds.
@@ -216,7 +246,7 @@ fn tessellate(
         mut lod_materials,
         mut parts,
     ) = assets;
-    for (entity, tess, mesh3d, material, untessellated, patches, deform, shadows) in &query {
+    for (entity, tess, mesh3d, material, untessellated, patches, deform, flags) in &query {
         let (skin, morph, extra) = deform;
         let key = format!("{:?}", tess.0);
         let (plain_mesh, plain_material) = match (untessellated, mesh3d, material) {
@@ -246,23 +276,17 @@ fn tessellate(
             options.levels = Levels::Uniform(1.0);
             options.spacing = Spacing::Grid;
         }
-        let built = to_tessella_mesh(&plain).and_then(|m| pattern::build(&m, &options));
-        let level = built.as_ref().map(|b| b.plan.pattern().level).unwrap_or(0);
-        let pattern = match patterns.0.get(&level) {
-            Some(p) => Ok(p.clone()),
-            None if lod.is_some() => Ok(Handle::default()),
-            None => built
-                .as_ref()
-                .map_err(Clone::clone)
-                .and_then(|b| pattern_mesh(b.plan.pattern()))
-                .map(|mesh| {
-                    let handle = meshes.add(mesh);
-                    patterns.0.insert(level, handle.clone());
-                    handle
-                }),
+        let (no_cast, no_receive, invented) = flags;
+        let built =
+            pattern::read_mesh(&plain, !invented).and_then(|m| pattern::build(&m, &options));
+        // The runs: consecutive triangles, each drawing the level's run mesh (the last one
+        // maybe a shorter one).
+        let runs = match (&built, &lod) {
+            (Ok(b), None) => runs(&mut patterns, &mut meshes, b),
+            _ => Ok(Vec::new()),
         };
-        let (built, pattern) = match (built, pattern) {
-            (Ok(b), Ok(p)) => (b, p),
+        let (built, runs) = match (built, runs) {
+            (Ok(b), Ok(r)) => (b, r),
             (Err(e), _) | (_, Err(e)) => {
                 error!("cannot tessellate {entity}: {e}");
                 commands.entity(entity).remove::<Tessellate>();
@@ -300,7 +324,6 @@ fn tessellate(
                 commands.entity(*child).despawn();
             }
         }
-        let (no_cast, no_receive) = shadows;
         if let Some(lod) = lod {
             // The LOD's children come with its first levels (`lod::levels`).
             let basis = built.frame.nets().basis;
@@ -364,18 +387,20 @@ fn tessellate(
                 normal_mode: NormalModeKey::of(built.normal_mode),
             },
         });
-        let children: Vec<Entity> = built
-            .boxes
-            .iter()
-            .enumerate()
-            .map(|(face, &(lo, hi))| {
+        let children: Vec<Entity> = runs
+            .into_iter()
+            .map(|(faces, mesh)| {
+                let (lo, hi) = pattern::run_box(&built.boxes[faces.clone()]);
                 let mut child = commands.spawn((
-                    Patch { face: face as u32 },
-                    Mesh3d(pattern.clone()),
+                    Patch {
+                        face: faces.start as u32,
+                        count: faces.len() as u32,
+                    },
+                    Mesh3d(mesh),
                     MeshMaterial3d(material.clone()),
-                    MeshTag::new(face as u32),
+                    MeshTag::new(faces.start as u32),
                     Transform::IDENTITY,
-                    // Bevy's own box would be the pattern's; each patch has its net's.
+                    // Bevy's own box would be the pattern's; each run has its nets'.
                     Aabb::from_min_max(lo, hi),
                     NoAutoAabb,
                     // Picked through the parent's surface (`picking`), not the pattern.
@@ -405,6 +430,28 @@ fn tessellate(
             untessellated,
         );
     }
+}
+
+/// A run: its coarse triangles and the run mesh that draws them.
+type Run = (std::ops::Range<usize>, Handle<Mesh>);
+
+/// The runs of a mesh built with uniform levels.
+fn runs(
+    patterns: &mut PatternMeshes,
+    meshes: &mut Assets<Mesh>,
+    built: &pattern::Built,
+) -> Result<Vec<Run>, String> {
+    let pattern = built.plan.pattern();
+    let faces = built.boxes.len();
+    let per_run = run_faces(pattern.points.len());
+    (0..faces)
+        .step_by(per_run)
+        .map(|first| {
+            let run = first..(first + per_run).min(faces);
+            let mesh = patterns.get(meshes, pattern, run.len())?;
+            Ok((run, mesh))
+        })
+        .collect()
 }
 
 /// The tessellated entity's own components: its mesh and material off, its surface, patches
@@ -501,8 +548,8 @@ mod tests {
         assert_eq!(format!("{:?}", back.0), format!("{:?}", tessellate.0));
     }
 
-    /// The pattern mesh holds the level's pattern once, with each vertex's index in UV_1 and
-    /// its barycentric in UV_0; the per-triangle boxes together hold the curved surface that
+    /// A run mesh holds the level's pattern once per triangle of the run, with each vertex's
+    /// index and triangle in UV_1 and its barycentric in UV_0; the per-triangle boxes together hold the curved surface that
     /// tessella's CPU refinement computes (the independent reference: no shader involved),
     /// which leaves the coarse mesh's box.
     #[test]
@@ -518,24 +565,35 @@ mod tests {
         ] {
             let options = RefineOptions::new(scheme, level);
             let built = build(&mesh, &options).unwrap();
-            let pattern = pattern_mesh(built.plan.pattern()).unwrap();
+            let faces = 3;
+            let run = pattern_mesh(built.plan.pattern(), faces).unwrap();
             let points = tessella_core::Pattern::point_count(level) as usize;
             let Some(bevy::mesh::VertexAttributeValues::Float32x2(ids)) =
-                pattern.attribute(Mesh::ATTRIBUTE_UV_1)
+                run.attribute(Mesh::ATTRIBUTE_UV_1)
             else {
                 panic!("no UV_1");
             };
-            assert_eq!(ids.len(), points);
+            assert_eq!(ids.len(), points * faces);
             for (i, id) in ids.iter().enumerate() {
-                assert_eq!(*id, [i as f32, 0.0]);
+                assert_eq!(*id, [(i % points) as f32, (i / points) as f32]);
             }
             let Some(bevy::mesh::VertexAttributeValues::Float32x2(bary)) =
-                pattern.attribute(Mesh::ATTRIBUTE_UV_0)
+                run.attribute(Mesh::ATTRIBUTE_UV_0)
             else {
                 panic!("no UV_0");
             };
-            for (b, l) in bary.iter().zip(&built.plan.pattern().points) {
+            let pattern = built.plan.pattern();
+            for (i, b) in bary.iter().enumerate() {
+                let l = pattern.points[i % points];
                 assert_eq!(*b, [l[1] as f32, l[2] as f32]);
+            }
+            // Each triangle of the run is the pattern's, moved to its own vertices.
+            let indices: Vec<u32> = run.indices().unwrap().iter().map(|i| i as u32).collect();
+            let per_face = pattern.triangles.len() * 3;
+            assert_eq!(indices.len(), per_face * faces);
+            for (k, i) in indices.iter().enumerate() {
+                let own = pattern.triangles[(k % per_face) / 3][k % 3];
+                assert_eq!(*i, own + ((k / per_face) * points) as u32);
             }
             assert_eq!(built.boxes.len(), mesh.face_count());
             // Texture coordinates: three a coarse triangle.
@@ -566,6 +624,41 @@ mod tests {
                 .iter()
                 .any(|p| (0..3).any(|k| p[k] < clo[k] - 1e-4 || p[k] > chi[k] + 1e-4)));
         }
+    }
+
+    /// The runs cover every coarse triangle once, in order, each within the vertex budget;
+    /// the full runs share one mesh, and a second entity of the same level reuses it.
+    #[test]
+    fn runs_cover_every_triangle_with_shared_meshes() {
+        let mut meshes = Assets::<Mesh>::default();
+        let mut patterns = PatternMeshes::default();
+        let mesh = samples::torus(1.0, 0.35, 160, 128);
+        let built = build(&mesh, &RefineOptions::new(Scheme::Pn, 4)).unwrap();
+        let points = built.plan.pattern().points.len();
+        let per_run = run_faces(points);
+        assert!(per_run * points <= RUN_VERTICES && (per_run + 1) * points > RUN_VERTICES);
+        let faces = mesh.face_count();
+        let runs = runs(&mut patterns, &mut meshes, &built).unwrap();
+        assert_eq!(runs.len(), faces.div_ceil(per_run));
+        let mut next = 0;
+        for (run, handle) in &runs {
+            assert_eq!(run.start, next);
+            assert!(!run.is_empty() && run.len() <= per_run);
+            next = run.end;
+            let drawn = meshes.get(handle).unwrap();
+            assert_eq!(drawn.count_vertices(), run.len() * points);
+        }
+        assert_eq!(next, faces);
+        let full: std::collections::HashSet<_> = runs
+            .iter()
+            .filter(|(r, _)| r.len() == per_run)
+            .map(|(_, h)| h.id())
+            .collect();
+        assert_eq!(full.len(), 1);
+        let before = meshes.len();
+        let again = super::runs(&mut patterns, &mut meshes, &built).unwrap();
+        assert_eq!(meshes.len(), before);
+        assert_eq!(again[0].1, runs[0].1);
     }
 
     /// The module registered for Bevy declares its seven bindings in group 3 at 100 to 106,

@@ -301,7 +301,10 @@ pub(crate) fn levels(
                     }
                     None => {
                         let mut child = commands.spawn((
-                            Patch { face: face as u32 },
+                            Patch {
+                                face: face as u32,
+                                count: 1,
+                            },
                             Mesh3d(mesh.clone()),
                             MeshMaterial3d(state.material.clone()),
                             MeshTag::new(instance),

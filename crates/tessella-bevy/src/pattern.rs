@@ -1,5 +1,6 @@
 //! What Bevy draws for a tessellated entity: the refinement pattern (one triangle
-//! pre-tessellated at the level, stored once) drawn as one instance per coarse triangle, and
+//! pre-tessellated at the level) repeated for a run of coarse triangles, stored once a level
+//! and drawn once per run of the entity's triangles, and
 //! the patch buffers its vertex stage reads; and the conversions between Bevy's meshes and
 //! tessella's.
 
@@ -31,6 +32,12 @@ pub struct Built {
 
 /// Reads a Bevy triangle mesh as a tessella mesh (positions, normals if any, triangles).
 pub fn to_tessella_mesh(mesh: &Mesh) -> Result<tessella_core::Mesh, String> {
+    read_mesh(mesh, true)
+}
+
+/// [`to_tessella_mesh`], with the mesh's normals or with tessella's computed ones (smooth
+/// across vertices that share a position).
+pub(crate) fn read_mesh(mesh: &Mesh, keep_normals: bool) -> Result<tessella_core::Mesh, String> {
     if mesh.primitive_topology() != PrimitiveTopology::TriangleList {
         return Err("tessella refines triangle lists".into());
     }
@@ -39,7 +46,7 @@ pub fn to_tessella_mesh(mesh: &Mesh) -> Result<tessella_core::Mesh, String> {
         _ => return Err("the mesh has no Float32x3 positions".into()),
     };
     let normals = match mesh.attribute(Mesh::ATTRIBUTE_NORMAL) {
-        Some(bevy::mesh::VertexAttributeValues::Float32x3(n)) => Some(n.clone()),
+        Some(bevy::mesh::VertexAttributeValues::Float32x3(n)) if keep_normals => Some(n.clone()),
         _ => None,
     };
     let indices: Vec<u32> = match mesh.indices() {
@@ -97,37 +104,67 @@ fn face_uv_bytes(mesh: &tessella_core::Mesh, triangles: &[[u32; 3]]) -> Vec<u8> 
     bytemuck::cast_slice(&uvs).to_vec()
 }
 
-/// A refinement pattern as a Bevy mesh, drawn once per coarse triangle: each
-/// vertex's `UV_0` is its barycentric `(l2, l3)` and its `UV_1` is `(index, 0)` (exact in
+/// Vertices a run's mesh holds at most (when one triangle's pattern has fewer): large enough
+/// that a draw's fixed costs vanish beside its vertices, small enough that the one mesh of a
+/// full run is a few MB shared by every tessellated entity at that level.
+pub const RUN_VERTICES: usize = 1 << 16;
+
+/// Coarse triangles a run draws at most with a pattern of `points` vertices: as many as fit in
+/// [`RUN_VERTICES`], at least one.
+pub fn run_faces(points: usize) -> usize {
+    (RUN_VERTICES / points.max(1)).max(1)
+}
+
+/// The refinement pattern repeated for `faces` consecutive coarse triangles, as a Bevy mesh: a
+/// child entity draws it with its first triangle in its `MeshTag`. Each vertex's `UV_0` is its
+/// barycentric `(l2, l3)` and its `UV_1` is `(pattern vertex, triangle in the run)` (exact in
 /// `f32`); position and normal are the unit triangle's (unused by the shaders, which evaluate
 /// the patch; kept so the mesh is an ordinary Bevy mesh).
-pub fn pattern_mesh(pattern: &tessella_core::Pattern) -> Result<Mesh, String> {
+pub fn pattern_mesh(pattern: &tessella_core::Pattern, faces: usize) -> Result<Mesh, String> {
     let n = pattern.points.len();
-    if n >= 1 << 24 {
+    let total = n.checked_mul(faces).filter(|&t| t < 1 << 24 && faces > 0);
+    let Some(total) = total else {
         return Err(format!(
-            "{n} pattern vertices: over the 2^24 ids a float carries"
+            "{faces} triangles of {n} pattern vertices: a run holds 1 to 2^24 vertices"
         ));
+    };
+    let mut positions = Vec::with_capacity(total);
+    let mut uvs = Vec::with_capacity(total);
+    let mut ids = Vec::with_capacity(total);
+    for face in 0..faces {
+        for (v, l) in pattern.points.iter().enumerate() {
+            positions.push([l[1] as f32, l[2] as f32, 0.0]);
+            uvs.push([l[1] as f32, l[2] as f32]);
+            ids.push([v as f32, face as f32]);
+        }
     }
-    let l2 = |l: &[f64; 3]| [l[1] as f32, l[2] as f32];
-    let positions: Vec<[f32; 3]> = pattern
-        .points
-        .iter()
-        .map(|l| [l[1] as f32, l[2] as f32, 0.0])
+    let indices = (0..faces as u32)
+        .flat_map(|face| {
+            pattern
+                .triangles
+                .iter()
+                .flatten()
+                .map(move |&i| i + face * n as u32)
+        })
         .collect();
-    let uvs: Vec<[f32; 2]> = pattern.points.iter().map(l2).collect();
-    let ids: Vec<[f32; 2]> = (0..n).map(|v| [v as f32, 0.0]).collect();
     Ok(Mesh::new(
         PrimitiveTopology::TriangleList,
         RenderAssetUsages::RENDER_WORLD,
     )
     .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; total])
     // StandardMaterial's shaders read UV_0 whenever a mesh has UV channels.
     .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
     .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, ids)
-    .with_inserted_indices(Indices::U32(
-        pattern.triangles.iter().flatten().copied().collect(),
-    )))
+    .with_inserted_indices(Indices::U32(indices)))
+}
+
+/// The box around a run of coarse triangles, from each triangle's box (its net's).
+pub fn run_box(boxes: &[(Vec3, Vec3)]) -> (Vec3, Vec3) {
+    boxes.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), (l, h)| (lo.min(*l), hi.max(*h)),
+    )
 }
 
 /// Per coarse triangle, the box of its control points, which holds its patch.

@@ -68,3 +68,58 @@ fn lod_scene_draws_near_creatures_finer() {
         "triangles {per:?}: the near ones are not finer"
     );
 }
+
+/// A glTF textured with a JPEG (the image format most glTF files use besides PNG) draws its
+/// texture: the examples enable Bevy's JPEG decoder. A glTF that cannot load (its buffer
+/// missing) is an error exit naming the file, not a blank picture and exit 0.
+#[test]
+fn gltf_scene_draws_a_jpeg_texture_and_refuses_a_broken_file() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("jpeg");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut jpeg = Vec::new();
+    image::RgbImage::from_pixel(8, 8, image::Rgb([30, 200, 40]))
+        .write_to(
+            &mut std::io::Cursor::new(&mut jpeg),
+            image::ImageFormat::Jpeg,
+        )
+        .unwrap();
+    let sphere = tessella_bevy::tessella_core::samples::icosphere(1);
+    let file = common::write_gltf(&dir, "green", &sphere, true, Some(&jpeg));
+    let out = dir.join("green.png");
+    let mut cmd = Command::new(common::example("gltf_scene"));
+    cmd.arg(&file)
+        .args(["--level", "4", "--size", "200x150", "--screenshot"])
+        .arg(&out);
+    common::run(cmd);
+    let img = image::open(&out).unwrap().to_rgba8();
+    let green = img
+        .pixels()
+        .filter(|p| {
+            let [r, g, b] = [0, 1, 2].map(|c| p.0[c] as i32);
+            g > r + 40 && g > b + 40
+        })
+        .count();
+    eprintln!("jpeg: {green} green pixels");
+    assert!(green > 1000, "only {green} pixels of the green texture");
+
+    let broken = common::write_gltf(&dir, "broken", &sphere, true, None);
+    std::fs::remove_file(dir.join("broken.bin")).unwrap();
+    let shot = dir.join("broken.png");
+    let _ = std::fs::remove_file(&shot);
+    let failed = Command::new(common::example("gltf_scene"))
+        .arg(&broken)
+        .args(["--size", "200x150", "--screenshot"])
+        .arg(&shot)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&failed.stderr);
+    assert!(!failed.status.success(), "a broken file exits 0: {stderr}");
+    assert!(
+        stderr.contains("broken"),
+        "the error does not name the file: {stderr}"
+    );
+    assert!(
+        !shot.exists(),
+        "a picture was written for a file that did not load"
+    );
+}

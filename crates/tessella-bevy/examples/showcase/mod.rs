@@ -143,7 +143,8 @@ impl Output {
             window_plugins(&mut app, title, self.size, render, asset)?;
             app.add_systems(Update, count_window_frames);
         }
-        app.insert_resource(self)
+        app.add_systems(Update, exit_on_failed_load)
+            .insert_resource(self)
             .insert_resource(Frames::default())
             .insert_resource(ClearColor(Color::srgb(0.93, 0.94, 0.96)))
             .add_plugins(TessellaPlugin);
@@ -307,6 +308,18 @@ fn count_window_frames(
             exit.write(AppExit::Success);
         }
         _ => {}
+    }
+}
+
+/// A file that fails to load (the glTF, one of its images) ends the app with an error: a
+/// blank picture and exit 0 would hide it.
+pub fn exit_on_failed_load(
+    mut failed: MessageReader<bevy::asset::UntypedAssetLoadFailedEvent>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    for e in failed.read() {
+        eprintln!("cannot load {}: {}", e.path, e.error);
+        exit.write(AppExit::error());
     }
 }
 

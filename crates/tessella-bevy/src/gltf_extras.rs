@@ -1,8 +1,12 @@
-//! glTF's joint influence sets past the first (`JOINTS_1`/`WEIGHTS_1`, ...), which Bevy's
-//! glTF loader does not read (Bevy skins with four influences a vertex). glTF 2.0 allows any
-//! number of sets; tessella's skinning blends them all, as `tessella refine --clip` does. A
-//! glTF extension handler reads them while Bevy loads a file and puts them on the mesh's
-//! entity as [`ExtraInfluences`], which the plugin's posing adds to Bevy's first set.
+//! What Bevy's glTF loader does not keep and tessella needs, read by a glTF extension handler
+//! while Bevy loads a file and put on each mesh entity:
+//! - joint influence sets past the first (`JOINTS_1`/`WEIGHTS_1`, ...), which Bevy does not
+//!   read (it skins with four influences a vertex). glTF 2.0 allows any number of sets;
+//!   tessella's skinning blends them all, as `tessella refine --clip` does. They become
+//!   [`ExtraInfluences`], which the plugin's posing adds to Bevy's first set.
+//! - whether the file had normals. Bevy invents flat ones for a primitive without (splitting
+//!   every vertex), which would refine faceted; [`InventedNormals`] has the plugin compute
+//!   smooth ones instead, as glTF asks and as the CLI and three.js do.
 
 use bevy::asset::LoadContext;
 use bevy::ecs::world::EntityWorldMut;
@@ -37,11 +41,21 @@ impl ExtraInfluences {
     }
 }
 
-/// Reads the extra sets of every primitive while a file loads (keyed by mesh and primitive
-/// index), then hands each spawned mesh entity its primitive's.
+/// On a mesh entity whose normals are not the author's (Bevy's glTF loader made them flat for
+/// a primitive without `NORMAL`): the plugin ignores them and refines with tessella's computed
+/// normals, smooth across vertices that share a position (glTF: "client implementations
+/// should calculate flat normals"; a curved surface is what the user asked for by adding
+/// `Tessellate`). Add it to a mesh of your own to get the same.
+#[derive(Component, Reflect, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[reflect(Component, Default, Clone)]
+pub struct InventedNormals;
+
+/// Reads the extra sets of every primitive, and which have no normals, while a file loads
+/// (keyed by mesh and primitive index), then hands each spawned mesh entity its primitive's.
 #[derive(Default, Clone)]
-pub(crate) struct InfluenceReader {
+pub(crate) struct GltfExtrasReader {
     found: HashMap<(usize, usize), ExtraInfluences>,
+    without_normals: bevy::platform::collections::HashSet<(usize, usize)>,
 }
 
 /// Sets `JOINTS_n`/`WEIGHTS_n` for n = 1, 2, ... until one is missing.
@@ -59,7 +73,7 @@ fn read_extra(primitive: &gltf::Primitive, buffers: &[Vec<u8>]) -> ExtraInfluenc
     extra
 }
 
-impl GltfExtensionHandler for InfluenceReader {
+impl GltfExtensionHandler for GltfExtrasReader {
     fn dyn_clone(&self) -> Box<dyn ErasedGltfExtensionHandler> {
         Box::new(self.clone())
     }
@@ -77,10 +91,13 @@ impl GltfExtensionHandler for InfluenceReader {
         _on_non_skinned_nodes: bool,
         _user_mesh: &mut Option<Mesh>,
     ) -> impl bevy::tasks::ConditionalSendFuture<Output = ()> {
+        let key = (gltf_mesh.index(), gltf_primitive.index());
         let extra = read_extra(gltf_primitive, buffer_data);
         if !extra.joints.is_empty() {
-            self.found
-                .insert((gltf_mesh.index(), gltf_primitive.index()), extra);
+            self.found.insert(key, extra);
+        }
+        if gltf_primitive.get(&gltf::Semantic::Normals).is_none() {
+            self.without_normals.insert(key);
         }
         async {}
     }
@@ -94,15 +111,20 @@ impl GltfExtensionHandler for InfluenceReader {
         entity: &mut EntityWorldMut,
         _material_label: &str,
     ) {
-        if let Some(extra) = self.found.get(&(mesh.index(), primitive.index())) {
+        let key = (mesh.index(), primitive.index());
+        if let Some(extra) = self.found.get(&key) {
             entity.insert(extra.clone());
+        }
+        if self.without_normals.contains(&key) {
+            entity.insert(InventedNormals);
         }
     }
 }
 
 /// Adds the reader to Bevy's glTF loader (when the app has one).
 pub(crate) fn register(app: &mut App) {
-    app.register_type::<ExtraInfluences>();
+    app.register_type::<ExtraInfluences>()
+        .register_type::<InventedNormals>();
     let Some(handlers) = app
         .world()
         .get_resource::<bevy::gltf::extensions::GltfExtensionHandlers>()
@@ -110,7 +132,7 @@ pub(crate) fn register(app: &mut App) {
         return;
     };
     match handlers.0.try_write() {
-        Some(mut list) => list.push(Box::new(InfluenceReader::default())),
-        None => error!("cannot add tessella's glTF influence reader: the handler list is busy"),
+        Some(mut list) => list.push(Box::new(GltfExtrasReader::default())),
+        None => error!("cannot add tessella's glTF reader: the handler list is busy"),
     }
 }

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Frame time against coarse size at one refined size: the creature (320 triangles) at level
+# 32, its PN refinements at levels 8 (20,480 triangles) and 16 (81,920) tessellated at levels 4
+# and 2: 327,680 refined triangles each time, with the light's shadows on and a ground. Beside
+# them, the plain Bevy mesh of the same 327,680 triangles (`tessella refine` offline), the
+# baseline of the same run. Each frame waits for the GPU (`view --frames`). Prints one JSON
+# line per run, then a table of mean frame times and ratios to the plain mesh.
+# Usage: scripts/coarse-size.sh [PROFILE: debug|release] [FRAMES]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+profile=${1:-release}
+frames=${2:-60}
+view=target/$profile/examples/view
+cli=${TESSELLA_BIN:-../../target/release/tessella}
+creature=../../samples/creature.obj
+[ -x "$view" ] || { echo "build it first: cargo build --$profile --example view" >&2; exit 1; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+"$cli" refine "$creature" --scheme pn --level 8 -o "$tmp/c20k.obj" >/dev/null
+"$cli" refine "$creature" --scheme pn --level 16 -o "$tmp/c82k.obj" >/dev/null
+"$cli" refine "$creature" --scheme pn --level 32 -o "$tmp/plain.obj" >/dev/null
+run() { # label, then view's arguments
+  local label=$1
+  shift
+  local line
+  line=$("$view" "$@" --ground --size 512x512 --frames "$frames" --screenshot "$tmp/$label.png" 2>/dev/null | tail -1)
+  echo "$line" >&2
+  echo "$label $(echo "$line" | sed 's/.*"mean_frame_ms":\([0-9.]*\).*/\1/')"
+}
+{
+  run plain "$tmp/plain.obj" --plain --frame "$creature"
+  run coarse-320 "$creature" --scheme pn --level 32
+  run coarse-20480 "$tmp/c20k.obj" --scheme pn --level 4
+  run coarse-81920 "$tmp/c82k.obj" --scheme pn --level 2
+} | awk '
+  NR == 1 { base = $2 }
+  { rows[NR] = $1; ms[NR] = $2 }
+  END {
+    print "| mesh (327,680 refined triangles) | mean frame ms | vs plain | vs 320 coarse |"
+    print "|---|---|---|---|"
+    for (i = 1; i <= NR; i++)
+      printf "| %s | %.2f | %.2fx | %s |\n", rows[i], ms[i], ms[i] / base, (i >= 2 ? sprintf("%.2fx", ms[i] / ms[2]) : "")
+  }'
