@@ -4,9 +4,10 @@
 // evaluates every vertex with the same generated GLSL the per-draw vertex shader calls
 // (`tessella_evaluate`, InstancedSurface.glsl()), writing its position and unit normal into two
 // RGBA32F render targets (texel v = vertex v, 2048 texels a row), copied on the GPU into two
-// vertex buffers (readPixels into a PIXEL_PACK_BUFFER) that become the geometry's `position`
-// and `normal`: every draw pass (the picture, shadow depth and distance maps) reads them as a
-// refined Mesh reads its own.
+// vertex buffers (readPixels into a PIXEL_PACK_BUFFER) that become the welded geometry's
+// `position` and `normal`: every draw pass (the picture, shadow depth and distance maps) reads
+// them as a refined Mesh reads its own, with a program of its own that evaluates nothing
+// (three.js's 'baked' shader variant).
 import {
   BufferAttribute,
   BufferGeometry,
@@ -27,31 +28,6 @@ import {
 /** Texels a row of the baked textures (WebGL2 guarantees textures 2048 wide). */
 export const BAKED_WIDTH = 2048;
 const SHIFT = 11;
-
-/**
- * The vertex shader's locals `tessellaFaceIndex` (the coarse triangle: the instance, or with a
- * welded geometry its `tessellaFace` attribute), `tessellaPosition` and `tessellaNormal` (from
- * the baked textures when `tessellaBaked` is set, else the patch evaluated here): branches on
- * uniforms, so meshes of either evaluation (or one that fell back) share one program.
- */
-export const BAKED_HEAD = [
-  'uniform bool tessellaBaked;',
-  'uniform bool tessellaWelded;',
-  'in float tessellaFace;',
-  '',
-].join('\n');
-
-export const BAKED_BODY = [
-  'int tessellaFaceIndex = tessellaWelded ? int(tessellaFace) : gl_InstanceID;',
-  'vec3 tessellaPosition;',
-  'vec3 tessellaNormal;',
-  'if (tessellaBaked) {',
-  '  tessellaPosition = position;',
-  '  tessellaNormal = normal;',
-  '} else {',
-  '  tessella_evaluate(tessellaFaceIndex, tessellaBarycentric, tessellaPosition, tessellaNormal);',
-  '}',
-].join('\n');
 
 // One triangle over the whole target, from gl_VertexID alone: renderBufferDirect binds the
 // buffers of attributes three has uploaded (as projectObject and the shadow pass have it do for
@@ -87,12 +63,11 @@ void main() {
 
 const viewport = new Vector4();
 
-/** The draw shaders' values of BAKED_HEAD, not baked (yet); `welded`: the geometry is welded(). */
-export function bakedUniforms(welded) {
-  return {
-    tessellaBaked: { value: false },
-    tessellaWelded: { value: welded },
-  };
+/** Why `renderer` cannot bake at all (then the mesh evaluates per draw), or null. */
+export function bakeMissing(renderer) {
+  if (renderer == null || renderer.isWebGLRenderer !== true) return 'WebGPURenderer evaluates per draw (its nodes)';
+  if (renderer.extensions == null || !renderer.extensions.has('EXT_color_buffer_float')) return 'no float render targets (EXT_color_buffer_float)';
+  return null;
 }
 
 /**
@@ -112,8 +87,7 @@ export function welded(out) {
 }
 
 /**
- * One TessellatedMesh's baked vertices: `uniforms` (the draw shaders' values, the mesh's own
- * uniform objects), `bake(renderer)` (evaluates every vertex into the render targets),
+ * One TessellatedMesh's baked vertices: `bake(renderer)` (evaluates every vertex into the render targets),
  * `missing(renderer)` (why it cannot run there, or null), `bytes` (GPU memory of the targets).
  */
 export class BakedSurface {
@@ -129,7 +103,7 @@ export class BakedSurface {
 
   /**
    * `uniforms`: the mesh's own uniform objects (shared, not copied): the nets
-   * (`tessellaNets`, `tessellaFacesPerRow`) the bake reads, and bakedUniforms' it sets.
+   * (`tessellaNets`, `tessellaFacesPerRow`) the bake reads.
    */
   constructor(glsl, uniforms, mesh) {
     this.vertices = mesh.count;
@@ -159,8 +133,6 @@ export class BakedSurface {
     this.#geometry.setAttribute('position', new BufferAttribute(new Float32Array(9), 3));
     this.#mesh = new Mesh(this.#geometry, this.#material);
     this.#mesh.frustumCulled = false;
-    /** The draw shaders' values (BAKED_HEAD); `tessellaBaked` is set once a bake ran. */
-    this.uniforms = uniforms;
     /**
      * GPU memory: the two targets, the origins and the two vertex buffers, 80 bytes a vertex
      * (rows of 2048 texels).
@@ -177,8 +149,8 @@ export class BakedSurface {
 
   /** Why `renderer` cannot bake (then the mesh evaluates per draw), or null. */
   missing(renderer) {
-    if (renderer.isWebGLRenderer !== true) return 'WebGPURenderer evaluates per draw (its nodes)';
-    if (renderer.extensions == null || !renderer.extensions.has('EXT_color_buffer_float')) return 'no float render targets (EXT_color_buffer_float)';
+    const why = bakeMissing(renderer);
+    if (why !== null) return why;
     if (this.rows > renderer.capabilities.maxTextureSize) {
       return `${this.vertices} vertices need ${this.rows} rows of ${BAKED_WIDTH}, over the largest texture, ${renderer.capabilities.maxTextureSize}`;
     }
@@ -241,7 +213,6 @@ export class BakedSurface {
     this.#origins.dispose();
     this.#material.dispose();
     this.#geometry.dispose();
-    this.uniforms.tessellaBaked.value = false;
   }
 }
 

@@ -45,14 +45,19 @@ export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
   /** With `lod`: the image size [width, height] in pixels (default: the viewport of the previous render). */
   size?: [number, number];
   /**
-   * 'per-draw' (default): every draw pass (shadow maps, the picture) evaluates the patches from
-   * the nets; GPU memory O(coarse). 'per-frame' (WebGLRenderer, WebGL2 with float render
-   * targets): when the nets change, one pass evaluates the refined mesh's vertices into vertex
-   * buffers the passes read; GPU memory O(refined), about 80 bytes a vertex more than a refined
-   * Mesh. Falls back to evaluating per draw (`evaluationFallback` says why) with `lod`, without
-   * EXT_color_buffer_float, under WebGPURenderer, or past the largest texture.
+   * 'per-draw': every draw pass (shadow maps, the picture) evaluates the patches from the nets,
+   * one instanced draw a pass; GPU memory O(coarse). 'per-frame' (WebGLRenderer, WebGL2 with
+   * float render targets): when the nets change, one pass evaluates the refined mesh's vertices
+   * into vertex buffers; the passes draw the welded refined mesh from them with a program of
+   * its own that evaluates nothing; GPU memory O(refined), about 80 bytes a vertex more than a
+   * refined Mesh. 'auto' (default): decided at the first render, 'per-frame' under WebGLRenderer
+   * where it can run, else 'per-draw' (WebGPURenderer, lod, a ShaderMaterial). Every mesh draws
+   * its first frame per draw (instanced); 'per-frame' from the frame after the first bake.
+   * 'per-frame' falls back to evaluating per draw (`evaluationFallback` says why) with `lod`,
+   * without EXT_color_buffer_float, under WebGPURenderer, past the largest texture, or drawn by
+   * a second renderer.
    */
-  evaluation?: 'per-draw' | 'per-frame';
+  evaluation?: 'auto' | 'per-draw' | 'per-frame';
 }
 
 /** TessellatedMesh's `lod` drawing: the levels' camera and size, and what they draw and upload. */
@@ -93,10 +98,13 @@ export interface TessellatedMeshLod {
  * When the last one is disposed, the properties it set are put back (a clone it made is
  * disposed). A material with a positionNode of its own is refused.
  */
-export class TessellatedMesh extends Mesh<InstancedBufferGeometry, Material> {
-  /** The evaluation in effect: 'per-frame' (baked once per change of the nets) or 'per-draw'. */
+export class TessellatedMesh extends Mesh<InstancedBufferGeometry | BufferGeometry, Material> {
+  /**
+   * The evaluation in effect: 'per-frame' (baked once per change of the nets; `geometry` is then
+   * the welded refined mesh from the next frame) or 'per-draw' (before the first render too).
+   */
   readonly evaluation: 'per-draw' | 'per-frame';
-  /** Why the evaluation is 'per-draw' though 'per-frame' was asked for, or null. */
+  /** Why the evaluation is 'per-draw' though 'per-frame' was asked for (or 'auto' would take it), or null. */
   readonly evaluationFallback: string | null;
   /** 'per-frame': GPU memory of the baked vertices (targets, origins, vertex buffers); else 0. */
   readonly bakedBytes: number;

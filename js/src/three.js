@@ -20,7 +20,7 @@ import {
 import { AdaptiveSurface, Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
 import { LOD_MESH_OPTIONS, LodParts } from './three-lod.js';
 import { missingNodes, setupNodes } from './three-nodes.js';
-import { BAKED_BODY, BAKED_HEAD, BakedSurface, bakedUniforms, welded } from './three-bake.js';
+import { bakeMissing, BakedSurface, welded } from './three-bake.js';
 
 export { tessellaFunctions } from './three-nodes.js';
 export { tessellate, TessellatedScene, untessellate } from './three-scene.js';
@@ -284,13 +284,14 @@ export class RefinedGeometry {
 // `lod` to AdaptiveSurface (scheme, normals, alpha, spacing, lod; camera and size stay here).
 const MESH_OPTIONS = ['normalsFromSource', 'group', 'evaluation'];
 
-// The evaluation a TessellatedMesh takes without the `evaluation` option. 'per-frame' measures
-// cheaper under WebGLRenderer (bench:three, js/README.md), but is chosen at construction, before
-// the renderer is known, and draws a welded, not instanced, geometry (WebGPURenderer then
-// evaluates it per draw): until the choice can wait for the renderer, 'per-draw' (today's
-// drawing under both renderers) stays the default.
-const EVALUATIONS = ['per-frame', 'per-draw'];
-const DEFAULT_EVALUATION = 'per-draw';
+// The evaluation a TessellatedMesh takes without the `evaluation` option: 'auto', decided at the
+// first render, when the renderer is known: 'per-frame' under WebGLRenderer where it can run
+// (float render targets, the vertices within the largest texture; no lod, not a
+// ShaderMaterial), which measured cheaper there (bench:three, js/README.md); 'per-draw' otherwise
+// (WebGPURenderer's drawing stays the instanced one). Every mesh draws its first frame per draw,
+// instanced; 'per-frame' swaps in the welded geometry from the frame after the first bake.
+const EVALUATIONS = ['auto', 'per-frame', 'per-draw'];
+const DEFAULT_EVALUATION = 'auto';
 
 // Materials TessellatedMeshes draw with, and their patch: `key` (the kind of surface the patched
 // shaders draw: basis, normals, uvs, colours, lod), `uniforms` (the `{ value }` objects the
@@ -334,19 +335,38 @@ function missing(renderer) {
   return lacks.length === 0 ? null : `TessellatedMesh cannot draw with this renderer: it lacks ${lacks.join(' and ')} (WebGL2 has them)`;
 }
 
-// The vertex shader's additions: the GLSL from the wasm (the generated weights and the nets
-// reader), the attributes, and at the top of main() locals named as three's attributes
-// (position, normal, uv, color) that hide them, so every chunk of three's shaders (lighting,
-// shadows, fog, clipping, maps) reads the curved surface: the patch evaluated here ('per-draw'),
-// or read from the textures the mesh baked ('per-frame', three-bake.js), as its uniform
-// `tessellaBaked` says.
-function vertexPatch(glsl, flags) {
-  let head = `${glsl}${BAKED_HEAD}in vec3 tessellaBarycentric;\n`;
-  let body = [
-    BAKED_BODY,
-    'vec3 position = tessellaPosition;',
-    'vec3 normal = tessellaNormal;',
-  ];
+// The vertex shader's additions, one variant per evaluation (each its own program):
+// - 'instanced' (per draw): the GLSL from the wasm (the generated weights and the nets reader),
+//   the attributes, and at the top of main() the patch evaluated at the instance's coarse
+//   triangle (`tessellaFaceIndex`), into locals named as three's attributes (position, normal,
+//   uv, color) that hide them, so every chunk of three's shaders (lighting, shadows, fog,
+//   clipping, maps) reads the curved surface;
+// - 'baked' (per frame, three-bake.js): no evaluation at all: three's own `position` and
+//   `normal` attributes are the baked vertex buffers; only the uvs and colours are blended from
+//   the corners (a ShaderMaterial also gets the GLSL and `tessellaFaceIndex`, from the welded
+//   vertex's `tessellaFace`, for its own code).
+function vertexPatch(glsl, flags, { baked = false, shader = false } = {}) {
+  let head;
+  let body;
+  if (!baked) {
+    head = `${glsl}in vec3 tessellaBarycentric;\n`;
+    body = [
+      'int tessellaFaceIndex = gl_InstanceID;',
+      'vec3 tessellaPosition;',
+      'vec3 tessellaNormal;',
+      'tessella_evaluate(tessellaFaceIndex, tessellaBarycentric, tessellaPosition, tessellaNormal);',
+      'vec3 position = tessellaPosition;',
+      'vec3 normal = tessellaNormal;',
+    ];
+  } else {
+    head = shader ? `${glsl}in float tessellaFace;\n` : '';
+    if (flags.uv || flags.color > 0) head += 'in vec3 tessellaBarycentric;\n';
+    body = [
+      ...(shader ? ['int tessellaFaceIndex = int(tessellaFace);'] : []),
+      'vec3 tessellaPosition = position;',
+      'vec3 tessellaNormal = normal;',
+    ];
+  }
   const l = 'tessellaBarycentric';
   if (flags.uv) {
     head += 'in vec4 tessellaUv01;\nin vec2 tessellaUv2;\n';
@@ -365,6 +385,14 @@ function vertexPatch(glsl, flags) {
     );
   }
   return { head, body: body.join('\n') + '\n' };
+}
+
+// Both variants of vertexPatch for a material (a ShaderMaterial's baked one keeps the GLSL).
+function vertexPatches(glsl, flags, material) {
+  return {
+    instanced: vertexPatch(glsl, flags),
+    baked: vertexPatch(glsl, flags, { baked: true, shader: material.isShaderMaterial === true }),
+  };
 }
 
 // Whether triangle (a, b, c) has area: three different vertices whose cross product is not
@@ -411,12 +439,14 @@ export function cloneMaterial(material) {
   return copy;
 }
 
-function patchMaterial(material, uniforms, glsl, flags, key, patch = vertexPatch(glsl, flags)) {
-  const { head, body } = patch;
+// Patches a material's WebGL shaders with `variants[mode()]` (vertexPatches, or lod's one
+// 'instanced'), the variant in its program cache key: a mesh's evaluation picks its program.
+function patchMaterial(material, uniforms, key, variants, mode) {
   // A material's own onBeforeCompile and cache key still apply, after tessella's patch.
   const own = material.onBeforeCompile;
   const ownKey = material.customProgramCacheKey;
   material.onBeforeCompile = (shader, renderer) => {
+    const { head, body } = variants[mode()];
     const at = shader.vertexShader.indexOf('void main() {');
     if (at < 0) throw new TessellaError('TessellatedMesh: the material\'s vertex shader has no `void main() {` to patch');
     Object.assign(shader.uniforms, uniforms);
@@ -424,7 +454,7 @@ function patchMaterial(material, uniforms, glsl, flags, key, patch = vertexPatch
     shader.vertexShader = `${shader.vertexShader.slice(0, at)}${head}${shader.vertexShader.slice(at, main)}\n${body}${shader.vertexShader.slice(main)}`;
     own.call(material, shader, renderer);
   };
-  material.customProgramCacheKey = () => `${key}|${ownKey.call(material)}`;
+  material.customProgramCacheKey = () => `${key}:${mode()}|${ownKey.call(material)}`;
   material.needsUpdate = true;
 }
 
@@ -464,15 +494,25 @@ export class TessellatedMesh extends Mesh {
   #uniforms;
   /** The material's patch (shared by every TessellatedMesh drawing with the material). */
   #patch = null;
-  /** 'per-frame' evaluation: the baked vertices (three-bake.js), or null (per draw). */
+  /** The `evaluation` option: 'auto', 'per-frame' or 'per-draw'. */
+  #asked;
+  /** 'per-frame' evaluation: the baked vertices (three-bake.js), made at the first render where it runs; else null. */
   #baked = null;
   /** The renderer and frame (#frames) the baked vertices are of. */
   #bakedFor = null;
   #bakedFrame = -1;
-  /** Why the `evaluation` asked for is not the one in effect, or null. */
+  /** Why 'per-frame' (asked for, or 'auto''s choice) is not in effect, or null. */
   #fallback = null;
   /** 'per-frame': the welded refined mesh (three-bake.js's welded()), or null. */
   #weld = null;
+  /** The drawn geometry's kind, the shaders' variant: 'instanced' (evaluated per draw) or 'baked'. */
+  #mode = 'instanced';
+  /** The instanced pattern geometry (drawn per draw, and every mesh's first frame). */
+  #instanced;
+  /** 'per-frame', once baked: the welded geometry reading the baked vertex buffers; else null. */
+  #welded = null;
+  /** The generated GLSL (the bake's evaluation). */
+  #glsl;
 
   constructor(source, material, options = {}) {
     let sourceMesh = null;
@@ -510,14 +550,16 @@ export class TessellatedMesh extends Mesh {
     const own = lod ? [...MESH_OPTIONS, ...LOD_MESH_OPTIONS] : MESH_OPTIONS;
     const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !own.includes(k)));
     const surface = lod ? new AdaptiveSurface(indices, rest) : new InstancedSurface(indices, rest);
-    // 'per-frame' (asked for; never with lod; a ShaderMaterial, whose own code may call
-    // tessella_evaluate with gl_InstanceID, takes it only when asked): the refined mesh's
-    // vertices, welded, drawn by one indexed draw reading the vertex buffers the bake writes
-    // (three-bake.js).
-    const asked = options.evaluation ?? (material.isShaderMaterial === true ? 'per-draw' : DEFAULT_EVALUATION);
-    const perFrame = asked === 'per-frame' && !lod;
-    super(perFrame ? new BufferGeometry() : new InstancedBufferGeometry(), material);
-    if (asked === 'per-frame' && lod) this.#fallback = 'lod evaluates per draw';
+    // Every mesh starts instanced (evaluated per draw); 'per-frame' (asked for, or 'auto''s
+    // choice at the first render: never with lod, nor for a ShaderMaterial unless asked, whose
+    // own code may call tessella_evaluate with gl_InstanceID) then bakes the refined mesh's welded
+    // vertices and draws them by one indexed draw (three-bake.js).
+    const asked = options.evaluation ?? DEFAULT_EVALUATION;
+    super(new InstancedBufferGeometry(), material);
+    this.#instanced = this.geometry;
+    this.#asked = asked;
+    if (asked !== 'per-draw' && lod) this.#fallback = 'lod evaluates per draw';
+    else if (asked === 'auto' && material.isShaderMaterial === true) this.#fallback = 'a ShaderMaterial evaluates per draw unless asked (evaluation: \'per-frame\')';
     this.#options = rest;
     this.#surface = surface;
     this.#source = geometry;
@@ -539,23 +581,12 @@ export class TessellatedMesh extends Mesh {
     }
     // With lod this draws nothing itself: its children draw the parts (three-lod.js).
     if (lod) this.#lod = new LodParts(this, surface, options, this.#flags);
-    // The pattern: barycentric points, drawn once per coarse triangle; or (per-frame) the refined
-    // mesh, each vertex with its coarse triangle and point in it.
+    // The pattern: barycentric points, drawn once per coarse triangle.
     const points = lod ? new Float32Array(0) : surface.patternPoints();
-    const weld = perFrame ? welded(refine({ positions: floats(geometry.getAttribute('position')), indices }, { ...rest, origin: true, soup: rest.normals === 'real' ? true : undefined })) : null;
-    this.#weld = weld;
-    // The corners' elements: one per coarse triangle (instanced), or one per vertex (welded).
-    const corners = weld === null ? surface.faceCount : weld.count;
-    const Corner = weld === null ? InstancedBufferAttribute : BufferAttribute;
-    if (weld !== null) {
-      g.setIndex(new BufferAttribute(weld.index, 1));
-      const barycentric = new BufferAttribute(weld.barycentric, 3);
-      weld.attributes = { barycentric, face: new BufferAttribute(weld.face, 1) };
-      g.setAttribute('tessellaBarycentric', barycentric);
-      g.setAttribute('tessellaFace', weld.attributes.face);
-      g.setAttribute('normal', barycentric);
-      g.setAttribute('position', barycentric);
-    } else if (!lod) {
+    // The corners' elements: one per coarse triangle.
+    const corners = surface.faceCount;
+    const Corner = InstancedBufferAttribute;
+    if (!lod) {
       const tri = surface.patternIndices();
       g.setIndex(new BufferAttribute(points.length / 3 <= 0xffff ? Uint16Array.from(tri) : tri, 1));
       const barycentric = new BufferAttribute(points, 3);
@@ -579,7 +610,7 @@ export class TessellatedMesh extends Mesh {
       for (let k = 0; k < 3; k++) g.setAttribute(`tessellaColor${k}`, new Corner(new Float32Array(corners * c), c));
       // Tells three the colours' width (USE_COLOR_ALPHA for 4); the shader reads the instanced
       // ones. Ones: the factor WebGPURenderer's node materials take from it changes nothing.
-      g.setAttribute('color', new BufferAttribute(new Float32Array((weld === null ? points.length / 3 : weld.count) * c).fill(1), c));
+      g.setAttribute('color', new BufferAttribute(new Float32Array((points.length / 3) * c).fill(1), c));
     }
     this.#indices = Uint32Array.from(indices);
 
@@ -593,15 +624,17 @@ export class TessellatedMesh extends Mesh {
     const uniforms = {
       tessellaNets: { value: texture },
       tessellaFacesPerRow: { value: surface.facesPerRow },
-      ...(lod ? this.#lod.uniforms : bakedUniforms(weld !== null)),
+      ...(lod ? this.#lod.uniforms : {}),
     };
     this.#uniforms = uniforms;
     if (lod) this.#lod.bind = (renderer) => this.#bind(renderer);
     const glsl = surface.glsl();
-    if (weld !== null) this.#baked = new BakedSurface(glsl, uniforms, weld);
-    // (WebGPURenderer's node reads the coarse triangle from the instance or, welded, an attribute.)
-    const key = `tessella:${lod ? `lod:${surface.spacing}:` : ''}${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}${weld !== null ? ':welded' : ''}`;
-    const patch = lod ? this.#lod.patch(glsl) : vertexPatch(glsl, this.#flags);
+    this.#glsl = glsl;
+    const key = `tessella:${lod ? `lod:${surface.spacing}:` : ''}${surface.basisLength}:${surface.normalMode}:${this.#flags.uv ? 'uv' : ''}:${this.#flags.color}`;
+    // The shaders' variants: lod's one, or per draw and baked (the material's program follows
+    // the mesh drawing, see #bind; the shadow materials' this mesh's #mode).
+    const lodPatch = lod ? this.#lod.patch(glsl) : null;
+    const variants = (m) => (lod ? { instanced: lodPatch } : vertexPatches(glsl, this.#flags, m));
     let shared = patches.get(material);
     if (shared !== undefined && shared.key !== key) {
       if (owned) material.dispose();
@@ -616,21 +649,24 @@ export class TessellatedMesh extends Mesh {
       // objects, into which each mesh's own values are copied before it draws (#bind).
       const common = Object.fromEntries(Object.entries(uniforms).map(([name, u]) => [name, { value: u.value }]));
       const saved = savedProperties(material);
-      patchMaterial(material, common, glsl, this.#flags, key, patch);
+      // `mode`: the variant of the material's current program, that of the mesh drawing.
+      const entry = { key, uniforms: common, users: new Set(), owned, saved, set: null, mode: 'instanced' };
+      patchMaterial(material, common, key, variants(material), () => entry.mode);
       // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too)
-      // reading the drawn object's own nets texture; lod draws under WebGLRenderer only (#check
-      // refuses it under WebGPURenderer).
-      if (!lod) setupNodes(material, surface, { ...this.#flags, welded: weld !== null });
-      const set = Object.fromEntries(PATCHED.map((name) => [name, material[name]]));
-      shared = { key, uniforms: common, users: new Set(), owned, saved, set };
+      // reading the drawn object's own nets texture, instanced (it evaluates per draw); lod
+      // draws under WebGLRenderer only (#check refuses it under WebGPURenderer).
+      if (!lod) setupNodes(material, surface, { ...this.#flags, welded: false });
+      entry.set = Object.fromEntries(PATCHED.map((name) => [name, material[name]]));
+      shared = entry;
       patches.set(material, shared);
     }
     shared.users.add(this);
     this.#patch = shared;
+    // The shadow materials are this mesh's own: their variant is its #mode.
     this.customDepthMaterial = new MeshDepthMaterial();
-    patchMaterial(this.customDepthMaterial, uniforms, glsl, this.#flags, key, patch);
+    patchMaterial(this.customDepthMaterial, uniforms, key, variants(this.customDepthMaterial), () => this.#mode);
     this.customDistanceMaterial = new MeshDistanceMaterial();
-    patchMaterial(this.customDistanceMaterial, uniforms, glsl, this.#flags, key, patch);
+    patchMaterial(this.customDistanceMaterial, uniforms, key, variants(this.customDistanceMaterial), () => this.#mode);
 
     if (sourceMesh !== null && (sourceMesh.isSkinnedMesh === true || (geometry.morphAttributes.position?.length ?? 0) > 0)) {
       this.#pose = new SourcePose(sourceMesh);
@@ -680,19 +716,21 @@ export class TessellatedMesh extends Mesh {
   }
 
   /**
-   * The evaluation in effect: 'per-frame' (the vertices evaluated into textures once per change
-   * of the nets, the draws reading them) or 'per-draw' (every draw pass evaluates the patches).
+   * The evaluation in effect: 'per-frame' (the vertices evaluated into vertex buffers once per
+   * change of the nets, the draws reading them; from the frame after the first bake) or
+   * 'per-draw' (every draw pass evaluates the patches). Before the first render every mesh is
+   * 'per-draw': 'auto' (the default) decides there, from the renderer.
    */
   get evaluation() {
     return this.#baked !== null ? 'per-frame' : 'per-draw';
   }
 
-  /** Why the evaluation is 'per-draw' though 'per-frame' was asked for (or is the default), or null. */
+  /** Why the evaluation is 'per-draw' though 'per-frame' was asked for (or 'auto' would take it), or null. */
   get evaluationFallback() {
     return this.#fallback;
   }
 
-  /** GPU memory of the baked vertices ('per-frame': two RGBA32F texels a vertex drawn), else 0. */
+  /** GPU memory of the baked vertices ('per-frame': 80 bytes a vertex drawn, see three-bake.js), else 0. */
   get bakedBytes() {
     return this.#baked?.bytes ?? 0;
   }
@@ -702,48 +740,89 @@ export class TessellatedMesh extends Mesh {
     return this.#baked?.target ?? null;
   }
 
-  // 'per-frame': once baked, the geometry's position and normal are the baked vertex buffers and
-  // the shaders read them (tessellaBaked). Here, before three updates the objects it draws (which
-  // tells it of a geometry's new attributes): a draw seeing an attribute three does not know yet
-  // leaves it out of the vertex array it keeps; so the frame that first bakes evaluates per draw.
+  // Here, before three updates the objects it draws (which tells it of a geometry's attributes:
+  // a draw seeing an attribute three does not know yet leaves it out of the vertex array it
+  // keeps), the geometry drawn follows the evaluation: once baked, the welded geometry whose
+  // position and normal are the baked vertex buffers (and the shaders' 'baked' variant); after
+  // a fallback, the instanced one again.
   #useBaked() {
     const baked = this.#baked;
-    if (baked === undefined || baked === null || baked.attributes === null) return;
-    const g = this.geometry;
-    if (g.getAttribute('position') !== baked.attributes[0]) {
-      g.setAttribute('position', baked.attributes[0]);
-      g.setAttribute('normal', baked.attributes[1]);
-      // Without uvs and colours the draws read nothing else: the evaluation's inputs, unused
-      // now, are left out of the draws (three then reads no buffer for them).
-      if (!this.#flags.uv && this.#flags.color === 0) {
-        g.deleteAttribute('tessellaBarycentric');
-        g.deleteAttribute('tessellaFace');
-      }
+    if (baked !== null && baked.attributes !== null && this.#mode === 'instanced') {
+      this.#welded ??= this.#weldedGeometry(baked);
+      this.geometry = this.#welded;
+      this.#setMode('baked');
+    } else if (baked === null && this.#mode === 'baked') {
+      this.geometry = this.#instanced;
+      this.#welded.dispose();
+      this.#welded = null;
+      this.#weld = null;
+      this.#setMode('instanced');
     }
-    this.#uniforms.tessellaBaked.value = true;
   }
 
-  // 'per-frame': evaluates the vertices when the nets changed since the last bake (or the
-  // renderer is another), in whichever pass draws this first (shadow maps, then the picture).
+  #setMode(mode) {
+    this.#mode = mode;
+    // The shadow materials are this mesh's: their next program is the other variant.
+    this.customDepthMaterial.needsUpdate = true;
+    this.customDistanceMaterial.needsUpdate = true;
+  }
+
+  // The welded refined mesh drawn 'per-frame': refine's topology, `position` and `normal` the
+  // baked vertex buffers, the corners (uvs, colours) per vertex; the bounds are the instanced
+  // geometry's objects (update() sets them).
+  #weldedGeometry(baked) {
+    const weld = this.#weld;
+    const g = new BufferGeometry();
+    g.setIndex(new BufferAttribute(weld.index, 1));
+    g.setAttribute('position', baked.attributes[0]);
+    g.setAttribute('normal', baked.attributes[1]);
+    const { uv, color } = this.#flags;
+    if (uv || color > 0) g.setAttribute('tessellaBarycentric', new BufferAttribute(weld.barycentric, 3));
+    if (this.material.isShaderMaterial === true) g.setAttribute('tessellaFace', new BufferAttribute(weld.face, 1));
+    if (uv) {
+      g.setAttribute('tessellaUv01', new BufferAttribute(new Float32Array(weld.count * 4), 4));
+      g.setAttribute('tessellaUv2', new BufferAttribute(new Float32Array(weld.count * 2), 2));
+    }
+    if (color > 0) {
+      for (let k = 0; k < 3; k++) g.setAttribute(`tessellaColor${k}`, new BufferAttribute(new Float32Array(weld.count * color), color));
+      g.setAttribute('color', new BufferAttribute(new Float32Array(weld.count * color).fill(1), color));
+    }
+    g.boundingBox = this.#instanced.boundingBox;
+    g.boundingSphere = this.#instanced.boundingSphere;
+    const src = this.#source;
+    this.#writeCorners(g, weld.faces, uv ? floats(src.getAttribute('uv')) : null, color > 0 ? floats(src.getAttribute('color')) : null);
+    return g;
+  }
+
+  // 'per-frame' (asked for, or 'auto''s choice): at the first render where it can run, the
+  // welded vertices and the bake; then evaluates them when the nets changed since the last bake
+  // (or the renderer is another), in whichever pass draws this first (shadow maps, then the
+  // picture). Where it cannot run, the mesh stays (or becomes again) instanced, per draw.
   #bake(renderer) {
+    if (this.#asked === 'per-draw' || this.#fallback !== null) return;
+    if (this.#baked === null) {
+      const why = bakeMissing(renderer);
+      if (why !== null) {
+        this.#fallback = why;
+        return;
+      }
+      const positions = floats(this.#source.getAttribute('position'));
+      const rest = this.#options;
+      this.#weld = welded(refine({ positions, indices: this.#indices }, { ...rest, origin: true, soup: rest.normals === 'real' ? true : undefined }));
+      this.#baked = new BakedSurface(this.#glsl, this.#uniforms, this.#weld);
+    }
     const baked = this.#baked;
-    if (baked === null) return;
     if (this.#bakedFor === renderer && this.#bakedFrame === this.#frames) return;
     let why = baked.missing(renderer);
     if (why === null && this.#bakedFor !== null && this.#bakedFor !== renderer) why = 'drawn by a second renderer (the baked buffers are the first one\'s)';
     if (why !== null) {
-      // Falls back to evaluating per draw (the shaders branch on tessellaBaked, now false), on
-      // the welded vertices.
+      // Falls back to evaluating per draw, instanced (from the next frame: #useBaked; this
+      // pass skips the welded geometry, whose buffers are gone).
       baked.dispose();
       this.#baked = null;
       this.#fallback = why;
-      // (Before any bake the geometry is as made; after one, its first attributes are put back.)
-      const { barycentric, face } = this.#weld.attributes;
-      const g = this.geometry;
-      if (g.getAttribute('position') !== barycentric) {
-        for (const name of ['tessellaBarycentric', 'position', 'normal']) g.setAttribute(name, barycentric);
-        g.setAttribute('tessellaFace', face);
-      }
+      if (this.#mode === 'baked') this.#welded.setDrawRange(0, 0);
+      else this.#weld = null;
       return;
     }
     baked.bake(renderer);
@@ -800,23 +879,34 @@ export class TessellatedMesh extends Mesh {
   #corners() {
     const g = this.#source;
     const v = this.#sourceVersions();
-    let bytes = 0;
-    const idx = this.#indices;
     const uv = g.getAttribute('uv');
+    const uvChanged = this.#flags.uv && (this.#versions === null || v.uv !== this.#versions.uv);
+    const colorChanged = this.#flags.color > 0 && (this.#versions === null || v.color !== this.#versions.color);
+    if (!uvChanged && !colorChanged) return 0;
     if (this.#lod !== null) {
-      const uvChanged = this.#flags.uv && (this.#versions === null || v.uv !== this.#versions.uv);
-      const colorChanged = this.#flags.color > 0 && (this.#versions === null || v.color !== this.#versions.color);
-      if (!uvChanged && !colorChanged) return 0;
       const color = g.getAttribute('color');
       const c = color === undefined ? null : { data: floats(color), itemSize: color.itemSize };
-      return this.#lod.corners(uv === undefined ? null : floats(uv), c, idx);
+      return this.#lod.corners(uv === undefined ? null : floats(uv), c, this.#indices);
     }
-    if (this.#flags.uv && (this.#versions === null || v.uv !== this.#versions.uv)) {
-      const data = floats(uv);
-      const a = this.geometry.getAttribute('tessellaUv01');
-      const b = this.geometry.getAttribute('tessellaUv2');
+    const uvs = uvChanged ? floats(uv) : null;
+    const colors = colorChanged ? floats(g.getAttribute('color')) : null;
+    let bytes = this.#writeCorners(this.#instanced, null, uvs, colors);
+    if (this.#welded !== null) bytes += this.#writeCorners(this.#welded, this.#weld.faces, uvs, colors);
+    return bytes;
+  }
+
+  // Writes the coarse uvs (`uvs`) and colours (`colors`), where not null, into a geometry's
+  // corner attributes: element e's coarse triangle is `faces[e]` (welded), or e (instanced);
+  // returns the bytes marked for upload.
+  #writeCorners(geometry, faces, uvs, colors) {
+    const idx = this.#indices;
+    let bytes = 0;
+    if (uvs !== null) {
+      const data = uvs;
+      const a = geometry.getAttribute('tessellaUv01');
+      const b = geometry.getAttribute('tessellaUv2');
       for (let e = 0; e < a.count; e++) {
-        const f = this.#weld === null ? e : this.#weld.faces[e];
+        const f = faces === null ? e : faces[e];
         const [i0, i1, i2] = [idx[3 * f], idx[3 * f + 1], idx[3 * f + 2]];
         a.array.set([data[2 * i0], data[2 * i0 + 1], data[2 * i1], data[2 * i1 + 1]], 4 * e);
         b.array.set([data[2 * i2], data[2 * i2 + 1]], 2 * e);
@@ -825,14 +915,13 @@ export class TessellatedMesh extends Mesh {
       b.needsUpdate = true;
       bytes += a.array.byteLength + b.array.byteLength;
     }
-    const color = g.getAttribute('color');
-    if (this.#flags.color > 0 && (this.#versions === null || v.color !== this.#versions.color)) {
+    if (colors !== null) {
       const c = this.#flags.color;
-      const data = floats(color);
+      const data = colors;
       for (let k = 0; k < 3; k++) {
-        const a = this.geometry.getAttribute(`tessellaColor${k}`);
+        const a = geometry.getAttribute(`tessellaColor${k}`);
         for (let e = 0; e < a.count; e++) {
-          const f = this.#weld === null ? e : this.#weld.faces[e];
+          const f = faces === null ? e : faces[e];
           a.array.set(data.subarray(idx[3 * f + k] * c, idx[3 * f + k] * c + c), c * e);
         }
         a.needsUpdate = true;
@@ -899,7 +988,16 @@ export class TessellatedMesh extends Mesh {
   // nodes, three-nodes.js).
   #bind(renderer) {
     if (renderer == null || renderer.isWebGLRenderer !== true || this.#patch === null) return;
-    const common = this.#patch.uniforms;
+    const shared = this.#patch;
+    if (shared.mode !== this.#mode) {
+      // The material's other variant ('instanced' or 'baked'): three looks its program up again
+      // (one per variant, compiled once) and uploads the material's uniforms.
+      shared.mode = this.#mode;
+      this.material.needsUpdate = true;
+    }
+    // The baked variant reads none of this mesh's values.
+    if (this.#mode === 'baked') return;
+    const common = shared.uniforms;
     let changed = false;
     for (const name in this.#uniforms) {
       const value = this.#uniforms[name].value;
@@ -992,7 +1090,10 @@ export class TessellatedMesh extends Mesh {
     this.#lod?.dispose();
     this.#baked?.dispose();
     this.#baked = null;
-    this.geometry.dispose();
+    this.#instanced.dispose();
+    this.#welded?.dispose();
+    this.#welded = null;
+    this.#weld = null;
     this.customDepthMaterial.dispose();
     this.customDistanceMaterial.dispose();
     const shared = this.#patch;

@@ -13,6 +13,7 @@ import {
   Raycaster,
   Scene,
   ShaderLib,
+  ShaderMaterial,
   TorusKnotGeometry,
   Vector3,
 } from 'three';
@@ -157,7 +158,7 @@ test("the materials' vertex shaders evaluate the patch and hide three's attribut
     assert.ok(body.indexOf('vec3 position = tessellaPosition;') < body.indexOf('#include <begin_vertex>'));
     assert.ok(body.includes('vec2 uv = tessellaBarycentric.x * tessellaUv01.xy'));
     assert.ok(body.includes('vec4 color = tessellaColor;'));
-    assert.match(m.customProgramCacheKey(), /^tessella:10:quadratic:uv:4\|/);
+    assert.match(m.customProgramCacheKey(), /^tessella:10:quadratic:uv:4:instanced\|/);
   }
   assert.equal(mesh.geometry.getAttribute('tessellaColor2').array[3], 0.5);
   // A changed colour (or uv) attribute is copied to the corners before the next render.
@@ -263,33 +264,41 @@ test("the WGSL for WebGPURenderer: TSL's parser finds tessella_position and tess
   assert.throws(() => tessellaFunctions('fn f() {}'), (e) => e instanceof TessellaError);
 });
 
-test("evaluation: 'per-draw' (the default) draws the pattern instanced; 'per-frame' the refined mesh's welded vertices, and falls back with lod or a ShaderMaterial", () => {
+test("evaluation: 'auto' (the default) and 'per-frame' start instanced, per draw, until a WebGLRenderer bakes; lod and a ShaderMaterial ('auto') evaluate per draw; the shaders' variants are programs of their own", () => {
   const source = new IcosahedronGeometry(1, 1);
-  const plain = new TessellatedMesh(source, undefined, { scheme: 'pn', level: 4 });
+  const plain = new TessellatedMesh(source, undefined, { scheme: 'pn', level: 4, evaluation: 'per-draw' });
   assert.equal(plain.evaluation, 'per-draw');
   assert.equal(plain.evaluationFallback, null);
   assert.equal(plain.geometry.isInstancedBufferGeometry, true);
   assert.equal(plain.bakedBytes, 0);
+  // Before a render neither the default nor 'per-frame' has baked: both draw the pattern instanced.
+  const auto = new TessellatedMesh(source, undefined, { scheme: 'pn', level: 4 });
   const baked = new TessellatedMesh(source, undefined, { scheme: 'pn', level: 4, evaluation: 'per-frame' });
-  assert.equal(baked.evaluation, 'per-frame');
-  assert.notEqual(baked.geometry.isInstancedBufferGeometry, true);
-  // The refined Mesh's topology: its triangles, its (shared) vertices, each with its coarse
-  // triangle and barycentric point, which evaluated give the refined vertex.
-  const cpu = refine({ positions: source.getAttribute('position').array, indices: Uint32Array.from({ length: 240 }, (_, i) => i) }, { scheme: 'pn', level: 4, origin: true });
-  assert.deepEqual(Array.from(baked.geometry.index.array), Array.from(cpu.indices));
-  assert.deepEqual(Array.from(baked.geometry.getAttribute('tessellaFace').array), Array.from(cpu.faces));
-  assert.ok(baked.bakedBytes >= 80 * cpu.faces.length);
-  // Its shaders name the coarse triangle by the attribute (tessellaWelded) and read the baked
-  // position and normal once tessellaBaked.
+  for (const m of [auto, baked]) {
+    assert.equal(m.evaluation, 'per-draw');
+    assert.equal(m.evaluationFallback, null);
+    assert.equal(m.geometry.isInstancedBufferGeometry, true);
+    assert.equal(m.bakedBytes, 0);
+  }
+  // The instanced variant evaluates the patch at the instance's coarse triangle; the program
+  // cache key names the variant (a baked mesh's is ':baked', evaluating nothing: the browser
+  // tests read its shader).
   const shader = { vertexShader: ShaderLib.standard.vertexShader, fragmentShader: ShaderLib.standard.fragmentShader, uniforms: {} };
-  baked.material.onBeforeCompile(shader);
-  assert.equal(shader.uniforms.tessellaWelded.value, true);
-  assert.equal(shader.uniforms.tessellaBaked.value, false);
-  assert.ok(shader.vertexShader.includes('int tessellaFaceIndex = tessellaWelded ? int(tessellaFace) : gl_InstanceID;'));
-  assert.ok(shader.vertexShader.includes('tessellaPosition = position;'));
+  auto.material.onBeforeCompile(shader);
+  assert.ok(shader.vertexShader.includes('int tessellaFaceIndex = gl_InstanceID;'));
+  assert.ok(shader.vertexShader.includes('tessella_evaluate(tessellaFaceIndex, tessellaBarycentric, tessellaPosition, tessellaNormal);'));
+  assert.equal(shader.uniforms.tessellaBaked, undefined);
+  assert.match(auto.material.customProgramCacheKey(), /:instanced\|/);
+  assert.match(auto.customDepthMaterial.customProgramCacheKey(), /:instanced\|/);
+  // 'auto' with a ShaderMaterial (its own code may call tessella_evaluate with gl_InstanceID),
+  // and lod, stay per draw.
+  const custom = new TessellatedMesh(source, new ShaderMaterial(), { scheme: 'pn', level: 4 });
+  assert.match(custom.evaluationFallback, /ShaderMaterial/);
   const lod = new TessellatedMesh(source, undefined, { scheme: 'pn', lod: 'screen:8', spacing: 'equal', evaluation: 'per-frame' });
   assert.equal(lod.evaluation, 'per-draw');
   assert.match(lod.evaluationFallback, /lod/);
+  const lodAuto = new TessellatedMesh(source, undefined, { scheme: 'pn', lod: 'screen:8', spacing: 'equal' });
+  assert.match(lodAuto.evaluationFallback, /lod/);
   assert.throws(() => new TessellatedMesh(source, undefined, { evaluation: 'per-vertex' }), (e) => e instanceof TessellaError && /evaluation/.test(e.message));
-  for (const m of [plain, baked, lod]) m.dispose();
+  for (const m of [plain, auto, baked, custom, lod, lodAuto]) m.dispose();
 });

@@ -18,8 +18,10 @@ before(async () => {
 });
 after(() => three?.close());
 // The tests of the draws' make-up (one instanced draw a pass, the nets alone uploaded) are those
-// of 'per-draw' evaluation (the default; said here all the same); 'per-frame' has its own below.
+// of 'per-draw' evaluation (pinned here: the default, 'auto', takes 'per-frame' under
+// WebGLRenderer from the second frame); 'per-frame' and the default have their own below.
 const run = (config) => three.run({ evaluation: 'per-draw', ...config });
+const byDefault = (config) => three.run({ ...config, evaluation: undefined });
 const perFrame = (config) => three.run({ evaluation: 'per-frame', ...config });
 
 test('TessellatedMesh with MeshStandardMaterial looks like refineGeometry drawn as a Mesh, in one instanced draw', async () => {
@@ -113,8 +115,9 @@ test("a user's own ShaderMaterial draws it: calling tessella_evaluate itself, or
 test("'per-frame' evaluation draws the pictures of 'per-draw' and of the CPU refinement, shadows cast on a plane: the vertices baked once, then read", async () => {
   for (const [scheme, level, normals] of [['pn', 8], ['png1', 6], ['phong', 5], ['pn-aen', 4, 'real']]) {
     const soup = normals === 'real' ? true : undefined;
-    // Two frames: the first bakes (and evaluates per draw), the second reads the baked vertices.
-    const config = { scheme, level, normals, plane: true, frames: 2 };
+    // Three frames: the first bakes (and evaluates per draw, instanced), the second and third
+    // read the baked vertices.
+    const config = { scheme, level, normals, plane: true, frames: 3 };
     const cpu = await run({ ...config, soup, plain: true });
     const perDraw = await run({ ...config, evaluation: 'per-draw' });
     const baked = await perFrame(config);
@@ -129,13 +132,20 @@ test("'per-frame' evaluation draws the pictures of 'per-draw' and of the CPU ref
       assert.ok(score >= 0.99, `${scheme} against ${name}: IoU ${score}`);
       assert.ok(off < 0.01 * count(mask(other.img)), `${scheme} against ${name}: ${off} pixels of other colours`);
     }
-    // The first frame bakes (one more draw, not instanced); then the shadow map's and the
-    // picture's draws of the surface, indexed, not instanced, and nothing uploaded.
-    const [first, second] = baked.log;
-    assert.equal(first.instanced.length, 0);
+    // The first frame draws instanced (the shadow map's and the picture's draws) and bakes (one
+    // more draw, not instanced); then those two draws of the surface are indexed, not
+    // instanced; the second frame uploads the welded topology (its index), the third nothing.
+    const [first, second, third] = baked.log;
+    assert.equal(first.instanced.length, 2);
     assert.equal(second.instanced.length, 0);
-    assert.equal(second.draws, first.draws - 1);
-    assert.equal(second.uploaded, 0);
+    assert.equal(second.draws, first.draws - 1 + 2);
+    assert.ok(second.uploaded > 0);
+    assert.equal(third.instanced.length, 0);
+    assert.equal(third.draws, second.draws);
+    assert.equal(third.uploaded, 0);
+    // The baked variant's programs (picture, shadow depth) evaluate nothing: no tessella_evaluate, no nets.
+    assert.ok(baked.bakedPrograms.length >= 2);
+    for (const p of baked.bakedPrograms) assert.deepEqual(p, { evaluates: false, nets: false });
     // The shadows are cast: darker than the picture without the casting.
     const lit = await perFrame({ ...config, castShadow: false });
     assert.ok(count(darker(baked.img, lit.img)) > 2000, `${scheme}: no shadow cast`);
@@ -152,10 +162,12 @@ test("'per-frame' follows a deforming source (nets uploaded, vertices baked each
   assert.equal(baked.evaluation, 'per-frame');
   for (const [f, frame] of baked.log.entries()) {
     if (f === 0) continue;
+    assert.equal(frame.instanced.length, 0);
+    // (The second frame also uploads the welded topology, drawn from then on.)
+    if (f === 1) continue;
     // The nets alone reach WebGL (the bake and its copy stay on the GPU).
     assert.equal(frame.uploaded, frame.uploadedBytes);
     assert.ok(frame.uploaded > 0 && frame.uploaded <= 256 * baked.faces);
-    assert.equal(frame.instanced.length, 0);
   }
   for (const [name, other] of [['per-draw', perDraw], ['CPU', cpu]]) {
     const score = iou(mask(other.img), mask(baked.img));
@@ -183,5 +195,35 @@ test("'per-frame' falls back to evaluating per draw where WebGL has no float ren
   assert.ok(off < 0.01 * count(mask(cpu.img)), `${off} pixels of other colours`);
   // No bake: the second frame draws as the first.
   assert.equal(fallback.log[1].draws, fallback.log[0].draws);
+  assert.deepEqual(three.problems, []);
+});
+
+test("the default evaluation ('auto') under WebGLRenderer is 'per-frame' from the second frame (the pictures of 'per-draw'); without float render targets, or for a ShaderMaterial, 'per-draw' instanced", async () => {
+  const config = { scheme: 'pn', level: 8, plane: true, frames: 3 };
+  const auto = await byDefault(config);
+  const perDraw = await run(config);
+  assert.equal(auto.evaluation, 'per-frame');
+  assert.equal(auto.fallback, null);
+  assert.ok(auto.bakedBytes > 0);
+  // The first frame instanced (shadow map and picture) and the bake; then indexed draws.
+  assert.equal(auto.log[0].instanced.length, 2);
+  for (const frame of auto.log.slice(1)) assert.equal(frame.instanced.length, 0);
+  assert.equal(auto.log[2].uploaded, 0);
+  const score = iou(mask(perDraw.img), mask(auto.img));
+  const off = differing(perDraw.img, auto.img, 12);
+  console.log(`default against per-draw: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
+  assert.ok(score >= 0.99, `IoU ${score}`);
+  assert.ok(off < 0.01 * count(mask(perDraw.img)), `${off} pixels of other colours`);
+  // Without float render targets: per draw, instanced in every frame, the same picture.
+  const fallback = await byDefault({ ...config, noFloatTargets: true });
+  assert.equal(fallback.evaluation, 'per-draw');
+  assert.match(fallback.fallback, /EXT_color_buffer_float/);
+  for (const frame of fallback.log) assert.equal(frame.instanced.length, 2);
+  assert.ok(iou(mask(perDraw.img), mask(fallback.img)) >= 0.99);
+  // A ShaderMaterial (whose code may name gl_InstanceID) stays instanced unless asked.
+  const shader = await byDefault({ ...config, material: 'ShaderMaterial' });
+  assert.equal(shader.evaluation, 'per-draw');
+  assert.match(shader.fallback, /ShaderMaterial/);
+  for (const frame of shader.log) assert.equal(frame.instanced.length, 2);
   assert.deepEqual(three.problems, []);
 });

@@ -34,8 +34,10 @@ function save(path, images) {
 for (const renderer of ['webgl', 'webgpu']) {
   test(`${renderer}: tessellate replaces every triangle mesh, one patched material per source material, and draws what per-mesh TessellatedMeshes and the CPU refinement draw`, async () => {
     const coarse = await run({ way: 'coarse', renderer });
-    const scene = await run({ way: 'scene', renderer });
-    const separate = await run({ way: 'separate', renderer });
+    // The instanced path, pinned ('per-draw'; the default bakes from the second frame under
+    // WebGLRenderer: its own test below).
+    const scene = await run({ way: 'scene', renderer, evaluation: 'per-draw' });
+    const separate = await run({ way: 'separate', renderer, evaluation: 'per-draw' });
     const cpu = await run({ way: 'cpu', renderer });
     if (SHOT) save(SHOT.replace(/\.png$/, `-${renderer}.png`), [coarse.img, scene.img, separate.img, cpu.img]);
     console.log(`${renderer}: ${scene.triangleMeshes} triangle meshes (${scene.faces.join(', ')} triangles), ${scene.sourceMaterials} source materials -> ${scene.meshes} TessellatedMeshes, ${scene.patchedMaterials} patched materials; skipped: ${scene.skipped.join('; ')}`);
@@ -78,6 +80,30 @@ for (const renderer of ['webgl', 'webgpu']) {
   });
 
   if (renderer === 'webgl') {
+    test("webgl: by default ('auto': per-frame from the second frame) the tessellated scene draws what 'per-draw' draws, none instanced; meshes of both evaluations sharing materials too", async () => {
+      const perDraw = await run({ way: 'scene', renderer, evaluation: 'per-draw', frames: 3 });
+      const auto = await run({ way: 'scene', renderer, frames: 3 });
+      const mixed = await run({ way: 'mixed', renderer, frames: 3 });
+      assert.ok(auto.evaluations.length >= 6);
+      assert.deepEqual(new Set(auto.evaluations), new Set(['per-frame']));
+      assert.deepEqual(auto.instanced, [], 'a baked mesh drawn instanced');
+      assert.equal(perDraw.instanced.length, perDraw.triangleMeshes);
+      // Mixed: half the meshes baked, the others instanced, sharing materials.
+      const baked = mixed.evaluations.filter((e) => e === 'per-frame').length;
+      assert.ok(baked >= 1);
+      assert.equal(mixed.instanced.length, mixed.triangleMeshes - baked);
+      assert.ok(mixed.bothEvaluations >= 1, 'no material draws both evaluations');
+      console.log(`webgl mixed: ${baked} of ${mixed.triangleMeshes} meshes per-frame, ${mixed.mixedMaterials} materials, ${mixed.bothEvaluations} drawing both evaluations`);
+      for (const [name, r] of [['default', auto], ['mixed', mixed]]) {
+        const score = iou(mask(perDraw.img), mask(r.img));
+        const off = differing(perDraw.img, r.img, 12);
+        console.log(`webgl ${name} against per-draw: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
+        assert.ok(score >= 0.99, `${name}: IoU ${score}`);
+        assert.ok(off < 0.01 * count(mask(perDraw.img)), `${name}: ${off} pixels of other colours`);
+      }
+      assert.deepEqual(three.problems, []);
+    });
+
     test('webgl: with the file\'s normal maps (uv1, tangents: not carried by TessellatedMesh), shared materials draw what per-mesh ones draw', async () => {
       const scene = await run({ way: 'scene', renderer, normalMaps: true });
       const separate = await run({ way: 'separate', renderer, normalMaps: true });

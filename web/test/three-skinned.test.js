@@ -16,7 +16,10 @@ before(async () => {
   three = await openRepoPage('web/test/three/index.html?page=skinned', { global: 'tessellaSkinned' });
 });
 after(() => three?.close());
-const run = (config) => three.run(config);
+// The instanced path ('per-draw', pinned: the default, 'auto', bakes from the second frame under
+// WebGLRenderer); the default has its own test below.
+const run = (config) => three.run({ evaluation: 'per-draw', ...config });
+const byDefault = (config) => three.run({ ...config, evaluation: undefined });
 
 test('a SkinnedMesh played by AnimationMixer matches refineGeometry of the vertices three skins, at each time', async () => {
   const shots = [];
@@ -54,5 +57,25 @@ test('while the clip plays, a frame uploads the nets alone: at most 256 bytes pe
       assert.ok(frame.uploaded <= 256 * gpu.faces, `${frame.uploaded} bytes for ${gpu.faces} triangles`);
     }
   }
+  assert.deepEqual(three.problems, []);
+});
+
+test("by default ('auto': per-frame under WebGLRenderer) the playing clip draws the pictures of 'per-draw'; after the first frames a frame uploads the nets alone, drawn not instanced", async () => {
+  const times = [0.1, 0.2, 0.3, 0.4, 0.5];
+  const auto = await byDefault({ clip: 'wave', times, level: 8 });
+  const perDraw = await run({ clip: 'wave', times, level: 8 });
+  assert.equal(auto.evaluation, 'per-frame');
+  assert.equal(auto.fallback, null);
+  // The first frame draws instanced (and bakes); the second uploads the welded topology once.
+  assert.equal(auto.log[0].instanced, 1);
+  for (const [f, frame] of auto.log.entries()) {
+    if (f === 0) continue;
+    assert.equal(frame.instanced, 0, `frame ${f} drawn instanced`);
+    if (f === 1) continue;
+    assert.ok(frame.uploaded > 0 && frame.uploaded <= 256 * auto.faces, `frame ${f}: ${frame.uploaded} bytes for ${auto.faces} triangles`);
+  }
+  const score = iou(mask(perDraw.img), mask(auto.img));
+  console.log(`default against per-draw, wave at 0.5 s: IoU ${score.toFixed(5)}`);
+  assert.ok(score >= 0.99, `IoU ${score}`);
   assert.deepEqual(three.problems, []);
 });

@@ -67,6 +67,9 @@ test('under WebGPURenderer, frames of a playing clip follow it: each frame the p
   console.log(`hop played at ${times.join(', ')} s: IoU ${score.toFixed(5)} with the CPU pose at ${times.at(-1)} s, ${stale.toFixed(5)} with the one at ${times[0]} s`);
   assert.ok(score >= 0.99, `IoU ${score}`);
   assert.ok(stale < 0.95, `the last frame looks like the first pose (IoU ${stale})`);
+  // The default evaluation ('auto') stays per draw under WebGPURenderer: instanced every frame.
   for (const frame of playing.log) assert.equal(frame.instanced, 1);
+  assert.equal(playing.evaluation, 'per-draw');
+  assert.match(playing.fallback, /WebGPURenderer/);
   assert.deepEqual(three.problems, []);
 });

@@ -7,7 +7,7 @@ import { Document } from '@gltf-transform/core';
 import type { MeshOutput, Pose, RefineOutput } from 'tessella';
 import { refineGeometry, RefinedGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
 import { AdaptiveSurface, InstancedSurface } from 'tessella';
-import { BufferGeometry, Mesh, MeshStandardMaterial } from 'three';
+import { BufferGeometry, InstancedBufferGeometry, Mesh, MeshStandardMaterial } from 'three';
 import { attribute, instanceIndex, texture } from 'three/tsl';
 
 await ready;
@@ -41,7 +41,9 @@ const count: number = anim.vertexCount;
 anim.free();
 const tm = new TessellatedMesh(new Mesh(new BufferGeometry()), new MeshStandardMaterial(), { scheme: 'pn', level: 4, normalsFromSource: false });
 const bytes: number = tm.update().uploadedBytes;
-const instances: number = tm.geometry.instanceCount;
+// Instanced while it evaluates per draw; 'per-frame' (the default under WebGLRenderer) draws a welded BufferGeometry.
+const instances: number = tm.geometry instanceof InstancedBufferGeometry ? tm.geometry.instanceCount : 0;
+const evaluation: 'per-draw' | 'per-frame' = new TessellatedMesh(new BufferGeometry(), undefined, { evaluation: 'auto' }).evaluation;
 const { normal } = tessellaFunctions((tm.surface as InstancedSurface).wgsl());
 const tsl = normal({ nets: texture(tm.netsTexture), face: instanceIndex, l: attribute('tessellaBarycentric', 'vec3') });
 tm.dispose();

@@ -130,8 +130,13 @@ async function run({
   const png = canvas.toDataURL('image/png');
   const faces = geometry.index.count / 3;
   const mode = plain ? {} : { evaluation: drawn.evaluation, fallback: drawn.evaluationFallback, bakedBytes: drawn.bakedBytes };
+  // The programs of the baked variant (the picture's and the shadow materials'; every run's so
+  // far): whether their vertex shaders evaluate the patch.
+  const baked = renderer.info.programs
+    .filter((p) => p.cacheKey.includes(':baked|'))
+    .map((p) => ({ evaluates: /tessella_evaluate\s*\(/.test(gl.getShaderSource(p.vertexShader)), nets: gl.getShaderSource(p.vertexShader).includes('tessellaNets') }));
   if (!plain) drawn.dispose();
-  return { png, log, faces, ...mode };
+  return { png, log, faces, ...mode, bakedPrograms: baked };
 }
 
 window.tessellaThree = { run, ready: ready.then(() => true) };

@@ -8,12 +8,17 @@
 // - `restored`: after `tessellate` then `untessellate` (the coarse scene again);
 // - `separate`: each triangle mesh replaced by its own `new TessellatedMesh(mesh, undefined,
 //   options)` (a clone of its material each: the path three-mesh.test.js checks);
+// - `mixed`: each triangle mesh replaced by a TessellatedMesh, meshes that shared a source
+//   material sharing one clone of it (as `tessellate` does), every other mesh 'per-frame' and
+//   the others 'per-draw' (so one material draws both evaluations' programs in one frame);
 // - `cpu`: each triangle mesh's geometry replaced by `refineGeometry` (a plain Mesh).
+// `evaluation` goes to every TessellatedMesh (left out: the default); `frames` draws the scene
+// that many times (the picture and instanced draws are the last frame's).
 // `run` returns the picture and what the scene held (meshes, materials, what was skipped).
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { ready } from 'tessella';
-import { refineGeometry, TessellatedMesh, tessellate, untessellate } from 'tessella/three';
+import { cloneMaterial, refineGeometry, TessellatedMesh, tessellate, untessellate } from 'tessella/three';
 import { glRenderer, gpuRenderer, readTarget, spy } from './common.js';
 
 const WIDTH = 400;
@@ -119,10 +124,10 @@ async function draw(scene, which) {
 }
 
 /** Draws the scene one `way` (see the top) with `renderer` ('webgl' or 'webgpu'). */
-async function run({ way = 'coarse', renderer = 'webgl', scheme = 'pn', level = 6, normalMaps = false }) {
+async function run({ way = 'coarse', renderer = 'webgl', scheme = 'pn', level = 6, normalMaps = false, evaluation = undefined, frames = 1 }) {
   await ready;
   const scene = await load(normalMaps);
-  const options = { scheme, level };
+  const options = { scheme, level, evaluation };
   const sources = triangleMeshes(scene);
   const info = {
     triangleMeshes: sources.length,
@@ -172,6 +177,30 @@ async function run({ way = 'coarse', renderer = 'webgl', scheme = 'pn', level = 
     }
   } else if (way === 'separate') {
     for (const s of sources) new TessellatedMesh(s, undefined, options);
+  } else if (way === 'mixed') {
+    // One clone per source material (and kind of surface: a mesh the clone refuses gets its own).
+    const clones = new Map();
+    const seen = new Map();
+    sources.forEach((s) => {
+      const list = clones.get(s.material) ?? [];
+      clones.set(s.material, list);
+      // Alternately per draw and per frame among the meshes of one source material.
+      const n = seen.get(s.material) ?? 0;
+      seen.set(s.material, n + 1);
+      const mode = { ...options, evaluation: n % 2 === 0 ? 'per-draw' : 'per-frame' };
+      for (const m of list) {
+        try {
+          new TessellatedMesh(s, m, mode);
+          return;
+        } catch (e) {
+          if (!/another kind/.test(e.message)) throw e;
+        }
+      }
+      const m = cloneMaterial(s.material);
+      list.push(m);
+      new TessellatedMesh(s, m, mode);
+    });
+    info.mixedMaterials = [...clones.values()].reduce((n, l) => n + l.length, 0);
   } else if (way === 'cpu') {
     // Triangles without area (the file has two) draw nothing: left out, as TessellatedMesh
     // leaves them out (refine refuses them).
@@ -194,7 +223,17 @@ async function run({ way = 'coarse', renderer = 'webgl', scheme = 'pn', level = 
   } else if (way !== 'coarse') {
     throw new Error(`no way ${way}`);
   }
-  const picture = await draw(scene, renderer);
+  let picture;
+  for (let f = 0; f < frames; f++) picture = await draw(scene, renderer);
+  info.evaluations = [];
+  const byMaterial = new Map();
+  scene.traverse((o) => {
+    if (!(o instanceof TessellatedMesh)) return;
+    info.evaluations.push(o.evaluation);
+    byMaterial.set(o.material, new Set([...(byMaterial.get(o.material) ?? []), o.evaluation]));
+  });
+  // Materials drawing meshes of both evaluations.
+  info.bothEvaluations = [...byMaterial.values()].filter((e) => e.size === 2).length;
   // Free what this run made (the next run loads the file again).
   handle?.dispose();
   scene.traverse((o) => {

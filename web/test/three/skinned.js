@@ -84,8 +84,9 @@ function skinnedGeometry(mesh) {
  * frame, the bytes uploaded (WebGL) and the instanced draws. `plain`: draw the last pose as a
  * Mesh of refineGeometry over three's skinned vertices instead. `renderer`: 'webgl' or
  * 'webgpu' (the picture then read back from a render target, rows top first as a PNG's).
+ * `evaluation`: TessellatedMesh's option (left out: the default).
  */
-async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, plain = false, renderer: which = 'webgl' } = {}) {
+async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, plain = false, renderer: which = 'webgl', evaluation = undefined } = {}) {
   await ready;
   const g = which === 'webgpu' ? await webgpu() : null;
   const gltf = await load();
@@ -109,7 +110,7 @@ async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, pla
   camera.position.copy(centre).add(new THREE.Vector3(0.3, 0.25, 1).normalize().multiplyScalar(1.6 * size));
   camera.lookAt(centre);
   const material = new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 });
-  const drawn = plain ? null : new TessellatedMesh(skinned, material, { scheme, level });
+  const drawn = plain ? null : new TessellatedMesh(skinned, material, { scheme, level, evaluation });
   const log = [];
   for (const t of times) {
     mixer.setTime(t);
@@ -135,8 +136,9 @@ async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, pla
   }
   const faces = skinned.geometry.index.count / 3;
   const picture = g !== null ? await readTarget(g.renderer, g.target) : { png: canvas.toDataURL('image/png') };
+  const mode = drawn === null ? {} : { evaluation: drawn.evaluation, fallback: drawn.evaluationFallback };
   drawn?.dispose();
-  return { ...picture, log, faces };
+  return { ...picture, log, faces, ...mode };
 }
 
 window.tessellaSkinned = { run, ready: ready.then(() => true) };
