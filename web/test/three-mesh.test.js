@@ -214,6 +214,16 @@ test("the default evaluation ('auto') under WebGLRenderer is 'per-frame' from th
   console.log(`default against per-draw: IoU ${score.toFixed(5)}, ${off} pixels of other colours`);
   assert.ok(score >= 0.99, `IoU ${score}`);
   assert.ok(off < 0.01 * count(mask(perDraw.img)), `${off} pixels of other colours`);
+  // Fog, a clipping plane, a map by the coarse uvs and vertex colours: the baked variant blends
+  // the corners as the instanced one does.
+  const extras = await byDefault({ scheme: 'pn', level: 8, frames: 3, extras: true, castShadow: false });
+  const extrasPerDraw = await run({ scheme: 'pn', level: 8, frames: 3, extras: true, castShadow: false });
+  assert.equal(extras.evaluation, 'per-frame');
+  assert.equal(extras.log[2].instanced.length, 0);
+  const extrasOff = differing(extrasPerDraw.img, extras.img, 12);
+  console.log(`default with fog, clipping, a map and vertex colours against per-draw: IoU ${iou(mask(extrasPerDraw.img), mask(extras.img)).toFixed(5)}, ${extrasOff} pixels of other colours`);
+  assert.ok(iou(mask(extrasPerDraw.img), mask(extras.img)) >= 0.99);
+  assert.ok(extrasOff < 0.01 * count(mask(extrasPerDraw.img)), `${extrasOff} pixels of other colours`);
   // Without float render targets: per draw, instanced in every frame, the same picture.
   const fallback = await byDefault({ ...config, noFloatTargets: true });
   assert.equal(fallback.evaluation, 'per-draw');
