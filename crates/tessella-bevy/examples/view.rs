@@ -2,7 +2,8 @@
 //! `tessella render` uses (crates/tessella-view/src/camera.rs), written to a PNG headless:
 //!
 //! `cargo run --example view -- FILE --scheme S --level L --yaw Y --pitch P --zoom Z
-//!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--frames N --stats]`
+//!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--draw welded|runs]
+//!  [--crowd N] [--frames N --stats]`
 //!
 //! A glTF file is loaded by Bevy's glTF loader (its scene, `Tessellate` added to each of its
 //! meshes); with `--clip` Bevy's `AnimationPlayer` plays that clip, held at `--time` for the
@@ -36,7 +37,9 @@ use tessella_bevy::tessella_core::animation::Poser;
 use tessella_bevy::tessella_core::names::parse_name;
 use tessella_bevy::tessella_core::refine::{Camera as LodCamera, Lod, Spacing};
 use tessella_bevy::tessella_core::Scheme;
-use tessella_bevy::{to_bevy_mesh, LodLevels, Patch, TessellaPlugin, Tessellate, UploadStats};
+use tessella_bevy::{
+    to_bevy_mesh, LodLevels, Patch, TessellaDraw, TessellaPlugin, Tessellate, UploadStats,
+};
 
 /// `tessella render`'s vertical field of view (tessella-view's `FOV_Y_DEGREES`).
 const FOV_Y_DEGREES: f32 = 30.0;
@@ -62,6 +65,11 @@ struct Args {
     ground: bool,
     /// The light casts no shadows.
     no_shadows: bool,
+    /// How the tessellated meshes are drawn (`--draw welded|runs`).
+    draw: TessellaDraw,
+    /// `--crowd N`: N copies of a glTF scene in a square grid, each playing `--clip` (many
+    /// animated characters, as Bevy's `many_foxes` stress test).
+    crowd: u32,
     /// After the picture: draw this many frames more, each waited for on the GPU, and print
     /// their mean time as one JSON line.
     frames: u32,
@@ -108,6 +116,8 @@ fn parse_args() -> Result<Args, String> {
         frame: None,
         ground: false,
         no_shadows: false,
+        draw: TessellaDraw::Welded,
+        crowd: 1,
         frames: 0,
         warmup: 3,
         clip: None,
@@ -143,10 +153,23 @@ fn parse_args() -> Result<Args, String> {
             "--frame" => args.frame = Some(PathBuf::from(value()?)),
             "--ground" => args.ground = true,
             "--no-shadows" => args.no_shadows = true,
+            "--draw" => {
+                args.draw = match value()?.as_str() {
+                    "welded" => TessellaDraw::Welded,
+                    "runs" => TessellaDraw::Runs,
+                    other => return Err(format!("--draw {other}: welded or runs")),
+                }
+            }
             "--frames" => args.frames = value()?.parse().map_err(|e| format!("--frames: {e}"))?,
             "--clip" => args.clip = Some(value()?),
             "--time" => args.time = num(value()?)?,
             "--stats" => args.stats = true,
+            "--crowd" => {
+                args.crowd = value()?.parse().map_err(|e| format!("--crowd: {e}"))?;
+                if args.crowd == 0 || args.crowd > 10_000 {
+                    return Err("--crowd: 1 to 10000 copies".into());
+                }
+            }
             "--lod" => args.lod = Some(value()?),
             "--spacing" => args.spacing = parse_name(&value()?).map_err(|e| e.to_string())?,
             "--pick" => {
@@ -171,6 +194,9 @@ fn parse_args() -> Result<Args, String> {
     }
     if args.clip.is_some() && !args.is_gltf() {
         return Err("--clip needs a glTF file".into());
+    }
+    if args.crowd > 1 && !args.is_gltf() {
+        return Err("--crowd needs a glTF file".into());
     }
     args.scheme = args.scheme.with_alpha(args.alpha);
     Ok(args)
@@ -317,6 +343,23 @@ impl Args {
     }
 }
 
+/// Where the `count` copies of a crowd stand: a square grid on the ground plane (x, z), a
+/// copy's box diagonal apart, centred on the origin. One copy stands at the origin.
+fn crowd_offsets(count: u32, (lo, hi): ([f32; 3], [f32; 3])) -> Vec<Vec3> {
+    if count <= 1 {
+        return vec![Vec3::ZERO];
+    }
+    let side = (count as f32).sqrt().ceil() as u32;
+    let step = (Vec3::from(hi) - Vec3::from(lo)).length();
+    let half = (side - 1) as f32 * 0.5;
+    (0..count)
+        .map(|i| {
+            let (col, row) = ((i % side) as f32 - half, (i / side) as f32 - half);
+            Vec3::new(col * step, 0.0, row * step)
+        })
+        .collect()
+}
+
 /// The colour every subject is drawn in: `tessella render`'s default, rough so no highlight
 /// reaches the background's white.
 #[derive(Resource)]
@@ -349,8 +392,28 @@ fn setup(
         }
     };
     let (w, h) = args.size;
+    // The copies of a crowd, and the points the camera and the ground take in: each copy's box.
+    let offsets = crowd_offsets(args.crowd, framed.bounds());
+    let (lo, hi) = framed.bounds();
+    let framed_points: Vec<[f32; 3]> = if args.crowd > 1 {
+        offsets
+            .iter()
+            .flat_map(|o| {
+                (0..8).map(move |k| {
+                    let corner = Vec3::new(
+                        if k & 1 == 0 { lo[0] } else { hi[0] },
+                        if k & 2 == 0 { lo[1] } else { hi[1] },
+                        if k & 4 == 0 { lo[2] } else { hi[2] },
+                    );
+                    (corner + *o).to_array()
+                })
+            })
+            .collect()
+    } else {
+        framed.positions().to_vec()
+    };
     let (eye, center, up) = framing(
-        framed.positions(),
+        &framed_points,
         args.yaw,
         args.pitch,
         args.zoom,
@@ -369,9 +432,13 @@ fn setup(
             .file_name()
             .map(|n| n.to_string_lossy().to_string());
         let name = name.unwrap_or_default();
-        commands.spawn(WorldAssetRoot(
-            assets.load(GltfAssetLabel::Scene(0).from_asset(name.clone())),
-        ));
+        let scene = assets.load(GltfAssetLabel::Scene(0).from_asset(name.clone()));
+        for offset in &offsets {
+            commands.spawn((
+                WorldAssetRoot(scene.clone()),
+                Transform::from_translation(*offset),
+            ));
+        }
         commands.insert_resource(GltfFile(assets.load(name)));
     } else {
         let mesh = match tessella_io::read_mesh(&args.input) {
@@ -388,12 +455,12 @@ fn setup(
             Subject,
         ));
         if !args.plain {
-            entity.insert(args.tessellate());
+            entity.insert((args.tessellate(), args.draw));
         }
     }
     if args.ground {
         // A floor just under the framed mesh, facing up, wide enough to hold its shadow.
-        let (lo, hi) = framed.bounds();
+        let (lo, hi) = tessella_bevy::tessella_core::mesh::bounds(&framed_points);
         let size = (Vec3::from(hi) - Vec3::from(lo)).length() * 3.0;
         commands.spawn((
             Mesh3d(meshes.add(Plane3d::new(Vec3::Y, Vec2::splat(size * 0.5)))),
@@ -619,7 +686,7 @@ fn adopt_scene_meshes(
         let mut entity = commands.entity(entity);
         entity.insert((MeshMaterial3d(material.0.clone()), Subject));
         if !args.plain {
-            entity.insert(args.tessellate());
+            entity.insert((args.tessellate(), args.draw));
         }
     }
 }

@@ -1,7 +1,6 @@
 //! tessella's curved surfaces in Bevy: add [`Tessellate`] to an entity that has `Mesh3d` and
-//! `MeshMaterial3d<StandardMaterial>`, and [`TessellaPlugin`] draws it as one refinement
-//! pattern per coarse triangle whose vertex stage evaluates the triangle's patch, shaded by
-//! Bevy's PBR (the entity's own `StandardMaterial`, Bevy's lights and shadows). Removing
+//! `MeshMaterial3d<StandardMaterial>`, and [`TessellaPlugin`] draws it as tessella's curved
+//! surface, a vertex stage evaluating each coarse triangle's patch, shaded by Bevy's PBR (the entity's own `StandardMaterial`, Bevy's lights and shadows). Removing
 //! `Tessellate` brings the plain mesh back. An entity Bevy animates (a `SkinnedMesh` posed by
 //! its `AnimationPlayer`, morph weights) has its coarse mesh posed each frame by tessella's
 //! skinning, and only its control nets are uploaded again.
@@ -11,11 +10,15 @@
 //! prepass, so shadows and depth follow the curved surface) call `tessella_point(face,
 //! vertex)` from tessella-gpu's exported WGSL module, registered as the Bevy shader import
 //! `tessella_bevy::patch_<normals>`. The patch group's seven buffers are the material's
-//! storage bindings 100 to 106. The refinement pattern of the level, repeated for a run of up
-//! to [`run_faces`] coarse triangles ([`RUN_VERTICES`] vertices), is one Bevy mesh stored once;
-//! the tessellated entity gets one child entity per run, each drawing that mesh with the run's
-//! first triangle in its `MeshTag`, so Bevy batches them into one instanced draw (and culls each
-//! run by its own box). A few children at any size: 80k coarse triangles at level 2 are 8.
+//! storage bindings 100 to 106. With uniform levels the entity gets one child drawing its
+//! refined surface's welded topology ([`TessellaDraw::Welded`], the default): a mesh whose
+//! vertices hold only their coarse triangle and pattern vertex, each refined vertex evaluated
+//! once per pass, as a static mesh's vertices are read. Or ([`TessellaDraw::Runs`]) the
+//! level's refinement pattern repeated for runs of up to [`run_faces`] coarse triangles
+//! ([`RUN_VERTICES`] vertices), one Bevy mesh shared by every entity, one child per run with
+//! the run's first triangle in its `MeshTag`, batched by Bevy into one instanced draw. Either
+//! way a few children at any coarse size, culled by their nets' boxes. Per-edge LOD draws one
+//! child per part of a triangle.
 
 mod animate;
 mod gltf_extras;
@@ -46,7 +49,8 @@ pub use material::{
     FIRST_BINDING,
 };
 pub use pattern::{
-    build, face_boxes, pattern_mesh, run_faces, to_bevy_mesh, to_tessella_mesh, Built, RUN_VERTICES,
+    build, face_boxes, pattern_mesh, run_faces, to_bevy_mesh, to_tessella_mesh, welded_mesh, Built,
+    RUN_VERTICES, WELDED_VERTICES,
 };
 pub use tessella_core;
 
@@ -82,6 +86,25 @@ impl Tessellate {
         options.levels = Levels::Lod(lod);
         Tessellate(options)
     }
+}
+
+/// How a tessellated entity with uniform levels is drawn (absent: [`TessellaDraw::Welded`]).
+/// Both are one instanced draw of Bevy's mesh pipeline, in every pass (shadows, prepass,
+/// main); they trade GPU memory against vertex work (`docs/bevy.md` has the measurements).
+#[derive(Component, Reflect, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[reflect(Component, Debug, Clone, Default)]
+pub enum TessellaDraw {
+    /// The refined surface's welded topology, one child entity: each refined vertex is
+    /// evaluated once per pass, as many vertices as a static mesh of the same surface, so
+    /// the cost does not grow with the coarse triangle count. Its own mesh of 40 bytes a
+    /// refined vertex plus the indices (a static mesh's size), made once per topology and
+    /// level; meshes over [`WELDED_VERTICES`] vertices are drawn in runs instead.
+    #[default]
+    Welded,
+    /// The pattern repeated in runs of consecutive triangles, one child a run: one run mesh a
+    /// level, shared by every entity (a few MB whatever the size), but each triangle's edge
+    /// and corner points evaluated by each triangle that has them.
+    Runs,
 }
 
 /// What a tessellated entity had before [`Tessellate`] came: given back when it goes.
@@ -121,8 +144,10 @@ impl Plugin for TessellaPlugin {
         gltf_extras::register(app);
         app.init_resource::<UploadStats>()
             .init_resource::<PatternMeshes>()
+            .init_resource::<WeldedMeshes>()
             .init_resource::<lod::PartMeshes>()
             .register_type::<Tessellate>()
+            .register_type::<TessellaDraw>()
             .register_type::<Untessellated>()
             .register_type::<Patch>()
             .register_type::<Patches>()
@@ -173,6 +198,35 @@ pub struct Patch {
 #[reflect(Component, Debug, Clone, Default)]
 pub struct Patches(pub Vec<Entity>);
 
+/// The welded meshes drawn, by the coarse mesh and the options: entities that share a mesh
+/// (a crowd spawned from one glTF) share its welded mesh while one of them draws it.
+#[derive(Resource, Default)]
+struct WeldedMeshes(bevy::platform::collections::HashMap<(AssetId<Mesh>, String), AssetId<Mesh>>);
+
+impl WeldedMeshes {
+    /// The welded mesh of `plan` for the coarse mesh and options in `key`: the one drawn
+    /// already, or a new one.
+    fn get(
+        &mut self,
+        meshes: &mut Assets<Mesh>,
+        key: (AssetId<Mesh>, String),
+        plan: &tessella_core::refine::Plan,
+    ) -> Result<Handle<Mesh>, String> {
+        if let Some(handle) = self
+            .0
+            .get(&key)
+            .and_then(|id| meshes.get_strong_handle(*id))
+        {
+            return Ok(handle);
+        }
+        // Entries whose mesh every entity dropped go.
+        self.0.retain(|_, id| meshes.contains(*id));
+        let handle = meshes.add(pattern::welded_mesh(plan)?);
+        self.0.insert(key, handle.id());
+        Ok(handle)
+    }
+}
+
 /// The run meshes drawn so far, by level and number of triangles: the full run of a level is
 /// shared by every tessellated entity and every run; a shorter last run by the entities whose
 /// triangle count leaves it.
@@ -214,6 +268,7 @@ type TessellateItem<'a> = (
         Has<NotShadowCaster>,
         Has<NotShadowReceiver>,
         Has<InventedNormals>,
+        Option<&'a TessellaDraw>,
     ),
 );
 
@@ -226,6 +281,7 @@ type TessellateAssets<'w> = (
     ResMut<'w, PatternMeshes>,
     ResMut<'w, Assets<TessellaLodMaterial>>,
     ResMut<'w, lod::PartMeshes>,
+    ResMut<'w, WeldedMeshes>,
 );
 
 /// Builds the patches of entities whose [`Tessellate`] is new or changed (once their mesh and
@@ -245,10 +301,13 @@ fn tessellate(
         mut patterns,
         mut lod_materials,
         mut parts,
+        mut welded,
     ) = assets;
     for (entity, tess, mesh3d, material, untessellated, patches, deform, flags) in &query {
         let (skin, morph, extra) = deform;
-        let key = format!("{:?}", tess.0);
+        let (no_cast, no_receive, invented, draw) = flags;
+        let draw = draw.copied().unwrap_or_default();
+        let key = format!("{:?} {draw:?}", tess.0);
         let (plain_mesh, plain_material) = match (untessellated, mesh3d, material) {
             (Some(u), _, _) if u.built_for == key => continue,
             (Some(u), _, _) => (u.mesh.clone(), u.material.clone()),
@@ -276,12 +335,19 @@ fn tessellate(
             options.levels = Levels::Uniform(1.0);
             options.spacing = Spacing::Grid;
         }
-        let (no_cast, no_receive, invented) = flags;
         let built =
             pattern::read_mesh(&plain, !invented).and_then(|m| pattern::build(&m, &options));
         // The runs: consecutive triangles, each drawing the level's run mesh (the last one
         // maybe a shorter one).
         let runs = match (&built, &lod) {
+            (Ok(b), None)
+                if draw == TessellaDraw::Welded && b.plan.vertex_count() <= WELDED_VERTICES =>
+            {
+                let key = (plain_mesh.id(), format!("{:?}", tess.0));
+                welded
+                    .get(&mut meshes, key, &b.plan)
+                    .map(|m| vec![(0..b.boxes.len(), m)])
+            }
             (Ok(b), None) => runs(&mut patterns, &mut meshes, b),
             _ => Ok(Vec::new()),
         };
@@ -523,6 +589,7 @@ mod tests {
     fn components_are_reflected() {
         let mut app = App::new();
         app.register_type::<Tessellate>()
+            .register_type::<TessellaDraw>()
             .register_type::<Untessellated>()
             .register_type::<Patch>()
             .register_type::<Patches>()
@@ -531,6 +598,7 @@ mod tests {
         let registry = app.world().resource::<AppTypeRegistry>().read();
         for (name, id) in [
             ("Tessellate", std::any::TypeId::of::<Tessellate>()),
+            ("TessellaDraw", std::any::TypeId::of::<TessellaDraw>()),
             ("Untessellated", std::any::TypeId::of::<Untessellated>()),
             ("Patch", std::any::TypeId::of::<Patch>()),
             ("Patches", std::any::TypeId::of::<Patches>()),
@@ -659,6 +727,57 @@ mod tests {
         let again = super::runs(&mut patterns, &mut meshes, &built).unwrap();
         assert_eq!(meshes.len(), before);
         assert_eq!(again[0].1, runs[0].1);
+    }
+
+    /// The welded mesh has one vertex per refined vertex and the plan's triangles; each
+    /// vertex names a pattern point at the barycentric the plan gives it. Entities with the
+    /// same coarse mesh and options share it; other options make another.
+    #[test]
+    fn welded_meshes_follow_the_plan_and_are_shared() {
+        let mesh = samples::torus(1.0, 0.35, 12, 8);
+        let built = build(&mesh, &RefineOptions::new(Scheme::Pn, 5)).unwrap();
+        let welded_mesh = pattern::welded_mesh(&built.plan).unwrap();
+        assert_eq!(welded_mesh.count_vertices(), built.plan.vertex_count());
+        let indices: Vec<u32> = welded_mesh
+            .indices()
+            .unwrap()
+            .iter()
+            .map(|i| i as u32)
+            .collect();
+        let expected: Vec<u32> = built.plan.indices().iter().flatten().copied().collect();
+        assert_eq!(indices, expected);
+        let (faces, bary) = built.plan.origin();
+        let Some(bevy::mesh::VertexAttributeValues::Float32x2(ids)) =
+            welded_mesh.attribute(Mesh::ATTRIBUTE_UV_1)
+        else {
+            panic!("no UV_1");
+        };
+        let points = &built.plan.pattern().points;
+        for ((id, face), l) in ids.iter().zip(&faces).zip(&bary) {
+            assert_eq!(id[1], *face as f32);
+            let p = points[id[0] as usize];
+            assert_eq!([p[1] as f32, p[2] as f32], [l[1], l[2]]);
+        }
+        // A vertex of every face: none is left to another face's evaluation.
+        let owners: std::collections::HashSet<u32> = faces.iter().copied().collect();
+        assert_eq!(owners.len(), mesh.face_count());
+
+        let mut meshes = Assets::<Mesh>::default();
+        let mut welded = WeldedMeshes::default();
+        let coarse = AssetId::<Mesh>::default();
+        let a = welded
+            .get(&mut meshes, (coarse, "pn 5".into()), &built.plan)
+            .unwrap();
+        let b = welded
+            .get(&mut meshes, (coarse, "pn 5".into()), &built.plan)
+            .unwrap();
+        assert_eq!(a, b);
+        assert_eq!(meshes.len(), 1);
+        let c = welded
+            .get(&mut meshes, (coarse, "pn 6".into()), &built.plan)
+            .unwrap();
+        assert_ne!(a, c);
+        assert_eq!(meshes.len(), 2);
     }
 
     /// The module registered for Bevy declares its seven bindings in group 3 at 100 to 106,

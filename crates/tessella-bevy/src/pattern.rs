@@ -159,6 +159,61 @@ pub fn pattern_mesh(pattern: &tessella_core::Pattern, faces: usize) -> Result<Me
     .with_inserted_indices(Indices::U32(indices)))
 }
 
+/// Vertices a welded mesh holds at most: at 40 bytes a vertex, 160 MB, inside the 256 MiB a
+/// WebGPU buffer may hold by default. A mesh with more is drawn in runs.
+pub const WELDED_VERTICES: usize = 1 << 22;
+
+/// The refined surface's welded topology as a Bevy mesh, drawn by one child entity with
+/// `MeshTag` 0: one vertex per refined vertex (each shared edge and corner point once, as
+/// [`Plan::write_indices`] weld them), its `UV_1` the pattern vertex and the coarse triangle that
+/// owns it ([`Plan::origin`]), its `UV_0` that pattern vertex's barycentric. The vertex stage
+/// evaluates each refined vertex once, as it would read a static mesh's.
+pub fn welded_mesh(plan: &Plan) -> Result<Mesh, String> {
+    let pattern = plan.pattern();
+    let n = plan.vertex_count();
+    if n > WELDED_VERTICES || plan.face_count() >= 1 << 24 {
+        return Err(format!(
+            "{n} refined vertices of {} triangles: over the {WELDED_VERTICES} a welded mesh holds",
+            plan.face_count()
+        ));
+    }
+    // Each pattern point by its barycentric's f32 bits: the origin's barycentrics are the
+    // pattern's points in their owner's corner order.
+    let key = |l1: f32, l2: f32| (l1.to_bits(), l2.to_bits());
+    let points: std::collections::HashMap<(u32, u32), u32> = pattern
+        .points
+        .iter()
+        .enumerate()
+        .map(|(v, l)| (key(l[1] as f32, l[2] as f32), v as u32))
+        .collect();
+    let (faces, bary) = plan.origin();
+    let mut uvs = Vec::with_capacity(n);
+    let mut ids = Vec::with_capacity(n);
+    for (face, l) in faces.iter().zip(&bary) {
+        let Some(&v) = points.get(&key(l[1], l[2])) else {
+            return Err(format!(
+                "a refined vertex at {l:?} of triangle {face} is no point of the pattern"
+            ));
+        };
+        uvs.push([l[1], l[2]]);
+        ids.push([v as f32, *face as f32]);
+    }
+    let positions: Vec<[f32; 3]> = uvs.iter().map(|u| [u[0], u[1], 0.0]).collect();
+    // Written here, not `Plan::indices` (which the plan would keep for its lifetime).
+    let mut indices = vec![[0u32; 3]; plan.triangle_count()];
+    plan.write_indices(&mut indices)
+        .map_err(|e| e.to_string())?;
+    Ok(Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, ids)
+    .with_inserted_indices(Indices::U32(indices.into_iter().flatten().collect())))
+}
+
 /// The box around a run of coarse triangles, from each triangle's box (its net's).
 pub fn run_box(boxes: &[(Vec3, Vec3)]) -> (Vec3, Vec3) {
     boxes.iter().fold(

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Many animated characters (Bevy's many_foxes stress test, on the view example's `--crowd`):
+# COUNT copies of a skinned glTF playing CLIP through Bevy's AnimationPlayer, with `Tessellate`
+# (PN, welded draw; tessella poses each coarse copy, uploads its nets) against the same file
+# refined offline by `tessella refine` (skins and clips kept) played by Bevy's own skinning.
+# The light's shadows on, a ground, 512x512, each frame waited for on the GPU.
+# Usage: scripts/crowd.sh [FILE.glb] [CLIP] [COUNT] [PROFILE] [FRAMES] [LEVELS]
+# e.g. scripts/crowd.sh path/to/bevy/assets/models/animated/Fox.glb Run 100
+set -euo pipefail
+cd "$(dirname "$0")/.."
+file=$(realpath "${1:-../../samples/animated-creature.glb}")
+clip=${2:-wave}
+count=${3:-100}
+profile=${4:-release}
+frames=${5:-30}
+levels=${6:-4 8}
+view=target/$profile/examples/view
+cli=${TESSELLA_BIN:-../../target/release/tessella}
+[ -x "$view" ] || { echo "build it first: cargo build --$profile --example view" >&2; exit 1; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+ms() {
+  local line
+  line=$("$view" "$@" --crowd "$count" --clip "$clip" --frame "$file" --ground --size 512x512 \
+    --frames "$frames" --screenshot "$tmp/shot.png" 2>/dev/null | tail -1)
+  echo "$line" >&2
+  echo "$line" | sed 's/.*"mean_frame_ms":\([0-9.]*\).*/\1/'
+}
+echo "| $(basename "$file") x $count, level | offline-refined skinned ms | Tessellate ms | ratio |"
+echo "|---|---|---|---|"
+for level in $levels; do
+  "$cli" refine "$file" --scheme pn --level "$level" -o "$tmp/refined.glb" >/dev/null 2>&1
+  offline=$(ms "$tmp/refined.glb" --plain)
+  tess=$(ms "$file" --scheme pn --level "$level")
+  awk -v l="$level" -v a="$offline" -v b="$tess" 'BEGIN { printf "| %s | %.2f | %.2f | %.2fx |\n", l, a, b, b / a }'
+done
