@@ -311,6 +311,12 @@ export class AdaptiveSurface {
   partRanges(): Uint32Array;
   /** GLSL ES 3.00 declaring `tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, out vec3 bary)`. */
   glsl(): string;
+  /**
+   * The same in WGSL for three.js's WebGPURenderer (TSL `wgslFn`), ending with
+   * `fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32>`
+   * (columns: the point, its unit normal, its barycentric coordinates; the instance word read at `instance` of the R32UI `instances` texture).
+   */
+  wgsl(): string;
   /** One frame's nets into `out` and the bounds, as InstancedSurface's. */
   update(positions: Float32Array | Float64Array, normals: Float32Array | Float64Array | undefined | null, out: Float32Array): Float32Array;
   /** Levels of the `lod` function on the last frame for a camera (the mesh's coordinates, vertical fov in degrees) and image size. */

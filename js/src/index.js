@@ -509,6 +509,17 @@ export class AdaptiveSurface extends NetsSurface {
     return call(() => inner.glsl());
   }
 
+  /**
+   * The same in WGSL for three.js's WebGPURenderer (TSL `wgslFn`), ending with
+   * `fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32>`
+   * (columns: the point, its unit normal, its barycentric coordinates; the instance word read
+   * at `instance` of the R32UI `instances` texture).
+   */
+  wgsl() {
+    const inner = this[LIVE]();
+    return call(() => inner.wgsl());
+  }
+
   /** Unique edges (once a frame was built): `setLevels` takes one level each. */
   get edgeCount() {
     const inner = this[LIVE]();

@@ -16,8 +16,10 @@ import {
   Mesh,
   NearestFilter,
   RGBAFormat,
+  RedIntegerFormat,
   RGBAIntegerFormat,
   UnsignedIntType,
+  Vector2,
   Vector3,
   Vector4,
 } from 'three';
@@ -101,6 +103,11 @@ export class LodParts {
   #v = new Vector3();
   #t = new Vector3();
   #viewport = new Vector4();
+  #size = new Vector2();
+  #instancesTexture = null;
+  #instancesWidth = 1;
+  #instancesHeight = 1;
+  #positions = false;
 
   constructor(owner, surface, options, flags) {
     if (options.camera !== undefined && options.camera !== null && options.camera.isCamera !== true) {
@@ -142,12 +149,18 @@ export class LodParts {
       RGBAIntegerFormat,
       UnsignedIntType,
     );
-    records.internalFormat = 'RGBA32UI';
+    // No internalFormat: WebGLRenderer derives RGBA32UI, WebGPURenderer rgba32uint (it would
+    // take a WebGL name as the GPU format and fail to create the texture).
     records.minFilter = NearestFilter;
     records.magFilter = NearestFilter;
     records.generateMipmaps = false;
     this.#records = records;
-    this.#instances = new InstancedInterleavedBuffer(new Uint32Array(Math.max(4 * surface.faceCount, 1)), 1, 1);
+    // The instance words: the instanced buffer (WebGL) and, over the same array, an R32UI
+    // texture (WebGPU, instancesTexture) whose rows hold MAX_WIDTH words.
+    const words = Math.max(4 * surface.faceCount, 1);
+    this.#instancesWidth = Math.min(words, MAX_WIDTH);
+    this.#instancesHeight = Math.ceil(words / this.#instancesWidth);
+    this.#instances = new InstancedInterleavedBuffer(new Uint32Array(this.#instancesWidth * this.#instancesHeight), 1, 1);
     /** Bytes the last level change marked for upload (records and instances; 0 when the levels did not change). */
     this.uploadedBytes = 0;
     /** Parts (strips, interiors) built once: their vertices and indices. */
@@ -211,8 +224,16 @@ export class LodParts {
 
   /** What a render tells: the camera and the viewport (physical pixels) it draws with. */
   seen(renderer, camera) {
-    renderer.getCurrentViewport(this.#viewport);
-    const size = [this.#viewport.z, this.#viewport.w];
+    this.#forNodes(renderer);
+    let size;
+    if (renderer.isWebGPURenderer === true) {
+      // Its render target's size, or the canvas's drawing buffer (it has no getCurrentViewport).
+      const target = renderer.getRenderTarget();
+      size = target !== null ? [target.width, target.height] : renderer.getDrawingBufferSize(this.#size).toArray();
+    } else {
+      renderer.getCurrentViewport(this.#viewport);
+      size = [this.#viewport.z, this.#viewport.w];
+    }
     const changed = this.#seenCamera !== camera || this.#seenSize === null || this.#seenSize[0] !== size[0] || this.#seenSize[1] !== size[1];
     this.#seenCamera = camera;
     this.#seenSize = size;
@@ -278,6 +299,7 @@ export class LodParts {
     this.#instances.clearUpdateRanges();
     this.#instances.addUpdateRange(0, Math.max(s.instanceCount, 1));
     this.#instances.needsUpdate = true;
+    if (this.#instancesTexture !== null) this.#instancesTexture.needsUpdate = true;
     this.uploadedBytes = bytes;
     this.#place(s.draws);
   }
@@ -297,7 +319,20 @@ export class LodParts {
     this.#instances.clearUpdateRanges();
     this.#instances.addUpdateRange(0, Math.max(s.instanceCount, 1));
     this.#instances.needsUpdate = true;
+    if (this.#instancesTexture !== null) this.#instancesTexture.needsUpdate = true;
     this.#place(s.draws);
+  }
+
+  // WebGPURenderer (before an object's first draw: three calls onBeforeRender before it builds
+  // the pipeline) reads a position attribute even where the positionNode replaces it, and warns
+  // without one: the codes again, on the owner (whose pipeline three builds too) and the
+  // children. Not under WebGLRenderer, whose shader's position is a local hiding the attribute,
+  // and where Box3.setFromObject(object, true) would read the codes as points.
+  #forNodes(renderer) {
+    if (this.#positions || renderer?.isWebGPURenderer !== true) return;
+    this.#positions = true;
+    this.#owner.geometry.setAttribute('position', this.#codes);
+    for (const child of this.#children.values()) child.geometry.setAttribute('position', this.#codes);
   }
 
   // One child per part drawn: its index range, its instances' offset in the shared buffer.
@@ -321,7 +356,11 @@ export class LodParts {
         child.name = `tessella part ${part}`;
         child.raycast = () => {};
         // The owner's own values into the (possibly shared) material's uniforms before each draw.
-        child.onBeforeRender = (renderer) => this.bind?.(renderer);
+        child.onBeforeRender = (renderer) => {
+          this.#forNodes(renderer);
+          this.bind?.(renderer);
+        };
+        if (this.#positions) g.setAttribute('position', this.#codes);
         child.customDepthMaterial = owner.customDepthMaterial;
         child.customDistanceMaterial = owner.customDistanceMaterial;
         this.#children.set(part, child);
@@ -333,6 +372,8 @@ export class LodParts {
       // A new attribute object when the offset moves: three rebinds the vertex array then.
       if (at === undefined || at.offset !== first) g.setAttribute('tessellaInstance', new InterleavedBufferAttribute(this.#instances, 1, first));
       g.instanceCount = count;
+      // WebGPURenderer's nodes read the words at this first plus the instance index.
+      child.userData.tessellaFirst = first;
       child.material = owner.material;
       child.castShadow = owner.castShadow;
       child.receiveShadow = owner.receiveShadow;
@@ -348,6 +389,24 @@ export class LodParts {
     if (v === null) throw new TessellaError('TessellatedMesh: no levels yet to raycast (render it once, or give the camera and size options)');
     if (v.camera === null && v.first !== true) return { ...base };
     return { ...base, camera: [...v.eye, ...v.target, v.fov], size: v.size };
+  }
+
+  /** The records texture (RGBA32UI: per face its packed record). */
+  get recordsTexture() {
+    return this.#records;
+  }
+
+  /** The instance words (`face | side << 30`, each part's from its first) as an R32UI texture, MAX_WIDTH words a row (WebGPURenderer). */
+  get instancesTexture() {
+    if (this.#instancesTexture === null) {
+      const t = new DataTexture(this.#instances.array, this.#instancesWidth, this.#instancesHeight, RedIntegerFormat, UnsignedIntType);
+      t.minFilter = NearestFilter;
+      t.magFilter = NearestFilter;
+      t.generateMipmaps = false;
+      t.needsUpdate = true;
+      this.#instancesTexture = t;
+    }
+    return this.#instancesTexture;
   }
 
   /** The corners texture (RGBA32F: per face its corners' uvs, then colours), or null without uvs and colours. */
@@ -372,6 +431,7 @@ export class LodParts {
     }
     this.#children.clear();
     this.#records.dispose();
+    this.#instancesTexture?.dispose();
     this.#corners?.texture.dispose();
   }
 }

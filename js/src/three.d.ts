@@ -35,7 +35,8 @@ export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
   /**
    * Per-edge levels every frame, crack-free: 'screen:PX' (segments about PX pixels long on the
    * camera's image), 'tolerance:D' or 'distance:NEAR,FAR,MAX'; drawn with the GPU tessellator's
-   * patterns (`spacing` required, `level` refused).
+   * patterns (`spacing` required, `level` refused). Under WebGLRenderer (GLSL) and WebGPURenderer
+   * (the WGSL of `AdaptiveSurface.wgsl()`, as TSL nodes) alike.
    */
   lod?: string;
   /** With `lod`: 'equal', 'fractional-odd' or 'fractional-even'. */
@@ -76,6 +77,10 @@ export interface TessellatedMeshLod {
   readonly children: Mesh[];
   /** The corners texture (per face its corners' uvs, then colours), or null. */
   readonly cornersTexture: DataTexture | null;
+  /** The packed records (RGBA32UI, three texels a face). */
+  readonly recordsTexture: DataTexture;
+  /** The instance words as an R32UI texture (what WebGPURenderer's nodes read, each part from its first). */
+  readonly instancesTexture: DataTexture;
   /** Draws these per-edge levels (one per unique edge, `surface.edgeCount`) from now on instead of the lod function's. */
   setLevels(levels: Float32Array | number[]): void;
 }

@@ -20,6 +20,7 @@ import {
 import { AdaptiveSurface, Deformer, InstancedSurface, refine, Refiner, TessellaError } from './index.js';
 import { LOD_MESH_OPTIONS, LodParts } from './three-lod.js';
 import { missingNodes, setupNodes } from './three-nodes.js';
+import { setupLodNodes } from './three-lod-nodes.js';
 import { bakeMissing, BakedSurface, welded } from './three-bake.js';
 
 export { tessellaFunctions } from './three-nodes.js';
@@ -653,9 +654,10 @@ export class TessellatedMesh extends Mesh {
       const entry = { key, uniforms: common, users: new Set(), owned, saved, set: null, mode: 'instanced' };
       patchMaterial(material, common, key, variants(material), () => entry.mode);
       // WebGPURenderer: the same surface from the WGSL, as a node (its shadow pass takes it too)
-      // reading the drawn object's own nets texture, instanced (it evaluates per draw); lod
-      // draws under WebGLRenderer only (#check refuses it under WebGPURenderer).
-      if (!lod) setupNodes(material, surface, { ...this.#flags, welded: false });
+      // reading the drawn object's own nets texture, instanced (it evaluates per draw); lod's
+      // parts from the adaptive WGSL reading their owner's textures (three-lod-nodes.js).
+      if (lod) setupLodNodes(material, surface, this.#flags, this);
+      else setupNodes(material, surface, { ...this.#flags, welded: false });
       entry.set = Object.fromEntries(PATCHED.map((name) => [name, material[name]]));
       shared = entry;
       patches.set(material, shared);
@@ -1019,9 +1021,6 @@ export class TessellatedMesh extends Mesh {
     if (this.#checked === renderer) return;
     const why = missing(renderer);
     if (why !== null) throw new TessellaError(why);
-    if (this.#lod !== null && renderer.isWebGPURenderer === true) {
-      throw new TessellaError('TessellatedMesh: lod draws under WebGLRenderer (WebGL2); under WebGPURenderer give a whole level instead');
-    }
     // WebGPU's guaranteed 8192 texels hold every layout (at most 2048 wide and high).
     const size = renderer.isWebGPURenderer === true ? 8192 : renderer.capabilities.maxTextureSize;
     if (this.#surface.width > size || this.#surface.height > size) {

@@ -15,7 +15,9 @@
 //! `RGBA32UI` texels per face, see [`pack_record`]) so that a frame uploads 48 bytes of records
 //! and at most 16 of instances per coarse triangle.
 
-use crate::instanced::{glsl as nets_glsl, InstancedSurface, Layout, MAX_TEXTURE_WIDTH};
+use crate::instanced::{
+    glsl as nets_glsl, wgsl as nets_wgsl, InstancedSurface, Layout, MAX_TEXTURE_WIDTH,
+};
 use crate::{errors, options::Options};
 use std::collections::HashMap;
 use tessella_core::refine::instanced::{
@@ -191,6 +193,12 @@ impl AdaptiveSurface {
     pub fn glsl(&self) -> String {
         let o = self.nets.surface_options();
         glsl(o.scheme.basis(), o.normal_mode())
+    }
+
+    /// The same in WGSL, for three.js's WebGPURenderer (TSL `wgslFn`): see [`wgsl`].
+    pub fn wgsl(&self) -> String {
+        let o = self.nets.surface_options();
+        wgsl(o.scheme.basis(), o.normal_mode())
     }
 
     #[wasm_bindgen(js_name = positionsInput)]
@@ -495,19 +503,10 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
             ("TESSELLA_RECORD_TEXELS", RECORD_TEXELS as u32),
         ],
     );
-    let controls: Vec<String> = (0..3)
-        .flat_map(|k| canonical::edge_controls(basis, k))
-        .map(|i| format!("{i}u"))
-        .collect();
-    let normals: Vec<String> = (0..3)
-        .flat_map(canonical::edge_normal_controls)
-        .map(|i| format!("{i}u"))
-        .collect();
+    let [controls, normals] = edge_tables(basis);
     s += &format!(
-        "const uint TESSELLA_EDGE_CONTROLS[12] = uint[12]({});\n\
-         const uint TESSELLA_EDGE_NORMALS[9] = uint[9]({});\n",
-        controls.join(", "),
-        normals.join(", ")
+        "const uint TESSELLA_EDGE_CONTROLS[12] = uint[12]({controls});\n\
+         const uint TESSELLA_EDGE_NORMALS[9] = uint[9]({normals});\n"
     );
     s += &format!(
         "const bool TESSELLA_REAL_NORMALS = {};\n",
@@ -519,6 +518,133 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     s += ADAPTIVE_GLSL_MAIN;
     s
 }
+
+/// The edge tables both languages declare: per coarse edge its four boundary control points
+/// (`canonical::edge_controls`) and its three normal-net entries
+/// (`canonical::edge_normal_controls`), in canonical order, as `u32` literals.
+fn edge_tables(basis: tessella_core::Basis) -> [String; 2] {
+    let controls: Vec<String> = (0..3)
+        .flat_map(|k| canonical::edge_controls(basis, k))
+        .map(|i| format!("{i}u"))
+        .collect();
+    let normals: Vec<String> = (0..3)
+        .flat_map(canonical::edge_normal_controls)
+        .map(|i| format!("{i}u"))
+        .collect();
+    [controls.join(", "), normals.join(", ")]
+}
+
+/// WGSL for three.js's WebGPURenderer (TSL `wgslFn`), the twin of [`glsl`]: [`nets_wgsl`]'s
+/// nets reader, `tessella_position` and `tessella_normal`, the record layout constants, the
+/// edge tables, the packed record's reader, the same generated `tessella_locate` and
+/// `tessella_edge_weights` (`shader::locate_wgsl`, `shader::edge_weights_wgsl`), and last
+/// `fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>,
+/// instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32>`:
+/// [`glsl`]'s `tessella_adaptive_evaluate` for the instance word (`face | side << 30`) at
+/// `instance` of the `instances` texture (R32UI, row-major; three.js cannot give a WebGPU
+/// draw a first instance, so a part reads its words at its first plus the instance index),
+/// returning the columns point, unit normal, barycentric coordinates. The textures' rows are
+/// their widths over the texels per record / face. The readers and the entry are written
+/// next to the GLSL's (`ADAPTIVE_WGSL_*`), validated by naga in the tests.
+pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
+    let mut s = nets_wgsl(basis, mode);
+    s += &shader::record_layout(Lang::Wgsl);
+    s += &shader::constants(
+        Lang::Wgsl,
+        &[
+            ("TESSELLA_BASIS_K", basis.len() as u32),
+            ("TESSELLA_RECORD_TEXELS", RECORD_TEXELS as u32),
+        ],
+    );
+    let [controls, normals] = edge_tables(basis);
+    // Private arrays: indexed by a runtime value (a const array may not be, everywhere).
+    s += &format!(
+        "var<private> TESSELLA_EDGE_CONTROLS: array<u32, 12> = array<u32, 12>({controls});\n\
+         var<private> TESSELLA_EDGE_NORMALS: array<u32, 9> = array<u32, 9>({normals});\n"
+    );
+    s += &format!(
+        "const TESSELLA_REAL_NORMALS: bool = {};\n",
+        mode == NormalMode::Real
+    );
+    s += ADAPTIVE_WGSL_READERS;
+    s += &shader::locate_wgsl();
+    s += &shader::edge_weights_wgsl();
+    s += ADAPTIVE_WGSL_MAIN;
+    s
+}
+
+/// [`ADAPTIVE_GLSL_READERS`] in WGSL (the twin of [`packed_ruler_word`]), and the instance word's
+/// reader.
+const ADAPTIVE_WGSL_READERS: &str = r#"var<private> tessella_rec: array<vec4<u32>, 3>;
+fn tessella_read_record(records: texture_2d<u32>, face: u32) {
+    let per_row = textureDimensions(records).x / TESSELLA_RECORD_TEXELS;
+    let row = face / per_row;
+    let column = (face - row * per_row) * TESSELLA_RECORD_TEXELS;
+    for (var j = 0u; j < 3u; j++) {
+        tessella_rec[j] = textureLoad(records, vec2<u32>(column + j, row), 0);
+    }
+}
+fn tessella_packed(i: u32) -> u32 {
+    return tessella_rec[i >> 2u][i & 3u];
+}
+fn tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32 {
+    let a = tessella_packed(3u * r);
+    let b = tessella_packed(3u * r + 1u);
+    let c = tessella_packed(3u * r + 2u);
+    if (k == 0u) { return a & 0x1ffffu; }
+    if (k == 1u) { return b & 0x1ffffu; }
+    if (k == 2u) { return c & 0x1ffffu; }
+    if (k == 3u) { return (a >> 17u) & 0x7fu; }
+    return (a >> 24u) | (((c >> 17u) & 1u) << TESSELLA_RULER_ODD_SHIFT) | ((b >> 17u) << TESSELLA_RULER_POINTS_SHIFT);
+}
+fn tessella_net_float(nets: texture_2d<f32>, face: u32, x: u32) -> f32 {
+    return tessella_texel(nets, face, x >> 2u)[x & 3u];
+}
+fn tessella_net_entry(nets: texture_2d<f32>, face: u32, i: u32) -> vec3<f32> {
+    let x = 3u * i;
+    return vec3<f32>(tessella_net_float(nets, face, x), tessella_net_float(nets, face, x + 1u), tessella_net_float(nets, face, x + 2u));
+}
+fn tessella_instance_word(instances: texture_2d<u32>, i: u32) -> u32 {
+    let width = textureDimensions(instances).x;
+    let row = i / width;
+    return textureLoad(instances, vec2<u32>(i - row * width, row), 0).x;
+}
+"#;
+
+/// [`ADAPTIVE_GLSL_MAIN`] in WGSL, the instance word read at `instance`.
+const ADAPTIVE_WGSL_MAIN: &str = r#"fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32> {
+    let inst = tessella_instance_word(instances, instance);
+    let face = inst & 0x3fffffffu;
+    tessella_read_record(records, face);
+    let p = tessella_locate(0u, code & 0x3fffffffu, inst >> 30u);
+    let lf = vec3<u32>(p.x, p.y, TESSELLA_FIXED_ONE - p.x - p.y);
+    let l = vec3<f32>(lf) / f32(TESSELLA_FIXED_ONE);
+    var position = tessella_position(nets, face, l);
+    var normal = tessella_normal(nets, face, l);
+    let edge = p.z;
+    if (edge != TESSELLA_NO_EDGE) {
+        // The edge's own data in canonical order, summed in the same order on both faces.
+        let forward = ((tessella_rec[0].z >> (18u + edge)) & 1u) != 0u;
+        let a = select(TESSELLA_FIXED_ONE - lf[edge], lf[edge], forward);
+        let w = tessella_edge_weights(f32(a) / f32(TESSELLA_FIXED_ONE), f32(TESSELLA_FIXED_ONE - a) / f32(TESSELLA_FIXED_ONE));
+        var q = vec3<f32>(0.0);
+        for (var i = 0u; i < 4u; i++) {
+            q += w.value[i] * tessella_net_entry(nets, face, TESSELLA_EDGE_CONTROLS[4u * edge + select(3u - i, i, forward)]);
+        }
+        position = q;
+        if (!TESSELLA_REAL_NORMALS) {
+            var m = vec3<f32>(0.0);
+            for (var i = 0u; i < 3u; i++) {
+                m += w.normal[i] * tessella_net_entry(nets, face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + select(2u - i, i, forward)]);
+            }
+            if (dot(m, m) > 0.0) {
+                normal = normalize(m);
+            }
+        }
+    }
+    return mat3x3<f32>(position, normal, l);
+}
+"#;
 
 /// The packed record's reader (the twin of [`packed_ruler_word`]) and the nets' entries.
 const ADAPTIVE_GLSL_READERS: &str = r#"uvec4 tessella_rec[3];
@@ -683,6 +809,53 @@ mod tests {
         )));
         assert!(g.contains("void tessella_evaluate(int face"));
         assert!(g.contains("const bool TESSELLA_REAL_NORMALS = false;"));
+    }
+
+    #[test]
+    fn the_wgsl_is_valid_and_holds_the_generated_placement_and_the_glsls_tables() {
+        use tessella_core::Basis;
+        for (basis, mode) in [
+            (Basis::Cubic, NormalMode::Quadratic),
+            (Basis::Cubic, NormalMode::Linear),
+            (Basis::Png1, NormalMode::Real),
+        ] {
+            let w = wgsl(basis, mode);
+            let g = glsl(basis, mode);
+            assert!(w.contains(&shader::locate_wgsl()));
+            assert!(w.contains(&shader::edge_weights_wgsl()));
+            assert!(w.contains(&shader::record_layout(Lang::Wgsl)));
+            assert!(w.starts_with(&nets_wgsl(basis, mode)));
+            // The same edge tables as the GLSL's.
+            let [controls, normals] = edge_tables(basis);
+            assert!(w.contains(&format!("array<u32, 12>({controls});")));
+            assert!(g.contains(&format!("uint[12]({controls});")));
+            assert!(w.contains(&format!("array<u32, 9>({normals});")));
+            assert!(g.contains(&format!("uint[9]({normals});")));
+            assert_eq!(
+                w.contains("const TESSELLA_REAL_NORMALS: bool = true;"),
+                mode == NormalMode::Real
+            );
+            // The entry TSL calls comes last.
+            let at = w.find("fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32> {").unwrap();
+            assert!(!w[at + 3..].contains("\nfn "));
+            // A vertex shader as three's would include it: valid WGSL.
+            let module = format!(
+                "{w}@group(0) @binding(0) var nets: texture_2d<f32>;\n\
+                 @group(0) @binding(1) var records: texture_2d<u32>;\n\
+                 @group(0) @binding(2) var instances: texture_2d<u32>;\n\
+                 @vertex fn main(@builtin(instance_index) i: u32, @location(0) code: u32) -> @builtin(position) vec4<f32> {{\n    \
+                 let m = tessella_adaptive_point(nets, records, instances, code, 3u + i);\n    \
+                 return vec4<f32>(m[0] + m[1] + m[2], 1.0);\n}}\n"
+            );
+            let parsed = naga::front::wgsl::parse_str(&module)
+                .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::empty(),
+            )
+            .validate(&parsed)
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
+        }
     }
 
     #[test]

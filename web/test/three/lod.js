@@ -2,10 +2,13 @@
 // mesh drawn by three's WebGLRenderer either as a TessellatedMesh whose per-edge levels come from
 // the camera (children drawing the tessellator's parts, instanced), or as a plain Mesh of
 // refineGeometry's CPU refinement with the same lod, camera and size; the WebGL calls counted.
+// `renderer: 'webgpu'` (web/test/three-webgpu-lod.test.js, a page opened with WebGPU) draws the
+// same scene with three's WebGPURenderer into a render target read back, its draws counted
+// (GPURenderPassEncoder.drawIndexed).
 import * as THREE from 'three';
 import { ready } from 'tessella';
 import { refineGeometry, TessellatedMesh } from 'tessella/three';
-import { checkerTexture, glRenderer, spy } from './common.js';
+import { checkerTexture, glRenderer, gpuRenderer, readTarget, spy } from './common.js';
 
 const WIDTH = 320;
 const HEIGHT = 240;
@@ -25,6 +28,17 @@ for (const name of ['texImage2D', 'texSubImage2D', 'bufferData', 'bufferSubData'
     }
     for (const a of args) if (ArrayBuffer.isView(a)) counts.uploaded += a.byteLength;
   });
+}
+
+let gpu = null;
+async function webgpu() {
+  if (gpu !== null) return gpu;
+  const { renderer: r, target, started } = await gpuRenderer(WIDTH, HEIGHT);
+  await started;
+  if (r.backend.isWebGPUBackend !== true) throw new Error('no WebGPU');
+  spy(GPURenderPassEncoder.prototype, 'drawIndexed', ([count, instances = 1]) => counts.instanced.push({ count, instances }));
+  gpu = { renderer: r, target };
+  return gpu;
 }
 
 // The coarse mesh: an icosahedron subdivided once, its vertices pushed about a little so the
@@ -63,9 +77,10 @@ function coarse() {
 async function run({
   scheme = 'pn', spacing = 'fractional-odd', pixels = 6, eye = [0, 0.4, 3], to = null, plain = false, frames = 1,
   material = 'basic', cameraOption = true, deform = false, levels = null, extras = false,
-  shadow = false, cast = true,
+  shadow = false, cast = true, renderer: which = 'webgl',
 } = {}) {
   await ready;
+  const g = which === 'webgpu' ? await webgpu() : null;
   const scene = new THREE.Scene();
   const camera = new THREE.PerspectiveCamera(FOV, WIDTH / HEIGHT, 0.05, 50);
   const place = (f) => {
@@ -151,23 +166,29 @@ async function run({
     }
     counts.instanced = [];
     counts.uploaded = 0;
-    renderer.render(scene, camera);
+    if (g !== null) {
+      g.renderer.setRenderTarget(g.target);
+      g.renderer.render(scene, camera);
+      g.renderer.setRenderTarget(null);
+    } else {
+      renderer.render(scene, camera);
+    }
     log.push({
       instanced: counts.instanced.slice(),
       uploaded: counts.uploaded,
-      triangles: renderer.info.render.triangles,
-      calls: renderer.info.render.calls,
+      triangles: g !== null ? g.renderer.info.render.triangles : renderer.info.render.triangles,
+      calls: g !== null ? g.renderer.info.render.calls : renderer.info.render.calls,
       netsBytes: plain ? 0 : drawn.uploadedBytes,
       lodBytes: plain ? 0 : drawn.lod.uploadedBytes,
       lodTriangles: plain ? 0 : drawn.lod.triangleCount,
     });
   }
-  const png = canvas.toDataURL('image/png');
+  const picture = g !== null ? await readTarget(g.renderer, g.target) : { png: canvas.toDataURL('image/png') };
   const faces = geometry.index.count / 3;
   const cpuTriangles = plain ? drawn.geometry.index.count / 3 : 0;
   scene.remove(drawn);
   if (!plain) drawn.dispose();
-  return { png, log, faces, cpuTriangles };
+  return { ...picture, log, faces, cpuTriangles };
 }
 
 window.tessellaLod = { run, ready: ready.then(() => true) };
