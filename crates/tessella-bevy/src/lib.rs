@@ -145,14 +145,8 @@ impl Plugin for TessellaPlugin {
         app.init_resource::<UploadStats>()
             .init_resource::<PatternMeshes>()
             .init_resource::<WeldedMeshes>()
-            .init_resource::<lod::PartMeshes>()
-            .register_type::<Tessellate>()
-            .register_type::<TessellaDraw>()
-            .register_type::<Untessellated>()
-            .register_type::<Patch>()
-            .register_type::<Patches>()
-            .register_type::<LodLevels>()
-            .register_type::<LodCameraMarker>();
+            .init_resource::<lod::PartMeshes>();
+        register_types(app);
         app.add_systems(
             PostUpdate,
             (untessellate, tessellate, animate::pose, lod::levels)
@@ -177,6 +171,17 @@ impl Plugin for TessellaPlugin {
             );
         }
     }
+}
+
+/// Registers the plugin's components for reflection (the glTF reader registers its own).
+fn register_types(app: &mut App) {
+    app.register_type::<Tessellate>()
+        .register_type::<TessellaDraw>()
+        .register_type::<Untessellated>()
+        .register_type::<Patch>()
+        .register_type::<Patches>()
+        .register_type::<LodLevels>()
+        .register_type::<LodCameraMarker>();
 }
 
 /// A child of the tessellated entity drawing the patches of coarse triangles `face..face +
@@ -588,13 +593,7 @@ mod tests {
     #[test]
     fn components_are_reflected() {
         let mut app = App::new();
-        app.register_type::<Tessellate>()
-            .register_type::<TessellaDraw>()
-            .register_type::<Untessellated>()
-            .register_type::<Patch>()
-            .register_type::<Patches>()
-            .register_type::<LodLevels>()
-            .register_type::<LodCameraMarker>();
+        register_types(&mut app);
         let registry = app.world().resource::<AppTypeRegistry>().read();
         for (name, id) in [
             ("Tessellate", std::any::TypeId::of::<Tessellate>()),

@@ -128,12 +128,10 @@ pub fn pattern_mesh(pattern: &tessella_core::Pattern, faces: usize) -> Result<Me
             "{faces} triangles of {n} pattern vertices: a run holds 1 to 2^24 vertices"
         ));
     };
-    let mut positions = Vec::with_capacity(total);
     let mut uvs = Vec::with_capacity(total);
     let mut ids = Vec::with_capacity(total);
     for face in 0..faces {
         for (v, l) in pattern.points.iter().enumerate() {
-            positions.push([l[1] as f32, l[2] as f32, 0.0]);
             uvs.push([l[1] as f32, l[2] as f32]);
             ids.push([v as f32, face as f32]);
         }
@@ -147,16 +145,26 @@ pub fn pattern_mesh(pattern: &tessella_core::Pattern, faces: usize) -> Result<Me
                 .map(move |&i| i + face * n as u32)
         })
         .collect();
-    Ok(Mesh::new(
+    Ok(patch_point_mesh(uvs, ids, indices))
+}
+
+/// A mesh of patch points: per vertex its barycentric `(l2, l3)` (`UV_0`) and its `(pattern
+/// vertex, triangle)` (`UV_1`); position and normal are the unit triangle's at that
+/// barycentric (placeholders the shaders do not read, kept so the mesh is an ordinary Bevy
+/// mesh).
+fn patch_point_mesh(uvs: Vec<[f32; 2]>, ids: Vec<[f32; 2]>, indices: Vec<u32>) -> Mesh {
+    let positions: Vec<[f32; 3]> = uvs.iter().map(|u| [u[0], u[1], 0.0]).collect();
+    let normals = vec![[0.0f32, 0.0, 1.0]; uvs.len()];
+    Mesh::new(
         PrimitiveTopology::TriangleList,
         RenderAssetUsages::RENDER_WORLD,
     )
     .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; total])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
     // StandardMaterial's shaders read UV_0 whenever a mesh has UV channels.
     .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
     .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, ids)
-    .with_inserted_indices(Indices::U32(indices)))
+    .with_inserted_indices(Indices::U32(indices))
 }
 
 /// Vertices a welded mesh holds at most: at 40 bytes a vertex, 160 MB, inside the 256 MiB a
@@ -198,20 +206,12 @@ pub fn welded_mesh(plan: &Plan) -> Result<Mesh, String> {
         uvs.push([l[1], l[2]]);
         ids.push([v as f32, *face as f32]);
     }
-    let positions: Vec<[f32; 3]> = uvs.iter().map(|u| [u[0], u[1], 0.0]).collect();
     // Written here, not `Plan::indices` (which the plan would keep for its lifetime).
     let mut indices = vec![[0u32; 3]; plan.triangle_count()];
     plan.write_indices(&mut indices)
         .map_err(|e| e.to_string())?;
-    Ok(Mesh::new(
-        PrimitiveTopology::TriangleList,
-        RenderAssetUsages::RENDER_WORLD,
-    )
-    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
-    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, ids)
-    .with_inserted_indices(Indices::U32(indices.into_iter().flatten().collect())))
+    let indices = indices.into_iter().flatten().collect();
+    Ok(patch_point_mesh(uvs, ids, indices))
 }
 
 /// The box around a run of coarse triangles, from each triangle's box (its net's).
