@@ -237,3 +237,22 @@ export function darker(a, b, by = 30) {
 export function assertClean(assert, page) {
   assert.deepEqual(page.problems, [], 'the page reported errors');
 }
+
+/**
+ * Background pixels of `img` whose 8 neighbours in `inside` (another picture's silhouette) are
+ * all covered: holes in the surface where the other picture has none.
+ */
+export function gapsInside(img, inside) {
+  const m = mask(img);
+  const { width, height } = img;
+  let n = 0;
+  for (let y = 1; y < height - 1; y++) {
+    for (let x = 1; x < width - 1; x++) {
+      if (m[y * width + x]) continue;
+      let all = true;
+      for (let dy = -1; dy <= 1 && all; dy++) for (let dx = -1; dx <= 1; dx++) if (!inside[(y + dy) * width + x + dx]) all = false;
+      if (all) n++;
+    }
+  }
+  return n;
+}

@@ -10,7 +10,7 @@ import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
-import { count, differing, iou, mask, openRepoPage } from './harness.js';
+import { count, differing, gapsInside, iou, mask, openRepoPage } from './harness.js';
 
 const SHOT = process.env.TESSELLA_THREE_SHOT;
 
@@ -30,22 +30,6 @@ async function run(config, shot) {
   return out;
 }
 
-// Background pixels of `img` whose 8 neighbours in `inside` (a silhouette) are all covered.
-function holes(img, inside) {
-  const m = mask(img);
-  const { width, height } = img;
-  let n = 0;
-  for (let y = 1; y < height - 1; y++) {
-    for (let x = 1; x < width - 1; x++) {
-      if (m[y * width + x]) continue;
-      let all = true;
-      for (let dy = -1; dy <= 1 && all; dy++) for (let dx = -1; dx <= 1; dx++) if (!inside[(y + dy) * width + x + dx]) all = false;
-      if (all) n++;
-    }
-  }
-  return n;
-}
-
 test('under WebGPURenderer the LOD picture is refineGeometry\'s and WebGLRenderer\'s LOD picture, with no holes', async () => {
   for (const [spacing, eye, pixels, scheme = 'pn'] of [
     ['fractional-odd', [0, 0.4, 3], 6],
@@ -59,7 +43,7 @@ test('under WebGPURenderer the LOD picture is refineGeometry\'s and WebGLRendere
     const gl = await run(config, `${spacing}-${scheme}-webgl`);
     const [a, b, c] = [cpu, gpu, gl].map((x) => mask(x.img));
     const frame = gpu.log[0];
-    const gaps = holes(gpu.img, a);
+    const gaps = gapsInside(gpu.img, a);
     const off = differing(cpu.img, gpu.img, 12);
     console.log(`${scheme} ${spacing} from ${eye}: IoU ${iou(a, b).toFixed(5)} vs CPU, ${iou(b, c).toFixed(5)} vs WebGL (${count(b)} pixels); ${frame.lodTriangles} triangles in ${frame.instanced.length} instanced draws (CPU ${cpu.cpuTriangles}); ${gaps} holes; ${off} pixels shaded differently from the CPU's`);
     assert.ok(count(b) > 0.1 * b.length, `${spacing}: only ${count(b)} pixels drawn`);
