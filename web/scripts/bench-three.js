@@ -1,7 +1,10 @@
 // Runs tessella/three's benchmark page (js/bench/three/page.html) in headless Chromium (WebGL2 on
 // SwiftShader here) and prints its table: frame time, GPU memory and bytes uploaded per frame of
 // TessellatedMesh against a static refineGeometry Mesh and RefinedGeometry.update(), at levels
-// 4, 8, 16 and 32 (static and deforming, per-draw and per-frame, a shadow-casting light). `--json FILE` also writes the rows; `--frames N`, `--levels 8,16`.
+// 4, 8, 16 and 32 (static and deforming, per-draw and per-frame, a shadow-casting light), and an
+// animated character (samples/animated-creature.glb playing its `wave` clip) refined offline by
+// refineGltf against its SkinnedMesh tessellated, in the same frames. `--json FILE` also writes
+// the rows; `--frames N`, `--levels 8,16`; `--no-animated` leaves the character out.
 import { renameSync, writeFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
@@ -16,6 +19,7 @@ const option = (name) => {
 const config = {};
 if (option('frames') !== undefined) config.frames = Number(option('frames'));
 if (option('levels') !== undefined) config.levels = option('levels').split(',').map(Number);
+config.animated = !args.includes('--no-animated');
 const json = option('json');
 
 const root = fileURLToPath(new URL('../../', import.meta.url));

@@ -43,19 +43,27 @@ for (const name of PAGES) {
   });
 }
 
-test('the benchmark page (npm run bench:three) measures the six ways; the tessellated ones upload less, per-draw holds less', async () => {
+test('the benchmark page (npm run bench:three) measures the eight ways; the tessellated ones upload less, per-draw holds less, the two animated creatures agree', async () => {
   const page = await env.browser.newPage();
   const problems = [];
   page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
   await page.goto(`${env.url}js/bench/three/page.html`);
   await page.waitForFunction(() => window.benchThree !== undefined);
   await page.evaluate(() => window.benchThree.ready);
-  const { rows } = await page.evaluate(() => window.benchThree.run({ levels: [8], frames: 1, size: 128 }));
+  const { rows, agreement } = await page.evaluate(() => window.benchThree.run({ levels: [8], frames: 1, size: 128, animated: true }));
   const by = Object.fromEntries(rows.map((r) => [r.way, r]));
   assert.deepEqual(Object.keys(by).sort(), [
+    'animated, refined offline', 'animated, tessellated',
     'deforming refined', 'deforming tessellated (per-draw)', 'deforming tessellated (per-frame)',
     'static refined', 'static tessellated (per-draw)', 'static tessellated (per-frame)',
   ]);
+  // The creature refined offline and tessellated, playing the same clip: the same silhouette;
+  // the tessellated one uploads its nets (192 bytes a coarse triangle), the offline one its bones.
+  assert.ok(agreement[8] >= 0.98, `animated silhouettes IoU ${agreement[8]}`);
+  const tessellated = by['animated, tessellated'];
+  assert.equal(tessellated.uploaded, tessellated.triangles * 192);
+  assert.ok(by['animated, refined offline'].uploaded > 0);
+  assert.equal(by['animated, refined offline'].drawn, tessellated.triangles * 64);
   for (const r of rows) assert.ok(r.ms > 0 && r.allocated > 0, JSON.stringify(r));
   // The nets (12 RGBA32F texels a triangle) against every refined vertex's position and normal.
   for (const mode of ['per-draw', 'per-frame']) {

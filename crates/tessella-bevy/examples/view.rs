@@ -2,13 +2,15 @@
 //! `tessella render` uses (crates/tessella-view/src/camera.rs), written to a PNG headless:
 //!
 //! `cargo run --example view -- FILE --scheme S --level L --yaw Y --pitch P --zoom Z
-//!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--draw welded|runs]
+//!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--draw per-frame|welded|runs]
+//!  [--pose gpu|cpu]
 //!  [--crowd N] [--frames N --stats]`
 //!
 //! A glTF file is loaded by Bevy's glTF loader (its scene, `Tessellate` added to each of its
 //! meshes); with `--clip` Bevy's `AnimationPlayer` plays that clip, held at `--time` for the
 //! picture and playing on during `--frames`. `--stats` prints one JSON line a frame with the
-//! bytes tessella handed Bevy to upload in it.
+//! bytes tessella handed Bevy to upload in it and the welded vertices the per-frame pass has
+//! evaluated so far.
 //!
 //! No window: the camera renders into an image, and Bevy's `Screenshot` of that image is
 //! saved once two successive captures agree (pipelines compile synchronously, so the picture
@@ -38,7 +40,8 @@ use tessella_bevy::tessella_core::names::parse_name;
 use tessella_bevy::tessella_core::refine::{Camera as LodCamera, Lod, Spacing};
 use tessella_bevy::tessella_core::Scheme;
 use tessella_bevy::{
-    to_bevy_mesh, LodLevels, Patch, TessellaDraw, TessellaPlugin, Tessellate, UploadStats,
+    to_bevy_mesh, EvaluationStats, LodLevels, Patch, TessellaDraw, TessellaPlugin, TessellaPosing,
+    Tessellate, UploadStats,
 };
 
 /// `tessella render`'s vertical field of view (tessella-view's `FOV_Y_DEGREES`).
@@ -65,8 +68,10 @@ struct Args {
     ground: bool,
     /// The light casts no shadows.
     no_shadows: bool,
-    /// How the tessellated meshes are drawn (`--draw welded|runs`).
+    /// How the tessellated meshes are drawn (`--draw per-frame|welded|runs`, the plugin's default when absent).
     draw: TessellaDraw,
+    /// Where animated ones are posed (`--pose gpu|cpu`, the plugin's default when absent).
+    posing: TessellaPosing,
     /// `--crowd N`: N copies of a glTF scene in a square grid, each playing `--clip` (many
     /// animated characters, as Bevy's `many_foxes` stress test).
     crowd: u32,
@@ -116,7 +121,8 @@ fn parse_args() -> Result<Args, String> {
         frame: None,
         ground: false,
         no_shadows: false,
-        draw: TessellaDraw::Welded,
+        draw: TessellaDraw::default(),
+        posing: TessellaPosing::default(),
         crowd: 1,
         frames: 0,
         warmup: 3,
@@ -155,9 +161,17 @@ fn parse_args() -> Result<Args, String> {
             "--no-shadows" => args.no_shadows = true,
             "--draw" => {
                 args.draw = match value()?.as_str() {
+                    "per-frame" => TessellaDraw::PerFrame,
                     "welded" => TessellaDraw::Welded,
                     "runs" => TessellaDraw::Runs,
-                    other => return Err(format!("--draw {other}: welded or runs")),
+                    other => return Err(format!("--draw {other}: per-frame, welded or runs")),
+                }
+            }
+            "--pose" => {
+                args.posing = match value()?.as_str() {
+                    "gpu" => TessellaPosing::Gpu,
+                    "cpu" => TessellaPosing::Cpu,
+                    other => return Err(format!("--pose {other}: gpu or cpu")),
                 }
             }
             "--frames" => args.frames = value()?.parse().map_err(|e| format!("--frames: {e}"))?,
@@ -455,7 +469,7 @@ fn setup(
             Subject,
         ));
         if !args.plain {
-            entity.insert((args.tessellate(), args.draw));
+            entity.insert((args.tessellate(), args.draw, args.posing));
         }
     }
     if args.ground {
@@ -556,6 +570,7 @@ fn time_frames(
     mut timing: ResMut<Timing>,
     args: Res<Args>,
     stats: Res<UploadStats>,
+    evaluations: Res<EvaluationStats>,
     mut exit: MessageWriter<AppExit>,
 ) {
     let now = std::time::Instant::now();
@@ -566,8 +581,9 @@ fn time_frames(
         if let Some((then, before)) = timing.last {
             let frame = args.frames - timing.left;
             println!(
-                "{{\"frame\":{frame},\"uploaded_bytes\":{},\"frame_ms\":{:.3}}}",
+                "{{\"frame\":{frame},\"uploaded_bytes\":{},\"evaluated_vertices\":{},\"frame_ms\":{:.3}}}",
                 total - before,
+                evaluations.evaluated_vertices(),
                 now.duration_since(then).as_secs_f64() * 1000.0
             );
         }
@@ -686,7 +702,7 @@ fn adopt_scene_meshes(
         let mut entity = commands.entity(entity);
         entity.insert((MeshMaterial3d(material.0.clone()), Subject));
         if !args.plain {
-            entity.insert((args.tessellate(), args.draw));
+            entity.insert((args.tessellate(), args.draw, args.posing));
         }
     }
 }

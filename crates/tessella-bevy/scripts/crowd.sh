@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Many animated characters (Bevy's many_foxes stress test, on the view example's `--crowd`):
 # COUNT copies of a skinned glTF playing CLIP through Bevy's AnimationPlayer, with `Tessellate`
-# (PN, welded draw; tessella poses each coarse copy, uploads its nets) against the same file
+# (PN: per frame posed on the GPU, the default; per frame posed on the CPU, each copy's nets
+# uploaded; welded, posed on the CPU) against the same file
 # refined offline by `tessella refine` (skins and clips kept) played by Bevy's own skinning.
 # The light's shadows on, a ground, 512x512, each frame waited for on the GPU.
 # Usage: scripts/crowd.sh [FILE.glb] [CLIP] [COUNT] [PROFILE] [FRAMES] [LEVELS]
@@ -26,11 +27,14 @@ ms() {
   echo "$line" >&2
   echo "$line" | sed 's/.*"mean_frame_ms":\([0-9.]*\).*/\1/'
 }
-echo "| $(basename "$file") x $count, level | offline-refined skinned ms | Tessellate ms | ratio |"
-echo "|---|---|---|---|"
+echo "| $(basename "$file") x $count, level | offline-refined skinned ms | per frame, GPU posing ms | ratio | per frame, CPU posing ms | ratio | welded ms | ratio |"
+echo "|---|---|---|---|---|---|---|---|"
 for level in $levels; do
   "$cli" refine "$file" --scheme pn --level "$level" -o "$tmp/refined.glb" >/dev/null 2>&1
   offline=$(ms "$tmp/refined.glb" --plain)
-  tess=$(ms "$file" --scheme pn --level "$level")
-  awk -v l="$level" -v a="$offline" -v b="$tess" 'BEGIN { printf "| %s | %.2f | %.2f | %.2fx |\n", l, a, b, b / a }'
+  gpu=$(ms "$file" --scheme pn --level "$level" --draw per-frame --pose gpu)
+  cpu=$(ms "$file" --scheme pn --level "$level" --draw per-frame --pose cpu)
+  welded=$(ms "$file" --scheme pn --level "$level" --draw welded)
+  awk -v l="$level" -v a="$offline" -v g="$gpu" -v c="$cpu" -v w="$welded" \
+    'BEGIN { printf "| %s | %.2f | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2fx |\n", l, a, g, g / a, c, c / a, w, w / a }'
 done

@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Bevy's table for issue 40: frame times at levels 4, 8, 16 and 32, the light's shadows on and
 # a ground, 512x512, each frame waited for on the GPU (`view --frames`):
-# - static: the creature (320 triangles) with `Tessellate` (PN), welded and in runs
-#   (`TessellaDraw`), against the plain Bevy mesh of the same refined surface (`tessella
+# - static: the creature (320 triangles) with `Tessellate` (PN), per frame (the default),
+#   welded and in runs (`TessellaDraw`), against the plain Bevy mesh of the same refined surface (`tessella
 #   refine`, OBJ);
 # - animated: the skinned creature (animated-creature.glb) playing its `wave` clip through
-#   Bevy's AnimationPlayer, with `Tessellate` (tessella poses the coarse mesh, uploads the
-#   nets) against the same file refined offline (`tessella refine`, skins and clips kept)
+#   Bevy's AnimationPlayer, with `Tessellate` per frame posed on the GPU (the default: joint
+#   matrices uploaded) and on the CPU (nets uploaded), and welded, against the same file refined offline (`tessella refine`, skins and clips kept)
 #   played by Bevy's own skinning.
-# Prints the view example's JSON lines to stderr and a Markdown table of mean frame times.
+# Prints the view example's JSON lines to stderr and two Markdown tables of mean frame times.
 # Usage: scripts/engine-table.sh [PROFILE: debug|release] [FRAMES] [LEVELS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,16 +27,27 @@ ms() { # view's arguments; prints the mean frame time
   echo "$line" >&2
   echo "$line" | sed 's/.*"mean_frame_ms":\([0-9.]*\).*/\1/'
 }
-echo "| level | static: refined mesh ms | welded ms | ratio | runs ms | ratio | animated: offline-refined skinned ms | Tessellate (welded) ms | ratio |"
-echo "|---|---|---|---|---|---|---|---|---|"
+echo "| level | static: refined mesh ms | per frame ms | ratio | welded ms | ratio | runs ms | ratio |" > "$tmp/static.md"
+echo "|---|---|---|---|---|---|---|---|" >> "$tmp/static.md"
+echo "| level | animated: offline-refined skinned ms | per frame, GPU posing ms | ratio | per frame, CPU posing ms | ratio | welded, CPU posing ms | ratio |" > "$tmp/animated.md"
+echo "|---|---|---|---|---|---|---|---|" >> "$tmp/animated.md"
 for level in $levels; do
   "$cli" refine "$samples/creature.obj" --scheme pn --level "$level" -o "$tmp/static.obj" >/dev/null 2>&1
   "$cli" refine "$samples/animated-creature.glb" --scheme pn --level "$level" -o "$tmp/skinned.glb" >/dev/null 2>&1
   plain=$(ms "$tmp/static.obj" --plain --frame "$samples/creature.obj")
+  frame=$(ms "$samples/creature.obj" --scheme pn --level "$level" --draw per-frame)
   tess=$(ms "$samples/creature.obj" --scheme pn --level "$level" --draw welded)
   runs=$(ms "$samples/creature.obj" --scheme pn --level "$level" --draw runs)
+  awk -v l="$level" -v a="$plain" -v f="$frame" -v b="$tess" -v r="$runs" \
+    'BEGIN { printf "| %s | %.2f | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2fx |\n", l, a, f, f / a, b, b / a, r, r / a }' >> "$tmp/static.md"
+  playing=(--scheme pn --level "$level" --clip wave --frame "$samples/creature.obj")
   offline=$(ms "$tmp/skinned.glb" --plain --clip wave --frame "$samples/creature.obj")
-  animated=$(ms "$samples/animated-creature.glb" --scheme pn --level "$level" --clip wave --frame "$samples/creature.obj")
-  awk -v l="$level" -v a="$plain" -v b="$tess" -v r="$runs" -v c="$offline" -v d="$animated" \
-    'BEGIN { printf "| %s | %.2f | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2f | %.2fx |\n", l, a, b, b / a, r, r / a, c, d, d / c }'
+  gpu=$(ms "$samples/animated-creature.glb" "${playing[@]}" --draw per-frame --pose gpu)
+  cpu=$(ms "$samples/animated-creature.glb" "${playing[@]}" --draw per-frame --pose cpu)
+  welded=$(ms "$samples/animated-creature.glb" "${playing[@]}" --draw welded)
+  awk -v l="$level" -v a="$offline" -v g="$gpu" -v c="$cpu" -v w="$welded" \
+    'BEGIN { printf "| %s | %.2f | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2fx |\n", l, a, g, g / a, c, c / a, w, w / a }' >> "$tmp/animated.md"
 done
+cat "$tmp/static.md"
+echo
+cat "$tmp/animated.md"

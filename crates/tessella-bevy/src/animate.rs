@@ -3,7 +3,9 @@
 //! skinning (`tessella_core::animation::Poser::pose_with`: morph targets, then every joint
 //! influence set, normals by the inverse transpose), the control nets are rebuilt, and only the
 //! two net buffers are rewritten: bytes in proportion to the coarse triangles, whatever the
-//! level.
+//! level. Or, with the per-frame draw and [`TessellaPosing::Gpu`] where the GPU can (the
+//! default), the frame's joint matrices and morph weights alone go to the render world, which
+//! skins the coarse mesh and builds the nets on the GPU ([`GpuPose`], `per_frame.rs`).
 
 use crate::gltf_extras::ExtraInfluences;
 use crate::pattern::{face_boxes, rewrite, run_box};
@@ -15,12 +17,43 @@ use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::mesh::VertexAttributeValues;
 use bevy::prelude::*;
 use bevy::render::storage::ShaderBuffer;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use tessella_core::animation::{
     AnimatedMesh, Influences, Instance, MorphTarget, Node, Poser, Skin,
 };
-use tessella_core::refine::Frame;
+use tessella_core::refine::{Frame, Plan};
+
+/// Where a tessellated entity that Bevy animates is posed (absent: [`TessellaPosing::Gpu`]).
+#[derive(Component, Reflect, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[reflect(Component, Debug, Clone, Default)]
+pub enum TessellaPosing {
+    /// On the GPU where it can run: tessella-gpu's skinning and net builder in the render
+    /// world, on Bevy's device, write the nets the per-frame pass evaluates; a frame uploads
+    /// the joint matrices and morph weights alone. It runs with the per-frame draw
+    /// ([`crate::TessellaDraw::PerFrame`]), a scheme whose nets the GPU builds (flat, Phong,
+    /// PN, PN-AEN) and a mesh with normals; elsewhere, or when the device refuses it, the
+    /// entity is posed on the CPU. The posed surface stays on the GPU: the entity is
+    /// frustum-culled by a looser box (from its joints' boxes, `PoseBounds`), and picking
+    /// sees its rest pose.
+    #[default]
+    Gpu,
+    /// On the CPU: tessella's skinning poses the coarse mesh, the nets are rebuilt and
+    /// uploaded (bytes in proportion to the coarse triangles).
+    Cpu,
+}
+
+/// The frame's deform of an entity posed on the GPU, for the render world: its poser and
+/// plan (the skinner and net builder are made from them once), this frame's joint matrices
+/// and morph weights, and the flag the render world raises when the GPU path cannot run.
+#[derive(Component, Clone, Debug)]
+pub(crate) struct GpuPose {
+    pub poser: Arc<Poser>,
+    pub plan: Arc<Plan>,
+    pub matrices: Vec<[f32; 16]>,
+    pub weights: Vec<f32>,
+    pub refused: Arc<AtomicBool>,
+}
 
 /// Bytes tessella handed to Bevy for upload: every buffer it made or rewrote, counted when
 /// handed over (Bevy uploads them in that frame's render). A deforming entity adds its two
@@ -41,7 +74,7 @@ impl UploadStats {
 /// What posing a tessellated entity needs, made once when it is tessellated.
 #[derive(Component)]
 pub(crate) struct Animated {
-    poser: Poser,
+    poser: Arc<Poser>,
     net_points: Handle<ShaderBuffer>,
     net_normals: Handle<ShaderBuffer>,
     skinned: bool,
@@ -51,6 +84,79 @@ pub(crate) struct Animated {
     normals: Option<Vec<[f32; 3]>>,
     /// The deform the nets were last built for; an unchanged one uploads nothing.
     posed_for: Option<(Vec<[f32; 16]>, Vec<f32>)>,
+    /// Boxes the GPU path's pose is culled with.
+    bounds: PoseBounds,
+}
+
+/// A box around an entity's posed surface from its deform alone, for the GPU path, whose pose
+/// the CPU never sees. A skinned vertex is a convex blend of its joints' matrices applied to it
+/// (the weights are normalised), so it lies in the box of the joints' transformed boxes of the
+/// rest vertices they move, each grown by the farthest its morph targets move a vertex (weights
+/// up to 1). The patch's control points stray from its corners by less than an edge (PN's edge
+/// points by a third of one, its centre by half; Phong's projections by one at most), so that
+/// box grown by its own diagonal on every side holds the patch: loose, never too small.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PoseBounds {
+    /// Per deform matrix, the box of the rest vertices it moves, in the space it maps from.
+    joints: Vec<Option<(Vec3, Vec3)>>,
+}
+
+impl PoseBounds {
+    fn new(
+        positions: &[[f32; 3]],
+        influences: &[Influences],
+        targets: &[MorphTarget],
+        matrices: usize,
+    ) -> PoseBounds {
+        let mut joints = vec![None; matrices.max(1)];
+        let grow = |b: &mut Option<(Vec3, Vec3)>, p: Vec3, r: f32| {
+            let (lo, hi) = b.get_or_insert((p, p));
+            *lo = lo.min(p - r);
+            *hi = hi.max(p + r);
+        };
+        for (v, p) in positions.iter().enumerate() {
+            let reach: f32 = targets
+                .iter()
+                .map(|t| Vec3::from(t.positions[v]).length())
+                .sum();
+            let p = Vec3::from(*p);
+            let mut moved = false;
+            for set in influences {
+                for (j, w) in set.joints[v].iter().zip(set.weights[v]) {
+                    if w > 0.0 && (*j as usize) < joints.len() {
+                        grow(&mut joints[*j as usize], p, reach);
+                        moved = true;
+                    }
+                }
+            }
+            if !moved {
+                // Unskinned (morph-only: one identity matrix) or no weight at all.
+                grow(&mut joints[0], p, reach);
+            }
+        }
+        PoseBounds { joints }
+    }
+
+    /// The box holding the surface posed by `matrices` (one per deform matrix).
+    pub(crate) fn posed(&self, matrices: &[[f32; 16]]) -> (Vec3, Vec3) {
+        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for (b, m) in self.joints.iter().zip(matrices) {
+            let Some((l, h)) = b else { continue };
+            let m = Mat4::from_cols_array(m);
+            for corner in 0..8 {
+                let c = Vec3::new(
+                    if corner & 1 == 0 { l.x } else { h.x },
+                    if corner & 2 == 0 { l.y } else { h.y },
+                    if corner & 4 == 0 { l.z } else { h.z },
+                );
+                let p = m.transform_point3(c);
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        let diagonal = (hi - lo).length();
+        (lo - diagonal, hi + diagonal)
+    }
 }
 
 impl Animated {
@@ -89,6 +195,7 @@ impl Animated {
             influences.extend(extra.map(|e| e.sets()).unwrap_or_default());
         }
         let joint_count = joints.unwrap_or(0);
+        let bounds = PoseBounds::new(&positions, &influences, &targets, joint_count);
         let mut nodes = vec![Node::default(); 1 + joint_count];
         nodes[0].name = Some("mesh".into());
         let skins = match joints {
@@ -117,7 +224,7 @@ impl Animated {
             }],
             clips: Vec::new(),
         };
-        let poser = Poser::new(model).map_err(|e| e.to_string())?;
+        let poser = Arc::new(Poser::new(model).map_err(|e| e.to_string())?);
         Ok(Animated {
             poser,
             net_points,
@@ -128,6 +235,20 @@ impl Animated {
             positions,
             normals,
             posed_for: None,
+            bounds,
+        })
+    }
+
+    /// The entity's [`GpuPose`] when its posing can run on the GPU as far as the CPU can
+    /// tell (the device may still refuse it): a poser with normals, nets the GPU builds.
+    pub(crate) fn gpu_pose(&self, plan: &Arc<Plan>) -> Option<GpuPose> {
+        let built_on_gpu = tessella_gpu::GpuNetBuilder::builds(&plan.options().scheme);
+        (self.poser.has_normals() && built_on_gpu).then(|| GpuPose {
+            poser: self.poser.clone(),
+            plan: plan.clone(),
+            matrices: Vec::new(),
+            weights: Vec::new(),
+            refused: Arc::new(AtomicBool::new(false)),
         })
     }
 }
@@ -164,6 +285,7 @@ type Posed<'a> = (
     Option<&'a SkinnedMesh>,
     Option<&'a MeshMorphWeights>,
     &'a Patches,
+    Option<&'a mut GpuPose>,
 );
 
 /// Poses every animated tessellated entity with this frame's joints and weights, rebuilds its
@@ -176,7 +298,7 @@ pub(crate) fn pose(
     mut buffers: ResMut<Assets<ShaderBuffer>>,
     stats: Res<UploadStats>,
 ) {
-    for (entity, mut animated, mut surface, global, skin, morph, patches) in &mut query {
+    for (entity, mut animated, mut surface, global, skin, morph, patches, gpu) in &mut query {
         let animated = &mut *animated;
         let surface = &mut *surface;
         animated.matrices.clear();
@@ -214,6 +336,22 @@ pub(crate) fn pose(
             .as_ref()
             .is_some_and(|(m, w)| *m == animated.matrices && *w == animated.weights);
         if same {
+            continue;
+        }
+        // On the GPU: the render world skins and builds the nets from the matrices and
+        // weights, the bytes uploaded. A refused GPU path (it raised the flag) poses here.
+        if let Some(mut gpu) = gpu.filter(|g| !g.refused.load(Ordering::Relaxed)) {
+            gpu.matrices.clone_from(&animated.matrices);
+            gpu.weights.clone_from(&animated.weights);
+            stats.add((gpu.matrices.len() * 64 + gpu.weights.len() * 4) as u64);
+            surface.version += 1;
+            let (lo, hi) = animated.bounds.posed(&gpu.matrices);
+            for child in &patches.0 {
+                if let Ok((_, mut aabb)) = boxes.get_mut(*child) {
+                    *aabb = Aabb::from_min_max(lo, hi);
+                }
+            }
+            animated.posed_for = Some((animated.matrices.clone(), animated.weights.clone()));
             continue;
         }
         let posed = animated.poser.pose_with(
@@ -257,5 +395,69 @@ pub(crate) fn pose(
             }
         }
         animated.posed_for = Some((animated.matrices.clone(), animated.weights.clone()));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pattern::face_boxes;
+    use tessella_core::refine::Plan;
+    use tessella_core::{RefineOptions, Scheme};
+
+    /// The box the GPU path culls with holds the posed surface: for the bundled skinned,
+    /// morphing creature at times of each clip, every coarse triangle's control net as
+    /// tessella's CPU poses it (its patch lies in the net's hull) is inside the box computed
+    /// from the deform matrices alone, for PN and Phong.
+    #[test]
+    fn pose_bounds_hold_the_cpu_posed_nets() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../samples/animated-creature.glb"
+        );
+        let model = tessella_io::read_animated(std::path::Path::new(path)).unwrap();
+        assert_eq!(model.instances.len(), 1);
+        let instance = &model.instances[0];
+        let joints = model.skins[0].joints.len();
+        let bounds = PoseBounds::new(
+            &instance.positions,
+            &instance.influences,
+            &instance.targets,
+            joints,
+        );
+        let mesh = tessella_core::Mesh::new(
+            instance.positions.clone(),
+            instance.normals.clone(),
+            None,
+            model.triangles.clone(),
+        )
+        .unwrap();
+        let clips = model.clips.len();
+        let poser = Poser::new(model).unwrap();
+        let n = poser.vertex_count();
+        let (mut positions, mut normals) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        let (mut matrices, mut weights) = (Vec::new(), Vec::new());
+        for scheme in [Scheme::Pn, Scheme::Phong { alpha: 1.0 }] {
+            let plan = Plan::new(&mesh, &RefineOptions::new(scheme, 4)).unwrap();
+            let mut frame = plan.frame(mesh.clone()).unwrap();
+            for clip in 0..clips {
+                for time in [0.1, 0.4, 0.7, 1.3] {
+                    poser
+                        .deform_into(Some(clip), time, &mut matrices, &mut weights)
+                        .unwrap();
+                    poser
+                        .pose_into(Some(clip), time, &mut positions, Some(&mut normals))
+                        .unwrap();
+                    plan.update(&mut frame, &positions, Some(&normals)).unwrap();
+                    let (lo, hi) = bounds.posed(&matrices);
+                    for (l, h) in face_boxes(&frame) {
+                        assert!(
+                            l.cmpge(lo).all() && h.cmple(hi).all(),
+                            "clip {clip} at {time}: a net {l}..{h} outside {lo}..{hi}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }

@@ -1,24 +1,27 @@
 //! tessella's curved surfaces in Bevy: add [`Tessellate`] to an entity that has `Mesh3d` and
 //! `MeshMaterial3d<StandardMaterial>`, and [`TessellaPlugin`] draws it as tessella's curved
-//! surface, a vertex stage evaluating each coarse triangle's patch, shaded by Bevy's PBR (the entity's own `StandardMaterial`, Bevy's lights and shadows). Removing
-//! `Tessellate` brings the plain mesh back. An entity Bevy animates (a `SkinnedMesh` posed by
-//! its `AnimationPlayer`, morph weights) has its coarse mesh posed each frame by tessella's
-//! skinning, and only its control nets are uploaded again.
+//! surface, shaded by Bevy's PBR (the entity's own `StandardMaterial`, Bevy's lights and
+//! shadows). Removing `Tessellate` brings the plain mesh back. An entity Bevy animates (a
+//! `SkinnedMesh` posed by its `AnimationPlayer`, morph weights) is skinned and its control
+//! nets built on the GPU each frame, uploading its joint matrices and morph weights alone
+//! ([`TessellaPosing`]; on the CPU, uploading its nets, where that cannot run).
 //!
 //! How (see `docs/bevy.md`): the entity's material becomes an
 //! `ExtendedMaterial<StandardMaterial, TessellaExtension>` whose vertex shaders (main pass and
-//! prepass, so shadows and depth follow the curved surface) call `tessella_point(face,
-//! vertex)` from tessella-gpu's exported WGSL module, registered as the Bevy shader import
-//! `tessella_bevy::patch_<normals>`. The patch group's seven buffers are the material's
-//! storage bindings 100 to 106. With uniform levels the entity gets one child drawing its
-//! refined surface's welded topology ([`TessellaDraw::Welded`], the default): a mesh whose
-//! vertices hold only their coarse triangle and pattern vertex, each refined vertex evaluated
-//! once per pass, as a static mesh's vertices are read. Or ([`TessellaDraw::Runs`]) the
-//! level's refinement pattern repeated for runs of up to [`run_faces`] coarse triangles
-//! ([`RUN_VERTICES`] vertices), one Bevy mesh shared by every entity, one child per run with
-//! the run's first triangle in its `MeshTag`, batched by Bevy into one instanced draw. Either
-//! way a few children at any coarse size, culled by their nets' boxes. Per-edge LOD draws one
-//! child per part of a triangle.
+//! prepass, so shadows and depth follow the curved surface) place the surface's points: the
+//! patch group's seven buffers are the material's storage bindings 100 to 106, read by
+//! `tessella_point(face, vertex)` from tessella-gpu's exported WGSL module, registered as the
+//! Bevy shader import `tessella_bevy::patch_<normals>`. With uniform levels the entity gets one
+//! child drawing its refined surface's welded topology: a mesh whose vertices hold only their
+//! coarse triangle and pattern vertex. By default ([`TessellaDraw::PerFrame`]) a compute pass in
+//! the render world calls `tessella_point` once a frame for each welded vertex (only in frames
+//! whose nets changed) into a buffer the vertex stages read, as a static mesh's vertices are
+//! read; [`TessellaDraw::Welded`] evaluates in each pass's vertex stage instead. Or
+//! ([`TessellaDraw::Runs`]) the level's refinement pattern repeated for runs of up to
+//! [`run_faces`] coarse triangles ([`RUN_VERTICES`] vertices), one Bevy mesh shared by every
+//! entity, one child per run with the run's first triangle in its `MeshTag`, batched by Bevy
+//! into one instanced draw. Either way a few children at any coarse size, culled by their
+//! nets' boxes. Per-edge LOD draws one child per part of a triangle.
 
 mod animate;
 mod gltf_extras;
@@ -26,6 +29,7 @@ mod lod;
 mod lod_material;
 mod material;
 mod pattern;
+mod per_frame;
 mod picking;
 mod surface;
 
@@ -40,7 +44,7 @@ use bevy::prelude::*;
 use bevy::render::storage::ShaderBuffer;
 use tessella_core::{RefineOptions, Scheme};
 
-pub use animate::UploadStats;
+pub use animate::{TessellaPosing, UploadStats};
 pub use gltf_extras::{ExtraInfluences, InventedNormals};
 pub use lod::{LodCameraMarker, LodLevels};
 pub use lod_material::{adaptive_module_for_bevy, TessellaLodMaterial};
@@ -52,6 +56,7 @@ pub use pattern::{
     build, face_boxes, pattern_mesh, run_faces, to_bevy_mesh, to_tessella_mesh, welded_mesh, Built,
     RUN_VERTICES, WELDED_VERTICES,
 };
+pub use per_frame::EvaluationStats;
 pub use tessella_core;
 
 use animate::Animated;
@@ -88,18 +93,24 @@ impl Tessellate {
     }
 }
 
-/// How a tessellated entity with uniform levels is drawn (absent: [`TessellaDraw::Welded`]).
-/// Both are one instanced draw of Bevy's mesh pipeline, in every pass (shadows, prepass,
+/// How a tessellated entity with uniform levels is drawn (absent: [`TessellaDraw::PerFrame`]).
+/// Each is one instanced draw of Bevy's mesh pipeline, in every pass (shadows, prepass,
 /// main); they trade GPU memory against vertex work (`docs/bevy.md` has the measurements).
 #[derive(Component, Reflect, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[reflect(Component, Debug, Clone, Default)]
 pub enum TessellaDraw {
+    /// The welded topology of [`TessellaDraw::Welded`], its vertices evaluated once a frame
+    /// (only in frames whose nets changed: once for a still surface) by a compute pass into a
+    /// buffer of 24 bytes a refined vertex, which every pass then reads as a static mesh's
+    /// vertices are read: no pass evaluates. Meshes over [`WELDED_VERTICES`] vertices are
+    /// drawn in runs instead.
+    #[default]
+    PerFrame,
     /// The refined surface's welded topology, one child entity: each refined vertex is
     /// evaluated once per pass, as many vertices as a static mesh of the same surface, so
     /// the cost does not grow with the coarse triangle count. Its own mesh of 40 bytes a
     /// refined vertex plus the indices (a static mesh's size), made once per topology and
     /// level; meshes over [`WELDED_VERTICES`] vertices are drawn in runs instead.
-    #[default]
     Welded,
     /// The pattern repeated in runs of consecutive triangles, one child a run: one run mesh a
     /// level, shared by every entity (a few MB whatever the size), but each triangle's edge
@@ -142,6 +153,7 @@ impl Plugin for TessellaPlugin {
             error!("tessella: {e}");
         }
         gltf_extras::register(app);
+        per_frame::register(app);
         app.init_resource::<UploadStats>()
             .init_resource::<PatternMeshes>()
             .init_resource::<WeldedMeshes>()
@@ -177,6 +189,7 @@ impl Plugin for TessellaPlugin {
 fn register_types(app: &mut App) {
     app.register_type::<Tessellate>()
         .register_type::<TessellaDraw>()
+        .register_type::<TessellaPosing>()
         .register_type::<Untessellated>()
         .register_type::<Patch>()
         .register_type::<Patches>()
@@ -204,31 +217,53 @@ pub struct Patch {
 pub struct Patches(pub Vec<Entity>);
 
 /// The welded meshes drawn, by the coarse mesh and the options: entities that share a mesh
-/// (a crowd spawned from one glTF) share its welded mesh while one of them draws it.
+/// (a crowd spawned from one glTF) share its welded mesh, and its origins for the per-frame
+/// evaluation, while one of them draws it.
 #[derive(Resource, Default)]
-struct WeldedMeshes(bevy::platform::collections::HashMap<(AssetId<Mesh>, String), AssetId<Mesh>>);
+struct WeldedMeshes(bevy::platform::collections::HashMap<(AssetId<Mesh>, String), Welded>);
+
+/// A welded mesh and, once a per-frame entity asked for them, its vertices' origins.
+struct Welded {
+    mesh: AssetId<Mesh>,
+    origins: Option<Handle<ShaderBuffer>>,
+}
 
 impl WeldedMeshes {
-    /// The welded mesh of `plan` for the coarse mesh and options in `key`: the one drawn
-    /// already, or a new one.
+    /// The welded mesh of `plan` for the coarse mesh and options in `key` (the one drawn
+    /// already, or a new one), and with `origins` its vertices' origins (made once).
     fn get(
         &mut self,
         meshes: &mut Assets<Mesh>,
+        buffers: &mut Assets<ShaderBuffer>,
         key: (AssetId<Mesh>, String),
         plan: &tessella_core::refine::Plan,
-    ) -> Result<Handle<Mesh>, String> {
-        if let Some(handle) = self
+        origins: bool,
+    ) -> Result<(Handle<Mesh>, Option<Handle<ShaderBuffer>>), String> {
+        let drawn = self
             .0
             .get(&key)
-            .and_then(|id| meshes.get_strong_handle(*id))
-        {
-            return Ok(handle);
+            .and_then(|w| meshes.get_strong_handle(w.mesh));
+        let handle = match drawn {
+            Some(handle) => handle,
+            None => {
+                // Entries whose mesh every entity dropped go.
+                self.0.retain(|_, w| meshes.contains(w.mesh));
+                let handle = meshes.add(pattern::welded_mesh(plan)?);
+                let welded = Welded {
+                    mesh: handle.id(),
+                    origins: None,
+                };
+                self.0.insert(key.clone(), welded);
+                handle
+            }
+        };
+        let welded = self.0.get_mut(&key).expect("inserted above");
+        if origins && welded.origins.is_none() {
+            let (_, ids) = pattern::welded_points(plan)?;
+            welded.origins = Some(storage(buffers, &per_frame::origins_bytes(&ids)));
         }
-        // Entries whose mesh every entity dropped go.
-        self.0.retain(|_, id| meshes.contains(*id));
-        let handle = meshes.add(pattern::welded_mesh(plan)?);
-        self.0.insert(key, handle.id());
-        Ok(handle)
+        let origins = welded.origins.clone().filter(|_| origins);
+        Ok((handle, origins))
     }
 }
 
@@ -274,6 +309,7 @@ type TessellateItem<'a> = (
         Has<NotShadowReceiver>,
         Has<InventedNormals>,
         Option<&'a TessellaDraw>,
+        Option<&'a TessellaPosing>,
     ),
 );
 
@@ -310,9 +346,10 @@ fn tessellate(
     ) = assets;
     for (entity, tess, mesh3d, material, untessellated, patches, deform, flags) in &query {
         let (skin, morph, extra) = deform;
-        let (no_cast, no_receive, invented, draw) = flags;
+        let (no_cast, no_receive, invented, draw, posing) = flags;
         let draw = draw.copied().unwrap_or_default();
-        let key = format!("{:?} {draw:?}", tess.0);
+        let posing = posing.copied().unwrap_or_default();
+        let key = format!("{:?} {draw:?} {posing:?}", tess.0);
         let (plain_mesh, plain_material) = match (untessellated, mesh3d, material) {
             (Some(u), _, _) if u.built_for == key => continue,
             (Some(u), _, _) => (u.mesh.clone(), u.material.clone()),
@@ -342,16 +379,22 @@ fn tessellate(
         }
         let built =
             pattern::read_mesh(&plain, !invented).and_then(|m| pattern::build(&m, &options));
-        // The runs: consecutive triangles, each drawing the level's run mesh (the last one
-        // maybe a shorter one).
+        // The welded mesh (with the origins of its vertices when they are evaluated per
+        // frame), or the runs: consecutive triangles, each drawing the level's run mesh (the
+        // last one maybe a shorter one).
+        let mut origins = None;
         let runs = match (&built, &lod) {
             (Ok(b), None)
-                if draw == TessellaDraw::Welded && b.plan.vertex_count() <= WELDED_VERTICES =>
+                if draw != TessellaDraw::Runs && b.plan.vertex_count() <= WELDED_VERTICES =>
             {
                 let key = (plain_mesh.id(), format!("{:?}", tess.0));
+                let per_frame = draw == TessellaDraw::PerFrame;
                 welded
-                    .get(&mut meshes, key, &b.plan)
-                    .map(|m| vec![(0..b.boxes.len(), m)])
+                    .get(&mut meshes, &mut buffers, key, &b.plan, per_frame)
+                    .map(|(m, o)| {
+                        origins = o;
+                        vec![(0..b.boxes.len(), m)]
+                    })
             }
             (Ok(b), None) => runs(&mut patterns, &mut meshes, b),
             _ => Ok(Vec::new()),
@@ -427,7 +470,8 @@ fn tessellate(
             );
             commands
                 .entity(entity)
-                .insert((state, LodLevels::default()));
+                .insert((state, LodLevels::default()))
+                .remove::<(per_frame::PerFrameSource, animate::GpuPose)>();
             finish(
                 &mut commands,
                 entity,
@@ -444,6 +488,39 @@ fn tessellate(
         }
         commands.entity(entity).remove::<(LodState, LodLevels)>();
         let [b0, b1, b2, b3, b4, b5, b6, b7] = handles;
+        // Per frame: the buffer the compute pass writes and the vertex stages read.
+        let per_frame = origins.map(|origins| {
+            let vertices = built.plan.vertex_count();
+            let size = (vertices * per_frame::EVALUATED_FLOATS * 4) as u64;
+            per_frame::PerFrameSource {
+                patch: [&b0, &b1, &b2, &b3, &b4, &b5, &b6].map(|b| b.clone()),
+                origins,
+                evaluated: buffers.add(ShaderBuffer::with_size(
+                    size,
+                    bevy::asset::RenderAssetUsages::RENDER_WORLD,
+                )),
+                mode: NormalModeKey::of(built.normal_mode),
+                vertices: vertices as u32,
+            }
+        });
+        let evaluated = per_frame
+            .as_ref()
+            .map_or_else(|| b7.clone(), |p| p.evaluated.clone());
+        match &per_frame {
+            Some(p) => commands.entity(entity).insert(p.clone()),
+            None => commands
+                .entity(entity)
+                .remove::<per_frame::PerFrameSource>(),
+        };
+        // Posed on the GPU: with the per-frame draw, where the GPU builds the nets.
+        let gpu_pose = match (&animated, &per_frame, posing) {
+            (Some(a), Some(_), TessellaPosing::Gpu) => a.gpu_pose(&built.plan),
+            _ => None,
+        };
+        match gpu_pose {
+            Some(p) => commands.entity(entity).insert(p),
+            None => commands.entity(entity).remove::<animate::GpuPose>(),
+        };
         let material = materials.add(TessellaMaterial {
             base,
             extension: TessellaExtension {
@@ -455,7 +532,9 @@ fn tessellate(
                 displace_data: b5,
                 edge_table: b6,
                 face_uvs: b7,
+                evaluated,
                 normal_mode: NormalModeKey::of(built.normal_mode),
+                per_frame: per_frame.is_some(),
             },
         });
         let children: Vec<Entity> = runs
@@ -577,6 +656,8 @@ fn untessellate(
                 PickMesh,
                 LodState,
                 LodLevels,
+                per_frame::PerFrameSource,
+                animate::GpuPose,
             )>()
             .insert((Mesh3d(u.mesh.clone()), MeshMaterial3d(u.material.clone())));
     }
@@ -598,6 +679,7 @@ mod tests {
         for (name, id) in [
             ("Tessellate", std::any::TypeId::of::<Tessellate>()),
             ("TessellaDraw", std::any::TypeId::of::<TessellaDraw>()),
+            ("TessellaPosing", std::any::TypeId::of::<TessellaPosing>()),
             ("Untessellated", std::any::TypeId::of::<Untessellated>()),
             ("Patch", std::any::TypeId::of::<Patch>()),
             ("Patches", std::any::TypeId::of::<Patches>()),
@@ -762,21 +844,35 @@ mod tests {
         assert_eq!(owners.len(), mesh.face_count());
 
         let mut meshes = Assets::<Mesh>::default();
+        let mut buffers = Assets::<ShaderBuffer>::default();
         let mut welded = WeldedMeshes::default();
         let coarse = AssetId::<Mesh>::default();
-        let a = welded
-            .get(&mut meshes, (coarse, "pn 5".into()), &built.plan)
-            .unwrap();
-        let b = welded
-            .get(&mut meshes, (coarse, "pn 5".into()), &built.plan)
-            .unwrap();
+        let mut get = |options: &str, origins: bool| {
+            let key = (coarse, options.to_string());
+            welded
+                .get(&mut meshes, &mut buffers, key, &built.plan, origins)
+                .unwrap()
+        };
+        let (a, none) = get("pn 5", false);
+        assert!(none.is_none());
+        // A per-frame entity asks for the origins: made once, then shared.
+        let (b, origins) = get("pn 5", true);
+        let (_, again) = get("pn 5", true);
         assert_eq!(a, b);
-        assert_eq!(meshes.len(), 1);
-        let c = welded
-            .get(&mut meshes, (coarse, "pn 6".into()), &built.plan)
-            .unwrap();
+        assert_eq!(origins, again);
+        let (c, _) = get("pn 6", false);
         assert_ne!(a, c);
         assert_eq!(meshes.len(), 2);
+        assert_eq!(buffers.len(), 1);
+        // The origins are each welded vertex's (triangle, pattern vertex), as UV_1 names them.
+        let data = match &buffers.get(&origins.unwrap()).unwrap().data {
+            bevy::render::storage::ShaderBufferData::Initialized { data, .. } => data.to_vec(),
+            _ => panic!("no origins"),
+        };
+        let words: &[[u32; 2]] = bytemuck::cast_slice(&data[..ids.len() * 8]);
+        for (w, id) in words.iter().zip(ids) {
+            assert_eq!(*w, [id[1] as u32, id[0] as u32]);
+        }
     }
 
     /// The module registered for Bevy declares its seven bindings in group 3 at 100 to 106,

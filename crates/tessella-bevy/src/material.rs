@@ -34,7 +34,7 @@ const FACE_UVS: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51-2f3c1b7e9
 
 /// The extension's data: the patch group's seven buffers (tessella-gpu's
 /// [`tessella_gpu::wgsl::patch_bytes`]), bound at 100 to 106 in Bevy's material group, and
-/// the coarse texture coordinates at 107.
+/// the coarse texture coordinates at 107, the evaluated vertices at 108.
 #[derive(Asset, AsBindGroup, Reflect, Debug, Clone)]
 #[bind_group_data(TessellaKey)]
 pub struct TessellaExtension {
@@ -55,9 +55,16 @@ pub struct TessellaExtension {
     /// The coarse triangles' texture coordinates, three a triangle.
     #[storage(107, read_only)]
     pub face_uvs: Handle<ShaderBuffer>,
+    /// With `per_frame`, the welded vertices evaluated this frame (six floats a vertex:
+    /// position, normal) that the vertex stages read instead of evaluating; otherwise any
+    /// buffer (unread).
+    #[storage(108, read_only)]
+    pub evaluated: Handle<ShaderBuffer>,
     /// Which evaluation module the shaders import (a compile-time constant of the module).
     #[reflect(ignore)]
     pub normal_mode: NormalModeKey,
+    /// The vertex stages read `evaluated` at the welded vertex (`TessellaDraw::PerFrame`).
+    pub per_frame: bool,
 }
 
 /// The normal mode as a pipeline key.
@@ -87,17 +94,20 @@ impl NormalModeKey {
     }
 }
 
-/// Pipeline key of the extension: the normal mode picks the imported module.
+/// Pipeline key of the extension: the normal mode picks the imported module, `per_frame`
+/// whether the vertex stages evaluate or read the frame's evaluated vertices.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct TessellaKey {
     normal_mode: NormalModeKey,
+    per_frame: bool,
 }
 
 impl From<&TessellaExtension> for TessellaKey {
     fn from(e: &TessellaExtension) -> TessellaKey {
         TessellaKey {
             normal_mode: e.normal_mode,
+            per_frame: e.per_frame,
         }
     }
 }
@@ -118,10 +128,11 @@ impl MaterialExtension for TessellaExtension {
         _layout: &MeshVertexBufferLayoutRef,
         key: MaterialExtensionKey<Self>,
     ) -> Result<(), SpecializedMeshPipelineError> {
-        descriptor
-            .vertex
-            .shader_defs
-            .push(key.bind_group_data.normal_mode.def().into());
+        let defs = &mut descriptor.vertex.shader_defs;
+        defs.push(key.bind_group_data.normal_mode.def().into());
+        if key.bind_group_data.per_frame {
+            defs.push("TESSELLA_PER_FRAME".into());
+        }
         Ok(())
     }
 }

@@ -177,6 +177,21 @@ pub const WELDED_VERTICES: usize = 1 << 22;
 /// owns it ([`Plan::origin`]), its `UV_0` that pattern vertex's barycentric. The vertex stage
 /// evaluates each refined vertex once, as it would read a static mesh's.
 pub fn welded_mesh(plan: &Plan) -> Result<Mesh, String> {
+    let (uvs, ids) = welded_points(plan)?;
+    // Written here, not `Plan::indices` (which the plan would keep for its lifetime).
+    let mut indices = vec![[0u32; 3]; plan.triangle_count()];
+    plan.write_indices(&mut indices)
+        .map_err(|e| e.to_string())?;
+    let indices = indices.into_iter().flatten().collect();
+    Ok(patch_point_mesh(uvs, ids, indices))
+}
+
+/// The welded mesh's vertex attributes: per refined vertex, its barycentric `(l2, l3)` and its
+/// `(pattern vertex, owning triangle)`, as `f32` pairs.
+pub(crate) type WeldedPoints = (Vec<[f32; 2]>, Vec<[f32; 2]>);
+
+/// [`welded_mesh`]'s `UV_0` and `UV_1`, in the plan's vertex order.
+pub(crate) fn welded_points(plan: &Plan) -> Result<WeldedPoints, String> {
     let pattern = plan.pattern();
     let n = plan.vertex_count();
     if n > WELDED_VERTICES || plan.face_count() >= 1 << 24 {
@@ -206,12 +221,7 @@ pub fn welded_mesh(plan: &Plan) -> Result<Mesh, String> {
         uvs.push([l[1], l[2]]);
         ids.push([v as f32, *face as f32]);
     }
-    // Written here, not `Plan::indices` (which the plan would keep for its lifetime).
-    let mut indices = vec![[0u32; 3]; plan.triangle_count()];
-    plan.write_indices(&mut indices)
-        .map_err(|e| e.to_string())?;
-    let indices = indices.into_iter().flatten().collect();
-    Ok(patch_point_mesh(uvs, ids, indices))
+    Ok((uvs, ids))
 }
 
 /// The box around a run of coarse triangles, from each triangle's box (its net's).

@@ -173,11 +173,12 @@ fn tessellated_entity_matches_tessella_render_and_removing_it_brings_the_plain_m
     }
 }
 
-/// The two ways of drawing a uniform level, welded (each refined vertex once) and in runs
+/// The three ways of drawing a uniform level, per frame (each refined vertex evaluated once a
+/// frame by a compute pass), welded (each refined vertex evaluated once a pass) and in runs
 /// (the pattern per triangle, 4 runs of 1456 triangles here), draw the same surface: the
-/// pictures agree pixel for pixel but for a few edge pixels, and both match `tessella render`.
+/// pictures agree pixel for pixel but for a few edge pixels, and all match `tessella render`.
 #[test]
-fn welded_and_run_draws_are_the_same_surface() {
+fn per_frame_welded_and_run_draws_are_the_same_surface() {
     let dir = tempfile_dir("draws");
     let (file, scheme, level) = ("samples/icosphere-4k.obj", "pn", 8u32);
     let view = ["--yaw", "20", "--pitch", "15", "--zoom", "1"];
@@ -193,13 +194,28 @@ fn welded_and_run_draws_are_the_same_surface() {
         run(cmd);
         out
     };
-    let (welded, runs) = (draw("welded"), draw("runs"));
+    let (per_frame, welded, runs) = (draw("per-frame"), draw("welded"), draw("runs"));
     let reference = cli_render(&dir, "cli", file, scheme, level, &view);
     let (d, _) = differ(&welded, &runs, 8);
-    let (a, b) = (iou(&welded, &reference), iou(&runs, &reference));
-    eprintln!("welded vs runs: {d:.5} of the pixels differ; IoU with CLI {a:.4} / {b:.4}");
-    assert!(d < 0.002, "{d} of the pixels differ between the two draws");
-    assert!(a >= 0.98 && b >= 0.98, "IoU with tessella render {a} / {b}");
+    let (e, _) = differ(&per_frame, &welded, 8);
+    let (a, b, c) = (
+        iou(&welded, &reference),
+        iou(&runs, &reference),
+        iou(&per_frame, &reference),
+    );
+    eprintln!("welded vs runs: {d:.5} of the pixels differ, per frame vs welded {e:.5}; IoU with CLI {a:.4} / {b:.4} / {c:.4}");
+    assert!(
+        d < 0.002,
+        "{d} of the pixels differ between welded and runs"
+    );
+    assert!(
+        e < 0.002,
+        "{e} of the pixels differ between per frame and welded"
+    );
+    assert!(
+        a >= 0.98 && b >= 0.98 && c >= 0.98,
+        "IoU with tessella render {a} / {b} / {c}"
+    );
 }
 
 fn tempfile_dir(name: &str) -> PathBuf {
@@ -300,7 +316,9 @@ const CREATURE: &str = "samples/animated-creature.glb";
 /// The skinned, morphing creature loaded by Bevy's glTF loader and played by Bevy's
 /// `AnimationPlayer` (held at a time): the tessellated surface's silhouette matches `tessella
 /// render --clip --time` of the same file (tessella's own posing and renderer), for a skinning
-/// clip with two influence sets, a translating one and a morph-weight one.
+/// clip with two influence sets, a translating one and a morph-weight one. Posed on the GPU
+/// (the default: skinned and its nets built by tessella-gpu in Bevy's render world) and on
+/// the CPU, the pictures agree but for a few edge pixels.
 #[test]
 fn skinned_character_played_by_bevy_matches_tessella_render_of_the_clip() {
     let dir = tempfile_dir("skinned");
@@ -314,12 +332,20 @@ fn skinned_character_played_by_bevy_matches_tessella_render_of_the_clip() {
         let mut a = args.clone();
         a.extend(["--clip", clip, "--time", time]);
         bevy_view(CREATURE, &a, &posed);
+        let on_cpu = dir.join(format!("{clip}-bevy-cpu.png"));
+        a.extend(["--pose", "cpu"]);
+        bevy_view(CREATURE, &a, &on_cpu);
         let mut view = camera.to_vec();
         view.extend(["--clip", clip, "--time", time]);
         let reference = cli_render(&dir, &format!("{clip}-cli"), CREATURE, "pn", 8, &view);
         let curved = iou(&posed, &reference);
         let moved = iou(&posed, &rest);
-        eprintln!("{clip} at {time}: IoU Bevy/CLI {curved:.4}, posed/rest {moved:.4}");
+        let (apart, _) = differ(&posed, &on_cpu, 8);
+        eprintln!("{clip} at {time}: IoU Bevy/CLI {curved:.4}, posed/rest {moved:.4}, GPU/CPU posing {apart:.5} of the pixels differ");
+        assert!(
+            apart < 0.002,
+            "{clip}: {apart} of the pixels differ between GPU and CPU posing"
+        );
         assert!(
             curved >= 0.98,
             "{clip}: Bevy vs tessella render IoU {curved}"
@@ -368,47 +394,113 @@ fn the_offline_refined_character_plays_in_bevy() {
     }
 }
 
-/// While Bevy plays a clip, each frame uploads the coarse mesh's control nets and nothing
-/// else: the same bytes at levels 4 and 32, in proportion to the coarse triangles.
+/// While Bevy plays a clip, each frame uploads the same bytes at levels 4 and 32: posed on the
+/// CPU, the coarse mesh's control nets and nothing else, in proportion to the coarse
+/// triangles; posed on the GPU (the default), the joint matrices and morph weights alone (64
+/// bytes a deform matrix, 4 a weight, as tessella's own poser of the file counts them).
 #[test]
 fn a_deforming_entity_uploads_coarse_bytes_whatever_the_level() {
     let dir = tempfile_dir("stats");
     let triangles = tessella_io::read_mesh(&repo().join(CREATURE))
         .unwrap()
         .face_count() as u64;
-    let mut per_level = Vec::new();
-    for level in ["4", "32"] {
-        let out = dir.join(format!("stats-{level}.png"));
-        let mut cmd = Command::new(view_example());
-        cmd.arg(repo().join(CREATURE))
-            .args(["--size", "96x96", "--scheme", "pn", "--level", level])
-            .args([
-                "--clip", "wave", "--time", "0.1", "--frames", "6", "--stats",
-            ])
-            .arg("--screenshot")
-            .arg(&out);
-        let (stdout, _) = run(cmd);
-        let bytes = uploaded_bytes(&stdout);
-        eprintln!("level {level}: bytes per frame {bytes:?} for {triangles} coarse triangles");
-        assert!(bytes.len() >= 4, "too few stats lines:\n{stdout}");
-        // Every frame of a playing clip deforms; each uploads at most 256 bytes a coarse
-        // triangle (PN's nets: 10 points and 6 normals of 16 bytes would be 256).
-        for &b in &bytes {
-            assert!(b > 0 && b <= 256 * triangles, "{b} bytes in a frame");
+    let model = tessella_io::read_animated(&repo().join(CREATURE)).unwrap();
+    let poser = tessella_bevy::tessella_core::animation::Poser::new(model).unwrap();
+    let deform = (poser.deform_matrix_count() * 64 + poser.morph_weight_count() * 4) as u64;
+    for posing in ["cpu", "gpu"] {
+        let mut per_level = Vec::new();
+        for level in ["4", "32"] {
+            let out = dir.join(format!("stats-{posing}-{level}.png"));
+            let mut cmd = Command::new(view_example());
+            cmd.arg(repo().join(CREATURE))
+                .args(["--size", "96x96", "--scheme", "pn", "--level", level])
+                .args(["--clip", "wave", "--time", "0.1", "--frames", "6"])
+                .args(["--stats", "--pose", posing])
+                .arg("--screenshot")
+                .arg(&out);
+            let (stdout, _) = run(cmd);
+            let bytes = uploaded_bytes(&stdout);
+            eprintln!("posed on the {posing}, level {level}: bytes per frame {bytes:?} for {triangles} coarse triangles");
+            assert!(bytes.len() >= 4, "too few stats lines:\n{stdout}");
+            // Every frame of a playing clip deforms. On the CPU each uploads at most 256
+            // bytes a coarse triangle (PN's nets: 10 points and 6 normals of 16 bytes would
+            // be 256); on the GPU the deform alone.
+            for &b in &bytes {
+                match posing {
+                    "cpu" => assert!(b > deform && b <= 256 * triangles, "{b} bytes in a frame"),
+                    _ => assert_eq!(b, deform, "bytes in a frame posed on the GPU"),
+                }
+            }
+            per_level.push(bytes[1..].to_vec());
         }
-        per_level.push(bytes[1..].to_vec());
+        assert_eq!(
+            per_level[0], per_level[1],
+            "the upload depends on the level"
+        );
     }
-    assert_eq!(
-        per_level[0], per_level[1],
-        "the upload depends on the level"
+}
+
+/// The per-frame draw (the default) evaluates a still surface once and a playing one once a
+/// frame: the welded vertices evaluated so far stay at one surface's count while nothing
+/// moves, and grow by that count with each frame of a playing clip. The welded draw, which
+/// evaluates in its vertex stages, never runs the pass.
+#[test]
+fn the_per_frame_pass_runs_once_per_change() {
+    let dir = tempfile_dir("evaluations");
+    let stats = |draw: &str, clip: bool| {
+        let mut args = vec!["--size", "96x96", "--scheme", "pn", "--level", "4"];
+        args.extend(["--draw", draw, "--frames", "6", "--stats"]);
+        if clip {
+            args.extend(["--clip", "wave", "--time", "0.1"]);
+        }
+        let out = dir.join(format!("{draw}-{clip}.png"));
+        let stdout = view_stdout(CREATURE, &args, &out);
+        let totals = stat(&stdout, "evaluated_vertices");
+        assert!(totals.len() >= 4, "too few stats lines:\n{stdout}");
+        totals
+    };
+    let still = stats("per-frame", false);
+    let once = still[0];
+    eprintln!("still: {still:?}");
+    assert!(once > 0, "the still surface was never evaluated");
+    assert!(
+        still.iter().all(|&t| t == once),
+        "a still surface evaluated again"
+    );
+    let playing = stats("per-frame", true);
+    eprintln!("playing: {playing:?}");
+    // A frame's count lands when its render submits: a step may hold two frames or none,
+    // never part of one.
+    let steps: Vec<u64> = playing.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(
+        steps.iter().all(|s| s % once == 0),
+        "{steps:?} not whole surfaces"
+    );
+    let frames = (playing[playing.len() - 1] - playing[0]) / once;
+    assert!(
+        frames as usize >= steps.len() - 1,
+        "{frames} evaluations in {} frames",
+        steps.len()
+    );
+    let welded = stats("welded", true);
+    assert!(
+        welded.iter().all(|&t| t == 0),
+        "the welded draw ran the pass: {welded:?}"
     );
 }
 
 /// The `uploaded_bytes` of each `--stats` line the example printed.
 fn uploaded_bytes(stdout: &str) -> Vec<u64> {
+    stat(stdout, "uploaded_bytes")
+}
+
+/// The `name` field of each `--stats` line the example printed.
+fn stat(stdout: &str, name: &str) -> Vec<u64> {
+    let key = format!("\"{name}\":");
     stdout
         .lines()
-        .filter_map(|l| l.split("\"uploaded_bytes\":").nth(1))
+        .filter(|l| l.starts_with("{\"frame\""))
+        .filter_map(|l| l.split(key.as_str()).nth(1))
         .map(|rest| rest.split([',', '}']).next().unwrap().parse().unwrap())
         .collect()
 }

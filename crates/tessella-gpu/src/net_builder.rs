@@ -269,6 +269,12 @@ impl std::fmt::Debug for GpuNetBuilder {
 }
 
 impl GpuNetBuilder {
+    /// Whether the GPU builds `scheme`'s nets (flat, Phong, PN, PN-AEN): an engine picks its
+    /// posing path with it before making a builder.
+    pub fn builds(scheme: &Scheme) -> bool {
+        GpuScheme::of(scheme).is_ok()
+    }
+
     /// Compiles (or takes from the context's cache) the pipeline of the surface's scheme and
     /// normal mode and uploads its triangles and, for PN-AEN, its neighbour table. Refuses the
     /// schemes the GPU does not build.

@@ -475,8 +475,18 @@ fn bad_input_and_consumers_that_cannot_take_gpu_nets_are_refused() {
     ));
     assert!(m.contains("lacks STORAGE"), "{m}");
 
-    // Schemes whose nets stay on the CPU.
+    // Schemes whose nets stay on the CPU, which `builds` names up front (an engine picks its
+    // posing path with it), and those it builds.
+    for scheme in [
+        Scheme::Flat,
+        Scheme::Phong { alpha: 0.75 },
+        Scheme::Pn,
+        Scheme::PnAen,
+    ] {
+        assert!(GpuNetBuilder::builds(&scheme), "{}", scheme.name());
+    }
     for scheme in [Scheme::Png1, Scheme::ScalarTagged] {
+        assert!(!GpuNetBuilder::builds(&scheme), "{}", scheme.name());
         let s = Surface::new(&mesh, &SurfaceOptions::new(scheme)).unwrap();
         let m = bad_option(GpuNetBuilder::new(ctx, &s));
         assert!(

@@ -1,0 +1,419 @@
+//! [`TessellaDraw::PerFrame`](crate::TessellaDraw::PerFrame): the refined surface's welded
+//! vertices evaluated once per frame by a compute pass into a storage buffer, which every
+//! render pass (shadow maps, prepass, main) then reads as it would a static mesh's vertices.
+//!
+//! The kernel calls the same `tessella_point` the per-draw vertex stage calls (tessella-gpu's
+//! exported module, rebound as the material's), over the same seven patch buffers the material
+//! binds, so the two draws place the same points. It runs in the render world before Bevy's
+//! own passes are recorded (`RenderSystems::PrepareResources`, after the frame's buffer
+//! uploads), only for surfaces whose nets changed since their last evaluation: a still surface
+//! is evaluated once. An entity posed on the GPU ([`GpuPose`]) has its coarse mesh skinned and
+//! its nets built first, in the same submission, by tessella-gpu's `GpuSkinner` and
+//! `GpuNetBuilder` writing the material's net buffers.
+
+use crate::animate::GpuPose;
+use crate::material::{patch_module_for_bevy, NormalModeKey, FIRST_BINDING};
+use crate::surface::Surface;
+use bevy::platform::collections::{HashMap, HashSet};
+use bevy::prelude::*;
+use bevy::render::render_asset::RenderAssets;
+use bevy::render::render_resource::{
+    BindGroupEntry, BindGroupLayout, BindGroupLayoutEntry, BindingType, BufferBindingType,
+    ComputePassDescriptor, ComputePipeline, PipelineCompilationOptions, PipelineLayoutDescriptor,
+    RawComputePipelineDescriptor, ShaderModuleDescriptor, ShaderSource, ShaderStages,
+};
+use bevy::render::renderer::{RenderDevice, RenderQueue};
+use bevy::render::storage::{GpuShaderBuffer, ShaderBuffer};
+use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderSystems};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use tessella_core::NormalMode;
+use tessella_gpu::{GpuContext, GpuNetBuilder, GpuSkinner, NetsTarget};
+
+/// Threads a workgroup: 2^22 welded vertices at most ([`crate::WELDED_VERTICES`]) need 16,384
+/// workgroups, inside the 65,535 one dimension of a dispatch allows.
+const WORKGROUP: u32 = 256;
+
+/// Floats a vertex of the evaluated buffer holds: position then normal.
+pub const EVALUATED_FLOATS: usize = 6;
+
+/// Binding of each welded vertex's origin (coarse triangle, pattern vertex) in the kernel's
+/// group, after the patch group's seven.
+const ORIGINS_BINDING: u32 = FIRST_BINDING + 7;
+
+/// Binding of the evaluated vertices: in the kernel's group, and in the material's (where the
+/// coarse texture coordinates hold 107).
+pub const EVALUATED_BINDING: u32 = FIRST_BINDING + 8;
+
+/// Welded vertices the per-frame pass evaluated since the app started, counted by the render
+/// world when it submits the pass: a still surface adds its vertices once, a deforming one in
+/// every frame its nets change, a surface drawn otherwise never.
+#[derive(Resource, Clone, Default, Debug)]
+pub struct EvaluationStats(Arc<AtomicU64>);
+
+impl EvaluationStats {
+    /// The welded vertices evaluated so far.
+    pub fn evaluated_vertices(&self) -> u64 {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// What the render world needs to evaluate an entity's surface: on the tessellated entity,
+/// with its [`Surface`], whose version says when the nets changed.
+#[derive(Component, Clone, Debug)]
+pub(crate) struct PerFrameSource {
+    /// The patch group's seven buffers (bindings 100 to 106), the material's.
+    pub patch: [Handle<ShaderBuffer>; 7],
+    /// Per welded vertex, its coarse triangle and pattern vertex (two `u32`).
+    pub origins: Handle<ShaderBuffer>,
+    /// The output: [`EVALUATED_FLOATS`] floats a welded vertex.
+    pub evaluated: Handle<ShaderBuffer>,
+    pub mode: NormalModeKey,
+    pub vertices: u32,
+}
+
+/// The kernel's WGSL for a normal mode: the material's evaluation module, moved to group 0,
+/// then the entry evaluating one welded vertex a thread.
+pub fn kernel_wgsl(mode: NormalMode) -> String {
+    let module = patch_module_for_bevy(mode).replace("@group(3)", "@group(0)");
+    format!(
+        "{module}
+@group(0) @binding({ORIGINS_BINDING}) var<storage, read> tessella_origins: array<vec2<u32>>;
+@group(0) @binding({EVALUATED_BINDING}) var<storage, read_write> tessella_evaluated: array<f32>;
+
+@compute @workgroup_size({WORKGROUP})
+fn tessella_evaluate(@builtin(global_invocation_id) id: vec3<u32>) {{
+    let i = id.x;
+    if i >= arrayLength(&tessella_origins) {{
+        return;
+    }}
+    let origin = tessella_origins[i];
+    let point = tessella_point(origin.x, origin.y);
+    let at = {EVALUATED_FLOATS}u * i;
+    tessella_evaluated[at] = point.position.x;
+    tessella_evaluated[at + 1u] = point.position.y;
+    tessella_evaluated[at + 2u] = point.position.z;
+    tessella_evaluated[at + 3u] = point.normal.x;
+    tessella_evaluated[at + 4u] = point.normal.y;
+    tessella_evaluated[at + 5u] = point.normal.z;
+}}
+"
+    )
+}
+
+/// The welded vertices' origins as the kernel reads them: per vertex, its coarse triangle and
+/// its pattern vertex, from the welded mesh's `UV_1` (`(pattern vertex, triangle)`, exact in
+/// `f32`).
+pub(crate) fn origins_bytes(ids: &[[f32; 2]]) -> Vec<u8> {
+    let origins: Vec<[u32; 2]> = ids.iter().map(|&[v, f]| [f as u32, v as u32]).collect();
+    bytemuck::cast_slice(&origins).to_vec()
+}
+
+/// Adds the extraction and the evaluation to the render app (none without one: a headless
+/// app with no renderer draws nothing to evaluate for).
+pub(crate) fn register(app: &mut App) {
+    let stats = app
+        .world_mut()
+        .get_resource_or_init::<EvaluationStats>()
+        .clone();
+    let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
+        return;
+    };
+    render_app
+        .insert_resource(stats)
+        .init_resource::<Evaluations>()
+        .add_systems(ExtractSchedule, extract)
+        .add_systems(Render, evaluate.in_set(RenderSystems::PrepareResources));
+}
+
+/// The render world's evaluations: one kernel per normal mode, made when first needed, and
+/// per tessellated entity what it evaluates and which version of its nets it last did.
+#[derive(Resource, Default)]
+struct Evaluations {
+    /// Bevy's device and queue as tessella-gpu's context (its own error scopes), made once.
+    ctx: Option<GpuContext>,
+    kernels: HashMap<NormalModeKey, Result<Kernel, String>>,
+    jobs: HashMap<Entity, Job>,
+}
+
+struct Kernel {
+    pipeline: ComputePipeline,
+    layout: BindGroupLayout,
+}
+
+struct Job {
+    source: PerFrameSource,
+    version: u64,
+    evaluated: Option<u64>,
+    /// This frame's deform, for an entity posed on the GPU.
+    pose: Option<GpuPose>,
+    /// Its skinner and net builder, made at its first pose.
+    posing: Option<Posing>,
+}
+
+struct Posing {
+    skinner: GpuSkinner,
+    builder: GpuNetBuilder,
+}
+
+/// What [`extract`] reads of a per-frame entity.
+type Extracted = (
+    Entity,
+    &'static PerFrameSource,
+    &'static Surface,
+    Option<&'static GpuPose>,
+);
+
+/// Copies each per-frame entity's source and nets version into the render world; entities
+/// gone (or drawn otherwise now) lose their job.
+fn extract(mut evaluations: ResMut<Evaluations>, query: Extract<Query<Extracted>>) {
+    let mut live = HashSet::new();
+    for (entity, source, surface, pose) in &query {
+        live.insert(entity);
+        let job = evaluations.jobs.entry(entity).or_insert_with(|| Job {
+            source: source.clone(),
+            version: surface.version,
+            evaluated: None,
+            pose: None,
+            posing: None,
+        });
+        if job.source.evaluated != source.evaluated {
+            job.source = source.clone();
+            job.evaluated = None;
+            job.posing = None;
+        }
+        job.version = surface.version;
+        job.pose = pose.cloned();
+    }
+    evaluations.jobs.retain(|entity, _| live.contains(entity));
+}
+
+/// Records and submits one dispatch per surface whose nets changed since its last
+/// evaluation, all in one compute pass after the posing passes of the entities posed on the
+/// GPU (few passes: each costs a software rasterizer's threads a synchronisation). The submission precedes the frame's render passes on the queue, and follows the
+/// frame's buffer writes (Bevy's uploads of the nets), so every pass reads this frame's points.
+/// A surface whose buffers are not on the GPU yet waits for a later frame.
+fn evaluate(
+    mut evaluations: ResMut<Evaluations>,
+    buffers: Res<RenderAssets<GpuShaderBuffer>>,
+    device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    stats: Res<EvaluationStats>,
+) {
+    let Evaluations { ctx, kernels, jobs } = &mut *evaluations;
+    if jobs.values().all(|j| j.evaluated == Some(j.version)) {
+        return;
+    }
+    // tessella's own error scopes: a rejected kernel or dispatch is reported here, not by
+    // Bevy's handler as an error of its frame.
+    let ctx = ctx.get_or_insert_with(|| {
+        GpuContext::from_device(device.wgpu_device().clone(), (**queue).clone())
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    // Each surface's kernel, bind group and vertex count, dispatched together below.
+    let mut dispatches = Vec::new();
+    for (entity, job) in jobs.iter_mut() {
+        if job.evaluated == Some(job.version) {
+            continue;
+        }
+        let kernel = kernels
+            .entry(job.source.mode)
+            .or_insert_with(|| make_kernel(ctx, &device, job.source.mode));
+        let layout = match kernel {
+            Ok(k) => &k.layout,
+            Err(e) => {
+                error!("tessella: cannot evaluate {entity} per frame: {e}");
+                job.evaluated = Some(job.version);
+                continue;
+            }
+        };
+        let source = &job.source;
+        let handles = source
+            .patch
+            .iter()
+            .chain([&source.origins, &source.evaluated]);
+        let Some(gpu) = handles
+            .map(|h| buffers.get(h).map(|b| &b.buffer))
+            .collect::<Option<Vec<_>>>()
+        else {
+            continue; // not uploaded yet
+        };
+        if let Some(pose) = &job.pose {
+            pose_on_gpu(ctx, &mut encoder, pose, &mut job.posing, (gpu[1], gpu[2]));
+        }
+        let entries: Vec<BindGroupEntry> = gpu
+            .iter()
+            .zip(
+                (0..7)
+                    .map(|b| FIRST_BINDING + b)
+                    .chain([ORIGINS_BINDING, EVALUATED_BINDING]),
+            )
+            .map(|(buffer, binding)| BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        match ctx.scoped(|| device.create_bind_group("tessella per-frame", layout, &entries)) {
+            Ok(group) => dispatches.push((source.mode, group, source.vertices)),
+            Err(e) => error!("tessella: cannot evaluate {entity} per frame: {e}"),
+        }
+        job.evaluated = Some(job.version);
+    }
+    if dispatches.is_empty() {
+        return;
+    }
+    let recorded = ctx.scoped(|| {
+        let mut pass = encoder.begin_compute_pass(&ComputePassDescriptor {
+            label: Some("tessella per-frame evaluation"),
+            ..Default::default()
+        });
+        let mut vertices = 0u64;
+        for (mode, group, count) in &dispatches {
+            let Some(Ok(kernel)) = kernels.get(mode) else {
+                continue; // refused above, with its error
+            };
+            pass.set_pipeline(&kernel.pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(count.div_ceil(WORKGROUP), 1, 1);
+            vertices += u64::from(*count);
+        }
+        vertices
+    });
+    let submitted = recorded.and_then(|vertices| {
+        ctx.scoped(|| queue.submit([encoder.finish()]))?;
+        Ok(vertices)
+    });
+    match submitted {
+        Ok(vertices) => {
+            stats.0.fetch_add(vertices, Ordering::Relaxed);
+        }
+        Err(e) => error!("tessella: the per-frame evaluation was refused: {e}"),
+    }
+}
+
+/// Records the skinning and the net building of an entity posed on the GPU into `encoder`,
+/// the nets written into the material's buffers `nets` (points, normals), ahead of its
+/// evaluation. Where the GPU cannot (the skinner or builder refused, or their work), the
+/// entity's flag is raised and the main world poses it on the CPU from the next frame.
+fn pose_on_gpu(
+    ctx: &GpuContext,
+    encoder: &mut bevy::render::render_resource::CommandEncoder,
+    pose: &GpuPose,
+    posing: &mut Option<Posing>,
+    nets: (
+        &bevy::render::render_resource::Buffer,
+        &bevy::render::render_resource::Buffer,
+    ),
+) {
+    if pose.refused.load(Ordering::Relaxed) || pose.matrices.is_empty() {
+        return; // posed on the CPU, or not posed yet (the nets are the rest pose's)
+    }
+    let plan = &pose.plan;
+    let made = match posing.take() {
+        Some(p) => Ok(p),
+        None => GpuSkinner::new(ctx, &pose.poser).and_then(|skinner| {
+            let builder = GpuNetBuilder::new(ctx, plan.surface())?;
+            Ok(Posing { skinner, builder })
+        }),
+    };
+    let done = made.and_then(|p| {
+        p.skinner.update_matrices(&pose.matrices, &pose.weights)?;
+        p.skinner.record(encoder)?;
+        let target = NetsTarget::new(nets.0, nets.1, plan.face_count(), plan.normal_mode());
+        p.builder.record(encoder, p.skinner.output(), target)?;
+        Ok(p)
+    });
+    match done {
+        Ok(p) => *posing = Some(p),
+        Err(e) => {
+            warn!("tessella: posing on the CPU, the GPU cannot: {e}");
+            pose.refused.store(true, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The kernel of `mode`: its bind group layout (the patch group's seven read-only buffers, the
+/// origins, the output) and pipeline, inside tessella's error scopes.
+fn make_kernel(
+    ctx: &GpuContext,
+    device: &RenderDevice,
+    mode: NormalModeKey,
+) -> Result<Kernel, String> {
+    let normal_mode = match mode {
+        NormalModeKey::Linear => NormalMode::Linear,
+        NormalModeKey::Quadratic => NormalMode::Quadratic,
+        NormalModeKey::Real => NormalMode::Real,
+    };
+    let storage = |binding: u32, read_only: bool| BindGroupLayoutEntry {
+        binding,
+        visibility: ShaderStages::COMPUTE,
+        ty: BindingType::Buffer {
+            ty: BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let entries: Vec<BindGroupLayoutEntry> = (0..7)
+        .map(|b| storage(FIRST_BINDING + b, true))
+        .chain([
+            storage(ORIGINS_BINDING, true),
+            storage(EVALUATED_BINDING, false),
+        ])
+        .collect();
+    ctx.scoped(|| {
+        let layout = device.create_bind_group_layout("tessella per-frame", &entries);
+        let module = device.create_and_validate_shader_module(ShaderModuleDescriptor {
+            label: Some("tessella per-frame evaluation"),
+            source: ShaderSource::Wgsl(kernel_wgsl(normal_mode).into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&PipelineLayoutDescriptor {
+            label: Some("tessella per-frame"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&RawComputePipelineDescriptor {
+            label: Some("tessella per-frame evaluation"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("tessella_evaluate"),
+            compilation_options: PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        Kernel { pipeline, layout }
+    })
+    .map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kernel of each normal mode is valid WGSL for naga (the validator wgpu runs), binds
+    /// its nine buffers in one group, and evaluates with the material's `tessella_point`.
+    #[test]
+    fn kernels_validate() {
+        for mode in [NormalMode::Linear, NormalMode::Quadratic, NormalMode::Real] {
+            let source = kernel_wgsl(mode);
+            assert_eq!(source.matches("@group(0) @binding(").count(), 9);
+            assert!(!source.contains("@group(3)"));
+            let module = naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{mode:?}: {}", e.emit_to_string(&source)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::empty(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{mode:?}: {e:?}"));
+        }
+    }
+
+    /// Origins swap the welded mesh's `(pattern vertex, triangle)` into `(triangle, pattern
+    /// vertex)` words, exactly (the largest triangle a welded mesh names is under 2^24).
+    #[test]
+    fn origins_are_exact_words() {
+        let ids = [[0.0, 0.0], [44.0, 16_777_215.0], [3.0, 9.0]];
+        let words: Vec<[u32; 2]> = bytemuck::cast_slice(&origins_bytes(&ids)).to_vec();
+        assert_eq!(words, vec![[0, 0], [16_777_215, 44], [9, 3]]);
+    }
+}
