@@ -286,6 +286,8 @@ type Posed<'a> = (
     Option<&'a MeshMorphWeights>,
     &'a Patches,
     Option<&'a mut GpuPose>,
+    // Its children's boxes are the LOD's to set (`lod::levels`, after this).
+    Has<crate::lod::LodState>,
 );
 
 /// Poses every animated tessellated entity with this frame's joints and weights, rebuilds its
@@ -298,7 +300,7 @@ pub(crate) fn pose(
     mut buffers: ResMut<Assets<ShaderBuffer>>,
     stats: Res<UploadStats>,
 ) {
-    for (entity, mut animated, mut surface, global, skin, morph, patches, gpu) in &mut query {
+    for (entity, mut animated, mut surface, global, skin, morph, patches, gpu, lod) in &mut query {
         let animated = &mut *animated;
         let surface = &mut *surface;
         animated.matrices.clear();
@@ -384,6 +386,10 @@ pub(crate) fn pose(
             if let Some(mut buffer) = buffers.get_mut(handle) {
                 stats.add(rewrite(&mut buffer, bytes));
             }
+        }
+        if lod {
+            animated.posed_for = Some((animated.matrices.clone(), animated.weights.clone()));
+            continue;
         }
         let face_boxes = face_boxes(&surface.frame);
         for child in &patches.0 {

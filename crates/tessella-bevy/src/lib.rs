@@ -21,7 +21,8 @@
 //! [`run_faces`] coarse triangles ([`RUN_VERTICES`] vertices), one Bevy mesh shared by every
 //! entity, one child per run with the run's first triangle in its `MeshTag`, batched by Bevy
 //! into one instanced draw. Either way a few children at any coarse size, culled by their
-//! nets' boxes. Per-edge LOD draws one child per part of a triangle.
+//! nets' boxes. Per-edge LOD draws a few children a part of the spacing, each a run of
+//! that part's instances.
 
 mod animate;
 mod gltf_extras;
@@ -197,11 +198,11 @@ fn register_types(app: &mut App) {
         .register_type::<LodCameraMarker>();
 }
 
-/// A child of the tessellated entity drawing the patches of coarse triangles `face..face +
-/// count`: with uniform levels, a run of up to [`run_faces`] triangles drawing the level's
-/// shared run mesh with `face` in its `MeshTag` (one instanced draw for all the runs of the
-/// entity); with per-edge LOD, one of a triangle's one to four parts (`count` 1, `face | side
-/// << 30` in the tag).
+/// A child of the tessellated entity: with uniform levels, drawing the patches of coarse
+/// triangles `face..face + count` (a run of up to [`run_faces`] triangles drawing the level's
+/// shared run mesh with `face` in its `MeshTag`, or the whole welded mesh); with per-edge LOD,
+/// a run of `count` instances of one part (each a coarse triangle's part), their instance words
+/// from `face` on in the frame's instance buffer (`face` in the tag too).
 #[derive(Component, Reflect, Clone, Copy, Debug)]
 #[reflect(Component, Debug, Clone)]
 pub struct Patch {
@@ -447,6 +448,10 @@ fn tessellate(
             );
             let record_bytes = built.boxes.len() * instanced::RECORD_WORDS * 4;
             let records = storage(&mut buffers, &vec![0u8; record_bytes]);
+            // Room for a triangle's most parts, so the buffer keeps its size from frame to
+            // frame (Bevy rewrites it in place).
+            let instance_bytes = built.boxes.len() * lod::MAX_PARTS * 4;
+            let instances = storage(&mut buffers, &vec![0u8; instance_bytes]);
             let [_, b1, b2, _, _, _, _, b7] = handles;
             let spacing = tess.0.spacing;
             let material = lod_materials.add(TessellaLodMaterial {
@@ -457,6 +462,7 @@ fn tessellate(
                     params,
                     records: records.clone(),
                     face_uvs: b7,
+                    instances: instances.clone(),
                     key: TessellaLodKey::of(basis, built.normal_mode, spacing),
                 },
             });
@@ -464,7 +470,7 @@ fn tessellate(
                 lod,
                 spacing,
                 parts.table(spacing),
-                records,
+                (records, instances),
                 material,
                 (no_cast, no_receive),
             );

@@ -2,11 +2,15 @@
 //! edge's level is computed from that edge's data alone, and its points are evaluated from the
 //! edge's own data in canonical direction, the same bits from both faces). The spacing's parts
 //! (tessellator strips and interiors, or grids: `tessella_core::refine::instanced::PartTable`)
-//! are Bevy meshes made once, the first time a part is drawn, and shared by every entity. Per
-//! frame only coarse data changes: the per-face level records (one buffer rewrite) and which
-//! part each patch child draws with which `face | side << 30` tag.
+//! are Bevy meshes made once, the first time a part is drawn, and shared by every entity: each
+//! part repeated a power of two of times up to [`RUN_VERTICES`] vertices. A child draws a run
+//! of one part's instances (a coarse triangle's part each): the part mesh of the run's length,
+//! its mesh tag the run's first word in the frame's instance buffer. So an entity has a few
+//! children a part (the binary digits of the part's instance count, and one a full run), not
+//! one a triangle. Per frame only coarse data changes: the per-face level records and the
+//! instance words (two buffer rewrites) and which runs the children draw.
 
-use crate::pattern::{face_boxes, rewrite};
+use crate::pattern::{face_boxes, rewrite, run_box, RUN_VERTICES};
 use crate::surface::Surface;
 use crate::{Patch, Patches, UploadStats};
 use bevy::asset::RenderAssetUsages;
@@ -32,10 +36,13 @@ pub(crate) struct LodState {
     pub spacing: Spacing,
     pub table: Arc<PartTable>,
     pub records: Handle<ShaderBuffer>,
+    /// The frame's instance words (`face | side << 30`), [`MAX_PARTS`] a triangle of room.
+    pub instances: Handle<ShaderBuffer>,
     pub material: Handle<TessellaLodMaterial>,
     /// This frame's per-edge levels and per-face minimums (picking refines with them).
     pub levels: Option<(Vec<f32>, Option<Vec<f32>>)>,
     records_written: Vec<u32>,
+    instances_written: Vec<u32>,
     no_cast: bool,
     no_receive: bool,
 }
@@ -45,7 +52,7 @@ impl LodState {
         lod: Lod,
         spacing: Spacing,
         table: Arc<PartTable>,
-        records: Handle<ShaderBuffer>,
+        (records, instances): (Handle<ShaderBuffer>, Handle<ShaderBuffer>),
         material: Handle<TessellaLodMaterial>,
         shadows: (bool, bool),
     ) -> LodState {
@@ -54,9 +61,11 @@ impl LodState {
             spacing,
             table,
             records,
+            instances,
             material,
             levels: None,
             records_written: Vec::new(),
+            instances_written: Vec::new(),
             no_cast: shadows.0,
             no_receive: shadows.1,
         }
@@ -81,11 +90,16 @@ pub struct LodLevels {
 #[reflect(Component, Debug, Clone, Default)]
 pub struct LodCameraMarker;
 
-/// The spacings' part tables and the Bevy meshes of the parts drawn so far.
+/// Parts a coarse triangle draws at most (its interior and three strips, or one grid).
+pub(crate) const MAX_PARTS: usize = 4;
+
+/// The spacings' part tables and the Bevy meshes of the parts drawn so far, by spacing, part
+/// and copies.
 #[derive(Resource, Default)]
 pub(crate) struct PartMeshes {
     tables: HashMap<Spacing, Arc<PartTable>>,
-    meshes: HashMap<(Spacing, u32), Handle<Mesh>>,
+    meshes: HashMap<(Spacing, u32, u32), Handle<Mesh>>,
+    vertices: HashMap<(Spacing, u32), usize>,
 }
 
 impl PartMeshes {
@@ -96,18 +110,77 @@ impl PartMeshes {
             .clone()
     }
 
-    fn mesh(&mut self, meshes: &mut Assets<Mesh>, table: &PartTable, part: u32) -> Handle<Mesh> {
-        self.meshes
+    /// The distinct vertices of a part.
+    fn vertices(&mut self, table: &PartTable, part: u32) -> usize {
+        *self
+            .vertices
             .entry((table.spacing, part))
-            .or_insert_with(|| meshes.add(part_mesh(table, part)))
+            .or_insert_with(|| part_points(table, part).0.len())
+    }
+
+    fn mesh(
+        &mut self,
+        meshes: &mut Assets<Mesh>,
+        table: &PartTable,
+        part: u32,
+        copies: u32,
+    ) -> Handle<Mesh> {
+        self.meshes
+            .entry((table.spacing, part, copies))
+            .or_insert_with(|| meshes.add(part_mesh(table, part, copies)))
             .clone()
     }
 }
 
-/// A part as a Bevy mesh: its distinct point codes as vertices (`UV_1` = (code, 0), exact in
-/// `f32`), its triangles as indices. Position, normal and `UV_0` are placeholders (the shaders
-/// place each code with the face's record).
-fn part_mesh(table: &PartTable, part: u32) -> Mesh {
+/// The runs drawing `count` instances of a part of `vertices` vertices, from instance word
+/// `first` on: (first word, copies), each a power of two no larger than the longest run (the
+/// most copies within [`RUN_VERTICES`]), the longest first; together they draw each instance
+/// once.
+pub(crate) fn part_runs(first: u32, count: u32, vertices: usize) -> Vec<(u32, u32)> {
+    let fit = (RUN_VERTICES / vertices.max(1)).max(1) as u32;
+    let longest = 1u32 << fit.ilog2();
+    let mut runs = Vec::new();
+    let (mut at, mut left) = (first, count);
+    while left > 0 {
+        let copies = if left >= longest {
+            longest
+        } else {
+            1 << left.ilog2()
+        };
+        runs.push((at, copies));
+        at += copies;
+        left -= copies;
+    }
+    runs
+}
+
+/// A part repeated `copies` times as a Bevy mesh: its distinct point codes as vertices (`UV_1`
+/// = (code, copy), exact in `f32`), its triangles as indices, each copy's after the last.
+/// Position, normal and `UV_0` are placeholders (the shaders place each code with the face's
+/// record).
+fn part_mesh(table: &PartTable, part: u32, copies: u32) -> Mesh {
+    let (codes, indices) = part_points(table, part);
+    let n = codes.len();
+    let all = n * copies as usize;
+    let uvs: Vec<[f32; 2]> = (0..copies)
+        .flat_map(|copy| codes.iter().map(move |&c| [c as f32, copy as f32]))
+        .collect();
+    let indices = (0..copies)
+        .flat_map(|copy| indices.iter().map(move |&i| i + copy * n as u32))
+        .collect();
+    Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0f32; 3]; all])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; all])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, vec![[0.0f32; 2]; all])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, uvs)
+    .with_inserted_indices(Indices::U32(indices))
+}
+
+/// A part's distinct point codes and its triangles as indices into them.
+fn part_points(table: &PartTable, part: u32) -> (Vec<u32>, Vec<u32>) {
     let range = table.ranges[part as usize].clone();
     let mut codes: Vec<u32> = Vec::new();
     let mut local: HashMap<u32, u32> = HashMap::default();
@@ -122,22 +195,7 @@ fn part_mesh(table: &PartTable, part: u32) -> Mesh {
             indices.push(i);
         }
     }
-    let n = codes.len();
-    Mesh::new(
-        PrimitiveTopology::TriangleList,
-        RenderAssetUsages::RENDER_WORLD,
-    )
-    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0f32; 3]; n])
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
-    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, vec![[0.0f32; 2]; n])
-    .with_inserted_attribute(
-        Mesh::ATTRIBUTE_UV_1,
-        codes
-            .iter()
-            .map(|&c| [c as f32, 0.0])
-            .collect::<Vec<[f32; 2]>>(),
-    )
-    .with_inserted_indices(Indices::U32(indices))
+    (codes, indices)
 }
 
 /// The LOD camera in the entity's own space (its mesh's): Bevy's camera eye and view direction
@@ -268,29 +326,46 @@ pub(crate) fn levels(
                 state.records_written = fi.records.clone();
             }
         }
+        if fi.instances != state.instances_written {
+            if let Some(mut buffer) = buffers.get_mut(&state.instances) {
+                // The words, then zeros to the buffer's fixed size.
+                let mut words = fi.instances.clone();
+                words.resize(plan.face_count() * MAX_PARTS, 0);
+                stats.add(rewrite(&mut buffer, bytemuck::cast_slice(&words)));
+                state.instances_written = fi.instances.clone();
+            }
+        }
         state.levels = Some((edges, faces));
         chosen.triangles = fi.triangles;
         chosen.lod = Some(lod);
         let boxes = face_boxes(frame);
         let mut k = 0;
         for draw in &fi.draws {
-            let mesh = parts.mesh(&mut meshes, &state.table, draw.part);
-            for &instance in
-                &fi.instances[draw.instances.start as usize..draw.instances.end as usize]
-            {
-                let face = (instance & 0x3fff_ffff) as usize;
-                let (lo, hi) = boxes[face];
+            let vertices = parts.vertices(&state.table, draw.part);
+            let count = draw.instances.end - draw.instances.start;
+            for (first, copies) in part_runs(draw.instances.start, count, vertices) {
+                let mesh = parts.mesh(&mut meshes, &state.table, draw.part, copies);
+                let words = &fi.instances[first as usize..(first + copies) as usize];
+                let run: Vec<(Vec3, Vec3)> = words
+                    .iter()
+                    .map(|w| boxes[(w & 0x3fff_ffff) as usize])
+                    .collect();
+                let (lo, hi) = run_box(&run);
                 let aabb = Aabb::from_min_max(lo, hi);
+                let patch = Patch {
+                    face: first,
+                    count: copies,
+                };
                 match children.0.get(k).and_then(|c| patches.get_mut(*c).ok()) {
-                    Some((mut patch, mut m, mut tag, mut b, mut v)) => {
-                        if patch.face != face as u32 {
-                            patch.face = face as u32;
+                    Some((mut p, mut m, mut tag, mut b, mut v)) => {
+                        if p.face != patch.face || p.count != patch.count {
+                            *p = patch;
                         }
                         if m.0 != mesh {
                             m.0 = mesh.clone();
                         }
-                        if tag.value != instance {
-                            *tag = MeshTag::new(instance);
+                        if tag.value != first {
+                            *tag = MeshTag::new(first);
                         }
                         if *b != aabb {
                             *b = aabb;
@@ -301,13 +376,10 @@ pub(crate) fn levels(
                     }
                     None => {
                         let mut child = commands.spawn((
-                            Patch {
-                                face: face as u32,
-                                count: 1,
-                            },
+                            patch,
                             Mesh3d(mesh.clone()),
                             MeshMaterial3d(state.material.clone()),
-                            MeshTag::new(instance),
+                            MeshTag::new(first),
                             Transform::IDENTITY,
                             Visibility::Inherited,
                             aabb,
@@ -337,6 +409,72 @@ pub(crate) fn levels(
                 if *v != Visibility::Hidden {
                     *v = Visibility::Hidden;
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A part's runs draw each of its instances once, in order, each run a power of two of
+    /// copies within the vertex budget: as many runs as full runs plus the binary digits of
+    /// the rest, so a part drawn by thousands of triangles takes a few children.
+    #[test]
+    fn part_runs_cover_each_instance_once() {
+        for vertices in [3, 10, 45, 561, 70_000] {
+            let fit = (RUN_VERTICES / vertices).max(1) as u32;
+            let longest = 1u32 << fit.ilog2();
+            for (first, count) in [(0, 1), (7, 13), (100, 1000), (5, 81_920 * 3)] {
+                let runs = part_runs(first, count, vertices);
+                let mut next = first;
+                for &(at, copies) in &runs {
+                    assert_eq!(at, next);
+                    assert!(copies.is_power_of_two() && copies <= longest);
+                    assert!(copies as usize * vertices <= RUN_VERTICES.max(vertices));
+                    next += copies;
+                }
+                assert_eq!(next, first + count);
+                let expected = (count / longest + (count % longest).count_ones()) as usize;
+                assert_eq!(
+                    runs.len(),
+                    expected,
+                    "{count} instances of {vertices} vertices"
+                );
+            }
+        }
+    }
+
+    /// A part mesh of `copies` copies holds the part's points once a copy, `UV_1` = (code,
+    /// copy), and each copy's triangles over its own vertices.
+    #[test]
+    fn part_meshes_repeat_the_part() {
+        let table = PartTable::new(Spacing::FractionalOdd);
+        for part in [
+            0,
+            (table.ranges.len() / 2) as u32,
+            table.ranges.len() as u32 - 1,
+        ] {
+            let (codes, indices) = part_points(&table, part);
+            let mesh = part_mesh(&table, part, 4);
+            let Some(bevy::mesh::VertexAttributeValues::Float32x2(ids)) =
+                mesh.attribute(Mesh::ATTRIBUTE_UV_1)
+            else {
+                panic!("no UV_1");
+            };
+            assert_eq!(ids.len(), codes.len() * 4);
+            for (i, id) in ids.iter().enumerate() {
+                assert_eq!(
+                    *id,
+                    [codes[i % codes.len()] as f32, (i / codes.len()) as f32]
+                );
+            }
+            let all: Vec<u32> = mesh.indices().unwrap().iter().map(|i| i as u32).collect();
+            assert_eq!(all.len(), indices.len() * 4);
+            for (k, i) in all.iter().enumerate() {
+                let copy = (k / indices.len()) as u32;
+                assert_eq!(*i, indices[k % indices.len()] + copy * codes.len() as u32);
             }
         }
     }

@@ -28,7 +28,8 @@ const LOD_PREPASS_SHADER: Handle<Shader> = uuid_handle!("5d6f0f5e-7c1e-4b0a-9a51
 const ADAPTIVE_UUID: u128 = 0x5d6f0f5e_7c1e_4b0a_9a51_2f3c1b7e9c00;
 
 /// The extension's data: the adaptive module's four buffers at 100 to 103 (net points, net
-/// normals, edge parameters, per-face level records) and the coarse texture coordinates at 107.
+/// normals, edge parameters, per-face level records), the coarse texture coordinates at 107
+/// and this frame's instance words at 108.
 #[derive(Asset, AsBindGroup, Reflect, Debug, Clone)]
 #[bind_group_data(TessellaLodKey)]
 pub struct TessellaLodExtension {
@@ -42,6 +43,9 @@ pub struct TessellaLodExtension {
     pub records: Handle<ShaderBuffer>,
     #[storage(107, read_only)]
     pub face_uvs: Handle<ShaderBuffer>,
+    /// The frame's instance words (`face | side << 30`), the parts' draws in order.
+    #[storage(108, read_only)]
+    pub instances: Handle<ShaderBuffer>,
     /// Which adaptive module the shaders import.
     #[reflect(ignore)]
     pub key: TessellaLodKey,
