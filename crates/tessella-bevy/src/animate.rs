@@ -35,7 +35,7 @@ pub enum TessellaPosing {
     /// PN, PN-AEN) and a mesh with normals; elsewhere, or when the device refuses it, the
     /// entity is posed on the CPU. The posed surface stays on the GPU: the entity is
     /// frustum-culled by a looser box (from its joints' boxes, `PoseBounds`), and picking
-    /// sees its rest pose.
+    /// poses its CPU frame when a ray asks.
     #[default]
     Gpu,
     /// On the CPU: tessella's skinning poses the coarse mesh, the nets are rebuilt and
@@ -86,6 +86,9 @@ pub(crate) struct Animated {
     posed_for: Option<(Vec<[f32; 16]>, Vec<f32>)>,
     /// Boxes the GPU path's pose is culled with.
     bounds: PoseBounds,
+    /// The surface version whose pose the CPU frame holds, for an entity posed on the GPU
+    /// (posed on the CPU when picking asks: [`Animated::pose_frame`]).
+    frame_for: Option<u64>,
 }
 
 /// A box around an entity's posed surface from its deform alone, for the GPU path, whose pose
@@ -236,7 +239,37 @@ impl Animated {
             normals,
             posed_for: None,
             bounds,
+            frame_for: None,
         })
+    }
+
+    /// Poses the CPU frame of an entity posed on the GPU with the deform the GPU drew (once a
+    /// surface version), so picking casts its rays against the pose on screen. A CPU-posed
+    /// entity's frame is posed already.
+    pub(crate) fn pose_frame(
+        &mut self,
+        gpu: &GpuPose,
+        surface: &mut Surface,
+    ) -> Result<(), String> {
+        if gpu.refused.load(Ordering::Relaxed)
+            || gpu.matrices.is_empty()
+            || self.frame_for == Some(surface.version)
+        {
+            return Ok(());
+        }
+        self.poser
+            .pose_with(
+                &gpu.matrices,
+                &gpu.weights,
+                &mut self.positions,
+                self.normals.as_deref_mut(),
+            )
+            .map_err(|e| e.to_string())?;
+        let Surface { plan, frame, .. } = surface;
+        plan.update(frame, &self.positions, self.normals.as_deref())
+            .map_err(|e| e.to_string())?;
+        self.frame_for = Some(surface.version);
+        Ok(())
     }
 
     /// The entity's [`GpuPose`] when its posing can run on the GPU as far as the CPU can

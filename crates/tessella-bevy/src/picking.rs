@@ -1,11 +1,13 @@
 //! Picking a tessellated entity the way Bevy picks meshes: a picking backend that casts each
 //! pointer's ray against the curved surface as drawn (tessella's CPU refinement of the
 //! entity's current frame at its current levels, made again only when the pose or the levels
-//! changed and a ray asks) and reports
+//! changed and a ray asks; an entity posed on the GPU has its frame posed on the CPU then, with
+//! the deform the GPU drew) and reports
 //! the hit on the tessellated entity itself, so `Pointer<Click>` and friends reach it and
 //! bubble up its parents. Its patch children are `Pickable::IGNORE`: their pattern mesh is
 //! not where the surface is.
 
+use crate::animate::{Animated, GpuPose};
 use crate::lod::LodState;
 use crate::surface::Surface;
 use bevy::camera::visibility::RenderLayers;
@@ -68,13 +70,14 @@ impl PickMesh {
 /// What [`pick`] reads of a tessellated entity.
 type Target<'a> = (
     Entity,
-    &'a Surface,
+    &'a mut Surface,
     &'a mut PickMesh,
     &'a GlobalTransform,
     Option<&'a InheritedVisibility>,
     Option<&'a Pickable>,
     Option<&'a RenderLayers>,
     Option<&'a LodState>,
+    Option<(&'a mut Animated, &'a GpuPose)>,
 );
 
 /// Bevy's picking cameras.
@@ -108,7 +111,9 @@ pub(crate) fn pick(
         }
         let camera_layers = camera_layers.cloned().unwrap_or_default();
         let mut picks = Vec::new();
-        for (entity, surface, mut mesh, global, visible, pickable, layers, lod) in &mut targets {
+        for (entity, mut surface, mut mesh, global, visible, pickable, layers, lod, gpu) in
+            &mut targets
+        {
             let shown = visible.is_none_or(|v| v.get());
             let hoverable = pickable.is_none_or(|p| p.is_hoverable);
             let marked = !require_markers || pickable.is_some();
@@ -116,7 +121,11 @@ pub(crate) fn pick(
             if !(shown && hoverable && marked && layered) {
                 continue;
             }
-            if let Err(e) = mesh.refresh(surface, lod) {
+            let posed = match gpu {
+                Some((mut animated, pose)) => animated.pose_frame(pose, &mut surface),
+                None => Ok(()),
+            };
+            if let Err(e) = posed.and_then(|()| mesh.refresh(&surface, lod)) {
                 error!("cannot pick {entity}: {e}");
                 continue;
             }

@@ -590,6 +590,68 @@ fn picking_hits_the_curved_surface_not_the_coarse_mesh() {
     );
 }
 
+/// Picking reaches a character posed on the GPU (the default) where it is drawn, not at its
+/// rest pose: with one camera (framed on the static creature), a pixel that the hop clip's pose
+/// covers and the rest pose does not (3 pixels deep either way, from Bevy's pictures posed on
+/// the CPU and at rest) picks the entity, and a pixel the rest pose covers and the hop's does
+/// not picks nothing. Posed on the CPU, the same.
+#[test]
+fn picking_hits_the_gpu_posed_character_where_it_is_drawn() {
+    let dir = tempfile_dir("picking-posed");
+    let framing = repo().join("samples/creature.obj");
+    let framing = framing.to_str().unwrap();
+    let mut common = vec!["--size", SIZE, "--scheme", "pn", "--level", "8"];
+    common.extend([
+        "--yaw", "25", "--pitch", "15", "--zoom", "1", "--frame", framing,
+    ]);
+    let posed_args = ["--clip", "hop", "--time", "0.3"];
+    let rest = dir.join("rest.png");
+    bevy_view(CREATURE, &common, &rest);
+    let posed = dir.join("posed.png");
+    let mut args = common.clone();
+    args.extend(posed_args);
+    args.extend(["--pose", "cpu"]);
+    bevy_view(CREATURE, &args, &posed);
+    let ((rest, (w, h)), (posed, _)) = (silhouette(&rest), silhouette(&posed));
+    let at = |m: &[bool], x: i64, y: i64| {
+        x >= 0 && y >= 0 && x < w as i64 && y < h as i64 && m[(y * w as i64 + x) as usize]
+    };
+    let deep = |x: i64, y: i64, m: &[bool], want: bool| {
+        (-3..=3).all(|dy| (-3..=3).all(|dx| at(m, x + dx, y + dy) == want))
+    };
+    let find = |inside: &[bool], outside: &[bool]| {
+        (0..h as i64)
+            .flat_map(|y| (0..w as i64).map(move |x| (x, y)))
+            .find(|&(x, y)| deep(x, y, inside, true) && deep(x, y, outside, false))
+    };
+    let moved_in =
+        find(&posed, &rest).expect("no pixel the hop's pose covers and the rest does not");
+    let moved_out =
+        find(&rest, &posed).expect("no pixel the rest pose covers and the hop's does not");
+    let pick = |(x, y): (i64, i64), posing: &str| {
+        let mut args = common.clone();
+        args.extend(posed_args);
+        let pixel = format!("{x},{y}");
+        args.extend(["--pose", posing, "--pick", pixel.as_str()]);
+        let (hit, subject, _) = picked(&view_stdout(CREATURE, &args, &dir.join("pick.png")));
+        hit && subject
+    };
+    for posing in ["gpu", "cpu"] {
+        let (inside, outside) = (pick(moved_in, posing), pick(moved_out, posing));
+        eprintln!(
+            "posed on the {posing}: picked at {moved_in:?} {inside}, at {moved_out:?} {outside}"
+        );
+        assert!(
+            inside,
+            "posed on the {posing}: the drawn pose at {moved_in:?} was not picked"
+        );
+        assert!(
+            !outside,
+            "posed on the {posing}: the rest pose at {moved_out:?} was picked"
+        );
+    }
+}
+
 /// The JSON `lod` line the example printed: triangles, and the camera and size it saw with.
 fn lod_line(stdout: &str) -> (u64, Option<(String, String)>) {
     let line = stdout
