@@ -244,12 +244,18 @@ impl WeldedMeshes {
             .0
             .get(&key)
             .and_then(|w| meshes.get_strong_handle(w.mesh));
+        // A new mesh's vertex origins, kept for its origins buffer (found once).
+        let mut found = None;
         let handle = match drawn {
             Some(handle) => handle,
             None => {
                 // Entries whose mesh every entity dropped go.
                 self.0.retain(|_, w| meshes.contains(w.mesh));
-                let handle = meshes.add(pattern::welded_mesh(plan)?);
+                let points = pattern::welded_points(plan)?;
+                if origins {
+                    found = Some(points.1.clone());
+                }
+                let handle = meshes.add(pattern::welded_mesh_of(plan, points)?);
                 let welded = Welded {
                     mesh: handle.id(),
                     origins: None,
@@ -260,7 +266,10 @@ impl WeldedMeshes {
         };
         let welded = self.0.get_mut(&key).expect("inserted above");
         if origins && welded.origins.is_none() {
-            let (_, ids) = pattern::welded_points(plan)?;
+            let ids = match found {
+                Some(ids) => ids,
+                None => pattern::welded_points(plan)?.1,
+            };
             welded.origins = Some(storage(buffers, &per_frame::origins_bytes(&ids)));
         }
         let origins = welded.origins.clone().filter(|_| origins);

@@ -177,7 +177,11 @@ pub const WELDED_VERTICES: usize = 1 << 22;
 /// owns it ([`Plan::origin`]), its `UV_0` that pattern vertex's barycentric. The vertex stage
 /// evaluates each refined vertex once, as it would read a static mesh's.
 pub fn welded_mesh(plan: &Plan) -> Result<Mesh, String> {
-    let (uvs, ids) = welded_points(plan)?;
+    welded_mesh_of(plan, welded_points(plan)?)
+}
+
+/// [`welded_mesh`] with its vertex attributes already found ([`welded_points`]).
+pub(crate) fn welded_mesh_of(plan: &Plan, (uvs, ids): WeldedPoints) -> Result<Mesh, String> {
     // Written here, not `Plan::indices` (which the plan would keep for its lifetime).
     let mut indices = vec![[0u32; 3]; plan.triangle_count()];
     plan.write_indices(&mut indices)
