@@ -34,7 +34,7 @@ pub enum TessellaPosing {
     /// ([`crate::TessellaDraw::PerFrame`]), a scheme whose nets the GPU builds (flat, Phong,
     /// PN, PN-AEN) and a mesh with normals; elsewhere, or when the device refuses it, the
     /// entity is posed on the CPU. The posed surface stays on the GPU: the entity is
-    /// frustum-culled by a looser box (from its joints' boxes, `PoseBounds`), and picking
+    /// frustum-culled by a box from its coarse vertices skinned on the CPU, and picking
     /// poses its CPU frame when a ray asks.
     #[default]
     Gpu,
@@ -84,81 +84,43 @@ pub(crate) struct Animated {
     normals: Option<Vec<[f32; 3]>>,
     /// The deform the nets were last built for; an unchanged one uploads nothing.
     posed_for: Option<(Vec<[f32; 16]>, Vec<f32>)>,
-    /// Boxes the GPU path's pose is culled with.
-    bounds: PoseBounds,
     /// The surface version whose pose the CPU frame holds, for an entity posed on the GPU
     /// (posed on the CPU when picking asks: [`Animated::pose_frame`]).
     frame_for: Option<u64>,
 }
 
-/// A box around an entity's posed surface from its deform alone, for the GPU path, whose pose
-/// the CPU never sees. A skinned vertex is a convex blend of its joints' matrices applied to it
-/// (the weights are normalised), so it lies in the box of the joints' transformed boxes of the
-/// rest vertices they move, each grown by the farthest its morph targets move a vertex (weights
-/// up to 1). The patch's control points stray from its corners by less than an edge (PN's edge
-/// points by a third of one, its centre by half; Phong's projections by one at most), so that
-/// box grown by its own diagonal on every side holds the patch: loose, never too small.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct PoseBounds {
-    /// Per deform matrix, the box of the rest vertices it moves, in the space it maps from.
-    joints: Vec<Option<(Vec3, Vec3)>>,
+/// The box around a GPU-posed entity's surface, from its coarse vertices skinned on the CPU
+/// (positions only, O(coarse), nothing uploaded): a patch lies in its control net's hull, and
+/// the net strays from its triangle by at most [`reach`] times the longest posed edge (PN's
+/// edge points by a third of their edge, its centre by half; Phong's projections by `|alpha|`
+/// edges), so the vertices' box grown by that much holds the surface.
+pub(crate) fn pose_box(plan: &Plan, positions: &[[f32; 3]]) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    for p in positions {
+        lo = lo.min(Vec3::from(*p));
+        hi = hi.max(Vec3::from(*p));
+    }
+    let mut longest = 0.0f32;
+    for t in plan.triangles() {
+        let [a, b, c] = t.map(|v| Vec3::from(positions[v as usize]));
+        longest = longest
+            .max(a.distance(b))
+            .max(b.distance(c))
+            .max(c.distance(a));
+    }
+    let grow = reach(&plan.options().scheme) * longest;
+    (lo - grow, hi + grow)
 }
 
-impl PoseBounds {
-    fn new(
-        positions: &[[f32; 3]],
-        influences: &[Influences],
-        targets: &[MorphTarget],
-        matrices: usize,
-    ) -> PoseBounds {
-        let mut joints = vec![None; matrices.max(1)];
-        let grow = |b: &mut Option<(Vec3, Vec3)>, p: Vec3, r: f32| {
-            let (lo, hi) = b.get_or_insert((p, p));
-            *lo = lo.min(p - r);
-            *hi = hi.max(p + r);
-        };
-        for (v, p) in positions.iter().enumerate() {
-            let reach: f32 = targets
-                .iter()
-                .map(|t| Vec3::from(t.positions[v]).length())
-                .sum();
-            let p = Vec3::from(*p);
-            let mut moved = false;
-            for set in influences {
-                for (j, w) in set.joints[v].iter().zip(set.weights[v]) {
-                    if w > 0.0 && (*j as usize) < joints.len() {
-                        grow(&mut joints[*j as usize], p, reach);
-                        moved = true;
-                    }
-                }
-            }
-            if !moved {
-                // Unskinned (morph-only: one identity matrix) or no weight at all.
-                grow(&mut joints[0], p, reach);
-            }
-        }
-        PoseBounds { joints }
-    }
-
-    /// The box holding the surface posed by `matrices` (one per deform matrix).
-    pub(crate) fn posed(&self, matrices: &[[f32; 16]]) -> (Vec3, Vec3) {
-        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-        for (b, m) in self.joints.iter().zip(matrices) {
-            let Some((l, h)) = b else { continue };
-            let m = Mat4::from_cols_array(m);
-            for corner in 0..8 {
-                let c = Vec3::new(
-                    if corner & 1 == 0 { l.x } else { h.x },
-                    if corner & 2 == 0 { l.y } else { h.y },
-                    if corner & 4 == 0 { l.z } else { h.z },
-                );
-                let p = m.transform_point3(c);
-                lo = lo.min(p);
-                hi = hi.max(p);
-            }
-        }
-        let diagonal = (hi - lo).length();
-        (lo - diagonal, hi + diagonal)
+/// How far, in edges, a scheme's control points may stray from their triangle (the schemes the
+/// GPU builds nets for; one edge for any other, which the CPU poses anyway).
+fn reach(scheme: &tessella_core::Scheme) -> f32 {
+    use tessella_core::Scheme;
+    match scheme {
+        Scheme::Flat => 0.0,
+        Scheme::Pn | Scheme::PnAen => 0.5,
+        Scheme::Phong { alpha } => alpha.abs(),
+        _ => 1.0,
     }
 }
 
@@ -198,7 +160,6 @@ impl Animated {
             influences.extend(extra.map(|e| e.sets()).unwrap_or_default());
         }
         let joint_count = joints.unwrap_or(0);
-        let bounds = PoseBounds::new(&positions, &influences, &targets, joint_count);
         let mut nodes = vec![Node::default(); 1 + joint_count];
         nodes[0].name = Some("mesh".into());
         let skins = match joints {
@@ -238,7 +199,6 @@ impl Animated {
             positions,
             normals,
             posed_for: None,
-            bounds,
             frame_for: None,
         })
     }
@@ -380,11 +340,23 @@ pub(crate) fn pose(
             gpu.weights.clone_from(&animated.weights);
             stats.add((gpu.matrices.len() * 64 + gpu.weights.len() * 4) as u64);
             surface.version += 1;
-            let (lo, hi) = animated.bounds.posed(&gpu.matrices);
-            for child in &patches.0 {
-                if let Ok((_, mut aabb)) = boxes.get_mut(*child) {
-                    *aabb = Aabb::from_min_max(lo, hi);
+            // The culling box, from the coarse vertices skinned here (positions alone).
+            let skinned = animated.poser.pose_with(
+                &animated.matrices,
+                &animated.weights,
+                &mut animated.positions,
+                None,
+            );
+            match skinned {
+                Ok(()) => {
+                    let (lo, hi) = pose_box(&surface.plan, &animated.positions);
+                    for child in &patches.0 {
+                        if let Ok((_, mut aabb)) = boxes.get_mut(*child) {
+                            *aabb = Aabb::from_min_max(lo, hi);
+                        }
+                    }
                 }
+                Err(e) => error!("cannot bound {entity}'s pose: {e}"),
             }
             animated.posed_for = Some((animated.matrices.clone(), animated.weights.clone()));
             continue;
@@ -446,10 +418,11 @@ mod tests {
 
     /// The box the GPU path culls with holds the posed surface: for the bundled skinned,
     /// morphing creature at times of each clip, every coarse triangle's control net as
-    /// tessella's CPU poses it (its patch lies in the net's hull) is inside the box computed
-    /// from the deform matrices alone, for PN and Phong.
+    /// tessella's CPU poses it (its patch lies in the net's hull) is inside the box of the
+    /// skinned coarse vertices grown by the scheme's reach, for each scheme the GPU builds; and
+    /// the box is not the loose one it replaced (under 1.5 times the nets' extent).
     #[test]
-    fn pose_bounds_hold_the_cpu_posed_nets() {
+    fn pose_box_holds_the_cpu_posed_nets() {
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../../samples/animated-creature.glb"
@@ -457,13 +430,6 @@ mod tests {
         let model = tessella_io::read_animated(std::path::Path::new(path)).unwrap();
         assert_eq!(model.instances.len(), 1);
         let instance = &model.instances[0];
-        let joints = model.skins[0].joints.len();
-        let bounds = PoseBounds::new(
-            &instance.positions,
-            &instance.influences,
-            &instance.targets,
-            joints,
-        );
         let mesh = tessella_core::Mesh::new(
             instance.positions.clone(),
             instance.normals.clone(),
@@ -475,8 +441,15 @@ mod tests {
         let poser = Poser::new(model).unwrap();
         let n = poser.vertex_count();
         let (mut positions, mut normals) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        let mut skinned = vec![[0.0; 3]; n];
         let (mut matrices, mut weights) = (Vec::new(), Vec::new());
-        for scheme in [Scheme::Pn, Scheme::Phong { alpha: 1.0 }] {
+        for scheme in [
+            Scheme::Pn,
+            Scheme::PnAen,
+            Scheme::Phong { alpha: 1.0 },
+            Scheme::Phong { alpha: 0.6 },
+            Scheme::Flat,
+        ] {
             let plan = Plan::new(&mesh, &RefineOptions::new(scheme, 4)).unwrap();
             let mut frame = plan.frame(mesh.clone()).unwrap();
             for clip in 0..clips {
@@ -488,13 +461,22 @@ mod tests {
                         .pose_into(Some(clip), time, &mut positions, Some(&mut normals))
                         .unwrap();
                     plan.update(&mut frame, &positions, Some(&normals)).unwrap();
-                    let (lo, hi) = bounds.posed(&matrices);
+                    poser
+                        .pose_with(&matrices, &weights, &mut skinned, None)
+                        .unwrap();
+                    let (lo, hi) = pose_box(&plan, &skinned);
+                    let nets = run_box(&face_boxes(&frame));
                     for (l, h) in face_boxes(&frame) {
                         assert!(
                             l.cmpge(lo).all() && h.cmple(hi).all(),
-                            "clip {clip} at {time}: a net {l}..{h} outside {lo}..{hi}"
+                            "{scheme:?}, clip {clip} at {time}: a net {l}..{h} outside {lo}..{hi}"
                         );
                     }
+                    let ratio = (hi - lo).length() / (nets.1 - nets.0).length();
+                    assert!(
+                        ratio < 1.5,
+                        "{scheme:?}: the box is {ratio} times the nets'"
+                    );
                 }
             }
         }

@@ -515,6 +515,7 @@ fn tessellate(
                     bevy::asset::RenderAssetUsages::RENDER_WORLD,
                 )),
                 mode: NormalModeKey::of(built.normal_mode),
+                basis: built.plan.options().scheme.basis(),
                 vertices: vertices as u32,
             }
         });

@@ -145,6 +145,15 @@ pub fn patch_module_for_bevy(mode: NormalMode) -> String {
     rebind(tessella_gpu::wgsl::patch_module(MATERIAL_GROUP, mode), 7)
 }
 
+/// [`patch_module_for_bevy`] for the patches of one basis (tessella-gpu's `patch_module_of`:
+/// its control points a constant of the module), for a kernel compiled per basis.
+pub(crate) fn patch_module_of_for_bevy(mode: NormalMode, basis: tessella_core::Basis) -> String {
+    rebind(
+        tessella_gpu::wgsl::patch_module_of(MATERIAL_GROUP, mode, basis),
+        7,
+    )
+}
+
 /// A tessella module's `count` bindings (0, 1, ...) moved to [`FIRST_BINDING`] on, and its
 /// uniforms declared as read-only storage (a material's raw-byte buffers are storage buffers).
 pub(crate) fn rebind(mut source: String, count: u32) -> String {

@@ -12,7 +12,7 @@
 //! `GpuNetBuilder` writing the material's net buffers.
 
 use crate::animate::GpuPose;
-use crate::material::{patch_module_for_bevy, NormalModeKey, FIRST_BINDING};
+use crate::material::{patch_module_of_for_bevy, NormalModeKey, FIRST_BINDING};
 use crate::surface::Surface;
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
@@ -27,7 +27,7 @@ use bevy::render::storage::{GpuShaderBuffer, ShaderBuffer};
 use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderSystems};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
-use tessella_core::NormalMode;
+use tessella_core::{Basis, NormalMode};
 use tessella_gpu::{GpuContext, GpuNetBuilder, GpuSkinner, NetsTarget};
 
 /// Threads a workgroup: 2^22 welded vertices at most ([`crate::WELDED_VERTICES`]) need 16,384
@@ -69,13 +69,15 @@ pub(crate) struct PerFrameSource {
     /// The output: [`EVALUATED_FLOATS`] floats a welded vertex.
     pub evaluated: Handle<ShaderBuffer>,
     pub mode: NormalModeKey,
+    pub basis: Basis,
     pub vertices: u32,
 }
 
-/// The kernel's WGSL for a normal mode: the material's evaluation module, moved to group 0,
-/// then the entry evaluating one welded vertex a thread.
-pub fn kernel_wgsl(mode: NormalMode) -> String {
-    let module = patch_module_for_bevy(mode).replace("@group(3)", "@group(0)");
+/// The kernel's WGSL for a normal mode and basis: the material's evaluation module for that
+/// basis (its control points a constant: the sums unrolled), moved to group 0, then the entry
+/// evaluating one welded vertex a thread.
+pub fn kernel_wgsl(mode: NormalMode, basis: Basis) -> String {
+    let module = patch_module_of_for_bevy(mode, basis).replace("@group(3)", "@group(0)");
     format!(
         "{module}
 @group(0) @binding({ORIGINS_BINDING}) var<storage, read> tessella_origins: array<vec2<u32>>;
@@ -126,13 +128,13 @@ pub(crate) fn register(app: &mut App) {
         .add_systems(Render, evaluate.in_set(RenderSystems::PrepareResources));
 }
 
-/// The render world's evaluations: one kernel per normal mode, made when first needed, and
+/// The render world's evaluations: one kernel per normal mode and basis, made when first needed, and
 /// per tessellated entity what it evaluates and which version of its nets it last did.
 #[derive(Resource, Default)]
 struct Evaluations {
     /// Bevy's device and queue as tessella-gpu's context (its own error scopes), made once.
     ctx: Option<GpuContext>,
-    kernels: HashMap<NormalModeKey, Result<Kernel, String>>,
+    kernels: HashMap<(NormalModeKey, Basis), Result<Kernel, String>>,
     jobs: HashMap<Entity, Job>,
 }
 
@@ -217,8 +219,8 @@ fn evaluate(
             continue;
         }
         let kernel = kernels
-            .entry(job.source.mode)
-            .or_insert_with(|| make_kernel(ctx, &device, job.source.mode));
+            .entry((job.source.mode, job.source.basis))
+            .or_insert_with(|| make_kernel(ctx, &device, job.source.mode, job.source.basis));
         let layout = match kernel {
             Ok(k) => &k.layout,
             Err(e) => {
@@ -254,7 +256,7 @@ fn evaluate(
             })
             .collect();
         match ctx.scoped(|| device.create_bind_group("tessella per-frame", layout, &entries)) {
-            Ok(group) => dispatches.push((source.mode, group, source.vertices)),
+            Ok(group) => dispatches.push(((source.mode, source.basis), group, source.vertices)),
             Err(e) => error!("tessella: cannot evaluate {entity} per frame: {e}"),
         }
         job.evaluated = Some(job.version);
@@ -268,8 +270,8 @@ fn evaluate(
             ..Default::default()
         });
         let mut vertices = 0u64;
-        for (mode, group, count) in &dispatches {
-            let Some(Ok(kernel)) = kernels.get(mode) else {
+        for (key, group, count) in &dispatches {
+            let Some(Ok(kernel)) = kernels.get(key) else {
                 continue; // refused above, with its error
             };
             pass.set_pipeline(&kernel.pipeline);
@@ -332,12 +334,13 @@ fn pose_on_gpu(
     }
 }
 
-/// The kernel of `mode`: its bind group layout (the patch group's seven read-only buffers, the
+/// The kernel of `mode` and `basis`: its bind group layout (the patch group's seven read-only buffers, the
 /// origins, the output) and pipeline, inside tessella's error scopes.
 fn make_kernel(
     ctx: &GpuContext,
     device: &RenderDevice,
     mode: NormalModeKey,
+    basis: Basis,
 ) -> Result<Kernel, String> {
     let normal_mode = match mode {
         NormalModeKey::Linear => NormalMode::Linear,
@@ -365,7 +368,7 @@ fn make_kernel(
         let layout = device.create_bind_group_layout("tessella per-frame", &entries);
         let module = device.create_and_validate_shader_module(ShaderModuleDescriptor {
             label: Some("tessella per-frame evaluation"),
-            source: ShaderSource::Wgsl(kernel_wgsl(normal_mode).into()),
+            source: ShaderSource::Wgsl(kernel_wgsl(normal_mode, basis).into()),
         });
         let pipeline_layout = device.create_pipeline_layout(&PipelineLayoutDescriptor {
             label: Some("tessella per-frame"),
@@ -389,12 +392,18 @@ fn make_kernel(
 mod tests {
     use super::*;
 
-    /// The kernel of each normal mode is valid WGSL for naga (the validator wgpu runs), binds
-    /// its nine buffers in one group, and evaluates with the material's `tessella_point`.
+    /// The kernel of each normal mode and basis is valid WGSL for naga (the validator wgpu
+    /// runs), binds its nine buffers in one group, and evaluates with the material's
+    /// `tessella_point`, its sums bounded by the basis' control points.
     #[test]
     fn kernels_validate() {
-        for mode in [NormalMode::Linear, NormalMode::Quadratic, NormalMode::Real] {
-            let source = kernel_wgsl(mode);
+        for (mode, basis) in [NormalMode::Linear, NormalMode::Quadratic, NormalMode::Real]
+            .into_iter()
+            .flat_map(|m| [(m, Basis::Cubic), (m, Basis::Png1)])
+        {
+            let source = kernel_wgsl(mode, basis);
+            let fixed = format!("const TESSELLA_FIXED_K: u32 = {}u;", basis.len());
+            assert!(source.contains(&fixed), "{mode:?} {basis:?}");
             assert_eq!(source.matches("@group(0) @binding(").count(), 9);
             assert!(!source.contains("@group(3)"));
             let module = naga::front::wgsl::parse_str(&source)

@@ -143,6 +143,7 @@ impl Pipelines {
                         include_str!("shaders/refine.wgsl"),
                         normal_mode,
                         displacement,
+                        None,
                     )
                     .into(),
                 ),

@@ -7,7 +7,7 @@ use crate::displace::{self, Displacement};
 use crate::error::GpuError;
 use crate::gpu_types::EvalParams;
 use tessella_core::displace::FaceFrame;
-use tessella_core::{NormalMode, PatchNets, Stencil};
+use tessella_core::{Basis, NormalMode, PatchNets, Stencil};
 
 // How eval.wgsl numbers normal modes and sizes a normal net, shared with `wgsl_constants`
 // (defined with the other Rust twins of WGSL layouts; named here too, where group 0 uses them).
@@ -265,13 +265,15 @@ pub(crate) fn shader_source(
     own: &str,
     normal_mode: NormalMode,
     displacement: &Displacement,
+    basis: Option<Basis>,
 ) -> String {
     [
         &crate::wgsl_constants::source(),
         &format!(
-            "const TESSELLA_NORMAL_MODE: u32 = {}u;\nconst TESSELLA_DISPLACE_KIND: u32 = {}u;\n",
+            "const TESSELLA_NORMAL_MODE: u32 = {}u;\nconst TESSELLA_DISPLACE_KIND: u32 = {}u;\nconst TESSELLA_FIXED_K: u32 = {}u;\n",
             normal_mode_code(normal_mode),
-            displace::kind_code(displacement)
+            displace::kind_code(displacement),
+            basis.map_or(0, |b| b.len())
         ),
         include_str!("shaders/eval.wgsl"),
         include_str!("shaders/displace.wgsl"),

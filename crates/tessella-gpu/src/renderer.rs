@@ -47,6 +47,7 @@ impl Pipelines {
                             include_str!("shaders/render.wgsl"),
                             normal_mode,
                             displacement,
+                            None,
                         ))
                         .into(),
                 ),

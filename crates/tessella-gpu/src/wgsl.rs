@@ -42,6 +42,7 @@ pub struct PatchBindings {
     ctx: GpuContext,
     group_index: u32,
     normal_mode: tessella_core::NormalMode,
+    basis: tessella_core::Basis,
     shape: (usize, usize),
     patches: PatchBuffers,
     layout: wgpu::BindGroupLayout,
@@ -113,6 +114,7 @@ impl PatchBindings {
                 ctx: ctx.clone(),
                 group_index,
                 normal_mode: plan.normal_mode(),
+                basis,
                 shape: (frame.nets().len(), basis.len()),
                 patches,
                 layout,
@@ -124,7 +126,7 @@ impl PatchBindings {
     /// The WGSL to put before the engine's own: `tessella_point` and what it calls, at
     /// `@group(group_index)`, bindings 0 to 6 (see `docs/engine.md`).
     pub fn wgsl(&self) -> String {
-        patch_module(self.group_index, self.normal_mode)
+        patch_module_of(self.group_index, self.normal_mode, self.basis)
     }
 
     /// The group's layout, for the engine's pipeline layout at `group_index`.
@@ -205,7 +207,19 @@ pub fn patch_bytes(plan: &Plan, frame: &Frame) -> Result<[Vec<u8>; 7], GpuError>
 /// The evaluation module (no displacement) with its bindings at `@group(group_index)`, and
 /// `tessella_point`.
 pub fn patch_module(group_index: u32, normal_mode: tessella_core::NormalMode) -> String {
-    let source = patch::shader_source(ENTRY, normal_mode, &Displacement::None);
+    let source = patch::shader_source(ENTRY, normal_mode, &Displacement::None, None);
+    source.replace("@group(0)", &format!("@group({group_index})"))
+}
+
+/// [`patch_module`] for the patches of one basis only: its number of control points is a
+/// constant of the module rather than the uniform's, so the weighted sums have a constant
+/// bound (what a per-frame evaluation kernel, compiled per surface kind, wants).
+pub fn patch_module_of(
+    group_index: u32,
+    normal_mode: tessella_core::NormalMode,
+    basis: tessella_core::Basis,
+) -> String {
+    let source = patch::shader_source(ENTRY, normal_mode, &Displacement::None, Some(basis));
     source.replace("@group(0)", &format!("@group({group_index})"))
 }
 

@@ -46,10 +46,19 @@ fn tessella_net_normal(face: u32, k: u32) -> vec3<f32> {
     return vec3<f32>(tessella_net_normals[i], tessella_net_normals[i + 1u], tessella_net_normals[i + 2u]);
 }
 
+// The control points a net: TESSELLA_FIXED_K where the module was made for one basis (a
+// constant bound the compiler unrolls: a third less time on lavapipe), else the uniform's.
+fn tessella_k() -> u32 {
+    if (TESSELLA_FIXED_K != 0u) {
+        return TESSELLA_FIXED_K;
+    }
+    return tessella_eval_params.k;
+}
+
 // sum_k w_k C_k with w read from `stencil` starting at `first`, in the CPU's order.
 fn tessella_combine_points(face: u32, first: u32) -> vec3<f32> {
     var acc = vec3<f32>(0.0);
-    for (var k = 0u; k < tessella_eval_params.k; k++) {
+    for (var k = 0u; k < tessella_k(); k++) {
         acc += tessella_stencil[first + k] * tessella_net_point(face, k);
     }
     return acc;
@@ -57,7 +66,7 @@ fn tessella_combine_points(face: u32, first: u32) -> vec3<f32> {
 
 // Evaluates stencil row `row` on coarse triangle `face` (same fallbacks as `eval_point`).
 fn tessella_eval_patch(face: u32, row: u32) -> TessellaSurfacePoint {
-    let k = tessella_eval_params.k;
+    let k = tessella_k();
     let base = row * tessella_eval_params.stride;
     var out: TessellaSurfacePoint;
     out.position = tessella_combine_points(face, base);
