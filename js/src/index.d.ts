@@ -249,6 +249,24 @@ export class InstancedSurface {
    * for three.js's TSL `wgslFn`; the nets texture's layout is `glsl()`'s.
    */
   wgsl(): string;
+  /** Why WebGL2's net pass cannot build these nets (PNG1 and the other CPU-only schemes, tags), or null. */
+  netsPassMissing(): string | null;
+  /**
+   * GLSL ES 3.00 for a pass building the nets on the GPU: the generated builders,
+   * `tessella_skin_normal`, `tessella_nets_points`, `tessella_nets_normals` and
+   * `vec4 tessella_nets_texel(vec3 c[K], vec3 m[6], int j)` (texel `j` as `update` packs it).
+   */
+  netsPassGlsl(): string;
+  /** Each face's 3 corners, then for PN-AEN its 6 across vertices; known after the first `update`. */
+  netsPassTopology(): Uint32Array;
+  /**
+   * WGSL for WebGPURenderer's compute that builds the nets (tessella/three): `nets` ends with
+   * `fn tessella_net_texel(j: u32, p0, p1, p2, n0, n1, n2[, m0 .. m5]: vec3<f32>) -> vec4<f32>`
+   * (texel `j` of a face's net as `update` packs it), `skinNormal` is
+   * `fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>`. Throws where
+   * `netsPassMissing()` says why.
+   */
+  netsComputeWgsl(): { nets: string; skinNormal: string };
   /**
    * Builds one frame's nets (normals left out are computed) into `out`, a Float32Array of
    * `width * height * 4` floats, and the bounds into `bounds`. Returns `out`.

@@ -450,6 +450,45 @@ export class InstancedSurface extends NetsSurface {
     return call(() => inner.wgsl());
   }
 
+  /** Why WebGL2's net pass cannot build these nets (PNG1 and the other CPU-only schemes, tags), or null. */
+  netsPassMissing() {
+    const inner = this[LIVE]();
+    return call(() => inner.netsPassMissing()) ?? null;
+  }
+
+  /**
+   * GLSL ES 3.00 for WebGL2's pass that builds the nets on the GPU (three-gpu-nets.js): the
+   * scheme's generated builders, `tessella_skin_normal`, `tessella_nets_points`,
+   * `tessella_nets_normals` and `tessella_nets_texel` (a net's texel `j` as `update` packs it).
+   * Throws where `netsPassMissing()` says why.
+   */
+  netsPassGlsl() {
+    const inner = this[LIVE]();
+    return call(() => inner.netsPassGlsl());
+  }
+
+  /**
+   * The net pass's face indices (a Uint32Array): each face's 3 corners, then for PN-AEN the 6
+   * vertices whose normals its edges' other sides use. Known after the first `update`.
+   */
+  netsPassTopology() {
+    const inner = this[LIVE]();
+    return call(() => inner.netsPassTopology());
+  }
+
+  /**
+   * WGSL for WebGPURenderer's compute that builds the nets on the GPU (three-gpu-nets-nodes.js):
+   * `{ nets, skinNormal }`, `nets` ending with `fn tessella_net_texel(j: u32, p0, p1, p2, n0,
+   * n1, n2[, m0 .. m5]: vec3<f32>) -> vec4<f32>` (texel `j` of a face's net, as `update` packs
+   * it; PN-AEN's `m` the normals of netsPassTopology's across vertices), `skinNormal` `fn
+   * tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>` (the Deformer's posed
+   * normal). Throws where `netsPassMissing()` says why.
+   */
+  netsComputeWgsl() {
+    const inner = this[LIVE]();
+    return call(() => ({ nets: inner.netsComputeWgsl(), skinNormal: inner.skinNormalWgsl() }));
+  }
+
 }
 
 /**

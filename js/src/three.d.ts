@@ -1,4 +1,4 @@
-import type { BufferGeometry, Camera, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Object3D, Raycaster, SkinnedMesh } from 'three';
+import type { BufferGeometry, Camera, DataTexture, InstancedBufferGeometry, Intersection, Material, Mesh, MeshDepthMaterial, MeshDistanceMaterial, Object3D, Raycaster, SkinnedMesh, Texture, WebGLRenderTarget } from 'three';
 import type { Node } from 'three/webgpu';
 import type { AdaptiveSurface, InstancedSurface, InstancedSurfaceOptions, RefineOptions } from './index.js';
 
@@ -59,6 +59,20 @@ export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
    * a second renderer.
    */
   evaluation?: 'auto' | 'per-draw' | 'per-frame';
+  /**
+   * Where a SkinnedMesh or morphing Mesh source is posed and its nets built. 'gpu' (WebGLRenderer,
+   * WebGL2 with float render targets): a render pass builds the nets texture from the joint
+   * matrices and morph weights, which alone are uploaded a frame (64 bytes a joint, 16 per 4
+   * weights); under WebGPURenderer (its WebGPU backend) a compute pass builds them into a
+   * storage texture (`netsTexture`), uploading 64 bytes a joint and 4 a weight. 'cpu': wasm
+   * poses the coarse vertices and builds the nets, the nets texture uploaded. 'auto' (default): decided at the first render, 'gpu' where it can run, else 'cpu'
+   * (`posingFallback` says why: no EXT_color_buffer_float (WebGL), no WebGPU compute, PNG1 and the
+   * other schemes the GPU builds no nets of (flat, phong, pn, pn-aen it does), tags, normals
+   * computed per frame (no source normals, normalsFromSource: false), lod, a second renderer).
+   * 'gpu' throws a TessellaError where it cannot run. A source that neither skins nor morphs is
+   * not posed (`posedOn` null).
+   */
+  posing?: 'auto' | 'gpu' | 'cpu';
 }
 
 /** TessellatedMesh's `lod` drawing: the levels' camera and size, and what they draw and upload. */
@@ -116,15 +130,24 @@ export class TessellatedMesh extends Mesh<InstancedBufferGeometry | BufferGeomet
   constructor(source: BufferGeometry | Mesh | SkinnedMesh, material?: Material, options?: TessellatedMeshOptions);
   /** The source (the coarse Mesh, SkinnedMesh or BufferGeometry). */
   readonly source: BufferGeometry | Mesh | SkinnedMesh;
-  /** The nets texture (RGBA32F) the vertex shader reads. */
-  readonly netsTexture: DataTexture;
+  /**
+   * Where the source is posed: 'gpu', 'cpu' (a posed mesh before its first render too), or null
+   * for a source that neither skins nor morphs.
+   */
+  readonly posedOn: 'gpu' | 'cpu' | null;
+  /** Why a posed source is posed on the CPU though `posing` allows the GPU, or null. */
+  readonly posingFallback: string | null;
+  /** GPU posing: the render target the nets are built into; else null. */
+  readonly gpuNetsTarget: WebGLRenderTarget | null;
+  /** The nets texture (RGBA32F) the vertex shader reads: the CPU's DataTexture, or GPU posing's render target texture. */
+  readonly netsTexture: DataTexture | Texture;
   /** The wasm side: pattern, texture layout, GLSL and WGSL (with `lod`, an AdaptiveSurface). */
   readonly surface: InstancedSurface | AdaptiveSurface;
   /** With `lod`: its levels and children; else null. */
   readonly lod: TessellatedMeshLod | null;
   /** Update before each render when the source's position, normal, uv or color attribute changed (default true). */
   autoUpdate: boolean;
-  /** Bytes the last `update()` marked for upload: the nets texture (and uvs or colours when they changed). */
+  /** Bytes the last `update()` marked for upload: the nets texture, or with GPU posing the joint matrices and morph weights (and uvs or colours when they changed). */
   uploadedBytes: number;
   customDepthMaterial: MeshDepthMaterial;
   customDistanceMaterial: MeshDistanceMaterial;

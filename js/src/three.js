@@ -22,6 +22,8 @@ import { LOD_MESH_OPTIONS, LodParts } from './three-lod.js';
 import { missingNodes, setupNodes } from './three-nodes.js';
 import { setupLodNodes } from './three-lod-nodes.js';
 import { bakeMissing, BakedSurface, welded } from './three-bake.js';
+import { GpuNets, gpuNetsMissing } from './three-gpu-nets.js';
+import { GpuNetsNodes, gpuNetsNodesMissing } from './three-gpu-nets-nodes.js';
 
 export { tessellaFunctions } from './three-nodes.js';
 export { tessellate, TessellatedScene, untessellate } from './three-scene.js';
@@ -98,6 +100,7 @@ function deltas(geometry, name) {
 class SourcePose {
   #mesh;
   #deformer;
+  #reach;
   #matrices;
   #last;
   #weights;
@@ -119,7 +122,7 @@ class SourcePose {
     const targets = dp === null ? 0 : dp.length / (position.count * 3);
     const dn = targets > 0 && normal !== undefined && g.morphAttributes.normal?.length === targets ? deltas(g, 'normal') : null;
     this.#mesh = mesh;
-    this.#deformer = new Deformer({
+    const rest = {
       positions: numbers(position, Float32Array),
       normals: normal === undefined ? undefined : numbers(normal, Float32Array),
       joints: skinned ? numbers(skinIndex, Uint32Array) : undefined,
@@ -128,7 +131,11 @@ class SourcePose {
       positionDeltas: dp ?? undefined,
       normalDeltas: dn ?? undefined,
       targets,
-    });
+    };
+    this.#deformer = new Deformer(rest);
+    /** The source's rest data (what the GPU posing pass uploads once), and the matrices a frame takes. */
+    this.rest = { ...rest, matrixCount: this.#deformer.matrixCount };
+    this.#reach = reach(rest);
     this.#matrices = new Float32Array(this.#deformer.matrixCount * 16);
     this.#last = new Float32Array(this.#matrices.length + targets).fill(NaN);
     this.#weights = new Float32Array(targets);
@@ -173,9 +180,95 @@ class SourcePose {
     this.#last.set(this.#weights, this.#matrices.length);
   }
 
+  /** GPU posing: takes the current matrices and weights as the drawn ones (`drawnMatrices`, `drawnWeights`), posing nothing. */
+  commit() {
+    this.#read();
+    this.#last.set(this.#matrices);
+    this.#last.set(this.#weights, this.#matrices.length);
+  }
+
+  /** The joint matrices of the last `pose()` or `commit()` (16 floats each). */
+  get drawnMatrices() {
+    return this.#last.subarray(0, this.#matrices.length);
+  }
+
+  /** The morph weights of the last `pose()` or `commit()`. */
+  get drawnWeights() {
+    return this.#last.subarray(this.#matrices.length);
+  }
+
+  /** Poses `positions` and `normals` on the CPU with the drawn matrices and weights (a raycast of a GPU-posed mesh). */
+  poseDrawn() {
+    this.#deformer.pose(this.drawnMatrices, this.drawnWeights, this.positions, this.normals);
+  }
+
+  /**
+   * Bounds that hold the drawn pose's curved surface without posing a vertex (GPU posing): each
+   * joint's box (the rest box of the vertices it moves, grown by the weighted morph
+   * displacements) moved by the joint's matrix (the box of its 8 moved corners); a skinned
+   * vertex blends such points, so lies in the box of them all. The control points lie within
+   * `growth` times an edge (at most that box's diagonal) of the posed triangles, so the box
+   * grows by that on every side. Sets `box` and `sphere` (three's Box3, Sphere).
+   */
+  bounds(box, sphere, growth) {
+    const { morph, joints } = this.#reach;
+    const w = this.drawnWeights;
+    let r = 0;
+    for (let t = 0; t < morph.length; t++) r += Math.abs(w[t]) * morph[t];
+    const m = this.drawnMatrices;
+    const lo = [Infinity, Infinity, Infinity];
+    const hi = [-Infinity, -Infinity, -Infinity];
+    for (const { joint, min, max } of joints) {
+      const e = m.subarray(16 * joint, 16 * joint + 16);
+      for (let corner = 0; corner < 8; corner++) {
+        const x = corner & 1 ? max[0] + r : min[0] - r;
+        const y = corner & 2 ? max[1] + r : min[1] - r;
+        const z = corner & 4 ? max[2] + r : min[2] - r;
+        for (let a = 0; a < 3; a++) {
+          const c = e[a] * x + e[4 + a] * y + e[8 + a] * z + e[12 + a];
+          lo[a] = Math.min(lo[a], c);
+          hi[a] = Math.max(hi[a], c);
+        }
+      }
+    }
+    const d = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) * growth;
+    box.min.set(lo[0] - d, lo[1] - d, lo[2] - d);
+    box.max.set(hi[0] + d, hi[1] + d, hi[2] + d);
+    box.getBoundingSphere(sphere);
+  }
+
   free() {
     this.#deformer.free();
   }
+}
+
+// What SourcePose.bounds grows from: each morph target's largest displacement, and for each
+// joint that moves some vertex (or the one matrix of an unskinned source) the rest box of the
+// vertices it moves.
+function reach(rest) {
+  const p = rest.positions;
+  const n = p.length / 3;
+  const morph = [];
+  for (let t = 0; t < rest.targets; t++) {
+    let most = 0;
+    const d = rest.positionDeltas;
+    for (let v = 3 * n * t; v < 3 * n * (t + 1); v += 3) most = Math.max(most, Math.hypot(d[v], d[v + 1], d[v + 2]));
+    morph.push(most);
+  }
+  const boxes = new Map();
+  const add = (joint, v) => {
+    let b = boxes.get(joint);
+    if (b === undefined) boxes.set(joint, (b = { joint, min: [Infinity, Infinity, Infinity], max: [-Infinity, -Infinity, -Infinity] }));
+    for (let a = 0; a < 3; a++) {
+      b.min[a] = Math.min(b.min[a], p[3 * v + a]);
+      b.max[a] = Math.max(b.max[a], p[3 * v + a]);
+    }
+  };
+  for (let v = 0; v < n; v++) {
+    if (rest.joints === undefined) add(0, v);
+    else for (let k = 0; k < 4; k++) if (rest.weights[4 * v + k] > 0) add(rest.joints[4 * v + k], v);
+  }
+  return { morph, joints: [...boxes.values()] };
 }
 
 // Interpolates a per-vertex attribute at each refined vertex: the barycentric blend of its
@@ -283,7 +376,13 @@ export class RefinedGeometry {
 // The options TessellatedMesh reads itself; the others go to InstancedSurface (the wasm side
 // checks them: scheme, level, normals, alpha; lod, spacing and soup are refused there), or with
 // `lod` to AdaptiveSurface (scheme, normals, alpha, spacing, lod; camera and size stay here).
-const MESH_OPTIONS = ['normalsFromSource', 'group', 'evaluation'];
+const MESH_OPTIONS = ['normalsFromSource', 'group', 'evaluation', 'posing'];
+
+// Where a skinned or morphing source is posed and its nets built (the `posing` option): 'auto'
+// (the default) on the GPU where it can run (three-gpu-nets.js: WebGLRenderer with float render
+// targets, a scheme whose nets the GPU builds, the source's own normals, no lod), else on the
+// CPU; 'gpu' throws where it cannot run; 'cpu' always poses in wasm (SourcePose).
+const POSINGS = ['auto', 'gpu', 'cpu'];
 
 // The evaluation a TessellatedMesh takes without the `evaluation` option: 'auto', decided at the
 // first render, when the renderer is known: 'per-frame' under WebGLRenderer where it can run
@@ -320,6 +419,16 @@ function restoreProperties(material, saved, set) {
     else delete material[name];
   }
   material.needsUpdate = true;
+}
+
+// Why a posed source's nets cannot be built on the GPU whatever the renderer (then the CPU
+// poses them), or null: lod reads the nets on the CPU (its levels from the camera); normals
+// computed from the posed positions each frame (no source normals, normalsFromSource: false)
+// are the CPU's; the scheme (PNG1, tags, ...) has no GPU builder.
+function gpuPosingMissing(surface, lod, useNormals) {
+  if (lod) return 'lod reads the nets on the CPU (its levels from the camera)';
+  if (!useNormals) return 'the normals are computed from the posed positions each frame (no source normals, or normalsFromSource: false)';
+  return surface.netsPassMissing();
 }
 
 /** What the renderer lacks for TessellatedMesh, or null. */
@@ -467,7 +576,8 @@ function patchMaterial(material, uniforms, key, variants, mode) {
  * this takes its place (its parent, transform, shadow flags). A SkinnedMesh's skeleton (posed by
  * three, e.g. an AnimationMixer) and a Mesh's morph target influences are followed every frame:
  * the coarse vertices are posed in wasm as three poses them (`SkinnedMesh.getVertexPosition`),
- * and only the nets are uploaded. Options: `scheme`, `level`, `normals`, `alpha`,
+ * and only the nets are uploaded; or (`posing`, by default where it runs) a render pass builds
+ * the nets from the joint matrices and morph weights, which alone are uploaded (three-gpu-nets.js). Options: `scheme`, `level`, `normals`, `alpha`,
  * `normalsFromSource`; or, instead of `level`, `lod` with `spacing` (and `camera`, `size`):
  * per-edge levels from the camera every frame, drawn with the GPU tessellator's patterns by child
  * meshes, one instanced draw per part used (three-lod.js).
@@ -514,6 +624,16 @@ export class TessellatedMesh extends Mesh {
   #welded = null;
   /** The generated GLSL (the bake's evaluation). */
   #glsl;
+  /** The `posing` option: 'auto', 'gpu' or 'cpu'. */
+  #posing;
+  /** GPU posing (three-gpu-nets.js), once in effect; else null. */
+  #gpuNets = null;
+  /** The renderer the GPU nets are of; whether they wait for a pass; whether it is the first. */
+  #gpuFor = null;
+  #gpuDirty = false;
+  #gpuFirst = true;
+  /** Why a posed source is posed on the CPU though the GPU was not ruled out by `posing: 'cpu'`, or null. */
+  #posingFallback = null;
 
   constructor(source, material, options = {}) {
     let sourceMesh = null;
@@ -528,6 +648,9 @@ export class TessellatedMesh extends Mesh {
     if (options == null || typeof options !== 'object') throw new TessellaError('options must be an object');
     if (options.evaluation != null && !EVALUATIONS.includes(options.evaluation)) {
       throw new TessellaError(`evaluation: ${JSON.stringify(options.evaluation)} is none of ${EVALUATIONS.map((e) => `'${e}'`).join(', ')}`);
+    }
+    if (options.posing != null && !POSINGS.includes(options.posing)) {
+      throw new TessellaError(`posing: ${JSON.stringify(options.posing)} is none of ${POSINGS.map((e) => `'${e}'`).join(', ')}`);
     }
     const group = groupOf(geometry, options.group);
     const owned = material === undefined || material === null;
@@ -551,6 +674,13 @@ export class TessellatedMesh extends Mesh {
     const own = lod ? [...MESH_OPTIONS, ...LOD_MESH_OPTIONS] : MESH_OPTIONS;
     const rest = Object.fromEntries(Object.entries(options).filter(([k]) => !own.includes(k)));
     const surface = lod ? new AdaptiveSurface(indices, rest) : new InstancedSurface(indices, rest);
+    const posing = options.posing ?? 'auto';
+    const posed = sourceMesh !== null && (sourceMesh.isSkinnedMesh === true || (geometry.morphAttributes.position?.length ?? 0) > 0);
+    const posingFallback = posed && posing !== 'cpu' ? gpuPosingMissing(surface, lod, options.normalsFromSource ?? geometry.getAttribute('normal') !== undefined) : null;
+    if (posing === 'gpu' && posingFallback !== null) {
+      surface.free();
+      throw new TessellaError(`posing: 'gpu' cannot run: ${posingFallback}`);
+    }
     // Every mesh starts instanced (evaluated per draw); 'per-frame' (asked for, or 'auto''s
     // choice at the first render: never with lod, nor for a ShaderMaterial unless asked, whose
     // own code may call tessella_evaluate with gl_InstanceID) then bakes the refined mesh's welded
@@ -562,13 +692,15 @@ export class TessellatedMesh extends Mesh {
     if (asked !== 'per-draw' && lod) this.#fallback = 'lod evaluates per draw';
     else if (asked === 'auto' && material.isShaderMaterial === true) this.#fallback = 'a ShaderMaterial evaluates per draw unless asked (evaluation: \'per-frame\')';
     this.#options = rest;
+    this.#posing = posing;
+    this.#posingFallback = posingFallback;
     this.#surface = surface;
     this.#source = geometry;
     this.#sourceMesh = sourceMesh;
     this.#useNormals = options.normalsFromSource ?? geometry.getAttribute('normal') !== undefined;
     /** Update when the source's position or normal attribute changes (its `version`), before each render. */
     this.autoUpdate = true;
-    /** Bytes the last `update()` handed to the renderer to upload (the nets texture; uvs and colours when they changed). */
+    /** Bytes the last `update()` handed to the renderer to upload (the nets texture, or with GPU posing the joint matrices and morph weights; uvs and colours when they changed). */
     this.uploadedBytes = 0;
 
     const g = this.geometry;
@@ -702,9 +834,12 @@ export class TessellatedMesh extends Mesh {
     return this.#sourceMesh ?? this.#source;
   }
 
-  /** The nets texture (RGBA32F) the vertex shader reads. */
+  /**
+   * The nets texture (RGBA32F) the vertex shader reads: the DataTexture the CPU fills, or with
+   * GPU posing (`posedOn` 'gpu') the pass's render target's texture.
+   */
   get netsTexture() {
-    return this.#texture;
+    return this.#uniforms.tessellaNets.value;
   }
 
   /** The InstancedSurface (wasm) that builds the nets: pattern, layout, GLSL (with `lod`: the AdaptiveSurface). */
@@ -730,6 +865,28 @@ export class TessellatedMesh extends Mesh {
   /** Why the evaluation is 'per-draw' though 'per-frame' was asked for (or 'auto' would take it), or null. */
   get evaluationFallback() {
     return this.#fallback;
+  }
+
+  /**
+   * Where a skinned or morphing source is posed and its nets built: 'gpu' (a render pass
+   * builds the nets texture from the joint matrices and morph weights, three-gpu-nets.js) or
+   * 'cpu' (wasm poses the coarse vertices and builds the nets, uploaded as a texture); null
+   * for a source that neither skins nor morphs. Before the first render a posed mesh is 'cpu':
+   * the default, 'auto', decides there, from the renderer.
+   */
+  get posedOn() {
+    if (this.#pose === null) return null;
+    return this.#gpuNets !== null ? 'gpu' : 'cpu';
+  }
+
+  /** GPU posing: the render target the pass builds the nets into (what `netsTexture` is the texture of); else null. */
+  get gpuNetsTarget() {
+    return this.#gpuNets?.target ?? null;
+  }
+
+  /** Why a posed source is posed on the CPU though `posing` allows the GPU (the default, 'auto'), or null. */
+  get posingFallback() {
+    return this.#posingFallback;
   }
 
   /** GPU memory of the baked vertices ('per-frame': 80 bytes a vertex drawn, see three-bake.js), else 0. */
@@ -853,6 +1010,7 @@ export class TessellatedMesh extends Mesh {
     const normal = this.#useNormals ? g.getAttribute('normal') : undefined;
     if (position === undefined) throw new TessellaError('the source geometry has no position attribute');
     if (this.#useNormals && normal === undefined) throw new TessellaError('normalsFromSource: the source geometry has no normal attribute');
+    if (this.#gpuNets !== null) return this.#gpuFrame();
     const data = this.#texture.image.data;
     if (this.#pose !== null) {
       // The coarse mesh as three skins and morphs it (SkinnedMesh.getVertexPosition), posed in wasm.
@@ -874,6 +1032,79 @@ export class TessellatedMesh extends Mesh {
     this.#versions = this.#sourceVersions();
     this.#frames++;
     return this;
+  }
+
+  // GPU posing's frame: the current joint matrices and weights become the drawn ones, built
+  // into the nets by the pass before this mesh's next draw (#posePass); uploads those alone
+  // (and the corners when they changed). The bounds grow from the joints (SourcePose.bounds):
+  // the CPU never sees the posed nets.
+  #gpuFrame() {
+    this.#pose.commit();
+    this.#gpuDirty = true;
+    this.uploadedBytes = this.#gpuNets.uploadBytes + this.#corners();
+    this.#pose.bounds(this.#instanced.boundingBox, this.#instanced.boundingSphere, this.#controlReach());
+    this.#versions = this.#sourceVersions();
+    this.#frames++;
+    return this;
+  }
+
+  // How far (in edge lengths) a scheme's control points lie from their triangle: PN's and
+  // PN-AEN's edge points within a third of the edge, the centre within half; Phong's within
+  // alpha edges (each projection moves a corner by at most the edge); flat's on it.
+  #controlReach() {
+    const { scheme, alpha } = this.#options;
+    if (scheme === 'flat') return 0;
+    if (scheme === 'phong') return Math.abs(alpha ?? 0.75);
+    return 0.5;
+  }
+
+  // GPU posing ('auto' where it runs, or 'gpu'): at the first render the pass is made (or the
+  // reason it cannot run kept, and the CPU goes on posing; 'gpu' throws), the draws' nets
+  // uniform points to its render target; then, in whichever pass draws this first (shadow
+  // maps, then the picture), the nets of a new pose are built before the bake and the draws.
+  #posePass(renderer) {
+    if (this.#pose === null || this.#posing === 'cpu' || this.#posingFallback !== null) return;
+    if (this.#gpuNets === null) {
+      // WebGPURenderer builds them by compute (three-gpu-nets-nodes.js).
+      const Nets = renderer?.isWebGPURenderer === true ? GpuNetsNodes : GpuNets;
+      let why = Nets === GpuNetsNodes ? gpuNetsNodesMissing(renderer) : gpuNetsMissing(renderer);
+      let nets = null;
+      if (why === null) {
+        nets = new Nets(this.#surface, this.#pose.rest);
+        why = nets.missing(renderer);
+      }
+      if (why !== null) {
+        nets?.dispose();
+        if (this.#posing === 'gpu') throw new TessellaError(`posing: 'gpu' cannot run: ${why}`);
+        this.#posingFallback = why;
+        return;
+      }
+      this.#gpuNets = nets;
+      this.#gpuFor = renderer;
+      this.#gpuFirst = true;
+      this.#uniforms.tessellaNets.value = nets.target?.texture ?? nets.texture;
+      this.#gpuFrame();
+    } else if (this.#gpuFor !== renderer) {
+      // The render target is the first renderer's: the CPU poses from now on.
+      this.#stopGpuPosing();
+      this.#posingFallback = 'drawn by a second renderer (the GPU nets are the first one\'s)';
+      this.update();
+      return;
+    }
+    if (!this.#gpuDirty) return;
+    this.#gpuNets.render(renderer, this.#pose.drawnMatrices, this.#pose.drawnWeights, this.#gpuFirst);
+    this.#gpuDirty = false;
+    this.#gpuFirst = false;
+  }
+
+  // Back to the CPU's nets texture (a new SourcePose, a second renderer, dispose).
+  #stopGpuPosing() {
+    if (this.#gpuNets === null) return;
+    this.#gpuNets.dispose();
+    this.#gpuNets = null;
+    this.#gpuFor = null;
+    this.#gpuDirty = false;
+    this.#uniforms.tessellaNets.value = this.#texture;
   }
 
   // Copies the coarse uvs and colours to the per-triangle corner attributes when they changed;
@@ -949,6 +1180,8 @@ export class TessellatedMesh extends Mesh {
       // New rest vertices of a skinned or morphing source: pose those from now on.
       this.#pose.free();
       this.#pose = new SourcePose(this.#sourceMesh);
+      // The GPU pass holds the old rest vertices: this frame poses on the CPU, the next render makes a new pass.
+      this.#stopGpuPosing();
     }
     if (edited || (this.#pose !== null && this.#pose.moved())) this.update();
   }
@@ -972,6 +1205,7 @@ export class TessellatedMesh extends Mesh {
   onBeforeRender(renderer, scene, camera) {
     this.#check(renderer);
     this.#sync();
+    this.#posePass(renderer);
     this.#bake(renderer);
     this.#lod?.seen(renderer, camera);
     // With lod the children draw (each binds before its draw).
@@ -1014,6 +1248,7 @@ export class TessellatedMesh extends Mesh {
   onBeforeShadow(renderer) {
     this.#check(renderer);
     this.#sync();
+    this.#posePass(renderer);
     this.#bake(renderer);
   }
 
@@ -1040,6 +1275,8 @@ export class TessellatedMesh extends Mesh {
     // The surface drawn changes with each frame's nets, and with lod's levels.
     const drawn = this.#lod === null ? `${this.#frames}` : `${this.#frames}:${this.#lod.levelsVersion}`;
     if (hit === null || hit.frame !== drawn) {
+      // GPU posing: the CPU poses the drawn matrices now (the drawn shape, not the rest's).
+      if (this.#gpuNets !== null) this.#pose.poseDrawn();
       hit?.geometry.dispose();
       this.#hitGeometry = null;
       this.#hitGeometry = { frame: drawn, geometry: this.#refinedFrame() };
@@ -1081,6 +1318,7 @@ export class TessellatedMesh extends Mesh {
     if (this.#surface === null) return;
     this.#surface.free();
     this.#surface = null;
+    this.#stopGpuPosing();
     this.#pose?.free();
     this.#pose = null;
     this.#hitGeometry?.geometry.dispose();

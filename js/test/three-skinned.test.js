@@ -194,3 +194,36 @@ test('a SkinnedMesh without a skeleton is refused with a TessellaError', async (
   skinned.skeleton = undefined;
   assert.throws(() => new TessellatedMesh(skinned, undefined, {}), (e) => e instanceof TessellaError && /skeleton/.test(e.message));
 });
+
+test("posing: the GPU is ruled out where it cannot build the nets, and 'gpu' then throws with the reason", async () => {
+  const cases = [
+    [{ scheme: 'png1', level: 4 }, /'png1' nets are built on the CPU/],
+    [{ scheme: 'pn', level: 4, normalsFromSource: false }, /normals are computed from the posed positions/],
+    [{ scheme: 'pn', lod: 'screen:8', spacing: 'equal' }, /lod reads the nets on the CPU/],
+  ];
+  for (const [options, reason] of cases) {
+    const { skinned } = await creature();
+    const mesh = new TessellatedMesh(skinned, undefined, options);
+    assert.equal(mesh.posedOn, 'cpu');
+    assert.match(mesh.posingFallback, reason);
+    mesh.dispose();
+    const again = await creature();
+    assert.throws(
+      () => new TessellatedMesh(again.skinned, undefined, { ...options, posing: 'gpu' }),
+      (e) => e instanceof TessellaError && e.message.startsWith("posing: 'gpu' cannot run: ") && reason.test(e.message),
+    );
+  }
+  // Allowed, it waits for the first render (no renderer here: the CPU poses); 'cpu' gives no reason.
+  const { skinned } = await creature();
+  for (const posing of [undefined, 'gpu', 'cpu']) {
+    const mesh = new TessellatedMesh(skinned, undefined, { scheme: 'pn', level: 4, posing });
+    assert.equal(mesh.posedOn, 'cpu');
+    assert.equal(mesh.posingFallback, null);
+    mesh.dispose();
+  }
+  // A source that neither skins nor morphs is not posed; an unknown posing is refused.
+  const plain = new TessellatedMesh(new Mesh(new IcosahedronGeometry(1, 1)), undefined, { level: 2, posing: 'gpu' });
+  assert.equal(plain.posedOn, null);
+  plain.dispose();
+  assert.throws(() => new TessellatedMesh(new IcosahedronGeometry(1, 1), undefined, { posing: 'webgl' }), (e) => e instanceof TessellaError && /posing: "webgl" is none of 'auto', 'gpu', 'cpu'/.test(e.message));
+});

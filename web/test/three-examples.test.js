@@ -43,7 +43,7 @@ for (const name of PAGES) {
   });
 }
 
-test('the benchmark page (npm run bench:three) measures the eight ways; the tessellated ones upload less, per-draw holds less, the two animated creatures agree', async () => {
+test('the benchmark page (npm run bench:three) measures the nine ways; the tessellated ones upload less, per-draw holds less, the animated creatures agree', async () => {
   const page = await env.browser.newPage();
   const problems = [];
   page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
@@ -53,15 +53,17 @@ test('the benchmark page (npm run bench:three) measures the eight ways; the tess
   const { rows, agreement } = await page.evaluate(() => window.benchThree.run({ levels: [8], frames: 1, size: 128, animated: true }));
   const by = Object.fromEntries(rows.map((r) => [r.way, r]));
   assert.deepEqual(Object.keys(by).sort(), [
-    'animated, refined offline', 'animated, tessellated',
+    'animated, refined offline', 'animated, tessellated (CPU posing)', 'animated, tessellated (GPU posing)',
     'deforming refined', 'deforming tessellated (per-draw)', 'deforming tessellated (per-frame)',
     'static refined', 'static tessellated (per-draw)', 'static tessellated (per-frame)',
   ]);
   // The creature refined offline and tessellated, playing the same clip: the same silhouette;
-  // the tessellated one uploads its nets (192 bytes a coarse triangle), the offline one its bones.
+  // posed on the CPU the tessellated one uploads its nets (192 bytes a coarse triangle), on the
+  // GPU its 7 joint matrices and a texel of morph weights (7 × 64 + 16), the offline one its bones.
   assert.ok(agreement[8] >= 0.98, `animated silhouettes IoU ${agreement[8]}`);
-  const tessellated = by['animated, tessellated'];
+  const tessellated = by['animated, tessellated (CPU posing)'];
   assert.equal(tessellated.uploaded, tessellated.triangles * 192);
+  assert.equal(by['animated, tessellated (GPU posing)'].uploaded, 7 * 64 + 16);
   assert.ok(by['animated, refined offline'].uploaded > 0);
   assert.equal(by['animated, refined offline'].drawn, tessellated.triangles * 64);
   for (const r of rows) assert.ok(r.ms > 0 && r.allocated > 0, JSON.stringify(r));

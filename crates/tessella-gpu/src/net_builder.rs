@@ -102,16 +102,17 @@ enum GpuScheme {
 
 impl GpuScheme {
     fn of(scheme: &Scheme) -> Result<GpuScheme, GpuError> {
-        match scheme {
-            Scheme::Flat => Ok(GpuScheme::Flat),
-            Scheme::Phong { .. } => Ok(GpuScheme::Phong),
-            Scheme::Pn => Ok(GpuScheme::Pn),
-            Scheme::PnAen => Ok(GpuScheme::PnAen),
-            other => Err(GpuError::BadOption(format!(
+        // The mapping is the core's (NetBuilder::points_for), shared with WebGL2's net pass.
+        match NetBuilder::points_for(scheme) {
+            Some(NetBuilder::FlatPoints) => Ok(GpuScheme::Flat),
+            Some(NetBuilder::PhongPoints) => Ok(GpuScheme::Phong),
+            Some(NetBuilder::PnPoints) => Ok(GpuScheme::Pn),
+            Some(NetBuilder::PnAenPoints) => Ok(GpuScheme::PnAen),
+            _ => Err(GpuError::BadOption(format!(
                 "the GPU builds the control nets of the flat, phong, pn and pn-aen schemes; \
                  '{}' nets are built on the CPU: hand the renderer or evaluator the frame's \
                  CPU nets (update(frame) / record) instead",
-                other.name()
+                scheme.name()
             ))),
         }
     }
@@ -141,13 +142,9 @@ impl GpuScheme {
     }
 }
 
-/// The normal net a mode builds: Vlachos' quadratic one, or the linear one (linear and real
-/// normals, as `tessella_core::scheme` builds them).
+/// The normal net a mode builds (the core's [`NetBuilder::normals_for`]).
 fn normal_builder(mode: NormalMode) -> NetBuilder {
-    match mode {
-        NormalMode::Quadratic => NetBuilder::QuadraticNormals,
-        _ => NetBuilder::LinearNormals,
-    }
+    NetBuilder::normals_for(mode)
 }
 
 impl Pipelines {

@@ -7,7 +7,7 @@ import { Document } from '@gltf-transform/core';
 import type { MeshOutput, Pose, RefineOutput } from 'tessella';
 import { refineGeometry, RefinedGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
 import { AdaptiveSurface, InstancedSurface } from 'tessella';
-import { BufferGeometry, InstancedBufferGeometry, Mesh, MeshStandardMaterial } from 'three';
+import { BufferGeometry, InstancedBufferGeometry, Mesh, MeshStandardMaterial, WebGLRenderTarget } from 'three';
 import { attribute, instanceIndex, texture } from 'three/tsl';
 
 await ready;
@@ -44,6 +44,12 @@ const bytes: number = tm.update().uploadedBytes;
 // Instanced while it evaluates per draw; 'per-frame' (the default under WebGLRenderer) draws a welded BufferGeometry.
 const instances: number = tm.geometry instanceof InstancedBufferGeometry ? tm.geometry.instanceCount : 0;
 const evaluation: 'per-draw' | 'per-frame' = new TessellatedMesh(new BufferGeometry(), undefined, { evaluation: 'auto' }).evaluation;
+const posed = new TessellatedMesh(new Mesh(new BufferGeometry()), undefined, { posing: 'gpu' });
+const posedOn: 'gpu' | 'cpu' | null = posed.posedOn;
+const posingWhy: string | null = posed.posingFallback;
+const posingTarget: WebGLRenderTarget | null = posed.gpuNetsTarget;
+// @ts-expect-error: posing is 'auto', 'gpu' or 'cpu'
+new TessellatedMesh(new BufferGeometry(), undefined, { posing: 'webgl' });
 const { normal } = tessellaFunctions((tm.surface as InstancedSurface).wgsl());
 const tsl = normal({ nets: texture(tm.netsTexture), face: instanceIndex, l: attribute('tessellaBarycentric', 'vec3') });
 tm.dispose();

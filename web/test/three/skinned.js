@@ -79,14 +79,49 @@ function skinnedGeometry(mesh) {
   return out;
 }
 
+// The GPU-posed mesh's nets (read back from its render target) against a CPU-posed twin's
+// (the DataTexture InstancedSurface.update filled) for the same pose: the largest difference
+// and the rest pose's size.
+function netsDifference(gpu, cpu, size) {
+  cpu.update();
+  const target = gpu.gpuNetsTarget;
+  const got = new Float32Array(target.width * target.height * 4);
+  renderer.readRenderTargetPixels(target, 0, 0, target.width, target.height, got);
+  const want = cpu.netsTexture.image.data;
+  let most = 0;
+  for (let i = 0; i < want.length; i++) most = Math.max(most, Math.abs(got[i] - want[i]));
+  // The bounds GPU posing grows from the joints hold the CPU's (its control points' box).
+  const holds = gpu.geometry.boundingBox.containsBox(cpu.geometry.boundingBox);
+  const ratio = gpu.geometry.boundingSphere.radius / cpu.geometry.boundingSphere.radius;
+  return { most, size, floats: want.length, finite: got.every(Number.isFinite), holds, ratio };
+}
+
+// A grid of rays through pixel centres (`step` pixels apart) cast at `mesh`: whether each hit.
+function rays(mesh, camera, step) {
+  const raycaster = new THREE.Raycaster();
+  const out = [];
+  for (let y = step / 2; y < HEIGHT; y += step) {
+    for (let x = step / 2; x < WIDTH; x += step) {
+      raycaster.setFromCamera(new THREE.Vector2(((x + 0.5) / WIDTH) * 2 - 1, 1 - ((y + 0.5) / HEIGHT) * 2), camera);
+      out.push({ x, y, hit: raycaster.intersectObject(mesh, false).length > 0 });
+    }
+  }
+  return out;
+}
+
 /**
  * Plays `clip` and draws the frames at `times` (seconds); returns the last picture and, per
  * frame, the bytes uploaded (WebGL) and the instanced draws. `plain`: draw the last pose as a
  * Mesh of refineGeometry over three's skinned vertices instead. `renderer`: 'webgl' or
  * 'webgpu' (the picture then read back from a render target, rows top first as a PNG's).
- * `evaluation`: TessellatedMesh's option (left out: the default).
+ * `evaluation`, `posing`: TessellatedMesh's options (left out: the defaults). `shadows`: the
+ * light casts shadows onto a floor. `morphOnly`: a plain Mesh of the creature's geometry whose
+ * morph influences follow `times` (no skeleton) instead of the SkinnedMesh. `twin`: also a
+ * CPU-posed TessellatedMesh of the source, hidden, whose nets `netsDifference` compares.
+ * `rayStep`: cast a grid of rays at the drawn mesh after the last frame. `noFloatTargets`: the
+ * renderer claims no EXT_color_buffer_float during the run.
  */
-async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, plain = false, renderer: which = 'webgl', evaluation = undefined } = {}) {
+async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, plain = false, renderer: which = 'webgl', evaluation = undefined, posing = undefined, shadows = false, morphOnly = false, twin = false, rayStep = 0, noFloatTargets = false } = {}) {
   await ready;
   const g = which === 'webgpu' ? await webgpu() : null;
   const gltf = await load();
@@ -100,6 +135,23 @@ async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, pla
   scene.traverse((o) => {
     if (o.isSkinnedMesh) skinned = o;
   });
+  let source = skinned;
+  if (morphOnly) {
+    // The creature's geometry as a plain morphing Mesh in the SkinnedMesh's place.
+    if (!(skinned.geometry.morphAttributes.position?.length > 0)) throw new Error('the creature has no morph targets');
+    source = new THREE.Mesh(skinned.geometry, skinned.material);
+    source.updateMorphTargets();
+    skinned.parent.add(source);
+    source.position.copy(skinned.position);
+    source.quaternion.copy(skinned.quaternion);
+    source.scale.copy(skinned.scale);
+    skinned.visible = false;
+  }
+  renderer.shadowMap.enabled = shadows;
+  if (shadows) {
+    light.castShadow = true;
+    light.shadow.mapSize.set(512, 512);
+  }
   const mixer = new THREE.AnimationMixer(scene);
   mixer.clipAction(THREE.AnimationClip.findByName(gltf.animations, clip)).play();
   // Framed on the rest pose's box.
@@ -109,36 +161,67 @@ async function run({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, pla
   const size = box.getSize(new THREE.Vector3()).length();
   camera.position.copy(centre).add(new THREE.Vector3(0.3, 0.25, 1).normalize().multiplyScalar(1.6 * size));
   camera.lookAt(centre);
+  if (shadows) {
+    // A floor under the rest pose, catching the creature's shadow.
+    const floor = new THREE.Mesh(new THREE.PlaneGeometry(4 * size, 4 * size), new THREE.MeshStandardMaterial({ color: 0xdddddd }));
+    floor.rotation.x = -Math.PI / 2;
+    floor.position.set(centre.x, box.min.y - 0.02 * size, centre.z);
+    floor.receiveShadow = true;
+    scene.add(floor);
+    const s = light.shadow.camera;
+    [s.left, s.right, s.top, s.bottom] = [-size, size, size, -size];
+    light.target.position.copy(centre);
+    light.position.copy(centre).add(new THREE.Vector3(1, 3, 2).normalize().multiplyScalar(2 * size));
+    scene.add(light.target);
+  }
   const material = new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 });
-  const drawn = plain ? null : new TessellatedMesh(skinned, material, { scheme, level, evaluation });
+  if (shadows) source.castShadow = true;
+  const drawn = plain ? null : new TessellatedMesh(source, material, { scheme, level, evaluation, posing });
+  // The twin is hidden; netsDifference updates it (on the CPU) from the skeleton as drawn.
+  const cpuTwin = twin ? new TessellatedMesh(source, material.clone(), { scheme, level, evaluation: 'per-draw', posing: 'cpu' }) : null;
+  if (cpuTwin !== null) cpuTwin.visible = false;
+  const has = renderer.extensions.has;
+  if (noFloatTargets) renderer.extensions.has = (name) => name !== 'EXT_color_buffer_float' && has.call(renderer.extensions, name);
   const log = [];
-  for (const t of times) {
-    mixer.setTime(t);
-    if (plain) {
-      scene.updateMatrixWorld(true);
-      const posed = new THREE.Mesh(refineGeometry(skinnedGeometry(skinned), { scheme, level }), material);
-      posed.matrixAutoUpdate = false;
-      posed.matrix.copy(skinned.matrixWorld);
-      skinned.visible = false;
-      scene.add(posed);
+  try {
+    for (const t of times) {
+      mixer.setTime(t);
+      if (morphOnly) source.morphTargetInfluences.forEach((_, k, a) => (a[k] = 0.5 + 0.5 * Math.sin(3 * t + k)));
+      if (plain) {
+        scene.updateMatrixWorld(true);
+        const posed = new THREE.Mesh(refineGeometry(skinnedGeometry(skinned), { scheme, level }), material);
+        posed.matrixAutoUpdate = false;
+        posed.matrix.copy(skinned.matrixWorld);
+        skinned.visible = false;
+        scene.add(posed);
+      }
+      counts.uploaded = 0;
+      counts.instanced = 0;
+      if (g !== null) {
+        g.renderer.setRenderTarget(g.target);
+        g.renderer.render(scene, camera);
+        g.renderer.setRenderTarget(null);
+        log.push({ instanced: counts.instanced, calls: g.renderer.info.render.drawCalls });
+      } else {
+        renderer.render(scene, camera);
+        log.push({ uploaded: counts.uploaded, instanced: counts.instanced, calls: renderer.info.render.calls, reported: drawn?.uploadedBytes });
+      }
     }
-    counts.uploaded = 0;
-    counts.instanced = 0;
-    if (g !== null) {
-      g.renderer.setRenderTarget(g.target);
-      g.renderer.render(scene, camera);
-      g.renderer.setRenderTarget(null);
-      log.push({ instanced: counts.instanced, calls: g.renderer.info.render.drawCalls });
-    } else {
-      renderer.render(scene, camera);
-      log.push({ uploaded: counts.uploaded, instanced: counts.instanced, calls: renderer.info.render.calls });
-    }
+  } finally {
+    // Put back, also when a run throws (posing: 'gpu' refused).
+    renderer.extensions.has = has;
   }
   const faces = skinned.geometry.index.count / 3;
   const picture = g !== null ? await readTarget(g.renderer, g.target) : { png: canvas.toDataURL('image/png') };
-  const mode = drawn === null ? {} : { evaluation: drawn.evaluation, fallback: drawn.evaluationFallback };
+  const mode = drawn === null ? {} : { evaluation: drawn.evaluation, fallback: drawn.evaluationFallback, posedOn: drawn.posedOn, posingFallback: drawn.posingFallback };
+  const checks = {};
+  if (cpuTwin !== null) checks.nets = netsDifference(drawn, cpuTwin, size);
+  if (rayStep > 0) checks.rays = rays(drawn, camera, rayStep);
+  const skeleton = { bones: skinned.skeleton.bones.length, targets: skinned.geometry.morphAttributes.position?.length ?? 0 };
   drawn?.dispose();
-  return { ...picture, log, faces, ...mode };
+  cpuTwin?.dispose();
+  renderer.shadowMap.enabled = false;
+  return { ...picture, log, faces, ...mode, ...checks, ...skeleton };
 }
 
 window.tessellaSkinned = { run, ready: ready.then(() => true) };

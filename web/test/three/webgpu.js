@@ -4,8 +4,11 @@
 // refineGeometry's CPU refinement, with the GPU calls counted: draws (GPURenderPassEncoder) and
 // the bytes handed to the queue's buffer and texture writes. Pictures are read back from a
 // render target (no canvas snapshot needed): the renderer and the read-back are common.js's.
+// `skinned` (web/test/three-webgpu-skinned.test.js) draws the animated creature with GPU or CPU
+// posing and reads back the nets the compute wrote.
 import * as THREE from 'three';
 import { ClippingGroup, MeshBasicNodeMaterial, WebGPURenderer } from 'three/webgpu';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { attribute, instanceIndex, normalGeometry, texture, varying, vec4 } from 'three/tsl';
 import { ready, TessellaError } from 'tessella';
 import { refineGeometry, TessellatedMesh, tessellaFunctions } from 'tessella/three';
@@ -161,4 +164,128 @@ async function fallback() {
   }
 }
 
-window.tessellaThree = { run, fallback, ready: Promise.all([ready, started]).then(() => renderer.backend.isWebGPUBackend === true) };
+// The skinned pictures' size (as skinned.js's), and their render target.
+const CREATURE = 320;
+const creatureTarget = new THREE.RenderTarget(CREATURE, CREATURE, { colorSpace: THREE.SRGBColorSpace });
+let creatureBytes = null;
+
+// A fresh copy of the bundled animated creature (GLTFLoader): its scene, clips and SkinnedMesh.
+async function creature() {
+  creatureBytes ??= await (await fetch('/samples/animated-creature.glb')).arrayBuffer();
+  const gltf = await new Promise((resolve, reject) => new GLTFLoader().parse(creatureBytes.slice(0), '', resolve, reject));
+  let mesh = null;
+  gltf.scene.traverse((o) => {
+    if (o.isSkinnedMesh) mesh = o;
+  });
+  return { ...gltf, mesh };
+}
+
+/**
+ * The creature played by its AnimationMixer (`clip` at each of `times`, seconds) as a
+ * TessellatedMesh with `posing` ('gpu', 'cpu' or 'auto'), drawn by this WebGPURenderer; returns
+ * the last picture, the mesh's posedOn, posingFallback and uploadedBytes per frame, the GPU
+ * dispatches and the draw calls. `nets`: also the last frame's nets as drawn (the texture the
+ * nodes read, read back from the GPU) and as the CPU builds them for the same pose (a
+ * TessellatedMesh with posing 'cpu' made then, its DataTexture), compared: the largest
+ * difference and the largest value. `scheme`, `level`, `normals`, `normalsFromSource`: the
+ * mesh's options; `rigid`: a morphing Mesh of the creature's geometry instead of the SkinnedMesh;
+ * `twin`: a static TessellatedMesh beside it sharing its material.
+ */
+async function skinned({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, normals = undefined, normalsFromSource = undefined, posing = 'gpu', nets = false, rigid = false, twin = false } = {}) {
+  await ready;
+  await started;
+  const loaded = await creature();
+  const { scene, animations } = loaded;
+  let mesh = loaded.mesh;
+  if (rigid) {
+    // rigid: a plain morphing Mesh of the same geometry in the SkinnedMesh's place (the clips
+    // bind to it by name; 'breathe' moves its morph weight).
+    const plain = new THREE.Mesh(mesh.geometry, mesh.material);
+    plain.name = mesh.name;
+    plain.position.copy(mesh.position);
+    plain.quaternion.copy(mesh.quaternion);
+    plain.scale.copy(mesh.scale);
+    mesh.parent.add(plain);
+    mesh.removeFromParent();
+    mesh = plain;
+  }
+  const camera = new THREE.PerspectiveCamera(35, 1, 0.05, 50);
+  scene.add(new THREE.AmbientLight(0xffffff, 0.5));
+  const light = new THREE.DirectionalLight(0xffffff, 2);
+  light.position.set(1, 3, 2);
+  scene.add(light);
+  const mixer = new THREE.AnimationMixer(scene);
+  mixer.clipAction(THREE.AnimationClip.findByName(animations, clip)).play();
+  scene.updateMatrixWorld(true);
+  const box = new THREE.Box3().setFromObject(mesh, true);
+  const centre = box.getCenter(new THREE.Vector3());
+  const size = box.getSize(new THREE.Vector3()).length();
+  camera.position.copy(centre).add(new THREE.Vector3(0.3, 0.25, 1).normalize().multiplyScalar(1.6 * size));
+  camera.lookAt(centre);
+  const material = new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 });
+  const options = { scheme, level, normals, normalsFromSource };
+  let drawn;
+  try {
+    drawn = new TessellatedMesh(mesh, material, { ...options, posing });
+  } catch (e) {
+    return { thrown: e instanceof TessellaError ? e.message : `not a TessellaError: ${e}` };
+  }
+  // twin: a static TessellatedMesh (a torus knot beside the creature, its nets the CPU's
+  // DataTexture) sharing the material, and so the nodes, with the GPU-posed one.
+  let other = null;
+  if (twin) {
+    const knot = new THREE.TorusKnotGeometry(0.15 * size, 0.05 * size, 40, 6);
+    knot.deleteAttribute('uv');
+    const source = new THREE.Mesh(knot, material);
+    source.position.copy(centre).add(new THREE.Vector3(0.3 * size, 0.2 * size, 0));
+    scene.add(source);
+    other = new TessellatedMesh(source, material, options);
+  }
+  const log = [];
+  renderer.setRenderTarget(creatureTarget);
+  try {
+    for (const t of times) {
+      mixer.setTime(t);
+      const before = renderer.info.compute.calls;
+      renderer.render(scene, camera);
+      log.push({ uploadedBytes: drawn.uploadedBytes, computes: renderer.info.compute.calls - before, draws: renderer.info.render.drawCalls });
+    }
+  } catch (e) {
+    drawn.dispose();
+    other?.dispose();
+    renderer.setRenderTarget(null);
+    return { thrown: e instanceof TessellaError ? e.message : `not a TessellaError: ${e}` };
+  }
+  const picture = await readTarget(renderer, creatureTarget);
+  renderer.setRenderTarget(null);
+  const out = {
+    ...picture,
+    log,
+    posedOn: drawn.posedOn,
+    posingFallback: drawn.posingFallback,
+    normalMode: drawn.surface.normalMode,
+    netsTexture: drawn.netsTexture.isStorageTexture === true ? 'storage' : 'data',
+    twinNets: other === null ? null : other.netsTexture.isStorageTexture === true ? 'storage' : 'data',
+  };
+  other?.dispose();
+  if (nets) {
+    const { width, height } = drawn.surface;
+    const gpu = drawn.netsTexture.isStorageTexture === true ? await renderer.backend.copyTextureToBuffer(drawn.netsTexture, 0, 0, width, height, 0) : drawn.netsTexture.image.data;
+    drawn.dispose();
+    const cpu = new TessellatedMesh(mesh, material, { ...options, posing: 'cpu' });
+    const want = cpu.netsTexture.image.data;
+    let most = 0;
+    let largest = 0;
+    for (let i = 0; i < want.length; i++) {
+      most = Math.max(most, Math.abs(gpu[i] - want[i]));
+      largest = Math.max(largest, Math.abs(want[i]));
+    }
+    cpu.dispose();
+    out.nets = { most: Number.isNaN(most) ? 'NaN' : most, largest, length: gpu.length, expected: want.length };
+  } else {
+    drawn.dispose();
+  }
+  return out;
+}
+
+window.tessellaThree = { run, fallback, skinned, ready: Promise.all([ready, started]).then(() => renderer.backend.isWebGPUBackend === true) };

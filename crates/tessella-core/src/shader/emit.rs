@@ -149,8 +149,10 @@ impl Body<'_> {
     }
 }
 
-/// The largest finite `f32`, as a literal both languages read.
-const F32_MAX: &str = "3.4028235e38";
+/// The largest finite `f32`, as a literal both languages read: its exact value (WGSL reads a
+/// literal as an abstract float and refuses, in Tint, one past `f32`'s range, as the shortest
+/// `3.4028235e38` is).
+const F32_MAX: &str = "3.4028234663852886e38";
 
 /// The tape indices a node reads.
 fn operands(node: &Node) -> Vec<usize> {

@@ -34,7 +34,7 @@ use crate::mesh::quadratic::shape_functions;
 use crate::refine::canonical::EdgeWeights;
 use crate::scalar::Word;
 use crate::scalar::{Dual, Real, V3};
-use crate::scheme::NormalMode;
+use crate::scheme::{NormalMode, Scheme};
 use emit::Body;
 use trace::{trace, Expr, UExpr};
 
@@ -258,6 +258,29 @@ impl NetBuilder {
             NetBuilder::LinearNormals => "tessella_linear_normals",
             NetBuilder::QuadraticNormals => "tessella_quadratic_normals",
             NetBuilder::PnAenPoints => "tessella_pn_aen_points",
+        }
+    }
+
+    /// The builder of `scheme`'s control points where the GPU builds them from a face's corners
+    /// (and, for PN-AEN, the normals across its edges): flat, Phong, PN and PN-AEN. `None` for
+    /// the schemes whose nets read more (PNG1's neighbours, tags, mid-edge nodes): those nets
+    /// are built on the CPU.
+    pub fn points_for(scheme: &Scheme) -> Option<NetBuilder> {
+        match scheme {
+            Scheme::Flat => Some(NetBuilder::FlatPoints),
+            Scheme::Phong { .. } => Some(NetBuilder::PhongPoints),
+            Scheme::Pn => Some(NetBuilder::PnPoints),
+            Scheme::PnAen => Some(NetBuilder::PnAenPoints),
+            _ => None,
+        }
+    }
+
+    /// The normal net a mode builds: Vlachos' quadratic one, or the linear one (linear and real
+    /// normals, as [`crate::scheme`] builds them).
+    pub fn normals_for(mode: NormalMode) -> NetBuilder {
+        match mode {
+            NormalMode::Quadratic => NetBuilder::QuadraticNormals,
+            _ => NetBuilder::LinearNormals,
         }
     }
 
@@ -496,6 +519,22 @@ pub fn skin_wgsl() -> String {
     let [x, y, z] = out.map(|e| body.name(e));
     format!(
         "fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32> {{\n{}    return vec3<f32>({x}, {y}, {z});\n}}\n",
+        body.statements
+    )
+}
+
+/// GLSL (ES 3.00): `vec3 tessella_skin_normal(mat3 m, vec3 n)`, [`skin_wgsl`]'s function
+/// ([`crate::animation::skin_normal_of`]) for WebGL2.
+pub fn skin_glsl() -> String {
+    let (tape, out) = trace(|| {
+        let m = [0, 1, 2].map(|c| ["x", "y", "z"].map(|x| Expr::input(&format!("m[{c}].{x}"))));
+        let n = ["n.x", "n.y", "n.z"].map(Expr::input);
+        crate::animation::skin_normal_of(m, n)
+    });
+    let body = Body::new(&tape, Lang::Glsl, &out);
+    let [x, y, z] = out.map(|e| body.name(e));
+    format!(
+        "vec3 tessella_skin_normal(mat3 m, vec3 n) {{\n{}    return vec3({x}, {y}, {z});\n}}\n",
         body.statements
     )
 }

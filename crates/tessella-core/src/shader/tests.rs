@@ -624,3 +624,29 @@ fn traced_skin_normal_gives_the_cpus_bits() {
     assert!(wgsl.starts_with("fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>"));
     assert!(wgsl.contains("sqrt("), "{wgsl}");
 }
+
+#[test]
+fn the_gpu_builds_the_nets_of_flat_phong_pn_and_pn_aen_with_the_mode_s_normal_net() {
+    use crate::Scheme;
+    let cases = [
+        (Scheme::Flat, Some(NetBuilder::FlatPoints)),
+        (Scheme::PHONG, Some(NetBuilder::PhongPoints)),
+        (Scheme::Pn, Some(NetBuilder::PnPoints)),
+        (Scheme::PnAen, Some(NetBuilder::PnAenPoints)),
+        (Scheme::Png1, None),
+    ];
+    for (scheme, builder) in cases {
+        assert_eq!(NetBuilder::points_for(&scheme), builder, "{scheme:?}");
+    }
+    assert_eq!(
+        NetBuilder::normals_for(NormalMode::Quadratic),
+        NetBuilder::QuadraticNormals
+    );
+    for mode in [NormalMode::Linear, NormalMode::Real] {
+        assert_eq!(NetBuilder::normals_for(mode), NetBuilder::LinearNormals);
+    }
+    // The skinned normal for WebGL2: the same traced formula as the WGSL's.
+    let glsl = skin_glsl();
+    assert!(glsl.starts_with("vec3 tessella_skin_normal(mat3 m, vec3 n) {"));
+    assert!(glsl.contains("sqrt(") && glsl.contains("m[2].z"), "{glsl}");
+}
