@@ -6,6 +6,7 @@
 # same 327,680 triangles (`tessella refine` offline), the baseline of the same run. Each frame waits for the GPU (`view --frames`). Prints one JSON
 # line per run, then a table of mean frame times and ratios to the plain mesh.
 # Usage: scripts/coarse-size.sh [PROFILE: debug|release] [FRAMES]
+# TESSELLA_METRIC=mean_frame_cpu_ms: CPU time a frame (all threads, lavapipe's too) instead of wall time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 profile=${1:-release}
@@ -25,7 +26,7 @@ run() { # label, then view's arguments
   local line
   line=$("$view" "$@" --ground --size 512x512 --frames "$frames" --screenshot "$tmp/$label.png" 2>/dev/null | tail -1)
   echo "$line" >&2
-  echo "$label $(echo "$line" | sed 's/.*"mean_frame_ms":\([0-9.]*\).*/\1/')"
+  echo "$label $(echo "$line" | sed "s/.*\"${TESSELLA_METRIC:-mean_frame_ms}\":\([0-9.]*\).*/\1/")"
 }
 {
   run plain "$tmp/plain.obj" --plain --frame "$creature"

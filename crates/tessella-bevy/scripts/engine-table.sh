@@ -10,6 +10,8 @@
 #   played by Bevy's own skinning.
 # Prints the view example's JSON lines to stderr and two Markdown tables of mean frame times.
 # Usage: scripts/engine-table.sh [PROFILE: debug|release] [FRAMES] [LEVELS]
+# TESSELLA_METRIC=mean_frame_cpu_ms: the tables in CPU time a frame (all threads, lavapipe's too).
+# TESSELLA_ROUNDS=N: each way run N times, in turn with the others of its level; the median.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 profile=${1:-release}
@@ -25,28 +27,36 @@ ms() { # view's arguments; prints the mean frame time
   local line
   line=$("$view" "$@" --ground --size 512x512 --frames "$frames" --screenshot "$tmp/shot.png" 2>/dev/null | tail -1)
   echo "$line" >&2
-  echo "$line" | sed 's/.*"mean_frame_ms":\([0-9.]*\).*/\1/'
+  echo "$line" | sed "s/.*\"${TESSELLA_METRIC:-mean_frame_ms}\":\([0-9.]*\).*/\1/"
 }
 echo "| level | static: refined mesh ms | per frame ms | ratio | welded ms | ratio | runs ms | ratio |" > "$tmp/static.md"
 echo "|---|---|---|---|---|---|---|---|" >> "$tmp/static.md"
 echo "| level | animated: offline-refined skinned ms | per frame, GPU posing ms | ratio | per frame, CPU posing ms | ratio | welded, CPU posing ms | ratio |" > "$tmp/animated.md"
 echo "|---|---|---|---|---|---|---|---|" >> "$tmp/animated.md"
+rounds=${TESSELLA_ROUNDS:-1}
+median() { printf '%s\n' "$@" | sort -g | awk '{ a[NR] = $1 } END { print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
 for level in $levels; do
   "$cli" refine "$samples/creature.obj" --scheme pn --level "$level" -o "$tmp/static.obj" >/dev/null 2>&1
   "$cli" refine "$samples/animated-creature.glb" --scheme pn --level "$level" -o "$tmp/skinned.glb" >/dev/null 2>&1
-  plain=$(ms "$tmp/static.obj" --plain --frame "$samples/creature.obj")
-  frame=$(ms "$samples/creature.obj" --scheme pn --level "$level" --draw per-frame)
-  tess=$(ms "$samples/creature.obj" --scheme pn --level "$level" --draw welded)
-  runs=$(ms "$samples/creature.obj" --scheme pn --level "$level" --draw runs)
+  playing=(--scheme pn --level "$level" --clip wave --frame "$samples/creature.obj")
+  declare -A got=()
+  for _ in $(seq "$rounds"); do
+    got[plain]+=" $(ms "$tmp/static.obj" --plain --frame "$samples/creature.obj")"
+    got[frame]+=" $(ms "$samples/creature.obj" --scheme pn --level "$level" --draw per-frame)"
+    got[tess]+=" $(ms "$samples/creature.obj" --scheme pn --level "$level" --draw welded)"
+    got[runs]+=" $(ms "$samples/creature.obj" --scheme pn --level "$level" --draw runs)"
+    got[offline]+=" $(ms "$tmp/skinned.glb" --plain --clip wave --frame "$samples/creature.obj")"
+    got[gpu]+=" $(ms "$samples/animated-creature.glb" "${playing[@]}" --draw per-frame --pose gpu)"
+    got[cpu]+=" $(ms "$samples/animated-creature.glb" "${playing[@]}" --draw per-frame --pose cpu)"
+    got[welded]+=" $(ms "$samples/animated-creature.glb" "${playing[@]}" --draw welded)"
+  done
+  # shellcheck disable=SC2086 # the rounds' values, one word each
+  for way in plain frame tess runs offline gpu cpu welded; do declare "$way=$(median ${got[$way]})"; done
   awk -v l="$level" -v a="$plain" -v f="$frame" -v b="$tess" -v r="$runs" \
     'BEGIN { printf "| %s | %.2f | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2fx |\n", l, a, f, f / a, b, b / a, r, r / a }' >> "$tmp/static.md"
-  playing=(--scheme pn --level "$level" --clip wave --frame "$samples/creature.obj")
-  offline=$(ms "$tmp/skinned.glb" --plain --clip wave --frame "$samples/creature.obj")
-  gpu=$(ms "$samples/animated-creature.glb" "${playing[@]}" --draw per-frame --pose gpu)
-  cpu=$(ms "$samples/animated-creature.glb" "${playing[@]}" --draw per-frame --pose cpu)
-  welded=$(ms "$samples/animated-creature.glb" "${playing[@]}" --draw welded)
   awk -v l="$level" -v a="$offline" -v g="$gpu" -v c="$cpu" -v w="$welded" \
     'BEGIN { printf "| %s | %.2f | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2fx |\n", l, a, g, g / a, c, c / a, w, w / a }' >> "$tmp/animated.md"
+  unset got
 done
 cat "$tmp/static.md"
 echo
