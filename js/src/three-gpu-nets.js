@@ -1,14 +1,17 @@
 // TessellatedMesh's GPU posing under WebGLRenderer (WebGL2): a skinned or morphing source's
-// control nets built on the GPU by one full-screen pass into an RGBA32F render target of the
-// nets texture's size and layout, which the draws (per draw, the 'per-frame' bake) then read
-// instead of the DataTexture the CPU fills. One fragment per texel: it finds its face and its
-// texel in the face's net, poses the face's corners (and PN-AEN's across vertices) as the
-// CPU's Deformer does (morph targets, then linear blend skinning with the weights divided by
-// their sum; the normal by the blended matrix's cofactors, normalised), calls the net builders
-// and writes its texel. The builders, the skinned normal and the texel packing are the GLSL
-// the wasm generates from the core's Rust (InstancedSurface.netsPassGlsl(), gpu_nets.rs);
-// this file only fetches and poses. Per frame only the joint matrices and the morph weights
-// are uploaded; the rest vertices, influences, morph deltas and face indices once.
+// control nets built on the GPU by two full-screen passes, which the draws (per draw, the
+// 'per-frame' bake) then read instead of the DataTexture the CPU fills. The first poses the
+// coarse vertices, as the CPU's Deformer does (morph targets, then linear blend skinning with
+// the weights divided by their sum; the normal by the blended matrix's cofactors, normalised),
+// into a small RGBA32F render target, two texels a vertex (position, normal; each texel's
+// fragment poses its vertex). The second renders into an RGBA32F render target of the nets
+// texture's size and layout, one fragment per texel: it finds its face and its texel in the
+// face's net, fetches the face's posed corners (and PN-AEN's across normals), calls the net
+// builders and writes its texel. The builders, the skinned normal and the texel packing are
+// the GLSL the wasm generates from the core's Rust (InstancedSurface.netsPassGlsl(),
+// gpu_nets.rs); this file only fetches and poses. Per frame only the joint matrices and the
+// morph weights are uploaded; the rest vertices, influences, morph deltas and face indices
+// once.
 import {
   BufferAttribute,
   BufferGeometry,
@@ -37,31 +40,24 @@ void main() {
 }
 `;
 
-// `glsl`: the wasm's net pass functions; the rest is fetching and posing. The rest texture
-// holds `perVertex` texels a vertex: position, normal (then joints, weights when skinned); the
-// deltas texture two a vertex and target (position, normal displacement), target-major.
-const fragment = ({ glsl, k, texels, perVertex, skinned, targets }) => `precision highp float;
+// The first pass: a fragment a texel of the posed target, two texels a coarse vertex (its posed
+// position, then its normal). `glsl`: the wasm's net pass functions (tessella_skin_normal is
+// the one it calls). The rest texture holds `perVertex` texels a vertex: position, normal (then
+// joints, weights when skinned); the deltas texture two a vertex and target (position, normal
+// displacement), target-major.
+const poseFragment = ({ glsl, perVertex, skinned, targets }) => `precision highp float;
 precision highp int;
 precision highp sampler2D;
 ${glsl}
-uniform highp sampler2D tessellaTopology;
 uniform highp sampler2D tessellaRest;
 uniform highp sampler2D tessellaJoints;
 uniform highp sampler2D tessellaDeltas;
 uniform highp sampler2D tessellaWeights;
-uniform int tessellaFacesPerRow;
-uniform int tessellaFaceCount;
 uniform int tessellaVertexCount;
-layout(location = 0) out vec4 tessellaNet;
+layout(location = 0) out vec4 tessellaPosed;
 
 ivec2 tessella_at(int i) {
   return ivec2(i & ${WIDTH - 1}, i >> ${SHIFT});
-}
-
-int tessella_word(int w) {
-  vec4 t = texelFetch(tessellaTopology, tessella_at(w >> 2), 0);
-  int c = w & 3;
-  return int(c == 0 ? t.x : c == 1 ? t.y : c == 2 ? t.z : t.w);
 }
 
 mat4 tessella_joint(int j) {
@@ -106,6 +102,44 @@ ${skinned ? `  vec4 joints = texelFetch(tessellaRest, tessella_at(r + 2), 0);
 
 void main() {
   ivec2 texel = ivec2(gl_FragCoord.xy);
+  int i = (texel.y << ${SHIFT}) + texel.x;
+  int v = i >> 1;
+  if (v >= tessellaVertexCount) {
+    tessellaPosed = vec4(0.0);
+    return;
+  }
+  vec3 p;
+  vec3 n;
+  tessella_pose(v, p, n);
+  tessellaPosed = vec4((i & 1) == 0 ? p : n, 0.0);
+}
+`;
+
+// The second pass: a fragment a texel of the nets. It finds its face and its texel in the
+// face's net, fetches the face's posed corners (and PN-AEN's across vertices' normals) from the
+// first pass's target, calls the net builders and writes its texel.
+const netFragment = ({ glsl, k, texels }) => `precision highp float;
+precision highp int;
+precision highp sampler2D;
+${glsl}
+uniform highp sampler2D tessellaTopology;
+uniform highp sampler2D tessellaPosed;
+uniform int tessellaFacesPerRow;
+uniform int tessellaFaceCount;
+layout(location = 0) out vec4 tessellaNet;
+
+ivec2 tessella_at(int i) {
+  return ivec2(i & ${WIDTH - 1}, i >> ${SHIFT});
+}
+
+int tessella_word(int w) {
+  vec4 t = texelFetch(tessellaTopology, tessella_at(w >> 2), 0);
+  int c = w & 3;
+  return int(c == 0 ? t.x : c == 1 ? t.y : c == 2 ? t.z : t.w);
+}
+
+void main() {
+  ivec2 texel = ivec2(gl_FragCoord.xy);
   int slot = texel.x / ${texels};
   int face = texel.y * tessellaFacesPerRow + slot;
   if (slot >= tessellaFacesPerRow || face >= tessellaFaceCount) {
@@ -115,11 +149,14 @@ void main() {
   int at = face * TESSELLA_NETS_STRIDE;
   vec3 p[3];
   vec3 n[3];
-  for (int c = 0; c < 3; c++) tessella_pose(tessella_word(at + c), p[c], n[c]);
+  for (int c = 0; c < 3; c++) {
+    int v = 2 * tessella_word(at + c);
+    p[c] = texelFetch(tessellaPosed, tessella_at(v), 0).xyz;
+    n[c] = texelFetch(tessellaPosed, tessella_at(v + 1), 0).xyz;
+  }
   vec3 across[6];
   for (int a = 0; a < 6; a++) {
-    vec3 q;
-    if (TESSELLA_NETS_ACROSS) tessella_pose(tessella_word(at + 3 + a), q, across[a]);
+    if (TESSELLA_NETS_ACROSS) across[a] = texelFetch(tessellaPosed, tessella_at(2 * tessella_word(at + 3 + a) + 1), 0).xyz;
     else across[a] = n[a / 2];
   }
   vec3 c[${k}];
@@ -164,6 +201,8 @@ function texture(data, texels) {
  */
 export class GpuNets {
   #material;
+  #poseMaterial;
+  #posed;
   #geometry;
   #mesh;
   #camera = new Camera();
@@ -210,37 +249,39 @@ export class GpuNets {
     this.#targets = targets;
     /** The rows the input textures take (at most the largest texture's height). */
     this.rows = Math.max(...[...this.#inputs, this.#joints].map((t) => t.image.height));
-    this.#material = new RawShaderMaterial({
-      glslVersion: GLSL3,
-      vertexShader: VERTEX,
-      fragmentShader: fragment({ glsl: surface.netsPassGlsl(), k: surface.basisLength, texels: surface.texelsPerFace, perVertex, skinned, targets }),
-      uniforms: {
-        tessellaTopology: { value: this.#inputs[0] },
-        tessellaRest: { value: this.#inputs[1] },
-        tessellaDeltas: { value: this.#inputs[2] },
-        tessellaJoints: { value: this.#joints },
-        tessellaWeights: { value: this.#weights },
-        tessellaFacesPerRow: { value: surface.facesPerRow },
-        tessellaFaceCount: { value: surface.faceCount },
-        tessellaVertexCount: { value: vertices },
-      },
-      depthTest: false,
-      depthWrite: false,
-      blending: NoBlending,
+    const glsl = surface.netsPassGlsl();
+    const pass = (fragmentShader, uniforms) =>
+      new RawShaderMaterial({ glslVersion: GLSL3, vertexShader: VERTEX, fragmentShader, uniforms, depthTest: false, depthWrite: false, blending: NoBlending });
+    const floatTarget = (width, height) =>
+      new WebGLRenderTarget(width, height, {
+        type: FloatType,
+        format: RGBAFormat,
+        minFilter: NearestFilter,
+        magFilter: NearestFilter,
+        generateMipmaps: false,
+        depthBuffer: false,
+      });
+    /** The posed coarse vertices, two texels a vertex (position, normal), rows of WIDTH. */
+    this.#posed = floatTarget(Math.max(1, Math.min(2 * vertices, WIDTH)), Math.max(1, Math.ceil((2 * vertices) / WIDTH)));
+    this.#poseMaterial = pass(poseFragment({ glsl, perVertex, skinned, targets }), {
+      tessellaRest: { value: this.#inputs[1] },
+      tessellaDeltas: { value: this.#inputs[2] },
+      tessellaJoints: { value: this.#joints },
+      tessellaWeights: { value: this.#weights },
+      tessellaVertexCount: { value: vertices },
+    });
+    this.#material = pass(netFragment({ glsl, k: surface.basisLength, texels: surface.texelsPerFace }), {
+      tessellaTopology: { value: this.#inputs[0] },
+      tessellaPosed: { value: this.#posed.texture },
+      tessellaFacesPerRow: { value: surface.facesPerRow },
+      tessellaFaceCount: { value: surface.faceCount },
     });
     this.#geometry = new BufferGeometry();
     this.#geometry.setAttribute('position', new BufferAttribute(new Float32Array(9), 3));
     this.#mesh = new Mesh(this.#geometry, this.#material);
     this.#mesh.frustumCulled = false;
     /** The nets, in the layout of the nets DataTexture (RGBA32F, nearest). */
-    this.target = new WebGLRenderTarget(surface.width, surface.height, {
-      type: FloatType,
-      format: RGBAFormat,
-      minFilter: NearestFilter,
-      magFilter: NearestFilter,
-      generateMipmaps: false,
-      depthBuffer: false,
-    });
+    this.target = floatTarget(surface.width, surface.height);
     /** Bytes a frame uploads: the joint matrices (a skeleton's) and the morph weights (when there are targets). */
     this.uploadBytes = (skinned ? this.#joints.image.data.byteLength : 0) + (targets > 0 ? this.#weights.image.data.byteLength : 0);
   }
@@ -259,9 +300,9 @@ export class GpuNets {
   /**
    * Builds the nets of the pose `matrices` (16 floats a joint, bind space to posed mesh space,
    * SourcePose's) and morph `weights` into `target`, from within a render (onBeforeRender or
-   * onBeforeShadow): one draw, after which the render target, cube face, mipmap level and
-   * viewport are put back. Uploads the matrices (skinned; a rigid source's one matrix once)
-   * and the weights.
+   * onBeforeShadow): two draws (the vertices posed, then the nets), after which the render
+   * target, cube face, mipmap level and viewport are put back. Uploads the matrices (skinned;
+   * a rigid source's one matrix once) and the weights.
    */
   render(renderer, matrices, weights, first) {
     if (this.#skinned || first) {
@@ -277,6 +318,8 @@ export class GpuNets {
     const face = renderer.getActiveCubeFace();
     const level = renderer.getActiveMipmapLevel();
     const v = gl.getParameter(gl.VIEWPORT);
+    renderer.setRenderTarget(this.#posed);
+    renderer.renderBufferDirect(this.#camera, null, this.#geometry, this.#poseMaterial, this.#mesh, null);
     renderer.setRenderTarget(this.target);
     renderer.renderBufferDirect(this.#camera, null, this.#geometry, this.#material, this.#mesh, null);
     renderer.setRenderTarget(target, face, level);
@@ -288,6 +331,8 @@ export class GpuNets {
     this.#joints.dispose();
     this.#weights.dispose();
     this.#material.dispose();
+    this.#poseMaterial.dispose();
+    this.#posed.dispose();
     this.#geometry.dispose();
     this.target.dispose();
   }

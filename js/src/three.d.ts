@@ -61,9 +61,9 @@ export interface TessellatedMeshOptions extends InstancedSurfaceOptions {
   evaluation?: 'auto' | 'per-draw' | 'per-frame';
   /**
    * Where a SkinnedMesh or morphing Mesh source is posed and its nets built. 'gpu' (WebGLRenderer,
-   * WebGL2 with float render targets): a render pass builds the nets texture from the joint
-   * matrices and morph weights, which alone are uploaded a frame (64 bytes a joint, 16 per 4
-   * weights); under WebGPURenderer (its WebGPU backend) a compute pass builds them into a
+   * WebGL2 with float render targets): two render passes (the coarse vertices posed, then the
+   * nets) build the nets texture from the joint matrices and morph weights, which alone are
+   * uploaded a frame (64 bytes a joint, 16 per 4 weights); under WebGPURenderer (its WebGPU backend) a compute pass builds them into a
    * storage texture (`netsTexture`), uploading 64 bytes a joint and 4 a weight. 'cpu': wasm
    * poses the coarse vertices and builds the nets, the nets texture uploaded. 'auto' (default): decided at the first render, 'gpu' where it can run, else 'cpu'
    * (`posingFallback` says why: no EXT_color_buffer_float (WebGL), no WebGPU compute, PNG1 and the

@@ -576,7 +576,7 @@ function patchMaterial(material, uniforms, key, variants, mode) {
  * this takes its place (its parent, transform, shadow flags). A SkinnedMesh's skeleton (posed by
  * three, e.g. an AnimationMixer) and a Mesh's morph target influences are followed every frame:
  * the coarse vertices are posed in wasm as three poses them (`SkinnedMesh.getVertexPosition`),
- * and only the nets are uploaded; or (`posing`, by default where it runs) a render pass builds
+ * and only the nets are uploaded; or (`posing`, by default where it runs) two render passes build
  * the nets from the joint matrices and morph weights, which alone are uploaded (three-gpu-nets.js). Options: `scheme`, `level`, `normals`, `alpha`,
  * `normalsFromSource`; or, instead of `level`, `lod` with `spacing` (and `camera`, `size`):
  * per-edge levels from the camera every frame, drawn with the GPU tessellator's patterns by child
@@ -868,8 +868,8 @@ export class TessellatedMesh extends Mesh {
   }
 
   /**
-   * Where a skinned or morphing source is posed and its nets built: 'gpu' (a render pass
-   * builds the nets texture from the joint matrices and morph weights, three-gpu-nets.js) or
+   * Where a skinned or morphing source is posed and its nets built: 'gpu' (render passes
+   * build the nets texture from the joint matrices and morph weights, three-gpu-nets.js) or
    * 'cpu' (wasm poses the coarse vertices and builds the nets, uploaded as a texture); null
    * for a source that neither skins nor morphs. Before the first render a posed mesh is 'cpu':
    * the default, 'auto', decides there, from the renderer.

@@ -17,7 +17,7 @@
 //   animated, tessellated (CPU posing, GPU posing): the coarse glTF loaded by GLTFLoader, its
 //   SkinnedMesh replaced by TessellatedMesh (`tessellate`, default evaluation: 'auto', checked
 //   to be per-frame), posed in wasm with the nets uploaded (`posing: 'cpu'`), or by the default
-//   (`'auto'`, checked to be on the GPU): the nets built by a render pass from the joint
+//   (`'auto'`, checked to be on the GPU): the nets built by two render passes from the joint
 //   matrices and morph weights, which alone are uploaded.
 // Both are scaled into the torus knot's frame (same camera, same light), cast and receive.
 // A frame's time is from before the deformation to after a 1-pixel readPixels (which waits for
