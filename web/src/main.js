@@ -392,9 +392,13 @@ async function start() {
   }
   bindPointer();
   // Resizing the canvas inside the observer's callback changes the observed layout again
-  // (the browser reports a "ResizeObserver loop" error): resize on the next frame instead.
+  // (the browser reports a "ResizeObserver loop" error): resize on the next frame instead, if
+  // the size is still 'auto' then (the first callback comes before the URL's size is read: a
+  // fixed size must not get a second, spurious frame).
   new ResizeObserver(() => {
-    if (state.size === 'auto') requestAnimationFrame(() => applySize());
+    if (state.size === 'auto') requestAnimationFrame(() => {
+      if (state.size === 'auto') applySize();
+    });
   }).observe($('view'));
   await controls.fillSamples();
 
