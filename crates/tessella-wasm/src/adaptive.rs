@@ -709,13 +709,8 @@ const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, u
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_meshes::sample;
     use tessella_core::refine::{Levels, Plan};
-
-    fn sample() -> (tessella_core::Mesh, Vec<u32>) {
-        let m = tessella_core::samples::icosphere(1);
-        let indices = bytemuck::cast_slice(m.triangles()).to_vec();
-        (m, indices)
-    }
 
     fn flat(p: &[[f32; 3]]) -> Vec<f32> {
         p.iter().flatten().copied().collect()

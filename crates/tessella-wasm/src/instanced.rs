@@ -529,13 +529,8 @@ pub fn wgsl(basis: Basis, mode: NormalMode) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_meshes::sample;
     use tessella_core::refine::Plan;
-
-    fn sample() -> (tessella_core::Mesh, Vec<u32>) {
-        let m = tessella_core::samples::icosphere(1);
-        let indices = bytemuck::cast_slice(m.triangles()).to_vec();
-        (m, indices)
-    }
 
     #[test]
     fn layouts_hold_whole_nets_within_the_width() {

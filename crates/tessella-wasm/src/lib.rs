@@ -30,6 +30,8 @@ mod options;
 mod refine;
 mod refiner;
 mod scene;
+#[cfg(test)]
+mod test_meshes;
 
 use wasm_bindgen::prelude::*;
 

@@ -155,12 +155,7 @@ fn float(x: f32) -> String {
 mod tests {
     use super::*;
     use crate::arrays;
-
-    fn sample() -> (tessella_core::Mesh, Vec<u32>) {
-        let m = tessella_core::samples::icosphere(1);
-        let indices = bytemuck::cast_slice(m.triangles()).to_vec();
-        (m, indices)
-    }
+    use crate::test_meshes::sample;
 
     const GPU: [&str; 6] = [
         r#"{"scheme":"pn","level":4}"#,
