@@ -27,13 +27,14 @@ import {
 
 /** Texels a row of the baked textures (WebGL2 guarantees textures 2048 wide). */
 export const BAKED_WIDTH = 2048;
-const SHIFT = 11;
+/** log2(BAKED_WIDTH): a texel index's row is `i >> BAKED_SHIFT`. */
+export const BAKED_SHIFT = 11;
 
 // One triangle over the whole target, from gl_VertexID alone: renderBufferDirect binds the
 // buffers of attributes three has uploaded (as projectObject and the shadow pass have it do for
 // the objects they draw), which a geometry drawn only here never is; its position attribute
 // only gives the draw's count.
-const VERTEX = `precision highp float;
+export const FULL_SCREEN_VERTEX = `precision highp float;
 void main() {
   gl_Position = vec4(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0, 0.0, 1.0);
 }
@@ -51,7 +52,7 @@ layout(location = 0) out vec4 tessellaBakedPosition;
 layout(location = 1) out vec4 tessellaBakedNormal;
 void main() {
   ivec2 texel = ivec2(gl_FragCoord.xy);
-  if ((texel.y << ${SHIFT}) + texel.x >= tessellaVertexCount) discard;
+  if ((texel.y << ${BAKED_SHIFT}) + texel.x >= tessellaVertexCount) discard;
   vec4 origin = texelFetch(tessellaOrigins, texel, 0);
   vec3 p;
   vec3 n;
@@ -113,11 +114,11 @@ export class BakedSurface {
       data.set(mesh.barycentric.subarray(3 * v, 3 * v + 3), 4 * v);
       data[4 * v + 3] = mesh.faces[v];
     }
-    this.#origins = texture(data, BAKED_WIDTH, this.rows);
+    this.#origins = floatTexture(data, BAKED_WIDTH, this.rows);
     this.#origins.needsUpdate = true;
     this.#material = new RawShaderMaterial({
       glslVersion: GLSL3,
-      vertexShader: VERTEX,
+      vertexShader: FULL_SCREEN_VERTEX,
       fragmentShader: fragment(glsl),
       uniforms: {
         tessellaNets: uniforms.tessellaNets,
@@ -216,7 +217,8 @@ export class BakedSurface {
   }
 }
 
-function texture(data, width, height) {
+/** An RGBA32F DataTexture of `width` × `height` texels holding `data`, sampled nearest, no mipmaps. */
+export function floatTexture(data, width, height) {
   const t = new DataTexture(data, width, height, RGBAFormat, FloatType);
   t.minFilter = NearestFilter;
   t.magFilter = NearestFilter;

@@ -16,7 +16,6 @@ import {
   BufferAttribute,
   BufferGeometry,
   Camera,
-  DataTexture,
   FloatType,
   GLSL3,
   Mesh,
@@ -27,18 +26,7 @@ import {
   Vector4,
   WebGLRenderTarget,
 } from 'three';
-import { bakeMissing } from './three-bake.js';
-
-/** Texels a row of the input textures (WebGL2 guarantees 2048). */
-const WIDTH = 2048;
-const SHIFT = 11;
-
-// One triangle over the whole target from gl_VertexID alone (as three-bake.js draws).
-const VERTEX = `precision highp float;
-void main() {
-  gl_Position = vec4(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0, 0.0, 1.0);
-}
-`;
+import { BAKED_SHIFT as SHIFT, BAKED_WIDTH as WIDTH, bakeMissing, floatTexture, FULL_SCREEN_VERTEX } from './three-bake.js';
 
 // The first pass: a fragment a texel of the posed target, two texels a coarse vertex (its posed
 // position, then its normal). `glsl`: the wasm's net pass functions (tessella_skin_normal is
@@ -184,10 +172,7 @@ function texture(data, texels) {
   const height = Math.max(1, Math.ceil(texels / WIDTH));
   const full = new Float32Array(width * height * 4);
   full.set(data.subarray(0, Math.min(data.length, full.length)));
-  const t = new DataTexture(full, width, height, RGBAFormat, FloatType);
-  t.minFilter = NearestFilter;
-  t.magFilter = NearestFilter;
-  t.generateMipmaps = false;
+  const t = floatTexture(full, width, height);
   t.needsUpdate = true;
   return t;
 }
@@ -251,7 +236,7 @@ export class GpuNets {
     this.rows = Math.max(...[...this.#inputs, this.#joints].map((t) => t.image.height));
     const glsl = surface.netsPassGlsl();
     const pass = (fragmentShader, uniforms) =>
-      new RawShaderMaterial({ glslVersion: GLSL3, vertexShader: VERTEX, fragmentShader, uniforms, depthTest: false, depthWrite: false, blending: NoBlending });
+      new RawShaderMaterial({ glslVersion: GLSL3, vertexShader: FULL_SCREEN_VERTEX, fragmentShader, uniforms, depthTest: false, depthWrite: false, blending: NoBlending });
     const floatTarget = (width, height) =>
       new WebGLRenderTarget(width, height, {
         type: FloatType,
