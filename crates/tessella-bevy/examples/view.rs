@@ -4,7 +4,7 @@
 //! `cargo run --example view -- FILE --scheme S --level L --yaw Y --pitch P --zoom Z
 //!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--draw per-frame|welded|runs]
 //!  [--pose gpu|cpu]
-//!  [--crowd N] [--frames N --stats]`
+//!  [--crowd N [--stagger S]] [--frames N --stats]`
 //!
 //! A glTF file is loaded by Bevy's glTF loader (its scene, `Tessellate` added to each of its
 //! meshes); with `--clip` Bevy's `AnimationPlayer` plays that clip, held at `--time` for the
@@ -84,6 +84,9 @@ struct Args {
     clip: Option<String>,
     /// Seconds into the clip the picture is taken at.
     time: f32,
+    /// `--stagger S`: a crowd's k-th copy is held S x k seconds later into the clip than the
+    /// first (each copy its own pose).
+    stagger: f32,
     /// One JSON line a frame during `--frames`: the bytes tessella uploaded in it.
     stats: bool,
     /// Per-edge levels from this LOD (`screen:PX`, `tolerance:D`, `distance:NEAR,FAR,MAX`),
@@ -128,6 +131,7 @@ fn parse_args() -> Result<Args, String> {
         warmup: 3,
         clip: None,
         time: 0.0,
+        stagger: 0.0,
         stats: false,
         pick: None,
         lod: None,
@@ -177,6 +181,7 @@ fn parse_args() -> Result<Args, String> {
             "--frames" => args.frames = value()?.parse().map_err(|e| format!("--frames: {e}"))?,
             "--clip" => args.clip = Some(value()?),
             "--time" => args.time = num(value()?)?,
+            "--stagger" => args.stagger = num(value()?)?,
             "--stats" => args.stats = true,
             "--crowd" => {
                 args.crowd = value()?.parse().map_err(|e| format!("--crowd: {e}"))?;
@@ -447,10 +452,11 @@ fn setup(
             .map(|n| n.to_string_lossy().to_string());
         let name = name.unwrap_or_default();
         let scene = assets.load(GltfAssetLabel::Scene(0).from_asset(name.clone()));
-        for offset in &offsets {
+        for (k, offset) in offsets.iter().enumerate() {
             commands.spawn((
                 WorldAssetRoot(scene.clone()),
                 Transform::from_translation(*offset),
+                CrowdCopy(k as u32),
             ));
         }
         commands.insert_resource(GltfFile(assets.load(name)));
@@ -557,6 +563,10 @@ impl Plugin for WaitForGpu {
     }
 }
 
+/// The k-th copy of a crowd: the root of its scene.
+#[derive(Component)]
+struct CrowdCopy(u32);
+
 /// Frame timing after the picture (`--frames`).
 #[derive(Resource)]
 struct Timing {
@@ -573,6 +583,7 @@ fn time_frames(
     args: Res<Args>,
     stats: Res<UploadStats>,
     evaluations: Res<EvaluationStats>,
+    materials: Res<Assets<tessella_bevy::TessellaMaterial>>,
     mut exit: MessageWriter<AppExit>,
 ) {
     let now = std::time::Instant::now();
@@ -606,11 +617,12 @@ fn time_frames(
             _ => "null".to_string(),
         };
         println!(
-            "{{\"file\":{:?},\"plain\":{},\"level\":{},\"frames\":{},\"mean_frame_ms\":{ms:.3},\"mean_frame_cpu_ms\":{cpu}}}",
+            "{{\"file\":{:?},\"plain\":{},\"level\":{},\"frames\":{},\"mean_frame_ms\":{ms:.3},\"mean_frame_cpu_ms\":{cpu},\"tessella_materials\":{}}}",
             args.input.display().to_string(),
             args.plain,
             args.level,
-            args.frames
+            args.frames,
+            materials.len()
         );
         exit.write(AppExit::Success);
     }
@@ -745,10 +757,11 @@ fn exit_on_failed_load(
 fn start_clip(
     mut commands: Commands,
     args: Res<Args>,
-    file: Option<Res<GltfFile>>,
-    gltfs: Res<Assets<Gltf>>,
+    (file, gltfs): (Option<Res<GltfFile>>, Res<Assets<Gltf>>),
     mut graphs: ResMut<Assets<AnimationGraph>>,
     mut players: Query<(Entity, &mut AnimationPlayer), Without<AnimationGraphHandle>>,
+    // A player's ancestors, up to its crowd copy's scene root.
+    (parents, copies): (Query<&ChildOf>, Query<&CrowdCopy>),
     mut exit: MessageWriter<AppExit>,
 ) {
     let (Some(clip), Some(file)) = (&args.clip, file) else {
@@ -771,7 +784,13 @@ fn start_clip(
         commands
             .entity(entity)
             .insert(AnimationGraphHandle(graphs.add(graph)));
-        player.play(node).seek_to(args.time).pause();
+        // The copy's number, from its scene root (scenes may load in different frames).
+        let k = parents
+            .iter_ancestors(entity)
+            .find_map(|a| copies.get(a).ok())
+            .map_or(0, |c| c.0);
+        let time = args.time + args.stagger * k as f32;
+        player.play(node).seek_to(time).pause();
     }
 }
 

@@ -16,7 +16,8 @@
 //! coarse triangle and pattern vertex. By default ([`TessellaDraw::PerFrame`]) a compute pass in
 //! the render world calls `tessella_point` once a frame for each welded vertex (only in frames
 //! whose nets changed) into a buffer the vertex stages read, as a static mesh's vertices are
-//! read; [`TessellaDraw::Welded`] evaluates in each pass's vertex stage instead. Or
+//! read (entities of one mesh and material share that buffer and one material, a slot each,
+//! so Bevy draws a crowd in one batch a pass); [`TessellaDraw::Welded`] evaluates in each pass's vertex stage instead. Or
 //! ([`TessellaDraw::Runs`]) the level's refinement pattern repeated for runs of up to
 //! [`run_faces`] coarse triangles ([`RUN_VERTICES`] vertices), one Bevy mesh shared by every
 //! entity, one child per run with the run's first triangle in its `MeshTag`, batched by Bevy
@@ -32,6 +33,7 @@ mod material;
 mod pattern;
 mod per_frame;
 mod picking;
+mod pool;
 mod surface;
 
 use bevy::camera::primitives::Aabb;
@@ -158,11 +160,18 @@ impl Plugin for TessellaPlugin {
         app.init_resource::<UploadStats>()
             .init_resource::<PatternMeshes>()
             .init_resource::<WeldedMeshes>()
+            .init_resource::<pool::Pools>()
             .init_resource::<lod::PartMeshes>();
         register_types(app);
         app.add_systems(
             PostUpdate,
-            (untessellate, tessellate, animate::pose, lod::levels)
+            (
+                untessellate,
+                pool::release,
+                tessellate,
+                animate::pose,
+                lod::levels,
+            )
                 .chain()
                 .in_set(TessellaSystems)
                 .after(bevy::transform::TransformSystems::Propagate)
@@ -333,6 +342,7 @@ type TessellateAssets<'w> = (
     ResMut<'w, Assets<TessellaLodMaterial>>,
     ResMut<'w, lod::PartMeshes>,
     ResMut<'w, WeldedMeshes>,
+    ResMut<'w, pool::Pools>,
 );
 
 /// Builds the patches of entities whose [`Tessellate`] is new or changed (once their mesh and
@@ -353,6 +363,7 @@ fn tessellate(
         mut lod_materials,
         mut parts,
         mut welded,
+        mut pools,
     ) = assets;
     for (entity, tess, mesh3d, material, untessellated, patches, deform, flags) in &query {
         let (skin, morph, extra) = deform;
@@ -393,6 +404,7 @@ fn tessellate(
         // frame), or the runs: consecutive triangles, each drawing the level's run mesh (the
         // last one maybe a shorter one).
         let mut origins = None;
+        let mut welded_mesh = None;
         let runs = match (&built, &lod) {
             (Ok(b), None)
                 if draw != TessellaDraw::Runs && b.plan.vertex_count() <= WELDED_VERTICES =>
@@ -403,6 +415,7 @@ fn tessellate(
                     .get(&mut meshes, &mut buffers, key, &b.plan, per_frame)
                     .map(|(m, o)| {
                         origins = o;
+                        welded_mesh = Some(m.id());
                         vec![(0..b.boxes.len(), m)]
                     })
             }
@@ -503,25 +516,46 @@ fn tessellate(
         }
         commands.entity(entity).remove::<(LodState, LodLevels)>();
         let [b0, b1, b2, b3, b4, b5, b6, b7] = handles;
-        // Per frame: the buffer the compute pass writes and the vertex stages read.
-        let per_frame = origins.map(|origins| {
-            let vertices = built.plan.vertex_count();
-            let size = (vertices * per_frame::EVALUATED_FLOATS * 4) as u64;
+        let normal_mode = NormalModeKey::of(built.normal_mode);
+        let extension = |evaluated: Handle<ShaderBuffer>, per_frame: bool| TessellaExtension {
+            stencil: b0.clone(),
+            net_points: b1.clone(),
+            net_normals: b2.clone(),
+            eval_params: b3.clone(),
+            displace_params: b4.clone(),
+            displace_data: b5.clone(),
+            edge_table: b6.clone(),
+            face_uvs: b7.clone(),
+            evaluated,
+            normal_mode,
+            per_frame,
+        };
+        // Per frame: a slot of the buffer the compute pass writes and the vertex stages read,
+        // in a pool whose material every entity of the same welded mesh and base material
+        // shares (`pool.rs`: Bevy draws them in one batch).
+        let per_frame = origins.zip(welded_mesh).map(|(origins, mesh)| {
+            let vertices = built.plan.vertex_count() as u32;
+            let seat = pools.join(
+                entity,
+                mesh,
+                plain_material.id(),
+                vertices,
+                &mut buffers,
+                &mut materials,
+                |evaluated| TessellaMaterial {
+                    base: base.clone(),
+                    extension: extension(evaluated, true),
+                },
+            );
             per_frame::PerFrameSource {
                 patch: [&b0, &b1, &b2, &b3, &b4, &b5, &b6].map(|b| b.clone()),
                 origins,
-                evaluated: buffers.add(ShaderBuffer::with_size(
-                    size,
-                    bevy::asset::RenderAssetUsages::RENDER_WORLD,
-                )),
-                mode: NormalModeKey::of(built.normal_mode),
+                seat,
+                mode: normal_mode,
                 basis: built.plan.options().scheme.basis(),
-                vertices: vertices as u32,
+                vertices,
             }
         });
-        let evaluated = per_frame
-            .as_ref()
-            .map_or_else(|| b7.clone(), |p| p.evaluated.clone());
         match &per_frame {
             Some(p) => commands.entity(entity).insert(p.clone()),
             None => commands
@@ -537,22 +571,20 @@ fn tessellate(
             Some(p) => commands.entity(entity).insert(p),
             None => commands.entity(entity).remove::<animate::GpuPose>(),
         };
-        let material = materials.add(TessellaMaterial {
-            base,
-            extension: TessellaExtension {
-                stencil: b0,
-                net_points: b1,
-                net_normals: b2,
-                eval_params: b3,
-                displace_params: b4,
-                displace_data: b5,
-                edge_table: b6,
-                face_uvs: b7,
-                evaluated,
-                normal_mode: NormalModeKey::of(built.normal_mode),
-                per_frame: per_frame.is_some(),
-            },
-        });
+        // The pool's material, its slot's first vertex in the tag; or a material of its own.
+        let (material, pooled_tag) = match &per_frame {
+            Some(p) => {
+                let pool = &pools.0[&p.seat.pool];
+                (pool.material.clone(), Some(p.seat.slot * pool.stride))
+            }
+            None => (
+                materials.add(TessellaMaterial {
+                    base,
+                    extension: extension(b7.clone(), false),
+                }),
+                None,
+            ),
+        };
         let children: Vec<Entity> = runs
             .into_iter()
             .map(|(faces, mesh)| {
@@ -564,7 +596,7 @@ fn tessellate(
                     },
                     Mesh3d(mesh),
                     MeshMaterial3d(material.clone()),
-                    MeshTag::new(faces.start as u32),
+                    MeshTag::new(pooled_tag.unwrap_or(faces.start as u32)),
                     Transform::IDENTITY,
                     // Bevy's own box would be the pattern's; each run has its nets'.
                     Aabb::from_min_max(lo, hi),

@@ -13,14 +13,16 @@
 
 use crate::animate::GpuPose;
 use crate::material::{patch_module_of_for_bevy, NormalModeKey, FIRST_BINDING};
+use crate::pool::{Pools, Seat};
 use crate::surface::Surface;
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
 use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{
-    BindGroupEntry, BindGroupLayout, BindGroupLayoutEntry, BindingType, BufferBindingType,
-    ComputePassDescriptor, ComputePipeline, PipelineCompilationOptions, PipelineLayoutDescriptor,
-    RawComputePipelineDescriptor, ShaderModuleDescriptor, ShaderSource, ShaderStages,
+    BindGroupEntry, BindGroupLayout, BindGroupLayoutEntry, BindingResource, BindingType,
+    BufferBinding, BufferBindingType, ComputePassDescriptor, ComputePipeline,
+    PipelineCompilationOptions, PipelineLayoutDescriptor, RawComputePipelineDescriptor,
+    ShaderModuleDescriptor, ShaderSource, ShaderStages,
 };
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::{GpuShaderBuffer, ShaderBuffer};
@@ -28,7 +30,7 @@ use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderSystems};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use tessella_core::{Basis, NormalMode};
-use tessella_gpu::{GpuContext, GpuNetBuilder, GpuSkinner, NetsTarget};
+use tessella_gpu::{GpuContext, GpuNetBuilder, GpuSkinner, NetsDispatch, NetsTarget};
 
 /// Threads a workgroup: 2^22 welded vertices at most ([`crate::WELDED_VERTICES`]) need 16,384
 /// workgroups, inside the 65,535 one dimension of a dispatch allows.
@@ -66,8 +68,8 @@ pub(crate) struct PerFrameSource {
     pub patch: [Handle<ShaderBuffer>; 7],
     /// Per welded vertex, its coarse triangle and pattern vertex (two `u32`).
     pub origins: Handle<ShaderBuffer>,
-    /// The output: [`EVALUATED_FLOATS`] floats a welded vertex.
-    pub evaluated: Handle<ShaderBuffer>,
+    /// The output: a slot of its pool's buffer, [`EVALUATED_FLOATS`] floats a welded vertex.
+    pub seat: Seat,
     pub mode: NormalModeKey,
     pub basis: Basis,
     pub vertices: u32,
@@ -145,6 +147,8 @@ struct Kernel {
 
 struct Job {
     source: PerFrameSource,
+    /// Its pool's buffer and its slot's byte offset there.
+    output: (Handle<ShaderBuffer>, u64),
     version: u64,
     evaluated: Option<u64>,
     /// This frame's deform, for an entity posed on the GPU.
@@ -166,23 +170,37 @@ type Extracted = (
     Option<&'static GpuPose>,
 );
 
-/// Copies each per-frame entity's source and nets version into the render world; entities
-/// gone (or drawn otherwise now) lose their job.
-fn extract(mut evaluations: ResMut<Evaluations>, query: Extract<Query<Extracted>>) {
+/// Copies each per-frame entity's source, output slot and nets version into the render
+/// world; entities gone (or drawn otherwise now) lose their job. A new output (another slot,
+/// or the pool's buffer grown) is evaluated again.
+fn extract(
+    mut evaluations: ResMut<Evaluations>,
+    query: Extract<Query<Extracted>>,
+    pools: Extract<Res<Pools>>,
+) {
     let mut live = HashSet::new();
     for (entity, source, surface, pose) in &query {
+        let Some(pool) = pools.0.get(&source.seat.pool) else {
+            continue; // not seated yet
+        };
+        let output = (pool.buffer.clone(), pool.offset(source.seat.slot));
         live.insert(entity);
         let job = evaluations.jobs.entry(entity).or_insert_with(|| Job {
             source: source.clone(),
+            output: output.clone(),
             version: surface.version,
             evaluated: None,
             pose: None,
             posing: None,
         });
-        if job.source.evaluated != source.evaluated {
+        if job.source.origins != source.origins || job.source.patch != source.patch {
             job.source = source.clone();
             job.evaluated = None;
             job.posing = None;
+        }
+        if job.output != output {
+            job.output = output;
+            job.evaluated = None;
         }
         job.version = surface.version;
         job.pose = pose.cloned();
@@ -190,11 +208,14 @@ fn extract(mut evaluations: ResMut<Evaluations>, query: Extract<Query<Extracted>
     evaluations.jobs.retain(|entity, _| live.contains(entity));
 }
 
-/// Records and submits one dispatch per surface whose nets changed since its last
-/// evaluation, all in one compute pass after the posing passes of the entities posed on the
-/// GPU (few passes: each costs a software rasterizer's threads a synchronisation). The submission precedes the frame's render passes on the queue, and follows the
-/// frame's buffer writes (Bevy's uploads of the nets), so every pass reads this frame's points.
-/// A surface whose buffers are not on the GPU yet waits for a later frame.
+/// Records and submits the frame's evaluations in three compute passes whatever the number
+/// of entities: the skinning of every entity posed on the GPU, then their net building, then
+/// one dispatch per surface whose nets changed since its last evaluation (each pass costs a
+/// software rasterizer's threads a synchronisation; a pass per entity and stage cost a crowd
+/// of 100 about twice its frame). The submission precedes the frame's render passes on the
+/// queue, and follows the frame's buffer writes (Bevy's uploads of the nets), so every pass
+/// reads this frame's points. A surface whose buffers are not on the GPU yet waits for a
+/// later frame.
 fn evaluate(
     mut evaluations: ResMut<Evaluations>,
     buffers: Res<RenderAssets<GpuShaderBuffer>>,
@@ -211,9 +232,9 @@ fn evaluate(
     let ctx = ctx.get_or_insert_with(|| {
         GpuContext::from_device(device.wgpu_device().clone(), (**queue).clone())
     });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    // Each surface's kernel, bind group and vertex count, dispatched together below.
+    // Each surface's kernel, bind group and vertex count; the posed ones' skinners and nets.
     let mut dispatches = Vec::new();
+    let mut posed = Vec::new();
     for (entity, job) in jobs.iter_mut() {
         if job.evaluated == Some(job.version) {
             continue;
@@ -230,10 +251,7 @@ fn evaluate(
             }
         };
         let source = &job.source;
-        let handles = source
-            .patch
-            .iter()
-            .chain([&source.origins, &source.evaluated]);
+        let handles = source.patch.iter().chain([&source.origins, &job.output.0]);
         let Some(gpu) = handles
             .map(|h| buffers.get(h).map(|b| &b.buffer))
             .collect::<Option<Vec<_>>>()
@@ -241,19 +259,27 @@ fn evaluate(
             continue; // not uploaded yet
         };
         if let Some(pose) = &job.pose {
-            pose_on_gpu(ctx, &mut encoder, pose, &mut job.posing, (gpu[1], gpu[2]));
+            if let Some(nets) = pose_on_gpu(ctx, pose, &mut job.posing, (gpu[1], gpu[2])) {
+                posed.push((*entity, nets));
+            }
         }
-        let entries: Vec<BindGroupEntry> = gpu
+        // The output: the entity's slot of its pool's buffer.
+        let size = u64::from(source.vertices) * (EVALUATED_FLOATS * 4) as u64;
+        let output = BufferBinding {
+            buffer: gpu[8],
+            offset: job.output.1,
+            size: std::num::NonZero::new(size),
+        };
+        let entries: Vec<BindGroupEntry> = gpu[..8]
             .iter()
+            .map(|b| b.as_entire_binding())
+            .chain([BindingResource::Buffer(output)])
             .zip(
                 (0..7)
                     .map(|b| FIRST_BINDING + b)
                     .chain([ORIGINS_BINDING, EVALUATED_BINDING]),
             )
-            .map(|(buffer, binding)| BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            })
+            .map(|(resource, binding)| BindGroupEntry { binding, resource })
             .collect();
         match ctx.scoped(|| device.create_bind_group("tessella per-frame", layout, &entries)) {
             Ok(group) => dispatches.push(((source.mode, source.basis), group, source.vertices)),
@@ -264,7 +290,28 @@ fn evaluate(
     if dispatches.is_empty() {
         return;
     }
+    let mut encoder = device.create_command_encoder(&Default::default());
     let recorded = ctx.scoped(|| {
+        if !posed.is_empty() {
+            let mut pass = encoder.begin_compute_pass(&ComputePassDescriptor {
+                label: Some("tessella skin"),
+                ..Default::default()
+            });
+            for (entity, _) in &posed {
+                if let Some(p) = jobs.get(entity).and_then(|j| j.posing.as_ref()) {
+                    p.skinner.dispatch(&mut pass);
+                }
+            }
+        }
+        if !posed.is_empty() {
+            let mut pass = encoder.begin_compute_pass(&ComputePassDescriptor {
+                label: Some("tessella nets"),
+                ..Default::default()
+            });
+            for (_, nets) in &posed {
+                nets.dispatch(&mut pass);
+            }
+        }
         let mut pass = encoder.begin_compute_pass(&ComputePassDescriptor {
             label: Some("tessella per-frame evaluation"),
             ..Default::default()
@@ -293,22 +340,22 @@ fn evaluate(
     }
 }
 
-/// Records the skinning and the net building of an entity posed on the GPU into `encoder`,
-/// the nets written into the material's buffers `nets` (points, normals), ahead of its
-/// evaluation. Where the GPU cannot (the skinner or builder refused, or their work), the
+/// Prepares the skinning and net building of an entity posed on the GPU, the nets written
+/// into the material's buffers `nets` (points, normals) ahead of its evaluation: this frame's
+/// matrices and weights written, its skinner (in `posing`) and its bound net build (returned)
+/// ready to record. Where the GPU cannot (the skinner or builder refused, or their work), the
 /// entity's flag is raised and the main world poses it on the CPU from the next frame.
 fn pose_on_gpu(
     ctx: &GpuContext,
-    encoder: &mut bevy::render::render_resource::CommandEncoder,
     pose: &GpuPose,
     posing: &mut Option<Posing>,
     nets: (
         &bevy::render::render_resource::Buffer,
         &bevy::render::render_resource::Buffer,
     ),
-) {
+) -> Option<NetsDispatch> {
     if pose.refused.load(Ordering::Relaxed) || pose.matrices.is_empty() {
-        return; // posed on the CPU, or not posed yet (the nets are the rest pose's)
+        return None; // posed on the CPU, or not posed yet (the nets are the rest pose's)
     }
     let plan = &pose.plan;
     let made = match posing.take() {
@@ -320,16 +367,19 @@ fn pose_on_gpu(
     };
     let done = made.and_then(|p| {
         p.skinner.update_matrices(&pose.matrices, &pose.weights)?;
-        p.skinner.record(encoder)?;
         let target = NetsTarget::new(nets.0, nets.1, plan.face_count(), plan.normal_mode());
-        p.builder.record(encoder, p.skinner.output(), target)?;
-        Ok(p)
+        let built = p.builder.bind(p.skinner.output(), target)?;
+        Ok((p, built))
     });
     match done {
-        Ok(p) => *posing = Some(p),
+        Ok((p, built)) => {
+            *posing = Some(p);
+            built
+        }
         Err(e) => {
             warn!("tessella: posing on the CPU, the GPU cannot: {e}");
             pose.refused.store(true, Ordering::Relaxed);
+            None
         }
     }
 }

@@ -357,6 +357,48 @@ fn skinned_character_played_by_bevy_matches_tessella_render_of_the_clip() {
     }
 }
 
+/// A crowd drawn per frame shares one material, so Bevy draws it in one batch a pass, each
+/// copy reading its own slot of the pool's buffer (its `MeshTag`): nine copies held each at its
+/// own time of a clip (`--stagger`), posed on the GPU and on the CPU, match the welded draw
+/// (a material and an evaluation a copy) but for a few edge pixels, and are not the picture
+/// of the nine at one time (a copy reading another's slot would draw the other's pose).
+#[test]
+fn a_crowd_shares_one_material_and_each_copy_draws_its_own_pose() {
+    let dir = tempfile_dir("crowd");
+    let base = [
+        "--scheme", "pn", "--level", "4", "--crowd", "9", "--clip", "hop", "--time", "0.1",
+        "--size", "256x256", "--frames", "1",
+    ];
+    let draw = |name: &str, extra: &[&str]| {
+        let out = dir.join(format!("{name}.png"));
+        let mut args = base.to_vec();
+        args.extend(extra);
+        let stdout = view_stdout(CREATURE, &args, &out);
+        let materials = stdout
+            .lines()
+            .filter_map(|l| l.split("\"tessella_materials\":").nth(1))
+            .filter_map(|v| v.trim_end_matches('}').parse::<u32>().ok())
+            .next_back()
+            .unwrap_or_else(|| panic!("{name}: no material count in {stdout}"));
+        (out, materials)
+    };
+    let stagger = ["--stagger", "0.13"];
+    let (gpu, gpu_materials) = draw("pooled-gpu", &[&stagger[..], &["--pose", "gpu"]].concat());
+    let (cpu, cpu_materials) = draw("pooled-cpu", &[&stagger[..], &["--pose", "cpu"]].concat());
+    let (own, own_materials) = draw("welded", &[&stagger[..], &["--draw", "welded"]].concat());
+    let (together, _) = draw("together", &[]);
+    assert_eq!((gpu_materials, cpu_materials, own_materials), (1, 1, 9));
+    let (a, _) = differ(&gpu, &own, 8);
+    let (b, _) = differ(&cpu, &own, 8);
+    let (c, _) = differ(&gpu, &together, 8);
+    eprintln!("pooled vs welded: {a:.5} (GPU posing), {b:.5} (CPU); staggered vs together {c:.5}");
+    assert!(a < 0.002 && b < 0.002, "{a} / {b} of the pixels differ");
+    assert!(
+        c > 0.01,
+        "the staggered crowd looks like the crowd at one time ({c})"
+    );
+}
+
 /// The creature refined offline (`tessella refine` writes the glTF scene back: skin, morph
 /// targets and clips kept) plays in Bevy as a plain skinned mesh (Bevy's glTF loader, its own
 /// skinning and morphing, no tessellation): its silhouette matches tessella's own posing of

@@ -121,7 +121,7 @@ pub use error::GpuError;
 #[cfg(feature = "blocking")]
 pub use evaluator::{gpu_refine, gpu_refine_with};
 pub use evaluator::{GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth};
-pub use net_builder::{GpuNetBuilder, NetsTarget};
+pub use net_builder::{GpuNetBuilder, NetsDispatch, NetsTarget};
 pub use renderer::{PatternRenderer, PATTERN_VERTEX_STORAGE_BUFFERS};
 pub use shading::{Shading, TargetFormats, VERTEX_WGSL};
 pub use skinner::{GpuSkinner, SKINNED_VERTEX_BYTES};

@@ -336,6 +336,28 @@ impl GpuNetBuilder {
         input: CoarseInput<'_>,
         target: NetsTarget<'_>,
     ) -> Result<u64, GpuError> {
+        let Some(dispatch) = self.bind(input, target)? else {
+            return Ok(0);
+        };
+        self.ctx.scoped(|| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("tessella nets"),
+                timestamp_writes: None,
+            });
+            dispatch.dispatch(&mut pass);
+        })?;
+        Ok(dispatch.written)
+    }
+
+    /// What [`GpuNetBuilder::record`] checks and binds, without a pass: the dispatch to
+    /// record into a compute pass the caller began ([`NetsDispatch::dispatch`]; many builders
+    /// in one pass, after the pass that wrote `input`), or `None` when there is nothing to
+    /// build. Refuses what `record` refuses.
+    pub fn bind(
+        &self,
+        input: CoarseInput<'_>,
+        target: NetsTarget<'_>,
+    ) -> Result<Option<NetsDispatch>, GpuError> {
         self.check_target(&target)?;
         let align = self.ctx.limits.min_storage_buffer_offset_alignment;
         input
@@ -349,7 +371,7 @@ impl GpuNetBuilder {
             None => self.faces,
         } as u64;
         if threads == 0 || self.vertices == 0 {
-            return Ok(0);
+            return Ok(None);
         }
         let limit = self.ctx.max_binding();
         let positions = binding(
@@ -420,14 +442,12 @@ impl GpuNetBuilder {
                     layout: &self.pipelines.layout,
                     entries: &entries,
                 });
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("tessella nets"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipelines.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(x as u32, y as u32, 1);
-            written
+            Some(NetsDispatch {
+                pipeline: self.pipelines.pipeline.clone(),
+                group,
+                groups: (x as u32, y as u32),
+                written,
+            })
         })
     }
 
@@ -510,6 +530,30 @@ impl GpuNetBuilder {
             .buffer_init("nets params", bytes, wgpu::BufferUsages::UNIFORM);
         *slot = Some((params, buffer.clone()));
         (buffer, bytes.len() as u64)
+    }
+}
+
+/// One net build, bound and checked ([`GpuNetBuilder::bind`]), to record into a compute pass.
+#[derive(Debug)]
+pub struct NetsDispatch {
+    pipeline: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    groups: (u32, u32),
+    written: u64,
+}
+
+impl NetsDispatch {
+    /// Records the build into `pass`.
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+    }
+
+    /// The bytes binding it wrote to the GPU: 0, or 48 when the input's layout (or the
+    /// target) changed since the builder's last call.
+    pub fn written(&self) -> u64 {
+        self.written
     }
 }
 

@@ -296,10 +296,20 @@ impl GpuSkinner {
                 label: Some("tessella skin"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.group, &[]);
-            pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+            self.dispatch(&mut pass);
         })
+    }
+
+    /// Records the skinning into a compute pass the caller began: many skinners in one pass
+    /// (a crowd) cost one pass, where a pass each costs a software rasterizer a
+    /// synchronisation each. Whatever reads [`GpuSkinner::output`] goes in a later pass.
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>) {
+        if self.vertex_count == 0 {
+            return;
+        }
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
     }
 
     /// The skinned positions (byte 0) and normals (byte 16) in the output buffer, stride
