@@ -212,6 +212,45 @@ fn slots_buffer(stride: u32, slots: u32) -> ShaderBuffer {
 mod tests {
     use super::*;
 
+    /// Pools with their assets, as the `tessellate` system holds them.
+    #[derive(Default)]
+    struct Fixture {
+        pools: Pools,
+        buffers: Assets<ShaderBuffer>,
+        materials: Assets<TessellaMaterial>,
+    }
+
+    impl Fixture {
+        fn join(&mut self, entity: u32, mesh: u128, base: u128, vertices: u32) -> Seat {
+            let entity = Entity::from_raw_u32(entity).unwrap();
+            let mesh = AssetId::<Mesh>::Uuid {
+                uuid: bevy::asset::uuid::Uuid::from_u128(mesh),
+            };
+            let base = AssetId::<StandardMaterial>::Uuid {
+                uuid: bevy::asset::uuid::Uuid::from_u128(base),
+            };
+            let make = |b: Handle<ShaderBuffer>| TessellaMaterial {
+                base: StandardMaterial::default(),
+                extension: crate::material::TessellaExtension {
+                    stencil: b.clone(),
+                    net_points: b.clone(),
+                    net_normals: b.clone(),
+                    eval_params: b.clone(),
+                    displace_params: b.clone(),
+                    displace_data: b.clone(),
+                    edge_table: b.clone(),
+                    face_uvs: b.clone(),
+                    evaluated: b,
+                    normal_mode: Default::default(),
+                    per_frame: true,
+                },
+            };
+            let (buffers, materials) = (&mut self.buffers, &mut self.materials);
+            self.pools
+                .join(entity, mesh, base, vertices, buffers, materials, make)
+        }
+    }
+
     /// Slots start at 256-byte multiples; a crowd of one mesh and material fills one page
     /// whose buffer doubles (the material rebound to the new one), with distinct slots; a
     /// re-join keeps the slot; a freed slot is given again; another base material gets its
@@ -223,114 +262,40 @@ mod tests {
         assert_eq!(stride(33), 64);
         assert_eq!((u64::from(stride(1000)) * 24) % SLOT_ALIGN, 0);
 
-        let mut buffers = Assets::<ShaderBuffer>::default();
-        let mut materials = Assets::<TessellaMaterial>::default();
-        let mut pools = Pools::default();
-        let mesh = AssetId::<Mesh>::default();
-        let base = AssetId::<StandardMaterial>::default();
-        let make = |b: Handle<ShaderBuffer>| TessellaMaterial {
-            base: StandardMaterial::default(),
-            extension: crate::material::TessellaExtension {
-                stencil: b.clone(),
-                net_points: b.clone(),
-                net_normals: b.clone(),
-                eval_params: b.clone(),
-                displace_params: b.clone(),
-                displace_data: b.clone(),
-                edge_table: b.clone(),
-                face_uvs: b.clone(),
-                evaluated: b,
-                normal_mode: Default::default(),
-                per_frame: true,
-            },
-        };
-        let entities: Vec<Entity> = (1..=5).map(|i| Entity::from_raw_u32(i).unwrap()).collect();
-        let mut seats = Vec::new();
-        for e in &entities {
-            seats.push(pools.join(*e, mesh, base, 1000, &mut buffers, &mut materials, make));
-        }
-        assert_eq!(pools.0.len(), 1);
-        assert_eq!(materials.len(), 1);
+        let mut f = Fixture::default();
+        let seats: Vec<Seat> = (1..=5).map(|e| f.join(e, 1, 1, 1000)).collect();
+        assert_eq!(f.pools.0.len(), 1);
+        assert_eq!(f.materials.len(), 1);
         let slots: Vec<u32> = seats.iter().map(|s| s.slot).collect();
         assert_eq!(slots, vec![0, 1, 2, 3, 4]);
-        let pool = &pools.0[&seats[0].pool];
+        let pool = &f.pools.0[&seats[0].pool];
         assert_eq!(pool.capacity, 8);
-        let bound = &materials.iter().next().unwrap().1.extension.evaluated;
+        let bound = &f.materials.iter().next().unwrap().1.extension.evaluated;
         assert_eq!(bound, &pool.buffer);
-        let size = match buffers.get(&pool.buffer).unwrap().data {
+        let size = match f.buffers.get(&pool.buffer).unwrap().data {
             bevy::render::storage::ShaderBufferData::Uninitialized(size) => size,
             _ => panic!("a pool buffer with data"),
         };
         assert_eq!(size, 8 * pool.slot_bytes());
         assert_eq!(pool.offset(3), 3 * 1024 * 24);
         // The same entity again: the same slot.
-        let again = pools.join(
-            entities[2],
-            mesh,
-            base,
-            1000,
-            &mut buffers,
-            &mut materials,
-            make,
-        );
-        assert_eq!(again, seats[2]);
+        assert_eq!(f.join(3, 1, 1, 1000), seats[2]);
         // Entity 2 leaves: its slot goes to the next comer.
-        let kept = seats.clone();
-        pools.release(|e| {
-            let i = entities.iter().position(|x| *x == e)?;
-            (i != 1).then(|| kept[i])
+        f.pools.release(|e| {
+            let i = e.index_u32() as usize;
+            (i != 2).then(|| seats[i - 1])
         });
-        let newcomer = Entity::from_raw_u32(9).unwrap();
-        let seat = pools.join(
-            newcomer,
-            mesh,
-            base,
-            1000,
-            &mut buffers,
-            &mut materials,
-            make,
-        );
+        let seat = f.join(9, 1, 1, 1000);
         assert_eq!(seat.slot, 1);
         // Another base material: a pool of its own.
-        let other = AssetId::<StandardMaterial>::Uuid {
-            uuid: bevy::asset::uuid::Uuid::from_u128(1),
-        };
-        let own = pools.join(
-            newcomer,
-            mesh,
-            other,
-            1000,
-            &mut buffers,
-            &mut materials,
-            make,
-        );
+        let own = f.join(9, 1, 2, 1000);
         assert_ne!(own.pool, seat.pool);
-        assert_eq!(materials.len(), 2);
+        assert_eq!(f.materials.len(), 2);
         // Slots of 4 Mi vertices (96 MiB): one a page.
-        let big = AssetId::<Mesh>::Uuid {
-            uuid: bevy::asset::uuid::Uuid::from_u128(2),
-        };
-        let a = pools.join(
-            entities[0],
-            big,
-            base,
-            1 << 22,
-            &mut buffers,
-            &mut materials,
-            make,
-        );
-        let b = pools.join(
-            entities[1],
-            big,
-            base,
-            1 << 22,
-            &mut buffers,
-            &mut materials,
-            make,
-        );
+        let (a, b) = (f.join(1, 3, 1, 1 << 22), f.join(2, 3, 1, 1 << 22));
         assert_eq!((a.pool.page, b.pool.page, a.slot, b.slot), (0, 1, 0, 0));
         // Nobody sits anywhere: every pool goes.
-        pools.release(|_| None);
-        assert!(pools.0.is_empty());
+        f.pools.release(|_| None);
+        assert!(f.pools.0.is_empty());
     }
 }
