@@ -661,6 +661,19 @@ export class Deformer {
     call(() => inner.pose(matrices, weights, positions, this.hasNormals ? normals : new Float32Array(0)));
   }
 
+  /**
+   * The box that holds the curved surface of a pose without building its nets: the vertices
+   * posed with `matrices` and `weights` (positions only), their box grown on every side by
+   * `reach` times the longest edge of the `indices` triangles (Uint32Array, 3 a triangle); the
+   * scheme's control reach: 0.5 for PN and PN-AEN, `|alpha|` for Phong, 0 for flat. Returns
+   * a Float32Array of 6 numbers, the low corner then the high one.
+   */
+  posedBounds(matrices, weights, indices, reach) {
+    if (this.#inner === null) throw new TessellaError('this Deformer was freed');
+    const inner = this.#inner;
+    return call(() => inner.posedBounds(matrices, weights, indices, reach));
+  }
+
   free() {
     if (this.#inner !== null) this.#inner.free();
     this.#inner = null;

@@ -100,7 +100,7 @@ function deltas(geometry, name) {
 class SourcePose {
   #mesh;
   #deformer;
-  #reach;
+  #indices;
   #matrices;
   #last;
   #weights;
@@ -135,7 +135,8 @@ class SourcePose {
     this.#deformer = new Deformer(rest);
     /** The source's rest data (what the GPU posing pass uploads once), and the matrices a frame takes. */
     this.rest = { ...rest, matrixCount: this.#deformer.matrixCount };
-    this.#reach = reach(rest);
+    // The coarse triangles, for the bounds of a pose (`bounds`).
+    this.#indices = Uint32Array.from(sourceOf(g).indices);
     this.#matrices = new Float32Array(this.#deformer.matrixCount * 16);
     this.#last = new Float32Array(this.#matrices.length + targets).fill(NaN);
     this.#weights = new Float32Array(targets);
@@ -203,72 +204,22 @@ class SourcePose {
   }
 
   /**
-   * Bounds that hold the drawn pose's curved surface without posing a vertex (GPU posing): each
-   * joint's box (the rest box of the vertices it moves, grown by the weighted morph
-   * displacements) moved by the joint's matrix (the box of its 8 moved corners); a skinned
-   * vertex blends such points, so lies in the box of them all. The control points lie within
-   * `growth` times an edge (at most that box's diagonal) of the posed triangles, so the box
-   * grows by that on every side. Sets `box` and `sphere` (three's Box3, Sphere).
+   * Bounds that hold the drawn pose's curved surface (GPU posing, whose nets stay on the GPU):
+   * the coarse vertices posed on the CPU with the drawn matrices and weights, positions only,
+   * their box grown by `growth` times the longest posed edge (the scheme's control reach:
+   * each patch lies in its control net's hull, within that of its triangle). Sets `box` and
+   * `sphere` (three's Box3, Sphere).
    */
   bounds(box, sphere, growth) {
-    const { morph, joints } = this.#reach;
-    const w = this.drawnWeights;
-    let r = 0;
-    for (let t = 0; t < morph.length; t++) r += Math.abs(w[t]) * morph[t];
-    const m = this.drawnMatrices;
-    const lo = [Infinity, Infinity, Infinity];
-    const hi = [-Infinity, -Infinity, -Infinity];
-    for (const { joint, min, max } of joints) {
-      const e = m.subarray(16 * joint, 16 * joint + 16);
-      for (let corner = 0; corner < 8; corner++) {
-        const x = corner & 1 ? max[0] + r : min[0] - r;
-        const y = corner & 2 ? max[1] + r : min[1] - r;
-        const z = corner & 4 ? max[2] + r : min[2] - r;
-        for (let a = 0; a < 3; a++) {
-          const c = e[a] * x + e[4 + a] * y + e[8 + a] * z + e[12 + a];
-          lo[a] = Math.min(lo[a], c);
-          hi[a] = Math.max(hi[a], c);
-        }
-      }
-    }
-    const d = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) * growth;
-    box.min.set(lo[0] - d, lo[1] - d, lo[2] - d);
-    box.max.set(hi[0] + d, hi[1] + d, hi[2] + d);
+    const b = this.#deformer.posedBounds(this.drawnMatrices, this.drawnWeights, this.#indices, growth);
+    box.min.set(b[0], b[1], b[2]);
+    box.max.set(b[3], b[4], b[5]);
     box.getBoundingSphere(sphere);
   }
 
   free() {
     this.#deformer.free();
   }
-}
-
-// What SourcePose.bounds grows from: each morph target's largest displacement, and for each
-// joint that moves some vertex (or the one matrix of an unskinned source) the rest box of the
-// vertices it moves.
-function reach(rest) {
-  const p = rest.positions;
-  const n = p.length / 3;
-  const morph = [];
-  for (let t = 0; t < rest.targets; t++) {
-    let most = 0;
-    const d = rest.positionDeltas;
-    for (let v = 3 * n * t; v < 3 * n * (t + 1); v += 3) most = Math.max(most, Math.hypot(d[v], d[v + 1], d[v + 2]));
-    morph.push(most);
-  }
-  const boxes = new Map();
-  const add = (joint, v) => {
-    let b = boxes.get(joint);
-    if (b === undefined) boxes.set(joint, (b = { joint, min: [Infinity, Infinity, Infinity], max: [-Infinity, -Infinity, -Infinity] }));
-    for (let a = 0; a < 3; a++) {
-      b.min[a] = Math.min(b.min[a], p[3 * v + a]);
-      b.max[a] = Math.max(b.max[a], p[3 * v + a]);
-    }
-  };
-  for (let v = 0; v < n; v++) {
-    if (rest.joints === undefined) add(0, v);
-    else for (let k = 0; k < 4; k++) if (rest.weights[4 * v + k] > 0) add(rest.joints[4 * v + k], v);
-  }
-  return { morph, joints: [...boxes.values()] };
 }
 
 // Interpolates a per-vertex attribute at each refined vertex: the barycentric blend of its
@@ -1036,8 +987,8 @@ export class TessellatedMesh extends Mesh {
 
   // GPU posing's frame: the current joint matrices and weights become the drawn ones, built
   // into the nets by the pass before this mesh's next draw (#posePass); uploads those alone
-  // (and the corners when they changed). The bounds grow from the joints (SourcePose.bounds):
-  // the CPU never sees the posed nets.
+  // (and the corners when they changed). The bounds come from the coarse vertices posed on
+  // the CPU, positions only (SourcePose.bounds): the CPU never sees the posed nets.
   #gpuFrame() {
     this.#pose.commit();
     this.#gpuDirty = true;

@@ -4,7 +4,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { Buffer } from 'node:buffer';
 import { readFileSync } from 'node:fs';
-import { AnimatedMesh, ready, readAnimated, refine, Refiner, TessellaError } from '../src/index.js';
+import { AnimatedMesh, Deformer, ready, readAnimated, refine, Refiner, TessellaError } from '../src/index.js';
 import { bytes } from './helpers.js';
 
 await ready;
@@ -198,4 +198,29 @@ test('bad files, clips and times throw a TessellaError naming the problem, and t
   // Nothing broke: the same object and the package still work.
   assert.equal(anim.pose('hop', 0.2).positions.length, anim.vertexCount * 3);
   assert.equal(readAnimated(glb.buffer.slice(glb.byteOffset, glb.byteOffset + glb.byteLength), 'animated-creature.glb').clips.length, 3);
+});
+
+test('Deformer.posedBounds: the posed vertices box grown by the reach times the longest posed edge; bad indices throw', () => {
+  // Two joints: joint 1 moves x by 2; vertex 0 is half on each, vertex 1 on joint 1, vertex 2
+  // on joint 0; the morph target lifts every vertex by its weight. Posed at weight 0.5:
+  // (1,0,.5), (3,0,.5), (0,1,.5); the longest edge (3,0)-(0,1) is sqrt(10).
+  const d = new Deformer({
+    positions: new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]),
+    joints: [0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0],
+    weights: new Float32Array([0.5, 0.5, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0]),
+    jointCount: 2,
+    positionDeltas: new Float32Array([0, 0, 1, 0, 0, 1, 0, 0, 1]),
+    targets: 1,
+  });
+  const identity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
+  const moved = [...identity];
+  moved[12] = 2;
+  const matrices = new Float32Array([...identity, ...moved]);
+  const b = d.posedBounds(matrices, new Float32Array([0.5]), new Uint32Array([0, 1, 2]), 0.5);
+  const g = 0.5 * Math.sqrt(10);
+  const want = [-g, -g, 0.5 - g, 3 + g, 1 + g, 0.5 + g];
+  assert.equal(b.length, 6);
+  want.forEach((w, k) => assert.ok(Math.abs(b[k] - w) < 1e-6, `${[...b]}`));
+  assert.throws(() => d.posedBounds(matrices, new Float32Array([0.5]), new Uint32Array([0, 1, 9]), 0.5), (e) => e instanceof TessellaError && /vertex 9/.test(e.message));
+  d.free();
 });

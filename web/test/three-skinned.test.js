@@ -141,6 +141,7 @@ test("GPU posing's nets texture, read back, is the CPU's nets of the same pose",
     console.log(`${morphOnly ? 'morph-only' : clip} ${scheme}: nets differ by at most ${most.toExponential(2)} (${(most / size).toExponential(2)} of the size ${size.toFixed(3)}); bounding sphere ${ratio.toFixed(2)}x the CPU's`);
     assert.ok(finite);
     assert.ok(holds, 'the GPU-posed bounds hold the posed control points');
+    assert.ok(ratio < 2, `${clip} ${scheme}: the bounding sphere is ${ratio}x the CPU's`);
     assert.ok(most <= 1e-4 * size, `${clip} ${scheme}: ${most}`);
   }
   // Reading the target back stalls the GPU, which Chromium warns of: this test's own doing.

@@ -90,38 +90,13 @@ pub(crate) struct Animated {
 }
 
 /// The box around a GPU-posed entity's surface, from its coarse vertices skinned on the CPU
-/// (positions only, O(coarse), nothing uploaded): a patch lies in its control net's hull, and
-/// the net strays from its triangle by at most [`reach`] times the longest posed edge (PN's
-/// edge points by a third of their edge, its centre by half; Phong's projections by `|alpha|`
-/// edges), so the vertices' box grown by that much holds the surface.
-pub(crate) fn pose_box(plan: &Plan, positions: &[[f32; 3]]) -> (Vec3, Vec3) {
-    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    for p in positions {
-        lo = lo.min(Vec3::from(*p));
-        hi = hi.max(Vec3::from(*p));
-    }
-    let mut longest = 0.0f32;
-    for t in plan.triangles() {
-        let [a, b, c] = t.map(|v| Vec3::from(positions[v as usize]));
-        longest = longest
-            .max(a.distance(b))
-            .max(b.distance(c))
-            .max(c.distance(a));
-    }
-    let grow = reach(&plan.options().scheme) * longest;
-    (lo - grow, hi + grow)
-}
-
-/// How far, in edges, a scheme's control points may stray from their triangle (the schemes the
-/// GPU builds nets for; one edge for any other, which the CPU poses anyway).
-fn reach(scheme: &tessella_core::Scheme) -> f32 {
-    use tessella_core::Scheme;
-    match scheme {
-        Scheme::Flat => 0.0,
-        Scheme::Pn | Scheme::PnAen => 0.5,
-        Scheme::Phong { alpha } => alpha.abs(),
-        _ => 1.0,
-    }
+/// (positions only, O(coarse), nothing uploaded): the core's `patch_bounds` with the scheme's
+/// control reach (one edge for a scheme without one, which the CPU poses anyway).
+pub(crate) fn pose_box(plan: &Plan, positions: &[[f32; 3]]) -> Result<(Vec3, Vec3), String> {
+    let reach = plan.options().scheme.control_reach().unwrap_or(1.0);
+    tessella_core::mesh::patch_bounds(positions, plan.triangles(), reach)
+        .map(|(lo, hi)| (Vec3::from(lo), Vec3::from(hi)))
+        .map_err(|e| e.to_string())
 }
 
 impl Animated {
@@ -341,15 +316,18 @@ pub(crate) fn pose(
             stats.add((gpu.matrices.len() * 64 + gpu.weights.len() * 4) as u64);
             surface.version += 1;
             // The culling box, from the coarse vertices skinned here (positions alone).
-            let skinned = animated.poser.pose_with(
-                &animated.matrices,
-                &animated.weights,
-                &mut animated.positions,
-                None,
-            );
+            let skinned = animated
+                .poser
+                .pose_with(
+                    &animated.matrices,
+                    &animated.weights,
+                    &mut animated.positions,
+                    None,
+                )
+                .map_err(|e| e.to_string())
+                .and_then(|()| pose_box(&surface.plan, &animated.positions));
             match skinned {
-                Ok(()) => {
-                    let (lo, hi) = pose_box(&surface.plan, &animated.positions);
+                Ok((lo, hi)) => {
                     for child in &patches.0 {
                         if let Ok((_, mut aabb)) = boxes.get_mut(*child) {
                             *aabb = Aabb::from_min_max(lo, hi);
@@ -406,79 +384,5 @@ pub(crate) fn pose(
             }
         }
         animated.posed_for = Some((animated.matrices.clone(), animated.weights.clone()));
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::pattern::face_boxes;
-    use tessella_core::refine::Plan;
-    use tessella_core::{RefineOptions, Scheme};
-
-    /// The box the GPU path culls with holds the posed surface: for the bundled skinned,
-    /// morphing creature at times of each clip, every coarse triangle's control net as
-    /// tessella's CPU poses it (its patch lies in the net's hull) is inside the box of the
-    /// skinned coarse vertices grown by the scheme's reach, for each scheme the GPU builds; and
-    /// the box is not the loose one it replaced (under 1.5 times the nets' extent).
-    #[test]
-    fn pose_box_holds_the_cpu_posed_nets() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../samples/animated-creature.glb"
-        );
-        let model = tessella_io::read_animated(std::path::Path::new(path)).unwrap();
-        assert_eq!(model.instances.len(), 1);
-        let instance = &model.instances[0];
-        let mesh = tessella_core::Mesh::new(
-            instance.positions.clone(),
-            instance.normals.clone(),
-            None,
-            model.triangles.clone(),
-        )
-        .unwrap();
-        let clips = model.clips.len();
-        let poser = Poser::new(model).unwrap();
-        let n = poser.vertex_count();
-        let (mut positions, mut normals) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
-        let mut skinned = vec![[0.0; 3]; n];
-        let (mut matrices, mut weights) = (Vec::new(), Vec::new());
-        for scheme in [
-            Scheme::Pn,
-            Scheme::PnAen,
-            Scheme::Phong { alpha: 1.0 },
-            Scheme::Phong { alpha: 0.6 },
-            Scheme::Flat,
-        ] {
-            let plan = Plan::new(&mesh, &RefineOptions::new(scheme, 4)).unwrap();
-            let mut frame = plan.frame(mesh.clone()).unwrap();
-            for clip in 0..clips {
-                for time in [0.1, 0.4, 0.7, 1.3] {
-                    poser
-                        .deform_into(Some(clip), time, &mut matrices, &mut weights)
-                        .unwrap();
-                    poser
-                        .pose_into(Some(clip), time, &mut positions, Some(&mut normals))
-                        .unwrap();
-                    plan.update(&mut frame, &positions, Some(&normals)).unwrap();
-                    poser
-                        .pose_with(&matrices, &weights, &mut skinned, None)
-                        .unwrap();
-                    let (lo, hi) = pose_box(&plan, &skinned);
-                    let nets = run_box(&face_boxes(&frame));
-                    for (l, h) in face_boxes(&frame) {
-                        assert!(
-                            l.cmpge(lo).all() && h.cmple(hi).all(),
-                            "{scheme:?}, clip {clip} at {time}: a net {l}..{h} outside {lo}..{hi}"
-                        );
-                    }
-                    let ratio = (hi - lo).length() / (nets.1 - nets.0).length();
-                    assert!(
-                        ratio < 1.5,
-                        "{scheme:?}: the box is {ratio} times the nets'"
-                    );
-                }
-            }
-        }
     }
 }

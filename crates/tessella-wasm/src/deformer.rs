@@ -100,6 +100,24 @@ impl Deformer {
         self.pose_into(matrices, weights, positions, normals)
             .map_err(errors::text)
     }
+
+    /// The box that holds the curved surface of the pose: the vertices posed with `matrices`
+    /// and `weights` (positions only, on the CPU), grown by `reach` times the longest edge of
+    /// the `indices` triangles (the core's `mesh::patch_bounds`; `reach` is the scheme's
+    /// control reach: 0.5 for PN and PN-AEN, `|alpha|` for Phong, 0 for flat). Six numbers:
+    /// the low corner, then the high one. What GPU posing culls by, the posed nets never
+    /// leaving the GPU.
+    #[wasm_bindgen(js_name = posedBounds)]
+    pub fn posed_bounds(
+        &mut self,
+        matrices: &[f32],
+        weights: &[f32],
+        indices: &[u32],
+        reach: f32,
+    ) -> Result<Vec<f32>, JsError> {
+        self.posed_bounds_of(matrices, weights, indices, reach)
+            .map_err(errors::text)
+    }
 }
 
 impl Deformer {
@@ -209,6 +227,47 @@ impl Deformer {
         })
     }
 
+    /// [`Deformer::posed_bounds`] with a `String` error.
+    pub fn posed_bounds_of(
+        &mut self,
+        matrices: &[f32],
+        weights: &[f32],
+        indices: &[u32],
+        reach: f32,
+    ) -> Result<Vec<f32>, String> {
+        let (triangles, rest) = indices.as_chunks::<3>();
+        if !rest.is_empty() {
+            return Err(format!(
+                "indices: {} numbers, not 3 a triangle",
+                indices.len()
+            ));
+        }
+        self.read_matrices(matrices)?;
+        self.poser
+            .pose_with(&self.matrices, weights, &mut self.positions, None)
+            .map_err(|e| errors::message(&e))?;
+        let (lo, hi) = tessella_core::mesh::patch_bounds(&self.positions, triangles, reach)
+            .map_err(|e| errors::message(&e))?;
+        Ok([lo, hi].concat())
+    }
+
+    /// Reads a frame's `matrices` (16 numbers each) into the deformer's own.
+    fn read_matrices(&mut self, matrices: &[f32]) -> Result<(), String> {
+        if !matrices.len().is_multiple_of(16) {
+            return Err(format!(
+                "matrices: {} numbers, not 16 per matrix",
+                matrices.len()
+            ));
+        }
+        self.matrices.clear();
+        self.matrices.extend(matrices.chunks_exact(16).map(|c| {
+            let mut m = [0.0; 16];
+            m.copy_from_slice(c);
+            m
+        }));
+        Ok(())
+    }
+
     /// [`Deformer::pose`] with a `String` error.
     pub fn pose_into(
         &mut self,
@@ -218,12 +277,6 @@ impl Deformer {
         normals: &mut [f32],
     ) -> Result<(), String> {
         let n = self.poser.vertex_count();
-        if !matrices.len().is_multiple_of(16) {
-            return Err(format!(
-                "matrices: {} numbers, not 16 per matrix",
-                matrices.len()
-            ));
-        }
         if positions.len() != 3 * n {
             return Err(format!(
                 "positions: room for {} numbers, the mesh has {}",
@@ -238,12 +291,7 @@ impl Deformer {
                 normals.len()
             ));
         }
-        self.matrices.clear();
-        self.matrices.extend(matrices.chunks_exact(16).map(|c| {
-            let mut m = [0.0; 16];
-            m.copy_from_slice(c);
-            m
-        }));
+        self.read_matrices(matrices)?;
         let out_normals = self
             .poser
             .has_normals()
@@ -298,6 +346,47 @@ mod tests {
             .unwrap_err();
         assert!(e.contains("morph weight 0 is not finite"), "{e}");
         assert_eq!(p, [1.0, 0.0, 0.5, 3.0, 0.0, 0.5, 0.0, 1.0, 0.5]);
+    }
+
+    /// The posed bounds are the posed vertices' box grown by the reach times the longest
+    /// posed edge: here the pose above (vertices (1,0,.5), (3,0,.5), (0,1,.5)), longest edge
+    /// |(3,0)-(0,1)| = sqrt(10), reach 0.5. Bad indices are errors.
+    #[test]
+    fn posed_bounds_grow_the_posed_box_by_the_reach() {
+        let positions = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let joints = [0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0];
+        let weights = [0.5, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+        let deltas = [0.0, 0.0, 1.0].repeat(3);
+        let mut d = Deformer::with(&Source {
+            positions: &positions,
+            normals: None,
+            joints: &joints,
+            weights: &weights,
+            joint_count: 2,
+            position_deltas: &deltas,
+            normal_deltas: &[],
+            targets: 1,
+        })
+        .unwrap();
+        let mut moved = IDENTITY;
+        moved[12] = 2.0;
+        let matrices: Vec<f32> = IDENTITY.iter().chain(&moved).copied().collect();
+        let b = d
+            .posed_bounds_of(&matrices, &[0.5], &[0, 1, 2], 0.5)
+            .unwrap();
+        let g = 0.5 * 10f32.sqrt();
+        let want = [-g, -g, 0.5 - g, 3.0 + g, 1.0 + g, 0.5 + g];
+        for (got, want) in b.iter().zip(want) {
+            assert!((got - want).abs() < 1e-6, "{b:?}");
+        }
+        let e = d
+            .posed_bounds_of(&matrices, &[0.5], &[0, 1], 0.5)
+            .unwrap_err();
+        assert!(e.contains("3 a triangle"), "{e}");
+        let e = d
+            .posed_bounds_of(&matrices, &[0.5], &[0, 1, 9], 0.5)
+            .unwrap_err();
+        assert!(e.contains("vertex 9"), "{e}");
     }
 
     #[test]

@@ -91,6 +91,20 @@ impl Scheme {
         }
     }
 
+    /// How far a patch's control points may lie from its flat triangle, in lengths of the
+    /// triangle's longest edge, where the net formulas alone bound it: flat 0; PN and PN-AEN
+    /// 1/2 (an edge point lies within a third of its edge of the flat point, the centre
+    /// within half); Phong `|alpha|` (each projection moves a point by at most an edge).
+    /// `None` where the nets need more to bound (PNG1, scalar-tagged, quadratic).
+    pub fn control_reach(&self) -> Option<f32> {
+        match self {
+            Scheme::Flat => Some(0.0),
+            Scheme::Pn | Scheme::PnAen => Some(0.5),
+            Scheme::Phong { alpha } => Some(alpha.abs()),
+            Scheme::Png1 | Scheme::ScalarTagged | Scheme::Quadratic => None,
+        }
+    }
+
     /// Short lowercase name, as on the command line.
     pub fn name(&self) -> &'static str {
         match self {
