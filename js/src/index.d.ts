@@ -249,6 +249,12 @@ export class InstancedSurface {
    * for three.js's TSL `wgslFn`; the nets texture's layout is `glsl()`'s.
    */
   wgsl(): string;
+  /**
+   * How far the scheme's control points may lie from their triangle, in lengths of its
+   * longest edge (0.5 for PN and PN-AEN, |alpha| for Phong, 0 for flat), or null (PNG1,
+   * scalar-tagged, quadratic).
+   */
+  controlReach(): number | null;
   /** Why WebGL2's net pass cannot build these nets (PNG1 and the other CPU-only schemes, tags), or null. */
   netsPassMissing(): string | null;
   /**

@@ -450,6 +450,16 @@ export class InstancedSurface extends NetsSurface {
     return call(() => inner.wgsl());
   }
 
+  /**
+   * How far the scheme's control points may lie from their triangle, in lengths of its longest
+   * edge (0.5 for PN and PN-AEN, |alpha| for Phong, 0 for flat), or null for the schemes
+   * without such a bound (PNG1, scalar-tagged, quadratic).
+   */
+  controlReach() {
+    const inner = this[LIVE]();
+    return call(() => inner.controlReach()) ?? null;
+  }
+
   /** Why WebGL2's net pass cannot build these nets (PNG1 and the other CPU-only schemes, tags), or null. */
   netsPassMissing() {
     const inner = this[LIVE]();

@@ -993,20 +993,11 @@ export class TessellatedMesh extends Mesh {
     this.#pose.commit();
     this.#gpuDirty = true;
     this.uploadedBytes = this.#gpuNets.uploadBytes + this.#corners();
-    this.#pose.bounds(this.#instanced.boundingBox, this.#instanced.boundingSphere, this.#controlReach());
+    // The scheme's control reach, from the core (GPU posing builds only schemes that have one).
+    this.#pose.bounds(this.#instanced.boundingBox, this.#instanced.boundingSphere, this.#surface.controlReach() ?? 1);
     this.#versions = this.#sourceVersions();
     this.#frames++;
     return this;
-  }
-
-  // How far (in edge lengths) a scheme's control points lie from their triangle: PN's and
-  // PN-AEN's edge points within a third of the edge, the centre within half; Phong's within
-  // alpha edges (each projection moves a corner by at most the edge); flat's on it.
-  #controlReach() {
-    const { scheme, alpha } = this.#options;
-    if (scheme === 'flat') return 0;
-    if (scheme === 'phong') return Math.abs(alpha ?? 0.75);
-    return 0.5;
   }
 
   // GPU posing ('auto' where it runs, or 'gpu'): at the first render the pass is made (or the

@@ -4,7 +4,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { Buffer } from 'node:buffer';
 import { readFileSync } from 'node:fs';
-import { AnimatedMesh, Deformer, ready, readAnimated, refine, Refiner, TessellaError } from '../src/index.js';
+import { AnimatedMesh, Deformer, InstancedSurface, ready, readAnimated, refine, Refiner, TessellaError } from '../src/index.js';
 import { bytes } from './helpers.js';
 
 await ready;
@@ -223,4 +223,19 @@ test('Deformer.posedBounds: the posed vertices box grown by the reach times the 
   want.forEach((w, k) => assert.ok(Math.abs(b[k] - w) < 1e-6, `${[...b]}`));
   assert.throws(() => d.posedBounds(matrices, new Float32Array([0.5]), new Uint32Array([0, 1, 9]), 0.5), (e) => e instanceof TessellaError && /vertex 9/.test(e.message));
   d.free();
+});
+
+test("InstancedSurface.controlReach: the reach posedBounds takes, per scheme (the core's)", () => {
+  const indices = new Uint32Array([0, 1, 2]);
+  for (const [options, want] of [
+    [{ scheme: 'pn' }, 0.5],
+    [{ scheme: 'pn-aen' }, 0.5],
+    [{ scheme: 'phong', alpha: -0.625 }, 0.625],
+    [{ scheme: 'flat' }, 0],
+    [{ scheme: 'png1' }, null],
+  ]) {
+    const s = new InstancedSurface(indices, { ...options, level: 4 });
+    assert.equal(s.controlReach(), want, JSON.stringify(options));
+    s.free();
+  }
 });

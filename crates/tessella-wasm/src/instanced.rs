@@ -101,6 +101,13 @@ impl InstancedSurface {
         use tessella_core::Named;
         self.options.normal_mode().name().to_string()
     }
+    /// How far the scheme's control points may lie from their triangle, in longest edges
+    /// (`Scheme::control_reach`: 0.5 for PN and PN-AEN, `|alpha|` for Phong, 0 for flat;
+    /// `undefined` for the schemes without such a bound): what bounds a pose built on the GPU.
+    #[wasm_bindgen(js_name = controlReach)]
+    pub fn control_reach(&self) -> Option<f32> {
+        self.options.scheme.control_reach()
+    }
     /// Coarse triangles (instances).
     #[wasm_bindgen(js_name = faceCount)]
     pub fn face_count(&self) -> usize {
