@@ -2,7 +2,7 @@
 //! `tessella render` uses (crates/tessella-view/src/camera.rs), written to a PNG headless:
 //!
 //! `cargo run --example view -- FILE --scheme S --level L --yaw Y --pitch P --zoom Z
-//!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--draw per-frame|welded|runs]
+//!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--draw per-frame|mesh|welded|runs]
 //!  [--pose gpu|cpu]
 //!  [--crowd N [--stagger S]] [--frames N --stats]`
 //!
@@ -68,7 +68,7 @@ struct Args {
     ground: bool,
     /// The light casts no shadows.
     no_shadows: bool,
-    /// How the tessellated meshes are drawn (`--draw per-frame|welded|runs`, the plugin's default when absent).
+    /// How the tessellated meshes are drawn (`--draw per-frame|mesh|welded|runs`, the plugin's default when absent).
     draw: TessellaDraw,
     /// Where animated ones are posed (`--pose gpu|cpu`, the plugin's default when absent).
     posing: TessellaPosing,
@@ -168,7 +168,10 @@ fn parse_args() -> Result<Args, String> {
                     "per-frame" => TessellaDraw::PerFrame,
                     "welded" => TessellaDraw::Welded,
                     "runs" => TessellaDraw::Runs,
-                    other => return Err(format!("--draw {other}: per-frame, welded or runs")),
+                    "mesh" => TessellaDraw::Mesh,
+                    other => {
+                        return Err(format!("--draw {other}: per-frame, mesh, welded or runs"))
+                    }
                 }
             }
             "--pose" => {

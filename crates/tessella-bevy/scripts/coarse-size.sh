@@ -2,7 +2,7 @@
 # Frame time against coarse size at one refined size: the creature (320 triangles) at level
 # 32, its PN refinements at levels 8 (20,480 triangles) and 16 (81,920) tessellated at levels 4
 # and 2: 327,680 refined triangles each time, with the light's shadows on and a ground, drawn
-# per frame (the default), welded and in runs (`TessellaDraw`). Beside them, the plain Bevy mesh of the
+# in its own mesh (the default), per frame, welded and in runs (`TessellaDraw`). Beside them, the plain Bevy mesh of the
 # same 327,680 triangles (`tessella refine` offline), the baseline of the same run. Each frame waits for the GPU (`view --frames`). Prints one JSON
 # line per run, then a table of mean frame times and ratios to the plain mesh.
 # Usage: scripts/coarse-size.sh [PROFILE: debug|release] [FRAMES]
@@ -30,7 +30,7 @@ run() { # label, then view's arguments
 }
 {
   run plain "$tmp/plain.obj" --plain --frame "$creature"
-  for draw in per-frame welded runs; do
+  for draw in mesh per-frame welded runs; do
     run "$draw-320" "$creature" --scheme pn --level 32 --draw $draw
     run "$draw-20480" "$tmp/c20k.obj" --scheme pn --level 4 --draw $draw
     run "$draw-81920" "$tmp/c82k.obj" --scheme pn --level 2 --draw $draw

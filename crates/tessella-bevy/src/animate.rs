@@ -3,7 +3,7 @@
 //! skinning (`tessella_core::animation::Poser::pose_with`: morph targets, then every joint
 //! influence set, normals by the inverse transpose), the control nets are rebuilt, and only the
 //! two net buffers are rewritten: bytes in proportion to the coarse triangles, whatever the
-//! level. Or, with the per-frame draw and [`TessellaPosing::Gpu`] where the GPU can (the
+//! level. Or, with a draw evaluated once a frame and [`TessellaPosing::Gpu`] where the GPU can (the
 //! default), the frame's joint matrices and morph weights alone go to the render world, which
 //! skins the coarse mesh and builds the nets on the GPU ([`GpuPose`], `per_frame.rs`).
 
@@ -30,8 +30,9 @@ use tessella_core::refine::{Frame, Plan};
 pub enum TessellaPosing {
     /// On the GPU where it can run: tessella-gpu's skinning and net builder in the render
     /// world, on Bevy's device, write the nets the per-frame pass evaluates; a frame uploads
-    /// the joint matrices and morph weights alone. It runs with the per-frame draw
-    /// ([`crate::TessellaDraw::PerFrame`]), a scheme whose nets the GPU builds (flat, Phong,
+    /// the joint matrices and morph weights alone. It runs with the draws evaluated once a
+    /// frame ([`crate::TessellaDraw::Mesh`], the default, and
+    /// [`crate::TessellaDraw::PerFrame`]), a scheme whose nets the GPU builds (flat, Phong,
     /// PN, PN-AEN) and a mesh with normals; elsewhere, or when the device refuses it, the
     /// entity is posed on the CPU. The posed surface stays on the GPU: the entity is
     /// frustum-culled by a box from its coarse vertices skinned on the CPU, and picking

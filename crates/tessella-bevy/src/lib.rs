@@ -6,24 +6,25 @@
 //! nets built on the GPU each frame, uploading its joint matrices and morph weights alone
 //! ([`TessellaPosing`]; on the CPU, uploading its nets, where that cannot run).
 //!
-//! How (see `docs/bevy.md`): the entity's material becomes an
+//! How (see `docs/bevy.md`): with uniform levels, by default ([`TessellaDraw::Mesh`]), the
+//! entity gets one child drawing a Bevy mesh of its own with the refined surface's welded
+//! topology and the entity's own `StandardMaterial`: a compute pass in the render world
+//! evaluates each welded vertex (only in frames whose nets changed) and writes its position and
+//! normal straight into Bevy's vertex buffer, so every pass draws it with Bevy's own shaders,
+//! as a static mesh. The evaluation is tessella-gpu's exported WGSL module
+//! (`tessella_point(face, vertex)` over the patch group's seven buffers), registered as the Bevy
+//! shader import `tessella_bevy::patch_<normals>`. The other draws give the entity an
 //! `ExtendedMaterial<StandardMaterial, TessellaExtension>` whose vertex shaders (main pass and
-//! prepass, so shadows and depth follow the curved surface) place the surface's points: the
-//! patch group's seven buffers are the material's storage bindings 100 to 106, read by
-//! `tessella_point(face, vertex)` from tessella-gpu's exported WGSL module, registered as the
-//! Bevy shader import `tessella_bevy::patch_<normals>`. With uniform levels the entity gets one
-//! child drawing its refined surface's welded topology: a mesh whose vertices hold only their
-//! coarse triangle and pattern vertex. By default ([`TessellaDraw::PerFrame`]) a compute pass in
-//! the render world calls `tessella_point` once a frame for each welded vertex (only in frames
-//! whose nets changed) into a buffer the vertex stages read, as a static mesh's vertices are
-//! read (entities of one mesh and material share that buffer and one material, a slot each,
-//! so Bevy draws a crowd in one batch a pass); [`TessellaDraw::Welded`] evaluates in each pass's vertex stage instead. Or
-//! ([`TessellaDraw::Runs`]) the level's refinement pattern repeated for runs of up to
-//! [`run_faces`] coarse triangles ([`RUN_VERTICES`] vertices), one Bevy mesh shared by every
-//! entity, one child per run with the run's first triangle in its `MeshTag`, batched by Bevy
-//! into one instanced draw. Either way a few children at any coarse size, culled by their
-//! nets' boxes. Per-edge LOD draws a few children a part of the spacing, each a run of
-//! that part's instances.
+//! prepass, so shadows and depth follow the curved surface) place the points, over a mesh whose
+//! vertices hold only their coarse triangle and pattern vertex: [`TessellaDraw::PerFrame`]
+//! reads them from the compute pass's buffer (entities of one mesh and material share that
+//! buffer and one material, a slot each, so Bevy draws a crowd in one batch a pass);
+//! [`TessellaDraw::Welded`] evaluates in each pass's vertex stage; [`TessellaDraw::Runs`]
+//! repeats the level's refinement pattern for runs of up to [`run_faces`] coarse triangles
+//! ([`RUN_VERTICES`] vertices), one Bevy mesh shared by every entity, one child per run with
+//! the run's first triangle in its `MeshTag`, batched by Bevy into one instanced draw. Either
+//! way a few children at any coarse size, culled by their nets' boxes. Per-edge LOD draws a
+//! few children a part of the spacing, each a run of that part's instances.
 
 mod animate;
 mod gltf_extras;
@@ -96,7 +97,7 @@ impl Tessellate {
     }
 }
 
-/// How a tessellated entity with uniform levels is drawn (absent: [`TessellaDraw::PerFrame`]).
+/// How a tessellated entity with uniform levels is drawn (absent: [`TessellaDraw::Mesh`]).
 /// Each is one instanced draw of Bevy's mesh pipeline, in every pass (shadows, prepass,
 /// main); they trade GPU memory against vertex work (`docs/bevy.md` has the measurements).
 #[derive(Component, Reflect, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -107,8 +108,15 @@ pub enum TessellaDraw {
     /// buffer of 24 bytes a refined vertex, which every pass then reads as a static mesh's
     /// vertices are read: no pass evaluates. Meshes over [`WELDED_VERTICES`] vertices are
     /// drawn in runs instead.
-    #[default]
     PerFrame,
+    /// The refined surface as a Bevy mesh of its own (the welded topology, 32 bytes a vertex:
+    /// position, normal, texture coordinates, plus the indices: a static mesh's size, for each
+    /// entity), whose positions and normals the per-frame compute pass writes straight into
+    /// Bevy's vertex buffer (only in frames whose nets changed), drawn with the entity's own
+    /// `StandardMaterial` by Bevy's own shaders: every pass reads it as a static mesh, at a
+    /// static mesh's cost. Meshes over [`WELDED_VERTICES`] vertices are drawn in runs instead.
+    #[default]
+    Mesh,
     /// The refined surface's welded topology, one child entity: each refined vertex is
     /// evaluated once per pass, as many vertices as a static mesh of the same surface, so
     /// the cost does not grow with the coarse triangle count. Its own mesh of 40 bytes a
@@ -157,6 +165,14 @@ impl Plugin for TessellaPlugin {
         }
         gltf_extras::register(app);
         per_frame::register(app);
+        // TessellaDraw::Mesh: the compute pass writes into Bevy's vertex buffers.
+        if let Some(render_app) = app.get_sub_app_mut(bevy::render::RenderApp) {
+            let mut settings = render_app
+                .world_mut()
+                .get_resource_or_init::<bevy::render::mesh::allocator::MeshAllocatorSettings>(
+            );
+            settings.extra_buffer_usages |= bevy::render::render_resource::BufferUsages::STORAGE;
+        }
         app.init_resource::<UploadStats>()
             .init_resource::<PatternMeshes>()
             .init_resource::<WeldedMeshes>()
@@ -405,7 +421,19 @@ fn tessellate(
         // last one maybe a shorter one).
         let mut origins = None;
         let mut welded_mesh = None;
+        let mut own_mesh = None;
         let runs = match (&built, &lod) {
+            (Ok(b), None)
+                if draw == TessellaDraw::Mesh && b.plan.vertex_count() <= WELDED_VERTICES =>
+            {
+                let face_uvs: &[[f32; 2]] = bytemuck::cast_slice(&b.bytes[7]);
+                pattern::vertex_mesh(&b.plan, face_uvs).map(|(mesh, ids)| {
+                    let handle = meshes.add(mesh);
+                    origins = Some(storage(&mut buffers, &per_frame::origins_bytes(&ids)));
+                    own_mesh = Some(handle.id());
+                    vec![(0..b.boxes.len(), handle)]
+                })
+            }
             (Ok(b), None)
                 if draw != TessellaDraw::Runs && b.plan.vertex_count() <= WELDED_VERTICES =>
             {
@@ -533,24 +561,27 @@ fn tessellate(
         // Per frame: a slot of the buffer the compute pass writes and the vertex stages read,
         // in a pool whose material every entity of the same welded mesh and base material
         // shares (`pool.rs`: Bevy draws them in one batch).
-        let per_frame = origins.zip(welded_mesh).map(|(origins, mesh)| {
+        let per_frame = origins.map(|origins| {
             let vertices = built.plan.vertex_count() as u32;
-            let seat = pools.join(
-                entity,
-                mesh,
-                plain_material.id(),
-                vertices,
-                &mut buffers,
-                &mut materials,
-                |evaluated| TessellaMaterial {
-                    base: base.clone(),
-                    extension: extension(evaluated, true),
-                },
-            );
+            let target = match (own_mesh, welded_mesh) {
+                (Some(mesh), _) => per_frame::Target::Mesh(mesh),
+                (None, mesh) => per_frame::Target::Slot(pools.join(
+                    entity,
+                    mesh.unwrap_or_default(),
+                    plain_material.id(),
+                    vertices,
+                    &mut buffers,
+                    &mut materials,
+                    |evaluated| TessellaMaterial {
+                        base: base.clone(),
+                        extension: extension(evaluated, true),
+                    },
+                )),
+            };
             per_frame::PerFrameSource {
                 patch: [&b0, &b1, &b2, &b3, &b4, &b5, &b6].map(|b| b.clone()),
                 origins,
-                seat,
+                target,
                 mode: normal_mode,
                 basis: built.plan.options().scheme.basis(),
                 vertices,
@@ -571,17 +602,25 @@ fn tessellate(
             Some(p) => commands.entity(entity).insert(p),
             None => commands.entity(entity).remove::<animate::GpuPose>(),
         };
-        // The pool's material, its slot's first vertex in the tag; or a material of its own.
-        let (material, pooled_tag) = match &per_frame {
-            Some(p) => {
-                let pool = &pools.0[&p.seat.pool];
-                (pool.material.clone(), Some(p.seat.slot * pool.stride))
+        // The pool's material, its slot's first vertex in the tag; the entity's own
+        // StandardMaterial for its own mesh; or a material of its own.
+        let (material, pooled_tag) = match per_frame.as_ref().map(|p| p.target) {
+            Some(per_frame::Target::Slot(seat)) => {
+                let pool = &pools.0[&seat.pool];
+                let tessellated = pool.material.clone();
+                (
+                    ChildMaterial::Tessella(tessellated),
+                    Some(seat.slot * pool.stride),
+                )
+            }
+            Some(per_frame::Target::Mesh(_)) => {
+                (ChildMaterial::Standard(plain_material.clone()), None)
             }
             None => (
-                materials.add(TessellaMaterial {
+                ChildMaterial::Tessella(materials.add(TessellaMaterial {
                     base,
                     extension: extension(b7.clone(), false),
-                }),
+                })),
                 None,
             ),
         };
@@ -595,7 +634,6 @@ fn tessellate(
                         count: faces.len() as u32,
                     },
                     Mesh3d(mesh),
-                    MeshMaterial3d(material.clone()),
                     MeshTag::new(pooled_tag.unwrap_or(faces.start as u32)),
                     Transform::IDENTITY,
                     // Bevy's own box would be the pattern's; each run has its nets'.
@@ -605,6 +643,10 @@ fn tessellate(
                     Pickable::IGNORE,
                     ChildOf(entity),
                 ));
+                match &material {
+                    ChildMaterial::Tessella(m) => child.insert(MeshMaterial3d(m.clone())),
+                    ChildMaterial::Standard(m) => child.insert(MeshMaterial3d(m.clone())),
+                };
                 if no_cast {
                     child.insert(NotShadowCaster);
                 }
@@ -628,6 +670,13 @@ fn tessellate(
             untessellated,
         );
     }
+}
+
+/// What a patch child is drawn with: the tessellated material (evaluating, or reading a pool's
+/// slot), or the entity's own `StandardMaterial` over a mesh the compute pass writes.
+enum ChildMaterial {
+    Tessella(Handle<TessellaMaterial>),
+    Standard(Handle<StandardMaterial>),
 }
 
 /// A run: its coarse triangles and the run mesh that draws them.

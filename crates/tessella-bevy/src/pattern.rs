@@ -180,6 +180,48 @@ pub fn welded_mesh(plan: &Plan) -> Result<Mesh, String> {
     welded_mesh_of(plan, welded_points(plan)?)
 }
 
+/// The refined surface as a Bevy mesh of its own for [`crate::TessellaDraw::Mesh`]: the welded
+/// topology with `POSITION` and `NORMAL` (placeholders, which the per-frame compute pass
+/// overwrites in Bevy's vertex buffer) and `UV_0` the coarse texture coordinates interpolated at
+/// each vertex (as `coarse_uv` does in the vertex stages: `face_uvs` three a coarse triangle);
+/// 32 bytes a vertex, in Bevy's order (position, normal, uv). Also each vertex's
+/// `(pattern vertex, owning triangle)`, for the compute pass's origins.
+pub(crate) fn vertex_mesh(
+    plan: &Plan,
+    face_uvs: &[[f32; 2]],
+) -> Result<(Mesh, Vec<[f32; 2]>), String> {
+    let (bary, ids) = welded_points(plan)?;
+    let uvs: Vec<[f32; 2]> = bary
+        .iter()
+        .zip(&ids)
+        .map(|(&[l2, l3], &[_, face])| {
+            let corner = |k: usize| {
+                let uv = face_uvs.get(3 * face as usize + k).copied();
+                Vec2::from(uv.unwrap_or_default())
+            };
+            let uv = corner(0) * (1.0 - l2 - l3) + corner(1) * l2 + corner(2) * l3;
+            uv.to_array()
+        })
+        .collect();
+    let mut indices = vec![[0u32; 3]; plan.triangle_count()];
+    plan.write_indices(&mut indices)
+        .map_err(|e| e.to_string())?;
+    let n = uvs.len();
+    let mesh = Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0f32; 3]; n])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
+    .with_inserted_indices(Indices::U32(indices.into_iter().flatten().collect()));
+    Ok((mesh, ids))
+}
+
+/// Bytes a vertex of [`vertex_mesh`] takes in Bevy's vertex buffer: position (3 floats), then
+/// normal (3), as the compute pass writes them, then uv (2), which it leaves alone.
+pub(crate) const VERTEX_MESH_STRIDE: u64 = 32;
+
 /// [`welded_mesh`] with its vertex attributes already found ([`welded_points`]).
 pub(crate) fn welded_mesh_of(plan: &Plan, (uvs, ids): WeldedPoints) -> Result<Mesh, String> {
     // Written here, not `Plan::indices` (which the plan would keep for its lifetime).

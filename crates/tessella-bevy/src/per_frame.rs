@@ -1,6 +1,11 @@
-//! [`TessellaDraw::PerFrame`](crate::TessellaDraw::PerFrame): the refined surface's welded
-//! vertices evaluated once per frame by a compute pass into a storage buffer, which every
-//! render pass (shadow maps, prepass, main) then reads as it would a static mesh's vertices.
+//! The draws evaluated once a frame: the refined surface's welded vertices evaluated by a
+//! compute pass, which every render pass (shadow maps, prepass, main) then reads as it would a
+//! static mesh's vertices. [`TessellaDraw::Mesh`](crate::TessellaDraw::Mesh) (the default)
+//! writes each vertex's position and normal into the entity's own Bevy mesh, in Bevy's vertex
+//! buffer (found each frame through Bevy's `MeshAllocator`: a mesh the allocator moved is
+//! evaluated again), which Bevy's own shaders draw;
+//! [`TessellaDraw::PerFrame`](crate::TessellaDraw::PerFrame) into the entity's slot of a
+//! storage buffer that the tessellated material's vertex stages read.
 //!
 //! The kernel calls the same `tessella_point` the per-draw vertex stage calls (tessella-gpu's
 //! exported module, rebound as the material's), over the same seven patch buffers the material
@@ -9,20 +14,22 @@
 //! uploads), only for surfaces whose nets changed since their last evaluation: a still surface
 //! is evaluated once. An entity posed on the GPU ([`GpuPose`]) has its coarse mesh skinned and
 //! its nets built first, in the same submission, by tessella-gpu's `GpuSkinner` and
-//! `GpuNetBuilder` writing the material's net buffers.
+//! `GpuNetBuilder` writing the entity's net buffers.
 
 use crate::animate::GpuPose;
 use crate::material::{patch_module_of_for_bevy, NormalModeKey, FIRST_BINDING};
+use crate::pattern::VERTEX_MESH_STRIDE;
 use crate::pool::{Pools, Seat};
 use crate::surface::Surface;
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
+use bevy::render::mesh::allocator::MeshAllocator;
 use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{
-    BindGroupEntry, BindGroupLayout, BindGroupLayoutEntry, BindingResource, BindingType,
-    BufferBinding, BufferBindingType, ComputePassDescriptor, ComputePipeline,
-    PipelineCompilationOptions, PipelineLayoutDescriptor, RawComputePipelineDescriptor,
-    ShaderModuleDescriptor, ShaderSource, ShaderStages,
+    BindGroupEntry, BindGroupLayout, BindGroupLayoutEntry, BindingResource, BindingType, Buffer,
+    BufferBinding, BufferBindingType, BufferId, BufferInitDescriptor, BufferUsages,
+    ComputePassDescriptor, ComputePipeline, PipelineCompilationOptions, PipelineLayoutDescriptor,
+    RawComputePipelineDescriptor, ShaderModuleDescriptor, ShaderSource, ShaderStages,
 };
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::storage::{GpuShaderBuffer, ShaderBuffer};
@@ -47,6 +54,11 @@ const ORIGINS_BINDING: u32 = FIRST_BINDING + 7;
 /// coarse texture coordinates hold 107).
 pub const EVALUATED_BINDING: u32 = FIRST_BINDING + 8;
 
+/// Binding of the output's placement in the kernel's group: the first word written in the
+/// bound range, the words from one vertex to the next (6 in a pool's slot; 8 in a mesh's
+/// vertex buffer, whose uv the pass leaves alone) and the vertex count.
+const PLACEMENT_BINDING: u32 = FIRST_BINDING + 9;
+
 /// Welded vertices the per-frame pass evaluated since the app started, counted by the render
 /// world when it submits the pass: a still surface adds its vertices once, a deforming one in
 /// every frame its nets change, a surface drawn otherwise never.
@@ -68,11 +80,32 @@ pub(crate) struct PerFrameSource {
     pub patch: [Handle<ShaderBuffer>; 7],
     /// Per welded vertex, its coarse triangle and pattern vertex (two `u32`).
     pub origins: Handle<ShaderBuffer>,
-    /// The output: a slot of its pool's buffer, [`EVALUATED_FLOATS`] floats a welded vertex.
-    pub seat: Seat,
+    /// Where the evaluated vertices go.
+    pub target: Target,
     pub mode: NormalModeKey,
     pub basis: Basis,
     pub vertices: u32,
+}
+
+/// Where an entity's evaluated vertices go.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Target {
+    /// A slot of its pool's buffer, [`EVALUATED_FLOATS`] floats a welded vertex, which the
+    /// material's vertex stages read ([`crate::TessellaDraw::PerFrame`]).
+    Slot(Seat),
+    /// The position and normal of each vertex of its own Bevy mesh, in Bevy's vertex buffer
+    /// ([`crate::TessellaDraw::Mesh`]: Bevy's own shaders read them).
+    Mesh(AssetId<Mesh>),
+}
+
+impl Target {
+    /// The pool slot, for [`Target::Slot`].
+    pub fn seat(&self) -> Option<Seat> {
+        match self {
+            Target::Slot(seat) => Some(*seat),
+            Target::Mesh(_) => None,
+        }
+    }
 }
 
 /// The kernel's WGSL for a normal mode and basis: the material's evaluation module for that
@@ -84,16 +117,17 @@ pub fn kernel_wgsl(mode: NormalMode, basis: Basis) -> String {
         "{module}
 @group(0) @binding({ORIGINS_BINDING}) var<storage, read> tessella_origins: array<vec2<u32>>;
 @group(0) @binding({EVALUATED_BINDING}) var<storage, read_write> tessella_evaluated: array<f32>;
+@group(0) @binding({PLACEMENT_BINDING}) var<uniform> tessella_placement: vec4<u32>;
 
 @compute @workgroup_size({WORKGROUP})
 fn tessella_evaluate(@builtin(global_invocation_id) id: vec3<u32>) {{
     let i = id.x;
-    if i >= arrayLength(&tessella_origins) {{
+    if i >= tessella_placement.z || i >= arrayLength(&tessella_origins) {{
         return;
     }}
     let origin = tessella_origins[i];
     let point = tessella_point(origin.x, origin.y);
-    let at = {EVALUATED_FLOATS}u * i;
+    let at = tessella_placement.x + tessella_placement.y * i;
     tessella_evaluated[at] = point.position.x;
     tessella_evaluated[at + 1u] = point.position.y;
     tessella_evaluated[at + 2u] = point.position.z;
@@ -147,10 +181,12 @@ struct Kernel {
 
 struct Job {
     source: PerFrameSource,
-    /// Its pool's buffer and its slot's byte offset there.
-    output: (Handle<ShaderBuffer>, u64),
+    output: Output,
     version: u64,
     evaluated: Option<u64>,
+    /// Where the last evaluation wrote (the buffer, the first byte) and the placement uniform
+    /// it bound: a mesh that Bevy's allocator moved is evaluated again.
+    placed: Option<(BufferId, u64, Buffer)>,
     /// This frame's deform, for an entity posed on the GPU.
     pose: Option<GpuPose>,
     /// Its skinner and net builder, made at its first pose.
@@ -160,6 +196,15 @@ struct Job {
 struct Posing {
     skinner: GpuSkinner,
     builder: GpuNetBuilder,
+}
+
+/// A job's output as the render world finds it each frame.
+#[derive(Clone, PartialEq)]
+enum Output {
+    /// Its pool's buffer and its slot's byte offset there.
+    Slot(Handle<ShaderBuffer>, u64),
+    /// Its own mesh, in Bevy's mesh allocator.
+    Mesh(AssetId<Mesh>),
 }
 
 /// What [`extract`] reads of a per-frame entity.
@@ -180,16 +225,22 @@ fn extract(
 ) {
     let mut live = HashSet::new();
     for (entity, source, surface, pose) in &query {
-        let Some(pool) = pools.0.get(&source.seat.pool) else {
-            continue; // not seated yet
+        let output = match source.target {
+            Target::Slot(seat) => {
+                let Some(pool) = pools.0.get(&seat.pool) else {
+                    continue; // not seated yet
+                };
+                Output::Slot(pool.buffer.clone(), pool.offset(seat.slot))
+            }
+            Target::Mesh(mesh) => Output::Mesh(mesh),
         };
-        let output = (pool.buffer.clone(), pool.offset(source.seat.slot));
         live.insert(entity);
         let job = evaluations.jobs.entry(entity).or_insert_with(|| Job {
             source: source.clone(),
             output: output.clone(),
             version: surface.version,
             evaluated: None,
+            placed: None,
             pose: None,
             posing: None,
         });
@@ -219,14 +270,12 @@ fn extract(
 fn evaluate(
     mut evaluations: ResMut<Evaluations>,
     buffers: Res<RenderAssets<GpuShaderBuffer>>,
+    allocator: Res<MeshAllocator>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
     stats: Res<EvaluationStats>,
 ) {
     let Evaluations { ctx, kernels, jobs } = &mut *evaluations;
-    if jobs.values().all(|j| j.evaluated == Some(j.version)) {
-        return;
-    }
     // tessella's own error scopes: a rejected kernel or dispatch is reported here, not by
     // Bevy's handler as an error of its frame.
     let ctx = ctx.get_or_insert_with(|| {
@@ -236,12 +285,45 @@ fn evaluate(
     let mut dispatches = Vec::new();
     let mut posed = Vec::new();
     for (entity, job) in jobs.iter_mut() {
-        if job.evaluated == Some(job.version) {
+        let source = &job.source;
+        // Where the vertices go this frame: the buffer, the first byte and the bytes; the
+        // first word written from there and the words a vertex.
+        let (out, at, size, [first, stride]) = match &job.output {
+            Output::Slot(handle, offset) => {
+                let Some(b) = buffers.get(handle) else {
+                    continue; // not uploaded yet
+                };
+                let bytes = u64::from(source.vertices) * (EVALUATED_FLOATS * 4) as u64;
+                (&b.buffer, *offset, bytes, [0, EVALUATED_FLOATS as u32])
+            }
+            Output::Mesh(mesh) => {
+                let Some(slice) = allocator.mesh_vertex_slice(mesh) else {
+                    continue; // not allocated yet
+                };
+                // Bound from the storage-offset alignment below the mesh's first vertex.
+                let start = u64::from(slice.range.start) * VERTEX_MESH_STRIDE;
+                let align = u64::from(device.limits().min_storage_buffer_offset_alignment);
+                let bound = start - start % align;
+                let bytes = start - bound + u64::from(source.vertices) * VERTEX_MESH_STRIDE;
+                let words = (VERTEX_MESH_STRIDE / 4) as u32;
+                (
+                    slice.buffer,
+                    bound,
+                    bytes,
+                    [((start - bound) / 4) as u32, words],
+                )
+            }
+        };
+        let moved = job
+            .placed
+            .as_ref()
+            .is_none_or(|(id, byte, _)| (*id, *byte) != (out.id(), at));
+        if job.evaluated == Some(job.version) && !moved {
             continue;
         }
         let kernel = kernels
-            .entry((job.source.mode, job.source.basis))
-            .or_insert_with(|| make_kernel(ctx, &device, job.source.mode, job.source.basis));
+            .entry((source.mode, source.basis))
+            .or_insert_with(|| make_kernel(ctx, &device, source.mode, source.basis));
         let layout = match kernel {
             Ok(k) => &k.layout,
             Err(e) => {
@@ -250,35 +332,47 @@ fn evaluate(
                 continue;
             }
         };
-        let source = &job.source;
-        let handles = source.patch.iter().chain([&source.origins, &job.output.0]);
+        let handles = source.patch.iter().chain([&source.origins]);
         let Some(gpu) = handles
             .map(|h| buffers.get(h).map(|b| &b.buffer))
             .collect::<Option<Vec<_>>>()
         else {
             continue; // not uploaded yet
         };
+        if moved {
+            let words = [first, stride, source.vertices, 0];
+            let placement = device.create_buffer_with_data(&BufferInitDescriptor {
+                label: Some("tessella placement"),
+                contents: bytemuck::cast_slice(&words),
+                usage: BufferUsages::UNIFORM,
+            });
+            job.placed = Some((out.id(), at, placement));
+        }
+        let Some((_, _, placement)) = &job.placed else {
+            continue; // placed just above
+        };
         if let Some(pose) = &job.pose {
             if let Some(nets) = pose_on_gpu(ctx, pose, &mut job.posing, (gpu[1], gpu[2])) {
                 posed.push((*entity, nets));
             }
         }
-        // The output: the entity's slot of its pool's buffer.
-        let size = u64::from(source.vertices) * (EVALUATED_FLOATS * 4) as u64;
         let output = BufferBinding {
-            buffer: gpu[8],
-            offset: job.output.1,
+            buffer: out,
+            offset: at,
             size: std::num::NonZero::new(size),
         };
-        let entries: Vec<BindGroupEntry> = gpu[..8]
+        let entries: Vec<BindGroupEntry> = gpu
             .iter()
             .map(|b| b.as_entire_binding())
-            .chain([BindingResource::Buffer(output)])
-            .zip(
-                (0..7)
-                    .map(|b| FIRST_BINDING + b)
-                    .chain([ORIGINS_BINDING, EVALUATED_BINDING]),
-            )
+            .chain([
+                BindingResource::Buffer(output),
+                placement.as_entire_binding(),
+            ])
+            .zip((0..7).map(|b| FIRST_BINDING + b).chain([
+                ORIGINS_BINDING,
+                EVALUATED_BINDING,
+                PLACEMENT_BINDING,
+            ]))
             .map(|(resource, binding)| BindGroupEntry { binding, resource })
             .collect();
         match ctx.scoped(|| device.create_bind_group("tessella per-frame", layout, &entries)) {
@@ -407,11 +501,22 @@ fn make_kernel(
         },
         count: None,
     };
+    let placement = BindGroupLayoutEntry {
+        binding: PLACEMENT_BINDING,
+        visibility: ShaderStages::COMPUTE,
+        ty: BindingType::Buffer {
+            ty: BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
     let entries: Vec<BindGroupLayoutEntry> = (0..7)
         .map(|b| storage(FIRST_BINDING + b, true))
         .chain([
             storage(ORIGINS_BINDING, true),
             storage(EVALUATED_BINDING, false),
+            placement,
         ])
         .collect();
     ctx.scoped(|| {
@@ -454,7 +559,7 @@ mod tests {
             let source = kernel_wgsl(mode, basis);
             let fixed = format!("const TESSELLA_FIXED_K: u32 = {}u;", basis.len());
             assert!(source.contains(&fixed), "{mode:?} {basis:?}");
-            assert_eq!(source.matches("@group(0) @binding(").count(), 9);
+            assert_eq!(source.matches("@group(0) @binding(").count(), 10);
             assert!(!source.contains("@group(3)"));
             let module = naga::front::wgsl::parse_str(&source)
                 .unwrap_or_else(|e| panic!("{mode:?}: {}", e.emit_to_string(&source)));

@@ -191,7 +191,7 @@ impl Pools {
 /// Frees the slots of entities that sit elsewhere now ([`Pools::release`]): runs before
 /// `tessellate` seats this frame's.
 pub(crate) fn release(mut pools: ResMut<Pools>, seated: Query<&PerFrameSource>) {
-    pools.release(|e| seated.get(e).ok().map(|s| s.seat));
+    pools.release(|e| seated.get(e).ok().and_then(|s| s.target.seat()));
 }
 
 /// Vertices a slot spans: `vertices` rounded up to whole [`SLOT_ALIGN`] byte units.

@@ -195,15 +195,21 @@ fn per_frame_welded_and_run_draws_are_the_same_surface() {
         out
     };
     let (per_frame, welded, runs) = (draw("per-frame"), draw("welded"), draw("runs"));
+    let mesh = draw("mesh");
     let reference = cli_render(&dir, "cli", file, scheme, level, &view);
     let (d, _) = differ(&welded, &runs, 8);
     let (e, _) = differ(&per_frame, &welded, 8);
+    let (m, _) = differ(&mesh, &welded, 8);
     let (a, b, c) = (
         iou(&welded, &reference),
         iou(&runs, &reference),
         iou(&per_frame, &reference),
     );
-    eprintln!("welded vs runs: {d:.5} of the pixels differ, per frame vs welded {e:.5}; IoU with CLI {a:.4} / {b:.4} / {c:.4}");
+    eprintln!("welded vs runs: {d:.5} of the pixels differ, per frame vs welded {e:.5}, mesh vs welded {m:.5}; IoU with CLI {a:.4} / {b:.4} / {c:.4}");
+    assert!(
+        m < 0.002,
+        "{m} of the pixels differ between the mesh draw and welded"
+    );
     assert!(
         d < 0.002,
         "{d} of the pixels differ between welded and runs"
@@ -357,11 +363,13 @@ fn skinned_character_played_by_bevy_matches_tessella_render_of_the_clip() {
     }
 }
 
-/// A crowd drawn per frame shares one material, so Bevy draws it in one batch a pass, each
+/// A crowd drawn `PerFrame` shares one material, so Bevy draws it in one batch a pass, each
 /// copy reading its own slot of the pool's buffer (its `MeshTag`): nine copies held each at its
 /// own time of a clip (`--stagger`), posed on the GPU and on the CPU, match the welded draw
 /// (a material and an evaluation a copy) but for a few edge pixels, and are not the picture
-/// of the nine at one time (a copy reading another's slot would draw the other's pose).
+/// of the nine at one time (a copy reading another's slot would draw the other's pose). The
+/// default draw (`Mesh`: each copy's own mesh, written by the compute pass, drawn with the
+/// copies' shared `StandardMaterial`, no tessellated material at all) matches too.
 #[test]
 fn a_crowd_shares_one_material_and_each_copy_draws_its_own_pose() {
     let dir = tempfile_dir("crowd");
@@ -383,11 +391,29 @@ fn a_crowd_shares_one_material_and_each_copy_draws_its_own_pose() {
         (out, materials)
     };
     let stagger = ["--stagger", "0.13"];
-    let (gpu, gpu_materials) = draw("pooled-gpu", &[&stagger[..], &["--pose", "gpu"]].concat());
-    let (cpu, cpu_materials) = draw("pooled-cpu", &[&stagger[..], &["--pose", "cpu"]].concat());
+    let pooled = ["--draw", "per-frame"];
+    let (gpu, gpu_materials) = draw(
+        "pooled-gpu",
+        &[&stagger[..], &pooled, &["--pose", "gpu"]].concat(),
+    );
+    let (cpu, cpu_materials) = draw(
+        "pooled-cpu",
+        &[&stagger[..], &pooled, &["--pose", "cpu"]].concat(),
+    );
     let (own, own_materials) = draw("welded", &[&stagger[..], &["--draw", "welded"]].concat());
-    let (together, _) = draw("together", &[]);
-    assert_eq!((gpu_materials, cpu_materials, own_materials), (1, 1, 9));
+    // The default draw: a mesh each, posed on the GPU.
+    let (meshes, mesh_materials) = draw("meshes", &stagger);
+    let (together, _) = draw("together", &pooled);
+    // The mesh draw uses the entities' StandardMaterial: no tessellated material at all.
+    assert_eq!(
+        (gpu_materials, cpu_materials, own_materials, mesh_materials),
+        (1, 1, 9, 0)
+    );
+    let (m, _) = differ(&meshes, &own, 8);
+    assert!(
+        m < 0.002,
+        "{m} of the pixels differ between the mesh draw and welded"
+    );
     let (a, _) = differ(&gpu, &own, 8);
     let (b, _) = differ(&cpu, &own, 8);
     let (c, _) = differ(&gpu, &together, 8);
