@@ -380,8 +380,8 @@ export class Deformer {
   /** Poses with `matrices` (16 column-major numbers each) and the morph `weights` into `positions` and `normals`. */
   pose(matrices: Float32Array, weights: Float32Array, positions: Float32Array, normals?: Float32Array): void;
   /**
-   * The box holding the curved surface of a pose: the posed vertices' box grown by `reach`
-   * times the longest edge of the `indices` triangles. Six numbers: low corner, high corner.
+   * The box holding the curved surface of a pose: each of the `indices` triangles' posed box
+   * grown by `reach` times its longest edge. Six numbers: low corner, high corner.
    */
   posedBounds(matrices: Float32Array, weights: Float32Array, indices: Uint32Array, reach: number): Float32Array;
   free(): void;

@@ -673,8 +673,8 @@ export class Deformer {
 
   /**
    * The box that holds the curved surface of a pose without building its nets: the vertices
-   * posed with `matrices` and `weights` (positions only), their box grown on every side by
-   * `reach` times the longest edge of the `indices` triangles (Uint32Array, 3 a triangle); the
+   * posed with `matrices` and `weights` (positions only), each of the `indices` triangles'
+   * box (Uint32Array, 3 a triangle) grown on every side by `reach` times its longest edge; the
    * scheme's control reach: 0.5 for PN and PN-AEN, `|alpha|` for Phong, 0 for flat. Returns
    * a Float32Array of 6 numbers, the low corner then the high one.
    */

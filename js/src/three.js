@@ -206,7 +206,7 @@ class SourcePose {
   /**
    * Bounds that hold the drawn pose's curved surface (GPU posing, whose nets stay on the GPU):
    * the coarse vertices posed on the CPU with the drawn matrices and weights, positions only,
-   * their box grown by `growth` times the longest posed edge (the scheme's control reach:
+   * each triangle's box grown by `growth` times its longest edge (the scheme's control reach:
    * each patch lies in its control net's hull, within that of its triangle). Sets `box` and
    * `sphere` (three's Box3, Sphere).
    */

@@ -102,8 +102,8 @@ impl Deformer {
     }
 
     /// The box that holds the curved surface of the pose: the vertices posed with `matrices`
-    /// and `weights` (positions only, on the CPU), grown by `reach` times the longest edge of
-    /// the `indices` triangles (the core's `mesh::patch_bounds`; `reach` is the scheme's
+    /// and `weights` (positions only, on the CPU), each of the `indices` triangles' box grown
+    /// by `reach` times its longest edge (the core's `mesh::patch_bounds`; `reach` is the scheme's
     /// control reach: 0.5 for PN and PN-AEN, `|alpha|` for Phong, 0 for flat). Six numbers:
     /// the low corner, then the high one. What GPU posing culls by, the posed nets never
     /// leaving the GPU.
@@ -348,8 +348,8 @@ mod tests {
         assert_eq!(p, [1.0, 0.0, 0.5, 3.0, 0.0, 0.5, 0.0, 1.0, 0.5]);
     }
 
-    /// The posed bounds are the posed vertices' box grown by the reach times the longest
-    /// posed edge: here the pose above (vertices (1,0,.5), (3,0,.5), (0,1,.5)), longest edge
+    /// The posed bounds of one triangle are its posed box grown by the reach times its longest
+    /// edge: here the pose above (vertices (1,0,.5), (3,0,.5), (0,1,.5)), longest edge
     /// |(3,0)-(0,1)| = sqrt(10), reach 0.5. Bad indices are errors.
     #[test]
     fn posed_bounds_grow_the_posed_box_by_the_reach() {

@@ -367,7 +367,10 @@ mod tests {
                 }
             }
             eprintln!("{scheme:?}: the box's diagonal is at most {worst} times the nets'");
-            assert!(worst < 1.4, "{scheme:?}: the box is {worst} times the nets'");
+            assert!(
+                worst < 1.4,
+                "{scheme:?}: the box is {worst} times the nets'"
+            );
         }
         for scheme in [Scheme::Png1, Scheme::ScalarTagged, Scheme::Quadratic] {
             assert_eq!(scheme.control_reach(), None);
