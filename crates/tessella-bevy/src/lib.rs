@@ -183,7 +183,7 @@ impl Plugin for TessellaPlugin {
             PostUpdate,
             (
                 untessellate,
-                pool::release,
+                per_frame::release_slots,
                 tessellate,
                 animate::pose,
                 lod::levels,

@@ -19,7 +19,7 @@
 use crate::animate::GpuPose;
 use crate::material::{patch_module_of_for_bevy, NormalModeKey, FIRST_BINDING};
 use crate::pattern::VERTEX_MESH_STRIDE;
-use crate::pool::{Pools, Seat};
+use crate::pool::{Pools, Seat, EVALUATED_FLOATS};
 use crate::surface::Surface;
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
@@ -42,9 +42,6 @@ use tessella_gpu::{GpuContext, GpuNetBuilder, GpuSkinner, NetsDispatch, NetsTarg
 /// Threads a workgroup: 2^22 welded vertices at most ([`crate::WELDED_VERTICES`]) need 16,384
 /// workgroups, inside the 65,535 one dimension of a dispatch allows.
 const WORKGROUP: u32 = 256;
-
-/// Floats a vertex of the evaluated buffer holds: position then normal.
-pub const EVALUATED_FLOATS: usize = 6;
 
 /// Binding of each welded vertex's origin (coarse triangle, pattern vertex) in the kernel's
 /// group, after the patch group's seven.
@@ -70,6 +67,12 @@ impl EvaluationStats {
     pub fn evaluated_vertices(&self) -> u64 {
         self.0.load(Ordering::Relaxed)
     }
+}
+
+/// Frees the pool slots of entities that sit elsewhere now ([`Pools::release`]): runs before
+/// `tessellate` seats this frame's.
+pub(crate) fn release_slots(mut pools: ResMut<Pools>, seated: Query<&PerFrameSource>) {
+    pools.release(|e| seated.get(e).ok().and_then(|s| s.target.seat()));
 }
 
 /// What the render world needs to evaluate an entity's surface: on the tessellated entity,

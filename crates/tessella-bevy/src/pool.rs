@@ -6,10 +6,12 @@
 //! material each cost 1.13x the one with a shared material).
 
 use crate::material::TessellaMaterial;
-use crate::per_frame::{PerFrameSource, EVALUATED_FLOATS};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::render::storage::ShaderBuffer;
+
+/// Floats a vertex of a pool's buffer holds: position then normal.
+pub const EVALUATED_FLOATS: usize = 6;
 
 /// Bytes a pool's buffer may hold: the storage binding size every WebGPU device accepts
 /// (128 MiB). A pool that cannot grow more opens another page.
@@ -186,12 +188,6 @@ impl Pools {
         }
         self.0.retain(|_, pool| !pool.members.is_empty());
     }
-}
-
-/// Frees the slots of entities that sit elsewhere now ([`Pools::release`]): runs before
-/// `tessellate` seats this frame's.
-pub(crate) fn release(mut pools: ResMut<Pools>, seated: Query<&PerFrameSource>) {
-    pools.release(|e| seated.get(e).ok().and_then(|s| s.target.seat()));
 }
 
 /// Vertices a slot spans: `vertices` rounded up to whole [`SLOT_ALIGN`] byte units.
