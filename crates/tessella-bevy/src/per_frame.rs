@@ -187,9 +187,10 @@ struct Job {
     output: Output,
     version: u64,
     evaluated: Option<u64>,
-    /// Where the last evaluation wrote (the buffer, the first byte) and the placement uniform
-    /// it bound: a mesh that Bevy's allocator moved is evaluated again.
-    placed: Option<(BufferId, u64, Buffer)>,
+    /// Where the last evaluation wrote (the buffer, the bound range's first byte, the
+    /// placement's words: first word, stride, vertex count) and the placement uniform it
+    /// bound: a mesh that Bevy's allocator moved, or a new mesh, is evaluated again.
+    placed: Option<(BufferId, u64, [u32; 4], Buffer)>,
     /// This frame's deform, for an entity posed on the GPU.
     pose: Option<GpuPose>,
     /// Its skinner and net builder, made at its first pose.
@@ -317,10 +318,11 @@ fn evaluate(
                 )
             }
         };
+        let words = [first, stride, source.vertices, 0];
         let moved = job
             .placed
             .as_ref()
-            .is_none_or(|(id, byte, _)| (*id, *byte) != (out.id(), at));
+            .is_none_or(|(id, byte, held, _)| (*id, *byte, *held) != (out.id(), at, words));
         if job.evaluated == Some(job.version) && !moved {
             continue;
         }
@@ -343,15 +345,14 @@ fn evaluate(
             continue; // not uploaded yet
         };
         if moved {
-            let words = [first, stride, source.vertices, 0];
             let placement = device.create_buffer_with_data(&BufferInitDescriptor {
                 label: Some("tessella placement"),
                 contents: bytemuck::cast_slice(&words),
                 usage: BufferUsages::UNIFORM,
             });
-            job.placed = Some((out.id(), at, placement));
+            job.placed = Some((out.id(), at, words, placement));
         }
-        let Some((_, _, placement)) = &job.placed else {
+        let Some((_, _, _, placement)) = &job.placed else {
             continue; // placed just above
         };
         if let Some(pose) = &job.pose {
@@ -390,23 +391,22 @@ fn evaluate(
     let mut encoder = device.create_command_encoder(&Default::default());
     let recorded = ctx.scoped(|| {
         if !posed.is_empty() {
-            let mut pass = encoder.begin_compute_pass(&ComputePassDescriptor {
+            let mut skin = encoder.begin_compute_pass(&ComputePassDescriptor {
                 label: Some("tessella skin"),
                 ..Default::default()
             });
             for (entity, _) in &posed {
                 if let Some(p) = jobs.get(entity).and_then(|j| j.posing.as_ref()) {
-                    p.skinner.dispatch(&mut pass);
+                    p.skinner.dispatch(&mut skin);
                 }
             }
-        }
-        if !posed.is_empty() {
-            let mut pass = encoder.begin_compute_pass(&ComputePassDescriptor {
+            drop(skin);
+            let mut nets = encoder.begin_compute_pass(&ComputePassDescriptor {
                 label: Some("tessella nets"),
                 ..Default::default()
             });
-            for (_, nets) in &posed {
-                nets.dispatch(&mut pass);
+            for (_, built) in &posed {
+                built.dispatch(&mut nets);
             }
         }
         let mut pass = encoder.begin_compute_pass(&ComputePassDescriptor {
