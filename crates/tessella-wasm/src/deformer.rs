@@ -309,17 +309,17 @@ impl Deformer {
 mod tests {
     use super::*;
 
-    /// Two joints: joint 1's matrix moves x by 2; a vertex half on each moves by 1.
-    #[test]
-    fn poses_with_the_given_joints_and_morphs() {
+    /// A triangle on two joints and one morph target that lifts every vertex by its weight:
+    /// vertex 0 half on each joint, vertex 1 on joint 1, vertex 2 on joint 0; and the
+    /// matrices that move joint 1 by 2 along x.
+    fn two_joints(normals: Option<&[f32]>) -> (Deformer, Vec<f32>) {
         let positions = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
-        let normals = [0.0, 0.0, 1.0].repeat(3);
         let joints = [0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0];
         let weights = [0.5, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
         let deltas = [0.0, 0.0, 1.0].repeat(3);
-        let mut d = Deformer::with(&Source {
+        let d = Deformer::with(&Source {
             positions: &positions,
-            normals: Some(&normals),
+            normals,
             joints: &joints,
             weights: &weights,
             joint_count: 2,
@@ -328,10 +328,17 @@ mod tests {
             targets: 1,
         })
         .unwrap();
-        assert_eq!(d.matrix_count(), 2);
         let mut moved = IDENTITY;
         moved[12] = 2.0;
-        let matrices: Vec<f32> = IDENTITY.iter().chain(&moved).copied().collect();
+        (d, IDENTITY.iter().chain(&moved).copied().collect())
+    }
+
+    /// Two joints: joint 1's matrix moves x by 2; a vertex half on each moves by 1.
+    #[test]
+    fn poses_with_the_given_joints_and_morphs() {
+        let normals = [0.0, 0.0, 1.0].repeat(3);
+        let (mut d, matrices) = two_joints(Some(&normals));
+        assert_eq!(d.matrix_count(), 2);
         let (mut p, mut n) = (vec![0.0; 9], vec![0.0; 9]);
         d.pose_into(&matrices, &[0.5], &mut p, &mut n).unwrap();
         assert_eq!(p, [1.0, 0.0, 0.5, 3.0, 0.0, 0.5, 0.0, 1.0, 0.5]);
@@ -353,24 +360,7 @@ mod tests {
     /// |(3,0)-(0,1)| = sqrt(10), reach 0.5. Bad indices are errors.
     #[test]
     fn posed_bounds_grow_the_posed_box_by_the_reach() {
-        let positions = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
-        let joints = [0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0];
-        let weights = [0.5, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
-        let deltas = [0.0, 0.0, 1.0].repeat(3);
-        let mut d = Deformer::with(&Source {
-            positions: &positions,
-            normals: None,
-            joints: &joints,
-            weights: &weights,
-            joint_count: 2,
-            position_deltas: &deltas,
-            normal_deltas: &[],
-            targets: 1,
-        })
-        .unwrap();
-        let mut moved = IDENTITY;
-        moved[12] = 2.0;
-        let matrices: Vec<f32> = IDENTITY.iter().chain(&moved).copied().collect();
+        let (mut d, matrices) = two_joints(None);
         let b = d
             .posed_bounds_of(&matrices, &[0.5], &[0, 1, 2], 0.5)
             .unwrap();
