@@ -165,15 +165,7 @@ export class BakedSurface {
    */
   bake(renderer) {
     if (this.#target === null) {
-      this.#target = new WebGLRenderTarget(BAKED_WIDTH, this.rows, {
-        count: 2,
-        type: FloatType,
-        format: RGBAFormat,
-        minFilter: NearestFilter,
-        magFilter: NearestFilter,
-        generateMipmaps: false,
-        depthBuffer: false,
-      });
+      this.#target = floatTarget(BAKED_WIDTH, this.rows, 2);
     }
     const gl = renderer.getContext();
     const target = renderer.getRenderTarget();
@@ -215,6 +207,19 @@ export class BakedSurface {
     this.#material.dispose();
     this.#geometry.dispose();
   }
+}
+
+/** An RGBA32F render target of `width` × `height` texels (`count` of them), sampled nearest, no mipmaps, no depth. */
+export function floatTarget(width, height, count = 1) {
+  return new WebGLRenderTarget(width, height, {
+    count,
+    type: FloatType,
+    format: RGBAFormat,
+    minFilter: NearestFilter,
+    magFilter: NearestFilter,
+    generateMipmaps: false,
+    depthBuffer: false,
+  });
 }
 
 /** An RGBA32F DataTexture of `width` × `height` texels holding `data`, sampled nearest, no mipmaps. */

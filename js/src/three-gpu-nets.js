@@ -16,17 +16,13 @@ import {
   BufferAttribute,
   BufferGeometry,
   Camera,
-  FloatType,
   GLSL3,
   Mesh,
-  NearestFilter,
   NoBlending,
   RawShaderMaterial,
-  RGBAFormat,
   Vector4,
-  WebGLRenderTarget,
 } from 'three';
-import { BAKED_SHIFT as SHIFT, BAKED_WIDTH as WIDTH, bakeMissing, floatTexture, FULL_SCREEN_VERTEX } from './three-bake.js';
+import { BAKED_SHIFT as SHIFT, BAKED_WIDTH as WIDTH, bakeMissing, floatTarget, floatTexture, FULL_SCREEN_VERTEX } from './three-bake.js';
 
 // The first pass: a fragment a texel of the posed target, two texels a coarse vertex (its posed
 // position, then its normal). `glsl`: the wasm's net pass functions (tessella_skin_normal is
@@ -237,15 +233,6 @@ export class GpuNets {
     const glsl = surface.netsPassGlsl();
     const pass = (fragmentShader, uniforms) =>
       new RawShaderMaterial({ glslVersion: GLSL3, vertexShader: FULL_SCREEN_VERTEX, fragmentShader, uniforms, depthTest: false, depthWrite: false, blending: NoBlending });
-    const floatTarget = (width, height) =>
-      new WebGLRenderTarget(width, height, {
-        type: FloatType,
-        format: RGBAFormat,
-        minFilter: NearestFilter,
-        magFilter: NearestFilter,
-        generateMipmaps: false,
-        depthBuffer: false,
-      });
     /** The posed coarse vertices, two texels a vertex (position, normal), rows of WIDTH. */
     this.#posed = floatTarget(Math.max(1, Math.min(2 * vertices, WIDTH)), Math.max(1, Math.ceil((2 * vertices) / WIDTH)));
     this.#poseMaterial = pass(poseFragment({ glsl, perVertex, skinned, targets }), {
