@@ -43,10 +43,14 @@ export function gpuNetsNodesMissing(renderer) {
   return null;
 }
 
-// A read-only storage buffer of `data`, `count` elements of `type`, and its attribute.
-function buffer(data, itemSize, type, count) {
+// A storage buffer of `data`, `count` elements of `type` (read-only unless `writable`), and
+// its attribute, added to `owned` (disposed with the nets: three frees a storage buffer's GPU
+// memory only when its attribute is disposed).
+function buffer(owned, data, itemSize, type, count, writable = false) {
   const attribute = new StorageBufferAttribute(data, itemSize);
-  return { attribute, node: storage(attribute, type, count).toReadOnly() };
+  owned.push(attribute);
+  const node = storage(attribute, type, count);
+  return { attribute, node: writable ? node : node.toReadOnly() };
 }
 
 /**
@@ -64,6 +68,8 @@ export class GpuNetsNodes {
   #skinned;
   #targets;
   #nodes;
+  /** Every storage buffer's attribute, disposed with the nets. */
+  #buffers = [];
   /** The largest storage buffer's bytes (the morph deltas, or the rest or posed vertices). */
   #largest;
 
@@ -89,7 +95,7 @@ export class GpuNetsNodes {
         for (let i = 0; i < 4; i++) restData[r + 12 + i] = rest.joints[4 * v + i];
       }
     }
-    const restNode = buffer(restData, 4, 'vec4', per * n).node;
+    const restNode = buffer(this.#buffers, restData, 4, 'vec4', per * n).node;
     // The morph targets' displacements, position then normal, 2 vec4 a target and vertex.
     const deltas = new Float32Array(8 * Math.max(1, targets * n));
     for (let t = 0; t < targets; t++) {
@@ -99,12 +105,12 @@ export class GpuNetsNodes {
         if (rest.normalDeltas !== undefined) deltas.set(rest.normalDeltas.subarray(s, s + 3), 8 * (t * n + v) + 4);
       }
     }
-    const deltaNode = buffer(deltas, 4, 'vec4', 2 * Math.max(1, targets * n)).node;
+    const deltaNode = buffer(this.#buffers, deltas, 4, 'vec4', 2 * Math.max(1, targets * n)).node;
     // Per frame: the joint matrices (bind space to posed mesh space, SourcePose's) and the weights.
-    this.#matrices = buffer(new Float32Array(16 * rest.matrixCount), 16, 'mat4', rest.matrixCount);
-    this.#weights = buffer(new Float32Array(Math.max(1, targets)), 1, 'float', Math.max(1, targets));
+    this.#matrices = buffer(this.#buffers, new Float32Array(16 * rest.matrixCount), 16, 'mat4', rest.matrixCount);
+    this.#weights = buffer(this.#buffers, new Float32Array(Math.max(1, targets)), 1, 'float', Math.max(1, targets));
     // The posed vertices: position then unit normal, 2 vec4 a vertex.
-    const posed = storage(new StorageBufferAttribute(new Float32Array(8 * n), 4), 'vec4', 2 * n);
+    const posed = buffer(this.#buffers, new Float32Array(8 * n), 4, 'vec4', 2 * n, true).node;
     const skinNormal = wgslFn(code.skinNormal);
 
     // As the CPU's Deformer (tessella_core's Poser): p + Σ w Δp and n + Σ w Δn over the
@@ -150,7 +156,7 @@ export class GpuNetsNodes {
     // 3 corners a face, or 9 with PN-AEN's across vertices.
     const stride = words.length / surface.faceCount;
     const across = stride === 9;
-    const topology = buffer(words, 1, 'uint', words.length).node;
+    const topology = buffer(this.#buffers, words, 1, 'uint', words.length).node;
     const texels = surface.texelsPerFace;
     const perRow = surface.facesPerRow;
     // A StorageTexture (three/webgpu's is this: a Texture flagged isStorageTexture, made with
@@ -214,5 +220,6 @@ export class GpuNetsNodes {
   dispose() {
     for (const node of this.#nodes) node.dispose();
     this.texture.dispose();
+    for (const attribute of this.#buffers) attribute.dispose();
   }
 }

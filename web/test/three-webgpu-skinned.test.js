@@ -116,6 +116,7 @@ test('under WebGPURenderer GPU posing (the nets built by compute) draws the CPU 
       assert.ok(c.uploadedBytes > 10 * g.uploadedBytes, `CPU posing uploads ${c.uploadedBytes}`);
       assert.equal(g.computes, 1, 'one compute call a frame (pose, then the nets)');
       assert.equal(c.computes, 0);
+      assert.ok(onGpu.storageLeft === 0 && onCpu.storageLeft === 0, `storage buffers left after dispose: ${onGpu.storageLeft} (GPU posing), ${onCpu.storageLeft} (CPU)`);
     }
   }
   // A GPU-posed mesh and a static one (the CPU's DataTexture) sharing a material (its nodes,

@@ -189,7 +189,8 @@ async function creature() {
  * TessellatedMesh with posing 'cpu' made then, its DataTexture), compared: the largest
  * difference and the largest value. `scheme`, `level`, `normals`, `normalsFromSource`: the
  * mesh's options; `rigid`: a morphing Mesh of the creature's geometry instead of the SkinnedMesh;
- * `twin`: a static TessellatedMesh beside it sharing its material.
+ * `twin`: a static TessellatedMesh beside it sharing its material. `storageLeft`: the storage
+ * buffers the renderer still holds once the meshes are disposed, against before them.
  */
 async function skinned({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8, normals = undefined, normalsFromSource = undefined, posing = 'gpu', nets = false, rigid = false, twin = false } = {}) {
   await ready;
@@ -224,6 +225,8 @@ async function skinned({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8,
   camera.lookAt(centre);
   const material = new THREE.MeshStandardMaterial({ color: 0x3377cc, roughness: 0.5 });
   const options = { scheme, level, normals, normalsFromSource };
+  // The renderer's storage buffers before the meshes: every one they make is freed by dispose.
+  const storageBefore = renderer.info.memory.storageAttributes;
   let drawn;
   try {
     drawn = new TessellatedMesh(mesh, material, { ...options, posing });
@@ -285,6 +288,7 @@ async function skinned({ clip = 'wave', times = [0.5], scheme = 'pn', level = 8,
   } else {
     drawn.dispose();
   }
+  out.storageLeft = renderer.info.memory.storageAttributes - storageBefore;
   return out;
 }
 
