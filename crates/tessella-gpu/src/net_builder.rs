@@ -162,23 +162,7 @@ impl Pipelines {
                 (compute, WRITE),
             ],
         );
-        let k = Basis::Cubic.len();
-        let source = [
-            crate::wgsl_constants::source(),
-            format!("const TESSELLA_NETS_K: u32 = {k}u;\n"),
-            shader::net_builder(Lang::Wgsl, scheme.builder()),
-            shader::net_builder(Lang::Wgsl, normals),
-            format!(
-                "fn tessella_nets_points(face: u32, p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>) -> array<vec3<f32>, {k}> {{\n{}}}\n",
-                scheme.points_call()
-            ),
-            format!(
-                "fn tessella_nets_normals(p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>) -> array<vec3<f32>, 6> {{\n    return {}(p, n);\n}}\n",
-                normals.function_name()
-            ),
-            include_str!("shaders/nets.wgsl").to_string(),
-        ]
-        .join("\n");
+        let source = source(scheme, normals);
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -204,6 +188,35 @@ impl Pipelines {
             });
         Pipelines { layout, pipeline }
     }
+}
+
+/// The net-building kernel's WGSL for `scheme`'s points and the `normals` net: the core's
+/// generated builders, the two calls `nets.wgsl` makes, then `nets.wgsl`.
+fn source(scheme: GpuScheme, normals: NetBuilder) -> String {
+    let k = Basis::Cubic.len();
+    [
+        crate::wgsl_constants::source(),
+        format!("const TESSELLA_NETS_K: u32 = {k}u;\n"),
+        shader::net_builder(Lang::Wgsl, scheme.builder()),
+        shader::net_builder(Lang::Wgsl, normals),
+        format!(
+            "fn tessella_nets_points(face: u32, p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>) -> array<vec3<f32>, {k}> {{\n{}}}\n",
+            scheme.points_call()
+        ),
+        format!(
+            "fn tessella_nets_normals(p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>) -> array<vec3<f32>, 6> {{\n    return {}(p, n);\n}}\n",
+            normals.function_name()
+        ),
+        include_str!("shaders/nets.wgsl").to_string(),
+    ]
+    .join("\n")
+}
+
+/// [`source`] for `scheme` and its default normal net (for the uniform twins' test).
+#[cfg(test)]
+pub(crate) fn source_for(scheme: &Scheme) -> String {
+    let gpu = GpuScheme::of(scheme).expect("a scheme whose nets the GPU builds");
+    source(gpu, NetBuilder::QuadraticNormals)
 }
 
 /// Builds a surface's control nets on the GPU from coarse vertices in the caller's storage

@@ -4,6 +4,7 @@
 use crate::coarse::{CoarseInput, CoarseStream};
 use crate::context::{GpuContext, READ, UNIFORM, WRITE};
 use crate::error::GpuError;
+use crate::gpu_types::SkinParams;
 use tessella_core::animation::Poser;
 
 /// Threads per workgroup of `cs_skin`.
@@ -172,24 +173,23 @@ impl GpuSkinner {
             streams.normals.check("the skinned normals", n, align)?;
             let [stride, position_first] = streams.positions.words();
             let [_, normal_first] = streams.normals.words();
-            let params: [u32; 12] = [
-                n as u32,
-                table.slots as u32,
-                16 * table.matrix_count as u32,
+            let params = SkinParams {
+                vertex_count: n as u32,
+                slots: table.slots as u32,
+                weights_at: 16 * table.matrix_count as u32,
                 morphs_at,
                 deltas_at,
                 normal_deltas_at,
-                (x * WORKGROUP) as u32,
-                stride,
+                row: (x * WORKGROUP) as u32,
+                out_stride: stride,
                 position_first,
                 normal_first,
-                0,
-                0,
-            ];
+                _pad: [0; 2],
+            };
             let none = wgpu::BufferUsages::empty();
             let params = ctx.buffer_init(
                 "skin params",
-                bytemuck::cast_slice(&params),
+                bytemuck::bytes_of(&params),
                 wgpu::BufferUsages::UNIFORM,
             );
             let rest = ctx.storage_buffer("skin rest", bytemuck::cast_slice(&rest), none);
@@ -365,11 +365,7 @@ fn compile(ctx: &GpuContext) -> SkinPipeline {
             (compute, WRITE),
         ],
     );
-    let source = [
-        tessella_core::shader::skin_wgsl(),
-        include_str!("shaders/skin.wgsl").to_string(),
-    ]
-    .concat();
+    let source = source();
     let module = ctx
         .device
         .create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -396,6 +392,15 @@ fn compile(ctx: &GpuContext) -> SkinPipeline {
     SkinPipeline { pipeline, layout }
 }
 
+/// The skinning kernel's WGSL: the core's generated normal function, then `skin.wgsl`.
+pub(crate) fn source() -> String {
+    [
+        tessella_core::shader::skin_wgsl(),
+        include_str!("shaders/skin.wgsl").to_string(),
+    ]
+    .concat()
+}
+
 #[cfg(test)]
 mod tests {
     /// The skinning shader (the generated normal function and `skin.wgsl`) parses and
@@ -403,11 +408,7 @@ mod tests {
     #[test]
     fn the_skinning_shader_validates() {
         use wgpu::naga;
-        let source = [
-            tessella_core::shader::skin_wgsl(),
-            include_str!("shaders/skin.wgsl").to_string(),
-        ]
-        .concat();
+        let source = super::source();
         let module = naga::front::wgsl::parse_str(&source)
             .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
         naga::valid::Validator::new(
