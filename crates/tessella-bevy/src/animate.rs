@@ -27,6 +27,7 @@ use tessella_core::refine::{Frame, Plan};
 /// Where a tessellated entity that Bevy animates is posed (absent: [`TessellaPosing::Gpu`]).
 #[derive(Component, Reflect, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[reflect(Component, Debug, Clone, Default)]
+#[non_exhaustive]
 pub enum TessellaPosing {
     /// On the GPU where it can run: tessella-gpu's skinning and net builder in the render
     /// world, on Bevy's device, write the nets the per-frame pass evaluates; a frame uploads

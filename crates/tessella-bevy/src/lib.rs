@@ -102,6 +102,7 @@ impl Tessellate {
 /// main); they trade GPU memory against vertex work (`docs/bevy.md` has the measurements).
 #[derive(Component, Reflect, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[reflect(Component, Debug, Clone, Default)]
+#[non_exhaustive]
 pub enum TessellaDraw {
     /// The welded topology of [`TessellaDraw::Welded`], its vertices evaluated once a frame
     /// (only in frames whose nets changed: once for a still surface) by a compute pass into a

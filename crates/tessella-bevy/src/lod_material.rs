@@ -77,8 +77,9 @@ impl From<&TessellaLodExtension> for TessellaLodKey {
 
 /// The normal modes with a module of their own (the others draw as quadratic's).
 fn normals_of(mode: NormalMode) -> NormalMode {
-    match mode {
-        NormalMode::Linear | NormalMode::Real => mode,
+    use tessella_core::shader::{normal_mode_code, NORMALS_LINEAR, NORMALS_REAL};
+    match normal_mode_code(mode) {
+        NORMALS_LINEAR | NORMALS_REAL => mode,
         _ => NormalMode::Quadratic,
     }
 }
@@ -94,15 +95,8 @@ fn variants() -> impl Iterator<Item = (Basis, NormalMode, bool)> {
 
 /// A variant's module name and shader def.
 fn variant_name((basis, mode, grid): (Basis, NormalMode, bool)) -> String {
-    let basis = match basis {
-        Basis::Cubic => "cubic",
-        Basis::Png1 => "png1",
-    };
-    let mode = match mode {
-        NormalMode::Linear => "linear",
-        NormalMode::Real => "real",
-        _ => "quadratic",
-    };
+    let basis = tessella_core::shader::basis_name(basis);
+    let mode = tessella_core::shader::normal_mode_name(mode);
     let family = if grid { "grid" } else { "tessellator" };
     format!("adaptive_{basis}_{mode}_{family}")
 }

@@ -79,9 +79,9 @@ pub enum NormalModeKey {
 impl NormalModeKey {
     /// The key of a normal mode (the modes without a module of their own use quadratic's).
     pub fn of(mode: NormalMode) -> NormalModeKey {
-        match mode {
-            NormalMode::Linear => NormalModeKey::Linear,
-            NormalMode::Real => NormalModeKey::Real,
+        match tessella_core::shader::normal_mode_code(mode) {
+            tessella_core::shader::NORMALS_LINEAR => NormalModeKey::Linear,
+            tessella_core::shader::NORMALS_REAL => NormalModeKey::Real,
             _ => NormalModeKey::Quadratic,
         }
     }

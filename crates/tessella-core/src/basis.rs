@@ -35,6 +35,7 @@ pub const NORMAL_NET_LEN: usize = 6;
 /// The family of functions a scheme's control points are combined with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Basis {
     /// The cubic Bernstein basis of a Bézier triangle, 10 control points ([`CUBIC_ORDER`]).
     /// Flat and Phong patches are degree-elevated into it.

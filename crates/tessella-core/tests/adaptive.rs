@@ -9,7 +9,7 @@ use glam::DVec3;
 use reference::corpus::Lcg;
 use reference::{closed_manifold, d3, RefNormals, RefPatch, RefScheme, Tri};
 use std::sync::Arc;
-use tessella_core::refine::adaptive::grid_pattern;
+use tessella_core::refine::grid_pattern;
 use tessella_core::refine::{Camera, Levels, Lod, Plan, Spacing};
 use tessella_core::tessellator::{tessellate, TessLevels};
 use tessella_core::Named;

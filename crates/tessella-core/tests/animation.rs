@@ -1008,6 +1008,7 @@ fn deform_layout_and_table() {
                                 s.copy_from_slice(&sample(&c.sampler, 0.6, 3, false))
                             }
                             Property::Weights => {}
+                            other => panic!("the reference evaluator has no {other:?}"),
                         }
                     }
                     trs(t, r, s)

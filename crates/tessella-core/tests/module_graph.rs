@@ -27,6 +27,9 @@
 //!
 //!    The test prints the cycle it finds, with the file that makes each step.
 
+mod source_tree;
+
+use source_tree::{is_ident, rust_files, strip_comments, workspace_crates};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
@@ -46,17 +49,6 @@ fn modules(src: &Path) -> BTreeMap<String, Vec<PathBuf>> {
     out
 }
 
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).expect("module folder is readable") {
-        let path = entry.expect("folder entry").path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
-
 /// The module path of a file below `src/`: `basis.rs` → `[basis]`, `scheme/mod.rs` →
 /// `[scheme]`, `scheme/png1.rs` → `[scheme, png1]`.
 fn module_path(src: &Path, file: &Path) -> Vec<String> {
@@ -71,108 +63,6 @@ fn module_path(src: &Path, file: &Path) -> Vec<String> {
         parts.push(stem.to_string());
     }
     parts
-}
-
-/// `text` with `//` and `/* */` comments blanked out (string literals kept as they are).
-fn strip_comments(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut chars = text.chars().peekable();
-    let mut depth = 0usize;
-    let mut in_string = false;
-    while let Some(c) = chars.next() {
-        if depth > 0 {
-            if c == '*' && chars.peek() == Some(&'/') {
-                chars.next();
-                depth -= 1;
-            } else if c == '/' && chars.peek() == Some(&'*') {
-                chars.next();
-                depth += 1;
-            } else if c == '\n' {
-                out.push('\n');
-            }
-            continue;
-        }
-        if in_string {
-            out.push(c);
-            if c == '\\' {
-                if let Some(n) = chars.next() {
-                    out.push(n);
-                }
-            } else if c == '"' {
-                in_string = false;
-            }
-            continue;
-        }
-        match c {
-            '"' => {
-                in_string = true;
-                out.push(c);
-            }
-            // A raw string (r"...", r#"..."#), copied whole: no escapes, quotes inside.
-            'r' if !out.ends_with(is_ident) && matches!(chars.peek(), Some('"' | '#')) => {
-                out.push(c);
-                let mut hashes = 0;
-                while chars.peek() == Some(&'#') {
-                    chars.next();
-                    out.push('#');
-                    hashes += 1;
-                }
-                if chars.peek() == Some(&'"') {
-                    out.push(chars.next().expect("peeked"));
-                    let close = format!("\"{}", "#".repeat(hashes));
-                    let mut body = String::new();
-                    for n in chars.by_ref() {
-                        body.push(n);
-                        if body.ends_with(&close) {
-                            break;
-                        }
-                    }
-                    out.push_str(&body);
-                }
-            }
-            // A char literal ('"', '\'', 'x'), copied whole so its quote starts no string;
-            // a lifetime ('a) is left as it is.
-            '\'' => {
-                out.push(c);
-                let mut ahead = chars.clone();
-                let literal = match ahead.next() {
-                    Some('\\') => ahead.next().is_some() && ahead.next() == Some('\''),
-                    Some(_) => ahead.next() == Some('\''),
-                    None => false,
-                };
-                if literal {
-                    while let Some(n) = chars.next() {
-                        out.push(n);
-                        if n == '\\' {
-                            if let Some(e) = chars.next() {
-                                out.push(e);
-                            }
-                        } else if n == '\'' {
-                            break;
-                        }
-                    }
-                }
-            }
-            '/' if chars.peek() == Some(&'/') => {
-                for n in chars.by_ref() {
-                    if n == '\n' {
-                        out.push('\n');
-                        break;
-                    }
-                }
-            }
-            '/' if chars.peek() == Some(&'*') => {
-                chars.next();
-                depth = 1;
-            }
-            _ => out.push(c),
-        }
-    }
-    out
-}
-
-fn is_ident(c: char) -> bool {
-    c.is_ascii_alphanumeric() || c == '_'
 }
 
 fn skip_space(s: &str) -> &str {
@@ -730,26 +620,6 @@ fn file_graph(src: &Path) -> BTreeMap<String, BTreeMap<String, PathBuf>> {
         }
     }
     edges
-}
-
-/// The sources of every crate of the workspace: `crates/*/src` and `python/src`.
-fn workspace_crates() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .and_then(Path::parent)
-        .expect("the workspace root")
-        .to_path_buf();
-    let mut out: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
-        .expect("crates/ is readable")
-        .map(|e| e.expect("crates/ entry").path().join("src"))
-        .filter(|p| p.is_dir())
-        .collect();
-    let python = root.join("python/src");
-    if python.is_dir() {
-        out.push(python);
-    }
-    out.sort();
-    out
 }
 
 fn describe_cycle(cycle: &[String], edges: &BTreeMap<String, BTreeMap<String, PathBuf>>) -> String {

@@ -5,14 +5,14 @@
 
 use std::collections::HashMap;
 use tessella_core::pattern::PointClass;
-use tessella_core::tessellator::{process_levels, tessellate, Spacing, TessLevels};
+use tessella_core::tessellator::{process_levels, tessellate, Partitioning, TessLevels};
 use tessella_core::Pattern;
 
 const ULP: f64 = 1.0 / 65536.0;
-const SPACINGS: [Spacing; 3] = [
-    Spacing::Equal,
-    Spacing::FractionalOdd,
-    Spacing::FractionalEven,
+const SPACINGS: [Partitioning; 3] = [
+    Partitioning::Equal,
+    Partitioning::FractionalOdd,
+    Partitioning::FractionalEven,
 ];
 
 fn levels(inner: f32, outer: [f32; 3]) -> TessLevels {
@@ -96,7 +96,7 @@ fn edge_of(k: usize) -> u8 {
 #[test]
 fn equal_spacing_counts_and_tiles() {
     for n in 1..=64u32 {
-        let p = tessellate(Spacing::Equal, TessLevels::uniform(n as f32));
+        let p = tessellate(Partitioning::Equal, TessLevels::uniform(n as f32));
         let t = p.triangles.len() as u32;
         let expected = if n == 1 { 1 } else { (3 * n * n - n % 2) / 2 };
         assert_eq!(t, expected, "level {n}");
@@ -127,7 +127,7 @@ fn every_spacing_tiles_for_mixed_levels() {
                 let p = tessellate(spacing, levels(i, o));
                 // Fractional levels just above a parity step give flat triangles (new points on
                 // top of old ones, by design); equal spacing never does.
-                let strict = spacing == Spacing::Equal;
+                let strict = spacing == Partitioning::Equal;
                 assert_tiles(&p, strict, &format!("{spacing:?} {i} {o:?}"));
                 cases += 1;
             }
@@ -139,7 +139,7 @@ fn every_spacing_tiles_for_mixed_levels() {
 #[test]
 fn equal_spacing_puts_edge_points_at_k_over_n() {
     for n in 1..=64u32 {
-        let p = tessellate(Spacing::Equal, levels(5.0, [n as f32, 3.0, 2.0]));
+        let p = tessellate(Partitioning::Equal, levels(5.0, [n as f32, 3.0, 2.0]));
         let t = edge_params(&p, edge_of(0));
         assert_eq!(t.len() as u32, n + 1);
         for (k, &x) in t.iter().enumerate() {
@@ -214,13 +214,13 @@ fn fractional_points_move_continuously() {
     // A point moves at most as fast as the half-level's fraction (1/2 per unit level) times a
     // segment (≤ 1), plus fixed-point rounding.
     let tol = delta as f64 + 4.0 * ULP;
-    for spacing in [Spacing::FractionalOdd, Spacing::FractionalEven] {
+    for spacing in [Partitioning::FractionalOdd, Partitioning::FractionalEven] {
         let (lo, hi) = spacing.range();
         // A grid of levels, plus each parity step (odd integers for fractional-odd, even ones for
         // fractional-even), where the pair (f, f + delta) gains points.
         // The grid starts at the minimum, itself a step: fractional-odd goes from the single
         // triangle of level 1 to a ring, fractional-even from 2 to 4 segments.
-        let first_step = if spacing == Spacing::FractionalOdd {
+        let first_step = if spacing == Partitioning::FractionalOdd {
             3
         } else {
             4
@@ -264,11 +264,11 @@ fn new_edge_points_start_as_zero_length_segments() {
     // an edge gains two segments, which start with zero length.
     for (spacing, steps) in [
         (
-            Spacing::FractionalOdd,
+            Partitioning::FractionalOdd,
             [3.0f32, 5.0, 7.0, 9.0, 17.0, 33.0, 61.0],
         ),
         (
-            Spacing::FractionalEven,
+            Partitioning::FractionalEven,
             [2.0f32, 4.0, 6.0, 8.0, 16.0, 32.0, 62.0],
         ),
     ] {
@@ -349,21 +349,21 @@ fn levels_are_clamped_to_the_hardware_range() {
             .unwrap()
             .outer_segments
     };
-    assert_eq!(segs(Spacing::Equal), [64; 3]);
-    assert_eq!(segs(Spacing::FractionalEven), [64; 3]);
-    assert_eq!(segs(Spacing::FractionalOdd), [63; 3]);
+    assert_eq!(segs(Partitioning::Equal), [64; 3]);
+    assert_eq!(segs(Partitioning::FractionalEven), [64; 3]);
+    assert_eq!(segs(Partitioning::FractionalOdd), [63; 3]);
     // Equal spacing rounds up; fractional-odd keeps the inner level above 1 when an edge is.
-    let p = process_levels(Spacing::Equal, levels(2.2, [1.01, 3.0, 4.5])).unwrap();
+    let p = process_levels(Partitioning::Equal, levels(2.2, [1.01, 3.0, 4.5])).unwrap();
     assert_eq!(p.levels.outer, [2.0, 3.0, 5.0]);
     assert_eq!(p.levels.inner, 3.0);
-    let p = process_levels(Spacing::FractionalOdd, levels(1.0, [1.0, 2.0, 1.0])).unwrap();
+    let p = process_levels(Partitioning::FractionalOdd, levels(1.0, [1.0, 2.0, 1.0])).unwrap();
     assert!(p.levels.inner > 1.0 && !p.single_triangle);
 }
 
 #[test]
 fn level_one_is_a_single_triangle() {
     let corners = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]];
-    for spacing in [Spacing::Equal, Spacing::FractionalOdd] {
+    for spacing in [Partitioning::Equal, Partitioning::FractionalOdd] {
         for l in [1.0, 0.3, 1e-20] {
             let p = tessellate(spacing, TessLevels::uniform(l));
             assert_eq!(p.points, corners, "{spacing:?} {l}");
@@ -373,8 +373,8 @@ fn level_one_is_a_single_triangle() {
     }
     // Fractional-even has no level 1: its minimum, 2, is the six-triangle fan below.
     assert_eq!(
-        tessellate(Spacing::FractionalEven, TessLevels::uniform(1.0)),
-        tessellate(Spacing::Equal, TessLevels::uniform(2.0))
+        tessellate(Partitioning::FractionalEven, TessLevels::uniform(1.0)),
+        tessellate(Partitioning::Equal, TessLevels::uniform(2.0))
     );
 }
 
@@ -384,7 +384,7 @@ fn level_two_by_hand() {
     // without its last: P2, mid(P2P3), P3, mid(P3P1), P1, mid(P1P2). The inner level 2 has 3
     // points, so no ring, only the centre, at (0x5555, 0x5555) in 16.16 with w = 1 - u - v.
     // Connectivity: each side's transition strip is two triangles fanning to the centre.
-    let p = tessellate(Spacing::Equal, TessLevels::uniform(2.0));
+    let p = tessellate(Partitioning::Equal, TessLevels::uniform(2.0));
     let c = 21845.0 / 65536.0;
     assert_eq!(
         p.points,
@@ -422,7 +422,7 @@ fn level_two_by_hand() {
     );
     // Fractional-even 2 is the same layout.
     assert_eq!(
-        tessellate(Spacing::FractionalEven, TessLevels::uniform(2.0)),
+        tessellate(Partitioning::FractionalEven, TessLevels::uniform(2.0)),
         p
     );
 }
@@ -434,7 +434,7 @@ fn fractional_odd_one_and_a_half_by_hand() {
     // 0 (floor layout) to 0x5555 (1/3) by 1/4: (0x5555 · 0x4000 + 0x8000) >> 16 = 0x1555 = 5461;
     // point 2 is its mirror 65536 - 5461 = 60075. So each edge is 0, t, 1 - t, 1 (t ≈ 1/12).
     let t = 5461.0 / 65536.0;
-    let p = tessellate(Spacing::FractionalOdd, TessLevels::uniform(1.5));
+    let p = tessellate(Partitioning::FractionalOdd, TessLevels::uniform(1.5));
     assert_eq!(edge_params(&p, 0), [0.0, t, 1.0 - t, 1.0]);
     // Inner ring 1 (one point per side): perpendicular distance 5461 · 0xaaaa rounded >> 16 =
     // 3641, the side parameter slides back by (3641 + 1) / 2 = 1821:

@@ -195,12 +195,12 @@ impl GlContext {
     /// evaluators on this context share it.
     pub(crate) fn program(
         &self,
-        spacing: tessella_core::tessellator::Spacing,
+        spacing: tessella_core::tessellator::Partitioning,
     ) -> Result<glow::Program, GlError> {
         let i = match spacing {
-            tessella_core::tessellator::Spacing::Equal => 0,
-            tessella_core::tessellator::Spacing::FractionalOdd => 1,
-            tessella_core::tessellator::Spacing::FractionalEven => 2,
+            tessella_core::tessellator::Partitioning::Equal => 0,
+            tessella_core::tessellator::Partitioning::FractionalOdd => 1,
+            tessella_core::tessellator::Partitioning::FractionalEven => 2,
         };
         if let Some(p) = self.programs.borrow()[i] {
             return Ok(p);

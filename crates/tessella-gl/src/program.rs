@@ -4,11 +4,11 @@
 use crate::error::GlError;
 use crate::shaders::glsl_sources;
 use glow::HasContext;
-use tessella_core::tessellator::Spacing;
+use tessella_core::tessellator::Partitioning;
 
 /// Compiles the four stages of `spacing`'s program and links them, with the transform feedback
 /// varyings the read-back takes; a compile or link failure is an error with the driver's log.
-pub(crate) fn link(gl: &glow::Context, spacing: Spacing) -> Result<glow::Program, GlError> {
+pub(crate) fn link(gl: &glow::Context, spacing: Partitioning) -> Result<glow::Program, GlError> {
     let src = glsl_sources(spacing);
     // SAFETY: GL calls on the current context.
     unsafe {

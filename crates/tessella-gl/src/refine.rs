@@ -16,6 +16,7 @@ const TF_FLOATS: usize = 10;
 
 /// How the TCS gets its levels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum LevelSource {
     /// One uniform for all four levels of every patch (van Veen's setting).
     Uniform,
@@ -70,7 +71,7 @@ pub struct GlTessellator<'c> {
 }
 
 /// The hardware spacing of `options`, or why the GL backend cannot run them.
-pub fn hardware_spacing(options: &RefineOptions) -> Result<tessellator::Spacing, GlError> {
+pub fn hardware_spacing(options: &RefineOptions) -> Result<tessellator::Partitioning, GlError> {
     options.spacing.tessellator().ok_or_else(|| {
         GlError::Unsupported(format!(
             "the GL backend runs the hardware tessellator, whose patterns are not the {} \
@@ -111,7 +112,10 @@ impl<'c> GlTessellator<'c> {
 
     /// The program for `spacing`, compiled and linked on first use (by the context, which
     /// keeps it for every tessellator and evaluator on it).
-    pub fn program(&mut self, spacing: tessellator::Spacing) -> Result<glow::Program, GlError> {
+    pub fn program(
+        &mut self,
+        spacing: tessellator::Partitioning,
+    ) -> Result<glow::Program, GlError> {
         self.ctx.program(spacing)
     }
 
@@ -308,6 +312,7 @@ pub fn gl_clip_from_zero_to_one(view_proj: [[f32; 4]; 4]) -> [f32; 16] {
 
 /// What [`GlTessellator::draw`] draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum DrawMode {
     /// The surface, coloured by normal (`0.5 n + 0.5`).
     Fill,
@@ -319,6 +324,7 @@ pub enum DrawMode {
 
 /// Where the tessellation control shader gets each patch's control net.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum NetSource {
     /// Built in the control shader from the coarse vertices (van Veen): flat, Phong, PN and
     /// PNG1 (whose 6-vertex patches add each edge's opposite neighbour corner). Per frame only
@@ -389,7 +395,7 @@ impl ShaderNets {
 /// Plan, nets and levels of one GL refinement ([`GlTessellator::prepare`]); its frame borrows
 /// the mesh.
 pub struct Prepared<'m> {
-    pub spacing: tessellator::Spacing,
+    pub spacing: tessellator::Partitioning,
     pub plan: Plan,
     pub frame: Frame<'m>,
     /// Where the control shader gets the nets (the frame's CPU nets for [`NetSource::Buffers`]).
@@ -416,7 +422,7 @@ impl Prepared<'_> {
 
 /// What a plan fixes for the GL draw: spacing, net source, levels, the expected output.
 struct PlanSetup {
-    spacing: tessellator::Spacing,
+    spacing: tessellator::Partitioning,
     nets: NetSource,
     levels: Vec<f32>,
     source: LevelSource,

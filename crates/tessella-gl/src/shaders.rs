@@ -6,7 +6,7 @@
 //! the evaluation shader's sums.
 
 use tessella_core::shader::{self, Lang, NetBuilder};
-use tessella_core::tessellator::Spacing;
+use tessella_core::tessellator::Partitioning;
 use tessella_core::Basis;
 
 /// The four stages' sources for one spacing.
@@ -261,11 +261,11 @@ void main() {
 }
 "#;
 
-fn layout(spacing: Spacing) -> &'static str {
+fn layout(spacing: Partitioning) -> &'static str {
     match spacing {
-        Spacing::Equal => "equal_spacing",
-        Spacing::FractionalOdd => "fractional_odd_spacing",
-        Spacing::FractionalEven => "fractional_even_spacing",
+        Partitioning::Equal => "equal_spacing",
+        Partitioning::FractionalOdd => "fractional_odd_spacing",
+        Partitioning::FractionalEven => "fractional_even_spacing",
     }
 }
 
@@ -311,7 +311,7 @@ void main() {
 "#;
 
 /// The sources for `spacing`.
-pub fn glsl_sources(spacing: Spacing) -> ShaderSources {
+pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
     ShaderSources {
         vertex: format!("{HEADER}{VERTEX}"),
         control: format!(
@@ -338,7 +338,7 @@ mod tests {
 
     #[test]
     fn every_stage_takes_the_generated_weights_it_calls() {
-        let s = glsl_sources(Spacing::Equal);
+        let s = glsl_sources(Partitioning::Equal);
         for (stage, text, calls) in [
             ("control", &s.control, &["tessella_png1_weights"][..]),
             (

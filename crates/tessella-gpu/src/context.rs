@@ -31,6 +31,7 @@ fn poll_now<F: Future + ?Sized>(future: Pin<&mut F>) -> Option<F::Output> {
 
 /// Which adapter [`GpuContext::new`] asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub enum AdapterChoice {
     /// A hardware adapter when there is one, otherwise a software one (lavapipe, WARP, ...).
     #[default]

@@ -55,6 +55,7 @@ pub struct GpuRefineOptions {
 /// Where [`GpuEvaluator::record`] writes one frame's vertices (format:
 /// [`GpuEvaluator::vertex_format`]).
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum GpuOutput<'a> {
     /// The evaluator's own vertex buffer (`VERTEX | STORAGE | COPY_SRC`), made on first use and
     /// kept: [`GpuEvaluator::vertex_buffer`], [`GpuEvaluator::read_back`].

@@ -111,6 +111,8 @@ mod pipeline_cache;
 mod renderer;
 mod shading;
 mod skinner;
+#[cfg(test)]
+mod uniform_twins;
 pub mod wgsl;
 mod wgsl_constants;
 

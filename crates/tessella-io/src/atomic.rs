@@ -8,6 +8,7 @@ use std::path::Path;
 
 /// Whether a finished file is flushed to the disk before it is put in place.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub enum Durability {
     /// `fsync` before the file gets its name: after a power cut the name holds the whole file
     /// or the old one.

@@ -232,6 +232,7 @@ pub fn from_ply(
 
 /// A sidecar JSON for [`gather`].
 #[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
 pub enum JsonSource<'a> {
     /// JSON text, and how messages name where it came from (`"in the tags dict"`).
     Text { text: &'a str, origin: &'a str },

@@ -87,6 +87,7 @@ pub fn render_twist(
 
 /// Where a clip's frames are posed and their control nets built.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub enum Skinning {
     /// On the CPU: [`Poser::pose_into`], then [`Plan::update`] builds the nets and the renderer
     /// uploads them (the nets' bytes every frame).

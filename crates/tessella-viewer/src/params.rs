@@ -16,6 +16,7 @@ use tessella_core::{Named, NormalMode, Scheme};
 
 /// The deformation `frame(timeMs)` plays.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub enum Animation {
     #[default]
     None,

@@ -382,10 +382,7 @@ fn pattern_points(level: u32) -> Vec<f32> {
 pub fn glsl(basis: Basis, mode: NormalMode) -> String {
     let k = basis.len();
     let texels = texels_per_face(k);
-    let name = match basis {
-        Basis::Cubic => "cubic",
-        Basis::Png1 => "png1",
-    };
+    let name = shader::basis_name(basis);
     let mut s =
         String::from("uniform highp sampler2D tessellaNets;\nuniform int tessellaFacesPerRow;\n");
     s += &shader::constants(Lang::Glsl, &[("TESSELLA_TEXELS_PER_FACE", texels as u32)]);
@@ -460,10 +457,7 @@ pub fn glsl(basis: Basis, mode: NormalMode) -> String {
 pub fn wgsl(basis: Basis, mode: NormalMode) -> String {
     let k = basis.len();
     let texels = texels_per_face(k);
-    let name = match basis {
-        Basis::Cubic => "cubic",
-        Basis::Png1 => "png1",
-    };
+    let name = shader::basis_name(basis);
     let mut s = shader::constants(Lang::Wgsl, &[("TESSELLA_TEXELS_PER_FACE", texels as u32)]);
     s += &shader::weights(Lang::Wgsl, basis);
     s += &shader::normal_weights_wgsl();

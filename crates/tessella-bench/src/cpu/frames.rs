@@ -95,7 +95,9 @@ impl Bandwidth {
         let copy_nt = time(&mut |_| {
             dst.par_chunks_mut(chunk)
                 .zip(src.par_chunks(chunk))
-                .for_each(|(d, s)| streaming::copy(d, std::hint::black_box(s)))
+                .for_each(|(d, s)| {
+                    streaming::copy(d, std::hint::black_box(s));
+                })
         });
         std::hint::black_box(&dst);
         drop((dst, src));

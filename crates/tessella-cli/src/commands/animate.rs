@@ -71,9 +71,9 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
                 skinning,
             };
             let stats = animate::render_clip(&ctx, &poser, &options, &view, &play, &args.output)?;
-            let what = match skinning {
-                animate::Skinning::Cpu => "control nets",
-                animate::Skinning::Gpu => {
+            let what = match args.skinning {
+                SkinningArg::Cpu => "control nets",
+                SkinningArg::Gpu => {
                     "deform matrices and morph weights; skinned and nets built on the GPU"
                 }
             };

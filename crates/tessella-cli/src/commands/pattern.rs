@@ -6,7 +6,7 @@ use anyhow::{bail, Context};
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
-use tessella_core::tessellator::{self, Spacing, TessLevels};
+use tessella_core::tessellator::{self, Partitioning, TessLevels};
 use tessella_core::Pattern;
 
 use super::pattern_svg::{self, Built};
@@ -24,7 +24,7 @@ struct PatternJson<'a> {
     /// Tessellator spacings: the spacing, and the levels after clamping and rounding (absent
     /// when the patch is culled).
     #[serde(skip_serializing_if = "Option::is_none")]
-    spacing: Option<Spacing>,
+    spacing: Option<Partitioning>,
     #[serde(skip_serializing_if = "Option::is_none")]
     levels: Option<TessLevels>,
     #[serde(skip_serializing_if = "Option::is_none")]

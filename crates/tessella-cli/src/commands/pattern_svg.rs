@@ -4,13 +4,13 @@
 
 use std::fmt::Write;
 use tessella_core::pattern::PointClass;
-use tessella_core::tessellator::{ProcessedLevels, Spacing, TessLevels};
+use tessella_core::tessellator::{Partitioning, ProcessedLevels, TessLevels};
 use tessella_core::Pattern;
 
 /// A pattern and, for tessellator spacings, how its levels were processed.
 pub(crate) struct Built {
     pub pattern: Pattern,
-    pub spacing: Option<Spacing>,
+    pub spacing: Option<Partitioning>,
     /// `None` for the grid or a culled patch.
     pub processed: Option<ProcessedLevels>,
     /// The levels as given (tessellator spacings).
@@ -130,10 +130,10 @@ fn title(built: &Built) -> String {
     }
 }
 
-fn name(s: Spacing) -> &'static str {
+fn name(s: Partitioning) -> &'static str {
     match s {
-        Spacing::Equal => "equal",
-        Spacing::FractionalOdd => "fractional-odd",
-        Spacing::FractionalEven => "fractional-even",
+        Partitioning::Equal => "equal",
+        Partitioning::FractionalOdd => "fractional-odd",
+        Partitioning::FractionalEven => "fractional-even",
     }
 }

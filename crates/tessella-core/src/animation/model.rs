@@ -113,6 +113,7 @@ pub enum Interpolation {
 
 /// What a channel animates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Property {
     /// The node's translation (3 components).
     Translation,

@@ -19,13 +19,14 @@
 //!   piece evaluation, the [`Evaluator`] interface and the one-shot [`Refiner`].
 //!
 //! This file only declares the two and re-exports their public items (the paths other crates
-//! use: `refine::Plan`, `refine::adaptive::...`, `refine::canonical`, ...).
+//! use: `refine::Plan`, `refine::Tiling`, `refine::canonical`, ...).
 
 mod cpu;
 mod plan;
 
 pub use cpu::evaluator::{CpuEvaluator, Evaluator};
 pub use cpu::kernels::eval_point;
+#[cfg(feature = "bandwidth")]
 pub use cpu::nontemporal::{stream_copy, stream_fill};
 pub use cpu::output::{VertexFormat, VertexOutput};
 pub use cpu::refiner::{refine, RefinedMesh, Refiner};
@@ -38,18 +39,5 @@ pub use plan::pieces::Piece;
 pub use plan::sizes::PlanSizes;
 pub use plan::surface::{Frame, Surface, SurfaceOptions};
 pub use plan::table::Plan;
-pub use plan::tiling::{Morph, Tile, Tiling};
+pub use plan::tiling::{grid_pattern, Morph, Tile, Tiling};
 pub use plan::{canonical, instanced, lod, morph};
-
-/// Adaptive refinement's levels and tiling (`plan::levels`, `plan::tiling`), by their
-/// earlier path.
-pub mod adaptive {
-    pub use super::plan::levels::*;
-    pub use super::plan::tiling::*;
-}
-
-/// Refinement in pieces ([`Piece`], [`Plan::pieces`], [`Plan::evaluate_piece`]), by its
-/// earlier path.
-pub mod stream {
-    pub use super::plan::pieces::Piece;
-}

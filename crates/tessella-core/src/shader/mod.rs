@@ -42,7 +42,8 @@ use trace::{trace, Expr, UExpr};
 /// array serves every basis; entries past the basis' own are left unwritten.
 pub const GLSL_WEIGHTS_LEN: usize = crate::basis::png1::PNG1_LEN;
 
-fn basis_name(basis: Basis) -> &'static str {
+/// The basis' name in the generated functions (`tessella_{name}_weights`): `cubic`, `png1`.
+pub fn basis_name(basis: Basis) -> &'static str {
     match basis {
         Basis::Cubic => "cubic",
         Basis::Png1 => "png1",
@@ -575,13 +576,30 @@ pub fn record_layout(lang: Lang) -> String {
     )
 }
 
-/// The number a shader reads for a normal mode (a WGSL constant, a GLSL uniform): 0 linear,
-/// 1 quadratic, 2 real. Every backend maps the modes through this one function.
+/// The codes [`normal_mode_code`] gives: what a shader (or an engine's pipeline key) reads.
+pub const NORMALS_LINEAR: u32 = 0;
+/// Quadratic normals' code.
+pub const NORMALS_QUADRATIC: u32 = 1;
+/// Real normals' code.
+pub const NORMALS_REAL: u32 = 2;
+
+/// The number a shader reads for a normal mode (a WGSL constant, a GLSL uniform):
+/// [`NORMALS_LINEAR`], [`NORMALS_QUADRATIC`] or [`NORMALS_REAL`]. Every backend maps the modes
+/// through this one function (and [`normal_mode_name`]), so none matches on the mode itself.
 pub fn normal_mode_code(mode: NormalMode) -> u32 {
     match mode {
-        NormalMode::Linear => 0,
-        NormalMode::Quadratic => 1,
-        NormalMode::Real => 2,
+        NormalMode::Linear => NORMALS_LINEAR,
+        NormalMode::Quadratic => NORMALS_QUADRATIC,
+        NormalMode::Real => NORMALS_REAL,
+    }
+}
+
+/// A normal mode's name in module and shader-def names: `linear`, `quadratic`, `real`.
+pub fn normal_mode_name(mode: NormalMode) -> &'static str {
+    match mode {
+        NormalMode::Linear => "linear",
+        NormalMode::Quadratic => "quadratic",
+        NormalMode::Real => "real",
     }
 }
 

@@ -504,13 +504,13 @@ fn traced_net_builders_evaluate_to_the_cpu_nets() {
 fn traced_tessellator_placement_evaluates_to_the_cpu_placement() {
     use crate::tessellator::parts::{locate_of, FaceRulers, NO_EDGE};
     use crate::tessellator::points::RULER_WORDS;
-    use crate::tessellator::{process_levels, Spacing, TessLevels};
+    use crate::tessellator::{process_levels, Partitioning, TessLevels};
     let (tape, out) = traced_locate();
     let mut checked = 0;
     for (spacing, outer, inner) in [
-        (Spacing::FractionalOdd, [3.3, 5.0, 1.7], 4.6),
-        (Spacing::FractionalEven, [2.0, 7.5, 4.2], 6.1),
-        (Spacing::Equal, [4.0, 4.0, 9.0], 3.0),
+        (Partitioning::FractionalOdd, [3.3, 5.0, 1.7], 4.6),
+        (Partitioning::FractionalEven, [2.0, 7.5, 4.2], 6.1),
+        (Partitioning::Equal, [4.0, 4.0, 9.0], 3.0),
     ] {
         let levels = TessLevels { outer, inner };
         let p = process_levels(spacing, levels).expect("levels that draw");

@@ -49,10 +49,12 @@ use points::Ruler;
 use serde::Serialize;
 
 /// How a level divides an edge (GL `layout(equal_spacing / fractional_odd_spacing /
-/// fractional_even_spacing)`; D3D11 `integer / fractional_odd / fractional_even`).
+/// fractional_even_spacing)`; D3D11's partitioning `integer / fractional_odd /
+/// fractional_even`). The options' [`refine::Spacing`](crate::refine::Spacing) is this or the
+/// uniform grid. Exhaustive: GL's tessellator has exactly these three.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Spacing {
+pub enum Partitioning {
     /// Levels rounded up to an integer in `[1, 64]`; equal segments.
     Equal,
     /// Levels in `[1, 63]`; an odd number of segments, two of them shorter, growing continuously.
@@ -61,13 +63,13 @@ pub enum Spacing {
     FractionalEven,
 }
 
-impl Spacing {
+impl Partitioning {
     /// `(minimum, maximum)` level for this spacing.
     pub fn range(self) -> (f32, f32) {
         match self {
-            Spacing::Equal => (1.0, 64.0),
-            Spacing::FractionalOdd => (1.0, 63.0),
-            Spacing::FractionalEven => (2.0, 64.0),
+            Partitioning::Equal => (1.0, 64.0),
+            Partitioning::FractionalOdd => (1.0, 63.0),
+            Partitioning::FractionalEven => (2.0, 64.0),
         }
     }
 }
@@ -94,7 +96,7 @@ impl TessLevels {
 /// The levels as the hardware uses them, after culling, clamping and rounding.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ProcessedLevels {
-    pub spacing: Spacing,
+    pub spacing: Partitioning,
     /// Clamped (and, for equal spacing, rounded up) levels, as `f32` before fixed point.
     pub levels: TessLevels,
     /// The same in 16.16 fixed point, as placement uses them.
@@ -115,7 +117,7 @@ pub struct ProcessedLevels {
 
 /// Culls, clamps and rounds `levels` as the hardware does; `None` when the patch is culled (an
 /// outer level ≤ 0 or NaN).
-pub fn process_levels(spacing: Spacing, levels: TessLevels) -> Option<ProcessedLevels> {
+pub fn process_levels(spacing: Partitioning, levels: TessLevels) -> Option<ProcessedLevels> {
     // Culled unless every outer level is a number above 0 (NaN is not).
     if levels.outer.iter().any(|&x| x.is_nan() || x <= 0.0) {
         return None;
@@ -123,27 +125,27 @@ pub fn process_levels(spacing: Spacing, levels: TessLevels) -> Option<ProcessedL
     let (lo, hi) = spacing.range();
     // The reference's IEEE-754R min/max: a NaN operand yields the other one.
     let clamp = |x: f32, lo: f32| if x.is_nan() { lo } else { x.max(lo).min(hi) };
-    let equal = spacing == Spacing::Equal;
+    let equal = spacing == Partitioning::Equal;
     let round = |x: f32| if equal { x.ceil() } else { x };
     let outer = levels.outer.map(|x| round(clamp(x, lo)));
     // Fractional-odd: when an outer level will be above 1 in fixed point, the inner level is
     // kept a hair above 1, so there is an inner ring to stitch the edges to.
     let mut inner_lo = lo;
-    if spacing == Spacing::FractionalOdd && outer.iter().any(|&x| x > 1.0 + 2f32.powi(-17)) {
+    if spacing == Partitioning::FractionalOdd && outer.iter().any(|&x| x > 1.0 + 2f32.powi(-17)) {
         inner_lo = 1.0 + 2f32.powi(-16);
     }
     let inner = round(clamp(levels.inner, inner_lo));
     let (outer_odd, inner_odd) = match spacing {
-        Spacing::Equal => (
+        Partitioning::Equal => (
             outer.map(|x| (x as i32) & 1 == 1),
             (inner as i32) & 1 == 1 && inner != 1.0,
         ),
-        Spacing::FractionalOdd => ([true; 3], true),
-        Spacing::FractionalEven => ([false; 3], false),
+        Partitioning::FractionalOdd => ([true; 3], true),
+        Partitioning::FractionalEven => ([false; 3], false),
     };
     let outer_fixed = outer.map(fixed::from_f32);
     let inner_fixed = fixed::from_f32(inner);
-    let single_triangle = spacing != Spacing::FractionalEven
+    let single_triangle = spacing != Partitioning::FractionalEven
         && inner_fixed == ONE
         && outer_fixed.iter().all(|&x| x == ONE);
     let outer_segments = [0, 1, 2].map(|e| points::point_count(outer_fixed[e], outer_odd[e]) - 1);
@@ -171,11 +173,11 @@ pub const fn edge_of_outer(k: usize) -> u8 {
 /// mapping). A culled patch gives an empty pattern with level 0.
 ///
 /// ```
-/// use tessella_core::tessellator::{tessellate, Spacing, TessLevels};
-/// let p = tessellate(Spacing::Equal, TessLevels::uniform(2.0));
+/// use tessella_core::tessellator::{tessellate, Partitioning, TessLevels};
+/// let p = tessellate(Partitioning::Equal, TessLevels::uniform(2.0));
 /// assert_eq!((p.points.len(), p.triangles.len()), (7, 6));
 /// ```
-pub fn tessellate(spacing: Spacing, levels: TessLevels) -> Pattern {
+pub fn tessellate(spacing: Partitioning, levels: TessLevels) -> Pattern {
     match process_levels(spacing, levels) {
         None => Pattern {
             level: 0,

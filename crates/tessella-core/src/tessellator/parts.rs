@@ -231,11 +231,11 @@ pub(crate) fn locate_of<W: Word>(word: impl Fn(W, usize) -> W, code: W, side_off
 
 #[cfg(test)]
 mod tests {
-    use super::super::{process_levels, tessellate, Spacing, TessLevels};
+    use super::super::{process_levels, tessellate, Partitioning, TessLevels};
     use super::*;
 
     /// The pattern the parts draw for `levels`, as (u, v) triangles.
-    fn drawn(spacing: Spacing, levels: TessLevels) -> Vec<[(u32, u32); 3]> {
+    fn drawn(spacing: Partitioning, levels: TessLevels) -> Vec<[(u32, u32); 3]> {
         let Some(p) = process_levels(spacing, levels) else {
             return vec![];
         };
@@ -253,7 +253,7 @@ mod tests {
         out
     }
 
-    fn expected(spacing: Spacing, levels: TessLevels) -> Vec<[(u32, u32); 3]> {
+    fn expected(spacing: Partitioning, levels: TessLevels) -> Vec<[(u32, u32); 3]> {
         let p = tessellate(spacing, levels);
         let uv = |i: u32| {
             let l = p.points[i as usize];
@@ -274,9 +274,9 @@ mod tests {
             (seed >> 33) as f32 / (1u64 << 31) as f32
         };
         for spacing in [
-            Spacing::Equal,
-            Spacing::FractionalOdd,
-            Spacing::FractionalEven,
+            Partitioning::Equal,
+            Partitioning::FractionalOdd,
+            Partitioning::FractionalEven,
         ] {
             let mut levels: Vec<TessLevels> = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 7.3, 33.0, 63.5, 64.0]
                 .iter()
@@ -316,7 +316,7 @@ mod tests {
         }
         // The shapes the levels give are the ones `FaceRulers` reports.
         for x in [1.0f32, 2.0, 2.2, 3.0, 9.9, 64.0] {
-            for spacing in [Spacing::Equal, Spacing::FractionalEven] {
+            for spacing in [Partitioning::Equal, Partitioning::FractionalEven] {
                 let p = process_levels(spacing, TessLevels::uniform(x)).unwrap();
                 let r = FaceRulers::new(&p);
                 let (outer, inner) = r.shapes();

@@ -245,6 +245,7 @@ pub fn reference(model: &AnimatedMesh, clip: Option<usize>, time: f32) -> Pose64
                     };
                     ch.sampler.values.len() / ch.sampler.times.len() / per
                 }
+                other => panic!("the reference evaluator has no {other:?}"),
             };
             let v = sample(&ch.sampler, time, c, ch.property == Property::Rotation);
             let entry = trs_of[node].as_mut();

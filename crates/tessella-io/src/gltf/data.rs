@@ -12,6 +12,7 @@ use std::path::Path;
 
 /// Where a `.gltf` file's external buffers (relative URIs) come from.
 #[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
 pub enum Buffers<'a> {
     /// Files in the folder of the `.gltf` file's path.
     Folder,

@@ -250,6 +250,12 @@ fn document(mesh: &AnimatedMesh, uri: Option<String>) -> std::io::Result<(Value,
                 Property::Rotation => ("VEC4", "rotation"),
                 Property::Scale => ("VEC3", "scale"),
                 Property::Weights => ("SCALAR", "weights"),
+                other => {
+                    return Err(invalid(format!(
+                        "clip {:?} animates {other:?}, which this writer cannot write",
+                        clip.name
+                    )))
+                }
             };
             let values = &channel.sampler.values;
             let output = match kind {

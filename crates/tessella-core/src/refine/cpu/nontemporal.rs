@@ -98,20 +98,26 @@ impl LineCarry {
     }
 }
 
-/// `dst.copy_from_slice(src)`: the cache lines wholly inside `dst` with streaming stores (the
-/// widest the CPU has), its partial first and last lines with plain ones, then a fence (`sfence`).
-/// The one streaming-store copy: the evaluator's sinks and the benchmarks' bandwidth
-/// baseline use this code.
-pub fn stream_copy(dst: &mut [f32], src: &[f32]) {
-    assert_eq!(dst.len(), src.len(), "copy between equal lengths");
+/// Copies the first `min(dst.len(), src.len())` floats of `src` into `dst` and returns how
+/// many: the cache lines wholly inside that part of `dst` with streaming stores (the widest the
+/// CPU has), its partial first and last lines with plain ones, then a fence (`sfence`). The
+/// benchmarks' bandwidth baseline (feature `bandwidth`): the same stores as the evaluator's
+/// sinks.
+#[cfg(feature = "bandwidth")]
+pub fn stream_copy(dst: &mut [f32], src: &[f32]) -> usize {
+    let n = dst.len().min(src.len());
+    let (dst, src) = (&mut dst[..n], &src[..n]);
     let (head, body) = whole_lines(dst);
     dst[..head].copy_from_slice(&src[..head]);
     stream_lines(&mut dst[head..head + body], &src[head..head + body]);
     dst[head + body..].copy_from_slice(&src[head + body..]);
     fence();
+    n
 }
 
-/// Writes `value` over `dst` as [`stream_copy`] writes: whole lines streamed, then a fence.
+/// Writes `value` over `dst` as [`stream_copy`] writes: whole lines streamed, then a fence
+/// (feature `bandwidth`).
+#[cfg(feature = "bandwidth")]
 pub fn stream_fill(dst: &mut [f32], value: f32) {
     let (head, body) = whole_lines(dst);
     dst[..head].fill(value);
@@ -126,6 +132,7 @@ pub fn stream_fill(dst: &mut [f32], value: f32) {
 }
 
 /// `(floats before the first cache line of dst, floats in its whole lines)`.
+#[cfg(feature = "bandwidth")]
 fn whole_lines(dst: &[f32]) -> (usize, usize) {
     let head = dst.as_ptr().align_offset(LINE).min(dst.len());
     (head, (dst.len() - head) / LINE_FLOATS * LINE_FLOATS)

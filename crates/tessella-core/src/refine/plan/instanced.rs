@@ -1,7 +1,7 @@
 //! Adaptive levels drawn with index buffers built once: the per-frame data of an instanced
 //! renderer whose levels change every frame (tessella-gpu's `AdaptiveRenderer`).
 //!
-//! An adaptive plan ([`adaptive`](crate::refine::adaptive)) builds a pattern and a stencil per distinct set of
+//! An adaptive plan ([`Tiling`](crate::refine::Tiling)) builds a pattern and a stencil per distinct set of
 //! levels; when the levels change every frame, so do those. Here instead:
 //!
 //! - **Parts, built once per spacing ([`PartTable`]).** Tessellator spacings: the strips and
@@ -15,7 +15,7 @@
 //!
 //! The vertex shader turns a code into a barycentric point with the face's record, evaluates the
 //! basis there and sums the control net (the weights are no longer a table: they follow the
-//! face's fractional levels). The positions are those of [`adaptive`](crate::refine::adaptive)'s patterns: the
+//! face's fractional levels). The positions are those of [`Tiling`](crate::refine::Tiling)'s patterns: the
 //! tessellator's 16.16 placement exactly; the grid's edge points snapped to each edge's own
 //! layout, where grid triangles that become degenerate stay in the index buffer with zero area
 //! (the rasteriser draws nothing for them) instead of being dropped. Edge points are

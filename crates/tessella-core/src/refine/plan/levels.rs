@@ -26,12 +26,12 @@ pub enum Spacing {
 
 impl Spacing {
     /// The tessellator's spacing, `None` for the grid.
-    pub fn tessellator(self) -> Option<tessellator::Spacing> {
+    pub fn tessellator(self) -> Option<tessellator::Partitioning> {
         match self {
             Spacing::Grid => None,
-            Spacing::Equal => Some(tessellator::Spacing::Equal),
-            Spacing::FractionalOdd => Some(tessellator::Spacing::FractionalOdd),
-            Spacing::FractionalEven => Some(tessellator::Spacing::FractionalEven),
+            Spacing::Equal => Some(tessellator::Partitioning::Equal),
+            Spacing::FractionalOdd => Some(tessellator::Partitioning::FractionalOdd),
+            Spacing::FractionalEven => Some(tessellator::Partitioning::FractionalEven),
         }
     }
     /// `(minimum, maximum)` level: the tessellator's clamping range; the grid has `[1, ∞)`.

@@ -5,6 +5,7 @@ use std::ops::Range;
 
 /// A run of consecutive output vertices made of whole elements of the layout.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Piece {
     /// Coarse vertices (one output vertex each). Welded.
     Corners(Range<usize>),
