@@ -30,16 +30,20 @@
 //! and tessellation coordinate), uploading only the frame's coarse data. It runs the hardware
 //! spacings only and does not displace (see [`GlEvaluator::with_displacement`]).
 
+#[cfg(feature = "testing")]
+mod compare;
 mod context;
 mod error;
 mod program;
 mod refine;
 mod shaders;
 
+#[cfg(feature = "testing")]
+pub use compare::{compare, Comparison};
 pub use context::{DriverInfo, GlContext};
 pub use error::{GlError, DRIVER_PACKAGES};
 pub use refine::{
-    compare, gl_clip_from_zero_to_one, hardware_spacing, Comparison, DrawMode, GlEvaluator,
-    GlRefined, GlTessellator, LevelSource, NetSource, Prepared, ShaderNets,
+    gl_clip_from_zero_to_one, hardware_spacing, DrawMode, GlEvaluator, GlRefined, GlTessellator,
+    LevelSource, NetSource, Prepared, ShaderNets,
 };
 pub use shaders::{glsl_sources, ShaderSources};
