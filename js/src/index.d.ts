@@ -11,6 +11,8 @@ export const variant: 'simd' | 'scalar';
 
 /** The scheme names `refine` accepts: flat, phong, pn, png1, pn-aen, st, quadratic. */
 export function schemes(): string[];
+/** The widest texture (texels a row) the package lays out: WebGL2's guaranteed 2048. */
+export function maxTextureWidth(): number;
 
 export type IndexArray =
   | Uint32Array

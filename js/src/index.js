@@ -72,6 +72,11 @@ export function schemes() {
   return call((g) => g.schemes());
 }
 
+/** The widest texture (texels a row) the package lays out: WebGL2's guaranteed 2048. */
+export function maxTextureWidth() {
+  return call((g) => g.maxTextureWidth());
+}
+
 function floats(values, what, width) {
   if (values instanceof Float32Array) return values;
   if (values instanceof Float64Array || Array.isArray(values)) return Float32Array.from(values);

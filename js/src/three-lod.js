@@ -23,12 +23,10 @@ import {
   Vector3,
   Vector4,
 } from 'three';
-import { TessellaError } from './index.js';
+import { maxTextureWidth, TessellaError } from './index.js';
 
 /** Options a TessellatedMesh with `lod` reads itself (the camera and image size of the levels). */
 export const LOD_MESH_OPTIONS = ['camera', 'size'];
-
-const MAX_WIDTH = 2048;
 
 // The vertex shader's additions for a part instance: the wasm's GLSL (placement and
 // evaluation), the code and instance attributes, the corners texture for uvs and colours.
@@ -156,9 +154,10 @@ export class LodParts {
     records.generateMipmaps = false;
     this.#records = records;
     // The instance words: the instanced buffer (WebGL) and, over the same array, an R32UI
-    // texture (WebGPU, instancesTexture) whose rows hold MAX_WIDTH words.
+    // texture (WebGPU, instancesTexture) whose rows hold the wasm's widest texture of words.
+    const maxWidth = maxTextureWidth();
     const words = Math.max(4 * surface.faceCount, 1);
-    this.#instancesWidth = Math.min(words, MAX_WIDTH);
+    this.#instancesWidth = Math.min(words, maxWidth);
     this.#instancesHeight = Math.ceil(words / this.#instancesWidth);
     this.#instances = new InstancedInterleavedBuffer(new Uint32Array(this.#instancesWidth * this.#instancesHeight), 1, 1);
     /** Bytes the last level change marked for upload (records and instances; 0 when the levels did not change). */
@@ -171,7 +170,7 @@ export class LodParts {
     };
     if (flags.uv || flags.color > 0) {
       const texels = (flags.uv ? 2 : 0) + (flags.color > 0 ? 3 : 0);
-      const perRow = Math.min(Math.floor(MAX_WIDTH / texels), surface.faceCount);
+      const perRow = Math.min(Math.floor(maxWidth / texels), surface.faceCount);
       const height = Math.ceil(surface.faceCount / perRow);
       const tex = new DataTexture(new Float32Array(perRow * texels * height * 4), perRow * texels, height, RGBAFormat, FloatType);
       tex.minFilter = NearestFilter;
@@ -396,7 +395,7 @@ export class LodParts {
     return this.#records;
   }
 
-  /** The instance words (`face | side << 30`, each part's from its first) as an R32UI texture, MAX_WIDTH words a row (WebGPURenderer). */
+  /** The instance words (`face | side << 30`, each part's from its first) as an R32UI texture, maxTextureWidth() words a row (WebGPURenderer). */
   get instancesTexture() {
     if (this.#instancesTexture === null) {
       const t = new DataTexture(this.#instances.array, this.#instancesWidth, this.#instancesHeight, RedIntegerFormat, UnsignedIntType);

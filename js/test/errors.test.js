@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
-import { ready, readMesh, refine, Refiner, schemes, TessellaError, writeMesh } from '../src/index.js';
+import { maxTextureWidth, ready, readMesh, refine, Refiner, schemes, TessellaError, writeMesh } from '../src/index.js';
 import { bytes } from './helpers.js';
 
 await ready;
@@ -71,4 +71,6 @@ test('bad meshes and options throw TessellaError with the reason', () => {
   throwsTessella(() => new Refiner(new Uint32Array([0, 1]), {}), 'not a multiple of 3');
   throwsTessella(() => new Refiner(triangle.indices, { scheme: 'nope' }), 'unknown scheme');
   assert.ok(schemes().includes('png1'));
+  // The layouts' width, read by three.js from the wasm: WebGL2's guaranteed MAX_TEXTURE_SIZE.
+  assert.equal(maxTextureWidth(), 2048);
 });

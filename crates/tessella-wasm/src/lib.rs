@@ -51,6 +51,13 @@ pub fn schemes() -> Vec<String> {
     Scheme::NAMES.iter().map(|s| s.to_string()).collect()
 }
 
+/// The widest texture the package lays out (texels a row: nets, LOD records and instances,
+/// corner attributes): WebGL2's guaranteed 2048, so three.js's layouts read it here.
+#[wasm_bindgen(js_name = "maxTextureWidth")]
+pub fn max_texture_width() -> usize {
+    instanced::MAX_TEXTURE_WIDTH
+}
+
 /// Panics on purpose, so the JS tests can check that a panic is thrown as an error (and that
 /// the package refuses further calls). Not part of the documented API.
 #[wasm_bindgen(js_name = "__panicForTests")]
