@@ -1,6 +1,9 @@
 // The viewer's parameters: names and meanings of the CLI's (`tessella render`), their defaults
 // (the CLI's), checking, and the URL form of the whole state. Pure functions: the page, the
-// fallback and the Node tests share them.
+// fallback and the Node tests share them, before any wasm is loaded. The name lists and
+// DEFAULTS are the one copy outside Rust: tessella-viewer's test
+// `the_web_pages_names_and_defaults_are_these` (params.rs) holds them to the core's names and
+// the engine's defaults.
 
 export const SCHEMES = ['flat', 'phong', 'pn', 'png1', 'pn-aen', 'st', 'quadratic'];
 export const SPACINGS = ['grid', 'equal', 'fractional-odd', 'fractional-even'];

@@ -471,6 +471,72 @@ impl Params {
 mod tests {
     use super::*;
 
+    /// The page's own copy of the names and defaults (`web/src/params.js`, which the page, its
+    /// WebGL2 fallback and the Node tests read without the wasm) is pinned to the core's names
+    /// and to these defaults: the `const NAME = [...]` arrays and the `DEFAULTS` object, read
+    /// out of the file as JSON.
+    #[test]
+    fn the_web_pages_names_and_defaults_are_these() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../web/src/params.js");
+        let text = std::fs::read_to_string(path).expect("web/src/params.js");
+        let json = |literal: &str| -> Value {
+            // JS literals to JSON: single quotes, bare keys, trailing commas.
+            let mut out = String::new();
+            for line in literal.lines() {
+                let line = line.trim().replace('\'', "\"");
+                let line = match line.split_once(": ") {
+                    Some((key, rest)) if key.chars().all(|c| c.is_ascii_alphanumeric()) => {
+                        format!("\"{key}\": {rest}")
+                    }
+                    _ => line,
+                };
+                out.push_str(&line);
+            }
+            let out = out.replace(",}", "}").replace(",]", "]");
+            serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"))
+        };
+        let array = |name: &str| -> Vec<String> {
+            let head = format!("export const {name} = ");
+            let at = text.find(&head).expect(name) + head.len();
+            let end = at + text[at..].find(';').expect("the array's end");
+            serde_json::from_value(json(&text[at..end])).expect("names")
+        };
+        assert_eq!(array("SCHEMES"), Scheme::NAMES);
+        assert_eq!(array("SPACINGS"), Spacing::NAMES);
+        let mut normals = vec!["default"];
+        normals.extend(NormalMode::NAMES);
+        assert_eq!(array("NORMALS"), normals);
+        assert_eq!(array("ANIMATIONS"), Animation::NAMES);
+        let head = "export const DEFAULTS = Object.freeze(";
+        let at = text.find(head).expect("DEFAULTS") + head.len();
+        let end = at + text[at..].find("});").expect("the defaults' end") + 1;
+        let page = json(&text[at..end]);
+        let page = page.as_object().expect("an object");
+        let ours = Params::default().to_json();
+        let ours = ours.as_object().expect("an object");
+        let keys = |m: &serde_json::Map<String, Value>| m.keys().cloned().collect::<Vec<_>>();
+        let mut sorted = KEYS.map(String::from).to_vec();
+        sorted.sort();
+        assert_eq!(keys(page), sorted, "the page's keys are the engine's");
+        // Numbers as numbers (the page writes 0 where the engine's f32 is 0.0), in arrays too.
+        fn same(a: &Value, b: &Value) -> bool {
+            match (a, b) {
+                (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
+                (Value::Array(x), Value::Array(y)) => {
+                    x.len() == y.len() && x.iter().zip(y).all(|(p, q)| same(p, q))
+                }
+                _ => a == b,
+            }
+        }
+        for (key, value) in ours {
+            let page = &page[key];
+            assert!(
+                same(page, value),
+                "{key}: the page's default {page}, the engine's {value}"
+            );
+        }
+    }
+
     fn apply(p: &Params, v: Value) -> Result<Params, ViewerError> {
         p.apply(v.as_object().expect("an object"))
     }
