@@ -44,9 +44,6 @@ use tessella_bevy::{
     Tessellate, UploadStats,
 };
 
-/// `tessella render`'s vertical field of view (tessella-view's `FOV_Y_DEGREES`).
-const FOV_Y_DEGREES: f32 = 30.0;
-
 #[derive(Resource, Clone, Debug)]
 struct Args {
     input: PathBuf,
@@ -210,7 +207,7 @@ fn parse_args() -> Result<Args, String> {
         let camera = LodCamera {
             eye: [0.0, 0.0, 1.0],
             target: [0.0; 3],
-            fov_y_deg: FOV_Y_DEGREES,
+            fov_y_deg: tessella_view::FOV_Y_DEGREES,
         };
         Lod::parse(lod, Some(camera), Some([1, 1])).map_err(|e| format!("--lod: {e}"))?;
     }
@@ -286,47 +283,6 @@ fn main() -> AppExit {
         .run()
 }
 
-/// The camera `tessella render` frames a mesh with: the bounding box's centre, the farthest
-/// vertex's distance grown by 1.2 (curved patches bulge past the coarse hull), 30 degrees
-/// vertical field of view, yaw about +Y, pitch raising the eye, zoom moving closer.
-fn framing(
-    positions: &[[f32; 3]],
-    yaw: f32,
-    pitch: f32,
-    zoom: f32,
-    aspect: f32,
-) -> (Vec3, Vec3, Vec3) {
-    let mut lo = Vec3::splat(f32::INFINITY);
-    let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for p in positions {
-        lo = lo.min(Vec3::from(*p));
-        hi = hi.max(Vec3::from(*p));
-    }
-    let center = (lo + hi) * 0.5;
-    let radius = positions
-        .iter()
-        .map(|p| Vec3::from(*p).distance(center))
-        .fold(0.0f32, f32::max)
-        .max(1e-6)
-        * 1.2;
-    let fov_y = FOV_Y_DEGREES.to_radians();
-    let half_x = ((fov_y * 0.5).tan() * aspect).atan();
-    let half = (fov_y * 0.5).min(half_x);
-    let distance = radius / half.sin() / zoom;
-    let (yaw, pitch) = (yaw.to_radians(), pitch.to_radians());
-    let dir = Vec3::new(
-        pitch.cos() * yaw.sin(),
-        pitch.sin(),
-        pitch.cos() * yaw.cos(),
-    );
-    let up = if dir.y.abs() > 0.999 {
-        Vec3::Z
-    } else {
-        Vec3::Y
-    };
-    (center + dir * distance, center, up)
-}
-
 /// The mesh the camera frames: `--frame`'s file, else FILE posed at `--clip`/`--time` (as
 /// `tessella render` poses it), else FILE.
 fn framed_mesh(args: &Args) -> Result<tessella_bevy::tessella_core::Mesh, String> {
@@ -354,7 +310,7 @@ impl Args {
             let camera = LodCamera {
                 eye: [0.0, 0.0, 1.0],
                 target: [0.0; 3],
-                fov_y_deg: FOV_Y_DEGREES,
+                fov_y_deg: tessella_view::FOV_Y_DEGREES,
             };
             Lod::parse(text, Some(camera), Some([1, 1])).ok()
         });
@@ -434,12 +390,18 @@ fn setup(
     } else {
         framed.positions().to_vec()
     };
-    let (eye, center, up) = framing(
+    // tessella render's framing and key light (tessella-view's, the one definition).
+    let framing = tessella_view::frame_points(
         &framed_points,
         args.yaw,
         args.pitch,
         args.zoom,
         w as f32 / h as f32,
+    );
+    let (eye, center, up) = (
+        Vec3::from(framing.eye),
+        Vec3::from(framing.target),
+        Vec3::from(framing.up),
     );
     let material = materials.add(StandardMaterial {
         base_color: Color::srgb_u8(120, 160, 215),
@@ -513,11 +475,7 @@ fn setup(
             }),
         ));
     }
-    let forward = (center - eye).normalize();
-    let right = forward.cross(up).normalize();
-    let cam_up = right.cross(forward);
-    // tessella render's key light: above-left of the viewer.
-    let light_dir = (-0.45 * right + 0.6 * cam_up - 0.65 * forward).normalize();
+    let light_dir = Vec3::from(framing.light_dir);
     commands.spawn((
         DirectionalLight {
             shadow_maps_enabled: !args.no_shadows,
@@ -536,7 +494,7 @@ fn setup(
         Tonemapping::None,
         Msaa::Off,
         Projection::Perspective(PerspectiveProjection {
-            fov: FOV_Y_DEGREES.to_radians(),
+            fov: framing.fov_y_deg.to_radians(),
             ..default()
         }),
         Transform::from_translation(eye).looking_at(center, up),

@@ -3,7 +3,7 @@
 use glam::{Mat4, Vec3};
 
 /// Vertical field of view.
-pub(crate) const FOV_Y_DEGREES: f32 = 30.0;
+pub const FOV_Y_DEGREES: f32 = 30.0;
 
 /// Where the camera is and how it projects.
 #[derive(Debug, Clone, Copy)]
@@ -14,6 +14,47 @@ pub(crate) struct Camera {
     pub target: Vec3,
     /// Unit direction towards the light: a key light above-left of the viewer.
     pub light_dir: Vec3,
+    /// The world's up direction the view was made with (+Y, or +Z looking straight down).
+    pub up: Vec3,
+}
+
+/// How every picture frames a mesh (`tessella render`'s, the viewer's, the Bevy example's): the
+/// camera position, the point looked at, the up direction, the key light's direction and the
+/// vertical field of view, for a view of `points` ([`framed_camera`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Framing {
+    pub eye: [f32; 3],
+    pub target: [f32; 3],
+    pub up: [f32; 3],
+    /// Unit direction towards the light: above-left of the viewer.
+    pub light_dir: [f32; 3],
+    pub fov_y_deg: f32,
+}
+
+/// The camera that frames `points`: their bounding sphere (the box's centre, the farthest
+/// point) grown by 1.2, since curved patches bulge past the coarse hull, and by `reach` (how
+/// far displacement can move a point), seen from `yaw`, `pitch`, `zoom` and `pan` with the
+/// `aspect` ratio.
+pub(crate) fn framed_camera(
+    points: &[[f32; 3]],
+    reach: f32,
+    (yaw, pitch, zoom, pan): (f32, f32, f32, [f32; 2]),
+    aspect: f32,
+) -> Camera {
+    let (center, radius) = bounding_sphere(points);
+    Camera::framing(center, radius * 1.2 + reach, yaw, pitch, zoom, pan, aspect)
+}
+
+/// [`framed_camera`]'s framing, for a renderer of its own (the Bevy example's camera and light).
+pub fn frame_points(points: &[[f32; 3]], yaw: f32, pitch: f32, zoom: f32, aspect: f32) -> Framing {
+    let cam = framed_camera(points, 0.0, (yaw, pitch, zoom, [0.0, 0.0]), aspect);
+    Framing {
+        eye: cam.eye.into(),
+        target: cam.target.into(),
+        up: cam.up.into(),
+        light_dir: cam.light_dir.into(),
+        fov_y_deg: FOV_Y_DEGREES,
+    }
 }
 
 /// Centre and radius of a sphere around `points` (the bounding box's centre).
@@ -77,6 +118,7 @@ impl Camera {
             eye,
             target: center,
             light_dir,
+            up,
         }
     }
 }

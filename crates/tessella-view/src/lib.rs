@@ -42,6 +42,7 @@ mod scene;
 mod target;
 
 pub use appearance::{Appearance, FieldNets, RenderUniforms, Shaded};
+pub use camera::{frame_points, Framing, FOV_Y_DEGREES};
 pub use colormap::{Colormap, FieldColors};
 pub use image::RgbaImage;
 #[cfg(feature = "blocking")]

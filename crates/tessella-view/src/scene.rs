@@ -3,7 +3,7 @@
 //! this part builds for the web too (the viewer's camera is this one).
 
 use crate::appearance::RenderUniforms;
-use crate::camera::{bounding_sphere, Camera};
+use crate::camera::framed_camera;
 use crate::colormap::FieldColors;
 use tessella_core::Mesh;
 use tessella_gpu::{Displacement, GpuError};
@@ -99,15 +99,11 @@ pub fn panel_widths(total: u32, n: usize) -> Option<Vec<u32>> {
 /// The camera [`render`](crate::render()) views `mesh` with, for the view-dependent LOD functions
 /// (`Lod::Screen`, `Lod::Distance`): levels then follow what this very picture shows.
 pub fn lod_camera(mesh: &Mesh, options: &RenderOptions) -> tessella_core::refine::Camera {
-    let (center, radius) = bounding_sphere(mesh.positions());
     let (w, h) = options.size;
-    let cam = Camera::framing(
-        center,
-        radius * 1.2,
-        options.yaw,
-        options.pitch,
-        options.zoom,
-        options.pan,
+    let cam = framed_camera(
+        mesh.positions(),
+        0.0,
+        (options.yaw, options.pitch, options.zoom, options.pan),
         w.max(1) as f32 / h.max(1) as f32,
     );
     tessella_core::refine::Camera {
@@ -120,17 +116,11 @@ pub fn lod_camera(mesh: &Mesh, options: &RenderOptions) -> tessella_core::refine
 /// Uniforms for a view of `mesh` framed by its bounding sphere grown by `reach` (how far
 /// displacement can move a point).
 pub fn scene_uniforms(mesh: &Mesh, options: &RenderOptions, reach: f32) -> RenderUniforms {
-    let (center, radius) = bounding_sphere(mesh.positions());
-    // Curved patches bulge past the coarse hull, displacement further.
-    let radius = radius * 1.2 + reach;
     let (w, h) = options.size;
-    let cam = Camera::framing(
-        center,
-        radius,
-        options.yaw,
-        options.pitch,
-        options.zoom,
-        options.pan,
+    let cam = framed_camera(
+        mesh.positions(),
+        reach,
+        (options.yaw, options.pitch, options.zoom, options.pan),
         w as f32 / h as f32,
     );
     let c = options.color.map(srgb_to_linear);
