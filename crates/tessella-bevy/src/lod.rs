@@ -115,7 +115,7 @@ impl PartMeshes {
         *self
             .vertices
             .entry((table.spacing, part))
-            .or_insert_with(|| part_points(table, part).0.len())
+            .or_insert_with(|| table.part_vertices(part).0.len())
     }
 
     fn mesh(
@@ -159,7 +159,7 @@ pub(crate) fn part_runs(first: u32, count: u32, vertices: usize) -> Vec<(u32, u3
 /// Position, normal and `UV_0` are placeholders (the shaders place each code with the face's
 /// record).
 fn part_mesh(table: &PartTable, part: u32, copies: u32) -> Mesh {
-    let (codes, indices) = part_points(table, part);
+    let (codes, indices) = table.part_vertices(part);
     let n = codes.len();
     let all = n * copies as usize;
     let uvs: Vec<[f32; 2]> = (0..copies)
@@ -177,25 +177,6 @@ fn part_mesh(table: &PartTable, part: u32, copies: u32) -> Mesh {
     .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, vec![[0.0f32; 2]; all])
     .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, uvs)
     .with_inserted_indices(Indices::U32(indices))
-}
-
-/// A part's distinct point codes and its triangles as indices into them.
-fn part_points(table: &PartTable, part: u32) -> (Vec<u32>, Vec<u32>) {
-    let range = table.ranges[part as usize].clone();
-    let mut codes: Vec<u32> = Vec::new();
-    let mut local: HashMap<u32, u32> = HashMap::default();
-    let mut indices = Vec::new();
-    for t in &table.triangles[range.start as usize..range.end as usize] {
-        for &code in t {
-            let next = codes.len() as u32;
-            let i = *local.entry(code).or_insert_with(|| {
-                codes.push(code);
-                next
-            });
-            indices.push(i);
-        }
-    }
-    (codes, indices)
 }
 
 /// The LOD camera in the entity's own space (its mesh's): Bevy's camera eye and view direction
@@ -456,7 +437,7 @@ mod tests {
             (table.ranges.len() / 2) as u32,
             table.ranges.len() as u32 - 1,
         ] {
-            let (codes, indices) = part_points(&table, part);
+            let (codes, indices) = table.part_vertices(part);
             let mesh = part_mesh(&table, part, 4);
             let Some(bevy::mesh::VertexAttributeValues::Float32x2(ids)) =
                 mesh.attribute(Mesh::ATTRIBUTE_UV_1)

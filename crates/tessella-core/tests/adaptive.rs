@@ -525,3 +525,34 @@ fn measure() {
         pop.1
     );
 }
+
+/// Each part of each spacing's table as an indexed mesh: distinct codes, and indices that give
+/// back the table's triangles code for code, corner for corner; a part id past the table
+/// gives nothing.
+#[test]
+fn part_vertices_index_each_parts_triangles() {
+    use tessella_core::refine::instanced::PartTable;
+    for spacing in [
+        Spacing::Grid,
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ] {
+        let table = PartTable::new(spacing);
+        let mut drawn = 0;
+        for (part, range) in table.ranges.iter().enumerate() {
+            let (codes, indices) = table.part_vertices(part as u32);
+            let triangles = &table.triangles[range.start as usize..range.end as usize];
+            assert_eq!(indices.len(), 3 * triangles.len());
+            let distinct: std::collections::HashSet<_> = codes.iter().collect();
+            assert_eq!(distinct.len(), codes.len(), "{spacing:?} part {part}");
+            let back: Vec<u32> = indices.iter().map(|&i| codes[i as usize]).collect();
+            let want: Vec<u32> = triangles.iter().flatten().copied().collect();
+            assert_eq!(back, want, "{spacing:?} part {part}");
+            drawn += usize::from(!triangles.is_empty());
+        }
+        assert!(drawn > 0, "{spacing:?}");
+        let past = table.ranges.len() as u32;
+        assert_eq!(table.part_vertices(past), (Vec::new(), Vec::new()));
+    }
+}

@@ -12,7 +12,6 @@ use crate::gpu_types::AdaptiveParams;
 use crate::patch::{check_nets_shape, write_nets};
 use crate::renderer::{draw_buffers, CODE_VERTICES};
 use crate::shading::Shading;
-use std::collections::HashMap;
 use std::ops::Range;
 use tessella_core::refine::instanced::{self, FrameInstances, PartTable, RECORD_WORDS};
 use tessella_core::refine::{canonical, lod, Frame, Lod, Spacing, Surface};
@@ -130,19 +129,14 @@ impl PartArrays {
             wire: Vec::new(),
             parts: Vec::with_capacity(table.ranges.len()),
         };
-        let mut local: HashMap<u32, u32> = HashMap::new();
-        for range in &table.ranges {
-            local.clear();
+        for (part, range) in table.ranges.iter().enumerate() {
             let base = out.vertices.len();
             let first = out.indices.len() as u32;
+            let (codes, local) = table.part_vertices(part as u32);
+            out.vertices.extend(codes);
+            out.indices.extend(local);
             for t in &table.triangles[range.start as usize..range.end as usize] {
                 for (corner, &code) in t.iter().enumerate() {
-                    let next = local.len() as u32;
-                    let i = *local.entry(code).or_insert_with(|| {
-                        out.vertices.push(code);
-                        next
-                    });
-                    out.indices.push(i);
                     out.wire.push(code | (corner as u32) << 30);
                 }
             }

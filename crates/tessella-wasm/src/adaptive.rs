@@ -19,7 +19,6 @@ use crate::instanced::{
     glsl as nets_glsl, wgsl as nets_wgsl, InstancedSurface, Layout, MAX_TEXTURE_WIDTH,
 };
 use crate::{errors, options::Options};
-use std::collections::HashMap;
 use tessella_core::refine::instanced::{
     self, FrameInstances, PartTable, FORWARD_WORD, RECORD_WORDS,
 };
@@ -462,20 +461,11 @@ fn part_arrays(table: &PartTable) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
     let mut codes = Vec::new();
     let mut indices = Vec::new();
     let mut ranges = Vec::with_capacity(2 * table.ranges.len());
-    let mut local: HashMap<u32, u32> = HashMap::new();
-    for range in &table.ranges {
-        local.clear();
-        let first = indices.len() as u32;
-        for t in &table.triangles[range.start as usize..range.end as usize] {
-            for &code in t {
-                let next = codes.len() as u32;
-                let i = *local.entry(code).or_insert_with(|| {
-                    codes.push(code);
-                    next
-                });
-                indices.push(i);
-            }
-        }
+    for part in 0..table.ranges.len() as u32 {
+        let (own, local) = table.part_vertices(part);
+        let (base, first) = (codes.len() as u32, indices.len() as u32);
+        codes.extend(own);
+        indices.extend(local.iter().map(|i| base + i));
         ranges.extend([first, indices.len() as u32 - first]);
     }
     (codes, indices, ranges)

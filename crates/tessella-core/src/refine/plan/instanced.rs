@@ -132,6 +132,29 @@ impl PartTable {
             ranges,
         }
     }
+
+    /// Part `part` as a small indexed mesh: its distinct point codes, in the order its
+    /// triangles first use them, and its triangles as indices into those (three a triangle).
+    /// What every host draws a part with (a vertex a code, shared by the part's triangles);
+    /// empty for a part id the table does not have.
+    pub fn part_vertices(&self, part: u32) -> (Vec<u32>, Vec<u32>) {
+        let Some(range) = self.ranges.get(part as usize) else {
+            return (Vec::new(), Vec::new());
+        };
+        let triangles = &self.triangles[range.start as usize..range.end as usize];
+        let mut codes: Vec<u32> = Vec::new();
+        let mut local: rustc_hash::FxHashMap<u32, u32> = Default::default();
+        let mut indices = Vec::with_capacity(3 * triangles.len());
+        for &code in triangles.iter().flatten() {
+            let next = codes.len() as u32;
+            let i = *local.entry(code).or_insert_with(|| {
+                codes.push(code);
+                next
+            });
+            indices.push(i);
+        }
+        (codes, indices)
+    }
 }
 
 /// The uniform grid of level `n`'s triangles as grid codes, in [`crate::Pattern::uniform`]'s
