@@ -395,7 +395,7 @@ fn compile(ctx: &GpuContext) -> SkinPipeline {
 /// The skinning kernel's WGSL: the core's generated normal function, then `skin.wgsl`.
 pub(crate) fn source() -> String {
     [
-        tessella_core::shader::skin_wgsl(),
+        tessella_core::shader::skin_normal(tessella_core::shader::Lang::Wgsl),
         include_str!("shaders/skin.wgsl").to_string(),
     ]
     .concat()

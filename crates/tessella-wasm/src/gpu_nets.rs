@@ -6,7 +6,7 @@
 //! Everything that decides a net's numbers is generated here from the core's Rust: the
 //! scheme's builders ([`shader::net_builder`], chosen by [`NetBuilder::points_for`] and
 //! [`NetBuilder::normals_for`], as tessella-gpu's compute builder chooses them), the skinned
-//! normal ([`shader::skin_glsl`]) and the packing of a net into texels, written from the same
+//! normal ([`shader::skin_normal`]) and the packing of a net into texels, written from the same
 //! layout constants the CPU packs with. The JS pass only poses the corners (three's skinning
 //! and morph targets) and calls these.
 //!
@@ -116,7 +116,7 @@ pub fn nets_pass_glsl(
     );
     s += &shader::net_builder(Lang::Glsl, points);
     s += &shader::net_builder(Lang::Glsl, normals);
-    s += &shader::skin_glsl();
+    s += &shader::skin_normal(Lang::Glsl);
     let call = match scheme {
         // The shape factor as the f32 the CPU builds with (a round-tripping literal).
         Scheme::Phong { alpha } => format!("tessella_phong_points(p, n, {alpha:e}, c)"),
@@ -250,7 +250,7 @@ mod tests {
                 Lang::Glsl,
                 NetBuilder::normals_for(mode)
             )));
-            assert!(g.contains(&shader::skin_glsl()));
+            assert!(g.contains(&shader::skin_normal(Lang::Glsl)));
             assert!(g.contains(call), "{scheme:?}: {g}");
             let across = scheme == Scheme::PnAen;
             assert!(g.contains(&format!("TESSELLA_NETS_ACROSS = {across};")));

@@ -9,7 +9,7 @@
 //! ([`crate::instanced::wgsl`]) reads: the `K` control points then the 6 normal-net entries,
 //! 3 floats each, one after the other, zero padded to `texels_per_face(K)` texels, the row
 //! width being the texture's width over that. The coarse vertices are posed by TSL (a vertex
-//! per thread); the posed normal's formula is the core's too ([`shader::skin_wgsl`]). Each
+//! per thread); the posed normal's formula is the core's too ([`shader::skin_normal`]). Each
 //! texel's expression comes from the same layout constants as the CPU's packing
 //! ([`texels_per_face`], [`NORMAL_NET_LEN`]); the tests check it against `pack_texels`.
 //!
@@ -44,10 +44,10 @@ impl InstancedSurface {
 
     /// `fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>`: a posed vertex's
     /// unit normal from its matrix's upper 3×3 and its morphed rest normal, as the CPU's
-    /// `Deformer` poses it ([`shader::skin_wgsl`]).
+    /// `Deformer` poses it ([`shader::skin_normal`]).
     #[wasm_bindgen(js_name = skinNormalWgsl)]
     pub fn skin_normal_wgsl(&self) -> String {
-        shader::skin_wgsl()
+        shader::skin_normal(Lang::Wgsl)
     }
 }
 

@@ -2,7 +2,7 @@
 //! weights ([`deform`], behind `Poser::deform_into` and `Poser::pose_into` both), once per
 //! model the per-vertex tables that say which matrices and weights each vertex reads
 //! ([`DeformTable`]), and the per-vertex formula written once, generic over [`Real`]
-//! ([`skin_normal_of`], traced into WGSL by [`crate::shader::skin_wgsl`]).
+//! ([`skin_normal_of`], traced into WGSL by [`crate::shader::skin_normal`]).
 
 use super::hierarchy::NodeState;
 use super::model::AnimatedMesh;
@@ -122,7 +122,7 @@ pub struct DeformTable {
 /// `n` normalised; where neither has, `+Z`.
 ///
 /// The CPU pose computes this with glam; the unit tests check the two equal bit for bit, and
-/// [`crate::shader::skin_wgsl`] traces this function into WGSL.
+/// [`crate::shader::skin_normal`] traces this function into WGSL.
 pub fn skin_normal_of<T: Real>(m: [[T; 3]; 3], n: [T; 3]) -> [T; 3] {
     let cross = |a: [T; 3], b: [T; 3]| {
         [

@@ -506,36 +506,28 @@ fn traced_locate() -> (trace::Tape, [UExpr; 3]) {
     })
 }
 
-/// WGSL: `fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>`, a skinned
-/// vertex's posed normal from the upper 3×3 of its blended matrix and its morphed rest normal
-/// ([`crate::animation::skin_normal_of`]: the cofactor matrix with the determinant's sign,
-/// normalised, falling back to `n` normalised, else `+Z`).
-pub fn skin_wgsl() -> String {
+/// `tessella_skin_normal(m, n)`, a skinned vertex's posed normal from the upper 3×3 of its
+/// blended matrix and its morphed rest normal ([`crate::animation::skin_normal_of`]: the
+/// cofactor matrix with the determinant's sign, normalised, falling back to `n` normalised,
+/// else `+Z`): WGSL `fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>` or
+/// GLSL (ES 3.00) `vec3 tessella_skin_normal(mat3 m, vec3 n)`.
+pub fn skin_normal(lang: Lang) -> String {
     let (tape, out) = trace(|| {
         let m = [0, 1, 2].map(|c| ["x", "y", "z"].map(|x| Expr::input(&format!("m[{c}].{x}"))));
         let n = ["n.x", "n.y", "n.z"].map(Expr::input);
         crate::animation::skin_normal_of(m, n)
     });
-    let body = Body::new(&tape, Lang::Wgsl, &out);
+    let body = Body::new(&tape, lang, &out);
     let [x, y, z] = out.map(|e| body.name(e));
+    let (head, vec3) = match lang {
+        Lang::Wgsl => (
+            "fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>",
+            "vec3<f32>",
+        ),
+        Lang::Glsl => ("vec3 tessella_skin_normal(mat3 m, vec3 n)", "vec3"),
+    };
     format!(
-        "fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32> {{\n{}    return vec3<f32>({x}, {y}, {z});\n}}\n",
-        body.statements
-    )
-}
-
-/// GLSL (ES 3.00): `vec3 tessella_skin_normal(mat3 m, vec3 n)`, [`skin_wgsl`]'s function
-/// ([`crate::animation::skin_normal_of`]) for WebGL2.
-pub fn skin_glsl() -> String {
-    let (tape, out) = trace(|| {
-        let m = [0, 1, 2].map(|c| ["x", "y", "z"].map(|x| Expr::input(&format!("m[{c}].{x}"))));
-        let n = ["n.x", "n.y", "n.z"].map(Expr::input);
-        crate::animation::skin_normal_of(m, n)
-    });
-    let body = Body::new(&tape, Lang::Glsl, &out);
-    let [x, y, z] = out.map(|e| body.name(e));
-    format!(
-        "vec3 tessella_skin_normal(mat3 m, vec3 n) {{\n{}    return vec3({x}, {y}, {z});\n}}\n",
+        "{head} {{\n{}    return {vec3}({x}, {y}, {z});\n}}\n",
         body.statements
     )
 }

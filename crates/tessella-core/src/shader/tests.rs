@@ -620,7 +620,7 @@ fn traced_skin_normal_gives_the_cpus_bits() {
         let got = out.map(|e| (v[e.index()] as f32).to_bits());
         assert_eq!(got, skin_normal_of(m, n).map(f32::to_bits), "{m:?} {n:?}");
     }
-    let wgsl = skin_wgsl();
+    let wgsl = skin_normal(Lang::Wgsl);
     assert!(wgsl.starts_with("fn tessella_skin_normal(m: mat3x3<f32>, n: vec3<f32>) -> vec3<f32>"));
     assert!(wgsl.contains("sqrt("), "{wgsl}");
 }
@@ -646,7 +646,7 @@ fn the_gpu_builds_the_nets_of_flat_phong_pn_and_pn_aen_with_the_mode_s_normal_ne
         assert_eq!(NetBuilder::normals_for(mode), NetBuilder::LinearNormals);
     }
     // The skinned normal for WebGL2: the same traced formula as the WGSL's.
-    let glsl = skin_glsl();
+    let glsl = skin_normal(Lang::Glsl);
     assert!(glsl.starts_with("vec3 tessella_skin_normal(mat3 m, vec3 n) {"));
     assert!(glsl.contains("sqrt(") && glsl.contains("m[2].z"), "{glsl}");
 }
