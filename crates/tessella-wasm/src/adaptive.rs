@@ -834,14 +834,7 @@ mod tests {
                  let m = tessella_adaptive_point(nets, records, instances, code, 3u + i);\n    \
                  return vec4<f32>(m[0] + m[1] + m[2], 1.0);\n}}\n"
             );
-            let parsed = naga::front::wgsl::parse_str(&module)
-                .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::empty(),
-            )
-            .validate(&parsed)
-            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
+            crate::naga_check::validate_wgsl(&module, "the adaptive module");
         }
     }
 

@@ -685,14 +685,7 @@ mod tests {
                  @vertex fn main(@builtin(instance_index) i: u32, @location(0) l: vec3<f32>) -> @builtin(position) vec4<f32> {{\n    \
                  return vec4<f32>(tessella_position(nets, i, l) + tessella_normal(nets, i, l), 1.0);\n}}\n"
             );
-            let parsed = naga::front::wgsl::parse_str(&module)
-                .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::empty(),
-            )
-            .validate(&parsed)
-            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&module)));
+            crate::naga_check::validate_wgsl(&module, "the instanced module");
         }
     }
 }

@@ -25,6 +25,7 @@ mod errors;
 mod files;
 mod gpu_nets;
 mod instanced;
+mod naga_check;
 mod nets_wgsl;
 mod options;
 mod refine;

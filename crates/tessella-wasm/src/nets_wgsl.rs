@@ -208,14 +208,7 @@ mod tests {
                     );
                 }
             }
-            let parsed = naga::front::wgsl::parse_str(&module)
-                .unwrap_or_else(|e| panic!("{json}: {}", e.emit_to_string(&module)));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::empty(),
-            )
-            .validate(&parsed)
-            .unwrap_or_else(|e| panic!("{json}: {}", e.emit_to_string(&module)));
+            crate::naga_check::validate_wgsl(&module, json);
         }
     }
 
