@@ -300,6 +300,9 @@ pub struct AnimateArgs {
     pub scheme: SchemeArg,
     #[arg(short, long, default_value_t = 16)]
     pub level: u32,
+    /// Phong shape factor: 0 is flat, 1 the full projection.
+    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
+    pub alpha: f32,
     /// Number of frames.
     #[arg(long, default_value_t = 8)]
     pub frames: u32,

@@ -275,3 +275,50 @@ fn animate_with_gpu_skinning_uploads_the_matrices_and_draws_the_same_frames() {
     }
     assert_ne!(gpu[0], gpu[3], "the GPU frames do not move");
 }
+
+/// `animate --alpha` reaches the surface: Phong frames at α 0.2 are not those at 0.75, and
+/// 0.75 draws what no `--alpha` draws (the default).
+#[test]
+fn animate_uses_the_alpha_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let frame = |name: &str, alpha: &[&str]| {
+        let frames = dir.path().join(name);
+        let mut args = vec![
+            "animate",
+            SAMPLE,
+            "--clip",
+            "wave",
+            "-o",
+            s(&frames),
+            "--fps",
+            "2",
+            "--frames",
+            "2",
+            "--size",
+            "96x96",
+            "--scheme",
+            "phong",
+            "--level",
+            "8",
+        ];
+        args.extend(alpha.iter().copied());
+        let o = tessella(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        image::open(frames.join("frame_001.png"))
+            .unwrap()
+            .to_rgba8()
+    };
+    let low = frame("low", &["--alpha", "0.2"]);
+    let given = frame("given", &["--alpha", "0.75"]);
+    let default = frame("default", &[]);
+    let differing = low
+        .pixels()
+        .zip(given.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        differing > 20,
+        "only {differing} pixels differ between α 0.2 and 0.75"
+    );
+    assert_eq!(given, default, "--alpha 0.75 is the default");
+}

@@ -13,14 +13,14 @@ pub fn run(args: &AnimateArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("cannot create {}", args.output.display()))?;
     let ctx = gpu::render_context()?;
-    let options = RefineOptions::new(args.scheme.scheme(0.75), args.level);
+    let options = RefineOptions::new(args.scheme.scheme(args.alpha), args.level);
     let view = RenderOptions {
         size: args.size,
         ..RenderOptions::default()
     };
     if args.fly_in {
-        let refine =
-            RefineOptions::new(args.scheme.scheme(0.75), 1).with_spacing(Spacing::FractionalOdd);
+        let refine = RefineOptions::new(args.scheme.scheme(args.alpha), 1)
+            .with_spacing(Spacing::FractionalOdd);
         let view = RenderOptions {
             wireframe: true,
             pitch: 15.0,
