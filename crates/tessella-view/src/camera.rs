@@ -20,7 +20,7 @@ pub(crate) struct Camera {
 
 /// How every picture frames a mesh (`tessella render`'s, the viewer's, the Bevy example's): the
 /// camera position, the point looked at, the up direction, the key light's direction and the
-/// vertical field of view, for a view of `points` ([`framed_camera`]).
+/// vertical field of view, for a view of points ([`frame_points`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Framing {
     pub eye: [f32; 3],
@@ -45,7 +45,9 @@ pub(crate) fn framed_camera(
     Camera::framing(center, radius * 1.2 + reach, yaw, pitch, zoom, pan, aspect)
 }
 
-/// [`framed_camera`]'s framing, for a renderer of its own (the Bevy example's camera and light).
+/// The framing of `points` that `tessella render` draws them with (their bounding sphere grown
+/// by 1.2, since curved patches bulge past the coarse hull), for a renderer of its own: the Bevy
+/// example's camera and light.
 pub fn frame_points(points: &[[f32; 3]], yaw: f32, pitch: f32, zoom: f32, aspect: f32) -> Framing {
     let cam = framed_camera(points, 0.0, (yaw, pitch, zoom, [0.0, 0.0]), aspect);
     Framing {
