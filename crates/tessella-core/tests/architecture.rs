@@ -196,3 +196,83 @@ fn streaming_stores_are_public_only_for_the_bandwidth_benchmark() {
     }
     assert_eq!(public, 2, "stream_copy and stream_fill");
 }
+
+/// The crates a crate's manifest depends on (its `[dependencies]` and target-specific
+/// dependencies, optional ones included; not its dev-dependencies): the `tessella-*` names.
+fn tessella_dependencies(manifest: &str) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let mut in_dependencies = false;
+    for line in manifest.lines() {
+        let line = line.trim();
+        if line.starts_with('[') {
+            in_dependencies = line.ends_with("dependencies]")
+                && !line.ends_with("dev-dependencies]")
+                && !line.ends_with("build-dependencies]");
+            continue;
+        }
+        if in_dependencies && line.starts_with("tessella-") {
+            let name: String = line
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '-')
+                .collect();
+            out.insert(name);
+        }
+    }
+    out
+}
+
+/// "The layers, and what each may import": the core imports no other crate of ours; the
+/// backends (tessella-io, -gpu, -gl) import the core only, never each other; the pictures
+/// (tessella-view) the backends and the core; nothing below the applications imports one. Read
+/// from every crate's Cargo.toml (Bevy's and the Python package's included).
+#[test]
+fn crates_depend_down_the_layers() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let layer = |name: &str| match name {
+        "tessella-core" => 0,
+        "tessella-io" | "tessella-gpu" | "tessella-gl" => 1,
+        "tessella-view" => 2,
+        _ => 3, // the applications: the CLI, Python, wasm, the viewer, Bevy, the benchmarks
+    };
+    let mut manifests: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
+        .expect("crates/")
+        .map(|e| e.expect("an entry").path().join("Cargo.toml"))
+        .filter(|p| p.is_file())
+        .collect();
+    manifests.push(root.join("python/Cargo.toml"));
+    let mut seen = 0;
+    for manifest in manifests {
+        let text = std::fs::read_to_string(&manifest).expect("a manifest");
+        let name = text
+            .lines()
+            .find_map(|l| l.strip_prefix("name = \""))
+            .and_then(|l| l.strip_suffix('"'))
+            .expect("the package's name")
+            .to_string();
+        let name = if name == "tessella" {
+            "tessella-python".to_string()
+        } else {
+            name
+        };
+        seen += 1;
+        for dependency in tessella_dependencies(&text) {
+            let (from, to) = (layer(&name), layer(&dependency));
+            assert!(
+                from == 3 || to < from,
+                "{name} (layer {from}) depends on {dependency} (layer {to})"
+            );
+            if from == 1 {
+                assert_eq!(
+                    dependency, "tessella-core",
+                    "a backend depends on {dependency}"
+                );
+            }
+        }
+    }
+    assert!(seen >= 12, "{seen} manifests");
+    let sample = "[dependencies]\ntessella-core.workspace = true\n[dev-dependencies]\ntessella-io = { path = \"x\" }\n[target.'cfg(x)'.dependencies]\ntessella-gpu = { path = \"y\", optional = true }\n";
+    assert_eq!(
+        tessella_dependencies(sample),
+        BTreeSet::from(["tessella-core".to_string(), "tessella-gpu".to_string()])
+    );
+}
