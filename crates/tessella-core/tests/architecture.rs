@@ -249,11 +249,6 @@ fn crates_depend_down_the_layers() {
             .and_then(|l| l.strip_suffix('"'))
             .expect("the package's name")
             .to_string();
-        let name = if name == "tessella" {
-            "tessella-python".to_string()
-        } else {
-            name
-        };
         seen += 1;
         for dependency in tessella_dependencies(&text) {
             let (from, to) = (layer(&name), layer(&dependency));
