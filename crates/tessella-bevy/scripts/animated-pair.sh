@@ -12,18 +12,13 @@ rounds=${1:-5}
 frames=${2:-60}
 levels=${3:-4 8 16 32}
 profile=${4:-release}
-view=target/$profile/examples/view
-cli=${TESSELLA_BIN:-../../target/release/tessella}
-samples=../../samples
-[ -x "$view" ] || { echo "build it first: cargo build --$profile --example view" >&2; exit 1; }
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+# shellcheck source=common.sh
+source "scripts/common.sh"
 run() { # view's arguments; prints "wall cpu" ms a frame
   "$view" "$@" --clip wave --frame "$samples/creature.obj" --ground --size 512x512 \
     --frames "$frames" --screenshot "$tmp/shot.png" 2>/dev/null | tail -1 |
     sed 's/.*"mean_frame_ms":\([0-9.]*\).*"mean_frame_cpu_ms":\([0-9.]*\).*/\1 \2/'
 }
-median() { sort -g | awk '{ a[NR] = $1 } END { print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
 echo "| level | offline ms (median) | mesh, GPU posing ms (median) | ratio | CPU ratio | pairs' ratios |"
 echo "|---:|---:|---:|---:|---:|---|"
 for level in $levels; do

@@ -11,12 +11,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 profile=${1:-release}
 frames=${2:-60}
-view=target/$profile/examples/view
-cli=${TESSELLA_BIN:-../../target/release/tessella}
-creature=../../samples/creature.obj
-[ -x "$view" ] || { echo "build it first: cargo build --$profile --example view" >&2; exit 1; }
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+# shellcheck source=common.sh
+source "scripts/common.sh"
+creature=$samples/creature.obj
 "$cli" refine "$creature" --scheme pn --level 8 -o "$tmp/c20k.obj" >/dev/null
 "$cli" refine "$creature" --scheme pn --level 16 -o "$tmp/c82k.obj" >/dev/null
 "$cli" refine "$creature" --scheme pn --level 32 -o "$tmp/plain.obj" >/dev/null

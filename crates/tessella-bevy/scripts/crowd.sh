@@ -16,11 +16,8 @@ count=${3:-100}
 profile=${4:-release}
 frames=${5:-30}
 levels=${6:-4 8}
-view=target/$profile/examples/view
-cli=${TESSELLA_BIN:-../../target/release/tessella}
-[ -x "$view" ] || { echo "build it first: cargo build --$profile --example view" >&2; exit 1; }
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+# shellcheck source=common.sh
+source "scripts/common.sh"
 ms() {
   local line
   line=$("$view" "$@" --crowd "$count" --clip "$clip" --frame "$file" --ground --size 512x512 \

@@ -19,12 +19,8 @@ cd "$(dirname "$0")/.."
 profile=${1:-release}
 frames=${2:-40}
 levels=${3:-4 8 16 32}
-view=target/$profile/examples/view
-cli=${TESSELLA_BIN:-../../target/release/tessella}
-samples=../../samples
-[ -x "$view" ] || { echo "build it first: cargo build --$profile --example view" >&2; exit 1; }
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+# shellcheck source=common.sh
+source "scripts/common.sh"
 ms() { # view's arguments; prints the mean frame time
   local line
   line=$("$view" "$@" --ground --size 512x512 --frames "$frames" --screenshot "$tmp/shot.png" 2>/dev/null | tail -1)
@@ -36,7 +32,6 @@ echo "|---|---|---|---|---|---|---|---|---|---|" >> "$tmp/static.md"
 echo "| level | animated: offline-refined skinned ms | mesh, GPU posing (default) ms | ratio | per frame, GPU posing ms | ratio | per frame, CPU posing ms | ratio | welded, CPU posing ms | ratio |" > "$tmp/animated.md"
 echo "|---|---|---|---|---|---|---|---|---|---|" >> "$tmp/animated.md"
 rounds=${TESSELLA_ROUNDS:-1}
-median() { printf '%s\n' "$@" | sort -g | awk '{ a[NR] = $1 } END { print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
 for level in $levels; do
   "$cli" refine "$samples/creature.obj" --scheme pn --level "$level" -o "$tmp/static.obj" >/dev/null 2>&1
   "$cli" refine "$samples/animated-creature.glb" --scheme pn --level "$level" -o "$tmp/skinned.glb" >/dev/null 2>&1
@@ -55,7 +50,7 @@ for level in $levels; do
     got[welded]+=" $(ms "$samples/animated-creature.glb" "${playing[@]}" --draw welded)"
   done
   # shellcheck disable=SC2086 # the rounds' values, one word each
-  for way in plain mesh frame tess runs offline meshgpu gpu cpu welded; do declare "$way=$(median ${got[$way]})"; done
+  for way in plain mesh frame tess runs offline meshgpu gpu cpu welded; do declare "$way=$(printf "%s\n" ${got[$way]} | median)"; done
   awk -v l="$level" -v a="$plain" -v m="$mesh" -v f="$frame" -v b="$tess" -v r="$runs" \
     'BEGIN { printf "| %s | %.2f | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2fx | %.2f | %.2fx |\n", l, a, m, m / a, f, f / a, b, b / a, r, r / a }' >> "$tmp/static.md"
   awk -v l="$level" -v a="$offline" -v m="$meshgpu" -v g="$gpu" -v c="$cpu" -v w="$welded" \
