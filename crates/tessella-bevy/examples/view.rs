@@ -494,7 +494,7 @@ fn setup(
         Tonemapping::None,
         Msaa::Off,
         Projection::Perspective(PerspectiveProjection {
-            fov: framing.fov_y_deg.to_radians(),
+            fov: tessella_view::FOV_Y_DEGREES.to_radians(),
             ..default()
         }),
         Transform::from_translation(eye).looking_at(center, up),

@@ -74,10 +74,8 @@ fn no_backend_matches_on_normal_mode() {
     let core = Path::new("tessella-core").join("src");
     let mut found = Vec::new();
     for (file, code) in sources() {
-        if file.components().collect::<PathBuf>().ends_with(&core)
-            || file.to_string_lossy().contains("tessella-core/src")
-        {
-            continue;
+        if file.ancestors().any(|dir| dir.ends_with(&core)) {
+            continue; // the core: where the modes are mapped
         }
         let arms = normal_mode_arms(&code);
         if arms > 0 {

@@ -1,7 +1,7 @@
 //! Rust twins of the WGSL uniform structs. Each is `#[repr(C)]`, `Pod`, and pinned by size and
-//! offset assertions; `uniform_twins.rs` reads each struct's layout out of the WGSL the pipelines compile
-//! (naga) and compares it field by field, so the Rust and WGSL layouts cannot drift apart
-//! silently.
+//! offset assertions; `uniform_twins.rs` reads each struct's layout out of the WGSL the
+//! pipelines compile (naga) and compares it field by field, so the Rust and WGSL layouts
+//! cannot drift apart silently.
 
 use bytemuck::{Pod, Zeroable};
 use std::mem::{offset_of, size_of};

@@ -212,7 +212,7 @@ fn source(scheme: GpuScheme, normals: NetBuilder) -> String {
     .join("\n")
 }
 
-/// [`source`] for `scheme` and its default normal net (for the uniform twins' test).
+/// [`source`] for `scheme` with the quadratic normal net (for the uniform twins' test).
 #[cfg(test)]
 pub(crate) fn source_for(scheme: &Scheme) -> String {
     let gpu = GpuScheme::of(scheme).expect("a scheme whose nets the GPU builds");

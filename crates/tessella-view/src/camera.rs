@@ -19,8 +19,8 @@ pub(crate) struct Camera {
 }
 
 /// How every picture frames a mesh (`tessella render`'s, the viewer's, the Bevy example's): the
-/// camera position, the point looked at, the up direction, the key light's direction and the
-/// vertical field of view, for a view of points ([`frame_points`]).
+/// camera position, the point looked at, the up direction and the key light's direction, for a
+/// view of points ([`frame_points`]) with the vertical field of view [`FOV_Y_DEGREES`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Framing {
     pub eye: [f32; 3],
@@ -28,7 +28,6 @@ pub struct Framing {
     pub up: [f32; 3],
     /// Unit direction towards the light: above-left of the viewer.
     pub light_dir: [f32; 3],
-    pub fov_y_deg: f32,
 }
 
 /// The camera that frames `points`: their bounding sphere (the box's centre, the farthest
@@ -55,7 +54,6 @@ pub fn frame_points(points: &[[f32; 3]], yaw: f32, pitch: f32, zoom: f32, aspect
         target: cam.target.into(),
         up: cam.up.into(),
         light_dir: cam.light_dir.into(),
-        fov_y_deg: FOV_Y_DEGREES,
     }
 }
 
