@@ -6,13 +6,31 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# A clean run leaves about 6 GB in the checkout (target/ about 5 GB) and 1 GB in the Python venv,
-# besides Debian packages and the crates' sources. Say so early when the disk is short, rather
-# than let the build fail half-way on "No space left on device".
-free_gb=$(df -Pk . | awk 'NR == 2 { printf "%d", $4 / 1048576 }')
-if [ "$free_gb" -lt 10 ]; then
-  echo "warning: ${free_gb} GB free on this disk; a clean test run writes about 9 GB" >&2
+# A clean run writes about 12 GB: target/ about 6 GB, the Bevy plugin's target/ about 3 GB, the
+# Python extension's build and venv about 2 GB, besides Rust 1.97.1, Debian packages and the
+# crates' sources. Say so early when the disk is short; make_room below frees what it can.
+free_gb() { df -Pk "$1" | awk 'NR == 2 { printf "%d", $4 / 1048576 }'; }
+if [ "$(free_gb .)" -lt 12 ]; then
+  echo "warning: $(free_gb .) GB free on this disk; a clean test run writes about 12 GB" >&2
 fi
+
+# make_room GB STAGE [PATH...]: when fewer than GB gigabytes are free before STAGE, deletes what
+# the finished stages wrote and no later stage reads: the workspace's test and example
+# executables (the libraries stay, so `cargo build -p tessella-cli` stays quick, and so does the
+# CLI binary that the web and Bevy tests compare against), the Python extension's build folder
+# and venv, the npm package's wasm intermediates (js/dist keeps the built wasm) and the PATHs
+# given. A CI machine once ran out of disk in the Bevy build, the last stage; a developer's
+# machine with room keeps its caches.
+make_room() {
+  local need=$1 stage=$2 before
+  shift 2
+  before=$(free_gb .)
+  [ "$before" -lt "$need" ] || return 0
+  find target/debug/deps -maxdepth 1 -type f -perm -u+x ! -name '*.so' -delete
+  rm -rf target/debug/examples python/target "${TESSELLA_VENV:-/tmp/tessella-venv}" \
+    target/wasm-scalar target/wasm-simd target/wasm32-unknown-unknown "$@"
+  echo "== ${before} GB free before ${stage}, fewer than ${need}: deleted finished stages' build outputs, now $(free_gb .) GB"
+}
 
 bash scripts/setup-vulkan.sh
 bash scripts/setup-gl.sh
@@ -112,6 +130,7 @@ if [ ! -x /usr/bin/chromium ] && [ -z "${CHROMIUM:-}" ]; then
     exit 1
   fi
 fi
+make_room 6 "the web viewer"
 cargo build --quiet -p tessella-cli
 (cd web && npm ci --no-audit --no-fund && npm run build && npm test)
 
@@ -120,6 +139,7 @@ cargo build --quiet -p tessella-cli
 # Bevy 0.20.1 declares Rust 1.97.1 (the crate's rust-toolchain.toml); rustup installs it. Its
 # tests run the `view` example headless on lavapipe against the CLI built above
 # (target/debug/tessella) as the independent reference.
+make_room 8 "the Bevy plugin (about 3 GB of build outputs, and its toolchain)" target/wasm-viewer
 echo "== Bevy plugin: fmt, clippy, tests (its own workspace, toolchain 1.97.1)"
 rustup toolchain install 1.97.1 --profile minimal --component rustfmt --component clippy
 (cd crates/tessella-bevy \
