@@ -225,24 +225,16 @@ void main() {
         du += w[k].y * c;
         dv += w[k].z * c;
     }
+    // The normal glue is the CPU's (tessella_core::shader::surface_normal, prepended).
     vec3 n = vec3(0.0);
-    if (u_real != 0) {
-        vec3 c = cross(du, dv);
-        if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) { n = c; }
-    }
+    if (u_real != 0) { n = tessella_real_normal(du, dv); }
     if (n == vec3(0.0)) {
         float nw[6];
         tessella_normal_weights(l, nw);
         for (int j = 0; j < 6; ++j) { n += nw[j] * nctrl(f, j); }
     }
-    float len = length(n);
-    if (len > 0.0 && !isinf(len)) {
-        n /= len;
-    } else {
-        vec3 a = ctrl(f, 0);
-        vec3 e = cross(ctrl(f, 1) - a, ctrl(f, 2) - a);
-        n = length(e) > 0.0 ? normalize(e) : vec3(0.0, 0.0, 1.0);
-    }
+    n = tessella_unit_or_zero(n);
+    if (n == vec3(0.0)) { n = tessella_corner_normal(ctrl(f, 0), ctrl(f, 1), ctrl(f, 2)); }
     tf_position = p;
     tf_normal = n;
     tf_coord = l;
@@ -322,11 +314,12 @@ pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
             shader::weights(Lang::Glsl, Basis::Png1)
         ),
         evaluation: format!(
-            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{}{EVALUATION}",
+            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{}{}{EVALUATION}",
             layout(spacing),
             shader::weights(Lang::Glsl, Basis::Cubic),
             shader::weights(Lang::Glsl, Basis::Png1),
-            shader::normal_net(Lang::Glsl)
+            shader::normal_net(Lang::Glsl),
+            shader::surface_normal(Lang::Glsl)
         ),
         fragment: format!("{HEADER}{FRAGMENT}"),
     }
@@ -363,5 +356,28 @@ mod tests {
                 );
             }
         }
+        // The normal glue: the generated functions once, each called, none typed here.
+        assert_eq!(
+            s.evaluation
+                .matches(&shader::surface_normal(Lang::Glsl))
+                .count(),
+            1
+        );
+        for f in [
+            "tessella_real_normal",
+            "tessella_unit_or_zero",
+            "tessella_corner_normal",
+        ] {
+            assert_eq!(
+                s.evaluation.matches(&format!("vec3 {f}(")).count(),
+                1,
+                "{f}"
+            );
+            assert!(
+                s.evaluation.matches(&format!("{f}(")).count() >= 2,
+                "calls {f}"
+            );
+        }
+        assert!(!EVALUATION.contains("1e-12") && !EVALUATION.contains("cross("));
     }
 }

@@ -257,8 +257,15 @@ fn displace_wgsl() -> &'static str {
     TEXT.get_or_init(tessella_core::shader::displace_wgsl)
 }
 
+/// The evaluation's normal glue (`tessella_real_normal`, `tessella_unit_or_zero`,
+/// `tessella_corner_normal`), generated once per process.
+pub(crate) fn surface_normal_wgsl() -> &'static str {
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| tessella_core::shader::surface_normal(tessella_core::shader::Lang::Wgsl))
+}
+
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
-/// shared evaluation and displacement modules, then its own. Constants rather than uniforms,
+/// generated normal glue, the shared evaluation and displacement modules, then its own. Constants rather than uniforms,
 /// so each pipeline compiles only its own branch (a software rasteriser runs the whole body of a
 /// branch on a uniform: Perlin noise or `Du × Dv` for every vertex that needs neither).
 pub(crate) fn shader_source(
@@ -275,6 +282,7 @@ pub(crate) fn shader_source(
             displace::kind_code(displacement),
             basis.map_or(0, |b| b.len())
         ),
+        surface_normal_wgsl(),
         include_str!("shaders/eval.wgsl"),
         include_str!("shaders/displace.wgsl"),
         displace_wgsl(),

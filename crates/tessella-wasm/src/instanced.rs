@@ -377,7 +377,7 @@ fn pattern_points(level: u32) -> Vec<f32> {
 /// and unit normal of `face`'s patch at the barycentric point `l`, as the CPU's
 /// `eval_point` computes them (`Σ w_k C_k`; the normal from the normal net, or `Du × Dv` for
 /// real normals with the normal net where that vanishes; a normal that still vanishes is the
-/// corner triangle's). It declares `uniform highp sampler2D tessellaNets` and
+/// corner triangle's: the generated [`tessella_core::shader::surface_normal`]). It declares `uniform highp sampler2D tessellaNets` and
 /// `uniform int tessellaFacesPerRow`.
 pub fn glsl(basis: Basis, mode: NormalMode) -> String {
     let k = basis.len();
@@ -388,6 +388,7 @@ pub fn glsl(basis: Basis, mode: NormalMode) -> String {
     s += &shader::constants(Lang::Glsl, &[("TESSELLA_TEXELS_PER_FACE", texels as u32)]);
     s += &shader::weights(Lang::Glsl, basis);
     s += &shader::normal_net(Lang::Glsl);
+    s += &shader::surface_normal(Lang::Glsl);
     s += "vec4 tessella_texel(int face, int j) {\n    int row = face / tessellaFacesPerRow;\n    \
           int column = (face - row * tessellaFacesPerRow) * int(TESSELLA_TEXELS_PER_FACE) + j;\n    \
           return texelFetch(tessellaNets, ivec2(column, row), 0);\n}\n";
@@ -422,8 +423,7 @@ pub fn glsl(basis: Basis, mode: NormalMode) -> String {
     s += "    vec3 n = vec3(0.0);\n";
     if mode == NormalMode::Real {
         s += &format!(
-            "    vec3 du = {};\n    vec3 dv = {};\n    vec3 c = cross(du, dv);\n    \
-             if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {{ n = c; }}\n",
+            "    n = tessella_real_normal({}, {});\n",
             sum("y"),
             sum("z")
         );
@@ -436,9 +436,8 @@ pub fn glsl(basis: Basis, mode: NormalMode) -> String {
         "    if (n == vec3(0.0)) {{\n        float nw[{NORMAL_NET_LEN}];\n        \
          tessella_normal_weights(l, nw);\n        n = {normal_sum};\n    }}\n"
     );
-    s += "    float len = length(n);\n    if (len > 0.0 && !isinf(len)) {\n        normal = n / len;\n    \
-          } else {\n        vec3 e = cross(c1 - c0, c2 - c0);\n        \
-          normal = length(e) > 0.0 ? normalize(e) : vec3(0.0, 0.0, 1.0);\n    }\n}\n";
+    s += "    normal = tessella_unit_or_zero(n);\n    \
+          if (normal == vec3(0.0)) { normal = tessella_corner_normal(c0, c1, c2); }\n}\n";
     s
 }
 
@@ -461,6 +460,7 @@ pub fn wgsl(basis: Basis, mode: NormalMode) -> String {
     let mut s = shader::constants(Lang::Wgsl, &[("TESSELLA_TEXELS_PER_FACE", texels as u32)]);
     s += &shader::weights(Lang::Wgsl, basis);
     s += &shader::normal_weights_wgsl();
+    s += &shader::surface_normal(Lang::Wgsl);
     s += "fn tessella_texel(nets: texture_2d<f32>, face: u32, j: u32) -> vec4<f32> {\n    \
           let faces_per_row = textureDimensions(nets).x / TESSELLA_TEXELS_PER_FACE;\n    \
           let row = face / faces_per_row;\n    \
@@ -504,9 +504,7 @@ pub fn wgsl(basis: Basis, mode: NormalMode) -> String {
     s += "    var n = vec3<f32>(0.0);\n";
     if mode == NormalMode::Real {
         s += &format!(
-            "    let w = tessella_{name}_weights(l);\n    let du = {};\n    let dv = {};\n    \
-             let c = cross(du, dv);\n    \
-             if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {{ n = c; }}\n",
+            "    let w = tessella_{name}_weights(l);\n    n = tessella_real_normal({}, {});\n",
             sum("y"),
             sum("z")
         );
@@ -519,11 +517,9 @@ pub fn wgsl(basis: Basis, mode: NormalMode) -> String {
         "    if (all(n == vec3<f32>(0.0))) {{\n        let nw = tessella_normal_weights(l);\n        \
          n = {normal_sum};\n    }}\n"
     );
-    // The largest f32 below: a length past it is infinite (GLSL's isinf).
-    s += "    let len = length(n);\n    if (len > 0.0 && len <= 3.4028234e38) {\n        return n / len;\n    }\n    \
-          let e = cross(c1 - c0, c2 - c0);\n    \
-          if (length(e) > 0.0) {\n        return normalize(e);\n    }\n    \
-          return vec3<f32>(0.0, 0.0, 1.0);\n}\n";
+    s += "    let unit = tessella_unit_or_zero(n);\n    \
+          if (all(unit == vec3<f32>(0.0))) {\n        return tessella_corner_normal(c0, c1, c2);\n    }\n    \
+          return unit;\n}\n";
     s
 }
 
@@ -651,7 +647,14 @@ mod tests {
             assert!(g.contains("tessella_normal_weights(l, nw);"));
             let texels = texels_per_face(basis.len());
             assert!(g.contains(&format!("tessella_texel(face, {});", texels - 1)));
-            assert_eq!(g.contains("cross(du, dv)"), mode == NormalMode::Real);
+            // The normal glue is the generated one, the real normal's only where asked for.
+            assert!(g.contains(&shader::surface_normal(Lang::Glsl)));
+            assert_eq!(
+                g.contains("n = tessella_real_normal("),
+                mode == NormalMode::Real
+            );
+            assert!(g.contains("normal = tessella_unit_or_zero(n);"));
+            assert!(!g.contains("1e-12 * dot(") && !g.contains("cross("));
         }
     }
 
@@ -674,7 +677,13 @@ mod tests {
             assert!(w.contains("let nw = tessella_normal_weights(l);"));
             let texels = texels_per_face(basis.len());
             assert!(w.contains(&format!("tessella_texel(nets, face, {}u);", texels - 1)));
-            assert_eq!(w.contains("cross(du, dv)"), mode == NormalMode::Real);
+            assert!(w.contains(&shader::surface_normal(Lang::Wgsl)));
+            assert_eq!(
+                w.contains("n = tessella_real_normal("),
+                mode == NormalMode::Real
+            );
+            assert!(w.contains("let unit = tessella_unit_or_zero(n);"));
+            assert!(!w.contains("1e-12 * dot(") && !w.contains("cross("));
             // The two functions TSL calls come last, position then normal.
             let p = w.find("fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32> {").unwrap();
             let n = w.find("fn tessella_normal(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32> {").unwrap();

@@ -532,6 +532,63 @@ pub fn skin_normal(lang: Lang) -> String {
     )
 }
 
+/// The evaluation's normal glue, the functions the CPU kernels run
+/// ([`crate::refine::real_normal_of`], [`crate::refine::unit_or_zero_of`],
+/// [`crate::refine::corner_normal_of`]), as three shader functions every backend's evaluation
+/// calls after its sums:
+///
+/// - `tessella_real_normal(du, dv)`: `Du × Dv`, or zero where the derivatives are (nearly)
+///   parallel (the caller then sums its normal net);
+/// - `tessella_unit_or_zero(n)`: `n` normalised, or zero where it has no finite unit length;
+/// - `tessella_corner_normal(a, b, c)`: the unit normal of the corner triangle `a b c` (the
+///   patch's first three control points), else `+Z`, for a point whose normal vanished (a
+///   function of its own so the callers compute it only then).
+///
+/// WGSL `fn tessella_real_normal(du: vec3<f32>, dv: vec3<f32>) -> vec3<f32>`, GLSL (ES 3.00
+/// and 4.x alike) `vec3 tessella_real_normal(vec3 du, vec3 dv)`; the others alike, with one
+/// and three `vec3` arguments.
+pub fn surface_normal(lang: Lang) -> String {
+    use crate::refine::{corner_normal_of, real_normal_of, unit_or_zero_of};
+    let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
+    let vec3 = match lang {
+        Lang::Wgsl => "vec3<f32>",
+        Lang::Glsl => "vec3",
+    };
+    let head = |name: &str, args: &[&str]| {
+        let args: Vec<String> = match lang {
+            Lang::Wgsl => args.iter().map(|a| format!("{a}: vec3<f32>")).collect(),
+            Lang::Glsl => args.iter().map(|a| format!("vec3 {a}")).collect(),
+        };
+        match lang {
+            Lang::Wgsl => format!("fn {name}({}) -> vec3<f32>", args.join(", ")),
+            Lang::Glsl => format!("vec3 {name}({})", args.join(", ")),
+        }
+    };
+    let function = |head: String, (tape, out): (trace::Tape, [Expr; 3])| {
+        let body = Body::new(&tape, lang, &out);
+        let [x, y, z] = out.map(|e| body.name(e));
+        format!(
+            "{head} {{\n{}    return {vec3}({x}, {y}, {z});\n}}\n",
+            body.statements
+        )
+    };
+    [
+        function(
+            head("tessella_real_normal", &["du", "dv"]),
+            trace(|| real_normal_of(v3("du"), v3("dv"))),
+        ),
+        function(
+            head("tessella_unit_or_zero", &["n"]),
+            trace(|| unit_or_zero_of(v3("n"))),
+        ),
+        function(
+            head("tessella_corner_normal", &["a", "b", "c"]),
+            trace(|| corner_normal_of([v3("a"), v3("b"), v3("c")])),
+        ),
+    ]
+    .concat()
+}
+
 /// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed
 /// point, as `TESSELLA_`-prefixed `u32` constants (see [`constants`]): the words a shader
 /// reads are the words [`crate::refine::instanced`] writes.

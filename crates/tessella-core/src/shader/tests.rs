@@ -650,3 +650,74 @@ fn the_gpu_builds_the_nets_of_flat_phong_pn_and_pn_aen_with_the_mode_s_normal_ne
     assert!(glsl.starts_with("vec3 tessella_skin_normal(mat3 m, vec3 n) {"));
     assert!(glsl.contains("sqrt(") && glsl.contains("m[2].z"), "{glsl}");
 }
+
+/// The traced normal glue, run as a shader runs it (every operation in `f32`), gives the CPU
+/// kernels' bits: derivatives parallel or not, vanishing and non-finite normals, degenerate
+/// corner triangles; and each backend's text declares the three functions once.
+#[test]
+fn traced_surface_normal_gives_the_cpus_bits() {
+    use crate::refine::{corner_normal_of, real_normal_of, unit_or_zero_of};
+    let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
+    let real = trace(|| real_normal_of(v3("du"), v3("dv")));
+    let unit = trace(|| unit_or_zero_of(v3("n")));
+    let corner = trace(|| corner_normal_of([v3("a"), v3("b"), v3("c")]));
+    let none = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
+    let fnone = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
+    let run = |(tape, out): &(Tape, [Expr; 3]), args: &[(&str, [f32; 3])]| {
+        let mut inputs: Vec<(String, f32)> = Vec::new();
+        for (name, v) in args {
+            for (c, x) in ["x", "y", "z"].iter().zip(v) {
+                inputs.push((format!("{name}.{c}"), *x));
+            }
+        }
+        let inputs: Vec<(&str, f32)> = inputs.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let v = run_f32(tape, &inputs, none, fnone);
+        out.map(|e| (v[e.index()] as f32).to_bits())
+    };
+    let mut state = 11u32;
+    let mut next = || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (state >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+    };
+    let bits = |v: [f32; 3]| v.map(f32::to_bits);
+    for case in 0..2000 {
+        let a = [next(), next(), next()];
+        let mut b = [next(), next(), next()];
+        match case % 7 {
+            0 => b = a.map(|x| 3.0 * x),
+            1 => b = [0.0; 3],
+            2 => b[0] = f32::NAN,
+            3 => b = a.map(|x| x * 1e-25),
+            _ => {}
+        }
+        let c = [next(), next(), next()];
+        assert_eq!(
+            run(&real, &[("du", a), ("dv", b)]),
+            bits(real_normal_of(a, b)),
+            "{a:?} {b:?}"
+        );
+        assert_eq!(run(&unit, &[("n", b)]), bits(unit_or_zero_of(b)), "{b:?}");
+        let corners = [a, if case % 5 == 0 { a } else { b }, c];
+        assert_eq!(
+            run(
+                &corner,
+                &[("a", corners[0]), ("b", corners[1]), ("c", corners[2])]
+            ),
+            bits(corner_normal_of(corners)),
+            "{corners:?}"
+        );
+    }
+    for (lang, head) in [
+        (
+            Lang::Wgsl,
+            "fn tessella_real_normal(du: vec3<f32>, dv: vec3<f32>) -> vec3<f32> {",
+        ),
+        (Lang::Glsl, "vec3 tessella_real_normal(vec3 du, vec3 dv) {"),
+    ] {
+        let text = surface_normal(lang);
+        assert!(text.starts_with(head), "{text}");
+        assert_eq!(text.matches("tessella_unit_or_zero(").count(), 1);
+        assert_eq!(text.matches("tessella_corner_normal(").count(), 1);
+        assert!(text.contains("1e-12"), "{text}");
+    }
+}

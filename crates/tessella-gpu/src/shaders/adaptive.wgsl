@@ -208,13 +208,11 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
         edge = u32(g.w);
     }
 
+    // The normal glue is the CPU's (tessella_core::shader::surface_normal, prepended).
     var p = acc.p;
     var n = vec3<f32>(0.0);
     if (TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL) {
-        let c = cross(acc.du, acc.dv);
-        if (dot(c, c) > 1e-12 * dot(acc.du, acc.du) * dot(acc.dv, acc.dv)) {
-            n = c;
-        }
+        n = tessella_real_normal(acc.du, acc.dv);
     }
     if (all(n == vec3<f32>(0.0))) {
         n = acc.n;
@@ -234,17 +232,15 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
             for (var i = 0u; i < 3u; i++) {
                 m += acc.edge_n[i] * tessella_net_normal(face, nc[select(2u - i, i, forward)]);
             }
-            if (dot(m, m) > 0.0) {
-                n = m;
+            let unit = tessella_unit_or_zero(m);
+            if (any(unit != vec3<f32>(0.0))) {
+                n = unit;
             }
         }
     }
-    if (dot(n, n) > 0.0) {
-        n = normalize(n);
-    } else {
-        let a = tessella_net_point(face, 0u);
-        let fn_ = cross(tessella_net_point(face, 1u) - a, tessella_net_point(face, 2u) - a);
-        n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(fn_), dot(fn_, fn_) > 0.0);
+    var unit = tessella_unit_or_zero(n);
+    if (all(unit == vec3<f32>(0.0))) {
+        unit = tessella_corner_normal(tessella_net_point(face, 0u), tessella_net_point(face, 1u), tessella_net_point(face, 2u));
     }
-    return TessellaAdaptivePoint(p, n, l);
+    return TessellaAdaptivePoint(p, unit, l);
 }

@@ -70,26 +70,21 @@ fn tessella_eval_patch(face: u32, row: u32) -> TessellaSurfacePoint {
     let base = row * tessella_eval_params.stride;
     var out: TessellaSurfacePoint;
     out.position = tessella_combine_points(face, base);
+    // The normal glue is the CPU's (tessella_core::shader::surface_normal, prepended).
     var n = vec3<f32>(0.0);
     if (TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL) {
         let du = tessella_combine_points(face, base + k);
         let dv = tessella_combine_points(face, base + 2u * k);
-        let c = cross(du, dv);
-        if (dot(c, c) > 1e-12 * dot(du, du) * dot(dv, dv)) {
-            n = c;
-        }
+        n = tessella_real_normal(du, dv);
     }
     if (all(n == vec3<f32>(0.0))) {
         for (var j = 0u; j < TESSELLA_NORMAL_NET_LEN; j++) {
             n += tessella_stencil[base + 3u * k + j] * tessella_net_normal(face, j);
         }
     }
-    if (dot(n, n) > 0.0) {
-        out.normal = normalize(n);
-    } else {
-        let a = tessella_net_point(face, 0u);
-        let fn_ = cross(tessella_net_point(face, 1u) - a, tessella_net_point(face, 2u) - a);
-        out.normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(fn_), dot(fn_, fn_) > 0.0);
+    out.normal = tessella_unit_or_zero(n);
+    if (all(out.normal == vec3<f32>(0.0))) {
+        out.normal = tessella_corner_normal(tessella_net_point(face, 0u), tessella_net_point(face, 1u), tessella_net_point(face, 2u));
     }
     let l0 = base + 3u * k + TESSELLA_NORMAL_NET_LEN;
     out.l = vec3<f32>(tessella_stencil[l0], tessella_stencil[l0 + 1u], tessella_stencil[l0 + 2u]);
@@ -122,8 +117,9 @@ fn tessella_canonical_edge(face: u32, row: u32, out: ptr<function, TessellaSurfa
             let c = tessella_edge_table[13u + k * 3u + select(2u - i, i, forward)];
             n += bitcast<f32>(tessella_edge_table[w + 4u + i]) * tessella_net_normal(face, c);
         }
-        if (dot(n, n) > 0.0) {
-            (*out).normal = normalize(n);
+        let unit = tessella_unit_or_zero(n);
+        if (any(unit != vec3<f32>(0.0))) {
+            (*out).normal = unit;
         }
     }
 }

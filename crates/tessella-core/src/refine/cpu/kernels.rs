@@ -3,6 +3,7 @@
 //! ([`eval_point`]) or a block of points in vectors ([`eval_block`]), bit for bit the same.
 
 use super::output::Sink;
+use super::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
 use crate::basis::NORMAL_NET_LEN;
 use crate::scheme::NormalMode;
 use crate::stencil::{Block, Stencil, BLOCK_LANES};
@@ -89,25 +90,21 @@ pub(super) fn finish_normal<const K: usize>(
     points: &[[f32; 3]; K],
     normals: &[[f32; 3]],
 ) -> Vec3 {
-    let mut n = Vec3::ZERO;
+    let mut n = [0.0; 3];
     if mode == NormalMode::Real {
-        let c = du.cross(dv);
-        if c.length_squared() > 1e-12 * du.length_squared() * dv.length_squared() {
-            n = c;
-        }
+        n = real_normal_of(du.into(), dv.into());
     }
-    if n == Vec3::ZERO {
+    if n == [0.0; 3] {
         let normals: &[[f32; 3]; NORMAL_NET_LEN] =
             normals.try_into().expect("normal net has 6 entries");
         let nw: &[f32; NORMAL_NET_LEN] = row[3 * K..3 * K + NORMAL_NET_LEN].try_into().unwrap();
-        n = combine(nw, normals);
+        n = combine(nw, normals).into();
     }
-    let unit = n.normalize_or_zero();
-    if unit == Vec3::ZERO {
-        let [a, b, c] = [points[0], points[1], points[2]].map(Vec3::from);
-        return (b - a).cross(c - a).normalize_or(Vec3::Z);
+    let unit = unit_or_zero_of(n);
+    if unit == [0.0; 3] {
+        return corner_normal_of([points[0], points[1], points[2]]).into();
     }
-    unit
+    unit.into()
 }
 
 #[inline(always)]
@@ -384,15 +381,12 @@ fn stood(unit: &[[f32; TILE]; 3], t: usize) -> bool {
 /// normalised, and the point takes the scalar fallback (the normal returned is then zero or
 /// NaN, see [`stood`]).
 #[inline(always)]
-pub(super) fn unit_cross([ax, ay, az]: [f32; 3], [bx, by, bz]: [f32; 3]) -> ([f32; 3], bool) {
-    let x = ay * bz - by * az;
-    let y = az * bx - bz * ax;
-    let z = ax * by - bx * ay;
-    let c2 = (x * x) + (y * y) + (z * z);
-    let a2 = (ax * ax) + (ay * ay) + (az * az);
-    let b2 = (bx * bx) + (by * by) + (bz * bz);
-    let rcp = 1.0 / c2.sqrt();
-    let good = (c2 > 1e-12 * a2 * b2) & stands(rcp);
+pub(super) fn unit_cross(du: [f32; 3], dv: [f32; 3]) -> ([f32; 3], bool) {
+    // The scalar path's test (zero where it fails, which then does not stand), then its
+    // `normalize_or_zero` with the fallback left to `fallback_normals`.
+    let [x, y, z] = real_normal_of(du, dv);
+    let rcp = 1.0 / ((x * x) + (y * y) + (z * z)).sqrt();
+    let good = stands(rcp);
     let rcp = if good { rcp } else { 0.0 };
     ([x * rcp, y * rcp, z * rcp], good)
 }

@@ -12,4 +12,5 @@ pub(crate) mod nontemporal;
 pub(crate) mod output;
 pub(crate) mod refiner;
 pub(crate) mod stream;
+pub(crate) mod surface_normal;
 pub(crate) mod uniform;

@@ -20,7 +20,6 @@
 use crate::basis::png1::own_slot;
 use crate::basis::Basis;
 use crate::scalar::Real;
-use glam::Vec3;
 
 /// Control point indices of edge `k`'s boundary curve: start corner, its own control point
 /// near the start, near the end, end corner (edge `k` runs from corner `k` to `k + 1 mod 3`).
@@ -134,6 +133,6 @@ pub fn net_normal(w: &EdgeWeights, c: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
         }
         *o = s;
     }
-    let unit = Vec3::from(n).normalize_or_zero();
-    (unit != Vec3::ZERO).then(|| unit.into())
+    let unit = crate::refine::unit_or_zero_of(n);
+    (unit != [0.0; 3]).then_some(unit)
 }
