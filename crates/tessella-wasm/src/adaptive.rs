@@ -629,8 +629,9 @@ const ADAPTIVE_WGSL_MAIN: &str = r#"fn tessella_adaptive_point(nets: texture_2d<
             for (var i = 0u; i < 3u; i++) {
                 m += w.normal[i] * tessella_net_entry(nets, face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + select(2u - i, i, forward)]);
             }
-            if (dot(m, m) > 0.0) {
-                normal = normalize(m);
+            let unit = tessella_unit_or_zero(m);
+            if (any(unit != vec3<f32>(0.0))) {
+                normal = unit;
             }
         }
     }
@@ -692,7 +693,8 @@ const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, u
             for (uint i = 0u; i < 3u; i++) {
                 m += en[i] * tessella_net_entry(face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + (forward ? i : 2u - i)]);
             }
-            if (dot(m, m) > 0.0) normal = normalize(m);
+            vec3 unit = tessella_unit_or_zero(m);
+            if (unit != vec3(0.0)) normal = unit;
         }
     }
 }
