@@ -23,8 +23,8 @@ use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::render::storage::ShaderBuffer;
 use std::sync::Arc;
-use tessella_core::refine::instanced::{frame_instances, PartTable};
-use tessella_core::refine::{lod, Camera as LodCamera, Lod, Spacing};
+use tessella_core::refine::instanced::PartTable;
+use tessella_core::refine::{Camera as LodCamera, InstancedDriver, Lod, Spacing};
 
 use crate::lod_material::TessellaLodMaterial;
 
@@ -34,7 +34,8 @@ pub(crate) struct LodState {
     /// The level function; a screen or distance LOD's camera is replaced each frame by Bevy's.
     pub lod: Lod,
     pub spacing: Spacing,
-    pub table: Arc<PartTable>,
+    /// The part table, and each frame's levels made into records and instances.
+    pub driver: InstancedDriver,
     pub records: Handle<ShaderBuffer>,
     /// The frame's instance words (`face | side << 30`), [`MAX_PARTS`] a triangle of room.
     pub instances: Handle<ShaderBuffer>,
@@ -59,7 +60,7 @@ impl LodState {
         LodState {
             lod,
             spacing,
-            table,
+            driver: InstancedDriver::with_table(table),
             records,
             instances,
             material,
@@ -281,26 +282,11 @@ pub(crate) fn levels(
         };
         let plan = &surface.plan;
         let frame = &surface.frame;
-        let made = lod::levels(frame.mesh(), plan.topology(), frame.nets(), &lod).and_then(
-            |(edges, faces)| {
-                let fi = frame_instances(
-                    &state.table,
-                    plan.topology(),
-                    plan.triangles(),
-                    &plan.topology().position_ids,
-                    &edges,
-                    faces.as_deref(),
-                )?;
-                Ok((edges, faces, fi))
-            },
-        );
-        let (edges, faces, fi) = match made {
-            Ok(m) => m,
-            Err(e) => {
-                error!("cannot choose the levels of {entity}: {e}");
-                continue;
-            }
-        };
+        if let Err(e) = state.driver.update(plan.surface(), frame, &lod) {
+            error!("cannot choose the levels of {entity}: {e}");
+            continue;
+        }
+        let fi = state.driver.frame();
         if fi.records != state.records_written {
             if let Some(mut buffer) = buffers.get_mut(&state.records) {
                 stats.add(rewrite(&mut buffer, bytemuck::cast_slice(&fi.records)));
@@ -316,16 +302,19 @@ pub(crate) fn levels(
                 state.instances_written = fi.instances.clone();
             }
         }
-        state.levels = Some((edges, faces));
+        state.levels = Some((
+            state.driver.edge_levels().to_vec(),
+            state.driver.face_minimums().map(<[f32]>::to_vec),
+        ));
         chosen.triangles = fi.triangles;
         chosen.lod = Some(lod);
         let boxes = face_boxes(frame);
         let mut k = 0;
         for draw in &fi.draws {
-            let vertices = parts.vertices(&state.table, draw.part);
+            let vertices = parts.vertices(state.driver.table(), draw.part);
             let count = draw.instances.end - draw.instances.start;
             for (first, copies) in part_runs(draw.instances.start, count, vertices) {
-                let mesh = parts.mesh(&mut meshes, &state.table, draw.part, copies);
+                let mesh = parts.mesh(&mut meshes, state.driver.table(), draw.part, copies);
                 let words = &fi.instances[first as usize..(first + copies) as usize];
                 let run: Vec<(Vec3, Vec3)> = words
                     .iter()

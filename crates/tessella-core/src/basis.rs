@@ -10,6 +10,7 @@
 //! counter-clockwise triangle faces.
 
 pub mod png1;
+pub mod surface_normal;
 
 use crate::scalar::{Dual, Real};
 use serde::Serialize;

@@ -13,8 +13,8 @@ use crate::patch::{check_nets_shape, write_nets};
 use crate::renderer::{draw_buffers, CODE_VERTICES};
 use crate::shading::Shading;
 use std::ops::Range;
-use tessella_core::refine::instanced::{self, FrameInstances, PartTable, RECORD_WORDS};
-use tessella_core::refine::{canonical, lod, Frame, Lod, Spacing, Surface};
+use tessella_core::refine::instanced::{PartTable, RECORD_WORDS};
+use tessella_core::refine::{canonical, Frame, InstancedDriver, Lod, Spacing, Surface};
 use tessella_core::shader::{self, Lang};
 
 /// Storage buffers the adaptive renderer binds in the vertex stage: the nets, the records and
@@ -75,13 +75,12 @@ pub struct AdaptiveRenderer {
     /// The WGSL constants the shaders are compiled with (basis, normal mode, spacing).
     #[cfg_attr(not(feature = "blocking"), allow(dead_code))]
     constants: String,
-    table: PartTable,
+    driver: InstancedDriver,
     /// What the per-frame records need (topology, triangles), and whose frames are taken.
     surface: Surface,
     /// Coarse triangles and basis size.
     shape: (usize, usize),
     /// The last [`AdaptiveRenderer::set_levels`]: draws and triangle count.
-    frame: FrameInstances,
     /// Bytes kept in the GPU buffers made at creation (parts, nets, per-face buffers).
     bytes: u64,
 }
@@ -107,7 +106,7 @@ impl std::fmt::Debug for AdaptiveRenderer {
         f.debug_struct("AdaptiveRenderer")
             .field("faces", &self.shape.0)
             .field("spacing", &self.spacing)
-            .field("draws", &self.frame.draws.len())
+            .field("draws", &self.driver.frame().draws.len())
             .finish()
     }
 }
@@ -276,10 +275,9 @@ impl AdaptiveRenderer {
                 patch_group,
                 patch_layout: patch_layout_for_capture,
                 constants: constants.clone(),
-                table,
+                driver: InstancedDriver::with_table(std::sync::Arc::new(table)),
                 surface: surface.clone(),
                 shape: (faces, basis.len()),
-                frame: FrameInstances::default(),
                 bytes,
             })
         })?
@@ -294,34 +292,41 @@ impl AdaptiveRenderer {
         edge_levels: &[f32],
         face_minimums: Option<&[f32]>,
     ) -> Result<u64, GpuError> {
-        let frame = instanced::frame_instances(
-            &self.table,
-            self.surface.topology(),
-            self.surface.triangles(),
-            &self.surface.topology().position_ids,
-            edge_levels,
-            face_minimums,
-        )?;
+        let frame = self
+            .driver
+            .set_levels(&self.surface, edge_levels, face_minimums)?;
         let records: &[u8] = bytemuck::cast_slice(&frame.records);
         let instances: &[u8] = bytemuck::cast_slice(&frame.instances);
         self.ctx.queue.write_buffer(&self.records, 0, records);
         if !instances.is_empty() {
             self.ctx.queue.write_buffer(&self.instances, 0, instances);
         }
-        let bytes = (records.len() + instances.len()) as u64;
-        self.frame = frame;
-        Ok(bytes)
+        Ok((records.len() + instances.len()) as u64)
     }
 
     /// [`AdaptiveRenderer::set_levels`] with the levels `lod` gives on `frame`'s mesh (a
     /// camera that moves, a mesh that deforms: new levels every frame). Grid levels are drawn
     /// at most at `instanced::MAX_GRID_LEVEL` (64), below the tolerance LOD's cap of 1024.
     pub fn set_lod(&mut self, frame: &Frame, lod: &Lod) -> Result<u64, GpuError> {
-        self.surface.check_frame(frame)?;
         check_nets_shape(frame.nets(), self.shape)?;
-        let topology = self.surface.topology();
-        let (edges, faces) = lod::levels(frame.mesh(), topology, frame.nets(), lod)?;
+        let (edges, faces) = self.driver.levels(&self.surface, frame, lod)?;
         self.set_levels(&edges, faces.as_deref())
+    }
+
+    /// The per-edge levels of the latest draws, as given (before the spacing's clamp).
+    pub fn edge_levels(&self) -> &[f32] {
+        self.driver.edge_levels()
+    }
+
+    /// The levels `lod` gives on `frame`, per edge and per face, without drawing them: for a
+    /// host that adjusts them before [`AdaptiveRenderer::set_levels`] (the core's
+    /// [`InstancedDriver::levels`]).
+    pub fn levels(
+        &self,
+        frame: &Frame,
+        lod: &Lod,
+    ) -> Result<(Vec<f32>, Option<Vec<f32>>), GpuError> {
+        Ok(self.driver.levels(&self.surface, frame, lod)?)
     }
 
     /// Uploads `frame`'s control nets (a frame of the renderer's surface, moved by
@@ -358,7 +363,7 @@ impl AdaptiveRenderer {
         self.set_groups(pass, shading);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        for d in &self.frame.draws {
+        for d in &self.driver.frame().draws {
             let p = &self.parts[d.part as usize];
             pass.draw_indexed(p.indices.clone(), p.base_vertex, d.instances.clone());
         }
@@ -369,7 +374,7 @@ impl AdaptiveRenderer {
     pub fn draw_unrolled(&self, pass: &mut wgpu::RenderPass<'_>, shading: &wgpu::BindGroup) {
         self.set_groups(pass, shading);
         pass.set_vertex_buffer(0, self.wire.slice(..));
-        for d in &self.frame.draws {
+        for d in &self.driver.frame().draws {
             let r = &self.parts[d.part as usize].indices;
             pass.draw(r.clone(), d.instances.clone());
         }
@@ -389,10 +394,11 @@ impl AdaptiveRenderer {
     pub fn capture(&self) -> Result<CapturedTriangles, GpuError> {
         let mut jobs: Vec<[u32; 2]> = Vec::new();
         let mut faces = Vec::new();
-        for d in &self.frame.draws {
-            let range = &self.table.ranges[d.part as usize];
-            let tris = &self.table.triangles[range.start as usize..range.end as usize];
-            for &inst in &self.frame.instances[d.instances.start as usize..d.instances.end as usize]
+        for d in &self.driver.frame().draws {
+            let range = &self.driver.table().ranges[d.part as usize];
+            let tris = &self.driver.table().triangles[range.start as usize..range.end as usize];
+            for &inst in
+                &self.driver.frame().instances[d.instances.start as usize..d.instances.end as usize]
             {
                 for t in tris {
                     jobs.extend(t.map(|code| [inst, code]));
@@ -487,12 +493,12 @@ impl AdaptiveRenderer {
 
     /// Draw calls of the current levels: one per part used.
     pub fn draw_count(&self) -> usize {
-        self.frame.draws.len()
+        self.driver.frame().draws.len()
     }
 
     /// Triangles the current levels draw (grid: with the zero-area ones the rasteriser skips).
     pub fn triangle_count(&self) -> u64 {
-        self.frame.triangles
+        self.driver.frame().triangles
     }
 
     /// The surface drawn (its frames are the ones [`AdaptiveRenderer::update`] takes).

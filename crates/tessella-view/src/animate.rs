@@ -282,7 +282,7 @@ pub fn render_fly_in(
     pixels: f32,
     out_dir: &Path,
 ) -> Result<FlyInStats, GpuError> {
-    use tessella_core::refine::{lod, Lod};
+    use tessella_core::refine::Lod;
     if frames == 0 {
         return Err(GpuError::BadOption(
             "an animation needs at least one frame".into(),
@@ -330,8 +330,7 @@ pub fn render_fly_in(
             camera: crate::lod_camera(mesh, &view),
             size: [w, h],
         };
-        let (edges, faces) = lod::levels(mesh, surface.topology(), frame.nets(), &screen)?;
-        let bytes = renderer.set_levels(&edges, faces.as_deref())?;
+        let bytes = renderer.set_lod(&frame, &screen)?;
         look.set_uniforms(&scene_uniforms(mesh, &view, 0.0));
         target.draw(ctx, view.background, |pass| look.draw(pass, &renderer))?;
         let picture = target.read(ctx)?;
@@ -340,7 +339,7 @@ pub fn render_fly_in(
         stats.zooms.push(view.zoom);
         stats
             .max_levels
-            .push(edges.iter().copied().fold(1.0, f32::max));
+            .push(renderer.edge_levels().iter().copied().fold(1.0, f32::max));
         stats.triangles.push(renderer.triangle_count());
         stats.upload_bytes.push(bytes);
         stats.paths.push(path);

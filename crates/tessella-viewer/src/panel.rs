@@ -5,7 +5,7 @@
 
 use crate::error::ViewerError;
 use crate::params::Params;
-use tessella_core::refine::{lod, Camera, Frame, Lod, Plan, Spacing, Surface};
+use tessella_core::refine::{Camera, Frame, Lod, Plan, Spacing, Surface};
 use tessella_core::{Mesh, RefineOptions, Scheme, Tags};
 use tessella_gpu::{AdaptiveRenderer, GpuContext, PatternRenderer, TargetFormats};
 use tessella_view::{Appearance, RenderUniforms};
@@ -212,12 +212,12 @@ impl Panel {
     /// returns the bytes written (0 without a LOD).
     pub fn follow_camera(&mut self, camera: Camera, size: [u32; 2]) -> Result<u64, ViewerError> {
         let Drawer::Adaptive {
-            surface,
             frame,
             renderer,
             levels: Levels::Lod(spec),
             round_up,
             max_level,
+            ..
         } = &mut self.drawer
         else {
             return Ok(0);
@@ -226,8 +226,7 @@ impl Panel {
             name: "lod",
             message: e.to_string(),
         })?;
-        let (mut edges, mut faces) =
-            lod::levels(frame.mesh(), surface.topology(), frame.nets(), &lod)?;
+        let (mut edges, mut faces) = renderer.levels(frame, &lod)?;
         if *round_up {
             edges.iter_mut().for_each(|l| *l = l.ceil());
             if let Some(f) = faces.as_mut() {

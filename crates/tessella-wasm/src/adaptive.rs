@@ -19,10 +19,8 @@ use crate::instanced::{
     glsl as nets_glsl, wgsl as nets_wgsl, InstancedSurface, Layout, MAX_TEXTURE_WIDTH,
 };
 use crate::{errors, options::Options};
-use tessella_core::refine::instanced::{
-    self, FrameInstances, PartTable, FORWARD_WORD, RECORD_WORDS,
-};
-use tessella_core::refine::{canonical, lod, Camera, Lod, Spacing, SurfaceOptions};
+use tessella_core::refine::instanced::{FrameInstances, PartTable, FORWARD_WORD, RECORD_WORDS};
+use tessella_core::refine::{canonical, Camera, InstancedDriver, Lod, Spacing, SurfaceOptions};
 use tessella_core::shader::{self, Lang};
 use tessella_core::{Named, NormalMode};
 use wasm_bindgen::prelude::*;
@@ -93,7 +91,7 @@ pub struct AdaptiveSurface {
     nets: InstancedSurface,
     spacing: Spacing,
     lod: Option<LodKind>,
-    table: PartTable,
+    driver: InstancedDriver,
     /// Every part's distinct point codes, one part after the other.
     codes: Vec<u32>,
     /// Every part's triangles as indices into `codes`.
@@ -105,8 +103,6 @@ pub struct AdaptiveSurface {
     records: Vec<u32>,
     /// `face | side << 30`, grouped by part; room for four per face.
     instances: Vec<u32>,
-    frame: FrameInstances,
-    edge_levels: Vec<f32>,
 }
 
 #[wasm_bindgen]
@@ -260,7 +256,7 @@ impl AdaptiveSurface {
     /// The last levels, one per unique edge.
     #[wasm_bindgen(js_name = edgeLevels)]
     pub fn edge_levels(&self) -> Vec<f32> {
-        self.edge_levels.clone()
+        self.driver.edge_levels().to_vec()
     }
     /// The packed records (`recordsWidth * recordsHeight * 4` words) in wasm memory.
     #[wasm_bindgen(js_name = recordsOutput)]
@@ -279,11 +275,12 @@ impl AdaptiveSurface {
     }
     #[wasm_bindgen(js_name = instanceCount)]
     pub fn instance_count(&self) -> usize {
-        self.frame.instances.len()
+        self.driver.frame().instances.len()
     }
     /// One draw per part used: part id, first instance, instance count.
     pub fn draws(&self) -> Vec<u32> {
-        self.frame
+        self.driver
+            .frame()
             .draws
             .iter()
             .flat_map(|d| [d.part, d.instances.start, d.instances.len() as u32])
@@ -292,7 +289,7 @@ impl AdaptiveSurface {
     /// Triangles the last levels draw.
     #[wasm_bindgen(js_name = triangleCount)]
     pub fn triangle_count(&self) -> f64 {
-        self.frame.triangles as f64
+        self.driver.frame().triangles as f64
     }
 }
 
@@ -343,15 +340,13 @@ impl AdaptiveSurface {
             nets,
             spacing,
             lod,
-            table,
+            driver: InstancedDriver::with_table(std::sync::Arc::new(table)),
             codes,
             indices,
             ranges,
             records: vec![0; records_layout.width * records_layout.height * 4],
             records_layout,
             instances: vec![0; 4 * faces],
-            frame: FrameInstances::default(),
-            edge_levels: Vec::new(),
         })
     }
 
@@ -375,24 +370,26 @@ impl AdaptiveSurface {
             },
         };
         let (surface, frame) = self.nets.built().ok_or("no frame yet: update() first")?;
-        let (edges, faces) = lod::levels(frame.mesh(), surface.topology(), frame.nets(), &lod)
+        self.driver
+            .update(surface, frame, &lod)
             .map_err(|e| errors::message(&e))?;
-        self.levels_with(&edges, faces.as_deref())
+        self.write_frame();
+        Ok(())
     }
 
     /// Records and instances of per-edge levels (and per-face minimum inner levels).
     pub fn levels_with(&mut self, edges: &[f32], faces: Option<&[f32]>) -> Result<(), String> {
         let (surface, _) = self.nets.built().ok_or("no frame yet: update() first")?;
-        let topology = surface.topology();
-        let frame = instanced::frame_instances(
-            &self.table,
-            topology,
-            surface.triangles(),
-            &topology.position_ids,
-            edges,
-            faces,
-        )
-        .map_err(|e| errors::message(&e))?;
+        self.driver
+            .set_levels(surface, edges, faces)
+            .map_err(|e| errors::message(&e))?;
+        self.write_frame();
+        Ok(())
+    }
+
+    /// The driver's records, packed into the records texture's words, and its instances.
+    fn write_frame(&mut self) {
+        let frame = self.driver.frame();
         let Layout {
             faces_per_row,
             width,
@@ -403,15 +400,11 @@ impl AdaptiveSurface {
             self.records[start..start + PACKED_WORDS].copy_from_slice(&pack_record(record));
         }
         self.instances[..frame.instances.len()].copy_from_slice(&frame.instances);
-        self.edge_levels.clear();
-        self.edge_levels.extend_from_slice(edges);
-        self.frame = frame;
-        Ok(())
     }
 
     /// The frame's draws (for the tests).
     pub fn frame_instances(&self) -> &FrameInstances {
-        &self.frame
+        self.driver.frame()
     }
 
     /// The packed record of face `f`, `None` past the last face (for the tests).
@@ -704,6 +697,7 @@ const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, u
 mod tests {
     use super::*;
     use crate::test_meshes::sample;
+    use tessella_core::refine::instanced;
     use tessella_core::refine::{Levels, Plan};
 
     fn flat(p: &[[f32; 3]]) -> Vec<f32> {

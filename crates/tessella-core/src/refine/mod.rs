@@ -30,7 +30,7 @@ pub use cpu::kernels::eval_point;
 pub use cpu::nontemporal::{stream_copy, stream_fill};
 pub use cpu::output::{VertexFormat, VertexOutput};
 pub use cpu::refiner::{refine, RefinedMesh, Refiner};
-pub use cpu::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
+pub use plan::driver::InstancedDriver;
 pub use plan::indices::IndexInt;
 pub use plan::layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE, NO_FACE};
 pub use plan::levels::{Camera, Levels, Lod, Spacing};

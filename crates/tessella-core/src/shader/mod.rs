@@ -533,8 +533,8 @@ pub fn skin_normal(lang: Lang) -> String {
 }
 
 /// The evaluation's normal glue, the functions the CPU kernels run
-/// ([`crate::refine::real_normal_of`], [`crate::refine::unit_or_zero_of`],
-/// [`crate::refine::corner_normal_of`]), as three shader functions every backend's evaluation
+/// ([`crate::basis::surface_normal::real_normal_of`], [`crate::basis::surface_normal::unit_or_zero_of`],
+/// [`crate::basis::surface_normal::corner_normal_of`]), as three shader functions every backend's evaluation
 /// calls after its sums:
 ///
 /// - `tessella_real_normal(du, dv)`: `Du × Dv`, or zero where the derivatives are (nearly)
@@ -548,7 +548,7 @@ pub fn skin_normal(lang: Lang) -> String {
 /// and 4.x alike) `vec3 tessella_real_normal(vec3 du, vec3 dv)`; the others alike, with one
 /// and three `vec3` arguments.
 pub fn surface_normal(lang: Lang) -> String {
-    use crate::refine::{corner_normal_of, real_normal_of, unit_or_zero_of};
+    use crate::basis::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
     let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
     let vec3 = match lang {
         Lang::Wgsl => "vec3<f32>",

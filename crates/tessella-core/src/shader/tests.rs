@@ -656,7 +656,7 @@ fn the_gpu_builds_the_nets_of_flat_phong_pn_and_pn_aen_with_the_mode_s_normal_ne
 /// corner triangles; and each backend's text declares the three functions once.
 #[test]
 fn traced_surface_normal_gives_the_cpus_bits() {
-    use crate::refine::{corner_normal_of, real_normal_of, unit_or_zero_of};
+    use crate::basis::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
     let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
     let real = trace(|| real_normal_of(v3("du"), v3("dv")));
     let unit = trace(|| unit_or_zero_of(v3("n")));

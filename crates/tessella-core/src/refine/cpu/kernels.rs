@@ -3,7 +3,7 @@
 //! ([`eval_point`]) or a block of points in vectors ([`eval_block`]), bit for bit the same.
 
 use super::output::Sink;
-use super::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
+use crate::basis::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
 use crate::basis::NORMAL_NET_LEN;
 use crate::scheme::NormalMode;
 use crate::stencil::{Block, Stencil, BLOCK_LANES};

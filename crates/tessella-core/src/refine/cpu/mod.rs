@@ -12,5 +12,4 @@ pub(crate) mod nontemporal;
 pub(crate) mod output;
 pub(crate) mod refiner;
 pub(crate) mod stream;
-pub(crate) mod surface_normal;
 pub(crate) mod uniform;

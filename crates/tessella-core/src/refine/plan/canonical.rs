@@ -133,6 +133,6 @@ pub fn net_normal(w: &EdgeWeights, c: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
         }
         *o = s;
     }
-    let unit = crate::refine::unit_or_zero_of(n);
+    let unit = crate::basis::surface_normal::unit_or_zero_of(n);
     (unit != [0.0; 3]).then_some(unit)
 }

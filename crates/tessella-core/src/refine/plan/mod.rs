@@ -5,13 +5,15 @@
 //!   [`options_text`], its `key=value` text form that every front end parses;
 //! - [`levels`], [`lod`]: the levels asked for and the LOD functions that compute them;
 //! - [`tiling`], [`instanced`], [`morph`], [`canonical`]: adaptive plans' per-face patterns,
-//!   their instanced parts, geomorphs and canonical edge weights;
+//!   their instanced parts, geomorphs and canonical edge weights; [`driver`], an instanced
+//!   renderer's per-frame levels and instances;
 //! - [`layout`], [`indices`], [`pieces`], [`stream`]: where the output's vertices go, its
 //!   triangles, and its cut into pieces; [`sizes`], what a plan's buffers are sized by;
 //! - [`surface`]: topology and scheme, which build each frame's nets;
 //! - [`table`]: the [`Plan`](table::Plan) itself.
 
 pub mod canonical;
+pub mod driver;
 pub mod indices;
 pub mod instanced;
 pub mod layout;

@@ -1,9 +1,10 @@
 //! The steps of the evaluation glue that every backend takes after its sums, written once: the
-//! "real" normal's test, the unit normal and the corner triangle's normal where that vanishes. The CPU's scalar kernel
-//! runs them in `f32` ([`super::kernels::eval_point`]); [`crate::shader::surface_normal`]
-//! traces them into the WGSL and GLSL that the wgpu, OpenGL, wasm and Bevy evaluations call.
-//! What stays with each caller is its own: where its weights and control points come from,
-//! and the normal net it sums where the real normal fails.
+//! "real" normal's test, the unit normal and the corner triangle's normal where that vanishes.
+//! The CPU's kernels run them in `f32` ([`crate::refine::eval_point`]), as does the canonical
+//! edge's normal; [`crate::shader::surface_normal`] traces them into the WGSL and GLSL that
+//! the wgpu, OpenGL, wasm and Bevy evaluations call. What stays with each caller is its own:
+//! where its weights and control points come from, and the normal net it sums where the real
+//! normal fails.
 
 use crate::scalar::{Noise, Real};
 
