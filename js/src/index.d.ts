@@ -260,9 +260,9 @@ export class InstancedSurface {
   /** Why WebGL2's net pass cannot build these nets (PNG1 and the other CPU-only schemes, tags), or null. */
   netsPassMissing(): string | null;
   /**
-   * GLSL ES 3.00 for a pass building the nets on the GPU: the generated builders,
-   * `tessella_skin_normal`, `tessella_nets_points`, `tessella_nets_normals` and
-   * `vec4 tessella_nets_texel(vec3 c[K], vec3 m[6], int j)` (texel `j` as `update` packs it).
+   * GLSL ES 3.00 for a pass building the nets on the GPU: `tessella_skin_normal` and
+   * `vec4 tessella_nets_texel_of(vec3 p[3], vec3 n[3], vec3 across[6], int j)` (texel `j` as
+   * `update` packs it, from the posed corners; each texel computes only what it holds).
    */
   netsPassGlsl(): string;
   /** Each face's 3 corners, then for PN-AEN its 6 across vertices; known after the first `update`. */

@@ -472,9 +472,10 @@ export class InstancedSurface extends NetsSurface {
   }
 
   /**
-   * GLSL ES 3.00 for WebGL2's pass that builds the nets on the GPU (three-gpu-nets.js): the
-   * scheme's generated builders, `tessella_skin_normal`, `tessella_nets_points`,
-   * `tessella_nets_normals` and `tessella_nets_texel` (a net's texel `j` as `update` packs it).
+   * GLSL ES 3.00 for WebGL2's pass that builds the nets on the GPU (three-gpu-nets.js):
+   * `tessella_skin_normal` and `tessella_nets_texel_of(p, n, across, j)`, texel `j` of a face's
+   * net as `update` packs it, from the posed corners (the scheme's generated builders, each
+   * texel computing only the part of the net it holds).
    * Throws where `netsPassMissing()` says why.
    */
   netsPassGlsl() {

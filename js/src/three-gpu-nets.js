@@ -6,10 +6,10 @@
 // into a small RGBA32F render target, two texels a vertex (position, normal; each texel's
 // fragment poses its vertex). The second renders into an RGBA32F render target of the nets
 // texture's size and layout, one fragment per texel: it finds its face and its texel in the
-// face's net, fetches the face's posed corners (and PN-AEN's across normals), calls the net
-// builders and writes its texel. The builders, the skinned normal and the texel packing are
-// the GLSL the wasm generates from the core's Rust (InstancedSurface.netsPassGlsl(),
-// gpu_nets.rs); this file only fetches and poses. Per frame only the joint matrices and the
+// face's net, fetches the face's posed corners (and PN-AEN's across normals) and writes its
+// texel, computing only the part of the net that texel holds. The builders, the skinned normal
+// and the texel packing are the GLSL the wasm generates from the core's Rust
+// (InstancedSurface.netsPassGlsl(), gpu_nets.rs); this file only fetches and poses. Per frame only the joint matrices and the
 // morph weights are uploaded; the rest vertices, influences, morph deltas and face indices
 // once.
 import {
@@ -102,7 +102,7 @@ void main() {
 // The second pass: a fragment a texel of the nets. It finds its face and its texel in the
 // face's net, fetches the face's posed corners (and PN-AEN's across vertices' normals) from the
 // first pass's target, calls the net builders and writes its texel.
-const netFragment = ({ glsl, k, texels }) => `precision highp float;
+const netFragment = ({ glsl, texels }) => `precision highp float;
 precision highp int;
 precision highp sampler2D;
 ${glsl}
@@ -143,11 +143,7 @@ void main() {
     if (TESSELLA_NETS_ACROSS) across[a] = texelFetch(tessellaPosed, tessella_at(2 * tessella_word(at + 3 + a) + 1), 0).xyz;
     else across[a] = n[a / 2];
   }
-  vec3 c[${k}];
-  vec3 m[6];
-  tessella_nets_points(p, n, across, c);
-  tessella_nets_normals(p, n, m);
-  tessellaNet = tessella_nets_texel(c, m, texel.x - slot * ${texels});
+  tessellaNet = tessella_nets_texel_of(p, n, across, texel.x - slot * ${texels});
 }
 `;
 
@@ -242,7 +238,7 @@ export class GpuNets {
       tessellaWeights: { value: this.#weights },
       tessellaVertexCount: { value: vertices },
     });
-    this.#material = pass(netFragment({ glsl, k: surface.basisLength, texels: surface.texelsPerFace }), {
+    this.#material = pass(netFragment({ glsl, texels: surface.texelsPerFace }), {
       tessellaTopology: { value: this.#inputs[0] },
       tessellaPosed: { value: this.#posed.texture },
       tessellaFacesPerRow: { value: surface.facesPerRow },

@@ -4,17 +4,17 @@
 //! shader reads ([`crate::instanced`]'s header, [`PatchNets::pack_texels`]).
 //!
 //! Everything that decides a net's numbers is generated here from the core's Rust: the
-//! scheme's builders ([`shader::net_builder`], chosen by [`NetBuilder::points_for`] and
-//! [`NetBuilder::normals_for`], as tessella-gpu's compute builder chooses them), the skinned
-//! normal ([`shader::skin_normal`]) and the packing of a net into texels, written from the same
-//! layout constants the CPU packs with. The JS pass only poses the corners (three's skinning
-//! and morph targets) and calls these.
+//! scheme's builders (chosen by [`NetBuilder::points_for`] and [`NetBuilder::normals_for`], as
+//! tessella-gpu's compute builder chooses them) traced into one function of a texel
+//! ([`shader::net_texel_glsl`]: each texel's branch computes only the operations its four
+//! floats need), for the layout the CPU packs with, and the skinned normal
+//! ([`shader::skin_normal`]). The JS pass only poses the corners (three's skinning and morph
+//! targets) and calls these.
 //!
 //! [`PatchNets::pack_texels`]: tessella_core::PatchNets::pack_texels
 
 use crate::errors;
 use crate::instanced::InstancedSurface;
-use tessella_core::basis::NORMAL_NET_LEN;
 use tessella_core::scheme::pn_aen;
 use tessella_core::shader::{self, Lang, NetBuilder};
 use tessella_core::{NormalMode, Scheme};
@@ -94,13 +94,13 @@ fn builders(scheme: &Scheme, tagged: bool) -> Result<NetBuilder, String> {
 ///
 /// - `const int TESSELLA_NETS_STRIDE` (topology words a face: 3, or 9 with PN-AEN's across
 ///   vertices) and `const bool TESSELLA_NETS_ACROSS`;
-/// - the generated builders and `vec3 tessella_skin_normal(mat3 m, vec3 n)`;
-/// - `void tessella_nets_points(vec3 p[3], vec3 n[3], vec3 across[6], out vec3 c[K])` (`across`:
-///   the posed unit normals of the across vertices, read by PN-AEN only) and
-///   `void tessella_nets_normals(vec3 p[3], vec3 n[3], out vec3 m[6])`;
-/// - `vec4 tessella_nets_texel(vec3 c[K], vec3 m[6], int j)`: texel `j` of the face's net as
-///   [`tessella_core::PatchNets::pack_texels`] packs it (the points then the normal net, 3
-///   floats an entry one after the other, zeros past the last entry).
+/// - `vec3 tessella_skin_normal(mat3 m, vec3 n)`;
+/// - the generated `tessella_net_texel` ([`shader::net_texel_glsl`]: each texel computes only
+///   the part of the net it holds) and `vec4 tessella_nets_texel_of(vec3 p[3], vec3 n[3], vec3
+///   across[6], int j)`, texel `j` of the face's net as [`tessella_core::PatchNets::pack_texels`]
+///   packs it (the points then the normal net, 3 floats an entry one after the other, zeros
+///   past the last entry), from the posed corners (`across`: the posed unit normals of the
+///   across vertices, read by PN-AEN only).
 pub fn nets_pass_glsl(
     scheme: &Scheme,
     mode: NormalMode,
@@ -114,73 +114,30 @@ pub fn nets_pass_glsl(
         "const int TESSELLA_NETS_STRIDE = {};\nconst bool TESSELLA_NETS_ACROSS = {across};\n",
         if across { 9 } else { 3 }
     );
-    s += &shader::net_builder(Lang::Glsl, points);
-    s += &shader::net_builder(Lang::Glsl, normals);
     s += &shader::skin_normal(Lang::Glsl);
-    let call = match scheme {
-        // The shape factor as the f32 the CPU builds with (a round-tripping literal).
-        Scheme::Phong { alpha } => format!("tessella_phong_points(p, n, {alpha:e}, c)"),
-        _ if across => "tessella_pn_aen_points(p, n, across, c)".to_string(),
-        _ => format!("{}(p, n, c)", points.function_name()),
+    s += &shader::net_texel_glsl(points, normals, crate::instanced::texels_per_face(k));
+    // The shape factor as the f32 the CPU builds with (a round-tripping literal).
+    let alpha = match scheme {
+        Scheme::Phong { alpha } => format!("{alpha:e}"),
+        _ => "0.0".to_string(),
     };
     s += &format!(
-        "void tessella_nets_points(vec3 p[3], vec3 n[3], vec3 across[6], out vec3 c[{k}]) {{\n    {call};\n}}\n"
+        "vec4 tessella_nets_texel_of(vec3 p[3], vec3 n[3], vec3 across[6], int j) {{\n    \
+         return tessella_net_texel(p, n, {alpha}, across, j);\n}}\n"
     );
-    s += &format!(
-        "void tessella_nets_normals(vec3 p[3], vec3 n[3], out vec3 m[{NORMAL_NET_LEN}]) {{\n    {}(p, n, m);\n}}\n",
-        normals.function_name()
-    );
-    s += &texel_writer(k);
     Ok(s)
-}
-
-/// `vec4 tessella_nets_texel(vec3 c[K], vec3 m[6], int j)`, one branch a texel, from the
-/// layout's own constants ([`crate::instanced::texels_per_face`]).
-fn texel_writer(k: usize) -> String {
-    let texels = crate::instanced::texels_per_face(k);
-    let entries = k + NORMAL_NET_LEN;
-    let float = |q: usize| {
-        let (e, axis) = (q / 3, ["x", "y", "z"][q % 3]);
-        if e < k {
-            format!("c[{e}].{axis}")
-        } else if e < entries {
-            format!("m[{}].{axis}", e - k)
-        } else {
-            "0.0".to_string()
-        }
-    };
-    let mut s =
-        format!("vec4 tessella_nets_texel(vec3 c[{k}], vec3 m[{NORMAL_NET_LEN}], int j) {{\n");
-    for j in 0..texels {
-        let v: Vec<String> = (4 * j..4 * j + 4).map(float).collect();
-        s += &format!("    if (j == {j}) return vec4({});\n", v.join(", "));
-    }
-    s + "    return vec4(0.0);\n}\n"
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tessella_core::basis::NORMAL_NET_LEN;
     use tessella_core::{Basis, PatchNets};
 
-    /// The value a texel writer's operand names in `nets` (face 0).
-    fn operand(nets: &PatchNets, token: &str) -> f32 {
-        if token == "0.0" {
-            return 0.0;
-        }
-        let (array, rest) = token.split_at(1);
-        let (index, axis) = rest[1..].split_once("].").unwrap();
-        let i: usize = index.parse().unwrap();
-        let a = ["x", "y", "z"].iter().position(|&x| x == axis).unwrap();
-        match array {
-            "c" => nets.patch_points(0)[i][a],
-            "m" => nets.patch_normals(0)[i][a],
-            other => panic!("operand {other}"),
-        }
-    }
-
+    /// The layout `shader::net_texel_glsl` writes is the CPU's: `pack_texels` puts a net's
+    /// points then its normal net, three floats an entry, four a texel, zeros after.
     #[test]
-    fn the_texel_writer_packs_as_the_cpu_packs() {
+    fn the_cpu_packs_points_then_normals_four_floats_a_texel() {
         for basis in [Basis::Cubic, Basis::Png1] {
             let k = basis.len();
             // Every float its own value, so a misplaced one shows.
@@ -197,61 +154,38 @@ mod tests {
             let texels = crate::instanced::texels_per_face(k);
             let mut packed = vec![0.0; 4 * texels];
             nets.pack_texels(1, texels, &mut packed);
-            let g = texel_writer(k);
-            let mut seen = 0;
-            for line in g.lines() {
-                let Some(rest) = line.trim().strip_prefix("if (j == ") else {
-                    continue;
-                };
-                let (j, rest) = rest.split_once(") return vec4(").unwrap();
-                let j: usize = j.parse().unwrap();
-                let got: Vec<f32> = rest
-                    .trim_end_matches(");")
-                    .split(", ")
-                    .map(|t| operand(&nets, t))
-                    .collect();
-                assert_eq!(got, packed[4 * j..4 * j + 4], "{basis:?} texel {j}");
-                assert_eq!(j, seen);
-                seen += 1;
-            }
-            assert_eq!(seen, texels, "{basis:?}: a branch per texel");
+            let mut want: Vec<f32> = nets
+                .points
+                .iter()
+                .chain(&nets.normals)
+                .flatten()
+                .copied()
+                .collect();
+            want.resize(4 * texels, 0.0);
+            assert_eq!(packed, want, "{basis:?}");
         }
     }
 
     #[test]
     fn the_pass_calls_the_scheme_s_generated_builders_and_refuses_the_others() {
         let cases = [
-            (
-                Scheme::Flat,
-                NormalMode::Linear,
-                "tessella_flat_points(p, n, c)",
-            ),
-            (
-                Scheme::Phong { alpha: 0.6 },
-                NormalMode::Linear,
-                "tessella_phong_points(p, n, 6e-1, c)",
-            ),
-            (
-                Scheme::Pn,
-                NormalMode::Quadratic,
-                "tessella_pn_points(p, n, c)",
-            ),
-            (
-                Scheme::PnAen,
-                NormalMode::Quadratic,
-                "tessella_pn_aen_points(p, n, across, c)",
-            ),
+            (Scheme::Flat, NormalMode::Linear, "0.0"),
+            (Scheme::Phong { alpha: 0.6 }, NormalMode::Linear, "6e-1"),
+            (Scheme::Pn, NormalMode::Quadratic, "0.0"),
+            (Scheme::PnAen, NormalMode::Quadratic, "0.0"),
         ];
-        for (scheme, mode, call) in cases {
+        for (scheme, mode, alpha) in cases {
             let g = nets_pass_glsl(&scheme, mode, false, 10).unwrap();
             let points = NetBuilder::points_for(&scheme).unwrap();
-            assert!(g.contains(&shader::net_builder(Lang::Glsl, points)));
-            assert!(g.contains(&shader::net_builder(
-                Lang::Glsl,
-                NetBuilder::normals_for(mode)
+            let texels = crate::instanced::texels_per_face(10);
+            assert!(g.contains(&shader::net_texel_glsl(
+                points,
+                NetBuilder::normals_for(mode),
+                texels
             )));
+            let call = format!("tessella_net_texel(p, n, {alpha}, across, j)");
             assert!(g.contains(&shader::skin_normal(Lang::Glsl)));
-            assert!(g.contains(call), "{scheme:?}: {g}");
+            assert!(g.contains(&call), "{scheme:?}: {g}");
             let across = scheme == Scheme::PnAen;
             assert!(g.contains(&format!("TESSELLA_NETS_ACROSS = {across};")));
         }

@@ -388,6 +388,50 @@ pub fn net_builder(lang: Lang, builder: NetBuilder) -> String {
     }
 }
 
+/// A face's packed net traced: `points`' control points then `normals`' entries, three floats
+/// an entry (`PatchNets::pack_texels`'s order), from the corners [`traced_corners`] names.
+fn traced_packed_net(points: NetBuilder, normals: NetBuilder) -> (trace::Tape, Vec<Expr>) {
+    let (tape, (c, m)) = trace(|| {
+        let NetInputs { p, n, alpha, m } = traced_corners();
+        (points.build(p, n, alpha, m), normals.build(p, n, alpha, m))
+    });
+    let floats = c.iter().chain(&m).flat_map(|v| [v.x, v.y, v.z]).collect();
+    (tape, floats)
+}
+
+/// GLSL (ES 3.00) `vec4 tessella_net_texel(vec3 p[3], vec3 n[3], float alpha, vec3 m[6], int
+/// j)`: texel `j` of a face's packed net (`points`' control points, then `normals`' six entries,
+/// three floats an entry one after the other, four floats a texel, zeros past the last; `texels`
+/// texels, as `PatchNets::pack_texels` packs them), from the corners `p`, `n` (and Phong's
+/// `alpha`, PN-AEN's other sides' normals `m`, which the other builders do not read).
+///
+/// A fragment shader that writes one texel a fragment calls this: each texel's branch computes
+/// only the operations its four floats need, where building the whole net in every fragment
+/// built it once per texel of the net.
+pub fn net_texel_glsl(points: NetBuilder, normals: NetBuilder, texels: usize) -> String {
+    let (tape, floats) = traced_packed_net(points, normals);
+    assert!(
+        floats.len() <= 4 * texels,
+        "{} floats do not fit in {texels} texels",
+        floats.len()
+    );
+    let mut s = String::from(
+        "vec4 tessella_net_texel(vec3 p[3], vec3 n[3], float alpha, vec3 m[6], int j) {\n",
+    );
+    for j in 0..texels {
+        let chunk = &floats[(4 * j).min(floats.len())..(4 * j + 4).min(floats.len())];
+        let body = Body::new(&tape, Lang::Glsl, chunk);
+        let mut values: Vec<String> = chunk.iter().map(|&e| body.name(e)).collect();
+        values.resize(4, "0.0".to_string());
+        s += &format!("    if (j == {j}) {{\n");
+        for line in body.statements.lines() {
+            s += &format!("    {line}\n");
+        }
+        s += &format!("        return vec4({});\n    }}\n", values.join(", "));
+    }
+    s + "    return vec4(0.0);\n}\n"
+}
+
 /// WGSL: `fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32>`, the
 /// hardware tessellator's placement of a part's point (`tessellator::parts::locate_of`, with
 /// the 16.16 ruler arithmetic of `tessellator::points::place_of`): the point's 16.16 `u`, `v`

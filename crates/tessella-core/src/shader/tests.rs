@@ -721,3 +721,75 @@ fn traced_surface_normal_gives_the_cpus_bits() {
         assert!(text.contains("1e-12"), "{text}");
     }
 }
+
+/// The packed net the per-texel function reads from: its floats, run in f32 as a shader runs
+/// them, are the CPU's `f32` nets (points then normal net) bit for bit, for every builder the
+/// GPU has; and each texel's branch returns floats `4j..4j+4` of it (zeros past the end).
+#[test]
+fn net_texels_pack_the_cpus_nets() {
+    let none = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
+    let fnone = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
+    let mut state = 5u32;
+    let mut next = || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (state >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+    };
+    for points in [
+        NetBuilder::FlatPoints,
+        NetBuilder::PhongPoints,
+        NetBuilder::PnPoints,
+        NetBuilder::PnAenPoints,
+    ] {
+        for normals in [NetBuilder::LinearNormals, NetBuilder::QuadraticNormals] {
+            let (tape, floats) = traced_packed_net(points, normals);
+            for _ in 0..50 {
+                let v3 = |f: &mut dyn FnMut() -> f32| V3::new(f(), f(), f());
+                let p = [v3(&mut next), v3(&mut next), v3(&mut next)];
+                let n = [v3(&mut next), v3(&mut next), v3(&mut next)];
+                let m = [0; 6].map(|_| v3(&mut next));
+                let alpha = 0.75f32;
+                let mut inputs: Vec<(String, f32)> = vec![("alpha".into(), alpha)];
+                for (name, vs) in [("p", &p[..]), ("n", &n[..]), ("m", &m[..])] {
+                    for (i, v) in vs.iter().enumerate() {
+                        for (c, x) in ["x", "y", "z"].iter().zip([v.x, v.y, v.z]) {
+                            inputs.push((format!("{name}[{i}].{c}"), x));
+                        }
+                    }
+                }
+                let inputs: Vec<(&str, f32)> =
+                    inputs.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+                let values = run_f32(&tape, &inputs, none, fnone);
+                let cpu: Vec<u32> = points
+                    .build(p, n, alpha, m)
+                    .iter()
+                    .chain(&normals.build(p, n, alpha, m))
+                    .flat_map(|v| [v.x, v.y, v.z])
+                    .map(f32::to_bits)
+                    .collect();
+                let got: Vec<u32> = floats
+                    .iter()
+                    .map(|e| (values[e.index()] as f32).to_bits())
+                    .collect();
+                assert_eq!(got, cpu, "{points:?} {normals:?}");
+            }
+            let texels = floats.len().div_ceil(4);
+            let text = net_texel_glsl(points, normals, texels);
+            assert!(text.starts_with(
+                "vec4 tessella_net_texel(vec3 p[3], vec3 n[3], float alpha, vec3 m[6], int j) {"
+            ));
+            assert_eq!(text.matches("    if (j == ").count(), texels);
+            // A texel computes less than the whole net: its branch is shorter than the builders.
+            let whole = Body::new(&tape, Lang::Glsl, &floats)
+                .statements
+                .lines()
+                .count();
+            for j in 0..texels {
+                let chunk = &floats[4 * j..(4 * j + 4).min(floats.len())];
+                let body = Body::new(&tape, Lang::Glsl, chunk);
+                let names: Vec<String> = chunk.iter().map(|&e| body.name(e)).collect();
+                assert!(text.contains(&format!("return vec4({}", names.join(", "))));
+                assert!(body.statements.lines().count() <= whole);
+            }
+        }
+    }
+}
