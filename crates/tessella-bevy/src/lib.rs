@@ -519,7 +519,6 @@ fn tessellate(
             });
             let state = LodState::new(
                 lod,
-                spacing,
                 parts.table(spacing),
                 (records, instances),
                 material,

@@ -33,15 +33,13 @@ use crate::lod_material::TessellaLodMaterial;
 pub(crate) struct LodState {
     /// The level function; a screen or distance LOD's camera is replaced each frame by Bevy's.
     pub lod: Lod,
-    pub spacing: Spacing,
-    /// The part table, and each frame's levels made into records and instances.
+    /// The part table (its spacing the entity's), and this frame's levels (picking refines
+    /// with them) made into records and instances.
     pub driver: InstancedDriver,
     pub records: Handle<ShaderBuffer>,
     /// The frame's instance words (`face | side << 30`), [`MAX_PARTS`] a triangle of room.
     pub instances: Handle<ShaderBuffer>,
     pub material: Handle<TessellaLodMaterial>,
-    /// This frame's per-edge levels and per-face minimums (picking refines with them).
-    pub levels: Option<(Vec<f32>, Option<Vec<f32>>)>,
     records_written: Vec<u32>,
     instances_written: Vec<u32>,
     no_cast: bool,
@@ -51,7 +49,6 @@ pub(crate) struct LodState {
 impl LodState {
     pub(crate) fn new(
         lod: Lod,
-        spacing: Spacing,
         table: Arc<PartTable>,
         (records, instances): (Handle<ShaderBuffer>, Handle<ShaderBuffer>),
         material: Handle<TessellaLodMaterial>,
@@ -59,12 +56,10 @@ impl LodState {
     ) -> LodState {
         LodState {
             lod,
-            spacing,
             driver: InstancedDriver::with_table(table),
             records,
             instances,
             material,
-            levels: None,
             records_written: Vec::new(),
             instances_written: Vec::new(),
             no_cast: shadows.0,
@@ -302,10 +297,6 @@ pub(crate) fn levels(
                 state.instances_written = fi.instances.clone();
             }
         }
-        state.levels = Some((
-            state.driver.edge_levels().to_vec(),
-            state.driver.face_minimums().map(<[f32]>::to_vec),
-        ));
         chosen.triangles = fi.triangles;
         chosen.lod = Some(lod);
         let boxes = face_boxes(frame);

@@ -31,18 +31,26 @@ pub(crate) struct PickMesh {
 
 impl PickMesh {
     fn refresh(&mut self, surface: &Surface, lod: Option<&LodState>) -> Result<(), String> {
-        let levels = lod.and_then(|l| l.levels.as_ref());
-        if self.made_for == Some(surface.version) && self.levels.as_ref() == levels {
+        // This frame's levels, as the LOD driver chose them; none before its first choice (a
+        // surface has edges, so its levels are never empty once chosen).
+        let levels = lod
+            .map(|l| (l.driver.edge_levels(), l.driver.face_minimums()))
+            .filter(|(edges, _)| !edges.is_empty());
+        let made_with = self
+            .levels
+            .as_ref()
+            .map(|(edges, faces)| (edges.as_slice(), faces.as_deref()));
+        if self.made_for == Some(surface.version) && made_with == levels {
             return Ok(());
         }
         match (lod, levels) {
             // Per-edge levels: a plan of this frame's levels.
             (Some(state), Some((edges, faces))) => {
                 let mut options = surface.plan.options().clone();
-                options.spacing = state.spacing;
+                options.spacing = state.driver.spacing();
                 options.levels = Levels::PerEdge {
-                    edges: edges.as_slice().into(),
-                    faces: faces.as_ref().map(|f| f.as_slice().into()),
+                    edges: edges.into(),
+                    faces: faces.map(Into::into),
                 };
                 let mesh = surface.frame.mesh();
                 let plan = Plan::new(mesh, &options).map_err(|e| e.to_string())?;
@@ -58,7 +66,7 @@ impl PickMesh {
                 .refine_into(&surface.frame, &mut self.refined, &|_| {})
                 .map_err(|e| e.to_string())?,
         }
-        self.levels = levels.cloned();
+        self.levels = levels.map(|(edges, faces)| (edges.to_vec(), faces.map(<[f32]>::to_vec)));
         self.indices.clear();
         self.indices
             .extend(self.refined.triangles.iter().flatten().copied());

@@ -75,12 +75,12 @@ pub struct AdaptiveRenderer {
     /// The WGSL constants the shaders are compiled with (basis, normal mode, spacing).
     #[cfg_attr(not(feature = "blocking"), allow(dead_code))]
     constants: String,
+    /// The part table and the last [`AdaptiveRenderer::set_levels`]: draws and triangle count.
     driver: InstancedDriver,
     /// What the per-frame records need (topology, triangles), and whose frames are taken.
     surface: Surface,
     /// Coarse triangles and basis size.
     shape: (usize, usize),
-    /// The last [`AdaptiveRenderer::set_levels`]: draws and triangle count.
     /// Bytes kept in the GPU buffers made at creation (parts, nets, per-face buffers).
     bytes: u64,
 }
@@ -308,8 +308,9 @@ impl AdaptiveRenderer {
     /// camera that moves, a mesh that deforms: new levels every frame). Grid levels are drawn
     /// at most at `instanced::MAX_GRID_LEVEL` (64), below the tolerance LOD's cap of 1024.
     pub fn set_lod(&mut self, frame: &Frame, lod: &Lod) -> Result<u64, GpuError> {
-        check_nets_shape(frame.nets(), self.shape)?;
+        // A foreign frame is refused first (by the driver), as before a frame's nets are read.
         let (edges, faces) = self.driver.levels(&self.surface, frame, lod)?;
+        check_nets_shape(frame.nets(), self.shape)?;
         self.set_levels(&edges, faces.as_deref())
     }
 
@@ -394,12 +395,11 @@ impl AdaptiveRenderer {
     pub fn capture(&self) -> Result<CapturedTriangles, GpuError> {
         let mut jobs: Vec<[u32; 2]> = Vec::new();
         let mut faces = Vec::new();
-        for d in &self.driver.frame().draws {
-            let range = &self.driver.table().ranges[d.part as usize];
-            let tris = &self.driver.table().triangles[range.start as usize..range.end as usize];
-            for &inst in
-                &self.driver.frame().instances[d.instances.start as usize..d.instances.end as usize]
-            {
+        let (frame, table) = (self.driver.frame(), self.driver.table());
+        for d in &frame.draws {
+            let range = &table.ranges[d.part as usize];
+            let tris = &table.triangles[range.start as usize..range.end as usize];
+            for &inst in &frame.instances[d.instances.start as usize..d.instances.end as usize] {
                 for t in tris {
                     jobs.extend(t.map(|code| [inst, code]));
                     faces.push(inst & 0x3fff_ffff);

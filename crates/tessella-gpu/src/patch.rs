@@ -265,9 +265,10 @@ pub(crate) fn surface_normal_wgsl() -> &'static str {
 }
 
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
-/// generated normal glue, the shared evaluation and displacement modules, then its own. Constants rather than uniforms,
-/// so each pipeline compiles only its own branch (a software rasteriser runs the whole body of a
-/// branch on a uniform: Perlin noise or `Du × Dv` for every vertex that needs neither).
+/// generated normal glue, the shared evaluation and displacement modules, then its own.
+/// Constants rather than uniforms, so each pipeline compiles only its own branch (a software
+/// rasteriser runs the whole body of a branch on a uniform: Perlin noise or `Du × Dv` for every
+/// vertex that needs neither).
 pub(crate) fn shader_source(
     own: &str,
     normal_mode: NormalMode,

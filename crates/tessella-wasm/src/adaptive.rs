@@ -20,7 +20,7 @@ use crate::instanced::{
 };
 use crate::{errors, options::Options};
 use tessella_core::refine::instanced::{FrameInstances, PartTable, FORWARD_WORD, RECORD_WORDS};
-use tessella_core::refine::{canonical, Camera, InstancedDriver, Lod, Spacing, SurfaceOptions};
+use tessella_core::refine::{canonical, Camera, InstancedDriver, Lod, SurfaceOptions};
 use tessella_core::shader::{self, Lang};
 use tessella_core::{Named, NormalMode};
 use wasm_bindgen::prelude::*;
@@ -89,7 +89,6 @@ enum LodKind {
 #[wasm_bindgen]
 pub struct AdaptiveSurface {
     nets: InstancedSurface,
-    spacing: Spacing,
     lod: Option<LodKind>,
     driver: InstancedDriver,
     /// Every part's distinct point codes, one part after the other.
@@ -125,7 +124,7 @@ impl AdaptiveSurface {
     }
     /// The spacing's name.
     pub fn spacing(&self) -> String {
-        self.spacing.name().to_string()
+        self.driver.spacing().name().to_string()
     }
     #[wasm_bindgen(js_name = faceCount)]
     pub fn face_count(&self) -> usize {
@@ -338,7 +337,6 @@ impl AdaptiveSurface {
         let (codes, indices, ranges) = part_arrays(&table);
         Ok(AdaptiveSurface {
             nets,
-            spacing,
             lod,
             driver: InstancedDriver::with_table(std::sync::Arc::new(table)),
             codes,
@@ -697,7 +695,7 @@ const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, u
 mod tests {
     use super::*;
     use crate::test_meshes::sample;
-    use tessella_core::refine::instanced;
+    use tessella_core::refine::{instanced, Spacing};
     use tessella_core::refine::{Levels, Plan};
 
     fn flat(p: &[[f32; 3]]) -> Vec<f32> {

@@ -75,6 +75,20 @@ impl InstancedDriver {
         edge_levels: &[f32],
         face_minimums: Option<&[f32]>,
     ) -> Result<&FrameInstances, RefineError> {
+        self.make_frame(surface, edge_levels, face_minimums)?;
+        self.edge_levels.clear();
+        self.edge_levels.extend_from_slice(edge_levels);
+        self.face_minimums = face_minimums.map(<[f32]>::to_vec);
+        Ok(&self.frame)
+    }
+
+    /// The records and instances of the levels, kept as the frame; on an error nothing changes.
+    fn make_frame(
+        &mut self,
+        surface: &Surface,
+        edge_levels: &[f32],
+        face_minimums: Option<&[f32]>,
+    ) -> Result<(), RefineError> {
         let topology = surface.topology();
         self.frame = instanced::frame_instances(
             &self.table,
@@ -84,10 +98,7 @@ impl InstancedDriver {
             edge_levels,
             face_minimums,
         )?;
-        self.edge_levels.clear();
-        self.edge_levels.extend_from_slice(edge_levels);
-        self.face_minimums = face_minimums.map(<[f32]>::to_vec);
-        Ok(&self.frame)
+        Ok(())
     }
 
     /// The levels `lod` gives on `frame` (a frame of `surface`: a camera that moves or a mesh
@@ -99,7 +110,11 @@ impl InstancedDriver {
         lod: &Lod,
     ) -> Result<&FrameInstances, RefineError> {
         let (edges, faces) = self.levels(surface, frame, lod)?;
-        self.set_levels(surface, &edges, faces.as_deref())
+        self.make_frame(surface, &edges, faces.as_deref())?;
+        // The LOD's own vectors are kept, not copied.
+        self.edge_levels = edges;
+        self.face_minimums = faces;
+        Ok(&self.frame)
     }
 
     /// The levels `lod` gives on `frame`, per edge and per face, without drawing them (a host
