@@ -183,6 +183,37 @@ impl<T: Real> V3<T> {
     }
     /// `self · (1 / |self|)`, or zero where that reciprocal is not finite and positive (as
     /// `glam::Vec3::normalize_or_zero`).
+    /// `self × o` in `glam`'s order of operations.
+    pub fn cross(self, o: V3<T>) -> V3<T> {
+        V3::new(
+            self.y * o.z - o.y * self.z,
+            self.z * o.x - o.z * self.x,
+            self.x * o.y - o.x * self.y,
+        )
+    }
+    /// `|self|`: the square root of [`V3::dot`] with itself.
+    pub fn length(self) -> T {
+        self.dot(self).sqrt()
+    }
+    /// `self · (1 / |self|)`, or `fallback` where that reciprocal is not finite and positive
+    /// (as `glam`'s `normalize_or`).
+    pub fn normalize_or(self, fallback: V3<T>) -> V3<T> {
+        let rcp = T::lit(1.0) / self.length();
+        let scaled = self * rcp;
+        V3::new(
+            T::select_positive_finite(rcp, scaled.x, fallback.x),
+            T::select_positive_finite(rcp, scaled.y, fallback.y),
+            T::select_positive_finite(rcp, scaled.z, fallback.z),
+        )
+    }
+    /// `nonzero` where `test != 0`, else `zero`, each component; both are computed.
+    pub fn select_nonzero(test: T, nonzero: V3<T>, zero: V3<T>) -> V3<T> {
+        V3::new(
+            T::select_nonzero(test, nonzero.x, zero.x),
+            T::select_nonzero(test, nonzero.y, zero.y),
+            T::select_nonzero(test, nonzero.z, zero.z),
+        )
+    }
     pub fn normalize_or_zero(self) -> V3<T> {
         let rcp = T::lit(1.0) / self.dot(self).sqrt();
         let scaled = self * rcp;
@@ -365,53 +396,61 @@ pub trait Noise: Real {
     fn word_if_eq(a: Self, b: Self, yes: Self::W, no: Self::W) -> Self::W;
 }
 
-impl Noise for f32 {
-    type W = u32;
-    #[inline]
-    fn floor(self) -> f32 {
-        f32::floor(self)
-    }
-    #[inline]
-    fn sin(self) -> f32 {
-        f32::sin(self)
-    }
-    #[inline]
-    fn int_word(self) -> u32 {
-        self as i32 as u32
-    }
-    #[inline]
-    fn pick_ge(a: u32, b: u32, yes: f32, no: f32) -> f32 {
-        if a >= b {
-            yes
-        } else {
-            no
+/// `f32` (displacement) and `f64` (PNG1's nets) with `u32` words; a branch is an `if`.
+macro_rules! noise_float {
+    ($t:ty) => {
+        impl Noise for $t {
+            type W = u32;
+            #[inline]
+            fn floor(self) -> $t {
+                <$t>::floor(self)
+            }
+            #[inline]
+            fn sin(self) -> $t {
+                <$t>::sin(self)
+            }
+            #[inline]
+            fn int_word(self) -> u32 {
+                self as i32 as u32
+            }
+            #[inline]
+            fn pick_ge(a: u32, b: u32, yes: $t, no: $t) -> $t {
+                if a >= b {
+                    yes
+                } else {
+                    no
+                }
+            }
+            #[inline]
+            fn pick_eq(a: u32, b: u32, yes: $t, no: $t) -> $t {
+                if a == b {
+                    yes
+                } else {
+                    no
+                }
+            }
+            #[inline]
+            fn pick_gt(a: $t, b: $t, yes: $t, no: $t) -> $t {
+                if a > b {
+                    yes
+                } else {
+                    no
+                }
+            }
+            #[inline]
+            fn word_if_eq(a: $t, b: $t, yes: u32, no: u32) -> u32 {
+                if a == b {
+                    yes
+                } else {
+                    no
+                }
+            }
         }
-    }
-    #[inline]
-    fn pick_eq(a: u32, b: u32, yes: f32, no: f32) -> f32 {
-        if a == b {
-            yes
-        } else {
-            no
-        }
-    }
-    #[inline]
-    fn pick_gt(a: f32, b: f32, yes: f32, no: f32) -> f32 {
-        if a > b {
-            yes
-        } else {
-            no
-        }
-    }
-    #[inline]
-    fn word_if_eq(a: f32, b: f32, yes: u32, no: u32) -> u32 {
-        if a == b {
-            yes
-        } else {
-            no
-        }
-    }
+    };
 }
+
+noise_float!(f32);
+noise_float!(f64);
 
 #[cfg(test)]
 mod tests {

@@ -16,12 +16,11 @@
 //! CPU from storage buffers indexed by `gl_PrimitiveID` ([`NetSource::Buffers`]). The TCS also
 //! sets the levels (uniform, or per face from the levels the CPU plan resolved: each edge's
 //! level from that edge alone, so the output is crack-free); the TES sums `Σ w_k(l) C_k`.
-//! The weights (cubic Bernstein, PNG1's rational weights, the normal net's) are generated from
-//! tessella-core's own functions ([`tessella_core::shader`]), so they exist once. The control
-//! shader's net builders are the one second copy, by design: building the net on the GPU from
-//! the patch's corners is what this backend is for. They are GLSL written after tessella-core's
-//! `scheme` modules and tied to them by the tests, which compare every GL vertex with the CPU
-//! refinement of the same scheme, spacing and levels.
+//! The weights (cubic Bernstein, PNG1's rational weights, the normal net's) and the control
+//! shader's net builders (flat, Phong, PN, and PNG1's net and smoothed normals in doubles) are
+//! generated from tessella-core's own functions ([`tessella_core::shader`]), so they exist
+//! once; the tests compare every GL vertex with the CPU refinement of the same scheme, spacing
+//! and levels.
 //!
 //! ## The evaluator
 //!

@@ -1,9 +1,9 @@
 //! The GLSL of the backend. The basis weights (cubic Bernstein, PNG1's rational weights as dual
-//! numbers) and the normal net's weights are generated from tessella-core's own Rust functions
-//! ([`tessella_core::shader`]); what is written here is the stages' own code: the levels, the
-//! control shader's net builders (van Veen's design: the patch's net built on the GPU from its
-//! corners, a second copy of `tessella_core::scheme` tied to it by the CPU comparison tests) and
-//! the evaluation shader's sums.
+//! numbers), the normal net's weights and the control shader's net builders (van Veen's design:
+//! the patch's net built on the GPU from its corners; PNG1's in doubles) are generated from
+//! tessella-core's own Rust functions ([`tessella_core::shader`]); what is written here is the
+//! stages' own code: the levels, which builder a patch takes and what feeds it, and the
+//! evaluation shader's sums.
 
 use tessella_core::shader::{self, Lang, NetBuilder};
 use tessella_core::tessellator::Partitioning;
@@ -35,7 +35,8 @@ void main() {
 /// Levels: a uniform, or per face from a buffer (GL order: outer[0] is the edge l1 = 0). The
 /// control net: built here from the patch's corners (flat, Phong, PN with the builders
 /// generated from tessella-core's `scheme` functions; PNG1 from a 6-vertex patch that adds each
-/// edge's opposite neighbour corner, [`PNG1_NET`]), as van Veen's control shader does, or copied
+/// edge's opposite neighbour corner, [`PNG1_NET`], with the generated double-precision
+/// builder), as van Veen's control shader does, or copied
 /// from the buffers the CPU filled (`u_nets == 0`: PN-AEN, scalar-tagged, quadratic elements).
 /// The tests compare every vertex with the CPU.
 const CONTROL_DECLARATIONS: &str = r#"
@@ -85,107 +86,31 @@ void normal_net(vec3 p[3], vec3 n[3]) {
 }
 "#;
 
-/// PNG1's control net in double precision (tessella-core `scheme/png1.rs`, which builds it in
-/// f64), for the control shader.
+/// PNG1's control net for the control shader: the points from the generated
+/// `tessella_png1_net` (traced from tessella-core's `scheme::png1::control_points_of`, in
+/// doubles as the CPU builds it in `f64`), fed from the patch and this face's edge table; then
+/// the normal net the mode asks for.
 const PNG1_NET: &str = r#"
-dvec3 d_normalize_or(dvec3 x, dvec3 fallback) {
-    double r = 1.0LF / sqrt(dot(x, x));
-    return (!isinf(r) && !isnan(r) && r > 0.0LF) ? x * r : fallback;
-}
-dvec3 any_orthonormal(dvec3 n) {
-    double s = n.z >= 0.0LF ? 1.0LF : -1.0LF;
-    double a = -1.0LF / (s + n.z);
-    double b = n.x * n.y * a;
-    return dvec3(b, s + n.y * n.y * a, -n.y);
-}
-dvec3 tangent_point(dvec3 a, dvec3 n, dvec3 x) {
-    dvec3 d = x - a;
-    dvec3 proj = d - dot(d, n) * n;
-    double len = sqrt(dot(proj, proj));
-    if (len > 1e-300LF && !isinf(len) && !isnan(len)) {
-        return a + proj * (sqrt(dot(d, d)) / len / 3.0LF);
-    }
-    return a + any_orthonormal(n) * (sqrt(dot(d, d)) / 3.0LF);
-}
-dvec3 transfer(dvec3 x, dvec3 s0, dvec3 s1, dvec3 ns, dvec3 d0, dvec3 d1, dvec3 nd) {
-    dvec3 ts = s1 - s0;
-    dvec3 td = d1 - d0;
-    double ls = sqrt(dot(ts, ts));
-    double ld = sqrt(dot(td, td));
-    if (ls == 0.0LF || ld == 0.0LF) { return d0 + (x - s0); }
-    dvec3 ms = cross(ns, ts) / ls;
-    dvec3 md = cross(nd, td) / ld;
-    dvec3 r = x - s0;
-    double xi = dot(r, ts) / (ls * ls);
-    double eta = dot(r, ms) / ls;
-    return d0 + xi * td + (eta * ld) * md;
-}
-dvec3 tri_normal(dvec3 a, dvec3 b, dvec3 o) {
-    return d_normalize_or(cross(b - a, o - a), dvec3(0.0LF));
-}
-int own_slot(int k, int offset) { return 3 + (4 * k + offset) % 12; }
 void png1_net(vec3 pf[3], vec3 nf[3], vec3 opposite[3]) {
     dvec3 p[3] = dvec3[3](dvec3(pf[0]), dvec3(pf[1]), dvec3(pf[2]));
-    dvec3 n[3];
-    for (int i = 0; i < 3; ++i) { n[i] = d_normalize_or(dvec3(nf[i]), dvec3(0.0LF, 0.0LF, 1.0LF)); }
-    dvec3 net[21];
-    for (int i = 0; i < 3; ++i) { net[i] = p[i]; }
+    dvec3 n[3] = dvec3[3](dvec3(nf[0]), dvec3(nf[1]), dvec3(nf[2]));
+    dvec3 q[3] = dvec3[3](dvec3(opposite[0]), dvec3(opposite[1]), dvec3(opposite[2]));
+    double smooth_edge[3], sharp[3], kappa[3];
     for (int k = 0; k < 3; ++k) {
-        int a = k, b = (k + 1) % 3, c = (k + 2) % 3;
         float flags = edge_data[(gl_PrimitiveID * 3 + k) * 2];
-        double kappa = double(edge_data[(gl_PrimitiveID * 3 + k) * 2 + 1]);
         bool has_opposite = mod(flags, 2.0) == 1.0;
-        bool sharp = flags >= 2.0;
-        dvec3 e_a = tangent_point(p[a], n[a], p[b]);
-        dvec3 e_b = tangent_point(p[b], n[b], p[a]);
-        dvec3 f_a = tangent_point(p[a], n[a], p[c]);
-        dvec3 f_b = tangent_point(p[b], n[b], p[c]);
-        dvec3 n_t = tri_normal(p[a], p[b], p[c]);
-        dvec3 n_sum = (!sharp && has_opposite)
-            ? n_t + tri_normal(p[b], p[a], dvec3(opposite[k])) : n_t;
-        dvec3 e1 = e_b - e_a;
-        dvec3 t = d_normalize_or(e1, dvec3(0.0LF));
-        dvec3 nm = d_normalize_or(n_sum - dot(n_sum, t) * t, dvec3(0.0LF));
-        if (nm == dvec3(0.0LF)) {
-            dvec3 s = n[a] + n[b];
-            nm = d_normalize_or(s - dot(s, t) * t, dvec3(0.0LF));
-            if (nm == dvec3(0.0LF)) { nm = any_orthonormal(t); }
-        }
-        dvec3 centre_a = transfer(f_a, p[a], e_a, n[a], e_a, e_b, nm);
-        dvec3 cross_a = transfer(f_a, p[a], e_a, n[a], e_b, p[b], n[b]);
-        dvec3 centre_b = transfer(f_b, e_b, p[b], n[b], e_a, e_b, nm);
-        dvec3 cross_b = transfer(f_b, e_b, p[b], n[b], p[a], e_a, n[a]);
-        if (sharp) {
-            dvec3 shift = kappa * n_t;
-            centre_a += shift;
-            cross_a += shift;
-            centre_b += shift;
-            cross_b += shift;
-        }
-        net[own_slot(k, 0)] = e_a;
-        net[own_slot(k, 2)] = e_b;
-        net[own_slot(k, 4) + 1] = cross_a;
-        net[own_slot(k, 10) + 1] = cross_b;
-        net[15 + 2 * k] = centre_a;
-        net[16 + 2 * k] = centre_b;
+        sharp[k] = flags >= 2.0 ? 1.0LF : 0.0LF;
+        smooth_edge[k] = (has_opposite && flags < 2.0) ? 1.0LF : 0.0LF;
+        kappa[k] = double(edge_data[(gl_PrimitiveID * 3 + k) * 2 + 1]);
     }
-    // Own slots not set above hold the neighbouring edge's points (own_slot(k, 0..2) of
-    // every k covers them all).
+    dvec3 net[21];
+    tessella_png1_net(p, n, q, smooth_edge, sharp, kappa, net);
     for (int i = 0; i < 21; ++i) { tc_pts[i] = vec3(net[i]); }
     if (u_normals == 1) {
-        // The smoothed normals (section 3.3): mid-edge coefficients 4 M_e - (Na + Nb).
-        vec3 mids[3] = vec3[3](vec3(0.5, 0.5, 0.0), vec3(0.0, 0.5, 0.5), vec3(0.5, 0.0, 0.5));
-        for (int k = 0; k < 3; ++k) {
-            vec3 w[21];
-            tessella_png1_weights(mids[k], w);
-            dvec3 du = dvec3(0.0LF), dv = dvec3(0.0LF);
-            for (int i = 0; i < 21; ++i) { du += double(w[i].y) * net[i]; dv += double(w[i].z) * net[i]; }
-            // The corner normals as given (the CPU's smoothed_normal_net takes them so).
-            dvec3 na = dvec3(nf[k]), nb = dvec3(nf[(k + 1) % 3]);
-            dvec3 m = d_normalize_or(cross(du, dv), d_normalize_or(na + nb, dvec3(0.0LF)));
-            tc_nrm[k] = nf[k];
-            tc_nrm[3 + k] = vec3(4.0LF * m - (na + nb));
-        }
+        // The corner normals as given (the CPU's smoothed_normal_net takes them so).
+        dvec3 m[6];
+        tessella_png1_normals(net, dvec3[3](dvec3(nf[0]), dvec3(nf[1]), dvec3(nf[2])), m);
+        for (int i = 0; i < 6; ++i) { tc_nrm[i] = vec3(m[i]); }
     } else {
         for (int i = 0; i < 3; ++i) {
             tc_nrm[i] = nf[i];
@@ -307,11 +232,12 @@ pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
     ShaderSources {
         vertex: format!("{HEADER}{VERTEX}"),
         control: format!(
-            "{HEADER}{CONTROL_DECLARATIONS}{}{CONTROL}{}{PNG1_NET}{CONTROL_MAIN}",
+            "{HEADER}{CONTROL_DECLARATIONS}{}{CONTROL}{}{}{PNG1_NET}{CONTROL_MAIN}",
             NetBuilder::ALL
                 .map(|b| shader::net_builder(Lang::Glsl, b))
                 .concat(),
-            shader::weights(Lang::Glsl, Basis::Png1)
+            shader::png1_net_glsl(),
+            shader::png1_normals_glsl()
         ),
         evaluation: format!(
             "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{}{}{EVALUATION}",
@@ -333,7 +259,11 @@ mod tests {
     fn every_stage_takes_the_generated_weights_it_calls() {
         let s = glsl_sources(Partitioning::Equal);
         for (stage, text, calls) in [
-            ("control", &s.control, &["tessella_png1_weights"][..]),
+            (
+                "control",
+                &s.control,
+                &["tessella_png1_net", "tessella_png1_normals"][..],
+            ),
             (
                 "evaluation",
                 &s.evaluation,
@@ -379,5 +309,9 @@ mod tests {
             );
         }
         assert!(!EVALUATION.contains("1e-12") && !EVALUATION.contains("cross("));
+        // PNG1's net: no formula of its own here, only the generated builders fed.
+        for typed in ["cross(", "sqrt(", "normalize", "dot("] {
+            assert!(!PNG1_NET.contains(typed), "{typed}");
+        }
     }
 }

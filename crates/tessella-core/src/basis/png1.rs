@@ -142,6 +142,11 @@ pub fn eval_f64_at_mid(net: &[DVec3; PNG1_LEN], k: usize) -> (DVec3, DVec3, DVec
     eval_with(net, &MID_WEIGHTS[k])
 }
 
+/// The weights (value, `Du`, `Dv`) at the midpoint of edge `k`, computed once.
+pub(crate) fn mid_weights(k: usize) -> &'static [Dual<f64>; PNG1_LEN] {
+    &MID_WEIGHTS[k]
+}
+
 fn eval_with(net: &[DVec3; PNG1_LEN], w: &[Dual<f64>; PNG1_LEN]) -> (DVec3, DVec3, DVec3) {
     let (mut p, mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for (wk, c) in w.iter().zip(net) {

@@ -54,6 +54,7 @@ pub use crate::basis::png1::{eval_f64, weights, PNG1_LEN, PNG1_ORDER};
 
 use crate::basis::png1::own_slot;
 use crate::basis::NORMAL_NET_LEN;
+use crate::scalar::{Noise, Real, V3};
 use glam::DVec3;
 
 // ---------------------------------------------------------------------------------------------
@@ -71,64 +72,109 @@ pub struct Png1Edge {
     pub sharp: Option<f64>,
 }
 
+/// One edge's inputs to [`control_points_of`], as numbers a shader can take: where
+/// [`Png1Edge`] says `Option`, this says `1` or `0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Png1EdgeOf<T> {
+    /// The neighbour's corner opposite the edge; read only where `smooth` is `1`.
+    pub opposite: V3<T>,
+    /// `1`: a smooth edge with a neighbour, whose plane joins the middle plane; `0`: sharp,
+    /// boundary or non-manifold, the triangle's own plane alone.
+    pub smooth: T,
+    /// `1`: a sharp edge, its cross and centre points moved by `kappa N_T`; `0`: not.
+    pub sharp: T,
+    pub kappa: T,
+}
+
+impl Png1Edge {
+    /// This edge as [`control_points_of`] takes it, in `f64`.
+    pub fn numbers(&self) -> Png1EdgeOf<f64> {
+        let bit = |b: bool| if b { 1.0 } else { 0.0 };
+        Png1EdgeOf {
+            opposite: v3(self.opposite.unwrap_or(DVec3::ZERO)),
+            smooth: bit(self.sharp.is_none() && self.opposite.is_some()),
+            sharp: bit(self.sharp.is_some()),
+            kappa: self.sharp.unwrap_or(0.0),
+        }
+    }
+}
+
+fn v3(v: DVec3) -> V3<f64> {
+    V3::new(v.x, v.y, v.z)
+}
+
+/// A unit vector orthogonal to the unit vector `n` (`glam`'s `any_orthonormal_vector`, Duff et
+/// al.'s branchless basis). The sign of `n.z` is read from `1 / n.z`, so `-0.0` counts as
+/// negative, as `signum` has it.
+fn any_orthonormal<T: Noise>(n: V3<T>) -> V3<T> {
+    let (one, zero) = (T::lit(1.0), T::lit(0.0));
+    let sign = T::pick_gt(one / n.z, zero, one, -one);
+    let a = T::lit(-1.0) / (sign + n.z);
+    let b = n.x * n.y * a;
+    V3::new(b, sign + n.y * n.y * a, -n.y)
+}
+
 /// `x` projected along `n` into the tangent plane at `a`, rescaled to `|x - a|`, a third of the
 /// way (section 3.2, Figure 5).
-fn tangent_point(a: DVec3, n: DVec3, x: DVec3) -> DVec3 {
+fn tangent_point<T: Noise>(a: V3<T>, n: V3<T>, x: V3<T>) -> V3<T> {
     let d = x - a;
-    let proj = d - d.dot(n) * n;
+    let proj = d - n * d.dot(n);
     let len = proj.length();
-    if len > 1e-300 && len.is_finite() {
-        a + proj * (d.length() / len / 3.0)
-    } else {
-        // The edge runs along the normal: any tangent direction is as good as another.
-        a + n.any_orthonormal_vector() * (d.length() / 3.0)
-    }
+    let along = a + proj * (d.length() / len / T::lit(3.0));
+    // The edge runs along the normal: any tangent direction is as good as another.
+    let across = a + any_orthonormal(n) * (d.length() / T::lit(3.0));
+    // `len - 1e-300` is positive and finite exactly where `len > 1e-300` is finite.
+    let test = len - T::lit(1e-300);
+    V3::new(
+        T::select_positive_finite(test, along.x, across.x),
+        T::select_positive_finite(test, along.y, across.y),
+        T::select_positive_finite(test, along.z, across.z),
+    )
 }
 
 /// A segment `s0 → s1` in a plane with unit normal `n`, as a frame `(t, n × t / |t|)` at `s0`:
 /// the pieces of the similarity [`transfer`] builds, kept so that the four transfers of an
 /// edge set up three frames instead of eight (the same operations, so the same bits).
-struct SegmentFrame {
-    s0: DVec3,
-    t: DVec3,
-    m: DVec3,
-    len: f64,
+struct SegmentFrame<T> {
+    s0: V3<T>,
+    t: V3<T>,
+    m: V3<T>,
+    len: T,
 }
 
-impl SegmentFrame {
-    fn new(s0: DVec3, s1: DVec3, n: DVec3) -> SegmentFrame {
+impl<T: Noise> SegmentFrame<T> {
+    fn new(s0: V3<T>, s1: V3<T>, n: V3<T>) -> SegmentFrame<T> {
         let t = s1 - s0;
         let len = t.length();
         // Unused when the segment is degenerate (`len == 0`): the transfer translates then.
-        let m = if len == 0.0 {
-            DVec3::ZERO
-        } else {
-            n.cross(t) / len
-        };
+        let m = V3::select_nonzero(len, n.cross(t) / len, V3::zero());
         SegmentFrame { s0, t, m, len }
     }
 
     /// `x` in this frame: its offset from `s0` and its coordinates `(ξ, η)` along `t` and `m`,
-    /// in units of the segment's length.
-    fn coords(&self, x: DVec3) -> (DVec3, f64, f64) {
+    /// in units of the segment's length (`0` on a degenerate segment).
+    fn coords(&self, x: V3<T>) -> (V3<T>, T, T) {
         let r = x - self.s0;
-        if self.len == 0.0 {
-            return (r, 0.0, 0.0);
-        }
+        let zero = T::lit(0.0);
+        let xi = r.dot(self.t) / (self.len * self.len);
+        let eta = r.dot(self.m) / self.len;
         (
             r,
-            r.dot(self.t) / (self.len * self.len),
-            r.dot(self.m) / self.len,
+            T::select_nonzero(self.len, xi, zero),
+            T::select_nonzero(self.len, eta, zero),
         )
     }
 
     /// The point with coordinates `coords` (from `from`) in this frame: the similarity carrying
     /// `from`'s segment onto this one, or a translation when either segment is degenerate.
-    fn place(&self, from: &SegmentFrame, (r, xi, eta): (DVec3, f64, f64)) -> DVec3 {
-        if from.len == 0.0 || self.len == 0.0 {
-            return self.s0 + r;
-        }
-        self.s0 + xi * self.t + (eta * self.len) * self.m
+    fn place(&self, from: &SegmentFrame<T>, (r, xi, eta): (V3<T>, T, T)) -> V3<T> {
+        let similar = self.s0 + self.t * xi + self.m * (eta * self.len);
+        let translated = self.s0 + r;
+        V3::select_nonzero(
+            from.len,
+            V3::select_nonzero(self.len, similar, translated),
+            translated,
+        )
     }
 }
 
@@ -152,7 +198,7 @@ fn transfer(x: DVec3, s0: DVec3, s1: DVec3, ns: DVec3, d0: DVec3, d1: DVec3, nd:
 }
 
 /// Unit normal of the triangle `(a, b, o)` (counter-clockwise), zero when degenerate.
-fn tri_normal(a: DVec3, b: DVec3, o: DVec3) -> DVec3 {
+fn tri_normal<T: Real>(a: V3<T>, b: V3<T>, o: V3<T>) -> V3<T> {
     (b - a).cross(o - a).normalize_or_zero()
 }
 
@@ -160,9 +206,23 @@ fn tri_normal(a: DVec3, b: DVec3, o: DVec3) -> DVec3 {
 /// and edges, in f64. The middle plane of edge `k` uses the triangle `(p[k], p[k+1], p[k+2])`'s
 /// normal and the neighbour's, both computed so that the two sides of an edge get the same plane.
 pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) -> [DVec3; 21] {
+    control_points_of(p.map(v3), n.map(v3), edges.map(|e| e.numbers()))
+        .map(|v| DVec3::new(v.x, v.y, v.z))
+}
+
+/// [`control_points_f64`] over any [`Noise`] number: the one source of the CPU's nets (in
+/// `f64`) and of the OpenGL control shader's (`shader::png1_net_glsl`, traced in doubles).
+/// Every branch is a selection, both sides computed, so the `f64` bits are those of the
+/// branches an `if` would take.
+pub fn control_points_of<T: Noise>(
+    p: [V3<T>; 3],
+    n: [V3<T>; 3],
+    edges: [Png1EdgeOf<T>; 3],
+) -> [V3<T>; 21] {
     // f32 unit normals are unit only to f32 rounding; the construction needs exact tangent planes.
-    let n = n.map(|v| v.normalize_or(DVec3::Z));
-    let mut net = [DVec3::ZERO; PNG1_LEN];
+    let z = V3::new(T::lit(0.0), T::lit(0.0), T::lit(1.0));
+    let n = n.map(|v| v.normalize_or(z));
+    let mut net = [V3::zero(); PNG1_LEN];
     net[..3].copy_from_slice(&p);
     for (k, edge) in edges.iter().enumerate() {
         let (a, b, c) = (k, (k + 1) % 3, (k + 2) % 3);
@@ -175,21 +235,19 @@ pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) ->
 
         // Middle plane, equations (3)-(5); sharp and boundary edges use the own plane only.
         let n_t = tri_normal(pa, pb, pc);
-        let n_sum = match (edge.sharp, edge.opposite) {
-            (None, Some(q)) => n_t + tri_normal(pb, pa, q),
-            _ => n_t,
-        };
+        let n_sum = V3::select_nonzero(edge.smooth, n_t + tri_normal(pb, pa, edge.opposite), n_t);
         let e1 = e_b - e_a;
         let t = e1.normalize_or_zero();
-        let mut nm = (n_sum - n_sum.dot(t) * t).normalize_or_zero();
-        if nm == DVec3::ZERO {
-            // Folded neighbours cancel: fall back on the corner normals, then on anything.
-            let s = na + nb;
-            nm = (s - s.dot(t) * t).normalize_or_zero();
-            if nm == DVec3::ZERO {
-                nm = t.any_orthonormal_vector();
-            }
-        }
+        let nm = (n_sum - t * n_sum.dot(t)).normalize_or_zero();
+        // Folded neighbours cancel: fall back on the corner normals, then on anything.
+        let s = na + nb;
+        let from_corners = (s - t * s.dot(t)).normalize_or_zero();
+        let fallback = V3::select_nonzero(
+            from_corners.length_squared(),
+            from_corners,
+            any_orthonormal(t),
+        );
+        let nm = V3::select_nonzero(nm.length_squared(), nm, fallback);
 
         // Version a maps from a → e_a (a's plane), version b from e_b → b (b's plane); each
         // onto the middle segment and onto the other end's segment.
@@ -197,17 +255,12 @@ pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) ->
         let at_b = SegmentFrame::new(e_b, pb, nb);
         let middle = SegmentFrame::new(e_a, e_b, nm);
         let (in_a, in_b) = (at_a.coords(f_a), at_b.coords(f_b));
-        let mut centre_a = middle.place(&at_a, in_a);
-        let mut cross_a = at_b.place(&at_a, in_a);
-        let mut centre_b = middle.place(&at_b, in_b);
-        let mut cross_b = at_a.place(&at_b, in_b);
-        if let Some(kappa) = edge.sharp {
-            let shift = kappa * n_t;
-            centre_a += shift;
-            cross_a += shift;
-            centre_b += shift;
-            cross_b += shift;
-        }
+        let shift = n_t * edge.kappa;
+        let sharpen = |x: V3<T>| V3::select_nonzero(edge.sharp, x + shift, x);
+        let centre_a = sharpen(middle.place(&at_a, in_a));
+        let cross_a = sharpen(at_b.place(&at_a, in_a));
+        let centre_b = sharpen(middle.place(&at_b, in_b));
+        let cross_b = sharpen(at_a.place(&at_b, in_b));
         net[own_slot(k, 0)] = e_a;
         net[own_slot(k, 2)] = e_b;
         // cross_a sits next to b in the slot whose own point is f_b; cross_b next to a.
@@ -224,16 +277,26 @@ pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) ->
 /// `2 n_e = 4 M_e - (Na + Nb)` with `M_e` the unit surface normal at the edge's midpoint, so the
 /// net reproduces the surface normal exactly at corners and edge midpoints.
 pub fn smoothed_normal_net(net: &[DVec3; PNG1_LEN], n: [DVec3; 3]) -> [DVec3; NORMAL_NET_LEN] {
-    let mut out = [n[0], n[1], n[2], DVec3::ZERO, DVec3::ZERO, DVec3::ZERO];
+    smoothed_normal_net_of(&net.map(v3), n.map(v3)).map(|v| DVec3::new(v.x, v.y, v.z))
+}
+
+/// [`smoothed_normal_net`] over any [`Real`]: the CPU runs it in `f64`, the OpenGL control
+/// shader in doubles (`shader::png1_normals_glsl`).
+pub fn smoothed_normal_net_of<T: Real>(
+    net: &[V3<T>; PNG1_LEN],
+    n: [V3<T>; 3],
+) -> [V3<T>; NORMAL_NET_LEN] {
+    let mut out = [n[0], n[1], n[2], V3::zero(), V3::zero(), V3::zero()];
     for k in 0..3 {
-        let (_, du, dv) = crate::basis::png1::eval_f64_at_mid(net, k);
+        let (mut du, mut dv) = (V3::zero(), V3::zero());
+        for (w, c) in crate::basis::png1::mid_weights(k).iter().zip(net) {
+            du = du + *c * T::lit(w.du);
+            dv = dv + *c * T::lit(w.dv);
+        }
         let (a, b) = (n[k], n[(k + 1) % 3]);
         // A degenerate midpoint (Du ∥ Dv) falls back on the mean of the end normals.
-        let m = du
-            .cross(dv)
-            .try_normalize()
-            .unwrap_or_else(|| (a + b).normalize_or_zero());
-        out[3 + k] = 4.0 * m - (a + b);
+        let m = du.cross(dv).normalize_or((a + b).normalize_or_zero());
+        out[3 + k] = m * T::lit(4.0) - (a + b);
     }
     out
 }
@@ -241,6 +304,212 @@ pub fn smoothed_normal_net(net: &[DVec3; PNG1_LEN], n: [DVec3; 3]) -> [DVec3; NO
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The builder as it was written on `glam` before [`control_points_of`]: the oracle that
+    /// the generic one keeps its bits.
+    mod glam_oracle {
+        use super::super::{Png1Edge, PNG1_LEN};
+        use crate::basis::png1::own_slot;
+        use crate::basis::NORMAL_NET_LEN;
+        use glam::DVec3;
+
+        fn tangent_point(a: DVec3, n: DVec3, x: DVec3) -> DVec3 {
+            let d = x - a;
+            let proj = d - d.dot(n) * n;
+            let len = proj.length();
+            if len > 1e-300 && len.is_finite() {
+                a + proj * (d.length() / len / 3.0)
+            } else {
+                // The edge runs along the normal: any tangent direction is as good as another.
+                a + n.any_orthonormal_vector() * (d.length() / 3.0)
+            }
+        }
+
+        struct SegmentFrame {
+            s0: DVec3,
+            t: DVec3,
+            m: DVec3,
+            len: f64,
+        }
+
+        impl SegmentFrame {
+            fn new(s0: DVec3, s1: DVec3, n: DVec3) -> SegmentFrame {
+                let t = s1 - s0;
+                let len = t.length();
+                // Unused when the segment is degenerate (`len == 0`): the transfer translates then.
+                let m = if len == 0.0 {
+                    DVec3::ZERO
+                } else {
+                    n.cross(t) / len
+                };
+                SegmentFrame { s0, t, m, len }
+            }
+
+            /// `x` in this frame: its offset from `s0` and its coordinates `(ξ, η)` along `t` and `m`,
+            /// in units of the segment's length.
+            fn coords(&self, x: DVec3) -> (DVec3, f64, f64) {
+                let r = x - self.s0;
+                if self.len == 0.0 {
+                    return (r, 0.0, 0.0);
+                }
+                (
+                    r,
+                    r.dot(self.t) / (self.len * self.len),
+                    r.dot(self.m) / self.len,
+                )
+            }
+
+            /// The point with coordinates `coords` (from `from`) in this frame: the similarity carrying
+            /// `from`'s segment onto this one, or a translation when either segment is degenerate.
+            fn place(&self, from: &SegmentFrame, (r, xi, eta): (DVec3, f64, f64)) -> DVec3 {
+                if from.len == 0.0 || self.len == 0.0 {
+                    return self.s0 + r;
+                }
+                self.s0 + xi * self.t + (eta * self.len) * self.m
+            }
+        }
+
+        fn tri_normal(a: DVec3, b: DVec3, o: DVec3) -> DVec3 {
+            (b - a).cross(o - a).normalize_or_zero()
+        }
+
+        pub fn control_points(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) -> [DVec3; 21] {
+            // f32 unit normals are unit only to f32 rounding; the construction needs exact tangent planes.
+            let n = n.map(|v| v.normalize_or(DVec3::Z));
+            let mut net = [DVec3::ZERO; PNG1_LEN];
+            net[..3].copy_from_slice(&p);
+            for (k, edge) in edges.iter().enumerate() {
+                let (a, b, c) = (k, (k + 1) % 3, (k + 2) % 3);
+                let (pa, pb, pc) = (p[a], p[b], p[c]);
+                let (na, nb) = (n[a], n[b]);
+                let e_a = tangent_point(pa, na, pb);
+                let e_b = tangent_point(pb, nb, pa);
+                let f_a = tangent_point(pa, na, pc);
+                let f_b = tangent_point(pb, nb, pc);
+
+                // Middle plane, equations (3)-(5); sharp and boundary edges use the own plane only.
+                let n_t = tri_normal(pa, pb, pc);
+                let n_sum = match (edge.sharp, edge.opposite) {
+                    (None, Some(q)) => n_t + tri_normal(pb, pa, q),
+                    _ => n_t,
+                };
+                let e1 = e_b - e_a;
+                let t = e1.normalize_or_zero();
+                let mut nm = (n_sum - n_sum.dot(t) * t).normalize_or_zero();
+                if nm == DVec3::ZERO {
+                    // Folded neighbours cancel: fall back on the corner normals, then on anything.
+                    let s = na + nb;
+                    nm = (s - s.dot(t) * t).normalize_or_zero();
+                    if nm == DVec3::ZERO {
+                        nm = t.any_orthonormal_vector();
+                    }
+                }
+
+                // Version a maps from a → e_a (a's plane), version b from e_b → b (b's plane); each
+                // onto the middle segment and onto the other end's segment.
+                let at_a = SegmentFrame::new(pa, e_a, na);
+                let at_b = SegmentFrame::new(e_b, pb, nb);
+                let middle = SegmentFrame::new(e_a, e_b, nm);
+                let (in_a, in_b) = (at_a.coords(f_a), at_b.coords(f_b));
+                let mut centre_a = middle.place(&at_a, in_a);
+                let mut cross_a = at_b.place(&at_a, in_a);
+                let mut centre_b = middle.place(&at_b, in_b);
+                let mut cross_b = at_a.place(&at_b, in_b);
+                if let Some(kappa) = edge.sharp {
+                    let shift = kappa * n_t;
+                    centre_a += shift;
+                    cross_a += shift;
+                    centre_b += shift;
+                    cross_b += shift;
+                }
+                net[own_slot(k, 0)] = e_a;
+                net[own_slot(k, 2)] = e_b;
+                // cross_a sits next to b in the slot whose own point is f_b; cross_b next to a.
+                net[own_slot(k, 4) + 1] = cross_a;
+                net[own_slot(k, 10) + 1] = cross_b;
+                net[15 + 2 * k] = centre_a;
+                net[16 + 2 * k] = centre_b;
+            }
+            net
+        }
+
+        pub fn smoothed_normals(net: &[DVec3; PNG1_LEN], n: [DVec3; 3]) -> [DVec3; NORMAL_NET_LEN] {
+            let mut out = [n[0], n[1], n[2], DVec3::ZERO, DVec3::ZERO, DVec3::ZERO];
+            for k in 0..3 {
+                let (_, du, dv) = crate::basis::png1::eval_f64_at_mid(net, k);
+                let (a, b) = (n[k], n[(k + 1) % 3]);
+                // A degenerate midpoint (Du ∥ Dv) falls back on the mean of the end normals.
+                let m = du
+                    .cross(dv)
+                    .try_normalize()
+                    .unwrap_or_else(|| (a + b).normalize_or_zero());
+                out[3 + k] = 4.0 * m - (a + b);
+            }
+            out
+        }
+    }
+
+    /// The generic builder gives the `glam` builder's bits, on random triangles and on the
+    /// degenerate ones its branches are for: an edge along a normal, a zero-length edge,
+    /// folded neighbours, sharp edges, boundaries and a normal with `z = -0.0`.
+    #[test]
+    fn generic_builder_keeps_the_glam_builders_bits() {
+        let mut seed = 5u32;
+        let mut r = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f64 / (1u32 << 24) as f64 * 2.0 - 1.0
+        };
+        let bits = |net: [DVec3; 21]| net.map(|v| v.to_array().map(f64::to_bits));
+        for case in 0..3000 {
+            let mut v = || DVec3::new(r(), r(), r());
+            let mut p = [v(), v(), v()];
+            let mut n = [v(), v(), v()];
+            let q = [v(), v(), v()];
+            match case % 9 {
+                // The edge 0 → 1 along corner 0's normal.
+                1 => n[0] = (p[1] - p[0]).normalize(),
+                // A zero-length edge.
+                2 => p[1] = p[0],
+                // A neighbour folded onto the triangle.
+                3 => {}
+                // Normals with z = -0.0 and +0.0, edges along them (their tangent points
+                // take any orthonormal direction, whose sign is z's).
+                4 => {
+                    n[0] = DVec3::new(0.6, 0.8, -0.0);
+                    n[1] = DVec3::new(-0.8, 0.6, 0.0);
+                    p[1] = p[0] + n[0] * 0.7;
+                    p[2] = p[1] + n[1] * 0.4;
+                }
+                // A zero normal (falls back on +Z).
+                5 => n[2] = DVec3::ZERO,
+                _ => {}
+            }
+            let edges: [Png1Edge; 3] = std::array::from_fn(|k| Png1Edge {
+                opposite: match (case + k) % 4 {
+                    0 => None,
+                    _ if case % 9 == 3 => Some(p[(k + 2) % 3]),
+                    _ => Some(q[k]),
+                },
+                sharp: match (case / 3 + k) % 5 {
+                    0 => Some(0.0),
+                    1 => Some(r() * 0.2),
+                    _ => None,
+                },
+            });
+            let net = control_points_f64(p, n, edges);
+            assert_eq!(
+                bits(net),
+                bits(glam_oracle::control_points(p, n, edges)),
+                "case {case}"
+            );
+            let normals = |m: [DVec3; NORMAL_NET_LEN]| m.map(|v| v.to_array().map(f64::to_bits));
+            assert_eq!(
+                normals(smoothed_normal_net(&net, n)),
+                normals(glam_oracle::smoothed_normals(&net, n)),
+                "case {case}"
+            );
+        }
+    }
 
     /// The frames give the plain similarity's bits, degenerate segments (a translation)
     /// included.
@@ -263,8 +532,10 @@ mod tests {
                 d1 = d0;
             }
             let (ns, nd) = (v().normalize(), v().normalize());
-            let (from, to) = (SegmentFrame::new(s0, s1, ns), SegmentFrame::new(d0, d1, nd));
-            let got = to.place(&from, from.coords(x));
+            let from = SegmentFrame::new(v3(s0), v3(s1), v3(ns));
+            let to = SegmentFrame::new(v3(d0), v3(d1), v3(nd));
+            let got = to.place(&from, from.coords(v3(x)));
+            let got = DVec3::new(got.x, got.y, got.z);
             let want = transfer(x, s0, s1, ns, d0, d1, nd);
             let bits = |p: DVec3| p.to_array().map(f64::to_bits);
             assert_eq!(bits(got), bits(want), "case {case}");

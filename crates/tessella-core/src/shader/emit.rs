@@ -8,6 +8,8 @@ use super::trace::{Cmp, Node, Tape, Traced, Ty, UOp};
 pub(crate) struct Body<'t> {
     tape: &'t Tape,
     lang: Lang,
+    /// GLSL in double precision (`double`, `1.0LF`): the OpenGL control shader's PNG1 net.
+    double: bool,
     /// One line per operation, indented by four spaces.
     pub(crate) statements: String,
 }
@@ -15,6 +17,15 @@ pub(crate) struct Body<'t> {
 impl<'t> Body<'t> {
     /// Statements computing every operation `outputs` depend on.
     pub(crate) fn new<V: Traced + Copy>(tape: &'t Tape, lang: Lang, outputs: &[V]) -> Body<'t> {
+        Body::of(tape, lang, false, outputs)
+    }
+
+    /// [`Body::new`] in GLSL's `double`s, for a formula the CPU computes in `f64`.
+    pub(crate) fn doubles<V: Traced + Copy>(tape: &'t Tape, outputs: &[V]) -> Body<'t> {
+        Body::of(tape, Lang::Glsl, true, outputs)
+    }
+
+    fn of<V: Traced + Copy>(tape: &'t Tape, lang: Lang, double: bool, outputs: &[V]) -> Body<'t> {
         let mut needed = vec![false; tape.nodes.len()];
         for e in outputs {
             needed[e.index()] = true;
@@ -31,6 +42,7 @@ impl<'t> Body<'t> {
         let mut body = Body {
             tape,
             lang,
+            double,
             statements: String::new(),
         };
         for (i, node) in tape.nodes.iter().enumerate() {
@@ -42,6 +54,7 @@ impl<'t> Body<'t> {
             let value = body.operation(node);
             let decl = match (lang, node.ty()) {
                 (Lang::Wgsl, _) => "let",
+                (Lang::Glsl, Ty::F32) if double => "double",
                 (Lang::Glsl, Ty::F32) => "float",
                 (Lang::Glsl, Ty::U32) => "uint",
             };
@@ -58,6 +71,7 @@ impl<'t> Body<'t> {
     fn name_at(&self, i: usize) -> String {
         match &self.tape.nodes[i] {
             Node::Input(name) | Node::UInput(name) => name.clone(),
+            Node::Const(bits) if self.double => double_literal(f64::from_bits(*bits)),
             Node::Const(bits) => literal(f64::from_bits(*bits)),
             Node::UConst(x) => format!("{x}u"),
             _ => format!("t{i}"),
@@ -86,7 +100,10 @@ impl<'t> Body<'t> {
             // without isnan/isinf, which WGSL does not have.
             Node::SelectPositiveFinite { test, yes, no } => {
                 let t = n(test);
-                let finite = format!("{t} > 0.0 && {t} <= {F32_MAX}");
+                let finite = match self.double {
+                    true => format!("{t} > 0.0LF && {t} <= {F64_MAX}"),
+                    false => format!("{t} > 0.0 && {t} <= {F32_MAX}"),
+                };
                 match self.lang {
                     Lang::Wgsl => format!("select({}, {}, {finite})", n(no), n(yes)),
                     Lang::Glsl => format!("({finite} ? {} : {})", n(yes), n(no)),
@@ -98,7 +115,15 @@ impl<'t> Body<'t> {
                 zero,
             } => match self.lang {
                 Lang::Wgsl => format!("select({}, {}, {} != 0.0)", n(zero), n(nonzero), n(test)),
-                Lang::Glsl => format!("({} != 0.0 ? {} : {})", n(test), n(nonzero), n(zero)),
+                Lang::Glsl => {
+                    let zero_literal = if self.double { "0.0LF" } else { "0.0" };
+                    format!(
+                        "({} != {zero_literal} ? {} : {})",
+                        n(test),
+                        n(nonzero),
+                        n(zero)
+                    )
+                }
             },
             Node::UBin(op, a, b) => {
                 let op = match op {
@@ -154,6 +179,9 @@ impl Body<'_> {
 /// `3.4028235e38` is).
 const F32_MAX: &str = "3.4028234663852886e38";
 
+/// The largest finite `f64`, as a GLSL double literal.
+const F64_MAX: &str = "1.7976931348623157e308LF";
+
 /// The tape indices a node reads.
 fn operands(node: &Node) -> Vec<usize> {
     let i = |e: &dyn Traced| e.index();
@@ -195,6 +223,21 @@ pub(crate) fn literal(x: f64) -> String {
     }
 }
 
+/// A GLSL `double` literal, exactly the `f64`: `3.0LF`, `1e-300LF`, negatives in parentheses.
+pub(crate) fn double_literal(x: f64) -> String {
+    assert!(x.is_finite(), "a generated constant is not finite: {x}");
+    let mut s = format!("{x:?}");
+    if !s.contains(['.', 'e']) {
+        s.push_str(".0");
+    }
+    s.push_str("LF");
+    if x < 0.0 {
+        format!("({s})")
+    } else {
+        s
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -205,5 +248,8 @@ mod tests {
         assert_eq!(literal(-1.0), "(-1.0)");
         assert_eq!(literal(1e-12), "1e-12");
         assert_eq!(literal(1.0 / 3.0), "0.33333334");
+        assert_eq!(double_literal(1.0 / 3.0), "0.3333333333333333LF");
+        assert_eq!(double_literal(-1.0), "(-1.0LF)");
+        assert_eq!(double_literal(1e-300), "1e-300LF");
     }
 }

@@ -432,6 +432,82 @@ pub fn net_texel_glsl(points: NetBuilder, normals: NetBuilder, texels: usize) ->
     s + "    return vec4(0.0);\n}\n"
 }
 
+/// PNG1's net builder traced with the inputs [`png1_net_glsl`] names.
+fn traced_png1_net() -> (trace::Tape, [V3<Expr>; crate::basis::png1::PNG1_LEN]) {
+    use crate::scheme::png1::{control_points_of, Png1EdgeOf};
+    trace(|| {
+        let v = traced_vector;
+        let edges = [0, 1, 2].map(|k| Png1EdgeOf {
+            opposite: v("q", k),
+            smooth: Expr::input(&format!("smooth_edge[{k}]")),
+            sharp: Expr::input(&format!("sharp[{k}]")),
+            kappa: Expr::input(&format!("kappa[{k}]")),
+        });
+        control_points_of(
+            [0, 1, 2].map(|i| v("p", i)),
+            [0, 1, 2].map(|i| v("n", i)),
+            edges,
+        )
+    })
+}
+
+/// GLSL 4.00 `void tessella_png1_net(dvec3 p[3], dvec3 n[3], dvec3 q[3], double smooth_edge[3],
+/// double sharp[3], double kappa[3], out dvec3 c[21])`: PNG1's 21 control points in double
+/// precision, traced from [`crate::scheme::png1::control_points_of`], the builder the CPU runs
+/// in `f64`. Per edge `k`: `q[k]` the neighbour's corner opposite it, `smooth_edge[k]` `1.0`
+/// where that neighbour's plane joins the middle plane (else `0.0`), `sharp[k]` `1.0` on a
+/// sharp edge moved by `kappa[k]`. The OpenGL control shader builds PNG1's nets with it.
+pub fn png1_net_glsl() -> String {
+    let (tape, net) = traced_png1_net();
+    let outputs: Vec<Expr> = net.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+    let body = Body::doubles(&tape, &outputs);
+    let mut s = format!(
+        "void tessella_png1_net(dvec3 p[3], dvec3 n[3], dvec3 q[3], double smooth_edge[3], \
+         double sharp[3], double kappa[3], out dvec3 c[{}]) {{\n{}",
+        net.len(),
+        body.statements
+    );
+    for (i, v) in net.iter().enumerate() {
+        let [x, y, z] = [v.x, v.y, v.z].map(|e| body.name(e));
+        s += &format!("    c[{i}] = dvec3({x}, {y}, {z});\n");
+    }
+    s + "}\n"
+}
+
+/// The inputs `{array}[i].x`, `.y`, `.z` as a traced vector.
+fn traced_vector(array: &str, i: usize) -> V3<Expr> {
+    let c = |axis: &str| Expr::input(&format!("{array}[{i}].{axis}"));
+    V3::new(c("x"), c("y"), c("z"))
+}
+
+/// PNG1's smoothed normal net traced from the net `c` and the corner normals `n`.
+fn traced_png1_normals() -> (trace::Tape, [V3<Expr>; crate::basis::NORMAL_NET_LEN]) {
+    use crate::scheme::png1::smoothed_normal_net_of;
+    trace(|| {
+        let net = std::array::from_fn(|i| traced_vector("c", i));
+        smoothed_normal_net_of(&net, [0, 1, 2].map(|i| traced_vector("n", i)))
+    })
+}
+
+/// GLSL 4.00 `void tessella_png1_normals(dvec3 c[21], dvec3 n[3], out dvec3 m[6])`: PNG1's
+/// smoothed normal net (section 3.3) from its net `c` and corner normals `n`, in doubles,
+/// traced from [`crate::scheme::png1::smoothed_normal_net_of`] as the CPU runs it in `f64`.
+pub fn png1_normals_glsl() -> String {
+    let (tape, m) = traced_png1_normals();
+    let outputs: Vec<Expr> = m.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+    let body = Body::doubles(&tape, &outputs);
+    let mut s = format!(
+        "void tessella_png1_normals(dvec3 c[21], dvec3 n[3], out dvec3 m[{}]) {{\n{}",
+        m.len(),
+        body.statements
+    );
+    for (i, v) in m.iter().enumerate() {
+        let [x, y, z] = [v.x, v.y, v.z].map(|e| body.name(e));
+        s += &format!("    m[{i}] = dvec3({x}, {y}, {z});\n");
+    }
+    s + "}\n"
+}
+
 /// WGSL: `fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32>`, the
 /// hardware tessellator's placement of a part's point (`tessellator::parts::locate_of`, with
 /// the 16.16 ruler arithmetic of `tessellator::points::place_of`): the point's 16.16 `u`, `v`

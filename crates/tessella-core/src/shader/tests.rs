@@ -63,11 +63,18 @@ fn run_with(tape: &Tape, inputs: &[(&str, f64)], call: impl Fn(&str, &[u32]) -> 
                 let args: Vec<u32> = args.iter().map(u).collect();
                 f64::from(call(name, &args))
             }
+            // A comparison rounds nothing: f64 evaluates it as f32 would.
+            Node::PickGt { a, b, yes, no } => {
+                if x(a) > x(b) {
+                    x(yes)
+                } else {
+                    x(no)
+                }
+            }
             Node::Floor(_)
             | Node::Sin(_)
             | Node::IntWord(_)
             | Node::Pick { .. }
-            | Node::PickGt { .. }
             | Node::WordIfEq { .. }
             | Node::Call(..) => {
                 panic!("noise nodes are evaluated by run_f32")
@@ -792,4 +799,98 @@ fn net_texels_pack_the_cpus_nets() {
             }
         }
     }
+}
+
+/// The OpenGL control shader's PNG1 net, run in f64 as its doubles compute, gives the CPU's
+/// `f64` net bit for bit: smooth, boundary and sharp edges, a folded neighbour and an edge
+/// along a corner normal (whose fallbacks the selections take).
+#[test]
+fn traced_png1_net_gives_the_cpus_bits() {
+    use crate::scheme::png1::{control_points_f64, smoothed_normal_net, Png1Edge};
+    use glam::DVec3;
+    let (tape, net) = traced_png1_net();
+    let (normal_tape, normals) = traced_png1_normals();
+    let mut seed = 3u32;
+    let mut r = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f64 / (1u32 << 24) as f64 * 2.0 - 1.0
+    };
+    for case in 0..400 {
+        let mut v = || DVec3::new(r(), r(), r());
+        let mut p = [v(), v(), v()];
+        let n = [v(), v(), v()];
+        let q = [v(), v(), v()];
+        if case % 5 == 1 {
+            p[1] = p[0] + n[0] * 0.5;
+        }
+        let edges: [Png1Edge; 3] = std::array::from_fn(|k| Png1Edge {
+            opposite: match (case + k) % 4 {
+                0 => None,
+                _ if case % 5 == 2 => Some(p[(k + 2) % 3]),
+                _ => Some(q[k]),
+            },
+            sharp: match (case / 2 + k) % 5 {
+                0 => Some(0.0),
+                1 => Some(0.15),
+                _ => None,
+            },
+        });
+        let mut named: Vec<(String, f64)> = Vec::new();
+        for (array, vs) in [("p", p), ("n", n)] {
+            for (i, x) in vs.iter().enumerate() {
+                for (axis, c) in ["x", "y", "z"].iter().zip(x.to_array()) {
+                    named.push((format!("{array}[{i}].{axis}"), c));
+                }
+            }
+        }
+        for (k, edge) in edges.iter().enumerate() {
+            let e = edge.numbers();
+            for (axis, c) in ["x", "y", "z"]
+                .iter()
+                .zip([e.opposite.x, e.opposite.y, e.opposite.z])
+            {
+                named.push((format!("q[{k}].{axis}"), c));
+            }
+            named.push((format!("smooth_edge[{k}]"), e.smooth));
+            named.push((format!("sharp[{k}]"), e.sharp));
+            named.push((format!("kappa[{k}]"), e.kappa));
+        }
+        let inputs: Vec<(&str, f64)> = named.iter().map(|(k, x)| (k.as_str(), *x)).collect();
+        let values = run(&tape, &inputs);
+        let want = control_points_f64(p, n, edges);
+        for (i, (traced, cpu)) in net.iter().zip(want).enumerate() {
+            let got = [traced.x, traced.y, traced.z].map(|e| values[e.index()].to_bits());
+            assert_eq!(
+                got,
+                cpu.to_array().map(f64::to_bits),
+                "case {case}, point {i}"
+            );
+        }
+        // The smoothed normal net from that net. Its sums skip the zero weights' terms, so
+        // a zero's sign may differ; the values are equal.
+        let mut named: Vec<(String, f64)> = Vec::new();
+        for (array, vs) in [("c", &want[..]), ("n", &n[..])] {
+            for (i, x) in vs.iter().enumerate() {
+                for (axis, c) in ["x", "y", "z"].iter().zip(x.to_array()) {
+                    named.push((format!("{array}[{i}].{axis}"), c));
+                }
+            }
+        }
+        let inputs: Vec<(&str, f64)> = named.iter().map(|(k, x)| (k.as_str(), *x)).collect();
+        let values = run(&normal_tape, &inputs);
+        let cpu = smoothed_normal_net(&want, n);
+        for (i, (traced, cpu)) in normals.iter().zip(cpu).enumerate() {
+            let got = [traced.x, traced.y, traced.z].map(|e| values[e.index()]);
+            assert_eq!(got, cpu.to_array(), "case {case}, normal {i}");
+        }
+    }
+    let glsl = png1_net_glsl();
+    assert!(glsl.starts_with("void tessella_png1_net(dvec3 p[3], dvec3 n[3], dvec3 q[3]"));
+    assert!(
+        glsl.contains("double t") && !glsl.contains("float "),
+        "doubles only"
+    );
+    let glsl = png1_normals_glsl();
+    assert!(glsl.starts_with("void tessella_png1_normals(dvec3 c[21], dvec3 n[3]"));
+    assert!(!glsl.contains("float "), "doubles only");
 }
