@@ -128,8 +128,17 @@ function mesh(input) {
   };
 }
 
-function take(arrays) {
+// Returns `use(object)` and frees the wasm object, whether `use` returns or throws.
+function thenFree(object, use) {
   try {
+    return use(object);
+  } finally {
+    object.free();
+  }
+}
+
+function take(arrays) {
+  return thenFree(arrays, () => {
     const out = {
       positions: arrays.takePositions(),
       normals: arrays.takeNormals(),
@@ -143,9 +152,7 @@ function take(arrays) {
       out.barycentric = arrays.takeBarycentric();
     }
     return out;
-  } finally {
-    arrays.free();
-  }
+  });
 }
 
 /**
@@ -163,16 +170,22 @@ export function refine(input, options) {
  * ('bunny.obj'); `options.buffers` maps a .gltf file's external buffer URIs to their bytes.
  */
 export function readMesh(bytes, format, options = {}) {
-  bytes = fileBytes(bytes, 'readMesh');
-  if (typeof format !== 'string') throw new TessellaError("readMesh's format must be a string such as 'obj'");
-  const { names, lengths, data } = buffers(options);
+  const file = fileToRead('readMesh', bytes, format, options, 'obj');
   return call((g) => {
-    const arrays = withBuffers(g, names, lengths, data, (given) => g.readMesh(bytes, format, given));
+    const arrays = withBuffers(g, file.buffers, (given) => g.readMesh(file.bytes, format, given));
     const computed = arrays.normalsComputed;
     const out = take(arrays);
     out.normalsComputed = computed;
     return out;
   });
+}
+
+// What readMesh and readAnimated (named `fn` in the errors) read, checked: the file's bytes,
+// and its external buffers as the Rust side takes them.
+function fileToRead(fn, bytes, format, options, formatExample) {
+  const file = fileBytes(bytes, fn);
+  if (typeof format !== 'string') throw new TessellaError(`${fn}'s format must be a string such as '${formatExample}'`);
+  return { bytes: file, buffers: buffers(options) };
 }
 
 function fileBytes(bytes, fn) {
@@ -182,13 +195,8 @@ function fileBytes(bytes, fn) {
 }
 
 // Runs `read` with the buffers as the wasm side's GltfBuffers, freed afterwards.
-function withBuffers(g, names, lengths, data, read) {
-  const given = new g.GltfBuffers(names, lengths, data);
-  try {
-    return read(given);
-  } finally {
-    given.free();
-  }
+function withBuffers(g, { names, lengths, data }, read) {
+  return thenFree(new g.GltfBuffers(names, lengths, data), read);
 }
 
 // A .gltf file's external buffers ({ uri: bytes }) as the Rust side takes them: names, lengths
@@ -225,15 +233,11 @@ export function writeMesh(input, format) {
 function refineGltfCall(bytes, options, fn) {
   bytes = fileBytes(bytes, fn);
   if (options != null && typeof options !== 'object') throw new TessellaError('options must be an object');
-  const { names, lengths, data } = buffers(options);
+  const external = buffers(options);
   const json = optionsJson(options, ['buffers']);
   return call((g) => {
-    const refined = withBuffers(g, names, lengths, data, (given) => g.refineGltf(bytes, given, json));
-    try {
-      return { glb: refined.takeGlb(), primitives: JSON.parse(refined.report) };
-    } finally {
-      refined.free();
-    }
+    const refined = withBuffers(g, external, (given) => g.refineGltf(bytes, given, json));
+    return thenFree(refined, () => ({ glb: refined.takeGlb(), primitives: JSON.parse(refined.report) }));
   });
 }
 
@@ -262,30 +266,78 @@ function view(Type, ptr, length) {
   return new Type(memory.buffer, ptr, length);
 }
 
+// A frame's positions and normals (null when left out, to have them computed): Float32Array
+// and Float64Array as they are (the copy into wasm memory converts), anything else as floats.
+function frameArrays(positions, normals) {
+  return [frameArray(positions, 'positions'), normals == null ? null : frameArray(normals, 'normals')];
+}
+
+function frameArray(values, what) {
+  return values instanceof Float32Array || values instanceof Float64Array ? values : floats(values, what, 3);
+}
+
+// The wasm object's `which` input ('positions' or 'normals') of `length` floats as a view; the
+// one kept in `views` while the memory and the place are the same.
+function inputView(inner, views, which, length) {
+  const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
+  const old = views[which];
+  if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
+  return (views[which] = view(Float32Array, ptr, length));
+}
+
+// Copies a frame (see frameArrays) into the wasm object's inputs and has it build the frame.
+function buildFrame(inner, views, positions, normals) {
+  inputView(inner, views, 'positions', positions.length).set(positions);
+  if (normals !== null) inputView(inner, views, 'normals', normals.length).set(normals);
+  inner.frame(normals !== null);
+}
+
+// What the classes owning a wasm object share (see WasmOwner); symbols keep them off the API.
+const LIVE = Symbol('tessella live wasm object');
+const CALL_LIVE = Symbol('tessella call on the live wasm object');
+
+// A JS object owning one wasm object until `free()`; any use afterwards throws.
+class WasmOwner {
+  #inner;
+  #name;
+
+  constructor(inner, name) {
+    this.#inner = inner;
+    this.#name = name;
+  }
+
+  // The wasm object, or a TessellaError once it was freed.
+  [LIVE]() {
+    if (this.#inner === null) throw new TessellaError(`this ${this.#name} was freed`);
+    return this.#inner;
+  }
+
+  // `fn(inner)` run by `call` on the wasm object, once it is known not to be freed.
+  [CALL_LIVE](fn) {
+    const inner = this[LIVE]();
+    return call(() => fn(inner));
+  }
+
+  /** Frees the wasm memory it holds; it cannot be used afterwards. */
+  free() {
+    if (this.#inner !== null) this.#inner.free();
+    this.#inner = null;
+  }
+}
+
 /**
  * A refinement plan for a deforming mesh: the topology (indices, uvs) and options are fixed,
  * each `refine(positions, normals?)` refines one frame into the same output arrays.
  */
-export class Refiner {
-  #inner;
+export class Refiner extends WasmOwner {
   #views = null;
-  #inputs = null;
+  #inputs = {};
 
   constructor(indices, options = {}) {
     const idx = indexArray(indices);
     const uvs = options?.uvs == null ? undefined : floats(options.uvs, 'uvs', 2);
     const json = optionsJson(options, ['uvs']);
-    this.#inner = call((g) => new g.Refiner(idx, uvs, json));
-  }
-
-  #input(which, length) {
-    const inner = this.#inner;
-    const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
-    const key = `${which}`;
-    this.#inputs ??= {};
-    const old = this.#inputs[key];
-    if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
-    return (this.#inputs[key] = view(Float32Array, ptr, length));
+    super(call((g) => new g.Refiner(idx, uvs, json)), 'Refiner');
   }
 
   /**
@@ -293,14 +345,9 @@ export class Refiner {
    * must have the vertex count of the first frame. Returns the output views (see `positions`).
    */
   refine(positions, normals) {
-    if (this.#inner === null) throw new TessellaError('this Refiner was freed');
-    const p = positions instanceof Float32Array || positions instanceof Float64Array ? positions : floats(positions, 'positions', 3);
-    const n = normals == null ? null : normals instanceof Float32Array || normals instanceof Float64Array ? normals : floats(normals, 'normals', 3);
-    call(() => {
-      this.#input('positions', p.length).set(p);
-      if (n !== null) this.#input('normals', n.length).set(n);
-      this.#inner.frame(n !== null);
-    });
+    const inner = this[LIVE]();
+    const [p, n] = frameArrays(positions, normals);
+    call(() => buildFrame(inner, this.#inputs, p, n));
     return this.output;
   }
 
@@ -311,8 +358,7 @@ export class Refiner {
    * each `refine` (it is the same object while the memory has not grown), copy what you keep.
    */
   get output() {
-    const inner = this.#inner;
-    if (inner === null) throw new TessellaError('this Refiner was freed');
+    const inner = this[LIVE]();
     const v = this.#views;
     if (v !== null && v.positions.buffer === memory.buffer) return v;
     const nv = inner.vertexCount();
@@ -328,28 +374,19 @@ export class Refiner {
 
   /** Frees the wasm memory this refiner holds; it cannot be used afterwards. */
   free() {
-    if (this.#inner !== null) this.#inner.free();
-    this.#inner = null;
+    super.free();
     this.#views = null;
-    this.#inputs = null;
+    this.#inputs = {};
   }
 }
 
-// Where InstancedSurface and AdaptiveSurface keep their wasm object (and the views of its
-// input arrays), and the check that it was not freed: shared through NetsSurface.
-const INNER = Symbol('tessella wasm object');
-const INPUTS = Symbol('tessella input views');
-const LIVE = Symbol('tessella live wasm object');
-
 // What InstancedSurface and AdaptiveSurface share: the wasm object, the nets texture's layout,
-// and per frame the nets and their bounds.
-class NetsSurface {
-  #name;
+// per frame the nets and their bounds, and the vertex shader's code.
+class NetsSurface extends WasmOwner {
+  #inputs = {};
 
   constructor(inner, name) {
-    this[INNER] = inner;
-    this[INPUTS] = {};
-    this.#name = name;
+    super(inner, name);
     /** Control points per net: 10 (cubic basis) or 21 (PNG1). */
     this.basisLength = inner.basisLength();
     /** The normal mode in effect: 'linear', 'quadratic' or 'real'. */
@@ -365,19 +402,6 @@ class NetsSurface {
     this.bounds = new Float32Array(10);
   }
 
-  [LIVE]() {
-    if (this[INNER] === null) throw new TessellaError(`this ${this.#name} was freed`);
-    return this[INNER];
-  }
-
-  #input(which, length) {
-    const inner = this[INNER];
-    const ptr = which === 'positions' ? inner.positionsInput(length) : inner.normalsInput(length);
-    const old = this[INPUTS][which];
-    if (old && old.buffer === memory.buffer && old.byteOffset === ptr && old.length === length) return old;
-    return (this[INPUTS][which] = view(Float32Array, ptr, length));
-  }
-
   /**
    * Builds one frame's nets from `positions` (and `normals`, or leave them out to have them
    * computed), copies them into `out` (a Float32Array of `width * height * 4` floats) and the
@@ -385,27 +409,44 @@ class NetsSurface {
    */
   update(positions, normals, out) {
     const inner = this[LIVE]();
-    const p = positions instanceof Float32Array || positions instanceof Float64Array ? positions : floats(positions, 'positions', 3);
-    const n = normals == null ? null : normals instanceof Float32Array || normals instanceof Float64Array ? normals : floats(normals, 'normals', 3);
+    const [p, n] = frameArrays(positions, normals);
     const length = this.width * this.height * 4;
     if (!(out instanceof Float32Array) || out.length !== length) {
       throw new TessellaError(`the nets go into a Float32Array of ${length} floats (width * height * 4)`);
     }
     call(() => {
-      this.#input('positions', p.length).set(p);
-      if (n !== null) this.#input('normals', n.length).set(n);
-      inner.frame(n !== null);
+      buildFrame(inner, this.#inputs, p, n);
       out.set(view(Float32Array, inner.netsOutput(), length));
       this.bounds.set(view(Float32Array, inner.boundsOutput(), 10));
     });
     return out;
   }
 
+  /**
+   * The vertex shader's GLSL ES 3.00. InstancedSurface's declares `tessella_evaluate(int face,
+   * vec3 l, out vec3 position, out vec3 normal)`, AdaptiveSurface's
+   * `tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal)`.
+   */
+  glsl() {
+    return this[CALL_LIVE]((inner) => inner.glsl());
+  }
+
+  /**
+   * The same in WGSL, for three.js's WebGPURenderer (TSL `wgslFn`). InstancedSurface's ends
+   * with `fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32>` and
+   * `fn tessella_normal(...)` (same parameters, a unit normal); AdaptiveSurface's with
+   * `fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32>`
+   * (columns: the point, its unit normal, its barycentric coordinates; the instance word read
+   * at `instance` of the R32UI `instances` texture).
+   */
+  wgsl() {
+    return this[CALL_LIVE]((inner) => inner.wgsl());
+  }
+
   /** Frees the wasm memory; it cannot be used afterwards. */
   free() {
-    if (this[INNER] !== null) this[INNER].free();
-    this[INNER] = null;
-    this[INPUTS] = {};
+    super.free();
+    this.#inputs = {};
   }
 }
 
@@ -430,29 +471,12 @@ export class InstancedSurface extends NetsSurface {
 
   /** The pattern's points, barycentric (l1, l2, l3) on the coarse triangle, 3 per point. */
   patternPoints() {
-    const inner = this[LIVE]();
-    return call(() => inner.patternPoints());
+    return this[CALL_LIVE]((inner) => inner.patternPoints());
   }
 
   /** The pattern's triangles, 3 point indices each. */
   patternIndices() {
-    const inner = this[LIVE]();
-    return call(() => inner.patternIndices());
-  }
-
-  /** GLSL ES 3.00 declaring `tessella_evaluate(int face, vec3 l, out vec3 position, out vec3 normal)`. */
-  glsl() {
-    const inner = this[LIVE]();
-    return call(() => inner.glsl());
-  }
-
-  /**
-   * WGSL ending with `fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32>`
-   * and `fn tessella_normal(...)` (same parameters, a unit normal), for TSL's `wgslFn`.
-   */
-  wgsl() {
-    const inner = this[LIVE]();
-    return call(() => inner.wgsl());
+    return this[CALL_LIVE]((inner) => inner.patternIndices());
   }
 
   /**
@@ -461,14 +485,12 @@ export class InstancedSurface extends NetsSurface {
    * without such a bound (PNG1, scalar-tagged, quadratic).
    */
   controlReach() {
-    const inner = this[LIVE]();
-    return call(() => inner.controlReach()) ?? null;
+    return this[CALL_LIVE]((inner) => inner.controlReach()) ?? null;
   }
 
   /** Why WebGL2's net pass cannot build these nets (PNG1 and the other CPU-only schemes, tags), or null. */
   netsPassMissing() {
-    const inner = this[LIVE]();
-    return call(() => inner.netsPassMissing()) ?? null;
+    return this[CALL_LIVE]((inner) => inner.netsPassMissing()) ?? null;
   }
 
   /**
@@ -479,8 +501,7 @@ export class InstancedSurface extends NetsSurface {
    * Throws where `netsPassMissing()` says why.
    */
   netsPassGlsl() {
-    const inner = this[LIVE]();
-    return call(() => inner.netsPassGlsl());
+    return this[CALL_LIVE]((inner) => inner.netsPassGlsl());
   }
 
   /**
@@ -488,8 +509,7 @@ export class InstancedSurface extends NetsSurface {
    * vertices whose normals its edges' other sides use. Known after the first `update`.
    */
   netsPassTopology() {
-    const inner = this[LIVE]();
-    return call(() => inner.netsPassTopology());
+    return this[CALL_LIVE]((inner) => inner.netsPassTopology());
   }
 
   /**
@@ -501,8 +521,7 @@ export class InstancedSurface extends NetsSurface {
    * normal). Throws where `netsPassMissing()` says why.
    */
   netsComputeWgsl() {
-    const inner = this[LIVE]();
-    return call(() => ({ nets: inner.netsComputeWgsl(), skinNormal: inner.skinNormalWgsl() }));
+    return this[CALL_LIVE]((inner) => ({ nets: inner.netsComputeWgsl(), skinNormal: inner.skinNormalWgsl() }));
   }
 
 }
@@ -542,43 +561,22 @@ export class AdaptiveSurface extends NetsSurface {
 
   /** The parts' point codes, one per vertex (built once). */
   partCodes() {
-    const inner = this[LIVE]();
-    return call(() => inner.partCodes());
+    return this[CALL_LIVE]((inner) => inner.partCodes());
   }
 
   /** The parts' triangles, indices into `partCodes()`. */
   partIndices() {
-    const inner = this[LIVE]();
-    return call(() => inner.partIndices());
+    return this[CALL_LIVE]((inner) => inner.partIndices());
   }
 
   /** Per part id its first index and index count. */
   partRanges() {
-    const inner = this[LIVE]();
-    return call(() => inner.partRanges());
-  }
-
-  /** GLSL ES 3.00 declaring `tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal)`. */
-  glsl() {
-    const inner = this[LIVE]();
-    return call(() => inner.glsl());
-  }
-
-  /**
-   * The same in WGSL for three.js's WebGPURenderer (TSL `wgslFn`), ending with
-   * `fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32>`
-   * (columns: the point, its unit normal, its barycentric coordinates; the instance word read
-   * at `instance` of the R32UI `instances` texture).
-   */
-  wgsl() {
-    const inner = this[LIVE]();
-    return call(() => inner.wgsl());
+    return this[CALL_LIVE]((inner) => inner.partRanges());
   }
 
   /** Unique edges (once a frame was built): `setLevels` takes one level each. */
   get edgeCount() {
-    const inner = this[LIVE]();
-    return call(() => inner.edgeCount());
+    return this[CALL_LIVE]((inner) => inner.edgeCount());
   }
 
   /**
@@ -593,7 +591,7 @@ export class AdaptiveSurface extends NetsSurface {
       throw new TessellaError('setLod takes { eye: [x, y, z], target: [x, y, z], fov } and size [width, height]');
     }
     call(() => inner.setLod(eye[0], eye[1], eye[2], target[0], target[1], target[2], fov, size[0], size[1]));
-    this.#levelsSet();
+    this.#levelsSet(inner);
   }
 
   /** Per-edge levels given: one per unique edge (`edgeCount`). Then `read(records, instances)`. */
@@ -601,11 +599,10 @@ export class AdaptiveSurface extends NetsSurface {
     const inner = this[LIVE]();
     const l = floats(levels, 'levels', 1);
     call(() => inner.setLevels(l));
-    this.#levelsSet();
+    this.#levelsSet(inner);
   }
 
-  #levelsSet() {
-    const inner = this[INNER];
+  #levelsSet(inner) {
     this.draws = call(() => inner.draws());
     this.instanceCount = inner.instanceCount();
     this.triangleCount = inner.triangleCount();
@@ -613,8 +610,7 @@ export class AdaptiveSurface extends NetsSurface {
 
   /** The last levels, one per unique edge. */
   edgeLevels() {
-    const inner = this[LIVE]();
-    return call(() => inner.edgeLevels());
+    return this[CALL_LIVE]((inner) => inner.edgeLevels());
   }
 
   /**
@@ -648,9 +644,7 @@ export class AdaptiveSurface extends NetsSurface {
  * `targets × vertices × 3` numbers. `pose(matrices, weights, positions, normals)` then poses it
  * with the core's skinning (the code `readAnimated`'s poses run).
  */
-export class Deformer {
-  #inner;
-
+export class Deformer extends WasmOwner {
   constructor({ positions, normals, joints, weights, jointCount = 0, positionDeltas, normalDeltas, targets = 0 }) {
     const p = floats(positions, 'positions', 3);
     const n = normals == null ? new Float32Array(0) : floats(normals, 'normals', 3);
@@ -658,12 +652,13 @@ export class Deformer {
     const w = weights == null ? new Float32Array(0) : floats(weights, 'weights', 4);
     const dp = positionDeltas == null ? new Float32Array(0) : floats(positionDeltas, 'positionDeltas', 3);
     const dn = normalDeltas == null ? new Float32Array(0) : floats(normalDeltas, 'normalDeltas', 3);
-    this.#inner = call((g) => new g.Deformer(p, n, j, w, jointCount, dp, dn, targets));
+    const inner = call((g) => new g.Deformer(p, n, j, w, jointCount, dp, dn, targets));
+    super(inner, 'Deformer');
     /** Matrices a pose takes: the joint count, or 1 without a skeleton. */
-    this.matrixCount = this.#inner.matrixCount();
-    this.vertexCount = this.#inner.vertexCount();
+    this.matrixCount = inner.matrixCount();
+    this.vertexCount = inner.vertexCount();
     /** Whether poses carry normals (the source had them). */
-    this.hasNormals = this.#inner.hasNormals();
+    this.hasNormals = inner.hasNormals();
   }
 
   /**
@@ -672,9 +667,7 @@ export class Deformer {
    * `normals` (Float32Arrays of `vertexCount * 3`; `normals` ignored without `hasNormals`).
    */
   pose(matrices, weights, positions, normals) {
-    if (this.#inner === null) throw new TessellaError('this Deformer was freed');
-    const inner = this.#inner;
-    call(() => inner.pose(matrices, weights, positions, this.hasNormals ? normals : new Float32Array(0)));
+    this[CALL_LIVE]((inner) => inner.pose(matrices, weights, positions, this.hasNormals ? normals : new Float32Array(0)));
   }
 
   /**
@@ -685,14 +678,7 @@ export class Deformer {
    * a Float32Array of 6 numbers, the low corner then the high one.
    */
   posedBounds(matrices, weights, indices, reach) {
-    if (this.#inner === null) throw new TessellaError('this Deformer was freed');
-    const inner = this.#inner;
-    return call(() => inner.posedBounds(matrices, weights, indices, reach));
-  }
-
-  free() {
-    if (this.#inner !== null) this.#inner.free();
-    this.#inner = null;
+    return this[CALL_LIVE]((inner) => inner.posedBounds(matrices, weights, indices, reach));
   }
 }
 
@@ -703,12 +689,10 @@ const INTERNAL = Symbol('tessella internal');
  * An animated mesh read by `readAnimated`: its triangles, clips, and poses at any time of a
  * clip (or the rest pose), each a new `{ positions, normals }`.
  */
-export class AnimatedMesh {
-  #inner;
-
+export class AnimatedMesh extends WasmOwner {
   constructor(token, inner) {
     if (token !== INTERNAL) throw new TessellaError('an AnimatedMesh comes from readAnimated(bytes, format)');
-    this.#inner = inner;
+    super(inner, 'AnimatedMesh');
     /** The triangles' corners, 3 vertex indices per triangle (Uint32Array). */
     this.indices = inner.indices();
     /** The clips' names, in the file's order (a clip is given by name or by index). */
@@ -717,25 +701,11 @@ export class AnimatedMesh {
     this.vertexCount = inner.vertexCount();
   }
 
-  // A clip (a name or an index) as the index the wasm side takes; null/undefined: undefined.
-  #clip(clip, what) {
-    if (clip == null) return undefined;
-    if (typeof clip === 'string') return this.#inner.clipIndex(clip);
-    if (typeof clip === 'number' && Number.isInteger(clip) && clip >= 0 && clip <= 0xffffffff) return clip;
-    throw new TessellaError(`${what}: a clip is a name (string) or an index (an integer from 0), got ${typeof clip === 'number' ? clip : typeof clip}`);
-  }
-
-  #live() {
-    if (this.#inner === null) throw new TessellaError('this AnimatedMesh was freed');
-    return this.#inner;
-  }
-
   /** A clip's duration in seconds; `clip` is its name or its index. */
   duration(clip) {
-    const inner = this.#live();
-    return call(() => {
+    return this[CALL_LIVE]((inner) => {
       if (clip == null) throw new TessellaError('duration: which clip? Give its name or its index');
-      return inner.duration(this.#clip(clip, 'duration'));
+      return inner.duration(clipIndex(inner, clip, 'duration'));
     });
   }
 
@@ -745,25 +715,22 @@ export class AnimatedMesh {
    * 3 numbers per vertex. Normals are the file's posed, or computed when the file has none.
    */
   pose(clip, time) {
-    const inner = this.#live();
-    return call(() => {
-      const index = this.#clip(clip, 'pose');
+    return this[CALL_LIVE]((inner) => {
+      const index = clipIndex(inner, clip, 'pose');
       if (index === undefined && time === undefined) time = 0;
       if (typeof time !== 'number') throw new TessellaError(`pose: time must be a number of seconds, got ${typeof time}`);
-      const pose = inner.pose(index, time);
-      try {
-        return { positions: pose.takePositions(), normals: pose.takeNormals() };
-      } finally {
-        pose.free();
-      }
+      return thenFree(inner.pose(index, time), (pose) => ({ positions: pose.takePositions(), normals: pose.takeNormals() }));
     });
   }
+}
 
-  /** Frees the wasm memory it holds; it cannot be used afterwards. */
-  free() {
-    if (this.#inner !== null) this.#inner.free();
-    this.#inner = null;
-  }
+// A clip (a name or an index) as the index AnimatedMesh's wasm object takes; null/undefined:
+// undefined. `what` names the method in the error.
+function clipIndex(inner, clip, what) {
+  if (clip == null) return undefined;
+  if (typeof clip === 'string') return inner.clipIndex(clip);
+  if (typeof clip === 'number' && Number.isInteger(clip) && clip >= 0 && clip <= 0xffffffff) return clip;
+  throw new TessellaError(`${what}: a clip is a name (string) or an index (an integer from 0), got ${typeof clip === 'number' ? clip : typeof clip}`);
 }
 
 /**
@@ -772,11 +739,9 @@ export class AnimatedMesh {
  * skins, morph targets and clips; returns an AnimatedMesh.
  */
 export function readAnimated(bytes, format, options = {}) {
-  bytes = fileBytes(bytes, 'readAnimated');
-  if (typeof format !== 'string') throw new TessellaError("readAnimated's format must be a string such as 'glb'");
-  const { names, lengths, data } = buffers(options);
+  const file = fileToRead('readAnimated', bytes, format, options, 'glb');
   return call((g) => {
-    const inner = withBuffers(g, names, lengths, data, (given) => g.readAnimated(bytes, format, given));
+    const inner = withBuffers(g, file.buffers, (given) => g.readAnimated(file.bytes, format, given));
     try {
       return new AnimatedMesh(INTERNAL, inner);
     } catch (e) {
