@@ -7,7 +7,8 @@
 //! source, not typed again beside it.
 //!
 //! Branches on values cannot be traced, so a formula that needs one says it with
-//! [`Real::select_nonzero`], which computes both sides and keeps one: the `f64` result is the
+//! [`Real::select_nonzero`], which computes both sides and keeps one (or, for vectors,
+//! [`V3::choose_nonzero`], which on the CPU computes only the side it keeps): the `f64` result is the
 //! one an `if` would give, bit for bit (the side not taken may divide by zero; it is dropped).
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -32,6 +33,12 @@ pub trait Real:
     fn sqrt(self) -> Self;
     /// `yes` where `test` is finite and positive, else `no`; both sides are computed.
     fn select_positive_finite(test: Self, yes: Self, no: Self) -> Self;
+    /// Whether `self != 0`, where that is known now: always for a CPU number, which then
+    /// computes only the side it keeps ([`V3::choose_nonzero`]); for a traced one only when it
+    /// is a constant, the other selections record both sides.
+    fn known_nonzero(self) -> Option<bool>;
+    /// Whether `self` is finite and positive, where that is known now (as [`Real::known_nonzero`]).
+    fn known_positive_finite(self) -> Option<bool>;
 }
 
 /// `f64` (stencil weights) and `f32` (control nets: the coarse mesh's precision) compute as
@@ -66,6 +73,14 @@ macro_rules! real_float {
                 } else {
                     no
                 }
+            }
+            #[inline]
+            fn known_nonzero(self) -> Option<bool> {
+                Some(self != 0.0)
+            }
+            #[inline]
+            fn known_positive_finite(self) -> Option<bool> {
+                Some(self.is_finite() && self > 0.0)
             }
         }
     };
@@ -206,13 +221,46 @@ impl<T: Real> V3<T> {
             T::select_positive_finite(rcp, scaled.z, fallback.z),
         )
     }
-    /// `nonzero` where `test != 0`, else `zero`, each component; both are computed.
-    pub fn select_nonzero(test: T, nonzero: V3<T>, zero: V3<T>) -> V3<T> {
-        V3::new(
-            T::select_nonzero(test, nonzero.x, zero.x),
-            T::select_nonzero(test, nonzero.y, zero.y),
-            T::select_nonzero(test, nonzero.z, zero.z),
-        )
+    /// `nonzero()` where `test != 0`, else `zero()`, each component: a CPU number computes
+    /// the side it keeps, a traced one records both and a selection.
+    #[inline(always)]
+    pub fn choose_nonzero(
+        test: T,
+        nonzero: impl FnOnce() -> V3<T>,
+        zero: impl FnOnce() -> V3<T>,
+    ) -> V3<T> {
+        match test.known_nonzero() {
+            Some(true) => nonzero(),
+            Some(false) => zero(),
+            None => {
+                let (a, b) = (nonzero(), zero());
+                V3::new(
+                    T::select_nonzero(test, a.x, b.x),
+                    T::select_nonzero(test, a.y, b.y),
+                    T::select_nonzero(test, a.z, b.z),
+                )
+            }
+        }
+    }
+    /// `yes()` where `test` is finite and positive, else `no()`, as [`V3::choose_nonzero`].
+    #[inline(always)]
+    pub fn choose_positive_finite(
+        test: T,
+        yes: impl FnOnce() -> V3<T>,
+        no: impl FnOnce() -> V3<T>,
+    ) -> V3<T> {
+        match test.known_positive_finite() {
+            Some(true) => yes(),
+            Some(false) => no(),
+            None => {
+                let (a, b) = (yes(), no());
+                V3::new(
+                    T::select_positive_finite(test, a.x, b.x),
+                    T::select_positive_finite(test, a.y, b.y),
+                    T::select_positive_finite(test, a.z, b.z),
+                )
+            }
+        }
     }
     pub fn normalize_or_zero(self) -> V3<T> {
         let rcp = T::lit(1.0) / self.dot(self).sqrt();

@@ -120,15 +120,12 @@ fn tangent_point<T: Noise>(a: V3<T>, n: V3<T>, x: V3<T>) -> V3<T> {
     let d = x - a;
     let proj = d - n * d.dot(n);
     let len = proj.length();
-    let along = a + proj * (d.length() / len / T::lit(3.0));
-    // The edge runs along the normal: any tangent direction is as good as another.
-    let across = a + any_orthonormal(n) * (d.length() / T::lit(3.0));
     // `len - 1e-300` is positive and finite exactly where `len > 1e-300` is finite.
-    let test = len - T::lit(1e-300);
-    V3::new(
-        T::select_positive_finite(test, along.x, across.x),
-        T::select_positive_finite(test, along.y, across.y),
-        T::select_positive_finite(test, along.z, across.z),
+    V3::choose_positive_finite(
+        len - T::lit(1e-300),
+        || a + proj * (d.length() / len / T::lit(3.0)),
+        // The edge runs along the normal: any tangent direction is as good as another.
+        || a + any_orthonormal(n) * (d.length() / T::lit(3.0)),
     )
 }
 
@@ -147,7 +144,7 @@ impl<T: Noise> SegmentFrame<T> {
         let t = s1 - s0;
         let len = t.length();
         // Unused when the segment is degenerate (`len == 0`): the transfer translates then.
-        let m = V3::select_nonzero(len, n.cross(t) / len, V3::zero());
+        let m = V3::choose_nonzero(len, || n.cross(t) / len, V3::zero);
         SegmentFrame { s0, t, m, len }
     }
 
@@ -168,11 +165,11 @@ impl<T: Noise> SegmentFrame<T> {
     /// The point with coordinates `coords` (from `from`) in this frame: the similarity carrying
     /// `from`'s segment onto this one, or a translation when either segment is degenerate.
     fn place(&self, from: &SegmentFrame<T>, (r, xi, eta): (V3<T>, T, T)) -> V3<T> {
-        let similar = self.s0 + self.t * xi + self.m * (eta * self.len);
-        let translated = self.s0 + r;
-        V3::select_nonzero(
+        let similar = || self.s0 + self.t * xi + self.m * (eta * self.len);
+        let translated = || self.s0 + r;
+        V3::choose_nonzero(
             from.len,
-            V3::select_nonzero(self.len, similar, translated),
+            || V3::choose_nonzero(self.len, similar, translated),
             translated,
         )
     }
@@ -212,8 +209,8 @@ pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) ->
 
 /// [`control_points_f64`] over any [`Noise`] number: the one source of the CPU's nets (in
 /// `f64`) and of the OpenGL control shader's (`shader::png1_net_glsl`, traced in doubles).
-/// Every branch is a selection, both sides computed, so the `f64` bits are those of the
-/// branches an `if` would take.
+/// Every branch is a choice ([`V3::choose_nonzero`]): the CPU computes the side it takes, a
+/// traced number records both sides and a selection.
 pub fn control_points_of<T: Noise>(
     p: [V3<T>; 3],
     n: [V3<T>; 3],
@@ -235,19 +232,25 @@ pub fn control_points_of<T: Noise>(
 
         // Middle plane, equations (3)-(5); sharp and boundary edges use the own plane only.
         let n_t = tri_normal(pa, pb, pc);
-        let n_sum = V3::select_nonzero(edge.smooth, n_t + tri_normal(pb, pa, edge.opposite), n_t);
+        let n_sum = V3::choose_nonzero(
+            edge.smooth,
+            || n_t + tri_normal(pb, pa, edge.opposite),
+            || n_t,
+        );
         let e1 = e_b - e_a;
         let t = e1.normalize_or_zero();
         let nm = (n_sum - t * n_sum.dot(t)).normalize_or_zero();
         // Folded neighbours cancel: fall back on the corner normals, then on anything.
-        let s = na + nb;
-        let from_corners = (s - t * s.dot(t)).normalize_or_zero();
-        let fallback = V3::select_nonzero(
-            from_corners.length_squared(),
-            from_corners,
-            any_orthonormal(t),
-        );
-        let nm = V3::select_nonzero(nm.length_squared(), nm, fallback);
+        let fallback = || {
+            let s = na + nb;
+            let from_corners = (s - t * s.dot(t)).normalize_or_zero();
+            V3::choose_nonzero(
+                from_corners.length_squared(),
+                || from_corners,
+                || any_orthonormal(t),
+            )
+        };
+        let nm = V3::choose_nonzero(nm.length_squared(), || nm, fallback);
 
         // Version a maps from a → e_a (a's plane), version b from e_b → b (b's plane); each
         // onto the middle segment and onto the other end's segment.
@@ -256,7 +259,7 @@ pub fn control_points_of<T: Noise>(
         let middle = SegmentFrame::new(e_a, e_b, nm);
         let (in_a, in_b) = (at_a.coords(f_a), at_b.coords(f_b));
         let shift = n_t * edge.kappa;
-        let sharpen = |x: V3<T>| V3::select_nonzero(edge.sharp, x + shift, x);
+        let sharpen = |x: V3<T>| V3::choose_nonzero(edge.sharp, || x + shift, || x);
         let centre_a = sharpen(middle.place(&at_a, in_a));
         let cross_a = sharpen(at_b.place(&at_a, in_a));
         let centre_b = sharpen(middle.place(&at_b, in_b));

@@ -434,6 +434,14 @@ impl Real for Expr {
         }
     }
 
+    fn known_nonzero(self) -> Option<bool> {
+        self.value().map(|t| t != 0.0)
+    }
+
+    fn known_positive_finite(self) -> Option<bool> {
+        self.value().map(|t| t.is_finite() && t > 0.0)
+    }
+
     fn select_positive_finite(test: Expr, yes: Expr, no: Expr) -> Expr {
         if yes == no {
             return no;
