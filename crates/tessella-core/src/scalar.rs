@@ -8,8 +8,9 @@
 //!
 //! Branches on values cannot be traced, so a formula that needs one says it with
 //! [`Real::select_nonzero`], which computes both sides and keeps one (or, for vectors,
-//! [`V3::choose_nonzero`], which on the CPU computes only the side it keeps): the `f64` result is the
-//! one an `if` would give, bit for bit (the side not taken may divide by zero; it is dropped).
+//! [`V3::choose_nonzero`], which on the CPU computes only the side it keeps): the `f64` result
+//! is the one an `if` would give, bit for bit (the side not taken may divide by zero; it is
+//! dropped).
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
