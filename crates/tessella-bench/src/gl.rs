@@ -191,12 +191,11 @@ pub fn tables(
         kind(soft),
         pattern.label()
     );
-    out.push('\n');
-    out.push('\n');
-    out += "| n | GL triangles | m | pattern triangles | CPU ms/M triangles (n) | GL / CPU | CPU ms/M triangles (m) | pattern / CPU | GL ms/M triangles | pattern ms/M triangles |";
-    out.push('\n');
-    out += "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|";
-    out.push('\n');
+    push_table_head(
+        &mut out,
+        "| n | GL triangles | m | pattern triangles | CPU ms/M triangles (n) | GL / CPU | CPU ms/M triangles (m) | pattern / CPU | GL ms/M triangles | pattern ms/M triangles |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    );
     for (q, _) in &rows {
         let per_m = |s: f64, tris: usize| s / tris as f64 * 1e6;
         // The grid level with the nearest triangle count: m² against (3n² − (n mod 2)) / 2.
@@ -235,12 +234,11 @@ pub fn tables(
         info.renderer,
         kind(soft)
     );
-    out.push('\n');
-    out.push('\n');
-    out += "| n | triangles | vertices | quadratic GL / CPU | real GL / CPU | real / quadratic (GL) | real / quadratic (CPU) | quadratic GL ns/vertex | real GL ns/vertex |";
-    out.push('\n');
-    out += "|---:|---:|---:|---:|---:|---:|---:|---:|---:|";
-    out.push('\n');
+    push_table_head(
+        &mut out,
+        "| n | triangles | vertices | quadratic GL / CPU | real GL / CPU | real / quadratic (GL) | real / quadratic (CPU) | quadratic GL ns/vertex | real GL ns/vertex |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    );
     for (q, r) in &rows {
         let ns = |row: &GlBenchRow| {
             if soft {
@@ -282,4 +280,10 @@ pub fn tables(
         out.push('\n');
     }
     Ok(out)
+}
+
+/// Ends the caption line above a Markdown table, leaves a blank line, then writes the table's
+/// header and alignment rows.
+fn push_table_head(out: &mut String, header: &str, align: &str) {
+    *out += &format!("\n\n{header}\n{align}\n");
 }

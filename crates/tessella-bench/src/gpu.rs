@@ -9,13 +9,13 @@
 //! with `pollster`: one implementation times both.
 
 use image::RgbaImage;
-use tessella_core::refine::{Evaluator, Plan, Surface, SurfaceOptions};
+use tessella_core::refine::{Evaluator, Frame, Plan, Surface, SurfaceOptions};
 use tessella_core::{samples, Mesh, RefineOptions, Scheme};
 use tessella_gpu::{
     AdaptiveRenderer, Displacement, GpuContext, GpuError, GpuEvaluator, GpuOutput, IndexWidth,
     PatternRenderer,
 };
-use tessella_view::{scene_uniforms, Appearance, RenderOptions, Target};
+use tessella_view::{scene_uniforms, Appearance, RenderOptions, RenderUniforms, Target};
 use web_time::Instant;
 
 /// One row of [`refine_throughput`].
@@ -186,28 +186,22 @@ pub async fn figure7_async(
     config: &Figure7Config,
 ) -> Result<Vec<Figure7Row>, GpuError> {
     let mut rows = Vec::new();
-    let options = RenderOptions {
-        size: config.size,
-        ..Default::default()
-    };
+    let options = view_at(config.size);
     options.validate()?;
-    let target = Target::new(ctx, config.size)?;
-    let look = Appearance::new(ctx, Target::FORMATS);
-    let bg = options.background;
+    let stage = Stage::new(ctx, options)?;
+    let look = &stage.look;
     for &faces in &config.faces {
         let mesh = mesh_with_faces(faces)?;
         for &level in &config.levels {
             let plan = Plan::new(&mesh, &RefineOptions::new(config.scheme, level))?;
             let frame = plan.frame(&mesh)?;
-            let renderer =
-                PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &Displacement::None)?;
-            look.set_uniforms(&scene_uniforms(&mesh, &options, 0.0));
+            let uniforms = scene_uniforms(&mesh, &stage.options, 0.0);
+            let renderer = stage.pattern_renderer(ctx, &plan, &frame, &uniforms)?;
             // (b) pattern.
-            let pattern_ms = time_draws(ctx, &target, bg, config.frames, &|pass| {
-                look.draw(pass, &renderer)
-            })
-            .await?;
-            let pattern_picture = target.read_async(ctx).await?;
+            let pattern_ms = stage
+                .time_draws(ctx, config.frames, &|pass| look.draw(pass, &renderer))
+                .await?;
+            let pattern_picture = stage.target.read_async(ctx).await?;
             // (a) static buffer of the refined mesh, evaluated once, where it fits.
             let mut gpu = GpuEvaluator::new(ctx, &plan)?;
             let index_bytes = IndexWidth::for_plan(&plan).buffer_bytes(&plan);
@@ -234,18 +228,19 @@ pub async fn figure7_async(
                         plan.triangle_count()
                     ))
                 })?;
-                let ms = time_draws(ctx, &target, bg, config.frames, &|pass| {
-                    renderer.draw_refined(
-                        pass,
-                        look.group(),
-                        vertices.slice(..),
-                        indices.slice(..),
-                        format,
-                        count,
-                    )
-                })
-                .await?;
-                let static_picture = target.read_async(ctx).await?;
+                let ms = stage
+                    .time_draws(ctx, config.frames, &|pass| {
+                        renderer.draw_refined(
+                            pass,
+                            look.group(),
+                            vertices.slice(..),
+                            indices.slice(..),
+                            format,
+                            count,
+                        )
+                    })
+                    .await?;
+                let static_picture = stage.target.read_async(ctx).await?;
                 (
                     Some(ms),
                     None,
@@ -352,24 +347,16 @@ pub async fn scheme_frame_times_async(
     frames: u32,
     size: (u32, u32),
 ) -> Result<Vec<SchemeRow>, GpuError> {
-    let options = RenderOptions {
-        size,
-        ..Default::default()
-    };
-    let target = Target::new(ctx, size)?;
-    let look = Appearance::new(ctx, Target::FORMATS);
-    let uniforms = scene_uniforms(mesh, &options, 0.0);
+    let stage = Stage::new(ctx, view_at(size))?;
+    let uniforms = scene_uniforms(mesh, &stage.options, 0.0);
     let mut rows = Vec::new();
     for &scheme in schemes {
         let plan = Plan::new(mesh, &RefineOptions::new(scheme, level))?;
         let frame = plan.frame(mesh)?;
-        let renderer =
-            PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &Displacement::None)?;
-        look.set_uniforms(&uniforms);
-        let frame_ms = time_draws(ctx, &target, options.background, frames, &|pass| {
-            look.draw(pass, &renderer)
-        })
-        .await?;
+        let renderer = stage.pattern_renderer(ctx, &plan, &frame, &uniforms)?;
+        let frame_ms = stage
+            .time_draws(ctx, frames, &|pass| stage.look.draw(pass, &renderer))
+            .await?;
         rows.push(SchemeRow {
             adapter: ctx.adapter_label(),
             scheme: scheme.name().to_string(),
@@ -392,6 +379,72 @@ pub fn scheme_table(rows: &[SchemeRow]) -> String {
         );
     }
     s
+}
+
+/// The default view at `size`: what the frame-timed experiments draw.
+fn view_at(size: (u32, u32)) -> RenderOptions {
+    RenderOptions {
+        size,
+        ..Default::default()
+    }
+}
+
+/// What the frame-timed experiments draw into: their view, its offscreen target and the
+/// default look.
+struct Stage {
+    options: RenderOptions,
+    target: Target,
+    look: Appearance,
+}
+
+impl Stage {
+    fn new(ctx: &GpuContext, options: RenderOptions) -> Result<Stage, GpuError> {
+        Ok(Stage {
+            target: Target::new(ctx, options.size)?,
+            look: Appearance::new(ctx, Target::FORMATS),
+            options,
+        })
+    }
+
+    /// The instanced pattern renderer of `plan`'s `frame`, undisplaced, with the look's
+    /// uniforms set to `uniforms`.
+    fn pattern_renderer(
+        &self,
+        ctx: &GpuContext,
+        plan: &Plan,
+        frame: &Frame<'_>,
+        uniforms: &RenderUniforms,
+    ) -> Result<PatternRenderer, GpuError> {
+        let renderer =
+            PatternRenderer::new(ctx, plan, frame, &self.look.shading(), &Displacement::None)?;
+        self.look.set_uniforms(uniforms);
+        Ok(renderer)
+    }
+
+    /// [`time_draws`] into this stage's target, on its background.
+    async fn time_draws(
+        &self,
+        ctx: &GpuContext,
+        frames: u32,
+        record: &dyn Fn(&mut wgpu::RenderPass<'_>),
+    ) -> Result<f64, GpuError> {
+        time_draws(ctx, &self.target, self.options.background, frames, record).await
+    }
+
+    /// Draws one frame with `record`, awaited until the GPU has finished it, timed from
+    /// `start`: (ms before the draw, ms of the whole frame).
+    async fn frame_since(
+        &self,
+        ctx: &GpuContext,
+        start: Instant,
+        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
+    ) -> Result<(f64, f64), GpuError> {
+        let before = start.elapsed().as_secs_f64() * 1e3;
+        self.target
+            .draw_async(ctx, self.options.background, record)
+            .await?;
+        Ok((before, start.elapsed().as_secs_f64() * 1e3))
+    }
 }
 
 /// Median milliseconds of `frames` frames drawn by `record` into `target`, each awaited until
@@ -444,13 +497,8 @@ pub async fn mixed_pattern_frame_times_async(
     size: (u32, u32),
 ) -> Result<(f64, f64, usize, usize, usize), GpuError> {
     use tessella_core::refine::{Levels, Spacing};
-    let options = RenderOptions {
-        size,
-        ..Default::default()
-    };
-    let target = Target::new(ctx, size)?;
-    let look = Appearance::new(ctx, Target::FORMATS);
-    let uniforms = scene_uniforms(mesh, &options, 0.0);
+    let stage = Stage::new(ctx, view_at(size))?;
+    let uniforms = scene_uniforms(mesh, &stage.options, 0.0);
     let uniform = Plan::new(mesh, &RefineOptions::new(Scheme::Pn, level))?;
     let edges = uniform.topology().edges.len();
     // Levels spread evenly over [1, √3·level]: about the uniform plan's triangle count.
@@ -470,13 +518,10 @@ pub async fn mixed_pattern_frame_times_async(
     let mut out = Vec::new();
     for plan in [&uniform, &mixed] {
         let frame = plan.frame(mesh)?;
-        let renderer =
-            PatternRenderer::new(ctx, plan, &frame, &look.shading(), &Displacement::None)?;
-        look.set_uniforms(&uniforms);
-        let ms = time_draws(ctx, &target, options.background, frames, &|pass| {
-            look.draw(pass, &renderer)
-        })
-        .await?;
+        let renderer = stage.pattern_renderer(ctx, plan, &frame, &uniforms)?;
+        let ms = stage
+            .time_draws(ctx, frames, &|pass| stage.look.draw(pass, &renderer))
+            .await?;
         out.push((ms, plan.triangle_count(), renderer.draw_count()));
     }
     Ok((out[0].0, out[1].0, out[0].1, out[1].1, out[1].2))
@@ -537,13 +582,9 @@ pub async fn changing_levels_async(
     size: (u32, u32),
 ) -> Result<Vec<ChangingLevelsRow>, GpuError> {
     use tessella_core::refine::{Levels, Spacing};
-    let options = RenderOptions {
-        size,
-        ..Default::default()
-    };
-    let target = Target::new(ctx, size)?;
-    let look = Appearance::new(ctx, Target::FORMATS);
-    let uniforms = scene_uniforms(mesh, &options, 0.0);
+    let stage = Stage::new(ctx, view_at(size))?;
+    let look = &stage.look;
+    let uniforms = scene_uniforms(mesh, &stage.options, 0.0);
     let surface = Surface::new(mesh, &SurfaceOptions::new(Scheme::Pn))?;
     let first = surface.frame(mesh)?;
     let edges = surface.topology().edges.len();
@@ -558,7 +599,6 @@ pub async fn changing_levels_async(
                     faces: None,
                 })
         };
-        let bg = options.background;
         let (mut rebuild_ms, mut rebuild_bytes, mut triangles) = (vec![], vec![], vec![]);
         let (mut rebuild_setup_ms, mut set_levels_ms) = (vec![], vec![]);
         let mut last = None;
@@ -566,17 +606,14 @@ pub async fn changing_levels_async(
             let t = Instant::now();
             let plan = Plan::new(mesh, &options_at(k))?;
             let frame = plan.frame(mesh)?;
-            let renderer =
-                PatternRenderer::new(ctx, &plan, &frame, &look.shading(), &Displacement::None)?;
-            look.set_uniforms(&uniforms);
-            let setup = t.elapsed().as_secs_f64() * 1e3;
-            target
-                .draw_async(ctx, bg, |pass| look.draw(pass, &renderer))
+            let renderer = stage.pattern_renderer(ctx, &plan, &frame, &uniforms)?;
+            let (setup, whole) = stage
+                .frame_since(ctx, t, |pass| look.draw(pass, &renderer))
                 .await?;
             // Frame 0 warms up.
             if k > 0 {
                 rebuild_setup_ms.push(setup);
-                rebuild_ms.push(t.elapsed().as_secs_f64() * 1e3);
+                rebuild_ms.push(whole);
                 rebuild_bytes.push(renderer.byte_size() as f64);
                 triangles.push(plan.triangle_count() as f64);
             }
@@ -588,22 +625,23 @@ pub async fn changing_levels_async(
         for k in 0..=frames {
             let t = Instant::now();
             let bytes = adaptive.set_levels(&moving_levels(edges, top, k), None)?;
-            let setup = t.elapsed().as_secs_f64() * 1e3;
-            target
-                .draw_async(ctx, bg, |pass| look.draw(pass, &adaptive))
+            let (setup, whole) = stage
+                .frame_since(ctx, t, |pass| look.draw(pass, &adaptive))
                 .await?;
             if k > 0 {
                 set_levels_ms.push(setup);
-                adaptive_ms.push(t.elapsed().as_secs_f64() * 1e3);
+                adaptive_ms.push(whole);
                 adaptive_bytes.push(bytes as f64);
             }
         }
         // The last frame's levels, drawn again by both.
         let pattern = last.expect("at least one frame");
-        let pattern_draw_ms =
-            time_draws(ctx, &target, bg, frames, &|pass| look.draw(pass, &pattern)).await?;
-        let adaptive_draw_ms =
-            time_draws(ctx, &target, bg, frames, &|pass| look.draw(pass, &adaptive)).await?;
+        let pattern_draw_ms = stage
+            .time_draws(ctx, frames, &|pass| look.draw(pass, &pattern))
+            .await?;
+        let adaptive_draw_ms = stage
+            .time_draws(ctx, frames, &|pass| look.draw(pass, &adaptive))
+            .await?;
         rows.push(ChangingLevelsRow {
             adapter: ctx.adapter_label(),
             spacing: spacing.to_string(),

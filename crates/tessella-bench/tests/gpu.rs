@@ -10,15 +10,20 @@ use tessella_bench::gpu::{
 };
 use tessella_core::{samples, Pattern, RefineOptions, Refiner, Scheme};
 
-#[test]
-fn figure7_rows_count_vertices_like_the_paper() {
-    let config = Figure7Config {
-        faces: vec![10],
-        levels: vec![4],
+/// A Figure 7 run of one mesh of `faces` triangles at `level`, one small PN frame.
+fn one_frame_config(faces: usize, level: u32) -> Figure7Config {
+    Figure7Config {
+        faces: vec![faces],
+        levels: vec![level],
         frames: 1,
         size: (32, 32),
         scheme: Scheme::Pn,
-    };
+    }
+}
+
+#[test]
+fn figure7_rows_count_vertices_like_the_paper() {
+    let config = one_frame_config(10, 4);
     let rows = figure7(ctx(), &config).unwrap();
     assert_eq!(rows.len(), 1);
     let r = &rows[0];
@@ -93,13 +98,7 @@ fn figure7_says_when_the_static_buffer_does_not_fit() {
     // The device's limit as tessella reads it, lowered: the row is still made, not drawn.
     let mut small = ctx().clone();
     small.limits.max_buffer_size = 40_000;
-    let config = Figure7Config {
-        faces: vec![100],
-        levels: vec![8],
-        frames: 1,
-        size: (32, 32),
-        scheme: Scheme::Pn,
-    };
+    let config = one_frame_config(100, 8);
     let rows = figure7(&small, &config).unwrap();
     let r = &rows[0];
     assert!(r.static_bytes > 40_000);

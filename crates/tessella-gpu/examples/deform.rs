@@ -14,6 +14,8 @@ use tessella_core::refine::Plan;
 use tessella_core::{samples, RefineOptions, Scheme};
 use tessella_gpu::{GpuContext, GpuEvaluator, GpuOutput, IndexWidth};
 
+mod common;
+
 const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -61,11 +63,7 @@ fn parse_args() -> Result<Args, Box<dyn Error>> {
 
 /// The application opens its own device; any adapter will do (software included).
 fn open_device() -> Result<(wgpu::Device, wgpu::Queue), Box<dyn Error>> {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-        backends: wgpu::Backends::PRIMARY,
-        ..wgpu::InstanceDescriptor::new_without_display_handle()
-    });
-    let adapter = pollster::block_on(instance.request_adapter(&Default::default()))?;
+    let adapter = common::request_adapter()?;
     // tessella works within WebGPU's default limits.
     let (device, queue) = pollster::block_on(adapter.request_device(&Default::default()))?;
     Ok((device, queue))
@@ -130,27 +128,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: None,
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        }],
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniforms.as_entire_binding(),
-        }],
-    });
+    let (layout, group) = common::view_group(&device, None, &uniforms);
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: None,
         bind_group_layouts: &[Some(&layout)],
@@ -160,80 +138,35 @@ fn main() -> Result<(), Box<dyn Error>> {
     // format of its own).
     let format = evaluator.vertex_format();
     let normal = format.normal.ok_or("the default format has normals")?;
-    let attributes = [
-        wgpu::VertexAttribute {
-            format: wgpu::VertexFormat::Float32x3,
-            offset: format.position as u64 * 4,
-            shader_location: 0,
-        },
-        wgpu::VertexAttribute {
-            format: wgpu::VertexFormat::Float32x3,
-            offset: normal as u64 * 4,
-            shader_location: 1,
-        },
-    ];
-    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("app pipeline"),
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs"),
-            compilation_options: Default::default(),
-            buffers: &[Some(wgpu::VertexBufferLayout {
-                array_stride: format.stride as u64 * 4,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &attributes,
-            })],
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: Some(wgpu::Face::Back),
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs"),
-            compilation_options: Default::default(),
-            targets: &[Some(COLOR.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
-    let extent = wgpu::Extent3d {
-        width: args.size,
-        height: args.size,
-        depth_or_array_layers: 1,
-    };
-    let texture = |format, usage| {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: None,
-            size: extent,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
-    };
+    let attributes = common::position_normal(format.position, normal);
+    let pipeline = common::render_pipeline(
+        &device,
+        "app pipeline",
+        &pipeline_layout,
+        &module,
+        "vs",
+        &[Some(wgpu::VertexBufferLayout {
+            array_stride: format.stride as u64 * 4,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &attributes,
+        })],
+        (COLOR, DEPTH),
+    );
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-    let color = texture(COLOR, attach | wgpu::TextureUsages::COPY_SRC);
-    let depth = texture(DEPTH, attach);
+    let color = common::texture(
+        &device,
+        args.size,
+        COLOR,
+        attach | wgpu::TextureUsages::COPY_SRC,
+    );
+    let depth = common::texture(&device, args.size, DEPTH, attach);
     let (color_view, depth_view) = (
         color.create_view(&Default::default()),
         depth.create_view(&Default::default()),
     );
-    let row = (args.size as u64 * 4).next_multiple_of(256);
     let readback = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("app readback"),
-        size: row * args.size as u64,
+        size: common::padded_row(args.size) * args.size as u64,
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
@@ -269,54 +202,16 @@ fn main() -> Result<(), Box<dyn Error>> {
             },
         )?;
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("app pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = common::begin_pass(&mut encoder, "app pass", &color_view, &depth_view);
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.set_vertex_buffer(0, vertices.slice(..));
             pass.set_index_buffer(indices.slice(..), width.format());
             pass.draw_indexed(0..index_count, 0, 0..1);
         }
-        encoder.copy_texture_to_buffer(
-            color.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row as u32),
-                    rows_per_image: Some(args.size),
-                },
-            },
-            extent,
-        );
+        common::copy_picture(&mut encoder, &color, &readback, args.size);
         ctx.submit_and_wait(encoder)?;
-        let bytes = ctx.map_and_copy(&readback)?;
-        let mut pixels = Vec::with_capacity((args.size * args.size * 4) as usize);
-        for y in 0..args.size as usize {
-            let start = y * row as usize;
-            pixels.extend_from_slice(&bytes[start..start + args.size as usize * 4]);
-        }
+        let pixels = common::unpad_rows(&ctx.map_and_copy(&readback)?, args.size);
         let picture = image::RgbaImage::from_raw(args.size, args.size, pixels)
             .ok_or("picture size mismatch")?;
         let path = args.out.join(format!("frame_{k:03}.png"));

@@ -22,6 +22,8 @@ use tessella_gpu::{
     GpuContext, GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth, PatchBindings,
 };
 
+mod common;
+
 /// The engine's vertex: position (floats 0..3), padding (3), normal (4..7), padding (7).
 pub const ENGINE_FORMAT: VertexFormat = VertexFormat {
     stride: 8,
@@ -75,11 +77,7 @@ pub type EngineErrors = Arc<Mutex<Vec<String>>>;
 /// The engine's device: WebGPU's default limits, and its own uncaptured-error handler, which
 /// collects messages into the returned list.
 pub fn open_engine_device() -> Result<(wgpu::Device, wgpu::Queue, EngineErrors), Box<dyn Error>> {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-        backends: wgpu::Backends::PRIMARY,
-        ..wgpu::InstanceDescriptor::new_without_display_handle()
-    });
-    let adapter = pollster::block_on(instance.request_adapter(&Default::default()))?;
+    let adapter = common::request_adapter()?;
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("engine"),
         required_limits: wgpu::Limits::default(),
@@ -187,80 +185,31 @@ pub fn run_frame(
         label: Some("engine shader"),
         source: wgpu::ShaderSource::Wgsl(format!("{}\n{SHADER}", patch.wgsl()).into()),
     });
-    let view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("engine view"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        }],
-    });
-    let view_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &view_layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniforms.as_entire_binding(),
-        }],
-    });
+    let (view_layout, view_group) = common::view_group(device, Some("engine view"), &uniforms);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("engine"),
         bind_group_layouts: &[Some(&view_layout), Some(patch.layout())],
         immediate_size: 0,
     });
-    let attributes = [
-        wgpu::VertexAttribute {
-            format: wgpu::VertexFormat::Float32x3,
-            offset: (ENGINE_FORMAT.position * 4) as u64,
-            shader_location: 0,
-        },
-        wgpu::VertexAttribute {
-            format: wgpu::VertexFormat::Float32x3,
-            offset: (ENGINE_FORMAT.normal.ok_or("the format has normals")? * 4) as u64,
-            shader_location: 1,
-        },
-    ];
+    let attributes = common::position_normal(
+        ENGINE_FORMAT.position,
+        ENGINE_FORMAT.normal.ok_or("the format has normals")?,
+    );
     let buffers = [Some(wgpu::VertexBufferLayout {
         array_stride: (ENGINE_FORMAT.stride * 4) as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
         attributes: &attributes,
     })];
     let pipeline = |entry, buffers: &[Option<wgpu::VertexBufferLayout>]| {
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(entry),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                buffers,
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: Some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(COLOR.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+        common::render_pipeline(
+            device,
+            entry,
+            &layout,
+            &module,
+            entry,
+            buffers,
+            (COLOR, DEPTH),
+        )
     };
     let from_buffer = pipeline("vs_buffer", &buffers);
     let from_module = pipeline("vs_module", &[]);
@@ -327,25 +276,8 @@ pub fn run_frame(
         cache: None,
     });
 
-    let extent = wgpu::Extent3d {
-        width: SIZE,
-        height: SIZE,
-        depth_or_array_layers: 1,
-    };
-    let texture = |format, usage| {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: None,
-            size: extent,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
-    };
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-    let row = (SIZE as u64 * 4).next_multiple_of(256);
+    let row = common::padded_row(SIZE);
     let staging = |label, size| {
         device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
@@ -373,36 +305,15 @@ pub fn run_frame(
         },
     )?;
     for (k, back) in pictures_back.iter().enumerate() {
-        let color = texture(COLOR, attach | wgpu::TextureUsages::COPY_SRC);
-        let depth = texture(DEPTH, attach);
+        let color = common::texture(device, SIZE, COLOR, attach | wgpu::TextureUsages::COPY_SRC);
+        let depth = common::texture(device, SIZE, DEPTH, attach);
         let (color_view, depth_view) = (
             color.create_view(&Default::default()),
             depth.create_view(&Default::default()),
         );
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("engine pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass =
+                common::begin_pass(&mut encoder, "engine pass", &color_view, &depth_view);
             pass.set_bind_group(0, &view_group, &[]);
             pass.set_bind_group(1, patch.bind_group(), &[]);
             if k == 0 {
@@ -416,18 +327,7 @@ pub fn run_frame(
                 pass.draw_indexed(0..pattern_indices.len() as u32, 0, 0..faces as u32);
             }
         }
-        encoder.copy_texture_to_buffer(
-            color.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: back,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row as u32),
-                    rows_per_image: Some(SIZE),
-                },
-            },
-            extent,
-        );
+        common::copy_picture(&mut encoder, &color, back, SIZE);
     }
     {
         let mut pass = encoder.begin_compute_pass(&Default::default());
@@ -445,13 +345,7 @@ pub fn run_frame(
     let module_points = bytemuck::pod_collect_to_vec(&read(&probed_back)?);
     let mut pictures = Vec::new();
     for back in &pictures_back {
-        let bytes = read(back)?;
-        let mut pixels = Vec::with_capacity((SIZE * SIZE * 4) as usize);
-        for y in 0..SIZE as usize {
-            let start = y * row as usize;
-            pixels.extend_from_slice(&bytes[start..start + SIZE as usize * 4]);
-        }
-        pictures.push(pixels);
+        pictures.push(common::unpad_rows(&read(back)?, SIZE));
     }
     let module_picture = pictures.pop().ok_or("two pictures")?;
     let buffer_picture = pictures.pop().ok_or("two pictures")?;

@@ -44,6 +44,23 @@ pub(crate) struct PatchBuffers {
 }
 
 impl PatchBuffers {
+    /// These nets as a [`crate::GpuNetBuilder`]'s target: `shape` is (faces, control points
+    /// per face) of the nets the buffers were made for.
+    pub fn nets_target(
+        &self,
+        shape: (usize, usize),
+        normal_mode: NormalMode,
+    ) -> crate::NetsTarget<'_> {
+        crate::NetsTarget {
+            points: &self.points,
+            normals: &self.normals,
+            faces: shape.0,
+            k: shape.1,
+            normal_mode,
+            coarse: None,
+        }
+    }
+
     /// `stencil`: the weights rows of every pattern point drawn (`Stencil::weights`, or several
     /// patterns' rows one after the other), `Stencil::stride_for(K)` floats each.
     /// `split_nets`: the caller binds the nets in windows of faces

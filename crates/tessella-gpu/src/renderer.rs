@@ -336,14 +336,7 @@ impl PatternRenderer {
                     .into(),
             ));
         }
-        Ok(crate::NetsTarget {
-            points: &self.patches.points,
-            normals: &self.patches.normals,
-            faces: self.shape.0,
-            k: self.shape.1,
-            normal_mode: self.normal_mode,
-            coarse: None,
-        })
+        Ok(self.patches.nets_target(self.shape, self.normal_mode))
     }
 
     /// Records the instanced draw of every coarse triangle into `pass` (whose attachments

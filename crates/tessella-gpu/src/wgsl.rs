@@ -69,13 +69,7 @@ impl PatchBindings {
         group_index: u32,
         visibility: wgpu::ShaderStages,
     ) -> Result<PatchBindings, GpuError> {
-        if plan.tiling().is_some() {
-            return Err(GpuError::BadOption(
-                "the exported WGSL module draws plans of one level; this plan has per-edge \
-                 levels"
-                    .into(),
-            ));
-        }
+        check_one_level(plan)?;
         if group_index > 3 {
             return Err(GpuError::BadOption(format!(
                 "bind group index {group_index}; WebGPU has groups 0 to 3"
@@ -92,13 +86,7 @@ impl PatchBindings {
         };
         ctx.check_storage_buffers("the exported patch group", stage, PATCH_STORAGE_BUFFERS)?;
         let basis = plan.options().scheme.basis();
-        let edges = crate::canonical::edge_table(
-            basis,
-            &[plan.pattern()],
-            &[],
-            plan.triangles(),
-            &plan.topology().position_ids,
-        );
+        let edges = edge_table_of(plan);
         ctx.scoped(|| {
             let patches = PatchBuffers::new(
                 ctx,
@@ -142,14 +130,7 @@ impl PatchBindings {
     /// The group's nets, for a [`GpuNetBuilder`](crate::GpuNetBuilder) to write from coarse
     /// vertices already on the GPU instead of [`PatchBindings::update`]'s upload.
     pub fn nets_target(&self) -> crate::NetsTarget<'_> {
-        crate::NetsTarget {
-            points: &self.patches.points,
-            normals: &self.patches.normals,
-            faces: self.shape.0,
-            k: self.shape.1,
-            normal_mode: self.normal_mode,
-            coarse: None,
-        }
+        self.patches.nets_target(self.shape, self.normal_mode)
     }
 
     /// Writes the frame's control nets (`queue.write_buffer`: they land before the next
@@ -161,28 +142,39 @@ impl PatchBindings {
     }
 }
 
-/// The patch group's contents, binding by binding (0 to 6: stencil, net points, net normals,
-/// evaluation uniform, displacement uniform, displacement data, canonical edge table), for an
-/// engine that makes the buffers itself (Bevy's material assets): the bytes
-/// [`PatchBindings::new`] uploads. A deforming mesh rewrites bindings 1 and 2 per frame
-/// (`frame.nets()`'s points and normals).
-pub fn patch_bytes(plan: &Plan, frame: &Frame) -> Result<[Vec<u8>; 7], GpuError> {
+/// Refuses an adaptive plan: the exported module draws one pattern on every face.
+fn check_one_level(plan: &Plan) -> Result<(), GpuError> {
     if plan.tiling().is_some() {
         return Err(GpuError::BadOption(
             "the exported WGSL module draws plans of one level; this plan has per-edge levels"
                 .into(),
         ));
     }
-    plan.check_frame(frame)?;
-    let nets = frame.nets();
-    let basis = plan.options().scheme.basis();
-    let edges = crate::canonical::edge_table(
-        basis,
+    Ok(())
+}
+
+/// The canonical edge table of a plan of one level (its one pattern, no geomorphs).
+fn edge_table_of(plan: &Plan) -> Vec<u32> {
+    crate::canonical::edge_table(
+        plan.options().scheme.basis(),
         &[plan.pattern()],
         &[],
         plan.triangles(),
         &plan.topology().position_ids,
-    );
+    )
+}
+
+/// The patch group's contents, binding by binding (0 to 6: stencil, net points, net normals,
+/// evaluation uniform, displacement uniform, displacement data, canonical edge table), for an
+/// engine that makes the buffers itself (Bevy's material assets): the bytes
+/// [`PatchBindings::new`] uploads. A deforming mesh rewrites bindings 1 and 2 per frame
+/// (`frame.nets()`'s points and normals).
+pub fn patch_bytes(plan: &Plan, frame: &Frame) -> Result<[Vec<u8>; 7], GpuError> {
+    check_one_level(plan)?;
+    plan.check_frame(frame)?;
+    let nets = frame.nets();
+    let basis = plan.options().scheme.basis();
+    let edges = edge_table_of(plan);
     let eval = crate::gpu_types::EvalParams {
         k: basis.len() as u32,
         stride: tessella_core::Stencil::stride_for(basis.len()) as u32,

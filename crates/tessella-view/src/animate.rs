@@ -134,56 +134,41 @@ pub fn render_clip(
     poser.duration(play.clip).map_err(bad)?;
     let rest = poser.mesh(None, 0.0).map_err(bad)?;
     let time = |k: u32| k as f32 / fps;
+    // Both skinnings draw through the same loop; only their frame step differs.
+    let render = |step: &mut dyn FnMut(u32, FrameStep<'_>) -> Result<u64, GpuError>| {
+        render_frames(ctx, &rest, refine, options, play.frames, out_dir, step)
+    };
     match play.skinning {
         Skinning::Cpu => {
             let mut positions = vec![[0.0; 3]; poser.vertex_count()];
             let mut normals = poser
                 .has_normals()
                 .then(|| vec![[0.0; 3]; poser.vertex_count()]);
-            render_frames(
-                ctx,
-                &rest,
-                refine,
-                options,
-                play.frames,
-                out_dir,
-                |k, cpu| {
-                    poser
-                        .pose_into(clip, time(k), &mut positions, normals.as_deref_mut())
-                        .map_err(bad)?;
-                    cpu.plan.update(cpu.frame, &positions, normals.as_deref())?;
-                    cpu.renderer.update(cpu.frame)
-                },
-            )
+            render(&mut |k, cpu| {
+                poser
+                    .pose_into(clip, time(k), &mut positions, normals.as_deref_mut())
+                    .map_err(bad)?;
+                cpu.plan.update(cpu.frame, &positions, normals.as_deref())?;
+                cpu.renderer.update(cpu.frame)
+            })
         }
         Skinning::Gpu => {
             let mut skinner = GpuSkinner::new(ctx, poser)?;
             // Made on the first frame, from the plan's own surface (topology computed once).
             let mut builder: Option<GpuNetBuilder> = None;
-            render_frames(
-                ctx,
-                &rest,
-                refine,
-                options,
-                play.frames,
-                out_dir,
-                |k, gpu| {
-                    let builder = match &mut builder {
-                        Some(b) => b,
-                        None => builder.insert(GpuNetBuilder::new(ctx, gpu.plan.surface())?),
-                    };
-                    let mut bytes = skinner.update(poser, clip, time(k))?;
-                    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-                    skinner.record(&mut encoder)?;
-                    bytes += builder.record(
-                        &mut encoder,
-                        skinner.output(),
-                        gpu.renderer.nets_target()?,
-                    )?;
-                    ctx.submit(encoder)?;
-                    Ok(bytes)
-                },
-            )
+            render(&mut |k, gpu| {
+                let builder = match &mut builder {
+                    Some(b) => b,
+                    None => builder.insert(GpuNetBuilder::new(ctx, gpu.plan.surface())?),
+                };
+                let mut bytes = skinner.update(poser, clip, time(k))?;
+                let mut encoder = ctx.device.create_command_encoder(&Default::default());
+                skinner.record(&mut encoder)?;
+                bytes +=
+                    builder.record(&mut encoder, skinner.output(), gpu.renderer.nets_target()?)?;
+                ctx.submit(encoder)?;
+                Ok(bytes)
+            })
         }
     }
 }

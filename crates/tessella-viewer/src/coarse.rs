@@ -9,13 +9,13 @@ use crate::error::ViewerError;
 use crate::panel::refine_options;
 use crate::params::Params;
 use crate::pick::{self, Picked};
-use crate::scene::{self, BuildPanels, Deform, Scene};
+use crate::scene::{self, BuildPanels, Deform, PanelSpec, Scene};
 use glam::Mat4;
 use serde_json::{Map, Value};
 use tessella_core::basis::NORMAL_NET_LEN;
 use tessella_core::displace::Displacement;
 use tessella_core::refine::{Frame, Surface};
-use tessella_core::{Mesh, RefineOptions, Scheme, Tags};
+use tessella_core::{Mesh, RefineOptions, Scheme};
 
 /// One panel's surface: its scheme's control nets of the pose shown.
 struct Nets {
@@ -46,10 +46,12 @@ struct BuildNets;
 impl BuildPanels<Nets> for BuildNets {
     fn panel(
         &self,
-        mesh: &Mesh,
-        params: &Params,
-        scheme: Scheme,
-        tags: Option<&Tags>,
+        PanelSpec {
+            mesh,
+            params,
+            scheme,
+            tags,
+        }: PanelSpec<'_>,
     ) -> Result<Nets, ViewerError> {
         let options = refine_options(params, scheme, tags)?;
         let surface = Surface::new(mesh, &options.surface_options())?;

@@ -404,16 +404,20 @@ pub fn export_glb(
     )?)
 }
 
+/// What one panel draws: `scheme` on `mesh` with `params`, and the tags [`gather_tags`] gave
+/// that scheme.
+#[derive(Clone, Copy)]
+pub(crate) struct PanelSpec<'a> {
+    pub mesh: &'a Mesh,
+    pub params: &'a Params,
+    pub scheme: Scheme,
+    pub tags: Option<&'a Tags>,
+}
+
 /// Makes one viewer's panels (of type `P`), one per scheme drawn.
 pub(crate) trait BuildPanels<P> {
-    /// The panel of `scheme` on `mesh`, with the tags [`gather_tags`] gave that scheme.
-    fn panel(
-        &self,
-        mesh: &Mesh,
-        params: &Params,
-        scheme: Scheme,
-        tags: Option<&Tags>,
-    ) -> Result<P, ViewerError>;
+    /// The panel `spec` describes.
+    fn panel(&self, spec: PanelSpec<'_>) -> Result<P, ViewerError>;
 
     /// Every panel of `params` on `mesh` (`raw`: the file's PLY tag properties).
     fn panels(
@@ -428,7 +432,12 @@ pub(crate) trait BuildPanels<P> {
             .into_iter()
             .map(|scheme| {
                 let tags = gather_tags(mesh, raw, tags, scheme)?;
-                self.panel(mesh, params, scheme, tags.as_ref())
+                self.panel(PanelSpec {
+                    mesh,
+                    params,
+                    scheme,
+                    tags: tags.as_ref(),
+                })
             })
             .collect()
     }

@@ -6,12 +6,12 @@ use crate::error::ViewerError;
 use crate::panel::Panel;
 use crate::params::Params;
 use crate::pick::{self, Picked};
-use crate::scene::{self, BuildPanels, Deform, Scene};
+use crate::scene::{self, BuildPanels, Deform, PanelSpec, Scene};
 use crate::stats::Stats;
 use glam::Mat4;
 use serde_json::{Map, Value};
 use tessella_core::refine::{Levels, Lod};
-use tessella_core::{Mesh, Scheme, Tags};
+use tessella_core::Mesh;
 use tessella_gpu::{GpuContext, TargetFormats};
 use tessella_view::{lod_camera, panel_widths, scene_uniforms, RenderOptions, RenderUniforms};
 
@@ -53,14 +53,15 @@ impl std::fmt::Debug for Viewer {
 
 /// The viewer's device and formats build its panels.
 impl BuildPanels<Panel> for (&GpuContext, &TargetFormats) {
-    fn panel(
-        &self,
-        mesh: &Mesh,
-        params: &Params,
-        scheme: Scheme,
-        tags: Option<&Tags>,
-    ) -> Result<Panel, ViewerError> {
-        Panel::new(self.0, mesh, params, scheme, tags, self.1)
+    fn panel(&self, spec: PanelSpec<'_>) -> Result<Panel, ViewerError> {
+        Panel::new(
+            self.0,
+            spec.mesh,
+            spec.params,
+            spec.scheme,
+            spec.tags,
+            self.1,
+        )
     }
 }
 

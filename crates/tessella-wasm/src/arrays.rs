@@ -39,6 +39,62 @@ pub fn triangles(values: &[u32]) -> Result<Vec<[u32; 3]>, String> {
     Ok(bytemuck::cast_slice(values).to_vec())
 }
 
+/// A frame's positions and, when it has them, its normals.
+pub type FramePoints<'a> = (&'a [[f32; 3]], Option<&'a [[f32; 3]]>);
+
+/// The input arrays JS writes a frame into through views over wasm memory, kept between
+/// frames so that a frame allocates nothing once their lengths settle.
+#[derive(Default)]
+pub struct FrameInputs {
+    positions: Vec<f32>,
+    normals: Vec<f32>,
+}
+
+impl FrameInputs {
+    /// The positions input resized to `len` numbers (only when `len` changes); its address.
+    pub fn positions_ptr(&mut self, len: usize) -> *mut f32 {
+        self.positions.resize(len, 0.0);
+        self.positions.as_mut_ptr()
+    }
+
+    /// The normals input resized to `len` numbers; its address.
+    pub fn normals_ptr(&mut self, len: usize) -> *mut f32 {
+        self.normals.resize(len, 0.0);
+        self.normals.as_mut_ptr()
+    }
+
+    /// Copies a frame in, as JS would have written it (without `normals` the normals input is
+    /// left as it was).
+    pub fn set(&mut self, positions: &[f32], normals: Option<&[f32]>) {
+        self.positions.clear();
+        self.positions.extend_from_slice(positions);
+        if let Some(n) = normals {
+            self.normals.clear();
+            self.normals.extend_from_slice(n);
+        }
+    }
+
+    /// The positions input, flat.
+    pub fn positions(&self) -> &[f32] {
+        &self.positions
+    }
+
+    /// The normals input, flat, when the frame has normals (`given`).
+    pub fn normals(&self, given: bool) -> Option<&[f32]> {
+        given.then_some(self.normals.as_slice())
+    }
+
+    /// The inputs as points (see [`as_points`]); normals only when `given`.
+    pub fn points(&self, given: bool) -> Result<FramePoints<'_>, String> {
+        let positions = as_points(&self.positions, "positions")?;
+        let normals = self
+            .normals(given)
+            .map(|n| as_points(n, "normals"))
+            .transpose()?;
+        Ok((positions, normals))
+    }
+}
+
 /// Flattens points for JS.
 pub fn flat<const N: usize>(values: &[[f32; N]]) -> &[f32]
 where

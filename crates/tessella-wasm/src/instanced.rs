@@ -68,8 +68,7 @@ pub struct InstancedSurface {
     options: SurfaceOptions,
     level: u32,
     layout: Layout,
-    positions_in: Vec<f32>,
-    normals_in: Vec<f32>,
+    inputs: arrays::FrameInputs,
     built: Option<Built>,
     /// The packed nets, `width * height * 4` floats.
     nets: Vec<f32>,
@@ -160,13 +159,11 @@ impl InstancedSurface {
     /// its address in wasm memory.
     #[wasm_bindgen(js_name = positionsInput)]
     pub fn positions_input(&mut self, len: usize) -> *mut f32 {
-        self.positions_in.resize(len, 0.0);
-        self.positions_in.as_mut_ptr()
+        self.inputs.positions_ptr(len)
     }
     #[wasm_bindgen(js_name = normalsInput)]
     pub fn normals_input(&mut self, len: usize) -> *mut f32 {
-        self.normals_in.resize(len, 0.0);
-        self.normals_in.as_mut_ptr()
+        self.inputs.normals_ptr(len)
     }
 
     /// Builds the nets of the frame now in the input arrays (`normals`: whether the normals
@@ -217,33 +214,12 @@ impl InstancedSurface {
         if !options.weld {
             return Err("soup: not an option of an instanced surface".into());
         }
-        let faces = arrays::triangles(indices)?.len();
-        if faces == 0 {
-            return Err("the mesh has no triangles".into());
-        }
         let surface = SurfaceOptions {
             scheme: options.scheme,
             normals: options.normals,
             tags: options.tags.clone(),
         };
-        let layout = Layout::new(faces, texels_per_face(options.scheme.basis().len()));
-        if layout.height > MAX_TEXTURE_WIDTH {
-            return Err(format!(
-                "{faces} triangles need a nets texture of {} rows, over {MAX_TEXTURE_WIDTH}",
-                layout.height
-            ));
-        }
-        Ok(InstancedSurface {
-            triangles: indices.to_vec(),
-            options: surface,
-            level,
-            layout,
-            positions_in: Vec::new(),
-            normals_in: Vec::new(),
-            built: None,
-            nets: vec![0.0; layout.width * layout.height * 4],
-            bounds: [0.0; 10],
-        })
+        InstancedSurface::with_level(indices, surface, level)
     }
 
     /// The nets half of an adaptive surface (`adaptive.rs`): no pattern of its own (level 0),
@@ -251,6 +227,16 @@ impl InstancedSurface {
     pub(crate) fn for_adaptive(
         indices: &[u32],
         options: SurfaceOptions,
+    ) -> Result<InstancedSurface, String> {
+        InstancedSurface::with_level(indices, options, 0)
+    }
+
+    /// The surface of `level`'s pattern (0: none) on the triangles `indices`, once their nets
+    /// are known to fit the nets texture.
+    fn with_level(
+        indices: &[u32],
+        options: SurfaceOptions,
+        level: u32,
     ) -> Result<InstancedSurface, String> {
         let faces = arrays::triangles(indices)?.len();
         if faces == 0 {
@@ -266,10 +252,9 @@ impl InstancedSurface {
         Ok(InstancedSurface {
             triangles: indices.to_vec(),
             options,
-            level: 0,
+            level,
             layout,
-            positions_in: Vec::new(),
-            normals_in: Vec::new(),
+            inputs: Default::default(),
             built: None,
             nets: vec![0.0; layout.width * layout.height * 4],
             bounds: [0.0; 10],
@@ -294,30 +279,22 @@ impl InstancedSurface {
     /// A frame from flat arrays (what [`InstancedSurface::frame`] does after JS filled the
     /// inputs).
     pub fn step_with(&mut self, positions: &[f32], normals: Option<&[f32]>) -> Result<(), String> {
-        self.positions_in.clear();
-        self.positions_in.extend_from_slice(positions);
-        if let Some(n) = normals {
-            self.normals_in.clear();
-            self.normals_in.extend_from_slice(n);
-        }
+        self.inputs.set(positions, normals);
         self.step(normals.is_some())
     }
 
     fn step(&mut self, with_normals: bool) -> Result<(), String> {
-        let normals = with_normals.then_some(self.normals_in.as_slice());
         match &mut self.built {
             None => {
-                let mesh = refine::mesh(&self.positions_in, &self.triangles, normals, None)?;
+                let normals = self.inputs.normals(with_normals);
+                let mesh = refine::mesh(self.inputs.positions(), &self.triangles, normals, None)?;
                 let surface =
                     Surface::new(&mesh, &self.options).map_err(|e| errors::message(&e))?;
                 let frame = surface.frame(mesh).map_err(|e| errors::message(&e))?;
                 self.built = Some(Built { surface, frame });
             }
             Some(built) => {
-                let positions = arrays::as_points(&self.positions_in, "positions")?;
-                let normals = normals
-                    .map(|n| arrays::as_points(n, "normals"))
-                    .transpose()?;
+                let (positions, normals) = self.inputs.points(with_normals)?;
                 built
                     .surface
                     .update(&mut built.frame, positions, normals)
@@ -632,6 +609,29 @@ mod tests {
         assert!(err.contains("vertices"), "{err}");
     }
 
+    /// Checks what both languages' sources take from the core: the basis's generated weights
+    /// and the generated normal glue, the real normal's only where asked for, none written by
+    /// hand. Returns the weights functions' basis name.
+    fn assert_generated_glue(
+        source: &str,
+        lang: Lang,
+        basis: Basis,
+        mode: NormalMode,
+    ) -> &'static str {
+        assert!(source.contains(&shader::weights(lang, basis)));
+        assert!(source.contains(&shader::surface_normal(lang)));
+        assert_eq!(
+            source.contains("n = tessella_real_normal("),
+            mode == NormalMode::Real
+        );
+        assert!(!source.contains("1e-12 * dot(") && !source.contains("cross("));
+        if basis == Basis::Cubic {
+            "cubic"
+        } else {
+            "png1"
+        }
+    }
+
     #[test]
     fn the_glsl_calls_the_generated_weights_and_reads_every_texel() {
         for (basis, mode) in [
@@ -639,24 +639,12 @@ mod tests {
             (Basis::Png1, NormalMode::Real),
         ] {
             let g = glsl(basis, mode);
-            let name = if basis == Basis::Cubic {
-                "cubic"
-            } else {
-                "png1"
-            };
-            assert!(g.contains(&shader::weights(Lang::Glsl, basis)));
+            let name = assert_generated_glue(&g, Lang::Glsl, basis, mode);
             assert!(g.contains(&format!("tessella_{name}_weights(l, w);")));
             assert!(g.contains("tessella_normal_weights(l, nw);"));
             let texels = texels_per_face(basis.len());
             assert!(g.contains(&format!("tessella_texel(face, {});", texels - 1)));
-            // The normal glue is the generated one, the real normal's only where asked for.
-            assert!(g.contains(&shader::surface_normal(Lang::Glsl)));
-            assert_eq!(
-                g.contains("n = tessella_real_normal("),
-                mode == NormalMode::Real
-            );
             assert!(g.contains("normal = tessella_unit_or_zero(n);"));
-            assert!(!g.contains("1e-12 * dot(") && !g.contains("cross("));
         }
     }
 
@@ -668,24 +656,13 @@ mod tests {
             (Basis::Png1, NormalMode::Real),
         ] {
             let w = wgsl(basis, mode);
-            let name = if basis == Basis::Cubic {
-                "cubic"
-            } else {
-                "png1"
-            };
-            assert!(w.contains(&shader::weights(Lang::Wgsl, basis)));
+            let name = assert_generated_glue(&w, Lang::Wgsl, basis, mode);
             assert!(w.contains(&shader::normal_weights_wgsl()));
             assert!(w.contains(&format!("let w = tessella_{name}_weights(l);")));
             assert!(w.contains("let nw = tessella_normal_weights(l);"));
             let texels = texels_per_face(basis.len());
             assert!(w.contains(&format!("tessella_texel(nets, face, {}u);", texels - 1)));
-            assert!(w.contains(&shader::surface_normal(Lang::Wgsl)));
-            assert_eq!(
-                w.contains("n = tessella_real_normal("),
-                mode == NormalMode::Real
-            );
             assert!(w.contains("let unit = tessella_unit_or_zero(n);"));
-            assert!(!w.contains("1e-12 * dot(") && !w.contains("cross("));
             // The two functions TSL calls come last, position then normal.
             let p = w.find("fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32> {").unwrap();
             let n = w.find("fn tessella_normal(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32> {").unwrap();

@@ -27,8 +27,7 @@ pub struct Refiner {
     triangles: Vec<u32>,
     uvs: Option<Vec<f32>>,
     options: RefineOptions,
-    positions_in: Vec<f32>,
-    normals_in: Vec<f32>,
+    inputs: arrays::FrameInputs,
     built: Option<Built>,
 }
 
@@ -44,13 +43,11 @@ impl Refiner {
     /// resized only when `len` changes; returns its address in wasm memory.
     #[wasm_bindgen(js_name = positionsInput)]
     pub fn positions_input(&mut self, len: usize) -> *mut f32 {
-        self.positions_in.resize(len, 0.0);
-        self.positions_in.as_mut_ptr()
+        self.inputs.positions_ptr(len)
     }
     #[wasm_bindgen(js_name = normalsInput)]
     pub fn normals_input(&mut self, len: usize) -> *mut f32 {
-        self.normals_in.resize(len, 0.0);
-        self.normals_in.as_mut_ptr()
+        self.inputs.normals_ptr(len)
     }
 
     /// Refines the frame now in the input arrays (`normals`: whether the normals input holds
@@ -109,30 +106,23 @@ impl Refiner {
             triangles: indices.to_vec(),
             uvs,
             options,
-            positions_in: Vec::new(),
-            normals_in: Vec::new(),
+            inputs: Default::default(),
             built: None,
         })
     }
 
     /// A frame from flat arrays (what [`Refiner::frame`] does after JS filled the inputs).
     pub fn step_with(&mut self, positions: &[f32], normals: Option<&[f32]>) -> Result<(), String> {
-        self.positions_in.clear();
-        self.positions_in.extend_from_slice(positions);
-        if let Some(n) = normals {
-            self.normals_in.clear();
-            self.normals_in.extend_from_slice(n);
-        }
+        self.inputs.set(positions, normals);
         self.step(normals.is_some())
     }
 
     fn step(&mut self, with_normals: bool) -> Result<(), String> {
-        let normals = with_normals.then_some(self.normals_in.as_slice());
         let Some(built) = &mut self.built else {
             let mesh = refine::mesh(
-                &self.positions_in,
+                self.inputs.positions(),
                 &self.triangles,
-                normals,
+                self.inputs.normals(with_normals),
                 self.uvs.as_deref(),
             )?;
             let (plan, frame) =
@@ -150,10 +140,7 @@ impl Refiner {
             self.built = Some(built);
             return Ok(());
         };
-        let positions = arrays::as_points(&self.positions_in, "positions")?;
-        let normals = normals
-            .map(|n| arrays::as_points(n, "normals"))
-            .transpose()?;
+        let (positions, normals) = self.inputs.points(with_normals)?;
         built
             .plan
             .update(&mut built.frame, positions, normals)
