@@ -4,7 +4,7 @@
 //! viewer's `?level=5.5` are. A bad value's message names the flag.
 
 use crate::args::{NormalsArg, SchemeArg};
-use tessella_core::refine::Spacing;
+use tessella_core::refine::{Ask, Spacing};
 use tessella_core::{Named, RefineOptions};
 
 /// The option flags as given.
@@ -55,4 +55,24 @@ impl Flags<'_> {
         RefineOptions::from_pairs(self.pairs())
             .map_err(|e| anyhow::anyhow!("--{}: {}", e.key, e.message))
     }
+}
+
+/// An ask as the CLI's flags spell it, for a conflict's message.
+fn flag(ask: Ask) -> String {
+    match ask {
+        Ask::FractionalLevel => "a fractional --level".into(),
+        Ask::PerEdgeLevels => "per-edge levels".into(),
+        Ask::Origin => "--write-origin".into(),
+        Ask::Uvs => "texture coordinates".into(),
+        Ask::GlBackend => "--backend gl".into(),
+        other => format!("--{}", other.key()),
+    }
+}
+
+/// Refuses `asks` with these options where the core's rules say they cannot go together
+/// ([`RefineOptions::conflict`]), in the CLI's spelling.
+pub fn refuse_conflicts(options: &RefineOptions, asks: &[Ask]) -> anyhow::Result<()> {
+    options
+        .conflict(asks)
+        .map_err(|c| anyhow::anyhow!(c.message(flag)))
 }

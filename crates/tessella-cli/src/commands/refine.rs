@@ -6,6 +6,7 @@ use crate::args::RefineArgs;
 use crate::progress;
 use std::time::Instant;
 use tessella_core::displace::{DisplaceFrame, Displacement};
+use tessella_core::refine::Ask;
 use tessella_core::{RefineOptions, RefinedMesh, Refiner};
 use tessella_io::{Durability, Format, MeshView, WriteOptions};
 
@@ -63,10 +64,13 @@ pub fn refine_file(
             args.output.display()
         );
     }
-    let adaptive = options.uniform_grid_level().is_none();
-    if adaptive && args.displace.is_some() {
-        anyhow::bail!("--displace works with uniform grid levels; drop --lod, --spacing or the fractional --level");
-    }
+    let asks = [
+        (args.displace.is_some(), Ask::Displace),
+        (args.write_origin, Ask::Origin),
+        (args.backend == tessella_core::Backend::Gl, Ask::GlBackend),
+    ];
+    let asks: Vec<Ask> = asks.iter().filter(|(on, _)| *on).map(|(_, a)| *a).collect();
+    super::options::refuse_conflicts(&options, &asks)?;
     if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
         options = options.with_tags(tags);
     }
@@ -95,7 +99,7 @@ pub fn refine_file(
     let backend = backend::choose(args, &mesh, refiner.plan().vertex_count() as u64)?;
     // Adaptive and tessellator plans too: the GPU compute path writes the CPU's layout.
     let refined = if args.backend == tessella_core::Backend::Gl {
-        super::refine_gl::refine(args, &mesh, &options)?
+        super::refine_gl::refine(&mesh, &options)?
     } else {
         backend::refine(&backend, args, &refiner)?
     };

@@ -1,20 +1,13 @@
 //! `tessella refine --backend gl`: the OpenGL 4 tessellation stages (tessella-gl), read back by
 //! transform feedback. Same spacing, level, LOD and normal options as the CPU; unwelded output.
 
-use crate::args::RefineArgs;
 use tessella_core::{Mesh, RefineOptions, RefinedMesh};
 
-/// Refines `mesh` with `options` on the GL tessellator.
+/// Refines `mesh` with `options` on the GL tessellator (`refine` has refused what it cannot
+/// do: origins, displacement).
 #[cfg(feature = "gl")]
-pub fn refine(
-    args: &RefineArgs,
-    mesh: &Mesh,
-    options: &RefineOptions,
-) -> anyhow::Result<RefinedMesh> {
+pub fn refine(mesh: &Mesh, options: &RefineOptions) -> anyhow::Result<RefinedMesh> {
     use anyhow::Context;
-    if args.write_origin {
-        anyhow::bail!("--write-origin is not supported with --backend gl; use --backend cpu");
-    }
     // Refuse the grid before looking for a driver: the message is about the options.
     tessella_gl::hardware_spacing(options)?;
     let ctx = tessella_gl::GlContext::new()?;
@@ -30,11 +23,7 @@ pub fn refine(
 
 /// Without the `gl` feature: a clear error.
 #[cfg(not(feature = "gl"))]
-pub fn refine(
-    _args: &RefineArgs,
-    _mesh: &Mesh,
-    _options: &RefineOptions,
-) -> anyhow::Result<RefinedMesh> {
+pub fn refine(_mesh: &Mesh, _options: &RefineOptions) -> anyhow::Result<RefinedMesh> {
     anyhow::bail!(
         "--backend gl needs the `gl` feature, and this tessella was built without it; rebuild \
          with it (cargo build -p tessella-cli --features gl)"

@@ -4,6 +4,7 @@
 use super::{gpu, tags};
 use crate::args::{RenderArgs, RenderBackendArg};
 use anyhow::Context;
+use tessella_core::refine::Ask;
 use tessella_core::{Mesh, RefineOptions};
 use tessella_view::{lod_camera, render, render_compare, save_png, RenderOptions};
 
@@ -24,9 +25,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         ..view
     };
     let levels = levels(args, &mesh, &view)?;
-    if displacement.is_some() && levels.uniform_grid_level().is_none() {
-        anyhow::bail!("--displace works with uniform grid levels; drop --lod, --spacing or the fractional --level");
-    }
+    let asks = [
+        (displacement.is_some(), Ask::Displace),
+        (args.backend == RenderBackendArg::Gl, Ask::GlBackend),
+    ];
+    let asks: Vec<Ask> = asks.iter().filter(|(on, _)| *on).map(|(_, a)| *a).collect();
+    super::options::refuse_conflicts(&levels, &asks)?;
     let options_for = |scheme: crate::args::SchemeArg| -> anyhow::Result<RefineOptions> {
         let scheme = scheme.scheme(args.alpha);
         let mut options = RefineOptions {

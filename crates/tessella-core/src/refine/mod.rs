@@ -30,6 +30,7 @@ pub use cpu::kernels::eval_point;
 pub use cpu::nontemporal::{stream_copy, stream_fill};
 pub use cpu::output::{VertexFormat, VertexOutput};
 pub use cpu::refiner::{refine, RefinedMesh, Refiner};
+pub use plan::conflicts::{Ask, Conflict};
 pub use plan::driver::InstancedDriver;
 pub use plan::indices::IndexInt;
 pub use plan::layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE, NO_FACE};

@@ -1,8 +1,9 @@
 //! The layer built once per topology and levels: everything a [`Plan`] holds and how it is
 //! made. Nothing here imports the evaluator (`refine::cpu`), which sits on top.
 //!
-//! - [`options`]: what to refine into ([`RefineOptions`](options::RefineOptions)), and
-//!   [`options_text`], its `key=value` text form that every front end parses;
+//! - [`options`]: what to refine into ([`RefineOptions`](options::RefineOptions)),
+//!   [`options_text`], its `key=value` text form that every front end parses, and
+//!   [`conflicts`], which asks cannot go together;
 //! - [`levels`], [`lod`]: the levels asked for and the LOD functions that compute them;
 //! - [`tiling`], [`instanced`], [`morph`], [`canonical`]: adaptive plans' per-face patterns,
 //!   their instanced parts, geomorphs and canonical edge weights; [`driver`], an instanced
@@ -13,6 +14,7 @@
 //! - [`table`]: the [`Plan`](table::Plan) itself.
 
 pub mod canonical;
+pub mod conflicts;
 pub mod driver;
 pub mod indices;
 pub mod instanced;
