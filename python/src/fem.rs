@@ -9,7 +9,7 @@ use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use tessella_core::fields::{copy_cell_data, interpolate_point_data};
-use tessella_core::{RefineOptions, Refiner};
+use tessella_core::Refiner;
 
 use arrays::FieldIn;
 /// A named field as it goes out.
@@ -66,10 +66,15 @@ pub fn refine_fem<'py>(
     cell_data: Vec<FieldIn<'py>>,
     uvs: Option<PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<FemArrays<'py>> {
-    let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
+    let opts = options::refine_options(options::Given {
+        scheme,
+        alpha,
+        level: level.to_string(),
+        normals_mode,
+        weld,
+        ..Default::default()
+    })?;
     let backend = options::backend(backend)?;
-    let mut opts = RefineOptions::new(scheme, options::level(level)?).with_weld(weld);
-    opts.normals = options::normal_mode(normals_mode)?;
     let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals, uvs)?;
     let point_data = point_data
         .into_iter()

@@ -32,18 +32,12 @@ use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
-use tessella_core::{Mesh, Pattern, RefineOptions, Refiner};
+use tessella_core::refine::Ask;
+use tessella_core::{Mesh, Pattern, Refiner};
 use tessella_io::{MeshView, WriteOptions};
 
 type F32Array<'py> = Bound<'py, PyArray2<f32>>;
 type U32Array<'py> = Bound<'py, PyArray2<u32>>;
-/// `(vertices, faces, normals, uvs)` as returned to Python (`uvs`: when the input had them).
-type Arrays<'py> = (
-    F32Array<'py>,
-    U32Array<'py>,
-    F32Array<'py>,
-    Option<F32Array<'py>>,
-);
 
 /// Builds a validated mesh from Python arrays (GIL held only for reading them).
 fn mesh_from(
@@ -93,66 +87,9 @@ pub(crate) fn mesh_with_mids_from(
         .map_err(errors::mesh_error)
 }
 
-/// Refines a mesh; see `tessella.refine` (the Python wrapper) for the full documentation.
-#[pyfunction]
-#[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8, alpha=0.75,
-                    normals_mode=None, tags=None, crease_angle=None, backend="auto", weld=true,
-                    displace=None, uvs=None))]
-#[allow(clippy::too_many_arguments)]
-fn refine<'py>(
-    py: Python<'py>,
-    vertices: &Bound<'py, PyAny>,
-    faces: &Bound<'py, PyAny>,
-    normals: Option<&Bound<'py, PyAny>>,
-    scheme: &str,
-    level: i64,
-    alpha: f64,
-    normals_mode: Option<&str>,
-    tags: Option<&Bound<'py, PyAny>>,
-    crease_angle: Option<f64>,
-    backend: &str,
-    weld: bool,
-    displace: Option<&Bound<'py, PyAny>>,
-    uvs: Option<numpy::PyReadonlyArray2<'py, f32>>,
-) -> PyResult<Arrays<'py>> {
-    let mut opts = options::refine_options(options::Given {
-        scheme,
-        alpha,
-        level: level.to_string(),
-        normals_mode,
-        weld,
-        ..Default::default()
-    })?;
-    let scheme = opts.scheme;
-    let backend = options::backend(backend)?;
-    let displacement = displace::parse(displace)?;
-    let source = tags::source(tags)?;
-    let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
-    pool::follow_numpy(py);
-    let out = py.detach(|| -> PyResult<_> {
-        if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
-            opts = opts.with_tags(t);
-        }
-        let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
-        gpu::refine(&refiner, backend, &displacement)
-    })?;
-    if let Some(note) = out.fallback {
-        let note = std::ffi::CString::new(note.replace('\0', " "))?;
-        // stacklevel 2: the caller of the tessella.refine wrapper.
-        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 2)?;
-    }
-    let out = out.mesh;
-    Ok((
-        pool::to_numpy(py, out.positions)?,
-        pool::to_numpy(py, out.triangles)?,
-        pool::to_numpy(py, out.normals)?,
-        out.uvs.map(|u| pool::to_numpy(py, u)).transpose()?,
-    ))
-}
-
-/// What `refine_adaptive` returns: vertices, faces, normals, the origin (face, bary) when
-/// asked for, and the uvs when the input had them.
-type AdaptiveArrays<'py> = (
+/// What `refine` returns: vertices, faces, normals, the origin (face, bary) when asked for,
+/// and the uvs when the input had them.
+type RefineArrays<'py> = (
     F32Array<'py>,
     U32Array<'py>,
     F32Array<'py>,
@@ -161,14 +98,17 @@ type AdaptiveArrays<'py> = (
     Option<F32Array<'py>>,
 );
 
-/// Refines with a tessellator spacing, fractional or LOD levels, and/or returns each vertex's
-/// origin; see `tessella.refine` (the Python wrapper). Runs on the CPU.
+/// Refines a mesh; see `tessella.refine` (the Python wrapper) for the full documentation. Every
+/// option of a mesh without fields comes here: the levels (whole, fractional, a tessellator
+/// spacing, LOD) through the core's text form, the combinations through the core's
+/// [`tessella_core::RefineOptions::conflict`], the backend's choice through the core's.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals=None, *, scheme="pn", level=8.0, alpha=0.75,
                     normals_mode=None, spacing="grid", lod=None, camera=None, size=None,
-                    weld=true, origin=false, backend="cpu", uvs=None))]
+                    tags=None, crease_angle=None, backend="auto", weld=true, displace=None,
+                    origin=false, uvs=None))]
 #[allow(clippy::too_many_arguments)]
-fn refine_adaptive<'py>(
+fn refine<'py>(
     py: Python<'py>,
     vertices: &Bound<'py, PyAny>,
     faces: &Bound<'py, PyAny>,
@@ -181,13 +121,16 @@ fn refine_adaptive<'py>(
     lod: Option<&str>,
     camera: Option<&str>,
     size: Option<(u32, u32)>,
-    weld: bool,
-    origin: bool,
+    tags: Option<&Bound<'py, PyAny>>,
+    crease_angle: Option<f64>,
     backend: &str,
+    weld: bool,
+    displace: Option<&Bound<'py, PyAny>>,
+    origin: bool,
     uvs: Option<numpy::PyReadonlyArray2<'py, f32>>,
-) -> PyResult<AdaptiveArrays<'py>> {
+) -> PyResult<RefineArrays<'py>> {
     // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
-    let opts = options::refine_options(options::Given {
+    let mut opts = options::refine_options(options::Given {
         scheme,
         alpha,
         level: level.to_string(),
@@ -199,27 +142,39 @@ fn refine_adaptive<'py>(
         weld,
     })?;
     let backend = options::backend(backend)?;
-    if backend == options::Backend::Gl && origin {
-        return Err(bad_option(
-            "origin=True is not supported with backend=\"gl\"; use backend=\"cpu\"",
-        ));
-    }
-    if backend == options::Backend::Gl && uvs.is_some() {
-        return Err(bad_option(
-            "uvs are not carried by backend=\"gl\"; use backend=\"cpu\"",
-        ));
-    }
+    let asks = [
+        (displace.is_some(), Ask::Displace),
+        (origin, Ask::Origin),
+        (uvs.is_some(), Ask::Uvs),
+        (backend == options::Backend::Gl, Ask::GlBackend),
+    ];
+    let asks: Vec<Ask> = asks.iter().filter(|(on, _)| *on).map(|(_, a)| *a).collect();
+    options::refuse_conflicts(&opts, &asks)?;
+    let scheme = opts.scheme;
+    let displacement = displace::parse(displace)?;
+    let source = tags::source(tags)?;
     let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
     pool::follow_numpy(py);
     let (out, from) = py.detach(|| -> PyResult<_> {
+        if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
+            opts = opts.with_tags(t);
+        }
         if backend == options::Backend::Gl {
-            return Ok((gl::refine(&mesh, &opts)?, None));
+            let out = cpu::Outcome {
+                mesh: gl::refine(&mesh, &opts)?,
+                fallback: None,
+            };
+            return Ok((out, None));
         }
         let refiner = Refiner::new(&mesh, &opts).map_err(errors::refine_error)?;
-        let out = pool::refine(&refiner);
-        let from = origin.then(|| refiner.plan().origin());
-        Ok((out, from))
+        let out = gpu::refine(&refiner, backend, &displacement)?;
+        Ok((out, origin.then(|| refiner.plan().origin())))
     })?;
+    if let Some(note) = out.fallback {
+        let note = std::ffi::CString::new(note.replace('\0', " "))?;
+        // stacklevel 2: the caller of the tessella.refine wrapper.
+        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 2)?;
+    }
     let (face, bary) = match from {
         Some((f, b)) => (
             // -1 for a coarse vertex no face uses
@@ -233,6 +188,7 @@ fn refine_adaptive<'py>(
         ),
         None => (None, None),
     };
+    let out = out.mesh;
     Ok((
         pool::to_numpy(py, out.positions)?,
         pool::to_numpy(py, out.triangles)?,
@@ -331,12 +287,17 @@ fn quality<'py>(
     tags: Option<&Bound<'py, PyAny>>,
     crease_angle: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scheme = options::scheme(scheme, options::alpha(alpha)?)?;
     let level = options::quality_level(level)?;
+    let mut opts = options::refine_options(options::Given {
+        scheme,
+        alpha,
+        level: level.to_string(),
+        ..Default::default()
+    })?;
+    let scheme = opts.scheme;
     let source = tags::source(tags)?;
     let mesh = mesh_from(py, vertices, faces, normals)?;
     let r = py.detach(|| -> PyResult<_> {
-        let mut opts = RefineOptions::new(scheme, level);
         if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
             opts = opts.with_tags(t);
         }
@@ -512,7 +473,6 @@ fn gpu_info(py: Python<'_>) -> PyResult<Option<Bound<'_, PyDict>>> {
 #[pymodule]
 fn _tessella(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(refine, m)?)?;
-    m.add_function(wrap_pyfunction!(refine_adaptive, m)?)?;
     m.add_function(wrap_pyfunction!(fem::refine_fem, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(pattern, m)?)?;

@@ -6,31 +6,12 @@
 
 use crate::errors::bad_option;
 use pyo3::{PyErr, PyResult};
+use tessella_core::refine::Ask;
 pub use tessella_core::Backend;
-use tessella_core::{Named, NormalMode, Scheme};
+use tessella_core::{Named, Scheme};
 
 /// Scheme names, in the order `tessella.schemes()` lists them (the core's list).
 pub const SCHEMES: &[&str] = Scheme::NAMES;
-
-/// The scheme called `name`; `alpha` is Phong's shape factor (ignored by other schemes).
-pub fn scheme(name: &str, alpha: f64) -> PyResult<Scheme> {
-    match name.parse::<Scheme>() {
-        Ok(s) => Ok(s.with_alpha(alpha as f32)),
-        Err(e) => Err(bad_option(format!("{e} (see tessella.schemes())"))),
-    }
-}
-
-/// The normal mode called `name`; `None` means the scheme's default.
-pub fn normal_mode(name: Option<&str>) -> PyResult<Option<NormalMode>> {
-    let Some(name) = name else { return Ok(None) };
-    match name.parse::<NormalMode>() {
-        Ok(mode) => Ok(Some(mode)),
-        Err(e) => Err(bad_option(format!(
-            "unknown normals_mode {name:?}; use one of {:?} or None for the scheme's default",
-            e.valid
-        ))),
-    }
-}
 
 /// The backend called `name`.
 pub fn backend(name: &str) -> PyResult<Backend> {
@@ -87,16 +68,6 @@ pub fn quality_level(value: i64) -> PyResult<u32> {
         )));
     }
     Ok(l)
-}
-
-/// Phong's shape factor must be finite.
-pub fn alpha(alpha: f64) -> PyResult<f64> {
-    if !alpha.is_finite() {
-        return Err(bad_option(format!(
-            "alpha must be finite (usually within 0..=1), got {alpha}"
-        )));
-    }
-    Ok(alpha)
 }
 
 /// `backend="gl"` where the grid pattern is asked for (see `gl.rs`).
@@ -160,4 +131,23 @@ pub fn refine_options(given: Given<'_>) -> PyResult<tessella_core::RefineOptions
         let argument = argument.replace('-', "_");
         bad_option(format!("{argument}: {}{hint}", e.message))
     })
+}
+
+/// An ask as `tessella.refine`'s keyword arguments spell it, for a conflict's message.
+fn keyword(ask: Ask) -> String {
+    match ask {
+        Ask::FractionalLevel => "a fractional level=".into(),
+        Ask::PerEdgeLevels => "per-edge levels".into(),
+        Ask::Origin => "origin=True".into(),
+        Ask::GlBackend => "backend='gl'".into(),
+        other => format!("{}=", other.key()),
+    }
+}
+
+/// Refuses `asks` with these options where the core's rules say they cannot go together
+/// ([`tessella_core::RefineOptions::conflict`]): `refine(): A cannot be combined with B (why)`.
+pub fn refuse_conflicts(options: &tessella_core::RefineOptions, asks: &[Ask]) -> PyResult<()> {
+    options
+        .conflict(asks)
+        .map_err(|c| bad_option(format!("refine(): {}", c.message(keyword))))
 }

@@ -65,11 +65,13 @@ pub fn render<'py>(
     use tessella_core::RefineOptions;
     use tessella_view::{colormap as bar, Colormap, FieldColors, RenderOptions};
 
-    let alpha = options::alpha(0.75)?;
-    let level = options::level(level)?;
     let refine_for = |name: &str| -> PyResult<(String, RefineOptions)> {
-        let s = options::scheme(name, alpha)?;
-        Ok((s.name().to_string(), RefineOptions::new(s, level)))
+        let options = options::refine_options(options::Given {
+            scheme: name,
+            level: level.to_string(),
+            ..Default::default()
+        })?;
+        Ok((options.scheme.name().to_string(), options))
     };
     let single = refine_for(scheme)?;
     let panels = compare

@@ -243,8 +243,10 @@ def refine(
     origin : bool
         Fill the result's ``origin = (face, bary)``: each
         refined vertex's coarse triangle and barycentric coordinates in its corner order (for
-        mapping finite-element fields). ``spacing``, fractional levels, ``lod`` and ``origin``
-        refine on the CPU; ``tags``, ``crease_angle`` and ``displace`` are not taken with them.
+        mapping finite-element fields), with any levels and any backend but ``"gl"``.
+        ``displace`` needs a whole level on the grid (no ``spacing``, fractional level or
+        ``lod``); ``backend="gl"`` takes no ``origin``, ``uvs`` or ``displace``. Those are the
+        core's rules, the CLI's and npm's too.
     point_data : dict of str to array_like (n,) or (n, k), optional
         Per-vertex fields (temperature, displacement, ...) carried to every refined vertex with
         its coarse face's own basis: linear on 3-node faces, the 6 quadratic shape functions on
@@ -299,17 +301,12 @@ def refine(
     if faces is None:
         raise MeshError("refine(vertices, faces, ...) needs faces, an (m, 3) integer array (or a mesh object)")
     fem = point_data is not None or cell_data is not None or warp is not None or _six_columns(faces)
-    fractional = isinstance(level, float) and not float(level).is_integer()
-    adaptive = not fem and (
-        spacing != "grid" or lod is not None or origin or fractional or camera is not None or size is not None
-    )
-    backend_name = backend.lower() if isinstance(backend, str) else backend
-    _options.check_conflicts(
-        fem=fem, adaptive=adaptive, spacing=spacing, lod=lod, camera=camera, size=size, origin=origin,
-        tags=tags, crease_angle=crease_angle, displace=displace, backend=backend_name,
-        uvs=uvs is not None, fields_from=fields_from,
-    )
-    # What the three paths (fields, adaptive levels, uniform levels) take alike.
+    if fem:
+        _options.check_fields(
+            spacing=spacing, lod=lod, camera=camera, size=size, tags=tags, crease_angle=crease_angle,
+            displace=displace, fields_from=fields_from,
+        )
+    # What both paths (fields, and the plain surface) take alike.
     shared: Dict[str, Any] = dict(
         alpha=alpha, normals_mode=normals_mode, weld=weld, uvs=None if uvs is None else _uv_rows(uvs)
     )
@@ -320,19 +317,15 @@ def refine(
         )
     if scheme is None:
         scheme = "pn"
-    if adaptive:
-        lod_text, camera_text, size_pair = _options.lod_spec(lod, camera, size)
-        v, f, n, face, bary, ruv = _tessella.refine_adaptive(
-            vertices, faces, normals, scheme=scheme, level=float(level), spacing=spacing, lod=lod_text,
-            camera=camera_text, size=size_pair, origin=origin, backend="gl" if backend_name == "gl" else "cpu",
-            **shared,
-        )
-        return RefinedMesh(v, f, n, face, bary, uvs=ruv)
-    v, f, n, ruv = _tessella.refine(
-        vertices, faces, normals, scheme=scheme, level=level, tags=tags, crease_angle=crease_angle,
-        backend=backend, displace=_options.displace_spec(displace), **shared,
+    # Every other option, and which of them cannot go together, the compiled module checks
+    # with the core's rules (the CLI's and npm's).
+    lod_text, camera_text, size_pair = _options.lod_spec(lod, camera, size)
+    v, f, n, face, bary, ruv = _tessella.refine(
+        vertices, faces, normals, scheme=scheme, level=level, spacing=spacing, lod=lod_text,
+        camera=camera_text, size=size_pair, tags=tags, crease_angle=crease_angle, backend=backend,
+        displace=_options.displace_spec(displace), origin=origin, **shared,
     )
-    return RefinedMesh(v, f, n, uvs=ruv)
+    return RefinedMesh(v, f, n, face, bary, uvs=ruv)
 
 
 #: The old name of :class:`RefinedMesh` (what ``origin=True`` and fields returned).

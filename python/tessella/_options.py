@@ -1,5 +1,6 @@
-"""Typed options: :class:`Camera`, :class:`Lod` and :class:`Displace`, and the one place where
-:func:`tessella.refine`'s options are checked against each other (:func:`check_conflicts`).
+"""Typed options: :class:`Camera`, :class:`Lod` and :class:`Displace`, and what
+:func:`tessella.refine`'s fields path does not take (:func:`check_fields`); which other options
+cannot go together the compiled module checks, with the core's rules (the CLI's and npm's).
 
 Each typed option validates its numbers when it is made (an :class:`~tessella.OptionError`
 naming the bad one), has a ``repr`` that reads as the call that made it, and turns into the
@@ -260,58 +261,41 @@ def displace_spec(displace: Any) -> Any:
     return displace.spec() if isinstance(displace, Displace) else displace
 
 
-def check_conflicts(
+def check_fields(
     *,
-    fem: bool,
-    adaptive: bool,
     spacing: str,
     lod: Any,
     camera: Any,
     size: Any,
-    origin: bool,
     tags: Any,
     crease_angle: Any,
     displace: Any,
-    backend: str,
-    uvs: bool = False,
     fields_from: Optional[str] = None,
 ) -> None:
-    """Refuses options that cannot go together, all in one message style:
-    ``"refine(): A cannot be combined with B (why)"``. ``fields_from`` names the fields a mesh
-    object brought along (refused like ``point_data=`` rather than dropped)."""
+    """Refuses what the fields path (point or cell data, ``warp``, 6-node faces) does not take,
+    in the message style of the core's rules: ``"refine(): A cannot be combined with B (why)"``.
+    That path refines with one whole level on the grid pattern, untagged and undisplaced; every
+    other combination is the core's to refuse (the compiled ``refine``). ``fields_from`` names
+    the fields a mesh object brought along (refused like ``point_data=`` rather than dropped)."""
 
     def refuse(a: str, b: str, why: str) -> None:
         raise OptionError(f"refine(): {a} cannot be combined with {b} ({why})")
 
     given = lambda pairs: [name for name, v in pairs if v]  # noqa: E731
-    if fem:
-        fields = "point_data=, cell_data=, warp= or 6-node faces"
-        if fields_from is not None:
-            fields = fields_from
-            hint = "; pass the object's arrays (vertices, faces) to refine without its fields"
-        else:
-            hint = ""
-        spaced = given([("spacing=", spacing != "grid"), ("lod=", lod is not None),
-                        ("camera=", camera is not None), ("size=", size is not None)])
-        if spaced:
-            refuse(fields, spaced[0], "fields take a whole level on the grid pattern" + hint)
-        shaped = given([("tags=", tags is not None), ("crease_angle=", crease_angle is not None),
-                        ("displace=", displace is not None)])
-        if shaped:
-            refuse(fields, shaped[0], "fields are carried on the untagged, undisplaced surface" + hint)
-    if uvs and backend == "gl":
-        refuse("uvs=", "backend='gl'", "the GL tessellator does not carry texture coordinates; use backend='cpu'")
-    if adaptive:
-        shaped = given([("tags=", tags is not None), ("crease_angle=", crease_angle is not None),
-                        ("displace=", displace is not None)])
-        if shaped:
-            refuse("spacing=, fractional levels, lod= or origin=", shaped[0],
-                   "those refine on the CPU or GL pattern planner, which takes no tags or displacement")
-        if backend == "gpu":
-            refuse("spacing=, fractional levels, lod= or origin=", "backend='gpu'",
-                   "they refine on the CPU or on the GL tessellator: use backend='cpu' or 'gl'")
-        if origin and backend == "gl":
-            refuse("origin=True", "backend='gl'", "the GL tessellator does not report origins; use backend='cpu'")
+    fields = "point_data=, cell_data=, warp= or 6-node faces"
+    if fields_from is not None:
+        fields = fields_from
+        hint = "; pass the object's arrays (vertices, faces) to refine without its fields"
+    else:
+        hint = ""
+    spaced = given([("spacing=", spacing != "grid"), ("lod=", lod is not None),
+                    ("camera=", camera is not None), ("size=", size is not None)])
+    if spaced:
+        refuse(fields, spaced[0], "fields take a whole level on the grid pattern" + hint)
+    shaped = given([("tags=", tags is not None), ("crease_angle=", crease_angle is not None),
+                    ("displace=", displace is not None)])
+    if shaped:
+        refuse(fields, shaped[0], "fields are carried on the untagged, undisplaced surface" + hint)
 
 
 #: :func:`tessella.refine`'s options that work on one merged mesh only, as ``tessella refine``

@@ -85,3 +85,21 @@ def test_bad_levels_are_value_errors(kwargs, match):
     v, f, n = icosphere()
     with pytest.raises(ValueError, match=match):
         tessella.refine(v, f, n, **kwargs)
+
+
+def test_tags_origins_and_displacement_take_the_levels_the_core_takes_them_with():
+    """What the core refines, Python asks for: tags with a tessellator spacing (a sharp PNG1
+    crease moves the surface, the triangles stay), origins of a displaced grid refinement (the
+    same vertices as without origins, each vertex's origin on its coarse face)."""
+    v, f, n = icosphere()
+    sharp = {"edges": [{"vertices": [int(f[0][0]), int(f[0][1])], "sharpness": 1.0, "kappa": 0.05}]}
+    plain = tessella.refine(v, f, n, scheme="png1", spacing="equal", level=3, backend="cpu")
+    tagged = tessella.refine(v, f, n, scheme="png1", spacing="equal", level=3, tags=sharp, backend="cpu")
+    assert np.array_equal(plain.faces, tagged.faces)
+    assert np.abs(tagged.vertices - plain.vertices).max() > 1e-4
+    wave = ("sine", 0.05, 3.0)
+    displaced = tessella.refine(v, f, n, level=3, displace=wave, backend="cpu")
+    with_origin = tessella.refine(v, f, n, level=3, displace=wave, origin=True, backend="cpu")
+    assert np.array_equal(displaced.vertices, with_origin.vertices)
+    face, bary = with_origin.origin
+    assert face.min() >= 0 and np.allclose(bary.sum(axis=1), 1.0)

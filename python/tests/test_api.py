@@ -95,8 +95,9 @@ def test_typed_options_validate_and_read_back_from_their_repr():
     [
         (dict(point_data={"t": np.zeros(4)}, lod="tolerance:0.1"), "point_data=", "lod="),
         (dict(point_data={"t": np.zeros(4)}, displace=("sine", 0.1, 1.0)), "point_data=", "displace="),
-        (dict(origin=True, displace=("sine", 0.1, 1.0)), "origin=", "displace="),
-        (dict(lod="tolerance:0.1", backend="gpu"), "lod=", "backend='gpu'"),
+        (dict(lod="tolerance:0.1", displace=("sine", 0.1, 1.0)), "displace=", "lod="),
+        (dict(spacing="equal", level=3, displace=("sine", 0.1, 1.0)), "displace=", "spacing="),
+        (dict(level=2.5, displace=("sine", 0.1, 1.0)), "displace=", "a fractional level="),
         (dict(lod=tessella.Lod.tolerance(0.1), camera=(0, 0, 3, 0, 0, 0, 40)), "Lod.tolerance", "camera="),
         (dict(camera=(0, 0, 3, 0, 0, 0, 40)), "camera=", "lod="),
     ],

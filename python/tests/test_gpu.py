@@ -321,3 +321,16 @@ def test_unknown_backends_are_refused():
     a = tessella.refine(v, f, n, level=2, backend="GPU")
     b = tessella.refine(v, f, n, level=2, backend="gpu")
     np.testing.assert_array_equal(a[0], b[0])
+
+
+def test_adaptive_levels_refine_on_the_gpu_as_on_the_cpu():
+    """Tessellator spacings and LOD levels take every backend, as the CLI's do: the GPU's
+    vertices are the CPU's to float rounding, its triangles the same."""
+    v, f = icosphere(2)
+    n = None
+    for options in (dict(spacing="fractional-odd", level=4.5), dict(lod="tolerance:0.01")):
+        cv, cf, cn = tessella.refine(v, f, n, backend="cpu", **options)
+        gv, gf, gn = tessella.refine(v, f, n, backend="gpu", **options)
+        assert np.array_equal(cf, gf), options
+        assert np.abs(gv - cv).max() < 1e-5 * diagonal(cv), options
+        assert np.abs(gn - cn).max() < 1e-4, options

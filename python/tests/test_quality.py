@@ -68,7 +68,7 @@ def test_phong_alpha_is_used():
         (dict(level=0), ValueError, r"level must be 1 or more"),
         (dict(level=257), ValueError, r"use a level of 256 or less"),
         (dict(scheme="loop"), ValueError, r"unknown scheme"),
-        (dict(scheme="phong", alpha=float("inf")), ValueError, r"alpha must be finite"),
+        (dict(scheme="phong", alpha=float("inf")), ValueError, r"alpha: must be finite"),
         (dict(crease_angle=181), ValueError, r"crease angle must be"),
     ],
 )
