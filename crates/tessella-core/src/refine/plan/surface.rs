@@ -47,6 +47,11 @@ pub struct SurfaceOptions {
 }
 
 impl SurfaceOptions {
+    /// Checks the scheme (and its tags) against `mesh` and its topology.
+    pub(crate) fn validate(&self, mesh: &Mesh, topology: &Topology) -> Result<(), RefineError> {
+        validate_nets(mesh, Some(topology), &self.scheme, self.tags.as_deref())
+    }
+
     /// The scheme's default normals, no tags.
     pub fn new(scheme: Scheme) -> SurfaceOptions {
         SurfaceOptions {
@@ -147,12 +152,7 @@ impl Surface {
     /// Validates the scheme (and its tags) against `mesh` and builds its topology.
     pub fn new(mesh: &Mesh, options: &SurfaceOptions) -> Result<Surface, RefineError> {
         let topology = mesh.topology();
-        validate_nets(
-            mesh,
-            Some(&topology),
-            &options.scheme,
-            options.tags.as_deref(),
-        )?;
+        options.validate(mesh, &topology)?;
         Ok(Surface::from_parts(mesh, topology, options.clone()))
     }
 

@@ -36,7 +36,7 @@ use super::tiling::{build_tiling, resolve_levels, Tiling};
 use crate::error::{human_bytes, RefineError};
 use crate::mesh::{Mesh, Topology};
 use crate::pattern::Pattern;
-use crate::scheme::{fill_nets, validate_nets, PatchNets};
+use crate::scheme::{fill_nets, PatchNets};
 use crate::stencil::Stencil;
 use std::borrow::Cow;
 use std::sync::OnceLock;
@@ -123,12 +123,7 @@ impl Plan {
         options: &RefineOptions,
     ) -> Result<(Plan, Option<PatchNets>), RefineError> {
         let topology = mesh.topology();
-        validate_nets(
-            mesh,
-            Some(&topology),
-            &options.scheme,
-            options.tags.as_deref(),
-        )?;
+        options.surface_options().validate(mesh, &topology)?;
         let levels = options.levels.clone();
         // Only LOD levels read the surface (the first mesh's control nets), and they are the
         // nets the surface would build for a frame of this mesh (same function, topology,
@@ -241,12 +236,7 @@ impl Plan {
                 vertices: layout.vertex_count,
             });
         }
-        validate_nets(
-            mesh,
-            Some(&topology),
-            &options.scheme,
-            options.tags.as_deref(),
-        )?;
+        options.surface_options().validate(mesh, &topology)?;
         let pattern = Pattern::uniform(level);
         let stencil = Stencil::new(&pattern, options.scheme.basis());
         Ok(Plan::assemble(
