@@ -11,8 +11,8 @@
 use crate::error::ViewerError;
 use serde_json::{json, Map, Value};
 use tessella_core::displace::Displacement;
-use tessella_core::refine::{Camera, Lod, Spacing};
-use tessella_core::{Named, NormalMode, Scheme};
+use tessella_core::refine::{Ask, Camera, Lod, Spacing};
+use tessella_core::{Named, NormalMode, RefineOptions, Scheme};
 
 /// The deformation `frame(timeMs)` plays.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -396,16 +396,24 @@ impl Params {
         Ok(p)
     }
 
-    /// Checks what depends on several parameters at once.
+    /// Checks what depends on several parameters at once: the core's rules
+    /// ([`RefineOptions::conflict`]), the asks spelt as the parameters are.
     fn check(&self) -> Result<(), ViewerError> {
-        if self.displacement.is_some() && !self.is_uniform_grid() {
-            return Err(bad(
-                "displace",
-                "works with a whole level on the grid spacing and lod \"fixed\" (the pattern \
-                 renderer); the adaptive renderer draws no displacement",
-            ));
+        if !self.displacement.is_some() {
+            return Ok(());
         }
-        Ok(())
+        let options = RefineOptions::from_pairs(self.refine_pairs(self.scheme))
+            .map_err(|e| bad("options", e.to_string()))?;
+        // The viewer's LOD is chosen per frame, outside the options.
+        let lod = self.lod.is_some().then_some(Ask::Lod);
+        let asks: Vec<Ask> = [Some(Ask::Displace), lod].into_iter().flatten().collect();
+        options.conflict(&asks).map_err(|c| {
+            let spell = |ask: Ask| match ask {
+                Ask::FractionalLevel => "a fractional level".to_string(),
+                other => other.key().to_string(),
+            };
+            bad("displace", c.message(spell))
+        })
     }
 
     /// Whether the levels are one whole number on the grid: the pattern renderer draws them.
@@ -470,6 +478,29 @@ impl Params {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Displacement with levels the pattern renderer cannot draw is refused with the core's
+    /// rule, the asks spelt as the parameters; a whole level on the grid takes it.
+    #[test]
+    fn displacement_needs_a_whole_grid_level_by_the_cores_rule() {
+        let with = |pairs: Value| -> Result<Params, ViewerError> {
+            let mut changes = pairs.as_object().expect("an object").clone();
+            changes.insert("displace".into(), json!("sine:0.1,5"));
+            Params::default().apply(&changes)
+        };
+        let why = "(displacement follows the uniform grid's output layout, a whole level on the \
+                   grid pattern)";
+        for (pairs, named) in [
+            (json!({ "lod": "screen:4" }), "lod"),
+            (json!({ "spacing": "equal" }), "spacing"),
+            (json!({ "level": 2.5 }), "a fractional level"),
+        ] {
+            let err = with(pairs.clone()).expect_err("refused").to_string();
+            let want = format!("displace: displace cannot be combined with {named} {why}");
+            assert_eq!(err, want, "{pairs}");
+        }
+        assert!(with(json!({ "level": 3 })).is_ok());
+    }
 
     /// The page's own copy of the names and defaults (`web/src/params.js`, which the page, its
     /// WebGL2 fallback and the Node tests read without the wasm) is pinned to the core's names
