@@ -34,12 +34,22 @@ pub trait Real:
     fn sqrt(self) -> Self;
     /// `yes` where `test` is finite and positive, else `no`; both sides are computed.
     fn select_positive_finite(test: Self, yes: Self, no: Self) -> Self;
-    /// Whether `self != 0`, where that is known now: always for a CPU number, which then
-    /// computes only the side it keeps ([`V3::choose_nonzero`]); for a traced one only when it
-    /// is a constant, the other selections record both sides.
-    fn known_nonzero(self) -> Option<bool>;
-    /// Whether `self` is finite and positive, where that is known now (as [`Real::known_nonzero`]).
-    fn known_positive_finite(self) -> Option<bool>;
+    /// `nonzero()` where `test != 0`, else `zero()`: a CPU number computes only the side it
+    /// keeps; a traced one (unless `test` is a constant) computes both and joins them with
+    /// `select(test, nonzero, zero)`, its selection ([`V3::choose_nonzero`]).
+    fn choose_nonzero<R>(
+        test: Self,
+        nonzero: impl FnOnce() -> R,
+        zero: impl FnOnce() -> R,
+        select: impl FnOnce(Self, R, R) -> R,
+    ) -> R;
+    /// `yes()` where `test` is finite and positive, else `no()`, as [`Real::choose_nonzero`].
+    fn choose_positive_finite<R>(
+        test: Self,
+        yes: impl FnOnce() -> R,
+        no: impl FnOnce() -> R,
+        select: impl FnOnce(Self, R, R) -> R,
+    ) -> R;
 }
 
 /// `f64` (stencil weights) and `f32` (control nets: the coarse mesh's precision) compute as
@@ -75,13 +85,31 @@ macro_rules! real_float {
                     no
                 }
             }
-            #[inline]
-            fn known_nonzero(self) -> Option<bool> {
-                Some(self != 0.0)
+            #[inline(always)]
+            fn choose_nonzero<R>(
+                test: $t,
+                nonzero: impl FnOnce() -> R,
+                zero: impl FnOnce() -> R,
+                _select: impl FnOnce($t, R, R) -> R,
+            ) -> R {
+                if test != 0.0 {
+                    nonzero()
+                } else {
+                    zero()
+                }
             }
-            #[inline]
-            fn known_positive_finite(self) -> Option<bool> {
-                Some(self.is_finite() && self > 0.0)
+            #[inline(always)]
+            fn choose_positive_finite<R>(
+                test: $t,
+                yes: impl FnOnce() -> R,
+                no: impl FnOnce() -> R,
+                _select: impl FnOnce($t, R, R) -> R,
+            ) -> R {
+                if test.is_finite() && test > 0.0 {
+                    yes()
+                } else {
+                    no()
+                }
             }
         }
     };
@@ -197,8 +225,6 @@ impl<T: Real> V3<T> {
     pub fn length_squared(self) -> T {
         self.dot(self)
     }
-    /// `self · (1 / |self|)`, or zero where that reciprocal is not finite and positive (as
-    /// `glam::Vec3::normalize_or_zero`).
     /// `self × o` in `glam`'s order of operations.
     pub fn cross(self, o: V3<T>) -> V3<T> {
         V3::new(
@@ -213,14 +239,10 @@ impl<T: Real> V3<T> {
     }
     /// `self · (1 / |self|)`, or `fallback` where that reciprocal is not finite and positive
     /// (as `glam`'s `normalize_or`).
+    #[inline(always)]
     pub fn normalize_or(self, fallback: V3<T>) -> V3<T> {
         let rcp = T::lit(1.0) / self.length();
-        let scaled = self * rcp;
-        V3::new(
-            T::select_positive_finite(rcp, scaled.x, fallback.x),
-            T::select_positive_finite(rcp, scaled.y, fallback.y),
-            T::select_positive_finite(rcp, scaled.z, fallback.z),
-        )
+        V3::choose_positive_finite(rcp, || self * rcp, || fallback)
     }
     /// `nonzero()` where `test != 0`, else `zero()`, each component: a CPU number computes
     /// the side it keeps, a traced one records both and a selection.
@@ -230,18 +252,13 @@ impl<T: Real> V3<T> {
         nonzero: impl FnOnce() -> V3<T>,
         zero: impl FnOnce() -> V3<T>,
     ) -> V3<T> {
-        match test.known_nonzero() {
-            Some(true) => nonzero(),
-            Some(false) => zero(),
-            None => {
-                let (a, b) = (nonzero(), zero());
-                V3::new(
-                    T::select_nonzero(test, a.x, b.x),
-                    T::select_nonzero(test, a.y, b.y),
-                    T::select_nonzero(test, a.z, b.z),
-                )
-            }
-        }
+        T::choose_nonzero(test, nonzero, zero, |t, a, b| {
+            V3::new(
+                T::select_nonzero(t, a.x, b.x),
+                T::select_nonzero(t, a.y, b.y),
+                T::select_nonzero(t, a.z, b.z),
+            )
+        })
     }
     /// `yes()` where `test` is finite and positive, else `no()`, as [`V3::choose_nonzero`].
     #[inline(always)]
@@ -250,28 +267,20 @@ impl<T: Real> V3<T> {
         yes: impl FnOnce() -> V3<T>,
         no: impl FnOnce() -> V3<T>,
     ) -> V3<T> {
-        match test.known_positive_finite() {
-            Some(true) => yes(),
-            Some(false) => no(),
-            None => {
-                let (a, b) = (yes(), no());
-                V3::new(
-                    T::select_positive_finite(test, a.x, b.x),
-                    T::select_positive_finite(test, a.y, b.y),
-                    T::select_positive_finite(test, a.z, b.z),
-                )
-            }
-        }
+        T::choose_positive_finite(test, yes, no, |t, a, b| {
+            V3::new(
+                T::select_positive_finite(t, a.x, b.x),
+                T::select_positive_finite(t, a.y, b.y),
+                T::select_positive_finite(t, a.z, b.z),
+            )
+        })
     }
+    /// `self · (1 / |self|)`, or zero where that reciprocal is not finite and positive (as
+    /// `glam::Vec3::normalize_or_zero`).
+    #[inline(always)]
     pub fn normalize_or_zero(self) -> V3<T> {
         let rcp = T::lit(1.0) / self.dot(self).sqrt();
-        let scaled = self * rcp;
-        let zero = T::lit(0.0);
-        V3::new(
-            T::select_positive_finite(rcp, scaled.x, zero),
-            T::select_positive_finite(rcp, scaled.y, zero),
-            T::select_positive_finite(rcp, scaled.z, zero),
-        )
+        V3::choose_positive_finite(rcp, || self * rcp, V3::zero)
     }
 }
 

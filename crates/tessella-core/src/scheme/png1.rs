@@ -153,13 +153,16 @@ impl<T: Noise> SegmentFrame<T> {
     fn coords(&self, x: V3<T>) -> (V3<T>, T, T) {
         let r = x - self.s0;
         let zero = T::lit(0.0);
-        let xi = r.dot(self.t) / (self.len * self.len);
-        let eta = r.dot(self.m) / self.len;
-        (
-            r,
-            T::select_nonzero(self.len, xi, zero),
-            T::select_nonzero(self.len, eta, zero),
-        )
+        // ξ and η as a vector's first two parts, to choose them at once.
+        let along = V3::choose_nonzero(
+            self.len,
+            || {
+                let xi = r.dot(self.t) / (self.len * self.len);
+                V3::new(xi, r.dot(self.m) / self.len, zero)
+            },
+            V3::zero,
+        );
+        (r, along.x, along.y)
     }
 
     /// The point with coordinates `coords` (from `from`) in this frame: the similarity carrying
@@ -258,8 +261,7 @@ pub fn control_points_of<T: Noise>(
         let at_b = SegmentFrame::new(e_b, pb, nb);
         let middle = SegmentFrame::new(e_a, e_b, nm);
         let (in_a, in_b) = (at_a.coords(f_a), at_b.coords(f_b));
-        let shift = n_t * edge.kappa;
-        let sharpen = |x: V3<T>| V3::choose_nonzero(edge.sharp, || x + shift, || x);
+        let sharpen = |x: V3<T>| V3::choose_nonzero(edge.sharp, || x + n_t * edge.kappa, || x);
         let centre_a = sharpen(middle.place(&at_a, in_a));
         let cross_a = sharpen(at_b.place(&at_a, in_a));
         let centre_b = sharpen(middle.place(&at_b, in_b));

@@ -434,12 +434,36 @@ impl Real for Expr {
         }
     }
 
-    fn known_nonzero(self) -> Option<bool> {
-        self.value().map(|t| t != 0.0)
+    fn choose_nonzero<R>(
+        test: Expr,
+        nonzero: impl FnOnce() -> R,
+        zero: impl FnOnce() -> R,
+        select: impl FnOnce(Expr, R, R) -> R,
+    ) -> R {
+        match test.value() {
+            Some(t) if t != 0.0 => nonzero(),
+            Some(_) => zero(),
+            None => {
+                let (a, b) = (nonzero(), zero());
+                select(test, a, b)
+            }
+        }
     }
 
-    fn known_positive_finite(self) -> Option<bool> {
-        self.value().map(|t| t.is_finite() && t > 0.0)
+    fn choose_positive_finite<R>(
+        test: Expr,
+        yes: impl FnOnce() -> R,
+        no: impl FnOnce() -> R,
+        select: impl FnOnce(Expr, R, R) -> R,
+    ) -> R {
+        match test.value() {
+            Some(t) if t.is_finite() && t > 0.0 => yes(),
+            Some(_) => no(),
+            None => {
+                let (a, b) = (yes(), no());
+                select(test, a, b)
+            }
+        }
     }
 
     fn select_positive_finite(test: Expr, yes: Expr, no: Expr) -> Expr {
