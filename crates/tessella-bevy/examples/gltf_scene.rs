@@ -7,7 +7,7 @@
 mod showcase;
 
 use bevy::prelude::*;
-use showcase::{orbit, stage, NewMesh};
+use showcase::{GltfStage, NewMesh};
 use std::path::PathBuf;
 use tessella_bevy::tessella_core::names::parse_name;
 use tessella_bevy::tessella_core::Scheme;
@@ -22,23 +22,16 @@ struct Options {
 }
 
 fn options(args: Vec<String>) -> Result<Options, String> {
-    let samples = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
-    let mut o = Options {
-        file: samples.join("animated-creature.glb"),
-        scheme: Scheme::Pn,
-        level: 8,
-    };
-    let mut it = args.into_iter();
-    while let Some(a) = it.next() {
-        let mut value = || it.next().ok_or(format!("{a} needs a value"));
-        match a.as_str() {
-            "--scheme" => o.scheme = parse_name(&value()?).map_err(|e| e.to_string())?,
-            "--level" => o.level = value()?.parse().map_err(|e| format!("--level: {e}"))?,
-            s if !s.starts_with('-') => o.file = PathBuf::from(s),
-            s => return Err(format!("unknown argument {s}")),
-        }
-    }
-    Ok(o)
+    let mut scheme = Scheme::Pn;
+    let shared = showcase::gltf_args(args, "--scheme", |value| {
+        scheme = parse_name(&value).map_err(|e| e.to_string())?;
+        Ok(())
+    })?;
+    Ok(Options {
+        file: shared.file,
+        scheme,
+        level: shared.level,
+    })
 }
 
 fn main() -> AppExit {
@@ -52,16 +45,9 @@ fn main() -> AppExit {
     })
 }
 
-fn setup(
-    mut commands: Commands,
-    options: Res<Options>,
-    assets: Res<AssetServer>,
-    mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
-) {
-    let (_, bounds) = showcase::spawn_gltf(&mut commands, &assets, &options.file);
-    let camera = orbit(bounds, Vec3::new(0.6, 0.45, 1.0), 3.2);
-    stage(&mut commands, &mut meshes, &mut materials, bounds, camera);
+fn setup(mut stage: GltfStage, options: Res<Options>) {
+    // This example plays no clips: it needs no handle on the file.
+    stage.spawn(&options.file, Vec3::new(0.6, 0.45, 1.0), 3.2);
 }
 
 /// Every mesh the scene spawns gets `Tessellate`.

@@ -9,7 +9,7 @@ mod showcase;
 
 use bevy::gltf::Gltf;
 use bevy::prelude::*;
-use showcase::{orbit, stage, NewMesh};
+use showcase::{GltfStage, NewMesh};
 use std::path::PathBuf;
 use tessella_bevy::tessella_core::Scheme;
 use tessella_bevy::{Tessellate, UploadStats};
@@ -25,23 +25,16 @@ struct Options {
 struct File(Handle<Gltf>);
 
 fn options(args: Vec<String>) -> Result<Options, String> {
-    let samples = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
-    let mut o = Options {
-        file: samples.join("animated-creature.glb"),
-        clip: "wave".into(),
-        level: 8,
-    };
-    let mut it = args.into_iter();
-    while let Some(a) = it.next() {
-        let mut value = || it.next().ok_or(format!("{a} needs a value"));
-        match a.as_str() {
-            "--clip" => o.clip = value()?,
-            "--level" => o.level = value()?.parse().map_err(|e| format!("--level: {e}"))?,
-            s if !s.starts_with('-') => o.file = PathBuf::from(s),
-            s => return Err(format!("unknown argument {s}")),
-        }
-    }
-    Ok(o)
+    let mut clip = String::from("wave");
+    let shared = showcase::gltf_args(args, "--clip", |value| {
+        clip = value;
+        Ok(())
+    })?;
+    Ok(Options {
+        file: shared.file,
+        clip,
+        level: shared.level,
+    })
 }
 
 fn main() -> AppExit {
@@ -58,17 +51,10 @@ fn main() -> AppExit {
     })
 }
 
-fn setup(
-    mut commands: Commands,
-    options: Res<Options>,
-    assets: Res<AssetServer>,
-    mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
-) {
-    let (file, bounds) = showcase::spawn_gltf(&mut commands, &assets, &options.file);
-    commands.insert_resource(File(file));
-    let camera = orbit(bounds, Vec3::new(0.3, 0.35, 1.0), 3.4);
-    stage(&mut commands, &mut meshes, &mut materials, bounds, camera);
+fn setup(mut stage: GltfStage, options: Res<Options>) {
+    let file = stage.spawn(&options.file, Vec3::new(0.3, 0.35, 1.0), 3.4);
+    // `play` finds the file's clips through it.
+    stage.commands.insert_resource(File(file));
 }
 
 fn tessellate_meshes(mut commands: Commands, options: Res<Options>, found: Query<Entity, NewMesh>) {

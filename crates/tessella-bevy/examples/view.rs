@@ -16,6 +16,9 @@
 //! saved once two successive captures agree (pipelines compile synchronously, so the picture
 //! settles within a few frames), then the app exits.
 
+// The showcase examples' module, for the ground's look only.
+mod showcase;
+
 use bevy::app::{AppExit, ScheduleRunnerPlugin};
 use bevy::asset::uuid::Uuid;
 use bevy::camera::NormalizedRenderTarget;
@@ -448,12 +451,7 @@ fn setup(
         let (lo, hi) = tessella_bevy::tessella_core::mesh::bounds(&framed_points);
         let size = (Vec3::from(hi) - Vec3::from(lo)).length() * 3.0;
         commands.spawn((
-            Mesh3d(meshes.add(Plane3d::new(Vec3::Y, Vec2::splat(size * 0.5)))),
-            MeshMaterial3d(materials.add(StandardMaterial {
-                base_color: Color::srgb_u8(200, 190, 170),
-                perceptual_roughness: 1.0,
-                ..default()
-            })),
+            showcase::ground_plane(&mut meshes, &mut materials, size),
             Transform::from_translation(Vec3::new(
                 (lo[0] + hi[0]) * 0.5,
                 lo[1] - 0.02 * size,

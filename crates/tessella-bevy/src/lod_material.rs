@@ -3,7 +3,7 @@
 //! with, `tessella_gpu::wgsl::adaptive_module`), registered once per basis, normal mode and
 //! spacing family as the Bevy import `tessella_bevy::adaptive_<basis>_<normals>_<family>`.
 
-use crate::material::{rebind, MATERIAL_GROUP};
+use crate::material::{insert_shader, rebind, MATERIAL_GROUP};
 use bevy::asset::{uuid::Uuid, uuid_handle};
 use bevy::mesh::MeshVertexBufferLayoutRef;
 use bevy::pbr::{
@@ -154,10 +154,7 @@ pub(crate) fn register_shaders(shaders: &mut Assets<Shader>) -> Result<(), Strin
         let source = adaptive_module_for_bevy(v.0, v.1, spacing);
         let handle: Handle<Shader> =
             Handle::Uuid(Uuid::from_u128(ADAPTIVE_UUID + i as u128), PhantomData);
-        let path = format!("embedded://tessella_bevy/{name}.wesl");
-        shaders
-            .insert(handle.id(), Shader::from_wesl(source, path))
-            .map_err(|e| format!("cannot register {name}: {e}"))?;
+        insert_shader(shaders, &handle, &name, source)?;
         imports.push_str(&format!(
             "@if({})\nimport tessella_bevy::{name}::tessella_adaptive_point;\n",
             shader_def(&name)
@@ -169,10 +166,7 @@ pub(crate) fn register_shaders(shaders: &mut Assets<Shader>) -> Result<(), Strin
         (LOD_PREPASS_SHADER, LOD_PREPASS_WESL, "lod_prepass"),
     ] {
         let source = source.replacen(marker, &format!("{marker}{imports}"), 1);
-        let path = format!("embedded://tessella_bevy/{name}.wesl");
-        shaders
-            .insert(handle.id(), Shader::from_wesl(source, path))
-            .map_err(|e| format!("cannot register {name}: {e}"))?;
+        insert_shader(shaders, &handle, name, source)?;
     }
     Ok(())
 }

@@ -13,6 +13,7 @@ use bevy::render::render_resource::{
 };
 use bevy::render::storage::ShaderBuffer;
 use bevy::shader::ShaderRef;
+use std::borrow::Cow;
 use tessella_core::NormalMode;
 
 /// The material a tessellated entity is drawn with: its own `StandardMaterial`, extended.
@@ -179,23 +180,28 @@ pub(crate) fn register_shaders(shaders: &mut Assets<Shader>) -> Result<(), Strin
         (PATCH_REAL, NormalMode::Real, "patch_real"),
     ];
     for (handle, mode, name) in modules {
-        let path = format!("embedded://tessella_bevy/{name}.wesl");
-        shaders
-            .insert(
-                handle.id(),
-                Shader::from_wesl(patch_module_for_bevy(mode), path),
-            )
-            .map_err(|e| format!("cannot register {name}: {e}"))?;
+        insert_shader(shaders, &handle, name, patch_module_for_bevy(mode))?;
     }
     for (handle, source, name) in [
         (VERTEX_SHADER, VERTEX_WESL, "vertex"),
         (PREPASS_SHADER, PREPASS_WESL, "prepass"),
         (FACE_UVS, FACE_UVS_WESL, "face_uvs"),
     ] {
-        let path = format!("embedded://tessella_bevy/{name}.wesl");
-        shaders
-            .insert(handle.id(), Shader::from_wesl(source, path))
-            .map_err(|e| format!("cannot register {name}: {e}"))?;
+        insert_shader(shaders, &handle, name, source)?;
     }
     Ok(())
+}
+
+/// Puts the WESL `source` into `Assets<Shader>` under `handle`, importable as
+/// `tessella_bevy::<name>` (the import path is the embedded path's).
+pub(crate) fn insert_shader(
+    shaders: &mut Assets<Shader>,
+    handle: &Handle<Shader>,
+    name: &str,
+    source: impl Into<Cow<'static, str>>,
+) -> Result<(), String> {
+    let path = format!("embedded://tessella_bevy/{name}.wesl");
+    shaders
+        .insert(handle.id(), Shader::from_wesl(source, path))
+        .map_err(|e| format!("cannot register {name}: {e}"))
 }

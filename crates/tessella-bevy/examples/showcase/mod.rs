@@ -2,6 +2,7 @@
 //! window, built with the `window` feature; or, with `--screenshot OUT.png`, no window at all:
 //! the camera draws into an image, saved once the scene has been tessellated and drawn a few
 //! frames, and the app exits) and their stage (a light with shadows, a ground, a camera).
+//! `view` takes only the ground's look from here ([`ground_plane`]).
 //!
 //! Flags: `--screenshot OUT.png` (headless), `--size WxH`, `--frames N` (exit N frames after the
 //! first tessellated entity appears; in a window, `--window-shot OUT.png` saves that frame).
@@ -11,13 +12,15 @@
 
 use bevy::app::{AppExit, ScheduleRunnerPlugin};
 use bevy::camera::RenderTarget;
+use bevy::ecs::system::SystemParam;
+use bevy::gltf::Gltf;
 use bevy::prelude::*;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::view::window::screenshot::{save_to_disk, Screenshot, ScreenshotCaptured};
 use bevy::render::view::Tonemapping;
 use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 use tessella_bevy::{Patch, Patches, TessellaPlugin, Tessellate};
 
@@ -34,8 +37,41 @@ pub fn run(name: &str, build: impl FnOnce(Vec<String>, Output) -> Result<App, St
     }
 }
 
+/// The arguments the glTF examples (`gltf_scene`, `skinned`) share.
+pub struct GltfArgs {
+    /// A bare argument; the animated creature by default.
+    pub file: PathBuf,
+    /// `--level N`; 8 by default.
+    pub level: u32,
+}
+
+/// Reads a glTF example's own arguments: the shared ones ([`GltfArgs`]), and the example's own
+/// flag `own`, whose values go to `set` in the order given; any other flag is an error.
+pub fn gltf_args(
+    args: Vec<String>,
+    own: &str,
+    mut set: impl FnMut(String) -> Result<(), String>,
+) -> Result<GltfArgs, String> {
+    let samples = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../samples");
+    let mut shared = GltfArgs {
+        file: samples.join("animated-creature.glb"),
+        level: 8,
+    };
+    let mut it = args.into_iter();
+    while let Some(a) = it.next() {
+        let mut value = || it.next().ok_or(format!("{a} needs a value"));
+        match a.as_str() {
+            "--level" => shared.level = value()?.parse().map_err(|e| format!("--level: {e}"))?,
+            s if s == own => set(value()?)?,
+            s if !s.starts_with('-') => shared.file = PathBuf::from(s),
+            s => return Err(format!("unknown argument {s}")),
+        }
+    }
+    Ok(shared)
+}
+
 /// The folder a file lies in (Bevy reads assets below one folder).
-pub fn folder_of(file: &std::path::Path) -> Result<String, String> {
+pub fn folder_of(file: &Path) -> Result<String, String> {
     let file = file
         .canonicalize()
         .map_err(|e| format!("{}: {e}", file.display()))?;
@@ -50,8 +86,8 @@ pub fn folder_of(file: &std::path::Path) -> Result<String, String> {
 pub fn spawn_gltf(
     commands: &mut Commands,
     assets: &AssetServer,
-    file: &std::path::Path,
-) -> (Handle<bevy::gltf::Gltf>, (Vec3, Vec3)) {
+    file: &Path,
+) -> (Handle<Gltf>, (Vec3, Vec3)) {
     let name = file
         .file_name()
         .map(|n| n.to_string_lossy().to_string())
@@ -65,6 +101,32 @@ pub fn spawn_gltf(
         Err(_) => ([-1.0; 3], [1.0; 3]),
     };
     (assets.load(name), (Vec3::from(lo), Vec3::from(hi)))
+}
+
+/// What a startup system needs to put a glTF scene on the stage ([`GltfStage::spawn`]).
+#[derive(SystemParam)]
+pub struct GltfStage<'w, 's> {
+    pub commands: Commands<'w, 's>,
+    assets: Res<'w, AssetServer>,
+    meshes: ResMut<'w, Assets<Mesh>>,
+    materials: ResMut<'w, Assets<StandardMaterial>>,
+}
+
+impl GltfStage<'_, '_> {
+    /// Spawns the glTF `file` ([`spawn_gltf`]) on the [`stage`], the camera looking at it from
+    /// `direction`, `distance` radii away ([`orbit`]); returns the file's handle (its clips).
+    pub fn spawn(&mut self, file: &Path, direction: Vec3, distance: f32) -> Handle<Gltf> {
+        let (gltf, bounds) = spawn_gltf(&mut self.commands, &self.assets, file);
+        let camera = orbit(bounds, direction, distance);
+        stage(
+            &mut self.commands,
+            &mut self.meshes,
+            &mut self.materials,
+            bounds,
+            camera,
+        );
+        gltf
+    }
 }
 
 /// How an example shows its scene.
@@ -357,12 +419,7 @@ pub fn stage(
     let radius = (hi - lo).length() * 0.5;
     let size = radius * 12.0;
     commands.spawn((
-        Mesh3d(meshes.add(Plane3d::new(Vec3::Y, Vec2::splat(size * 0.5)))),
-        MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::srgb_u8(200, 190, 170),
-            perceptual_roughness: 1.0,
-            ..default()
-        })),
+        ground_plane(meshes, materials, size),
         Transform::from_xyz(center.x, lo.y - 0.01 * radius, center.z),
         Ground,
     ));
@@ -385,4 +442,21 @@ pub fn stage(
         Tonemapping::None,
         Transform::from_translation(eye).looking_at(target, Vec3::Y),
     ));
+}
+
+/// The ground's mesh and material: a plane `size` wide facing up, matte and warm (the tests
+/// tell the subjects from the ground by its colour, red above blue).
+pub fn ground_plane(
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    size: f32,
+) -> (Mesh3d, MeshMaterial3d<StandardMaterial>) {
+    (
+        Mesh3d(meshes.add(Plane3d::new(Vec3::Y, Vec2::splat(size * 0.5)))),
+        MeshMaterial3d(materials.add(StandardMaterial {
+            base_color: Color::srgb_u8(200, 190, 170),
+            perceptual_roughness: 1.0,
+            ..default()
+        })),
+    )
 }
