@@ -326,6 +326,18 @@ impl From<V3<f32>> for glam::Vec3 {
     }
 }
 
+impl From<glam::DVec3> for V3<f64> {
+    fn from(v: glam::DVec3) -> V3<f64> {
+        V3::new(v.x, v.y, v.z)
+    }
+}
+
+impl From<V3<f64>> for glam::DVec3 {
+    fn from(v: V3<f64>) -> glam::DVec3 {
+        glam::DVec3::new(v.x, v.y, v.z)
+    }
+}
+
 /// A number with its two partial derivatives along `u` (P1 → P2) and `v` (P1 → P3):
 /// forward-mode differentiation, so a formula's `Du`, `Dv` are exact to rounding.
 #[derive(Debug, Clone, Copy, PartialEq)]

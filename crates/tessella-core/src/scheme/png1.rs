@@ -91,16 +91,12 @@ impl Png1Edge {
     pub fn numbers(&self) -> Png1EdgeOf<f64> {
         let bit = |b: bool| if b { 1.0 } else { 0.0 };
         Png1EdgeOf {
-            opposite: v3(self.opposite.unwrap_or(DVec3::ZERO)),
+            opposite: self.opposite.unwrap_or(DVec3::ZERO).into(),
             smooth: bit(self.sharp.is_none() && self.opposite.is_some()),
             sharp: bit(self.sharp.is_some()),
             kappa: self.sharp.unwrap_or(0.0),
         }
     }
-}
-
-fn v3(v: DVec3) -> V3<f64> {
-    V3::new(v.x, v.y, v.z)
 }
 
 /// A unit vector orthogonal to the unit vector `n` (`glam`'s `any_orthonormal_vector`, Duff et
@@ -206,8 +202,7 @@ fn tri_normal<T: Real>(a: V3<T>, b: V3<T>, o: V3<T>) -> V3<T> {
 /// and edges, in f64. The middle plane of edge `k` uses the triangle `(p[k], p[k+1], p[k+2])`'s
 /// normal and the neighbour's, both computed so that the two sides of an edge get the same plane.
 pub fn control_points_f64(p: [DVec3; 3], n: [DVec3; 3], edges: [Png1Edge; 3]) -> [DVec3; 21] {
-    control_points_of(p.map(v3), n.map(v3), edges.map(|e| e.numbers()))
-        .map(|v| DVec3::new(v.x, v.y, v.z))
+    control_points_of(p.map(V3::from), n.map(V3::from), edges.map(|e| e.numbers())).map(DVec3::from)
 }
 
 /// [`control_points_f64`] over any [`Noise`] number: the one source of the CPU's nets (in
@@ -282,7 +277,7 @@ pub fn control_points_of<T: Noise>(
 /// `2 n_e = 4 M_e - (Na + Nb)` with `M_e` the unit surface normal at the edge's midpoint, so the
 /// net reproduces the surface normal exactly at corners and edge midpoints.
 pub fn smoothed_normal_net(net: &[DVec3; PNG1_LEN], n: [DVec3; 3]) -> [DVec3; NORMAL_NET_LEN] {
-    smoothed_normal_net_of(&net.map(v3), n.map(v3)).map(|v| DVec3::new(v.x, v.y, v.z))
+    smoothed_normal_net_of(&net.map(V3::from), n.map(V3::from)).map(DVec3::from)
 }
 
 /// [`smoothed_normal_net`] over any [`Real`]: the CPU runs it in `f64`, the OpenGL control
@@ -331,10 +326,9 @@ mod tests {
                 d1 = d0;
             }
             let (ns, nd) = (v().normalize(), v().normalize());
-            let from = SegmentFrame::new(v3(s0), v3(s1), v3(ns));
-            let to = SegmentFrame::new(v3(d0), v3(d1), v3(nd));
-            let got = to.place(&from, from.coords(v3(x)));
-            let got = DVec3::new(got.x, got.y, got.z);
+            let from = SegmentFrame::new(s0.into(), s1.into(), ns.into());
+            let to = SegmentFrame::new(d0.into(), d1.into(), nd.into());
+            let got = DVec3::from(to.place(&from, from.coords(x.into())));
             let want = transfer(x, s0, s1, ns, d0, d1, nd);
             let bits = |p: DVec3| p.to_array().map(f64::to_bits);
             assert_eq!(bits(got), bits(want), "case {case}");

@@ -459,17 +459,27 @@ fn traced_png1_net() -> (trace::Tape, [V3<Expr>; crate::basis::png1::PNG1_LEN]) 
 /// sharp edge moved by `kappa[k]`. The OpenGL control shader builds PNG1's nets with it.
 pub fn png1_net_glsl() -> String {
     let (tape, net) = traced_png1_net();
-    let outputs: Vec<Expr> = net.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
-    let body = Body::doubles(&tape, &outputs);
-    let mut s = format!(
-        "void tessella_png1_net(dvec3 p[3], dvec3 n[3], dvec3 q[3], double smooth_edge[3], \
-         double sharp[3], double kappa[3], out dvec3 c[{}]) {{\n{}",
-        net.len(),
-        body.statements
-    );
-    for (i, v) in net.iter().enumerate() {
+    double_function(
+        &format!(
+            "tessella_png1_net(dvec3 p[3], dvec3 n[3], dvec3 q[3], double smooth_edge[3], \
+             double sharp[3], double kappa[3], out dvec3 c[{}])",
+            net.len()
+        ),
+        "c",
+        &tape,
+        &net,
+    )
+}
+
+/// A GLSL `void` function `signature` in doubles whose body computes `values` from `tape` into
+/// its `out dvec3` array `out`.
+fn double_function(signature: &str, out: &str, tape: &trace::Tape, values: &[V3<Expr>]) -> String {
+    let outputs: Vec<Expr> = values.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+    let body = Body::doubles(tape, &outputs);
+    let mut s = format!("void {signature} {{\n{}", body.statements);
+    for (i, v) in values.iter().enumerate() {
         let [x, y, z] = [v.x, v.y, v.z].map(|e| body.name(e));
-        s += &format!("    c[{i}] = dvec3({x}, {y}, {z});\n");
+        s += &format!("    {out}[{i}] = dvec3({x}, {y}, {z});\n");
     }
     s + "}\n"
 }
@@ -494,18 +504,16 @@ fn traced_png1_normals() -> (trace::Tape, [V3<Expr>; crate::basis::NORMAL_NET_LE
 /// traced from [`crate::scheme::png1::smoothed_normal_net_of`] as the CPU runs it in `f64`.
 pub fn png1_normals_glsl() -> String {
     let (tape, m) = traced_png1_normals();
-    let outputs: Vec<Expr> = m.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
-    let body = Body::doubles(&tape, &outputs);
-    let mut s = format!(
-        "void tessella_png1_normals(dvec3 c[21], dvec3 n[3], out dvec3 m[{}]) {{\n{}",
-        m.len(),
-        body.statements
-    );
-    for (i, v) in m.iter().enumerate() {
-        let [x, y, z] = [v.x, v.y, v.z].map(|e| body.name(e));
-        s += &format!("    m[{i}] = dvec3({x}, {y}, {z});\n");
-    }
-    s + "}\n"
+    double_function(
+        &format!(
+            "tessella_png1_normals(dvec3 c[{}], dvec3 n[3], out dvec3 m[{}])",
+            crate::basis::png1::PNG1_LEN,
+            m.len()
+        ),
+        "m",
+        &tape,
+        &m,
+    )
 }
 
 /// WGSL: `fn tessella_locate(rec: u32, code: u32, side_offset: u32) -> vec3<u32>`, the
