@@ -143,13 +143,12 @@ fn refine<'py>(
     })?;
     let backend = options::backend(backend)?;
     let asks = [
-        (displace.is_some(), Ask::Displace),
-        (origin, Ask::Origin),
-        (uvs.is_some(), Ask::Uvs),
-        (backend == options::Backend::Gl, Ask::GlBackend),
+        displace.is_some().then_some(Ask::Displace),
+        origin.then_some(Ask::Origin),
+        uvs.is_some().then_some(Ask::Uvs),
+        (backend == options::Backend::Gl).then_some(Ask::GlBackend),
     ];
-    let asks: Vec<Ask> = asks.iter().filter(|(on, _)| *on).map(|(_, a)| *a).collect();
-    options::refuse_conflicts(&opts, &asks)?;
+    options::refuse_conflicts(&opts, asks.into_iter().flatten())?;
     let scheme = opts.scheme;
     let displacement = displace::parse(displace)?;
     let source = tags::source(tags)?;

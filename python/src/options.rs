@@ -146,7 +146,10 @@ fn keyword(ask: Ask) -> String {
 
 /// Refuses `asks` with these options where the core's rules say they cannot go together
 /// ([`tessella_core::RefineOptions::conflict`]): `refine(): A cannot be combined with B (why)`.
-pub fn refuse_conflicts(options: &tessella_core::RefineOptions, asks: &[Ask]) -> PyResult<()> {
+pub fn refuse_conflicts(
+    options: &tessella_core::RefineOptions,
+    asks: impl IntoIterator<Item = Ask>,
+) -> PyResult<()> {
     options
         .conflict(asks)
         .map_err(|c| bad_option(format!("refine(): {}", c.message(keyword))))

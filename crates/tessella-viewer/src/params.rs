@@ -406,14 +406,15 @@ impl Params {
             .map_err(|e| bad("options", e.to_string()))?;
         // The viewer's LOD is chosen per frame, outside the options.
         let lod = self.lod.is_some().then_some(Ask::Lod);
-        let asks: Vec<Ask> = [Some(Ask::Displace), lod].into_iter().flatten().collect();
-        options.conflict(&asks).map_err(|c| {
-            let spell = |ask: Ask| match ask {
-                Ask::FractionalLevel => "a fractional level".to_string(),
-                other => other.key().to_string(),
-            };
-            bad("displace", c.message(spell))
-        })
+        options
+            .conflict([Some(Ask::Displace), lod].into_iter().flatten())
+            .map_err(|c| {
+                let spell = |ask: Ask| match ask {
+                    Ask::FractionalLevel => "a fractional level".to_string(),
+                    other => other.key().to_string(),
+                };
+                bad("displace", c.message(spell))
+            })
     }
 
     /// Whether the levels are one whole number on the grid: the pattern renderer draws them.

@@ -71,7 +71,10 @@ fn flag(ask: Ask) -> String {
 
 /// Refuses `asks` with these options where the core's rules say they cannot go together
 /// ([`RefineOptions::conflict`]), in the CLI's spelling.
-pub fn refuse_conflicts(options: &RefineOptions, asks: &[Ask]) -> anyhow::Result<()> {
+pub fn refuse_conflicts(
+    options: &RefineOptions,
+    asks: impl IntoIterator<Item = Ask>,
+) -> anyhow::Result<()> {
     options
         .conflict(asks)
         .map_err(|c| anyhow::anyhow!(c.message(flag)))

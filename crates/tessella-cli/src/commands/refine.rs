@@ -65,12 +65,11 @@ pub fn refine_file(
         );
     }
     let asks = [
-        (args.displace.is_some(), Ask::Displace),
-        (args.write_origin, Ask::Origin),
-        (args.backend == tessella_core::Backend::Gl, Ask::GlBackend),
+        args.displace.is_some().then_some(Ask::Displace),
+        args.write_origin.then_some(Ask::Origin),
+        (args.backend == tessella_core::Backend::Gl).then_some(Ask::GlBackend),
     ];
-    let asks: Vec<Ask> = asks.iter().filter(|(on, _)| *on).map(|(_, a)| *a).collect();
-    super::options::refuse_conflicts(&options, &asks)?;
+    super::options::refuse_conflicts(&options, asks.into_iter().flatten())?;
     if let Some(tags) = tags::gather(&raw, &mesh, scheme, &args.tags)? {
         options = options.with_tags(tags);
     }

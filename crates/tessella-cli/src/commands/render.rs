@@ -26,11 +26,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let levels = levels(args, &mesh, &view)?;
     let asks = [
-        (displacement.is_some(), Ask::Displace),
-        (args.backend == RenderBackendArg::Gl, Ask::GlBackend),
+        displacement.is_some().then_some(Ask::Displace),
+        (args.backend == RenderBackendArg::Gl).then_some(Ask::GlBackend),
     ];
-    let asks: Vec<Ask> = asks.iter().filter(|(on, _)| *on).map(|(_, a)| *a).collect();
-    super::options::refuse_conflicts(&levels, &asks)?;
+    super::options::refuse_conflicts(&levels, asks.into_iter().flatten())?;
     let options_for = |scheme: crate::args::SchemeArg| -> anyhow::Result<RefineOptions> {
         let scheme = scheme.scheme(args.alpha);
         let mut options = RefineOptions {

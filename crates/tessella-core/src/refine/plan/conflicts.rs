@@ -8,14 +8,14 @@
 //! use tessella_core::refine::{Ask, Spacing};
 //! use tessella_core::{RefineOptions, Scheme};
 //! let odd = RefineOptions::new(Scheme::Pn, 3).with_spacing(Spacing::FractionalOdd);
-//! let conflict = odd.conflict(&[Ask::Displace]).unwrap_err();
+//! let conflict = odd.conflict([Ask::Displace]).unwrap_err();
 //! let cli = |ask: Ask| format!("--{}", ask.key());
 //! assert_eq!(
 //!     conflict.message(cli),
 //!     "--displace cannot be combined with --spacing (displacement follows the uniform grid's \
 //!      output layout, a whole level on the grid pattern)"
 //! );
-//! assert!(RefineOptions::new(Scheme::Pn, 3).conflict(&[Ask::Displace]).is_ok());
+//! assert!(RefineOptions::new(Scheme::Pn, 3).conflict([Ask::Displace]).is_ok());
 //! ```
 
 use super::levels::{Levels, Spacing};
@@ -146,13 +146,10 @@ impl RefineOptions {
     }
 
     /// The first pair among these options' [`level_asks`](RefineOptions::level_asks) and
-    /// `asks` that cannot go together, checked in the rules' order.
-    pub fn conflict(&self, asks: &[Ask]) -> Result<(), Conflict> {
-        let all: Vec<Ask> = self
-            .level_asks()
-            .into_iter()
-            .chain(asks.iter().copied())
-            .collect();
+    /// `asks` that cannot go together, checked in the rules' order. A front end lists what it
+    /// may have been asked for as options (`[displace.then_some(Ask::Displace), ...]`, flattened).
+    pub fn conflict(&self, asks: impl IntoIterator<Item = Ask>) -> Result<(), Conflict> {
+        let all: Vec<Ask> = self.level_asks().into_iter().chain(asks).collect();
         for rule in RULES {
             if !all.contains(&rule.ask) {
                 continue;
@@ -190,19 +187,19 @@ mod tests {
         ];
         for (options, level_ask) in &adaptive {
             assert_eq!(options.level_asks(), vec![*level_ask]);
-            let c = options.conflict(&[Ask::Displace]).unwrap_err();
+            let c = options.conflict([Ask::Displace]).unwrap_err();
             assert_eq!((c.ask, c.with), (Ask::Displace, *level_ask));
             // Origins and texture coordinates go with any levels.
-            assert!(options.conflict(&[Ask::Origin, Ask::Uvs]).is_ok());
+            assert!(options.conflict([Ask::Origin, Ask::Uvs]).is_ok());
         }
         for ask in [Ask::Displace, Ask::Origin, Ask::Uvs] {
-            assert!(grid.conflict(&[ask]).is_ok());
-            let c = grid.conflict(&[Ask::GlBackend, ask]).unwrap_err();
+            assert!(grid.conflict([ask]).is_ok());
+            let c = grid.conflict([Ask::GlBackend, ask]).unwrap_err();
             assert_eq!((c.ask, c.with), (ask, Ask::GlBackend));
         }
-        assert!(grid.conflict(&[Ask::GlBackend]).is_ok());
+        assert!(grid.conflict([Ask::GlBackend]).is_ok());
         // The levels' rule comes first: both are named in the order of the rules.
-        let both = adaptive[0].0.conflict(&[Ask::GlBackend, Ask::Displace]);
+        let both = adaptive[0].0.conflict([Ask::GlBackend, Ask::Displace]);
         assert_eq!(both.unwrap_err().with, Ask::Spacing);
     }
 }
