@@ -130,7 +130,8 @@ pub fn eval_f64(net: &[DVec3; PNG1_LEN], l: [f64; 3]) -> (DVec3, DVec3, DVec3) {
 
 /// The weights (value and derivatives) at the edge midpoints `(½, ½, 0)`, `(0, ½, ½)`,
 /// `(½, 0, ½)`, computed once: every net's smoothed normals evaluate there
-/// ([`eval_f64_at_mid`]), and the rational weights cost more than the sum.
+/// (`scheme::png1::smoothed_normal_net_of` through [`mid_weights`], [`eval_f64_at_mid`]), and
+/// the rational weights cost more than the sum.
 static MID_WEIGHTS: std::sync::LazyLock<[[Dual<f64>; PNG1_LEN]; 3]> =
     std::sync::LazyLock::new(|| {
         [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]].map(weights_dual)
