@@ -445,10 +445,11 @@ impl<T: Real> Div for Dual<T> {
     }
 }
 
-/// What the displacement offsets (Perlin noise, a height map's bilinear sample, a sine) need
-/// beyond [`Real`]: floors and sines, integer lattice coordinates as [`Word`]s, and branches on
-/// those words (Perlin's gradient hash). `f32` with `u32` on the CPU; traced when a shader is
-/// generated.
+/// What the displacement offsets (Perlin noise, a height map's bilinear sample, a sine) and a
+/// grid point's geomorph (`refine::grid_point`) need beyond [`Real`]: floors and sines,
+/// integer lattice coordinates and grid steps as [`Word`]s, and branches on those words
+/// (Perlin's gradient hash, which edge a grid point lies on). `f32` or `f64` with `u32` on the
+/// CPU; traced when a shader is generated.
 pub trait Noise: Real {
     /// The word type its lattice coordinates are.
     type W: Word;
@@ -456,6 +457,8 @@ pub trait Noise: Real {
     fn sin(self) -> Self;
     /// A whole value (already floored) as an `i32`, its bits as a word: `x as i32 as u32`.
     fn int_word(self) -> Self::W;
+    /// A word's value as a number: `w as f32` (a grid step over its segment count, say).
+    fn from_word(w: Self::W) -> Self;
     /// `yes` where `a >= b`, else `no`; both sides are computed.
     fn pick_ge(a: Self::W, b: Self::W, yes: Self, no: Self) -> Self;
     /// `yes` where `a == b`, else `no`; both sides are computed.
@@ -482,6 +485,10 @@ macro_rules! noise_float {
             #[inline]
             fn int_word(self) -> u32 {
                 self as i32 as u32
+            }
+            #[inline]
+            fn from_word(w: u32) -> $t {
+                w as $t
             }
             #[inline]
             fn pick_ge(a: u32, b: u32, yes: $t, no: $t) -> $t {

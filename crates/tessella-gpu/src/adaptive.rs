@@ -546,6 +546,7 @@ pub(crate) fn constants(
         shader::normal_net(Lang::Wgsl),
         shader::edge_weights_wgsl(),
         shader::locate_wgsl(),
+        shader::grid_plan_wgsl(),
         crate::patch::surface_normal_wgsl().to_string(),
     ]
     .join("\n")

@@ -32,6 +32,7 @@ pub use cpu::output::{VertexFormat, VertexOutput};
 pub use cpu::refiner::{refine, RefinedMesh, Refiner};
 pub use plan::conflicts::{Ask, Conflict};
 pub use plan::driver::InstancedDriver;
+pub(crate) use plan::grid_point;
 pub use plan::indices::IndexInt;
 pub use plan::layout::{OutputLayout, BYTES_PER_INDEXED_TRIANGLE, NO_FACE};
 pub use plan::levels::{Camera, Levels, Lod, Spacing};

@@ -17,18 +17,39 @@ pub(crate) struct Body<'t> {
 impl<'t> Body<'t> {
     /// Statements computing every operation `outputs` depend on.
     pub(crate) fn new<V: Traced + Copy>(tape: &'t Tape, lang: Lang, outputs: &[V]) -> Body<'t> {
-        Body::of(tape, lang, false, outputs)
+        Body::of(tape, lang, false, outputs.iter().map(Traced::index))
+    }
+
+    /// [`Body::new`] for outputs of both types: `f32` ones and `u32` ones.
+    pub(crate) fn mixed(
+        tape: &'t Tape,
+        lang: Lang,
+        floats: &[super::trace::Expr],
+        words: &[super::trace::UExpr],
+    ) -> Body<'t> {
+        let outputs = floats.iter().map(Traced::index);
+        Body::of(
+            tape,
+            lang,
+            false,
+            outputs.chain(words.iter().map(Traced::index)),
+        )
     }
 
     /// [`Body::new`] in GLSL's `double`s, for a formula the CPU computes in `f64`.
     pub(crate) fn doubles<V: Traced + Copy>(tape: &'t Tape, outputs: &[V]) -> Body<'t> {
-        Body::of(tape, Lang::Glsl, true, outputs)
+        Body::of(tape, Lang::Glsl, true, outputs.iter().map(Traced::index))
     }
 
-    fn of<V: Traced + Copy>(tape: &'t Tape, lang: Lang, double: bool, outputs: &[V]) -> Body<'t> {
+    fn of(
+        tape: &'t Tape,
+        lang: Lang,
+        double: bool,
+        outputs: impl Iterator<Item = usize>,
+    ) -> Body<'t> {
         let mut needed = vec![false; tape.nodes.len()];
         for e in outputs {
-            needed[e.index()] = true;
+            needed[e] = true;
         }
         // Operands come before their uses, so one backward pass marks everything needed.
         for i in (0..tape.nodes.len()).rev() {
@@ -147,6 +168,11 @@ impl<'t> Body<'t> {
                 Lang::Wgsl => format!("bitcast<u32>(i32({}))", n(a)),
                 Lang::Glsl => format!("uint(int({}))", n(a)),
             },
+            Node::FromWord(a) => match (self.lang, self.double) {
+                (Lang::Wgsl, _) => format!("f32({})", n(a)),
+                (Lang::Glsl, false) => format!("float({})", n(a)),
+                (Lang::Glsl, true) => format!("double({})", n(a)),
+            },
             Node::UCall(name, args) | Node::Call(name, args) => {
                 let args: Vec<String> = args.iter().map(|a| n(a)).collect();
                 format!("{name}({})", args.join(", "))
@@ -198,7 +224,7 @@ fn operands(node: &Node) -> Vec<usize> {
             zero,
         } => vec![i(test), i(nonzero), i(zero)],
         Node::UBin(_, a, b) => vec![i(a), i(b)],
-        Node::UShr(a, _) => vec![i(a)],
+        Node::UShr(a, _) | Node::FromWord(a) => vec![i(a)],
         Node::USelect { a, b, yes, no, .. } => vec![i(a), i(b), i(yes), i(no)],
         Node::Pick { a, b, yes, no, .. } => vec![i(a), i(b), i(yes), i(no)],
         Node::PickGt { a, b, yes, no } => vec![i(a), i(b), i(yes), i(no)],

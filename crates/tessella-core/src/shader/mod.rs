@@ -634,6 +634,70 @@ fn traced_locate() -> (trace::Tape, [UExpr; 3]) {
     })
 }
 
+/// WGSL: `fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha:
+/// vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan` (and the struct), the plan
+/// of grid point `(i, j)` of a face whose grid has level `big`, whose edges have `segments`
+/// segments and geomorph factors `alpha`, whose interior has `alpha_inner`, and whose edge `k`
+/// runs canonically where bit `k` of `forward` is set: traced from
+/// `refine::grid_point::grid_point_of`, which the CPU's snapped grid patterns and geomorphed
+/// stencils run. The struct holds the point `l`, its coarse `edge` (`TESSELLA_NO_EDGE` off the
+/// edges), four `points` (`xyz` a barycentric point, `w` its weight: the point, then its
+/// geomorph sources) whose surfaces the caller sums, and three `edge_points` (`x`, `y` the
+/// canonical `a`, `b`, `z` the weight) whose canonical edge weights it sums; a zero weight is
+/// no term.
+pub fn grid_plan_wgsl() -> String {
+    use crate::refine::grid_point::grid_point_of;
+    let u = UExpr::input;
+    let (tape, plan) = trace(|| {
+        grid_point_of::<Expr>(
+            u("big"),
+            u("i"),
+            u("j"),
+            ["segments.x", "segments.y", "segments.z"].map(u),
+            ["alpha.x", "alpha.y", "alpha.z"].map(Expr::input),
+            Expr::input("alpha_inner"),
+            u("forward"),
+        )
+    });
+    let mut floats: Vec<Expr> = plan.l.to_vec();
+    for (l, w) in plan.points {
+        floats.extend(l);
+        floats.push(w);
+    }
+    for ([a, b], w) in plan.edge_points {
+        floats.extend([a, b, w]);
+    }
+    let body = Body::mixed(&tape, Lang::Wgsl, &floats, &[plan.edge]);
+    let name = |e: Expr| body.name(e);
+    let vec = |items: &[Expr]| {
+        items
+            .iter()
+            .map(|&e| name(e))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let points: Vec<String> = plan
+        .points
+        .iter()
+        .map(|(l, w)| format!("vec4<f32>({}, {})", vec(l), name(*w)))
+        .collect();
+    let edge_points: Vec<String> = plan
+        .edge_points
+        .iter()
+        .map(|([a, b], w)| format!("vec3<f32>({})", vec(&[*a, *b, *w])))
+        .collect();
+    format!(
+        "struct TessellaGridPlan {{\n    l: vec3<f32>,\n    edge: u32,\n    points: array<vec4<f32>, 4>,\n    edge_points: array<vec3<f32>, 3>,\n}}\n\n\
+         fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha: vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan {{\n{}    \
+         return TessellaGridPlan(vec3<f32>({}), {}, array<vec4<f32>, 4>({}), array<vec3<f32>, 3>({}));\n}}\n",
+        body.statements,
+        vec(&plan.l),
+        body.name(plan.edge),
+        points.join(", "),
+        edge_points.join(", ")
+    )
+}
+
 /// `tessella_skin_normal(m, n)`, a skinned vertex's posed normal from the upper 3×3 of its
 /// blended matrix and its morphed rest normal ([`crate::animation::skin_normal_of`]: the
 /// cofactor matrix with the determinant's sign, normalised, falling back to `n` normalised,

@@ -63,6 +63,14 @@ fn run_with(tape: &Tape, inputs: &[(&str, f64)], call: impl Fn(&str, &[u32]) -> 
                 let args: Vec<u32> = args.iter().map(u).collect();
                 f64::from(call(name, &args))
             }
+            Node::FromWord(a) => f64::from(u(a)),
+            Node::Pick { cmp, a, b, yes, no } => {
+                if cmp.holds(u(a), u(b)) {
+                    x(yes)
+                } else {
+                    x(no)
+                }
+            }
             // A comparison rounds nothing: f64 evaluates it as f32 would.
             Node::PickGt { a, b, yes, no } => {
                 if x(a) > x(b) {
@@ -74,7 +82,6 @@ fn run_with(tape: &Tape, inputs: &[(&str, f64)], call: impl Fn(&str, &[u32]) -> 
             Node::Floor(_)
             | Node::Sin(_)
             | Node::IntWord(_)
-            | Node::Pick { .. }
             | Node::WordIfEq { .. }
             | Node::Call(..) => {
                 panic!("noise nodes are evaluated by run_f32")
@@ -123,6 +130,7 @@ fn run_f32(
             Node::Floor(a) => f64::from(x(a).floor()),
             Node::Sin(a) => f64::from(x(a).sin()),
             Node::IntWord(a) => f64::from(x(a) as i32 as u32),
+            Node::FromWord(a) => f64::from(u(a) as f32),
             Node::Pick { cmp, a, b, yes, no } => {
                 f64::from(if cmp.holds(u(a), u(b)) { x(yes) } else { x(no) })
             }
@@ -893,4 +901,86 @@ fn traced_png1_net_gives_the_cpus_bits() {
     let glsl = png1_normals_glsl();
     assert!(glsl.starts_with("void tessella_png1_normals(dvec3 c[21], dvec3 n[3]"));
     assert!(!glsl.contains("float "), "doubles only");
+}
+
+/// The traced grid plan, computed as the shader computes it (every `f32` operation rounded),
+/// gives the bits of `grid_point_of` run on the CPU in `f32`, for every point of faces with
+/// snapped edges, geomorphs and both directions of each edge.
+#[test]
+fn traced_grid_plan_gives_the_cpus_bits() {
+    use crate::refine::grid_point::grid_point_of;
+    let u = UExpr::input;
+    let (tape, plan) = trace(|| {
+        grid_point_of::<Expr>(
+            u("big"),
+            u("i"),
+            u("j"),
+            ["segments.x", "segments.y", "segments.z"].map(u),
+            ["alpha.x", "alpha.y", "alpha.z"].map(Expr::input),
+            Expr::input("alpha_inner"),
+            u("forward"),
+        )
+    });
+    let no_call = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
+    let no_fcall = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
+    let mut checked = 0;
+    for (segments, big) in [
+        ([3u32, 5, 2], 5u32),
+        ([1, 4, 4], 4),
+        ([7, 7, 7], 7),
+        ([2, 9, 5], 11),
+        ([1, 1, 1], 1),
+    ] {
+        for (alpha, inner) in [
+            ([1.0f32; 3], 1.0f32),
+            ([0.3, 0.55, 1.0], 0.4),
+            ([0.125; 3], 0.9),
+        ] {
+            for forward in [0u32, 5, 7] {
+                for j in 0..=big {
+                    for i in 0..=big - j {
+                        let want = grid_point_of::<f32>(big, i, j, segments, alpha, inner, forward);
+                        let words = [
+                            ("big", big),
+                            ("i", i),
+                            ("j", j),
+                            ("segments.x", segments[0]),
+                            ("segments.y", segments[1]),
+                            ("segments.z", segments[2]),
+                            ("forward", forward),
+                        ];
+                        let mut inputs: Vec<(&str, f32)> =
+                            words.iter().map(|&(n, x)| (n, x as f32)).collect();
+                        inputs.extend([
+                            ("alpha.x", alpha[0]),
+                            ("alpha.y", alpha[1]),
+                            ("alpha.z", alpha[2]),
+                            ("alpha_inner", inner),
+                        ]);
+                        let v = run_f32(&tape, &inputs, no_call, no_fcall);
+                        let f = |e: Expr| (v[e.index()] as f32).to_bits();
+                        let case = format!("{segments:?} {big} {i} {j} {alpha:?} {forward}");
+                        assert_eq!(plan.l.map(f), want.l.map(f32::to_bits), "{case}");
+                        assert_eq!(v[plan.edge.index()] as u32, want.edge, "{case}");
+                        for (got, want) in plan.points.iter().zip(&want.points) {
+                            assert_eq!(f(got.1), want.1.to_bits(), "{case}");
+                            if want.1 != 0.0 {
+                                assert_eq!(got.0.map(f), want.0.map(f32::to_bits), "{case}");
+                            }
+                        }
+                        for (got, want) in plan.edge_points.iter().zip(&want.edge_points) {
+                            assert_eq!(f(got.1), want.1.to_bits(), "{case}");
+                            if want.1 != 0.0 {
+                                assert_eq!(got.0.map(f), want.0.map(f32::to_bits), "{case}");
+                            }
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 500, "{checked}");
+    let wgsl = grid_plan_wgsl();
+    assert!(wgsl.contains("fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha: vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan {"));
 }

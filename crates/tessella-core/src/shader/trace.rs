@@ -91,6 +91,8 @@ pub(crate) enum Node {
     Sin(Expr),
     /// A whole `f32` as an `i32`, its bits as a `u32` ([`Noise::int_word`]).
     IntWord(Expr),
+    /// A `u32`'s value as an `f32` ([`Noise::from_word`]).
+    FromWord(UExpr),
     /// The `f32` `yes` where the words compare `a cmp b`, else `no`.
     Pick {
         cmp: Cmp,
@@ -491,6 +493,12 @@ impl Noise for Expr {
     }
     fn int_word(self) -> UExpr {
         UExpr(push(Node::IntWord(self)))
+    }
+    fn from_word(w: UExpr) -> Expr {
+        match w.value() {
+            Some(x) => Expr::constant(f64::from(x as f32)),
+            None => Expr::push(Node::FromWord(w)),
+        }
     }
     fn pick_ge(a: UExpr, b: UExpr, yes: Expr, no: Expr) -> Expr {
         Expr::pick(Cmp::Ge, a, b, yes, no)

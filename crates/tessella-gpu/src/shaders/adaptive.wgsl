@@ -7,7 +7,7 @@
 // from the edge's own data, the same floats on both faces. Prepended (adaptive.rs): the record
 // layout and the basis, normal-net and edge weights generated from tessella-core's formulas
 // (tessella_core::shader: `tessella_patch_sum`, `tessella_normal_net_sum`,
-// `tessella_edge_weights`, `TESSELLA_*` constants); appended: adaptive_draw.wgsl (the vertex
+// `tessella_edge_weights`, `tessella_locate`, `tessella_grid_plan`, `TESSELLA_*` constants); appended: adaptive_draw.wgsl (the vertex
 // shader) or adaptive_capture.wgsl (a compute read-back of the same points).
 
 // Set by the renderer before this file, so that each pipeline compiles only its own basis,
@@ -78,100 +78,48 @@ fn tessella_add_edge(acc: ptr<function, TessellaSums>, a: f32, b: f32, scale: f3
     (*acc).edge_n += scale * w.normal;
 }
 
-fn tessella_step_point(e: u32, n: u32, s: u32) -> vec3<f32> {
-    var l = vec3<f32>(0.0);
-    l[e] = f32(n - s) / f32(n);
-    l[(e + 1u) % 3u] = f32(s) / f32(n);
-    return l;
+// Adds a point of a grid plan (`xyz` barycentric, `w` its weight) unless its weight is zero.
+fn tessella_add_plan_point(acc: ptr<function, TessellaSums>, face: u32, q: vec4<f32>) {
+    if (q.w != 0.0) {
+        tessella_add_point(acc, face, q.xyz, q.w);
+    }
 }
 
-// Grid point (i, j) of a face (refine::instanced::grid_point, with refine::morph's blend):
-// its surface into `acc`; returns the barycentric point and its edge (TESSELLA_NO_EDGE off the edges).
+// Adds a canonical edge point of a grid plan (`x`, `y` its a, b, `z` its weight) unless its
+// weight is zero.
+fn tessella_add_plan_edge(acc: ptr<function, TessellaSums>, q: vec3<f32>) {
+    if (q.z != 0.0) {
+        tessella_add_edge(acc, q.x, q.y, q.z);
+    }
+}
+
+// Grid point (i, j) of a face: its surface into `acc`, summed over the plan the generated
+// `tessella_grid_plan` gives (the snap and the geomorph sources of refine::grid_point, which
+// the CPU's patterns and stencils run); returns the barycentric point and its edge
+// (TESSELLA_NO_EDGE off the edges).
 fn tessella_grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, TessellaSums>) -> vec4<f32> {
+    let segments = vec3<u32>(
+        tessella_records[rec + TESSELLA_GRID_SEGMENTS_WORD],
+        tessella_records[rec + TESSELLA_GRID_SEGMENTS_WORD + 1u],
+        tessella_records[rec + TESSELLA_GRID_SEGMENTS_WORD + 2u],
+    );
+    let alpha = vec3<f32>(
+        bitcast<f32>(tessella_records[rec + TESSELLA_GRID_MORPH_WORD]),
+        bitcast<f32>(tessella_records[rec + TESSELLA_GRID_MORPH_WORD + 1u]),
+        bitcast<f32>(tessella_records[rec + TESSELLA_GRID_MORPH_WORD + 2u]),
+    );
+    let alpha_inner = bitcast<f32>(tessella_records[rec + TESSELLA_GRID_INNER_MORPH_WORD]);
     let big = tessella_records[rec + TESSELLA_GRID_LEVEL_WORD];
-    let kk = big - i - j;
-    var e = TESSELLA_NO_EDGE;
-    var step = 0u;
-    if (j == 0u && i != 0u && kk != 0u) {
-        e = 0u;
-        step = i;
-    } else if (kk == 0u && i != 0u && j != 0u) {
-        e = 1u;
-        step = j;
-    } else if (i == 0u && j != 0u && kk != 0u) {
-        e = 2u;
-        step = big - j;
-    }
-    if (e != TESSELLA_NO_EDGE) {
-        let n = tessella_records[rec + TESSELLA_GRID_SEGMENTS_WORD + e];
-        let s = (2u * step * n + big) / (2u * big);
-        if (s == 0u || s == n) {
-            // Snapped onto a corner.
-            var l = vec3<f32>(0.0);
-            l[select((e + 1u) % 3u, e, s == 0u)] = 1.0;
-            tessella_add_point(acc, face, l, 1.0);
-            return vec4<f32>(l, f32(TESSELLA_NO_EDGE));
-        }
-        let l = tessella_step_point(e, n, s);
-        let alpha = bitcast<f32>(tessella_records[rec + TESSELLA_GRID_MORPH_WORD + e]);
-        let forward = ((face_forward >> e) & 1u) != 0u;
-        let sc = select(n - s, s, forward);
-        tessella_add_point(acc, face, l, select(1.0, alpha, alpha < 1.0));
-        tessella_add_edge(acc, f32(n - sc) / f32(n), f32(sc) / f32(n), select(1.0, alpha, alpha < 1.0));
-        if (alpha < 1.0) {
-            // refine::morph::edge_sources: the two level-(n - 1) steps around it.
-            let m = n - 1u;
-            let x = s * m;
-            let xc = sc * m;
-            for (var h = 0u; h < 2u; h++) {
-                let beta = select(f32(n - x % n), f32(x % n), h == 1u) / f32(n);
-                let beta_c = select(f32(n - xc % n), f32(xc % n), h == 1u) / f32(n);
-                let t = x / n + h;
-                let tc = xc / n + h;
-                if (beta > 0.0) {
-                    tessella_add_point(acc, face, tessella_step_point(e, m, t), (1.0 - alpha) * beta);
-                }
-                if (beta_c > 0.0) {
-                    tessella_add_edge(acc, f32(m - tc) / f32(m), f32(tc) / f32(m), (1.0 - alpha) * beta_c);
-                }
-            }
-        }
-        return vec4<f32>(l, f32(e));
-    }
-    let l = vec3<f32>(f32(kk), f32(i), f32(j)) / f32(big);
-    let alpha = bitcast<f32>(tessella_records[rec + TESSELLA_GRID_INNER_MORPH_WORD]);
-    let corner = (i == 0u && j == 0u) || i == big || j == big;
-    if (alpha >= 1.0 || corner) {
-        tessella_add_point(acc, face, l, 1.0);
-        return vec4<f32>(l, f32(TESSELLA_NO_EDGE));
-    }
-    tessella_add_point(acc, face, l, alpha);
-    // refine::morph::grid_sources: the level-(big - 1) triangle holding the point.
-    let n = big;
-    let m = big - 1u;
-    let x = i * m;
-    let y = j * m;
-    let cx = x / n;
-    let cy = y / n;
-    let rx = x % n;
-    let ry = y % n;
-    var ci: array<vec2<u32>, 3>;
-    var cb: array<u32, 3>;
-    if (rx + ry <= n) {
-        ci = array<vec2<u32>, 3>(vec2<u32>(cx, cy), vec2<u32>(cx + 1u, cy), vec2<u32>(cx, cy + 1u));
-        cb = array<u32, 3>(n - rx - ry, rx, ry);
-    } else {
-        ci = array<vec2<u32>, 3>(vec2<u32>(cx + 1u, cy), vec2<u32>(cx + 1u, cy + 1u), vec2<u32>(cx, cy + 1u));
-        cb = array<u32, 3>(n - ry, rx + ry - n, n - rx);
-    }
-    for (var h = 0u; h < 3u; h++) {
-        if (cb[h] > 0u) {
-            let c = ci[h];
-            let lt = vec3<f32>(f32(m - c.x - c.y), f32(c.x), f32(c.y)) / f32(m);
-            tessella_add_point(acc, face, lt, (1.0 - alpha) * f32(cb[h]) / f32(n));
-        }
-    }
-    return vec4<f32>(l, f32(TESSELLA_NO_EDGE));
+    let g = tessella_grid_plan(big, i, j, segments, alpha, alpha_inner, face_forward);
+    // Constant indices: a value array indexed in a loop may be put in memory.
+    tessella_add_plan_point(acc, face, g.points[0]);
+    tessella_add_plan_point(acc, face, g.points[1]);
+    tessella_add_plan_point(acc, face, g.points[2]);
+    tessella_add_plan_point(acc, face, g.points[3]);
+    tessella_add_plan_edge(acc, g.edge_points[0]);
+    tessella_add_plan_edge(acc, g.edge_points[1]);
+    tessella_add_plan_edge(acc, g.edge_points[2]);
+    return vec4<f32>(g.l, f32(g.edge));
 }
 
 struct TessellaAdaptivePoint {

@@ -24,9 +24,7 @@
 use super::canonical;
 use super::levels::Spacing;
 use super::morph;
-use super::tiling::{
-    check_per_edge, clamp_edge_levels, face_levels, gl_levels, grid_segments, snap_step,
-};
+use super::tiling::{check_per_edge, clamp_edge_levels, face_levels, gl_levels, grid_segments};
 use crate::error::RefineError;
 use crate::mesh::Topology;
 use crate::tessellator::parts::{self, FaceRulers, Shape};
@@ -178,31 +176,11 @@ fn grid_triangles(n: u32) -> Vec<[u32; 3]> {
 
 /// The barycentric point grid code `(i, j)` names on a face whose edges have `n` segments and
 /// whose grid has `big` (at least each `n`): an edge point moves to the nearest step of its
-/// edge's own layout, ties up, as [`super::tiling::grid_pattern`] does. The reference twin of
-/// `shaders/adaptive.wgsl`'s grid points (the tests compare the parts with the CPU's patterns
-/// through it).
+/// edge's own layout, ties up, as [`super::tiling::grid_pattern`] does: the point of the plan the
+/// adaptive renderer's shader traces (`tessella_core::shader::grid_plan_wgsl`), run on the CPU
+/// (the tests compare the parts with the CPU's patterns through it).
 pub fn grid_point(n: [u32; 3], big: u32, i: u32, j: u32) -> [f64; 3] {
-    let k = big - i - j;
-    let on_edge = match (i, j, k) {
-        (0, 0, _) | (_, 0, 0) | (0, _, 0) => None,
-        (_, 0, _) => Some((0, i)),
-        (_, _, 0) => Some((1, j)),
-        (0, _, _) => Some((2, big - j)),
-        _ => None,
-    };
-    match on_edge {
-        Some((e, step)) => {
-            let (ne, s) = (n[e] as f64, snap_step(step, n[e], big) as f64);
-            let mut l = [0.0; 3];
-            l[e] = (ne - s) / ne;
-            l[(e + 1) % 3] = s / ne;
-            l
-        }
-        None => {
-            let b = big as f64;
-            [k as f64 / b, i as f64 / b, j as f64 / b]
-        }
-    }
+    super::grid_point::grid_point_of::<f64>(big, i, j, n, [1.0; 3], 1.0, 0).l
 }
 
 /// One instanced draw: a part and the instances (positions in
@@ -360,8 +338,13 @@ pub fn frame_instances(
 
 #[cfg(test)]
 mod tests {
+    use super::super::canonical::EdgeWeights;
+    use super::super::grid_point::grid_point_of;
     use super::super::tiling::grid_pattern;
     use super::*;
+    use crate::basis::Basis;
+    use crate::pattern::PointClass;
+    use crate::stencil::Stencil;
 
     #[test]
     fn grid_parts_draw_the_adaptive_grid_patterns() {
@@ -451,5 +434,114 @@ mod tests {
         }
         // Levels above the maximum are clamped as the hardware does.
         assert!(run(&vec![1e9; topology.edges.len()]).is_ok());
+    }
+
+    /// `Σ w row(l)` over a plan's points, in f64.
+    fn plan_row(basis: Basis, points: &[([f64; 3], f64)]) -> Vec<f64> {
+        let mut row = vec![0.0; Stencil::stride_for(basis.len()) - 3];
+        for &(l, w) in points {
+            if w == 0.0 {
+                continue;
+            }
+            for (o, x) in row.iter_mut().zip(Stencil::row_f64(basis, l)) {
+                *o += w * x;
+            }
+        }
+        row
+    }
+
+    /// The plan of every grid point of a face reproduces the CPU's morphed tile: its point is
+    /// the snapped pattern's, its weighted points sum to the pattern point's stencil row, and
+    /// its canonical edge points to the morphed canonical edge weights.
+    #[test]
+    fn plans_sum_to_the_cpus_morphed_stencils() {
+        let basis = Basis::Cubic;
+        let mut checked = 0;
+        for (segments, big) in [
+            ([3, 5, 2], 5),
+            ([1, 4, 4], 4),
+            ([6, 6, 6], 6),
+            ([2, 7, 5], 8),
+            ([1, 1, 1], 1),
+        ] {
+            for (alpha, alpha_inner) in
+                [([1.0; 3], 1.0), ([0.25, 0.5, 1.0], 0.375), ([0.1; 3], 1.0)]
+            {
+                let pattern = grid_pattern(segments, big);
+                let stencil = morph::grid_stencil(&pattern, basis, segments, alpha, alpha_inner);
+                for forward in 0..8u32 {
+                    for j in 0..=big {
+                        for i in 0..=big - j {
+                            let plan = grid_point_of::<f64>(
+                                big,
+                                i,
+                                j,
+                                segments,
+                                alpha,
+                                alpha_inner,
+                                forward,
+                            );
+                            let p = pattern
+                                .points
+                                .iter()
+                                .position(|q| q.map(f64::to_bits) == plan.l.map(f64::to_bits))
+                                .unwrap_or_else(|| panic!("{:?} in the pattern", plan.l));
+                            let want = stencil.row(p);
+                            let got = plan_row(basis, &plan.points);
+                            for (g, w) in got.iter().zip(want) {
+                                let tol = 1e-6 * (1.0 + w.abs() as f64);
+                                assert!((g - *w as f64).abs() < tol, "{segments:?} {i} {j}");
+                            }
+                            match pattern.classes[p] {
+                                PointClass::Edge { edge, step } => {
+                                    assert_eq!(plan.edge, u32::from(edge));
+                                    let k = edge as usize;
+                                    let n = segments[k];
+                                    let canonical_step = match (forward >> k) & 1 {
+                                        1 => step,
+                                        _ => n - step,
+                                    };
+                                    let want = if alpha[k] < 1.0 {
+                                        morph::edge_weights(n, canonical_step, alpha[k])
+                                    } else {
+                                        let nf = n as f64;
+                                        let (v, m) = EdgeWeights::new_f64(
+                                            (n - canonical_step) as f64 / nf,
+                                            canonical_step as f64 / nf,
+                                        );
+                                        EdgeWeights::from_f64(v, m)
+                                    };
+                                    let (mut v, mut m) = ([0.0; 4], [0.0; 3]);
+                                    for ([a, b], w) in plan.edge_points {
+                                        if w == 0.0 {
+                                            continue;
+                                        }
+                                        let (ev, em) = EdgeWeights::new_f64(a, b);
+                                        (0..4).for_each(|x| v[x] += w * ev[x]);
+                                        (0..3).for_each(|x| m[x] += w * em[x]);
+                                    }
+                                    for (g, w) in v
+                                        .iter()
+                                        .chain(&m)
+                                        .zip(want.value.iter().chain(&want.normal))
+                                    {
+                                        assert!(
+                                            (g - *w as f64).abs() < 1e-6,
+                                            "{segments:?} {i} {j}"
+                                        );
+                                    }
+                                }
+                                _ => {
+                                    assert_eq!(plan.edge, parts::NO_EDGE);
+                                    assert!(plan.edge_points.iter().all(|p| p.1 == 0.0));
+                                }
+                            }
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "{checked}");
     }
 }

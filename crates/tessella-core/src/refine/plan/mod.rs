@@ -6,7 +6,8 @@
 //!   [`conflicts`], which asks cannot go together;
 //! - [`levels`], [`lod`]: the levels asked for and the LOD functions that compute them;
 //! - [`tiling`], [`instanced`], [`morph`], [`canonical`]: adaptive plans' per-face patterns,
-//!   their instanced parts, geomorphs and canonical edge weights; [`driver`], an instanced
+//!   their instanced parts, geomorphs and canonical edge weights; [`grid_point`], a grid
+//!   point's snap and geomorph sources, written once for the CPU and the shaders; [`driver`], an instanced
 //!   renderer's per-frame levels and instances;
 //! - [`layout`], [`indices`], [`pieces`], [`stream`]: where the output's vertices go, its
 //!   triangles, and its cut into pieces; [`sizes`], what a plan's buffers are sized by;
@@ -16,6 +17,7 @@
 pub mod canonical;
 pub mod conflicts;
 pub mod driver;
+pub(crate) mod grid_point;
 pub mod indices;
 pub mod instanced;
 pub mod layout;

@@ -32,35 +32,13 @@ pub fn factor(x: f32, n: u32) -> f64 {
 /// level-`(n − 1)` grid: the corners `(I, J)` of the level-`(n − 1)` triangle holding it and its
 /// barycentric weights there (exact rationals; a weight may be 0). `n ≥ 2`.
 pub fn grid_sources(n: u32, i: u32, j: u32) -> [([u32; 2], f64); 3] {
-    let (n64, m) = (n as u64, n as u64 - 1);
-    let (x, y) = (i as u64 * m, j as u64 * m);
-    let (cx, cy, rx, ry) = ((x / n64) as u32, (y / n64) as u32, x % n64, y % n64);
-    let nf = n as f64;
-    if rx + ry <= n64 {
-        [
-            ([cx, cy], (n64 - rx - ry) as f64 / nf),
-            ([cx + 1, cy], rx as f64 / nf),
-            ([cx, cy + 1], ry as f64 / nf),
-        ]
-    } else {
-        [
-            ([cx + 1, cy], (n64 - ry) as f64 / nf),
-            ([cx + 1, cy + 1], (rx + ry - n64) as f64 / nf),
-            ([cx, cy + 1], (n64 - rx) as f64 / nf),
-        ]
-    }
+    super::grid_point::grid_sources_of::<f64>(n, i, j)
 }
 
 /// Where step `s` of an `n`-segment edge lies on its `(n − 1)`-segment layout: the two steps
 /// around it and their weights (the second may be 0). `n ≥ 2`.
 pub fn edge_sources(n: u32, s: u32) -> [(u32, f64); 2] {
-    let (n64, m) = (n as u64, n as u64 - 1);
-    let x = s as u64 * m;
-    let (t, r) = ((x / n64) as u32, x % n64);
-    [
-        (t, (n64 - r) as f64 / n as f64),
-        (t + 1, r as f64 / n as f64),
-    ]
+    super::grid_point::edge_sources_of::<f64>(n, s)
 }
 
 /// `α row(l) + (1 − α) Σ β_t row(l_t)` in f64.

@@ -267,7 +267,7 @@ fn build_tile(spacing: Spacing, outer: [f32; 3], inner: f32, basis: crate::Basis
 /// Where step `step` of a level-`big` grid edge goes on the edge's own `n`-segment layout: the
 /// nearest step, ties up (monotone in `step`, so the boundary keeps its order).
 pub fn snap_step(step: u32, n: u32, big: u32) -> u32 {
-    ((2 * step as u64 * n as u64 + big as u64) / (2 * big as u64)) as u32
+    super::grid_point::snap_step_of(step, n, big)
 }
 
 /// The hardware tessellator's levels of a face with edge levels `outer` (our edge order) and
