@@ -2,12 +2,12 @@
 //! → nets (`Plan::update`) → evaluate into reused buffers, against the refinement alone
 //! (evaluate with the nets as they are) timed in the same run.
 
-use super::frames::median;
+use super::frames::{median, FrameOutput};
 use anyhow::Context;
 use serde::Serialize;
 use std::time::{Duration, Instant};
 use tessella_core::animation::Poser;
-use tessella_core::refine::{Frame, Plan, VertexOutput};
+use tessella_core::refine::Plan;
 use tessella_core::{RefineOptions, Scheme};
 
 /// One level of the animated table: median milliseconds per frame of each step.
@@ -47,17 +47,7 @@ pub fn animated(
         let plan = Plan::new(&rest, &options)?;
         let mut frame = plan.frame(&rest)?;
         let out_n = plan.vertex_count();
-        let (mut positions, mut normals) = (vec![[0.0f32; 3]; out_n], vec![[0.0f32; 3]; out_n]);
-        let mut evaluate = |frame: &Frame| {
-            plan.evaluate(
-                frame,
-                VertexOutput::Separate {
-                    positions: &mut positions,
-                    normals: Some(&mut normals),
-                    uvs: None,
-                },
-            )
-        };
+        let mut out = FrameOutput::new(&plan);
         let (p, nr) = (&mut coarse.0, &mut coarse.1);
         // Frame `k`, at `k / 30` s: pose, nets, evaluate, each timed, and the three together.
         let mut step = |k: usize| -> anyhow::Result<[Duration; 4]> {
@@ -66,7 +56,7 @@ pub fn animated(
             let posed = start.elapsed();
             plan.update(&mut frame, p, Some(nr))?;
             let built = start.elapsed();
-            evaluate(&frame)?;
+            out.evaluate(&plan, &frame)?;
             let done = start.elapsed();
             Ok([posed, built - posed, done - built, done])
         };
@@ -78,7 +68,7 @@ pub fn animated(
             (0..repeat)
                 .map(|_| -> anyhow::Result<Duration> {
                     let start = Instant::now();
-                    evaluate(&frame)?;
+                    out.evaluate(&plan, &frame)?;
                     Ok(start.elapsed())
                 })
                 .collect::<anyhow::Result<_>>()?,

@@ -5,8 +5,8 @@
 use rayon::prelude::*;
 use serde::Serialize;
 use std::time::{Duration, Instant};
-use tessella_core::refine::{Plan, VertexOutput};
-use tessella_core::{samples, Mesh, NormalMode, RefineOptions, Refiner, Scheme};
+use tessella_core::refine::{Frame, Plan, VertexOutput};
+use tessella_core::{samples, Mesh, NormalMode, RefineError, RefineOptions, Refiner, Scheme};
 
 /// One frame's coarse positions and normals.
 type FrameData = (Vec<[f32; 3]>, Vec<[f32; 3]>);
@@ -22,6 +22,37 @@ pub const BYTES_PER_VERTEX: usize = 24;
 pub fn median(mut times: Vec<Duration>) -> Duration {
     times.sort();
     times[times.len() / 2]
+}
+
+/// The reused output of the per-frame measurements: a position and a normal per refined
+/// vertex (the [`BYTES_PER_VERTEX`] the tables count), no UVs. One type, so that every table
+/// times the same write.
+pub(super) struct FrameOutput {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+}
+
+impl FrameOutput {
+    /// Buffers for `plan`'s refined vertices.
+    pub(super) fn new(plan: &Plan) -> FrameOutput {
+        let n = plan.vertex_count();
+        FrameOutput {
+            positions: vec![[0.0; 3]; n],
+            normals: vec![[0.0; 3]; n],
+        }
+    }
+
+    /// Evaluates `frame` of `plan` into the buffers.
+    pub(super) fn evaluate(&mut self, plan: &Plan, frame: &Frame) -> Result<(), RefineError> {
+        plan.evaluate(
+            frame,
+            VertexOutput::Separate {
+                positions: &mut self.positions,
+                normals: Some(&mut self.normals),
+                uvs: None,
+            },
+        )
+    }
 }
 
 /// What the machine's memory takes, measured the way STREAM does: on all threads, over
@@ -177,17 +208,10 @@ pub fn roofline(
             let plan = Plan::new(mesh, &options)?;
             let frame = plan.frame(mesh)?;
             let n = plan.vertex_count();
-            let (mut positions, mut out_normals) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+            let mut out = FrameOutput::new(&plan);
             let mut once = || -> anyhow::Result<Duration> {
                 let start = Instant::now();
-                plan.evaluate(
-                    &frame,
-                    VertexOutput::Separate {
-                        positions: &mut positions,
-                        normals: Some(&mut out_normals),
-                        uvs: None,
-                    },
-                )?;
+                out.evaluate(&plan, &frame)?;
                 Ok(start.elapsed())
             };
             once()?; // warm up: fault the output pages in
@@ -271,7 +295,7 @@ pub fn deforming(
         let plan = Plan::new(mesh, &options)?;
         let mut frame = plan.frame(mesh)?;
         let n = plan.vertex_count();
-        let (mut positions, mut normals) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+        let mut out = FrameOutput::new(&plan);
         let mut at = 0;
         let mut step = |update_only: bool| -> anyhow::Result<Duration> {
             let (p, nr) = &frames[at % frames.len()];
@@ -279,14 +303,7 @@ pub fn deforming(
             let start = Instant::now();
             plan.update(&mut frame, p, Some(nr))?;
             if !update_only {
-                plan.evaluate(
-                    &frame,
-                    VertexOutput::Separate {
-                        positions: &mut positions,
-                        normals: Some(&mut normals),
-                        uvs: None,
-                    },
-                )?;
+                out.evaluate(&plan, &frame)?;
             }
             Ok(start.elapsed())
         };
