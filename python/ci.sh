@@ -17,6 +17,19 @@ PYTHON="${PYTHON:-python3}"
 GMSH_DEBS="libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1"
 VULKAN_DEBS="mesa-vulkan-drivers libvulkan1"
 
+# Installs Debian packages when this runs as root with apt-get, else says what is missing and
+# goes on; the one policy for every system library the tests need (gmsh's, the Vulkan driver).
+#   apt_install_or_warn WHAT DEBS PROBLEM
+apt_install_or_warn() {
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "== python: installing $1: $2"
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $2 >/dev/null
+    else
+        echo "$3; install: apt-get install $2" >&2
+    fi
+}
+
 # A Vulkan loader and at least one driver (lavapipe is one); the GPU tests fail without them.
 have_vulkan() {
     { ldconfig -p 2>/dev/null || /sbin/ldconfig -p 2>/dev/null; } | grep -q 'libvulkan\.so\.1' &&
@@ -41,26 +54,15 @@ echo "== python: building and installing the package (maturin, release)"
 "${PIP[@]}" install "$HERE"
 
 if ! "$VENV/bin/python" -c "import gmsh" 2>/dev/null; then
-    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
-        echo "== python: installing gmsh's system libraries: $GMSH_DEBS"
-        apt-get update -qq
-        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $GMSH_DEBS >/dev/null
-    else
-        echo "gmsh cannot be imported; install: apt-get install $GMSH_DEBS" >&2
-    fi
+    apt_install_or_warn "gmsh's system libraries" "$GMSH_DEBS" "gmsh cannot be imported"
 fi
 
 # backend="gl" (tests/test_gl.py) needs EGL with OpenGL 4.3: Mesa's llvmpipe.
 bash "$HERE/../scripts/setup-gl.sh"
 
 if ! have_vulkan; then
-    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
-        echo "== python: installing a software Vulkan driver for the GPU tests: $VULKAN_DEBS"
-        apt-get update -qq
-        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $VULKAN_DEBS >/dev/null
-    else
-        echo "no Vulkan driver found, the GPU tests will fail; install: apt-get install $VULKAN_DEBS" >&2
-    fi
+    apt_install_or_warn "a software Vulkan driver for the GPU tests" "$VULKAN_DEBS" \
+        "no Vulkan driver found, the GPU tests will fail"
 fi
 
 echo "== python: mypy --strict on the examples (the package's annotations and _tessella.pyi)"

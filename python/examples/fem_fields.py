@@ -29,31 +29,10 @@ import tessella
 from tessella._types import SchemeName
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fem_sphere import Part, parts, surface_distance  # noqa: E402
+from fem_sphere import mesh_with_gmsh, parts, surface_distance  # noqa: E402
 
 LEVELS = [1, 2, 4, 8, 16]
 LINEAR_SCHEMES: List[SchemeName] = ["flat", "pn", "png1"]
-
-
-def mesh_with_gmsh(part: Part, path: str, order: int) -> None:
-    """A coarse tetrahedral mesh of the part at `order` (1 or 2), written as a .msh file."""
-    import gmsh
-
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add(part.name)
-        part.build()
-        gmsh.model.occ.synchronize()
-        gmsh.option.setNumber("Mesh.MeshSizeMin", part.mesh_size)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", part.mesh_size)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.model.mesh.generate(3)
-        if order == 2:
-            gmsh.model.mesh.setOrder(2)  # mid-edge nodes placed on the CAD geometry
-        gmsh.write(path)
-    finally:
-        gmsh.finalize()
 
 
 def field_error(r: tessella.RefinedMesh, exact: Callable[[np.ndarray], np.ndarray]) -> float:

@@ -25,8 +25,7 @@ import numpy.typing as npt
 import tessella
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fem_fields import mesh_with_gmsh  # noqa: E402
-from fem_sphere import parts  # noqa: E402
+from fem_sphere import mesh_with_gmsh, parts  # noqa: E402
 
 HOT = np.array([1.4, 0.0, 0.0])  # a heater on the torus's outer equator
 

@@ -92,6 +92,15 @@ pub fn points(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f32; 3]>> {
     )))
 }
 
+/// The `normals=` argument as [`points`], or `None` when it is left out or Python's `None`
+/// (the core then computes normals); every function that takes normals reads them here.
+pub fn normals(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<[f32; 3]>>> {
+    match obj {
+        Some(n) if !n.is_none() => Ok(Some(points(n, "normals")?)),
+        _ => Ok(None),
+    }
+}
+
 fn index<T: TryInto<u32> + Copy + std::fmt::Display>(
     what: &str,
 ) -> impl Fn(usize, usize, T) -> PyResult<u32> + '_ {

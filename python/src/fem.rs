@@ -6,7 +6,6 @@ use crate::errors::bad_mesh;
 use crate::{arrays, displace, errors, gpu, options, F32Array, U32Array};
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
-use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use tessella_core::fields::{copy_cell_data, interpolate_point_data};
 use tessella_core::Refiner;
@@ -114,18 +113,9 @@ pub fn refine_fem<'py>(
         let (f, b) = plan.origin();
         Ok((out, f, b, pd, cd))
     })?;
-    if let Some(note) = out.fallback {
-        let note = std::ffi::CString::new(note.replace('\0', " "))?;
-        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 2)?;
-    }
+    crate::warn_fallback(py, out.fallback)?;
     let out = out.mesh;
-    let face = PyArray1::from_vec(
-        py,
-        faces_of
-            .into_iter()
-            .map(|x| if x == u32::MAX { -1 } else { x as i64 })
-            .collect(),
-    );
+    let face = crate::face_ids(py, faces_of);
     let pd = pd
         .into_iter()
         .map(|(n, d, w)| field_out(py, n, d, w))

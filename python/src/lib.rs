@@ -59,10 +59,7 @@ fn mesh_with_uvs_from(
 ) -> PyResult<Mesh> {
     let positions = arrays::points(vertices, "vertices")?;
     let triangles = arrays::triangles(faces, "faces")?;
-    let normals = match normals {
-        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
-        _ => None,
-    };
+    let normals = arrays::normals(normals)?;
     let uvs = uvs.map(|u| arrays::uvs(&u)).transpose()?;
     py.detach(|| Mesh::new(positions, normals, uvs, triangles))
         .map_err(errors::mesh_error)
@@ -85,6 +82,28 @@ pub(crate) fn mesh_with_mids_from(
     let mids = arrays::mid_nodes(&mids, mesh.face_count())?;
     py.detach(|| mesh.with_mid_nodes(mids))
         .map_err(errors::mesh_error)
+}
+
+/// A backend's fallback note (the GPU failed, the CPU refined) as a `RuntimeWarning`; `refine`
+/// and the FEM refine warn alike. stacklevel 2: the caller of the `tessella.refine` wrapper.
+fn warn_fallback(py: Python<'_>, fallback: Option<String>) -> PyResult<()> {
+    if let Some(note) = fallback {
+        let note = std::ffi::CString::new(note.replace('\0', " "))?;
+        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 2)?;
+    }
+    Ok(())
+}
+
+/// The origin's coarse face of each refined vertex as int64, -1 for a coarse vertex no face
+/// uses (`u32::MAX` in the core); `origin=True` and the FEM refine return it alike.
+fn face_ids(py: Python<'_>, faces: Vec<u32>) -> Bound<'_, numpy::PyArray1<i64>> {
+    numpy::PyArray1::from_vec(
+        py,
+        faces
+            .into_iter()
+            .map(|x| if x == u32::MAX { -1 } else { x as i64 })
+            .collect(),
+    )
 }
 
 /// What `refine` returns: vertices, faces, normals, the origin (face, bary) when asked for,
@@ -130,7 +149,7 @@ fn refine<'py>(
     uvs: Option<numpy::PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<RefineArrays<'py>> {
     // A fractional grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
-    let mut opts = options::refine_options(options::Given {
+    let opts = options::refine_options(options::Given {
         scheme,
         alpha,
         level: level.to_string(),
@@ -149,15 +168,12 @@ fn refine<'py>(
         (backend == options::Backend::Gl).then_some(Ask::GlBackend),
     ];
     options::refuse_conflicts(&opts, asks.into_iter().flatten())?;
-    let scheme = opts.scheme;
     let displacement = displace::parse(displace)?;
     let source = tags::source(tags)?;
     let mesh = mesh_with_uvs_from(py, vertices, faces, normals, uvs)?;
     pool::follow_numpy(py);
     let (out, from) = py.detach(|| -> PyResult<_> {
-        if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
-            opts = opts.with_tags(t);
-        }
+        let opts = tags::tagged(opts, &mesh, &source, crease_angle)?;
         if backend == options::Backend::Gl {
             let out = cpu::Outcome {
                 mesh: gl::refine(&mesh, &opts)?,
@@ -169,22 +185,9 @@ fn refine<'py>(
         let out = gpu::refine(&refiner, backend, &displacement)?;
         Ok((out, origin.then(|| refiner.plan().origin())))
     })?;
-    if let Some(note) = out.fallback {
-        let note = std::ffi::CString::new(note.replace('\0', " "))?;
-        // stacklevel 2: the caller of the tessella.refine wrapper.
-        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &note, 2)?;
-    }
+    warn_fallback(py, out.fallback)?;
     let (face, bary) = match from {
-        Some((f, b)) => (
-            // -1 for a coarse vertex no face uses
-            Some(numpy::PyArray1::from_vec(
-                py,
-                f.into_iter()
-                    .map(|x| if x == u32::MAX { -1 } else { x as i64 })
-                    .collect(),
-            )),
-            Some(arrays::to_numpy(py, b)),
-        ),
+        Some((f, b)) => (Some(face_ids(py, f)), Some(arrays::to_numpy(py, b))),
         None => (None, None),
     };
     let out = out.mesh;
@@ -287,19 +290,16 @@ fn quality<'py>(
     crease_angle: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let level = options::quality_level(level)?;
-    let mut opts = options::refine_options(options::Given {
+    let opts = options::refine_options(options::Given {
         scheme,
         alpha,
         level: level.to_string(),
         ..Default::default()
     })?;
-    let scheme = opts.scheme;
     let source = tags::source(tags)?;
     let mesh = mesh_from(py, vertices, faces, normals)?;
     let r = py.detach(|| -> PyResult<_> {
-        if let Some(t) = tags::gather(&mesh, scheme, &source, crease_angle)? {
-            opts = opts.with_tags(t);
-        }
+        let opts = tags::tagged(opts, &mesh, &source, crease_angle)?;
         tessella_core::quality::report(&mesh, &opts).map_err(errors::refine_error)
     })?;
     // Field by field, in the report's order (tests check the keys against the docs).
@@ -366,10 +366,7 @@ fn save(
 ) -> PyResult<()> {
     let positions = arrays::points(vertices, "vertices")?;
     let triangles = arrays::triangles(faces, "faces")?;
-    let normals = match normals {
-        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
-        _ => None,
-    };
+    let normals = arrays::normals(normals)?;
     let uvs = uvs.map(|u| arrays::uvs(&u)).transpose()?;
     if let Some(u) = &uvs {
         if u.len() != positions.len() {

@@ -134,10 +134,7 @@ fn frame_mesh(
     normals: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Mesh> {
     let positions = arrays::points(vertices, "vertices")?;
-    let normals = match normals {
-        Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
-        _ => None,
-    };
+    let normals = arrays::normals(normals)?;
     let triangles = triangles.to_vec();
     py.detach(|| Mesh::new(positions, normals, None, triangles))
         .map_err(errors::mesh_error)
@@ -165,11 +162,12 @@ impl Refiner {
             (!mesh.normals_computed()).then(|| mesh.normals().to_vec()),
         );
         let (plan, frame, gpu) = py.detach(|| -> PyResult<_> {
-            let mut opts = self.options.clone();
-            if let Some(t) = tags::gather(&mesh, self.scheme, &self.tag_source, self.crease_angle)?
-            {
-                opts = opts.with_tags(t);
-            }
+            let opts = tags::tagged(
+                self.options.clone(),
+                &mesh,
+                &self.tag_source,
+                self.crease_angle,
+            )?;
             let (plan, frame) = Plan::with_frame(mesh, &opts).map_err(errors::refine_error)?;
             plan.indices();
             let gpu = crate::gpu::frame_gpu(backend, &plan)?;
@@ -275,10 +273,7 @@ impl Refiner {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(F32Array<'py>, U32Array<'py>, F32Array<'py>)> {
         let positions = arrays::points(vertices, "vertices")?;
-        let normals = match normals {
-            Some(n) if !n.is_none() => Some(arrays::points(n, "normals")?),
-            _ => None,
-        };
+        let normals = arrays::normals(normals)?;
         // `out` is read before the frame moves, so a bad `out` changes nothing either.
         let out_pair = match out.filter(|o| !o.is_none()) {
             None => None,

@@ -11,7 +11,7 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyCFunction, PyDict, PyString, PyTuple};
 use std::path::PathBuf;
-use tessella_core::{Mesh, Scheme, Tags};
+use tessella_core::{Mesh, RefineOptions, Scheme, Tags};
 use tessella_io::tags::{JsonSource, TagSources};
 
 /// Where the given tags come from, read while the GIL is held.
@@ -90,9 +90,23 @@ fn dict_to_json(d: &Bound<'_, PyDict>) -> PyResult<String> {
     }
 }
 
+/// `opts` with the tags its scheme gets on `mesh` ([`gather`]), unchanged when nothing is
+/// tagged: the one way `refine`, `quality` and `Refiner` tag their options. Runs without the GIL.
+pub fn tagged(
+    opts: RefineOptions,
+    mesh: &Mesh,
+    source: &TagSource,
+    crease_angle: Option<f64>,
+) -> PyResult<RefineOptions> {
+    Ok(match gather(mesh, opts.scheme, source, crease_angle)? {
+        Some(t) => opts.with_tags(t),
+        None => opts,
+    })
+}
+
 /// The tags `scheme` gets on `mesh` (layered by [`tessella_io::tags::gather`], as the CLI does),
 /// or `None` when nothing is tagged. Runs without the GIL.
-pub fn gather(
+fn gather(
     mesh: &Mesh,
     scheme: Scheme,
     source: &TagSource,
