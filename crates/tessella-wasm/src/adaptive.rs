@@ -465,8 +465,8 @@ fn part_arrays(table: &PartTable) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
 /// GLSL (ES 3.00) for a vertex shader that draws one part instance: [`nets_glsl`]'s nets
 /// reader and `tessella_evaluate` (the basis' and normal net's weights generated from the core's
 /// formulas), the record layout constants, the tessellator's placement `tessella_locate` and the
-/// canonical edge weights, both generated from the core's Rust (`shader::locate_glsl`,
-/// `shader::edge_weights_glsl`), and
+/// canonical edge weights and point, generated from the core's Rust (`shader::locate_glsl`,
+/// `shader::edge_weights_glsl`, `shader::canonical_edge`), and
 /// `void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal,
 /// out vec3 bary)`:
 /// the point the part's `code` names on instance `inst` (`face | side << 30`), placed with the
@@ -498,6 +498,7 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     s += ADAPTIVE_GLSL_READERS;
     s += &shader::locate_glsl();
     s += &shader::edge_weights_glsl();
+    s += &shader::canonical_edge(Lang::Glsl);
     s += ADAPTIVE_GLSL_MAIN;
     s
 }
@@ -519,8 +520,9 @@ fn edge_tables(basis: tessella_core::Basis) -> [String; 2] {
 
 /// WGSL for three.js's WebGPURenderer (TSL `wgslFn`), the twin of [`glsl`]: [`nets_wgsl`]'s
 /// nets reader, `tessella_position` and `tessella_normal`, the record layout constants, the
-/// edge tables, the packed record's reader, the same generated `tessella_locate` and
-/// `tessella_edge_weights` (`shader::locate_wgsl`, `shader::edge_weights_wgsl`), and last
+/// edge tables, the packed record's reader, the same generated `tessella_locate`,
+/// `tessella_edge_weights` and `tessella_canonical_edge` (`shader::locate_wgsl`,
+/// `shader::edge_weights_wgsl`, `shader::canonical_edge`), and last
 /// `fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>,
 /// instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32>`:
 /// [`glsl`]'s `tessella_adaptive_evaluate` for the instance word (`face | side << 30`) at
@@ -552,6 +554,7 @@ pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     s += ADAPTIVE_WGSL_READERS;
     s += &shader::locate_wgsl();
     s += &shader::edge_weights_wgsl();
+    s += &shader::canonical_edge(Lang::Wgsl);
     s += ADAPTIVE_WGSL_MAIN;
     s
 }
@@ -610,20 +613,18 @@ const ADAPTIVE_WGSL_MAIN: &str = r#"fn tessella_adaptive_point(nets: texture_2d<
         let forward = ((tessella_rec[0].z >> (18u + edge)) & 1u) != 0u;
         let a = select(TESSELLA_FIXED_ONE - lf[edge], lf[edge], forward);
         let w = tessella_edge_weights(f32(a) / f32(TESSELLA_FIXED_ONE), f32(TESSELLA_FIXED_ONE - a) / f32(TESSELLA_FIXED_ONE));
-        var q = vec3<f32>(0.0);
+        var c: array<vec3<f32>, 4>;
         for (var i = 0u; i < 4u; i++) {
-            q += w.value[i] * tessella_net_entry(nets, face, TESSELLA_EDGE_CONTROLS[4u * edge + select(3u - i, i, forward)]);
+            c[i] = tessella_net_entry(nets, face, TESSELLA_EDGE_CONTROLS[4u * edge + select(3u - i, i, forward)]);
         }
-        position = q;
-        if (!TESSELLA_REAL_NORMALS) {
-            var m = vec3<f32>(0.0);
-            for (var i = 0u; i < 3u; i++) {
-                m += w.normal[i] * tessella_net_entry(nets, face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + select(2u - i, i, forward)]);
-            }
-            let unit = tessella_unit_or_zero(m);
-            if (any(unit != vec3<f32>(0.0))) {
-                normal = unit;
-            }
+        var m: array<vec3<f32>, 3>;
+        for (var i = 0u; i < 3u; i++) {
+            m[i] = tessella_net_entry(nets, face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + select(2u - i, i, forward)]);
+        }
+        let e = tessella_canonical_edge(w.value, w.normal, c, m);
+        position = e.p;
+        if (!TESSELLA_REAL_NORMALS && any(e.n != vec3<f32>(0.0))) {
+            normal = e.n;
         }
     }
     return mat3x3<f32>(position, normal, l);
@@ -674,19 +675,19 @@ const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, u
         vec4 ew;
         vec3 en;
         tessella_edge_weights(float(a) / float(TESSELLA_FIXED_ONE), float(TESSELLA_FIXED_ONE - a) / float(TESSELLA_FIXED_ONE), ew, en);
-        vec3 q = vec3(0.0);
+        vec3 c[4];
         for (uint i = 0u; i < 4u; i++) {
-            q += ew[i] * tessella_net_entry(face, TESSELLA_EDGE_CONTROLS[4u * edge + (forward ? i : 3u - i)]);
+            c[i] = tessella_net_entry(face, TESSELLA_EDGE_CONTROLS[4u * edge + (forward ? i : 3u - i)]);
         }
-        position = q;
-        if (!TESSELLA_REAL_NORMALS) {
-            vec3 m = vec3(0.0);
-            for (uint i = 0u; i < 3u; i++) {
-                m += en[i] * tessella_net_entry(face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + (forward ? i : 2u - i)]);
-            }
-            vec3 unit = tessella_unit_or_zero(m);
-            if (unit != vec3(0.0)) normal = unit;
+        vec3 m[3];
+        for (uint i = 0u; i < 3u; i++) {
+            m[i] = tessella_net_entry(face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + (forward ? i : 2u - i)]);
         }
+        vec3 p_edge;
+        vec3 n_edge;
+        tessella_canonical_edge(ew, en, c, m, p_edge, n_edge);
+        position = p_edge;
+        if (!TESSELLA_REAL_NORMALS && n_edge != vec3(0.0)) normal = n_edge;
     }
 }
 "#;
@@ -785,6 +786,7 @@ mod tests {
         let g = glsl(tessella_core::Basis::Cubic, NormalMode::Quadratic);
         assert!(g.contains(&shader::locate_glsl()));
         assert!(g.contains(&shader::edge_weights_glsl()));
+        assert!(g.contains(&shader::canonical_edge(Lang::Glsl)));
         assert!(g.contains(&format!(
             "const uint TESSELLA_RULER_WORDS = {RULER_WORDS}u;"
         )));
@@ -804,6 +806,7 @@ mod tests {
             let g = glsl(basis, mode);
             assert!(w.contains(&shader::locate_wgsl()));
             assert!(w.contains(&shader::edge_weights_wgsl()));
+            assert!(w.contains(&shader::canonical_edge(Lang::Wgsl)));
             assert!(w.contains(&shader::record_layout(Lang::Wgsl)));
             assert!(w.starts_with(&nets_wgsl(basis, mode)));
             // The same edge tables as the GLSL's.

@@ -546,6 +546,69 @@ pub fn locate_glsl() -> String {
     )
 }
 
+/// A canonical edge point traced from [`crate::refine::canonical::edge_sum_of`] and
+/// [`crate::basis::surface_normal::unit_or_zero_of`] (the CPU's `canonical::position` and
+/// `canonical::net_normal`): the point and the unit normal (zero where it vanishes).
+fn traced_canonical_edge() -> (trace::Tape, ([Expr; 3], [Expr; 3])) {
+    use crate::basis::surface_normal::unit_or_zero_of;
+    use crate::refine::canonical::edge_sum_of;
+    let v = |name: &str, axes: &[&str]| -> Vec<Expr> {
+        axes.iter()
+            .map(|a| Expr::input(&format!("{name}.{a}")))
+            .collect()
+    };
+    let entry = |array: &str, i: usize| traced_vector(array, i);
+    trace(|| {
+        let value: [Expr; 4] = v("value", &["x", "y", "z", "w"]).try_into().expect("four");
+        let normal: [Expr; 3] = v("normal", &["x", "y", "z"]).try_into().expect("three");
+        let c = std::array::from_fn(|i| {
+            let e = entry("c", i);
+            [e.x, e.y, e.z]
+        });
+        let m = std::array::from_fn(|i| {
+            let e = entry("m", i);
+            [e.x, e.y, e.z]
+        });
+        (
+            edge_sum_of(value, c),
+            unit_or_zero_of(edge_sum_of(normal, m)),
+        )
+    })
+}
+
+/// A point of a coarse edge from the edge's own data, as every backend evaluates it after
+/// reading the edge's four boundary control points `c` and three normal-net entries `m` in
+/// canonical order: `p = Σ value_i c_i` and `n`, the unit normal of `Σ normal_i m_i` (zero
+/// where it vanishes, and the caller keeps its own normal), each sum in index order, the same
+/// operations on both faces of the edge. `value`, `normal` are the canonical weights
+/// ([`edge_weights_wgsl`], blended where a grid point geomorphs). Traced from the CPU's
+/// [`crate::refine::canonical::edge_sum_of`].
+///
+/// - WGSL: `fn tessella_canonical_edge(value: vec4<f32>, normal: vec3<f32>,
+///   c: array<vec3<f32>, 4>, m: array<vec3<f32>, 3>) -> TessellaCanonicalEdge` (and the
+///   struct, fields `p`, `n`);
+/// - GLSL (ES 3.00): `void tessella_canonical_edge(vec4 value, vec3 normal, vec3 c[4],
+///   vec3 m[3], out vec3 p, out vec3 n)`.
+pub fn canonical_edge(lang: Lang) -> String {
+    let (tape, (p, n)) = traced_canonical_edge();
+    let outputs: Vec<Expr> = p.iter().chain(&n).copied().collect();
+    let body = Body::new(&tape, lang, &outputs);
+    let [p, n] = [p, n].map(|v| v.map(|e| body.name(e)).join(", "));
+    match lang {
+        Lang::Wgsl => format!(
+            "struct TessellaCanonicalEdge {{\n    p: vec3<f32>,\n    n: vec3<f32>,\n}}\n\n\
+             fn tessella_canonical_edge(value: vec4<f32>, normal: vec3<f32>, c: array<vec3<f32>, 4>, m: array<vec3<f32>, 3>) -> TessellaCanonicalEdge {{\n{}    \
+             return TessellaCanonicalEdge(vec3<f32>({p}), vec3<f32>({n}));\n}}\n",
+            body.statements
+        ),
+        Lang::Glsl => format!(
+            "void tessella_canonical_edge(vec4 value, vec3 normal, vec3 c[4], vec3 m[3], out vec3 p, out vec3 n) {{\n{}    \
+             p = vec3({p});\n    n = vec3({n});\n}}\n",
+            body.statements
+        ),
+    }
+}
+
 /// GLSL (ES 3.00): `void tessella_edge_weights(float a, float b, out vec4 value, out vec3
 /// normal)`, [`edge_weights_wgsl`]'s weights of a point of a canonical edge for WebGL2.
 pub fn edge_weights_glsl() -> String {
@@ -634,6 +697,25 @@ fn traced_locate() -> (trace::Tape, [UExpr; 3]) {
     })
 }
 
+/// `refine::grid_point::grid_point_of` traced with the inputs [`grid_plan_wgsl`] names.
+fn traced_grid_plan() -> (
+    trace::Tape,
+    crate::refine::grid_point::GridPointOf<UExpr, Expr>,
+) {
+    let u = UExpr::input;
+    trace(|| {
+        crate::refine::grid_point::grid_point_of::<Expr>(
+            u("big"),
+            u("i"),
+            u("j"),
+            ["segments.x", "segments.y", "segments.z"].map(u),
+            ["alpha.x", "alpha.y", "alpha.z"].map(Expr::input),
+            Expr::input("alpha_inner"),
+            u("forward"),
+        )
+    })
+}
+
 /// WGSL: `fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha:
 /// vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan` (and the struct), the plan
 /// of grid point `(i, j)` of a face whose grid has level `big`, whose edges have `segments`
@@ -646,19 +728,7 @@ fn traced_locate() -> (trace::Tape, [UExpr; 3]) {
 /// canonical `a`, `b`, `z` the weight) whose canonical edge weights it sums; a zero weight is
 /// no term.
 pub fn grid_plan_wgsl() -> String {
-    use crate::refine::grid_point::grid_point_of;
-    let u = UExpr::input;
-    let (tape, plan) = trace(|| {
-        grid_point_of::<Expr>(
-            u("big"),
-            u("i"),
-            u("j"),
-            ["segments.x", "segments.y", "segments.z"].map(u),
-            ["alpha.x", "alpha.y", "alpha.z"].map(Expr::input),
-            Expr::input("alpha_inner"),
-            u("forward"),
-        )
-    });
+    let (tape, plan) = traced_grid_plan();
     let mut floats: Vec<Expr> = plan.l.to_vec();
     for (l, w) in plan.points {
         floats.extend(l);

@@ -909,18 +909,7 @@ fn traced_png1_net_gives_the_cpus_bits() {
 #[test]
 fn traced_grid_plan_gives_the_cpus_bits() {
     use crate::refine::grid_point::grid_point_of;
-    let u = UExpr::input;
-    let (tape, plan) = trace(|| {
-        grid_point_of::<Expr>(
-            u("big"),
-            u("i"),
-            u("j"),
-            ["segments.x", "segments.y", "segments.z"].map(u),
-            ["alpha.x", "alpha.y", "alpha.z"].map(Expr::input),
-            Expr::input("alpha_inner"),
-            u("forward"),
-        )
-    });
+    let (tape, plan) = traced_grid_plan();
     let no_call = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
     let no_fcall = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
     let mut checked = 0;
@@ -983,4 +972,55 @@ fn traced_grid_plan_gives_the_cpus_bits() {
     assert!(checked > 500, "{checked}");
     let wgsl = grid_plan_wgsl();
     assert!(wgsl.contains("fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha: vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan {"));
+}
+
+/// The traced canonical edge point, computed as the shader computes it, gives the CPU's
+/// `canonical::position` and `canonical::net_normal` bits (a vanished normal as zero).
+#[test]
+fn traced_canonical_edge_gives_the_cpus_bits() {
+    use crate::refine::canonical::{net_normal, position, EdgeWeights};
+    let (tape, (p, n)) = traced_canonical_edge();
+    let no_call = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
+    let no_fcall = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
+    let mut seed = 7u32;
+    let mut next = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / (1 << 24) as f32 * 4.0 - 2.0
+    };
+    let mut checked = 0;
+    for case in 0..300 {
+        let a = f64::from(next().abs() / 2.0);
+        let w = EdgeWeights::new(a, 1.0 - a);
+        let c: [[f32; 3]; 4] = std::array::from_fn(|_| [next(), next(), next()]);
+        // Every tenth case a normal restriction that vanishes.
+        let m: [[f32; 3]; 3] = match case % 10 {
+            0 => [[0.0; 3]; 3],
+            _ => std::array::from_fn(|_| [next(), next(), next()]),
+        };
+        let mut inputs: Vec<(String, f32)> = Vec::new();
+        for (i, x) in w.value.iter().enumerate() {
+            inputs.push((format!("value.{}", ["x", "y", "z", "w"][i]), *x));
+        }
+        for (i, x) in w.normal.iter().enumerate() {
+            inputs.push((format!("normal.{}", ["x", "y", "z"][i]), *x));
+        }
+        for (name, rows) in [("c", &c[..]), ("m", &m[..])] {
+            for (i, row) in rows.iter().enumerate() {
+                for (axis, x) in ["x", "y", "z"].iter().zip(row) {
+                    inputs.push((format!("{name}[{i}].{axis}"), *x));
+                }
+            }
+        }
+        let named: Vec<(&str, f32)> = inputs.iter().map(|(n, x)| (n.as_str(), *x)).collect();
+        let v = run_f32(&tape, &named, no_call, no_fcall);
+        let f = |e: Expr| (v[e.index()] as f32).to_bits();
+        assert_eq!(p.map(f), position(&w, &c).map(f32::to_bits), "case {case}");
+        let want = net_normal(&w, &m).unwrap_or([0.0; 3]);
+        assert_eq!(n.map(f), want.map(f32::to_bits), "case {case}");
+        checked += 1;
+    }
+    assert_eq!(checked, 300);
+    assert!(canonical_edge(Lang::Glsl).starts_with(
+        "void tessella_canonical_edge(vec4 value, vec3 normal, vec3 c[4], vec3 m[3], out vec3 p, out vec3 n) {"
+    ));
 }

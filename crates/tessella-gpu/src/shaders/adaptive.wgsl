@@ -7,7 +7,8 @@
 // from the edge's own data, the same floats on both faces. Prepended (adaptive.rs): the record
 // layout and the basis, normal-net and edge weights generated from tessella-core's formulas
 // (tessella_core::shader: `tessella_patch_sum`, `tessella_normal_net_sum`,
-// `tessella_edge_weights`, `tessella_locate`, `tessella_grid_plan`, `TESSELLA_*` constants); appended: adaptive_draw.wgsl (the vertex
+// `tessella_edge_weights`, `tessella_canonical_edge`, `tessella_locate`, `tessella_grid_plan`,
+// `TESSELLA_*` constants); appended: adaptive_draw.wgsl (the vertex
 // shader) or adaptive_capture.wgsl (a compute read-back of the same points).
 
 // Set by the renderer before this file, so that each pipeline compiles only its own basis,
@@ -166,24 +167,23 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
         n = acc.n;
     }
     if (edge != TESSELLA_NO_EDGE) {
-        // The edge's own data in canonical order, summed in the same order on both faces.
+        // The edge's own data in canonical order, summed in the same order on both faces
+        // (the generated tessella_canonical_edge, the CPU's canonical::edge_sum_of).
         let forward = ((face_forward >> edge) & 1u) != 0u;
         let ctrl = tessella_adaptive_params.edge_controls[edge];
-        var q = vec3<f32>(0.0);
+        let nc = tessella_adaptive_params.edge_normals[edge];
+        var c: array<vec3<f32>, 4>;
         for (var i = 0u; i < 4u; i++) {
-            q += acc.edge_w[i] * tessella_net_point(face, ctrl[select(3u - i, i, forward)]);
+            c[i] = tessella_net_point(face, ctrl[select(3u - i, i, forward)]);
         }
-        p = q;
-        if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL) {
-            let nc = tessella_adaptive_params.edge_normals[edge];
-            var m = vec3<f32>(0.0);
-            for (var i = 0u; i < 3u; i++) {
-                m += acc.edge_n[i] * tessella_net_normal(face, nc[select(2u - i, i, forward)]);
-            }
-            let unit = tessella_unit_or_zero(m);
-            if (any(unit != vec3<f32>(0.0))) {
-                n = unit;
-            }
+        var m: array<vec3<f32>, 3>;
+        for (var i = 0u; i < 3u; i++) {
+            m[i] = tessella_net_normal(face, nc[select(2u - i, i, forward)]);
+        }
+        let e = tessella_canonical_edge(acc.edge_w, acc.edge_n, c, m);
+        p = e.p;
+        if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL && any(e.n != vec3<f32>(0.0))) {
+            n = e.n;
         }
     }
     var unit = tessella_unit_or_zero(n);

@@ -108,31 +108,30 @@ pub fn canonical_normals(normals: &[[f32; 3]], k: usize, forward: bool) -> [[f32
     c
 }
 
+/// `Σ w_i c_i` in index order from zero, for any [`Real`]: the sums of a canonical edge point
+/// ([`position`] and [`net_normal`] on the CPU in `f32`; traced into the shaders'
+/// `tessella_canonical_edge`, `crate::shader::canonical_edge`), the same operations on every
+/// face.
+#[inline]
+pub fn edge_sum_of<T: Real, const N: usize>(w: [T; N], c: [[T; 3]; N]) -> [T; 3] {
+    std::array::from_fn(|x| {
+        let mut s = T::lit(0.0);
+        for i in 0..N {
+            s = s + w[i] * c[i][x];
+        }
+        s
+    })
+}
+
 /// `Σ w_i c_i` in index order, in f32, the same on every face.
 #[inline]
 pub fn position(w: &EdgeWeights, c: &[[f32; 3]; 4]) -> [f32; 3] {
-    let mut out = [0.0f32; 3];
-    for (x, o) in out.iter_mut().enumerate() {
-        let mut s = 0.0f32;
-        for i in 0..4 {
-            s += w.value[i] * c[i][x];
-        }
-        *o = s;
-    }
-    out
+    edge_sum_of(w.value, *c)
 }
 
 /// The unit normal of the normal net's edge restriction, or `None` when it vanishes.
 #[inline]
 pub fn net_normal(w: &EdgeWeights, c: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
-    let mut n = [0.0f32; 3];
-    for (x, o) in n.iter_mut().enumerate() {
-        let mut s = 0.0f32;
-        for i in 0..3 {
-            s += w.normal[i] * c[i][x];
-        }
-        *o = s;
-    }
-    let unit = crate::basis::surface_normal::unit_or_zero_of(n);
+    let unit = crate::basis::surface_normal::unit_or_zero_of(edge_sum_of(w.normal, *c));
     (unit != [0.0; 3]).then_some(unit)
 }
