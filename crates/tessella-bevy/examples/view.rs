@@ -553,9 +553,10 @@ fn time_frames(
         if let Some((then, before)) = timing.last {
             let frame = args.frames - timing.left;
             println!(
-                "{{\"frame\":{frame},\"uploaded_bytes\":{},\"evaluated_vertices\":{},\"frame_ms\":{:.3}}}",
+                "{{\"frame\":{frame},\"uploaded_bytes\":{},\"evaluated_vertices\":{},\"bind_groups\":{},\"frame_ms\":{:.3}}}",
                 total - before,
                 evaluations.evaluated_vertices(),
+                evaluations.bind_groups_made(),
                 now.duration_since(then).as_secs_f64() * 1000.0
             );
         }

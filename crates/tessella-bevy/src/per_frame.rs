@@ -26,8 +26,8 @@ use bevy::prelude::*;
 use bevy::render::mesh::allocator::MeshAllocator;
 use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{
-    BindGroupEntry, BindGroupLayout, BindGroupLayoutEntry, BindingResource, BindingType, Buffer,
-    BufferBinding, BufferBindingType, BufferId, BufferInitDescriptor, BufferUsages,
+    BindGroup, BindGroupEntry, BindGroupLayout, BindGroupLayoutEntry, BindingResource, BindingType,
+    Buffer, BufferBinding, BufferBindingType, BufferId, BufferInitDescriptor, BufferUsages,
     ComputePassDescriptor, ComputePipeline, PipelineCompilationOptions, PipelineLayoutDescriptor,
     RawComputePipelineDescriptor, ShaderModuleDescriptor, ShaderSource, ShaderStages,
 };
@@ -56,16 +56,25 @@ pub const EVALUATED_BINDING: u32 = FIRST_BINDING + 8;
 /// vertex buffer, whose uv the pass leaves alone) and the vertex count.
 const PLACEMENT_BINDING: u32 = FIRST_BINDING + 9;
 
-/// Welded vertices the per-frame pass evaluated since the app started, counted by the render
-/// world when it submits the pass: a still surface adds its vertices once, a deforming one in
-/// every frame its nets change, a surface drawn otherwise never.
+/// What the per-frame pass did since the app started, counted by the render world: the welded
+/// vertices it evaluated (when it submits the pass: a still surface adds its vertices once, a
+/// deforming one in every frame its nets change, a surface drawn otherwise never) and the bind
+/// groups it made (one per surface and output place: a deforming surface reuses its own).
 #[derive(Resource, Clone, Default, Debug)]
-pub struct EvaluationStats(Arc<AtomicU64>);
+pub struct EvaluationStats {
+    evaluated: Arc<AtomicU64>,
+    bind_groups: Arc<AtomicU64>,
+}
 
 impl EvaluationStats {
     /// The welded vertices evaluated so far.
     pub fn evaluated_vertices(&self) -> u64 {
-        self.0.load(Ordering::Relaxed)
+        self.evaluated.load(Ordering::Relaxed)
+    }
+
+    /// The bind groups the pass made so far.
+    pub fn bind_groups_made(&self) -> u64 {
+        self.bind_groups.load(Ordering::Relaxed)
     }
 }
 
@@ -195,6 +204,18 @@ struct Job {
     pose: Option<GpuPose>,
     /// Its skinner and net builder, made at its first pose.
     posing: Option<Posing>,
+    /// The bind group of its last evaluation and what it binds: made again only when a buffer
+    /// or the output's range changes, not each frame its nets do.
+    bound: Option<(BindKey, BindGroup)>,
+}
+
+/// What a job's bind group binds: the ids of its buffers (patch, origins, output, placement)
+/// and the output's bound range.
+#[derive(PartialEq)]
+struct BindKey {
+    buffers: Vec<BufferId>,
+    at: u64,
+    size: u64,
 }
 
 struct Posing {
@@ -247,6 +268,7 @@ fn extract(
             placed: None,
             pose: None,
             posing: None,
+            bound: None,
         });
         if job.source.origins != source.origins || job.source.patch != source.patch {
             job.source = source.clone();
@@ -360,26 +382,47 @@ fn evaluate(
                 posed.push((*entity, nets));
             }
         }
-        let output = BufferBinding {
-            buffer: out,
-            offset: at,
-            size: std::num::NonZero::new(size),
+        let key = BindKey {
+            buffers: gpu
+                .iter()
+                .map(|b| b.id())
+                .chain([out.id(), placement.id()])
+                .collect(),
+            at,
+            size,
         };
-        let entries: Vec<BindGroupEntry> = gpu
-            .iter()
-            .map(|b| b.as_entire_binding())
-            .chain([
-                BindingResource::Buffer(output),
-                placement.as_entire_binding(),
-            ])
-            .zip((0..7).map(|b| FIRST_BINDING + b).chain([
-                ORIGINS_BINDING,
-                EVALUATED_BINDING,
-                PLACEMENT_BINDING,
-            ]))
-            .map(|(resource, binding)| BindGroupEntry { binding, resource })
-            .collect();
-        match ctx.scoped(|| device.create_bind_group("tessella per-frame", layout, &entries)) {
+        let group = match &job.bound {
+            Some((bound, group)) if *bound == key => Ok(group.clone()),
+            _ => {
+                let output = BufferBinding {
+                    buffer: out,
+                    offset: at,
+                    size: std::num::NonZero::new(size),
+                };
+                let entries: Vec<BindGroupEntry> = gpu
+                    .iter()
+                    .map(|b| b.as_entire_binding())
+                    .chain([
+                        BindingResource::Buffer(output),
+                        placement.as_entire_binding(),
+                    ])
+                    .zip((0..7).map(|b| FIRST_BINDING + b).chain([
+                        ORIGINS_BINDING,
+                        EVALUATED_BINDING,
+                        PLACEMENT_BINDING,
+                    ]))
+                    .map(|(resource, binding)| BindGroupEntry { binding, resource })
+                    .collect();
+                let made =
+                    ctx.scoped(|| device.create_bind_group("tessella per-frame", layout, &entries));
+                if let Ok(group) = &made {
+                    stats.bind_groups.fetch_add(1, Ordering::Relaxed);
+                    job.bound = Some((key, group.clone()));
+                }
+                made
+            }
+        };
+        match group {
             Ok(group) => dispatches.push(((source.mode, source.basis), group, source.vertices)),
             Err(e) => error!("tessella: cannot evaluate {entity} per frame: {e}"),
         }
@@ -431,7 +474,7 @@ fn evaluate(
     });
     match submitted {
         Ok(vertices) => {
-            stats.0.fetch_add(vertices, Ordering::Relaxed);
+            stats.evaluated.fetch_add(vertices, Ordering::Relaxed);
         }
         Err(e) => error!("tessella: the per-frame evaluation was refused: {e}"),
     }

@@ -510,23 +510,27 @@ fn a_deforming_entity_uploads_coarse_bytes_whatever_the_level() {
 
 /// The per-frame draw (the default) evaluates a still surface once and a playing one once a
 /// frame: the welded vertices evaluated so far stay at one surface's count while nothing
-/// moves, and grow by that count with each frame of a playing clip. The welded draw, which
+/// moves, and grow by that count with each frame of a playing clip. A playing surface binds
+/// the same buffers each frame, so its bind group is made once. The welded draw, which
 /// evaluates in its vertex stages, never runs the pass.
 #[test]
 fn the_per_frame_pass_runs_once_per_change() {
     let dir = tempfile_dir("evaluations");
-    let stats = |draw: &str, clip: bool| {
+    let view = |draw: &str, clip: bool| {
         let mut args = vec!["--size", "96x96", "--scheme", "pn", "--level", "4"];
         args.extend(["--draw", draw, "--frames", "6", "--stats"]);
         if clip {
             args.extend(["--clip", "wave", "--time", "0.1"]);
         }
         let out = dir.join(format!("{draw}-{clip}.png"));
-        let stdout = view_stdout(CREATURE, &args, &out);
-        let totals = stat(&stdout, "evaluated_vertices");
+        view_stdout(CREATURE, &args, &out)
+    };
+    let totals = |stdout: &str| {
+        let totals = stat(stdout, "evaluated_vertices");
         assert!(totals.len() >= 4, "too few stats lines:\n{stdout}");
         totals
     };
+    let stats = |draw: &str, clip: bool| totals(&view(draw, clip));
     let still = stats("per-frame", false);
     let once = still[0];
     eprintln!("still: {still:?}");
@@ -535,7 +539,8 @@ fn the_per_frame_pass_runs_once_per_change() {
         still.iter().all(|&t| t == once),
         "a still surface evaluated again"
     );
-    let playing = stats("per-frame", true);
+    let playing_run = view("per-frame", true);
+    let playing = totals(&playing_run);
     eprintln!("playing: {playing:?}");
     // A frame's count lands when its render submits: a step may hold two frames or none,
     // never part of one.
@@ -549,6 +554,12 @@ fn the_per_frame_pass_runs_once_per_change() {
         frames as usize >= steps.len() - 1,
         "{frames} evaluations in {} frames",
         steps.len()
+    );
+    let bind_groups = stat(&playing_run, "bind_groups");
+    eprintln!("bind groups made: {bind_groups:?}");
+    assert!(
+        bind_groups.len() == playing.len() && bind_groups.iter().all(|&b| b == 1),
+        "a playing surface made bind groups again: {bind_groups:?}"
     );
     let welded = stats("welded", true);
     assert!(
