@@ -545,7 +545,7 @@ pub(crate) fn constants(
         shader::patch_sum_wgsl(basis),
         shader::normal_net(Lang::Wgsl),
         shader::edge_weights_wgsl(),
-        shader::canonical_edge(Lang::Wgsl),
+        crate::patch::canonical_edge_wgsl().to_string(),
         shader::locate_wgsl(),
         shader::grid_plan_wgsl(),
         crate::patch::surface_normal_wgsl().to_string(),

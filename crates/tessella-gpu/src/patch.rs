@@ -281,6 +281,13 @@ pub(crate) fn surface_normal_wgsl() -> &'static str {
     TEXT.get_or_init(|| tessella_core::shader::surface_normal(tessella_core::shader::Lang::Wgsl))
 }
 
+/// A canonical edge point's sums and normal (`tessella_canonical_edge`), generated once per
+/// process.
+pub(crate) fn canonical_edge_wgsl() -> &'static str {
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| tessella_core::shader::canonical_edge(tessella_core::shader::Lang::Wgsl))
+}
+
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
 /// generated normal glue, the shared evaluation and displacement modules, then its own.
 /// Constants rather than uniforms, so each pipeline compiles only its own branch (a software
@@ -301,6 +308,7 @@ pub(crate) fn shader_source(
             basis.map_or(0, |b| b.len())
         ),
         surface_normal_wgsl(),
+        canonical_edge_wgsl(),
         include_str!("shaders/eval.wgsl"),
         include_str!("shaders/displace.wgsl"),
         displace_wgsl(),

@@ -1,7 +1,7 @@
 //! Pixel cracks in the instanced renderer. Back faces are painted magenta: on a closed, outward
 //! surface the first surface a ray meets faces it, so a magenta pixel is the inside seen through
 //! a crack between two coarse triangles. The renderer evaluates shared-edge points canonically
-//! (eval.wgsl's `canonical_edge`), so PN on a closed smooth mesh shows none at any level; PN on
+//! (eval.wgsl's `tessella_edge_point`), so PN on a closed smooth mesh shows none at any level; PN on
 //! a cube with split normals really opens at its hard edges, and the count sees it.
 
 // The GPU crate's test setup (one software device, CPU-vs-GPU comparisons), shared rather than copied.

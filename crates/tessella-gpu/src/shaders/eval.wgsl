@@ -88,15 +88,16 @@ fn tessella_eval_patch(face: u32, row: u32) -> TessellaSurfacePoint {
     }
     let l0 = base + 3u * k + TESSELLA_NORMAL_NET_LEN;
     out.l = vec3<f32>(tessella_stencil[l0], tessella_stencil[l0 + 1u], tessella_stencil[l0 + 2u]);
-    tessella_canonical_edge(face, row, &out);
+    tessella_edge_point(face, row, &out);
     return out;
 }
 
 // A point on coarse edge k is evaluated from the edge's own four control points (and three
 // normal-net entries) in canonical order, from the corner with the lower position id, with
 // weights made on the CPU: the two faces sharing the edge compute the same floats in the same
-// order, so its vertices are bit-identical. "Real" normals stay the face's own.
-fn tessella_canonical_edge(face: u32, row: u32, out: ptr<function, TessellaSurfacePoint>) {
+// order (the generated tessella_canonical_edge, the CPU's canonical::edge_sum_of), so its
+// vertices are bit-identical. "Real" normals stay the face's own.
+fn tessella_edge_point(face: u32, row: u32, out: ptr<function, TessellaSurfacePoint>) {
     let r = TESSELLA_EDGE_ROWS_AT + row * TESSELLA_EDGE_ROW_LEN;
     let code = tessella_edge_table[r];
     if (code == 0u) {
@@ -105,21 +106,28 @@ fn tessella_canonical_edge(face: u32, row: u32, out: ptr<function, TessellaSurfa
     let k = code - 1u;
     let forward = ((tessella_edge_table[tessella_edge_table[0] + face] >> k) & 1u) != 0u;
     let w = r + 1u + select(7u, 0u, forward);
-    var p = vec3<f32>(0.0);
+    var c: array<vec3<f32>, 4>;
     for (var i = 0u; i < 4u; i++) {
-        let c = tessella_edge_table[1u + k * 4u + select(3u - i, i, forward)];
-        p += bitcast<f32>(tessella_edge_table[w + i]) * tessella_net_point(face, c);
+        c[i] = tessella_net_point(face, tessella_edge_table[1u + k * 4u + select(3u - i, i, forward)]);
     }
-    (*out).position = p;
-    if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL) {
-        var n = vec3<f32>(0.0);
-        for (var i = 0u; i < 3u; i++) {
-            let c = tessella_edge_table[13u + k * 3u + select(2u - i, i, forward)];
-            n += bitcast<f32>(tessella_edge_table[w + 4u + i]) * tessella_net_normal(face, c);
-        }
-        let unit = tessella_unit_or_zero(n);
-        if (any(unit != vec3<f32>(0.0))) {
-            (*out).normal = unit;
-        }
+    var m: array<vec3<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        m[i] = tessella_net_normal(face, tessella_edge_table[13u + k * 3u + select(2u - i, i, forward)]);
+    }
+    let value = vec4<f32>(
+        bitcast<f32>(tessella_edge_table[w]),
+        bitcast<f32>(tessella_edge_table[w + 1u]),
+        bitcast<f32>(tessella_edge_table[w + 2u]),
+        bitcast<f32>(tessella_edge_table[w + 3u]),
+    );
+    let normal = vec3<f32>(
+        bitcast<f32>(tessella_edge_table[w + 4u]),
+        bitcast<f32>(tessella_edge_table[w + 5u]),
+        bitcast<f32>(tessella_edge_table[w + 6u]),
+    );
+    let e = tessella_canonical_edge(value, normal, c, m);
+    (*out).position = e.p;
+    if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL && any(e.n != vec3<f32>(0.0))) {
+        (*out).normal = e.n;
     }
 }
