@@ -697,38 +697,85 @@ fn traced_locate() -> (trace::Tape, [UExpr; 3]) {
     })
 }
 
-/// `refine::grid_point::grid_point_of` traced with the inputs [`grid_plan_wgsl`] names.
-fn traced_grid_plan() -> (
-    trace::Tape,
-    crate::refine::grid_point::GridPointOf<UExpr, Expr>,
-) {
+/// The grid point traced in its three pieces ([`grid_plan_wgsl`]'s functions), with the
+/// inputs they name: the edge, the plan inside an edge, the plan elsewhere.
+type GridPlanTrace = crate::refine::grid_point::GridPointOf<UExpr, Expr>;
+
+fn traced_grid_edge() -> (trace::Tape, UExpr) {
+    let u = UExpr::input;
+    trace(|| crate::refine::grid_point::grid_edge_of(u("big"), u("i"), u("j")))
+}
+
+fn traced_grid_edge_plan() -> (trace::Tape, GridPlanTrace) {
     let u = UExpr::input;
     trace(|| {
-        crate::refine::grid_point::grid_point_of::<Expr>(
+        crate::refine::grid_point::edge_plan_of::<Expr>(
+            u("edge"),
             u("big"),
             u("i"),
             u("j"),
             ["segments.x", "segments.y", "segments.z"].map(u),
             ["alpha.x", "alpha.y", "alpha.z"].map(Expr::input),
-            Expr::input("alpha_inner"),
             u("forward"),
         )
     })
 }
 
-/// WGSL: `fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha:
-/// vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan` (and the struct), the plan
-/// of grid point `(i, j)` of a face whose grid has level `big`, whose edges have `segments`
-/// segments and geomorph factors `alpha`, whose interior has `alpha_inner`, and whose edge `k`
-/// runs canonically where bit `k` of `forward` is set: traced from
-/// `refine::grid_point::grid_point_of`, which the CPU's snapped grid patterns and geomorphed
-/// stencils run. The struct holds the point `l`, its coarse `edge` (`TESSELLA_NO_EDGE` off the
+fn traced_grid_inner_plan() -> (trace::Tape, GridPlanTrace) {
+    let u = UExpr::input;
+    trace(|| {
+        crate::refine::grid_point::inner_plan_of::<Expr>(
+            u("big"),
+            u("i"),
+            u("j"),
+            Expr::input("alpha_inner"),
+        )
+    })
+}
+
+/// WGSL: a grid point's plan, traced from `refine::grid_point` (whose functions the CPU's
+/// snapped grid patterns and geomorphed stencils run), in three functions so a vertex computes
+/// only its own case:
+///
+/// - `fn tessella_grid_edge(big: u32, i: u32, j: u32) -> u32`: the coarse edge point `(i, j)`
+///   of the level-`big` grid lies inside, else `TESSELLA_NO_EDGE`;
+/// - `fn tessella_grid_edge_plan(edge: u32, big: u32, i: u32, j: u32, segments: vec3<u32>,
+///   alpha: vec3<f32>, forward: u32) -> TessellaGridPlan`: the plan of a point inside `edge`,
+///   on a face whose edges have `segments` segments and geomorph factors `alpha` and whose edge
+///   `k` runs canonically where bit `k` of `forward` is set;
+/// - `fn tessella_grid_inner_plan(big: u32, i: u32, j: u32, alpha_inner: f32) ->
+///   TessellaGridPlan`: the plan of an interior point or a corner.
+///
+/// `TessellaGridPlan` holds the point `l`, its coarse `edge` (`TESSELLA_NO_EDGE` off the
 /// edges), four `points` (`xyz` a barycentric point, `w` its weight: the point, then its
 /// geomorph sources) whose surfaces the caller sums, and three `edge_points` (`x`, `y` the
 /// canonical `a`, `b`, `z` the weight) whose canonical edge weights it sums; a zero weight is
 /// no term.
 pub fn grid_plan_wgsl() -> String {
-    let (tape, plan) = traced_grid_plan();
+    let (tape, edge) = traced_grid_edge();
+    let body = Body::new(&tape, Lang::Wgsl, &[edge]);
+    let edge_fn = format!(
+        "fn tessella_grid_edge(big: u32, i: u32, j: u32) -> u32 {{\n{}    return {};\n}}\n",
+        body.statements,
+        body.name(edge)
+    );
+    [
+        "struct TessellaGridPlan {\n    l: vec3<f32>,\n    edge: u32,\n    points: array<vec4<f32>, 4>,\n    edge_points: array<vec3<f32>, 3>,\n}\n".to_string(),
+        edge_fn,
+        plan_function(
+            "fn tessella_grid_edge_plan(edge: u32, big: u32, i: u32, j: u32, segments: vec3<u32>, alpha: vec3<f32>, forward: u32)",
+            traced_grid_edge_plan(),
+        ),
+        plan_function(
+            "fn tessella_grid_inner_plan(big: u32, i: u32, j: u32, alpha_inner: f32)",
+            traced_grid_inner_plan(),
+        ),
+    ]
+    .join("\n")
+}
+
+/// A WGSL function `head -> TessellaGridPlan` returning a traced plan.
+fn plan_function(head: &str, (tape, plan): (trace::Tape, GridPlanTrace)) -> String {
     let mut floats: Vec<Expr> = plan.l.to_vec();
     for (l, w) in plan.points {
         floats.extend(l);
@@ -738,18 +785,17 @@ pub fn grid_plan_wgsl() -> String {
         floats.extend([a, b, w]);
     }
     let body = Body::mixed(&tape, Lang::Wgsl, &floats, &[plan.edge]);
-    let name = |e: Expr| body.name(e);
     let vec = |items: &[Expr]| {
         items
             .iter()
-            .map(|&e| name(e))
+            .map(|&e| body.name(e))
             .collect::<Vec<_>>()
             .join(", ")
     };
     let points: Vec<String> = plan
         .points
         .iter()
-        .map(|(l, w)| format!("vec4<f32>({}, {})", vec(l), name(*w)))
+        .map(|(l, w)| format!("vec4<f32>({}, {})", vec(l), body.name(*w)))
         .collect();
     let edge_points: Vec<String> = plan
         .edge_points
@@ -757,8 +803,7 @@ pub fn grid_plan_wgsl() -> String {
         .map(|([a, b], w)| format!("vec3<f32>({})", vec(&[*a, *b, *w])))
         .collect();
     format!(
-        "struct TessellaGridPlan {{\n    l: vec3<f32>,\n    edge: u32,\n    points: array<vec4<f32>, 4>,\n    edge_points: array<vec3<f32>, 3>,\n}}\n\n\
-         fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha: vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan {{\n{}    \
+        "{head} -> TessellaGridPlan {{\n{}    \
          return TessellaGridPlan(vec3<f32>({}), {}, array<vec4<f32>, 4>({}), array<vec3<f32>, 3>({}));\n}}\n",
         body.statements,
         vec(&plan.l),

@@ -903,16 +903,20 @@ fn traced_png1_net_gives_the_cpus_bits() {
     assert!(!glsl.contains("float "), "doubles only");
 }
 
-/// The traced grid plan, computed as the shader computes it (every `f32` operation rounded),
-/// gives the bits of `grid_point_of` run on the CPU in `f32`, for every point of faces with
-/// snapped edges, geomorphs and both directions of each edge.
+/// The traced grid plan, computed as the shader computes it (every `f32` operation rounded,
+/// the edge first, then the plan of its case), gives the bits of `grid_point_of` run on the
+/// CPU in `f32`, for every point of faces with snapped edges, geomorphs and both directions of
+/// each edge.
 #[test]
 fn traced_grid_plan_gives_the_cpus_bits() {
     use crate::refine::grid_point::grid_point_of;
-    let (tape, plan) = traced_grid_plan();
+    use crate::tessellator::parts::NO_EDGE;
+    let (edge_tape, edge_out) = traced_grid_edge();
+    let (edge_plan_tape, edge_plan) = traced_grid_edge_plan();
+    let (inner_tape, inner_plan) = traced_grid_inner_plan();
     let no_call = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
     let no_fcall = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
-    let mut checked = 0;
+    let mut checked = [0; 2];
     for (segments, big) in [
         ([3u32, 5, 2], 5u32),
         ([1, 4, 4], 4),
@@ -929,26 +933,30 @@ fn traced_grid_plan_gives_the_cpus_bits() {
                 for j in 0..=big {
                     for i in 0..=big - j {
                         let want = grid_point_of::<f32>(big, i, j, segments, alpha, inner, forward);
-                        let words = [
-                            ("big", big),
-                            ("i", i),
-                            ("j", j),
-                            ("segments.x", segments[0]),
-                            ("segments.y", segments[1]),
-                            ("segments.z", segments[2]),
-                            ("forward", forward),
-                        ];
-                        let mut inputs: Vec<(&str, f32)> =
-                            words.iter().map(|&(n, x)| (n, x as f32)).collect();
-                        inputs.extend([
+                        let case = format!("{segments:?} {big} {i} {j} {alpha:?} {forward}");
+                        let mut inputs: Vec<(&str, f32)> = vec![
+                            ("big", big as f32),
+                            ("i", i as f32),
+                            ("j", j as f32),
+                            ("segments.x", segments[0] as f32),
+                            ("segments.y", segments[1] as f32),
+                            ("segments.z", segments[2] as f32),
+                            ("forward", forward as f32),
                             ("alpha.x", alpha[0]),
                             ("alpha.y", alpha[1]),
                             ("alpha.z", alpha[2]),
                             ("alpha_inner", inner),
-                        ]);
-                        let v = run_f32(&tape, &inputs, no_call, no_fcall);
+                        ];
+                        let e = run_f32(&edge_tape, &inputs, no_call, no_fcall)[edge_out.index()]
+                            as u32;
+                        inputs.push(("edge", e as f32));
+                        let (tape, plan) = match e {
+                            NO_EDGE => (&inner_tape, &inner_plan),
+                            _ => (&edge_plan_tape, &edge_plan),
+                        };
+                        checked[usize::from(e != NO_EDGE)] += 1;
+                        let v = run_f32(tape, &inputs, no_call, no_fcall);
                         let f = |e: Expr| (v[e.index()] as f32).to_bits();
-                        let case = format!("{segments:?} {big} {i} {j} {alpha:?} {forward}");
                         assert_eq!(plan.l.map(f), want.l.map(f32::to_bits), "{case}");
                         assert_eq!(v[plan.edge.index()] as u32, want.edge, "{case}");
                         for (got, want) in plan.points.iter().zip(&want.points) {
@@ -963,15 +971,20 @@ fn traced_grid_plan_gives_the_cpus_bits() {
                                 assert_eq!(got.0.map(f), want.0.map(f32::to_bits), "{case}");
                             }
                         }
-                        checked += 1;
                     }
                 }
             }
         }
     }
-    assert!(checked > 500, "{checked}");
+    assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
     let wgsl = grid_plan_wgsl();
-    assert!(wgsl.contains("fn tessella_grid_plan(big: u32, i: u32, j: u32, segments: vec3<u32>, alpha: vec3<f32>, alpha_inner: f32, forward: u32) -> TessellaGridPlan {"));
+    for head in [
+        "fn tessella_grid_edge(big: u32, i: u32, j: u32) -> u32 {",
+        "fn tessella_grid_edge_plan(edge: u32, big: u32, i: u32, j: u32, segments: vec3<u32>, alpha: vec3<f32>, forward: u32) -> TessellaGridPlan {",
+        "fn tessella_grid_inner_plan(big: u32, i: u32, j: u32, alpha_inner: f32) -> TessellaGridPlan {",
+    ] {
+        assert!(wgsl.contains(head), "{head}");
+    }
 }
 
 /// The traced canonical edge point, computed as the shader computes it, gives the CPU's

@@ -7,7 +7,7 @@
 // from the edge's own data, the same floats on both faces. Prepended (adaptive.rs): the record
 // layout and the basis, normal-net and edge weights generated from tessella-core's formulas
 // (tessella_core::shader: `tessella_patch_sum`, `tessella_normal_net_sum`,
-// `tessella_edge_weights`, `tessella_canonical_edge`, `tessella_locate`, `tessella_grid_plan`,
+// `tessella_edge_weights`, `tessella_canonical_edge`, `tessella_locate`, `tessella_grid_*`,
 // `TESSELLA_*` constants); appended: adaptive_draw.wgsl (the vertex
 // shader) or adaptive_capture.wgsl (a compute read-back of the same points).
 
@@ -95,7 +95,7 @@ fn tessella_add_plan_edge(acc: ptr<function, TessellaSums>, q: vec3<f32>) {
 }
 
 // Grid point (i, j) of a face: its surface into `acc`, summed over the plan the generated
-// `tessella_grid_plan` gives (the snap and the geomorph sources of refine::grid_point, which
+// `tessella_grid_edge_plan` or `tessella_grid_inner_plan` gives (the snap and the geomorph sources of refine::grid_point, which
 // the CPU's patterns and stencils run); returns the barycentric point and its edge
 // (TESSELLA_NO_EDGE off the edges).
 fn tessella_grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, TessellaSums>) -> vec4<f32> {
@@ -111,7 +111,14 @@ fn tessella_grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, a
     );
     let alpha_inner = bitcast<f32>(tessella_records[rec + TESSELLA_GRID_INNER_MORPH_WORD]);
     let big = tessella_records[rec + TESSELLA_GRID_LEVEL_WORD];
-    let g = tessella_grid_plan(big, i, j, segments, alpha, alpha_inner, face_forward);
+    // Only the point's own case is computed: inside an edge, or not.
+    let edge = tessella_grid_edge(big, i, j);
+    var g: TessellaGridPlan;
+    if (edge == TESSELLA_NO_EDGE) {
+        g = tessella_grid_inner_plan(big, i, j, alpha_inner);
+    } else {
+        g = tessella_grid_edge_plan(edge, big, i, j, segments, alpha, face_forward);
+    }
     // Constant indices: a value array indexed in a loop may be put in memory.
     tessella_add_plan_point(acc, face, g.points[0]);
     tessella_add_plan_point(acc, face, g.points[1]);

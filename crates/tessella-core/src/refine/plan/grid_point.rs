@@ -9,14 +9,15 @@
 //! - **The geomorph sources** ([`edge_sources_of`], [`grid_sources_of`]): at a fractional level
 //!   (morph factor `α < 1`) the point's surface is blended with that of the level-`(n − 1)`
 //!   points around it;
-//! - **The plan** ([`grid_point_of`]): the point, its coarse edge, the weighted points whose
+//! - **The plan** ([`grid_point_of`]: [`edge_plan_of`] inside a coarse edge, [`inner_plan_of`]
+//!   elsewhere, as [`grid_edge_of`] says): the point, its coarse edge, the weighted points whose
 //!   surfaces are summed and, on an edge, the weighted canonical points whose edge weights are
 //!   summed.
 //!
 //! Every function is generic over [`Noise`] (and its [`Word`]): the CPU runs them with `f64` and
 //! `u32` ([`super::morph`]'s stencils, [`super::tiling::grid_pattern`]'s snap,
 //! [`super::instanced::grid_point`]), and [`crate::shader::grid_plan_wgsl`] traces
-//! [`grid_point_of`] into the adaptive renderer's WGSL. Branches are selections: every side is
+//! [`grid_edge_of`], [`edge_plan_of`] and [`inner_plan_of`] into the adaptive renderer's WGSL. Branches are selections: every side is
 //! computed and one kept (a side not taken may divide zero by zero; its weight is zero, and a
 //! caller skips a zero weight). Steps are `u32`, exact while the products `i (n − 1)` and
 //! `step n` stay below 2³², so for every grid level up to 65,536 (a pattern of 2³¹ points a
@@ -93,51 +94,49 @@ pub(crate) struct GridPointOf<W, R> {
     pub edge_points: [([R; 2], R); 3],
 }
 
-/// The plan of grid point `(i, j)` (`i + j ≤ big`) of a face whose grid has level `big`, whose
-/// edge `k` has `segments[k]` segments (each at least 1, at most `big`) and geomorph factor
-/// `alpha[k]`, whose interior has `alpha_inner`, and whose edge `k` runs canonically where bit
-/// `k` of `forward` is set.
-///
-/// - **Interior** (and corners): `l = (big−i−j, i, j) / big`, weight `α_inner`, and the three
-///   corners of the level-`(big − 1)` triangle holding it weighted `(1 − α_inner) β`; weight
-///   1 alone at a corner or where `α_inner ≥ 1`.
-/// - **Inside edge `e`**: step `s` of the edge's own layout ([`snap_step_of`]); where `s` is 0
-///   or `n` the point is that corner (weight 1 alone, no edge). Else the point, weight `α`
-///   (1 where `α ≥ 1`), and its two level-`(n − 1)` steps weighted `(1 − α) β` where `α < 1`;
-///   the same in canonical direction for the edge weights, computed from the canonical step
-///   alone so both faces get the same bits.
-pub(crate) fn grid_point_of<R: Noise>(
+/// The coarse edge whose inside point `(i, j)` (`i + j ≤ big`) of the level-`big` grid lies
+/// in, or [`NO_EDGE`] (corners and interior points): edge 0 where `j = 0`, edge 1 where
+/// `i + j = big`, edge 2 where `i = 0`.
+pub(crate) fn grid_edge_of<W: Word>(big: W, i: W, j: W) -> W {
+    let (zero, one) = (W::lit(0), W::lit(1));
+    let k = big.wsub(i).wsub(j);
+    // Flags are words 0 or 1; a product is their "and".
+    let is_zero = |x: W| W::select_eq(x, zero, one, zero);
+    let not_zero = |x: W| W::select_eq(x, zero, zero, one);
+    let e0 = is_zero(j).wmul(not_zero(i)).wmul(not_zero(k));
+    let e1 = is_zero(k).wmul(not_zero(i)).wmul(not_zero(j));
+    let e2 = is_zero(i).wmul(not_zero(j)).wmul(not_zero(k));
+    let on = |flag: W, e: u32, rest: W| W::select_eq(flag, one, W::lit(e), rest);
+    on(e0, 0, on(e1, 1, on(e2, 2, W::lit(NO_EDGE))))
+}
+
+/// The plan of grid point `(i, j)` inside coarse edge `edge` ([`grid_edge_of`], not
+/// [`NO_EDGE`]) of a face whose grid has level `big`, whose edge `k` has `segments[k]`
+/// segments (each at least 1, at most `big`) and geomorph factor `alpha[k]`, and whose edge
+/// `k` runs canonically where bit `k` of `forward` is set: step `s` of the edge's own layout
+/// ([`snap_step_of`]); where `s` is 0 or `n` the point is that corner (weight 1 alone, no
+/// edge). Else the point, weight `α` (1 where `α ≥ 1`), and its two level-`(n − 1)` steps
+/// weighted `(1 − α) β` where `α < 1`; the same in canonical direction for the edge weights,
+/// computed from the canonical step alone so both faces get the same bits.
+pub(crate) fn edge_plan_of<R: Noise>(
+    edge: R::W,
     big: R::W,
     i: R::W,
     j: R::W,
     segments: [R::W; 3],
     alpha: [R; 3],
-    alpha_inner: R,
     forward: R::W,
 ) -> GridPointOf<R::W, R> {
     let w = R::W::lit;
     let (zero, one) = (w(0), w(1));
     let (r0, r1) = (R::lit(0.0), R::lit(1.0));
-    let k = big.wsub(i).wsub(j);
-    // Flags are words 0 or 1; a product is their "and".
-    let is_zero = |x: R::W| R::W::select_eq(x, zero, one, zero);
-    let not_zero = |x: R::W| R::W::select_eq(x, zero, zero, one);
-    let e0 = is_zero(j).wmul(not_zero(i)).wmul(not_zero(k));
-    let e1 = is_zero(k).wmul(not_zero(i)).wmul(not_zero(j));
-    let e2 = is_zero(i).wmul(not_zero(j)).wmul(not_zero(k));
-    let on = |flag: R::W, e: u32, rest: R::W| R::W::select_eq(flag, one, w(e), rest);
-    let edge = on(e0, 0, on(e1, 1, on(e2, 2, w(NO_EDGE))));
-    // Edge `edge`'s entry of a per-edge triple (edge 0's off the edges).
+    // Edge `edge`'s entry of a per-edge triple.
     let of_edge =
         |v: [R::W; 3]| R::W::select_eq(edge, w(1), v[1], R::W::select_eq(edge, w(2), v[2], v[0]));
     let of_edge_r = |v: [R; 3]| R::pick_eq(edge, w(1), v[1], R::pick_eq(edge, w(2), v[2], v[0]));
-    // `yes` where `x < 1` (a geomorph), else `no`.
-    let below_one = |x: R, yes: R, no: R| R::pick_gt(r1, x, yes, no);
-
-    // Inside edge `edge`: its step, snapped onto the edge's own layout.
     let n = of_edge(segments);
     let s = snap_step_of(of_edge([i, j, big.wsub(j)]), n, big);
-    let snapped = R::W::select_eq(s, zero, one, is_zero(s.wsub(n)));
+    let snapped = R::W::select_eq(s, zero, one, R::W::select_eq(s, n, one, zero));
     // Barycentrics of step `t` of an `m`-segment layout of edge `edge` (corner `edge` to
     // `edge + 1`): component `c` is the start weight where `c == edge`, the end weight where
     // `c == edge + 1`.
@@ -147,71 +146,102 @@ pub(crate) fn grid_point_of<R: Noise>(
         [0u32, 1, 2]
             .map(|c| R::pick_eq(edge, w(c), start, R::pick_eq(edge, w((c + 2) % 3), end, r0)))
     };
-    let edge_l = step_point(n, s);
+    let l = step_point(n, s);
     let a = of_edge_r(alpha);
-    let edge_weight = below_one(a, a, r1);
-    let morph = |beta: R| below_one(a, (r1 - a) * beta, r0);
+    // `yes` where `α < 1` (a geomorph) and the point is not a corner, else `no`.
+    let morphing = |yes: R, no: R| R::pick_eq(snapped, one, no, R::pick_gt(r1, a, yes, no));
+    let own = R::pick_eq(snapped, one, r1, R::pick_gt(r1, a, a, r1));
     let bit = |b: u32| forward.shr(b).and(one);
     let sc = R::W::select_eq(of_edge([bit(0), bit(1), bit(2)]), one, s, n.wsub(s));
     let m = n.wsub(one);
-    let sources = edge_sources_of::<R>(n, s).map(|(t, beta)| (step_point(m, t), morph(beta)));
+    let source = |(t, beta): (R::W, R)| (step_point(m, t), morphing((r1 - a) * beta, r0));
+    let [p1, p2] = edge_sources_of::<R>(n, s).map(source);
     let canonical = |steps: R::W, t: R::W| {
         let f = R::from_word(steps);
         [R::from_word(steps.wsub(t)) / f, R::from_word(t) / f]
     };
-    let canonical_sources =
-        edge_sources_of::<R>(n, sc).map(|(t, beta)| (canonical(m, t), morph(beta)));
+    let canonical_source = |(t, beta): (R::W, R)| (canonical(m, t), morphing((r1 - a) * beta, r0));
+    let [e1, e2] = edge_sources_of::<R>(n, sc).map(canonical_source);
+    let on_edge = |weight: R| R::pick_eq(snapped, one, r0, weight);
+    GridPointOf {
+        l,
+        edge: R::W::select_eq(snapped, one, w(NO_EDGE), edge),
+        points: [(l, own), p1, p2, ([r0; 3], r0)],
+        edge_points: [
+            (canonical(n, sc), on_edge(own)),
+            (e1.0, on_edge(e1.1)),
+            (e2.0, on_edge(e2.1)),
+        ],
+    }
+}
 
-    // Interior points and corners: the point and the level-(big - 1) triangle holding it.
+/// The plan of interior point or corner `(i, j)` of a face whose grid has level `big` and
+/// whose interior has geomorph factor `alpha_inner`: `l = (big−i−j, i, j) / big`, weight
+/// `α_inner`, and the three corners of the level-`(big − 1)` triangle holding it weighted
+/// `(1 − α_inner) β`; weight 1 alone at a corner or where `α_inner ≥ 1`. No edge points.
+pub(crate) fn inner_plan_of<R: Noise>(
+    big: R::W,
+    i: R::W,
+    j: R::W,
+    alpha_inner: R,
+) -> GridPointOf<R::W, R> {
+    let w = R::W::lit;
+    let (zero, one) = (w(0), w(1));
+    let (r0, r1) = (R::lit(0.0), R::lit(1.0));
+    let a = alpha_inner;
     let bigf = R::from_word(big);
-    let inner_l = [k, i, j].map(|x| R::from_word(x) / bigf);
+    let l = [big.wsub(i).wsub(j), i, j].map(|x| R::from_word(x) / bigf);
     let corner = R::W::select_eq(
         i.wadd(j),
         zero,
         one,
-        R::W::select_eq(i, big, one, is_zero(j.wsub(big))),
+        R::W::select_eq(i, big, one, R::W::select_eq(j, big, one, zero)),
     );
     let plain = |yes: R, no: R| R::pick_eq(corner, one, yes, no);
-    let inner_weight = plain(r1, below_one(alpha_inner, alpha_inner, r1));
     let mb = big.wsub(one);
-    let inner_sources = grid_sources_of::<R>(big, i, j).map(|([ci, cj], beta)| {
+    let [p1, p2, p3] = grid_sources_of::<R>(big, i, j).map(|([ci, cj], beta)| {
         let mbf = R::from_word(mb);
         let l = [mb.wsub(ci).wsub(cj), ci, cj].map(|x| R::from_word(x) / mbf);
-        (
-            l,
-            plain(r0, below_one(alpha_inner, (r1 - alpha_inner) * beta, r0)),
-        )
+        (l, plain(r0, R::pick_gt(r1, a, (r1 - a) * beta, r0)))
     });
-
-    // Which case the point is: interior, snapped onto a corner, or inside an edge.
-    let choose = |interior: R, corner: R, inside: R| {
-        R::pick_eq(
-            edge,
-            w(NO_EDGE),
-            interior,
-            R::pick_eq(snapped, one, corner, inside),
-        )
-    };
-    let point = |interior: ([R; 3], R), inside: ([R; 3], R)| {
-        let l = [0, 1, 2].map(|c| choose(interior.0[c], inside.0[c], inside.0[c]));
-        (l, choose(interior.1, r0, inside.1))
-    };
-    let l = [0, 1, 2].map(|c| choose(inner_l[c], edge_l[c], edge_l[c]));
-    let edge_only = |(p, weight): ([R; 2], R)| (p, choose(r0, r0, weight));
     GridPointOf {
         l,
-        edge: R::W::select_eq(snapped, one, w(NO_EDGE), edge),
-        points: [
-            (l, choose(inner_weight, r1, edge_weight)),
-            point(inner_sources[0], sources[0]),
-            point(inner_sources[1], sources[1]),
-            point(inner_sources[2], ([r0; 3], r0)),
-        ],
-        edge_points: [
-            edge_only((canonical(n, sc), edge_weight)),
-            edge_only(canonical_sources[0]),
-            edge_only(canonical_sources[1]),
-        ],
+        edge: w(NO_EDGE),
+        points: [(l, plain(r1, R::pick_gt(r1, a, a, r1))), p1, p2, p3],
+        edge_points: [([r0; 2], r0); 3],
+    }
+}
+
+/// The plan of any grid point `(i, j)` (`i + j ≤ big`): [`edge_plan_of`] inside a coarse edge,
+/// else [`inner_plan_of`]; the arguments are theirs. Both are computed and one kept (the
+/// shader branches on [`grid_edge_of`] instead and computes one).
+pub(crate) fn grid_point_of<R: Noise>(
+    big: R::W,
+    i: R::W,
+    j: R::W,
+    segments: [R::W; 3],
+    alpha: [R; 3],
+    alpha_inner: R,
+    forward: R::W,
+) -> GridPointOf<R::W, R> {
+    let edge = grid_edge_of(big, i, j);
+    let inside = edge_plan_of::<R>(edge, big, i, j, segments, alpha, forward);
+    let inner = inner_plan_of::<R>(big, i, j, alpha_inner);
+    let no_edge = R::W::lit(NO_EDGE);
+    let pick = |x: R, y: R| R::pick_eq(edge, no_edge, x, y);
+    let pick3 = |x: [R; 3], y: [R; 3]| [0, 1, 2].map(|c| pick(x[c], y[c]));
+    let pick2 = |x: [R; 2], y: [R; 2]| [pick(x[0], y[0]), pick(x[1], y[1])];
+    GridPointOf {
+        l: pick3(inner.l, inside.l),
+        edge: R::W::select_eq(edge, no_edge, inner.edge, inside.edge),
+        points: std::array::from_fn(|h| {
+            let (x, y) = (inner.points[h], inside.points[h]);
+            (pick3(x.0, y.0), pick(x.1, y.1))
+        }),
+        edge_points: std::array::from_fn(|h| {
+            let (x, y) = (inner.edge_points[h], inside.edge_points[h]);
+            (pick2(x.0, y.0), pick(x.1, y.1))
+        }),
     }
 }
 
