@@ -486,8 +486,13 @@ fn double_function(signature: &str, out: &str, tape: &trace::Tape, values: &[V3<
 
 /// The inputs `{array}[i].x`, `.y`, `.z` as a traced vector.
 fn traced_vector(array: &str, i: usize) -> V3<Expr> {
-    let c = |axis: &str| Expr::input(&format!("{array}[{i}].{axis}"));
-    V3::new(c("x"), c("y"), c("z"))
+    let [x, y, z] = traced_xyz(&format!("{array}[{i}]"));
+    V3::new(x, y, z)
+}
+
+/// The inputs `{name}.x`, `.y`, `.z` (a `vec3` parameter's components).
+fn traced_xyz(name: &str) -> [Expr; 3] {
+    ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")))
 }
 
 /// PNG1's smoothed normal net traced from the net `c` and the corner normals `n`.
@@ -552,23 +557,11 @@ pub fn locate_glsl() -> String {
 fn traced_canonical_edge() -> (trace::Tape, ([Expr; 3], [Expr; 3])) {
     use crate::basis::surface_normal::unit_or_zero_of;
     use crate::refine::canonical::edge_sum_of;
-    let v = |name: &str, axes: &[&str]| -> Vec<Expr> {
-        axes.iter()
-            .map(|a| Expr::input(&format!("{name}.{a}")))
-            .collect()
-    };
-    let entry = |array: &str, i: usize| traced_vector(array, i);
     trace(|| {
-        let value: [Expr; 4] = v("value", &["x", "y", "z", "w"]).try_into().expect("four");
-        let normal: [Expr; 3] = v("normal", &["x", "y", "z"]).try_into().expect("three");
-        let c = std::array::from_fn(|i| {
-            let e = entry("c", i);
-            [e.x, e.y, e.z]
-        });
-        let m = std::array::from_fn(|i| {
-            let e = entry("m", i);
-            [e.x, e.y, e.z]
-        });
+        let value = ["x", "y", "z", "w"].map(|a| Expr::input(&format!("value.{a}")));
+        let normal = traced_xyz("normal");
+        let c = std::array::from_fn(|i| traced_xyz(&format!("c[{i}]")));
+        let m = std::array::from_fn(|i| traced_xyz(&format!("m[{i}]")));
         (
             edge_sum_of(value, c),
             unit_or_zero_of(edge_sum_of(normal, m)),
@@ -635,7 +628,7 @@ pub fn edge_weights_glsl() -> String {
 /// ([`crate::displace::direction_of`]), from the face record the including shader reads.
 pub fn displace_wgsl() -> String {
     use crate::displace::{direction_of, height_map_of, perlin_of, sine_of};
-    let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
+    let v3 = traced_xyz;
     let (tape, out) = trace(|| {
         direction_of(
             UExpr::input("mask"),
@@ -856,7 +849,7 @@ pub fn skin_normal(lang: Lang) -> String {
 /// and three `vec3` arguments.
 pub fn surface_normal(lang: Lang) -> String {
     use crate::basis::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
-    let v3 = |name: &str| ["x", "y", "z"].map(|c| Expr::input(&format!("{name}.{c}")));
+    let v3 = traced_xyz;
     let vec3 = match lang {
         Lang::Wgsl => "vec3<f32>",
         Lang::Glsl => "vec3",

@@ -163,11 +163,20 @@ fn run_f32(
     v
 }
 
+/// A `u32` function of the including shader, for a trace that calls none.
+fn no_ucall(name: &str, _: &[u32]) -> u32 {
+    panic!("no function {name}")
+}
+
+/// An `f32` function of the including shader, for a trace that calls none.
+fn no_fcall(name: &str, _: &[u32]) -> f32 {
+    panic!("no function {name}")
+}
+
 #[test]
 fn traced_displacement_offsets_give_the_cpus_bits() {
     use crate::displace::{height_map_of, perlin, perlin_of, permutation, sine_of, HeightMap};
     let perm = permutation(7);
-    let no_call = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
     let p = || [Expr::input("p.x"), Expr::input("p.y"), Expr::input("p.z")];
     let (tape, out) = trace(|| perlin_of(|i| UExpr::call("tessella_perm", &[i]), p()));
     let read = |name: &str, args: &[u32]| {
@@ -191,7 +200,7 @@ fn traced_displacement_offsets_give_the_cpus_bits() {
             &tape,
             &[("p.x", q[0]), ("p.y", q[1]), ("p.z", q[2])],
             read,
-            no_call,
+            no_fcall,
         );
         let got = v[out.index()] as f32;
         assert_eq!(got.to_bits(), perlin(&perm, q).to_bits(), "{q:?}");
@@ -217,7 +226,6 @@ fn traced_displacement_offsets_give_the_cpus_bits() {
             1.0 - (yy as f32 + 0.5) / h as f32,
         ])
     };
-    let no_ucall = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
     for uv in [
         [0.1f32, 0.2],
         [0.9, 0.95],
@@ -247,7 +255,7 @@ fn traced_displacement_offsets_give_the_cpus_bits() {
             ("p.y", q[1]),
             ("p.z", q[2]),
         ];
-        let v = run_f32(&tape, &inputs, no_ucall, no_call);
+        let v = run_f32(&tape, &inputs, no_ucall, no_fcall);
         assert_eq!(
             (v[out.index()] as f32).to_bits(),
             sine_of(0.05f32, 25.0, q).to_bits()
@@ -285,7 +293,7 @@ fn traced_displacement_offsets_give_the_cpus_bits() {
                 for (k, x) in keys.iter().zip(vectors.iter().flatten()) {
                     inputs.push((k.as_str(), *x));
                 }
-                let v = run_f32(&tape, &inputs, no_ucall, no_call);
+                let v = run_f32(&tape, &inputs, no_ucall, no_fcall);
                 let got = out.map(|e| (v[e.index()] as f32).to_bits());
                 let want = frame.direction(l, n);
                 assert_eq!(got, want.map(f32::to_bits), "mask {mask} l {l:?}");
@@ -914,8 +922,6 @@ fn traced_grid_plan_gives_the_cpus_bits() {
     let (edge_tape, edge_out) = traced_grid_edge();
     let (edge_plan_tape, edge_plan) = traced_grid_edge_plan();
     let (inner_tape, inner_plan) = traced_grid_inner_plan();
-    let no_call = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
-    let no_fcall = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
     let mut checked = [0; 2];
     for (segments, big) in [
         ([3u32, 5, 2], 5u32),
@@ -947,7 +953,7 @@ fn traced_grid_plan_gives_the_cpus_bits() {
                             ("alpha.z", alpha[2]),
                             ("alpha_inner", inner),
                         ];
-                        let e = run_f32(&edge_tape, &inputs, no_call, no_fcall)[edge_out.index()]
+                        let e = run_f32(&edge_tape, &inputs, no_ucall, no_fcall)[edge_out.index()]
                             as u32;
                         inputs.push(("edge", e as f32));
                         let (tape, plan) = match e {
@@ -955,7 +961,7 @@ fn traced_grid_plan_gives_the_cpus_bits() {
                             _ => (&edge_plan_tape, &edge_plan),
                         };
                         checked[usize::from(e != NO_EDGE)] += 1;
-                        let v = run_f32(tape, &inputs, no_call, no_fcall);
+                        let v = run_f32(tape, &inputs, no_ucall, no_fcall);
                         let f = |e: Expr| (v[e.index()] as f32).to_bits();
                         assert_eq!(plan.l.map(f), want.l.map(f32::to_bits), "{case}");
                         assert_eq!(v[plan.edge.index()] as u32, want.edge, "{case}");
@@ -993,8 +999,6 @@ fn traced_grid_plan_gives_the_cpus_bits() {
 fn traced_canonical_edge_gives_the_cpus_bits() {
     use crate::refine::canonical::{net_normal, position, EdgeWeights};
     let (tape, (p, n)) = traced_canonical_edge();
-    let no_call = |name: &str, _: &[u32]| -> u32 { panic!("no function {name}") };
-    let no_fcall = |name: &str, _: &[u32]| -> f32 { panic!("no function {name}") };
     let mut seed = 7u32;
     let mut next = || {
         seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
@@ -1025,7 +1029,7 @@ fn traced_canonical_edge_gives_the_cpus_bits() {
             }
         }
         let named: Vec<(&str, f32)> = inputs.iter().map(|(n, x)| (n.as_str(), *x)).collect();
-        let v = run_f32(&tape, &named, no_call, no_fcall);
+        let v = run_f32(&tape, &named, no_ucall, no_fcall);
         let f = |e: Expr| (v[e.index()] as f32).to_bits();
         assert_eq!(p.map(f), position(&w, &c).map(f32::to_bits), "case {case}");
         let want = net_normal(&w, &m).unwrap_or([0.0; 3]);

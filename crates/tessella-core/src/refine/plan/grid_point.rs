@@ -17,9 +17,9 @@
 //! Every function is generic over [`Noise`] (and its [`Word`]): the CPU runs them with `f64` and
 //! `u32` ([`super::morph`]'s stencils, [`super::tiling::grid_pattern`]'s snap,
 //! [`super::instanced::grid_point`]), and [`crate::shader::grid_plan_wgsl`] traces
-//! [`grid_edge_of`], [`edge_plan_of`] and [`inner_plan_of`] into the adaptive renderer's WGSL. Branches are selections: every side is
-//! computed and one kept (a side not taken may divide zero by zero; its weight is zero, and a
-//! caller skips a zero weight). Steps are `u32`, exact while the products `i (n − 1)` and
+//! [`grid_edge_of`], [`edge_plan_of`] and [`inner_plan_of`] into the adaptive renderer's WGSL.
+//! Branches inside them are selections: every side is computed and one kept (a side not taken
+//! may divide zero by zero; its weight is zero, and a caller skips a zero weight). Steps are `u32`, exact while the products `i (n − 1)` and
 //! `step n` stay below 2³², so for every grid level up to 65,536 (a pattern of 2³¹ points a
 //! face).
 
@@ -212,36 +212,21 @@ pub(crate) fn inner_plan_of<R: Noise>(
     }
 }
 
-/// The plan of any grid point `(i, j)` (`i + j ≤ big`): [`edge_plan_of`] inside a coarse edge,
-/// else [`inner_plan_of`]; the arguments are theirs. Both are computed and one kept (the
-/// shader branches on [`grid_edge_of`] instead and computes one).
-pub(crate) fn grid_point_of<R: Noise>(
-    big: R::W,
-    i: R::W,
-    j: R::W,
-    segments: [R::W; 3],
+/// The plan of any grid point `(i, j)` (`i + j ≤ big`) on the CPU: [`edge_plan_of`] inside a
+/// coarse edge ([`grid_edge_of`]), else [`inner_plan_of`]; the arguments are theirs. The shader
+/// makes the same choice with a branch on its traced edge.
+pub(crate) fn grid_point_of<R: Noise<W = u32>>(
+    big: u32,
+    i: u32,
+    j: u32,
+    segments: [u32; 3],
     alpha: [R; 3],
     alpha_inner: R,
-    forward: R::W,
-) -> GridPointOf<R::W, R> {
-    let edge = grid_edge_of(big, i, j);
-    let inside = edge_plan_of::<R>(edge, big, i, j, segments, alpha, forward);
-    let inner = inner_plan_of::<R>(big, i, j, alpha_inner);
-    let no_edge = R::W::lit(NO_EDGE);
-    let pick = |x: R, y: R| R::pick_eq(edge, no_edge, x, y);
-    let pick3 = |x: [R; 3], y: [R; 3]| [0, 1, 2].map(|c| pick(x[c], y[c]));
-    let pick2 = |x: [R; 2], y: [R; 2]| [pick(x[0], y[0]), pick(x[1], y[1])];
-    GridPointOf {
-        l: pick3(inner.l, inside.l),
-        edge: R::W::select_eq(edge, no_edge, inner.edge, inside.edge),
-        points: std::array::from_fn(|h| {
-            let (x, y) = (inner.points[h], inside.points[h]);
-            (pick3(x.0, y.0), pick(x.1, y.1))
-        }),
-        edge_points: std::array::from_fn(|h| {
-            let (x, y) = (inner.edge_points[h], inside.edge_points[h]);
-            (pick2(x.0, y.0), pick(x.1, y.1))
-        }),
+    forward: u32,
+) -> GridPointOf<u32, R> {
+    match grid_edge_of(big, i, j) {
+        NO_EDGE => inner_plan_of::<R>(big, i, j, alpha_inner),
+        edge => edge_plan_of::<R>(edge, big, i, j, segments, alpha, forward),
     }
 }
 
