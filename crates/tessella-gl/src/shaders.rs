@@ -121,8 +121,8 @@ void png1_net(vec3 pf[3], vec3 nf[3], vec3 opposite[3]) {
 
 "#;
 
-/// Position, normal (net or `Du × Dv`), tessellation coordinate and face, for transform
-/// feedback and for drawing.
+/// The evaluation stage's declarations: it writes position, normal (net or `Du × Dv`),
+/// tessellation coordinate and face, for transform feedback and for drawing.
 const EVALUATION: &str = r#"
 uniform int u_k;
 uniform int u_real;
@@ -135,6 +135,10 @@ out vec3 tf_coord;
 flat out int tf_face;
 vec3 ctrl(int f, int k) { return tc_pts[k]; }
 vec3 nctrl(int f, int k) { return tc_nrm[k]; }
+"#;
+
+/// The evaluation's entry point: the sums, then the generated normal steps.
+const EVALUATION_MAIN: &str = r#"
 void main() {
     // gl_TessCoord (u, v, w) is (l1, l2, l3): u = 1 at P1 (tessella_core::tessellator).
     vec3 l = gl_TessCoord;
@@ -150,16 +154,8 @@ void main() {
         du += w[k].y * c;
         dv += w[k].z * c;
     }
-    // The normal glue is the CPU's (tessella_core::shader::surface_normal, prepended).
-    vec3 n = vec3(0.0);
-    if (u_real != 0) { n = tessella_real_normal(du, dv); }
-    if (n == vec3(0.0)) {
-        float nw[6];
-        tessella_normal_weights(l, nw);
-        for (int j = 0; j < 6; ++j) { n += nw[j] * nctrl(f, j); }
-    }
-    n = tessella_unit_or_zero(n);
-    if (n == vec3(0.0)) { n = tessella_corner_normal(ctrl(f, 0), ctrl(f, 1), ctrl(f, 2)); }
+    // The normal's steps are the CPU's (tessella_patch_normal, generated: patch_normal).
+    vec3 n = tessella_patch_normal(f, l, du, dv);
     tf_position = p;
     tf_normal = n;
     tf_coord = l;
@@ -227,6 +223,29 @@ void main() {
 }
 "#;
 
+/// A patch point's unit normal, `vec3 tessella_patch_normal(int f, vec3 l, vec3 du, vec3 dv)`:
+/// the core's normal steps ([`shader::normal_glue`]) over the point's derivatives, its normal
+/// net and its corners.
+fn patch_normal() -> String {
+    let glue = shader::normal_glue(
+        Lang::Glsl,
+        &shader::NormalSources {
+            real: Some(shader::RealNormalSource {
+                when: Some("u_real != 0"),
+                du: "du",
+                dv: "dv",
+            }),
+            net: "float nw[6];\n\
+                  tessella_normal_weights(l, nw);\n\
+                  for (int j = 0; j < 6; ++j) { n += nw[j] * nctrl(f, j); }",
+            corners: ["ctrl(f, 0)", "ctrl(f, 1)", "ctrl(f, 2)"],
+        },
+    );
+    format!(
+        "vec3 tessella_patch_normal(int f, vec3 l, vec3 du, vec3 dv) {{\n{glue}    return n;\n}}\n"
+    )
+}
+
 /// The sources for `spacing`.
 pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
     ShaderSources {
@@ -240,12 +259,13 @@ pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
             shader::png1_normals_glsl()
         ),
         evaluation: format!(
-            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{}{}{EVALUATION}",
+            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{}{}{EVALUATION}{}{EVALUATION_MAIN}",
             layout(spacing),
             shader::weights(Lang::Glsl, Basis::Cubic),
             shader::weights(Lang::Glsl, Basis::Png1),
             shader::normal_net(Lang::Glsl),
-            shader::surface_normal(Lang::Glsl)
+            shader::surface_normal(Lang::Glsl),
+            patch_normal()
         ),
         fragment: format!("{HEADER}{FRAGMENT}"),
     }
@@ -308,7 +328,12 @@ mod tests {
                 "calls {f}"
             );
         }
-        assert!(!EVALUATION.contains("1e-12") && !EVALUATION.contains("cross("));
+        // The normal's steps: the generated glue, once; none typed here.
+        assert_eq!(s.evaluation.matches(&patch_normal()).count(), 1);
+        for typed in [EVALUATION, EVALUATION_MAIN] {
+            assert!(!typed.contains("1e-12") && !typed.contains("cross("));
+            assert!(!typed.contains("tessella_unit_or_zero") && !typed.contains("tessella_corner"));
+        }
         // PNG1's net: no formula of its own here, only the generated builders fed.
         for typed in ["cross(", "sqrt(", "normalize", "dot("] {
             assert!(!PNG1_NET.contains(typed), "{typed}");

@@ -549,8 +549,36 @@ pub(crate) fn constants(
         shader::locate_wgsl(),
         shader::grid_plan_wgsl(),
         crate::patch::surface_normal_wgsl().to_string(),
+        adaptive_normal_wgsl(),
     ]
     .join("\n")
+}
+
+/// An adaptive point's unit normal, `tessella_adaptive_normal(face, du, dv, net)`: the core's
+/// normal steps ([`shader::normal_glue`]) over the point's summed derivatives and its normal
+/// net's sum (the canonical edge's, on an edge).
+fn adaptive_normal_wgsl() -> String {
+    use shader::{NormalSources, RealNormalSource};
+    let glue = shader::normal_glue(
+        Lang::Wgsl,
+        &NormalSources {
+            real: Some(RealNormalSource {
+                when: Some("TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL"),
+                du: "du",
+                dv: "dv",
+            }),
+            net: "n = net;",
+            corners: [
+                "tessella_net_point(face, 0u)",
+                "tessella_net_point(face, 1u)",
+                "tessella_net_point(face, 2u)",
+            ],
+        },
+    );
+    format!(
+        "fn tessella_adaptive_normal(face: u32, du: vec3<f32>, dv: vec3<f32>, net: vec3<f32>) \
+         -> vec3<f32> {{\n{glue}    return n;\n}}\n"
+    )
 }
 
 /// The adaptive shaders' uniform: each edge's boundary control points and normal-net entries.

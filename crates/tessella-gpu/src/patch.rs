@@ -288,6 +288,37 @@ pub(crate) fn canonical_edge_wgsl() -> &'static str {
     TEXT.get_or_init(|| tessella_core::shader::canonical_edge(tessella_core::shader::Lang::Wgsl))
 }
 
+/// A stencil row's unit normal, `tessella_patch_normal(face, base)`: the core's normal steps
+/// ([`tessella_core::shader::normal_glue`]) over `eval.wgsl`'s sums of the row at `base`,
+/// generated once per process.
+pub(crate) fn patch_normal_wgsl() -> &'static str {
+    use tessella_core::shader::{normal_glue, Lang, NormalSources, RealNormalSource};
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| {
+        let glue = normal_glue(
+            Lang::Wgsl,
+            &NormalSources {
+                real: Some(RealNormalSource {
+                    when: Some("TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL"),
+                    du: "tessella_combine_points(face, base + k)",
+                    dv: "tessella_combine_points(face, base + 2u * k)",
+                }),
+                net: "for (var j = 0u; j < TESSELLA_NORMAL_NET_LEN; j++) {\n    \
+                      n += tessella_stencil[base + 3u * k + j] * tessella_net_normal(face, j);\n}",
+                corners: [
+                    "tessella_net_point(face, 0u)",
+                    "tessella_net_point(face, 1u)",
+                    "tessella_net_point(face, 2u)",
+                ],
+            },
+        );
+        format!(
+            "fn tessella_patch_normal(face: u32, base: u32) -> vec3<f32> {{\n    \
+             let k = tessella_k();\n{glue}    return n;\n}}\n"
+        )
+    })
+}
+
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
 /// generated normal glue, the shared evaluation and displacement modules, then its own.
 /// Constants rather than uniforms, so each pipeline compiles only its own branch (a software
@@ -309,6 +340,7 @@ pub(crate) fn shader_source(
         ),
         surface_normal_wgsl(),
         canonical_edge_wgsl(),
+        patch_normal_wgsl(),
         include_str!("shaders/eval.wgsl"),
         include_str!("shaders/displace.wgsl"),
         displace_wgsl(),

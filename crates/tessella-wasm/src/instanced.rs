@@ -410,21 +410,13 @@ pub fn glsl(basis: Basis, mode: NormalMode) -> String {
     );
     let sum = |part: &str| weighted_sum(k, part);
     s += &format!("    position = {};\n", sum("x"));
-    s += "    vec3 n = vec3(0.0);\n";
-    if mode == NormalMode::Real {
-        s += &format!(
-            "    n = tessella_real_normal({}, {});\n",
-            sum("y"),
-            sum("z")
-        );
-    }
-    let normal_sum = normal_net_sum();
-    s += &format!(
-        "    if (n == vec3(0.0)) {{\n        float nw[{NORMAL_NET_LEN}];\n        \
-         tessella_normal_weights(l, nw);\n        n = {normal_sum};\n    }}\n"
+    let (du, dv) = (sum("y"), sum("z"));
+    let net = format!(
+        "float nw[{NORMAL_NET_LEN}];\ntessella_normal_weights(l, nw);\nn = {};",
+        normal_net_sum()
     );
-    s += "    normal = tessella_unit_or_zero(n);\n    \
-          if (normal == vec3(0.0)) { normal = tessella_corner_normal(c0, c1, c2); }\n}\n";
+    s += &shader::normal_glue(Lang::Glsl, &normal_sources(mode, &du, &dv, &net));
+    s += "    normal = n;\n}\n";
     s
 }
 
@@ -483,23 +475,32 @@ pub fn wgsl(basis: Basis, mode: NormalMode) -> String {
     );
     s += "fn tessella_normal(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32> {\n";
     s += &read(k + NORMAL_NET_LEN);
-    s += "    var n = vec3<f32>(0.0);\n";
     if mode == NormalMode::Real {
-        s += &format!(
-            "    let w = tessella_{name}_weights(l);\n    n = tessella_real_normal({}, {});\n",
-            sum("y"),
-            sum("z")
-        );
+        s += &format!("    let w = tessella_{name}_weights(l);\n");
     }
-    let normal_sum = normal_net_sum();
-    s += &format!(
-        "    if (all(n == vec3<f32>(0.0))) {{\n        let nw = tessella_normal_weights(l);\n        \
-         n = {normal_sum};\n    }}\n"
+    let (du, dv) = (sum("y"), sum("z"));
+    let net = format!(
+        "let nw = tessella_normal_weights(l);\nn = {};",
+        normal_net_sum()
     );
-    s += "    let unit = tessella_unit_or_zero(n);\n    \
-          if (all(unit == vec3<f32>(0.0))) {\n        return tessella_corner_normal(c0, c1, c2);\n    }\n    \
-          return unit;\n}\n";
+    s += &shader::normal_glue(Lang::Wgsl, &normal_sources(mode, &du, &dv, &net));
+    s += "    return n;\n}\n";
     s
+}
+
+/// The normal's sources for [`shader::normal_glue`] in a shader built for `mode`: the real
+/// normal from `du` and `dv` for `Real` alone, the net's statements `net`, the corners `c0..c2`.
+fn normal_sources<'a>(
+    mode: NormalMode,
+    du: &'a str,
+    dv: &'a str,
+    net: &'a str,
+) -> shader::NormalSources<'a> {
+    shader::NormalSources {
+        real: (mode == NormalMode::Real).then_some(shader::RealNormalSource { when: None, du, dv }),
+        net,
+        corners: ["c0", "c1", "c2"],
+    }
 }
 
 #[cfg(test)]
@@ -624,6 +625,14 @@ mod tests {
             source.contains("n = tessella_real_normal("),
             mode == NormalMode::Real
         );
+        // The normal's steps are the generated glue: one unit normal, one corner fallback.
+        assert_eq!(source.matches("n = tessella_unit_or_zero(n);").count(), 1);
+        assert_eq!(
+            source
+                .matches("n = tessella_corner_normal(c0, c1, c2);")
+                .count(),
+            1
+        );
         assert!(!source.contains("1e-12 * dot(") && !source.contains("cross("));
         if basis == Basis::Cubic {
             "cubic"
@@ -644,7 +653,7 @@ mod tests {
             assert!(g.contains("tessella_normal_weights(l, nw);"));
             let texels = texels_per_face(basis.len());
             assert!(g.contains(&format!("tessella_texel(face, {});", texels - 1)));
-            assert!(g.contains("normal = tessella_unit_or_zero(n);"));
+            assert!(g.contains("    normal = n;\n}\n"));
         }
     }
 
@@ -662,7 +671,7 @@ mod tests {
             assert!(w.contains("let nw = tessella_normal_weights(l);"));
             let texels = texels_per_face(basis.len());
             assert!(w.contains(&format!("tessella_texel(nets, face, {}u);", texels - 1)));
-            assert!(w.contains("let unit = tessella_unit_or_zero(n);"));
+            assert!(w.contains("    return n;\n}\n"));
             // The two functions TSL calls come last, position then normal.
             let p = w.find("fn tessella_position(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32> {").unwrap();
             let n = w.find("fn tessella_normal(nets: texture_2d<f32>, face: u32, l: vec3<f32>) -> vec3<f32> {").unwrap();

@@ -69,6 +69,64 @@ pub fn corner_normal_of<T: Real>(corners: [[T; 3]; 3]) -> [T; 3] {
     normalize_or(cross(sub(b, a), sub(c, a)), z)
 }
 
+/// One step of a patch point's unit normal. Every evaluation takes [`NORMAL_STEPS`] in order:
+/// the CPU's kernels through [`normal_of`], the shaders through the glue
+/// [`crate::shader::normal_glue`] prints from the same list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NormalStep {
+    /// `Du × Dv` ([`real_normal_of`]) where the normal mode is `Real`; the normal starts zero.
+    Real,
+    /// The normal net's sum, where the normal is still zero (every mode but `Real`, and a
+    /// `Real` point whose derivatives are parallel).
+    NetWhereZero,
+    /// The unit normal, or zero ([`unit_or_zero_of`]).
+    Unit,
+    /// The corner triangle's normal ([`corner_normal_of`]), where the unit normal is zero.
+    CornerWhereZero,
+}
+
+/// The order of a patch point's normal fallbacks, written once.
+pub const NORMAL_STEPS: [NormalStep; 4] = [
+    NormalStep::Real,
+    NormalStep::NetWhereZero,
+    NormalStep::Unit,
+    NormalStep::CornerWhereZero,
+];
+
+/// A patch point's unit normal by [`NORMAL_STEPS`]: `real` holds its derivatives where the
+/// normal mode is `Real` (else `None`); `net` sums the normal net and `corners` gives the
+/// corner triangle, each called only where its step needs it.
+#[inline(always)]
+pub fn normal_of(
+    real: Option<([f32; 3], [f32; 3])>,
+    net: impl FnOnce() -> [f32; 3],
+    corners: impl FnOnce() -> [[f32; 3]; 3],
+) -> [f32; 3] {
+    let (mut net, mut corners) = (Some(net), Some(corners));
+    let mut n = [0.0f32; 3];
+    for step in NORMAL_STEPS {
+        match step {
+            NormalStep::Real => {
+                if let Some((du, dv)) = real {
+                    n = real_normal_of(du, dv);
+                }
+            }
+            NormalStep::NetWhereZero => {
+                if let (true, Some(net)) = (n == [0.0; 3], net.take()) {
+                    n = net();
+                }
+            }
+            NormalStep::Unit => n = unit_or_zero_of(n),
+            NormalStep::CornerWhereZero => {
+                if let (true, Some(corners)) = (n == [0.0; 3], corners.take()) {
+                    n = corner_normal_of(corners());
+                }
+            }
+        }
+    }
+    n
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,6 +197,44 @@ mod tests {
                 ours.map(f32::to_bits),
                 glam_unit.to_array().map(f32::to_bits)
             );
+        }
+    }
+
+    /// `normal_of` takes the steps as the kernels spelled them, and asks for the net and the
+    /// corners only where they are used.
+    #[test]
+    fn normal_of_takes_the_steps_in_order() {
+        let vs = vectors();
+        for (i, &du) in vs.iter().enumerate() {
+            let dv = vs[(i * 7 + 3) % vs.len()];
+            let net = vs[(i * 5 + 2) % vs.len()];
+            let corners = [vs[(i * 3 + 1) % vs.len()], du, dv];
+            for real in [None, Some((du, dv)), Some((du, du))] {
+                let mut n = real.map_or([0.0; 3], |(a, b)| real_normal_of(a, b));
+                let net_used = n == [0.0; 3];
+                if net_used {
+                    n = net;
+                }
+                let mut unit = unit_or_zero_of(n);
+                let corner_used = unit == [0.0; 3];
+                if corner_used {
+                    unit = corner_normal_of(corners);
+                }
+                let (mut asked_net, mut asked_corners) = (false, false);
+                let ours = normal_of(
+                    real,
+                    || {
+                        asked_net = true;
+                        net
+                    },
+                    || {
+                        asked_corners = true;
+                        corners
+                    },
+                );
+                assert_eq!(ours.map(f32::to_bits), unit.map(f32::to_bits));
+                assert_eq!((asked_net, asked_corners), (net_used, corner_used));
+            }
         }
     }
 

@@ -889,6 +889,85 @@ pub fn surface_normal(lang: Lang) -> String {
     .concat()
 }
 
+/// Where a host's evaluation finds what the normal's steps need, for [`normal_glue`]: shader
+/// expressions and statements in the host's language, over its own names.
+#[derive(Clone, Copy, Debug)]
+pub struct NormalSources<'a> {
+    /// The real normal's derivatives, where the host may take it: `None` for a host built for
+    /// a mode that never does.
+    pub real: Option<RealNormalSource<'a>>,
+    /// Statements that set `n` to the normal net's sum (`n` is zero when they run).
+    pub net: &'a str,
+    /// The corner triangle's three points (the patch's first three control points).
+    pub corners: [&'a str; 3],
+}
+
+/// The real normal's derivatives for [`NormalSources`], and when to take it.
+#[derive(Clone, Copy, Debug)]
+pub struct RealNormalSource<'a> {
+    /// A condition the shader tests (its normal mode as a constant or a uniform), or `None`
+    /// where the host is built for `Real` alone.
+    pub when: Option<&'a str>,
+    /// `Du` and `Dv`.
+    pub du: &'a str,
+    pub dv: &'a str,
+}
+
+/// The statements that take a patch point's normal through the core's
+/// [`NORMAL_STEPS`](crate::basis::surface_normal::NORMAL_STEPS), in the order the CPU's
+/// [`normal_of`](crate::basis::surface_normal::normal_of) takes them, calling the functions
+/// [`surface_normal`] prints. They declare `n` and leave the unit normal in it; each source is
+/// evaluated only where its step needs it. Indented for a function body.
+///
+/// ```
+/// use tessella_core::shader::{self, Lang, NormalSources};
+/// let glue = shader::normal_glue(Lang::Glsl, &NormalSources {
+///     real: None,
+///     net: "n = tessella_net_sum(face);",
+///     corners: ["c0", "c1", "c2"],
+/// });
+/// assert!(glue.starts_with("    vec3 n = vec3(0.0);\n    n = tessella_net_sum(face);\n"));
+/// assert!(glue.contains("n = tessella_corner_normal(c0, c1, c2);"));
+/// ```
+pub fn normal_glue(lang: Lang, sources: &NormalSources) -> String {
+    use crate::basis::surface_normal::{NormalStep, NORMAL_STEPS};
+    let (declare, zero) = match lang {
+        Lang::Wgsl => ("var n = vec3<f32>(0.0);", "all(n == vec3<f32>(0.0))"),
+        Lang::Glsl => ("vec3 n = vec3(0.0);", "n == vec3(0.0)"),
+    };
+    let block = |condition: Option<&str>, body: &str| -> String {
+        match condition {
+            Some(c) => {
+                let inner: String = body.lines().map(|l| format!("        {l}\n")).collect();
+                format!("    if ({c}) {{\n{inner}    }}\n")
+            }
+            None => body.lines().map(|l| format!("    {l}\n")).collect(),
+        }
+    };
+    let mut s = format!("    {declare}\n");
+    for step in NORMAL_STEPS {
+        s += &match step {
+            NormalStep::Real => sources.real.map_or(String::new(), |r| {
+                block(
+                    r.when,
+                    &format!("n = tessella_real_normal({}, {});", r.du, r.dv),
+                )
+            }),
+            // Without a real normal, `n` is still zero here: no test.
+            NormalStep::NetWhereZero => block(sources.real.map(|_| zero), sources.net),
+            NormalStep::Unit => "    n = tessella_unit_or_zero(n);\n".to_string(),
+            NormalStep::CornerWhereZero => {
+                let [a, b, c] = sources.corners;
+                block(
+                    Some(zero),
+                    &format!("n = tessella_corner_normal({a}, {b}, {c});"),
+                )
+            }
+        };
+    }
+    s
+}
+
 /// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed
 /// point, as `TESSELLA_`-prefixed `u32` constants (see [`constants`]): the words a shader
 /// reads are the words [`crate::refine::instanced`] writes.

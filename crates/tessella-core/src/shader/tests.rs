@@ -745,6 +745,56 @@ fn traced_surface_normal_gives_the_cpus_bits() {
     }
 }
 
+/// The glue takes the core's steps in their order, each source only under its step's test.
+#[test]
+fn normal_glue_takes_the_steps_in_order() {
+    let real = RealNormalSource {
+        when: Some("MODE_IS_REAL"),
+        du: "DU",
+        dv: "DV",
+    };
+    for lang in [Lang::Wgsl, Lang::Glsl] {
+        let zero = match lang {
+            Lang::Wgsl => "if (all(n == vec3<f32>(0.0))) {",
+            Lang::Glsl => "if (n == vec3(0.0)) {",
+        };
+        for real in [
+            None,
+            Some(real),
+            Some(RealNormalSource { when: None, ..real }),
+        ] {
+            let text = normal_glue(
+                lang,
+                &NormalSources {
+                    real,
+                    net: "NET_1\nNET_2",
+                    corners: ["C0", "C1", "C2"],
+                },
+            );
+            let at = |needle: &str| {
+                assert_eq!(text.matches(needle).count(), 1, "{needle} in\n{text}");
+                text.find(needle).unwrap()
+            };
+            let net = at("NET_1\n");
+            let unit = at("    n = tessella_unit_or_zero(n);\n");
+            let corner = at("n = tessella_corner_normal(C0, C1, C2);");
+            assert!(net < unit && unit < corner && text[net..].contains("NET_2"));
+            // The corner only where the unit normal vanished.
+            assert!(text[unit..corner].contains(zero));
+            match real {
+                None => {
+                    assert!(!text.contains("tessella_real_normal") && !text[..net].contains(zero));
+                }
+                Some(r) => {
+                    let real = at("n = tessella_real_normal(DU, DV);");
+                    assert!(real < net && text[real..net].contains(zero));
+                    assert_eq!(text.contains("if (MODE_IS_REAL) {"), r.when.is_some());
+                }
+            }
+        }
+    }
+}
+
 /// The packed net the per-texel function reads from: its floats, run in f32 as a shader runs
 /// them, are the CPU's `f32` nets (points then normal net) bit for bit, for every builder the
 /// GPU has; and each texel's branch returns floats `4j..4j+4` of it (zeros past the end).

@@ -164,15 +164,8 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
         edge = u32(g.w);
     }
 
-    // The normal glue is the CPU's (tessella_core::shader::surface_normal, prepended).
     var p = acc.p;
-    var n = vec3<f32>(0.0);
-    if (TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL) {
-        n = tessella_real_normal(acc.du, acc.dv);
-    }
-    if (all(n == vec3<f32>(0.0))) {
-        n = acc.n;
-    }
+    var net = acc.n;
     if (edge != TESSELLA_NO_EDGE) {
         // The edge's own data in canonical order, summed in the same order on both faces
         // (the generated tessella_canonical_edge, the CPU's canonical::edge_sum_of).
@@ -189,13 +182,11 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
         }
         let e = tessella_canonical_edge(acc.edge_w, acc.edge_n, c, m);
         p = e.p;
+        // The edge's net normal where the mode takes the net; a real normal stays the face's.
         if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL && any(e.n != vec3<f32>(0.0))) {
-            n = e.n;
+            net = e.n;
         }
     }
-    var unit = tessella_unit_or_zero(n);
-    if (all(unit == vec3<f32>(0.0))) {
-        unit = tessella_corner_normal(tessella_net_point(face, 0u), tessella_net_point(face, 1u), tessella_net_point(face, 2u));
-    }
-    return TessellaAdaptivePoint(p, unit, l);
+    // The normal's steps are the CPU's (tessella_adaptive_normal, generated in adaptive.rs).
+    return TessellaAdaptivePoint(p, tessella_adaptive_normal(face, acc.du, acc.dv, net), l);
 }

@@ -70,22 +70,8 @@ fn tessella_eval_patch(face: u32, row: u32) -> TessellaSurfacePoint {
     let base = row * tessella_eval_params.stride;
     var out: TessellaSurfacePoint;
     out.position = tessella_combine_points(face, base);
-    // The normal glue is the CPU's (tessella_core::shader::surface_normal, prepended).
-    var n = vec3<f32>(0.0);
-    if (TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL) {
-        let du = tessella_combine_points(face, base + k);
-        let dv = tessella_combine_points(face, base + 2u * k);
-        n = tessella_real_normal(du, dv);
-    }
-    if (all(n == vec3<f32>(0.0))) {
-        for (var j = 0u; j < TESSELLA_NORMAL_NET_LEN; j++) {
-            n += tessella_stencil[base + 3u * k + j] * tessella_net_normal(face, j);
-        }
-    }
-    out.normal = tessella_unit_or_zero(n);
-    if (all(out.normal == vec3<f32>(0.0))) {
-        out.normal = tessella_corner_normal(tessella_net_point(face, 0u), tessella_net_point(face, 1u), tessella_net_point(face, 2u));
-    }
+    // The normal's steps are the CPU's (tessella_patch_normal, generated in patch.rs).
+    out.normal = tessella_patch_normal(face, base);
     let l0 = base + 3u * k + TESSELLA_NORMAL_NET_LEN;
     out.l = vec3<f32>(tessella_stencil[l0], tessella_stencil[l0 + 1u], tessella_stencil[l0 + 2u]);
     tessella_edge_point(face, row, &out);

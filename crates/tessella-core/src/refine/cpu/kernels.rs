@@ -3,7 +3,7 @@
 //! ([`eval_point`]) or a block of points in vectors ([`eval_block`]), bit for bit the same.
 
 use super::output::Sink;
-use crate::basis::surface_normal::{corner_normal_of, real_normal_of, unit_or_zero_of};
+use crate::basis::surface_normal::{normal_of, real_normal_of};
 use crate::basis::NORMAL_NET_LEN;
 use crate::scheme::NormalMode;
 use crate::stencil::{Block, Stencil, BLOCK_LANES};
@@ -90,21 +90,14 @@ pub(super) fn finish_normal<const K: usize>(
     points: &[[f32; 3]; K],
     normals: &[[f32; 3]],
 ) -> Vec3 {
-    let mut n = [0.0; 3];
-    if mode == NormalMode::Real {
-        n = real_normal_of(du.into(), dv.into());
-    }
-    if n == [0.0; 3] {
+    let real = (mode == NormalMode::Real).then(|| (du.into(), dv.into()));
+    let net = || {
         let normals: &[[f32; 3]; NORMAL_NET_LEN] =
             normals.try_into().expect("normal net has 6 entries");
         let nw: &[f32; NORMAL_NET_LEN] = row[3 * K..3 * K + NORMAL_NET_LEN].try_into().unwrap();
-        n = combine(nw, normals).into();
-    }
-    let unit = unit_or_zero_of(n);
-    if unit == [0.0; 3] {
-        return corner_normal_of([points[0], points[1], points[2]]).into();
-    }
-    unit.into()
+        combine(nw, normals).into()
+    };
+    normal_of(real, net, || [points[0], points[1], points[2]]).into()
 }
 
 #[inline(always)]
