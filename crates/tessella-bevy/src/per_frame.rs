@@ -213,9 +213,18 @@ struct Job {
 /// and the output's bound range.
 #[derive(PartialEq)]
 struct BindKey {
-    buffers: Vec<BufferId>,
+    buffers: [BufferId; 10],
     at: u64,
     size: u64,
+}
+
+/// Every element, or `None` where one is missing: the per-frame lookups without a `Vec`.
+fn all_some<T: Copy, const N: usize>(items: [Option<T>; N]) -> Option<[T; N]> {
+    let mut out = [items[0]?; N];
+    for (o, item) in out.iter_mut().zip(items) {
+        *o = item?;
+    }
+    Some(out)
 }
 
 struct Posing {
@@ -359,11 +368,11 @@ fn evaluate(
                 continue;
             }
         };
-        let handles = source.patch.iter().chain([&source.origins]);
-        let Some(gpu) = handles
-            .map(|h| buffers.get(h).map(|b| &b.buffer))
-            .collect::<Option<Vec<_>>>()
-        else {
+        let gpu: [Option<&Buffer>; 8] = std::array::from_fn(|i| {
+            let handle = source.patch.get(i).unwrap_or(&source.origins);
+            buffers.get(handle).map(|b| &b.buffer)
+        });
+        let Some(gpu) = all_some(gpu) else {
             continue; // not uploaded yet
         };
         if moved {
@@ -383,11 +392,11 @@ fn evaluate(
             }
         }
         let key = BindKey {
-            buffers: gpu
-                .iter()
-                .map(|b| b.id())
-                .chain([out.id(), placement.id()])
-                .collect(),
+            buffers: std::array::from_fn(|i| match gpu.get(i) {
+                Some(b) => b.id(),
+                None if i == gpu.len() => out.id(),
+                None => placement.id(),
+            }),
             at,
             size,
         };
