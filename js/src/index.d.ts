@@ -14,6 +14,25 @@ export function schemes(): string[];
 /** The widest texture (texels a row) the package lays out: WebGL2's guaranteed 2048. */
 export function maxTextureWidth(): number;
 
+/** A framed view: `viewProj` column-major onto wgpu's clip depth (0..w); `up` the view's. */
+export interface SceneCamera {
+  viewProj: Float32Array;
+  eye: number[];
+  target: number[];
+  lightDir: number[];
+  right: number[];
+  up: number[];
+  forward: number[];
+  distance: number;
+  /** Vertical field of view, degrees. */
+  fovY: number;
+}
+/** The camera `tessella render` and the viewer frame `positions` with (3 numbers per vertex). */
+export function sceneCamera(
+  positions: Float32Array | Float64Array | number[],
+  view: { yaw?: number; pitch?: number; zoom?: number; width: number; height: number; reach?: number; pan?: [number, number] },
+): SceneCamera;
+
 export type IndexArray =
   | Uint32Array
   | Uint16Array

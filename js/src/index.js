@@ -67,6 +67,31 @@ function call(fn) {
   }
 }
 
+/**
+ * The camera `tessella render` and the viewer frame `positions` (3 numbers per vertex) with:
+ * their bounding sphere grown by a fifth plus `reach`, orbited by `yaw` and `pitch` (degrees),
+ * `zoom > 1` closer, `pan` in framed radii, for a `width` x `height` picture. Returns
+ * `{ viewProj, eye, target, lightDir, right, up, forward, distance, fovY }`: `viewProj` a
+ * column-major Float32Array(16) onto wgpu's clip depth (0..w), `up` the view's, `fovY` the
+ * vertical field of view in degrees.
+ */
+export function sceneCamera(positions, { yaw = 30, pitch = 20, zoom = 1, width, height, reach = 0, pan = [0, 0] }) {
+  const view = Float32Array.of(yaw, pitch, zoom, width / height, reach, pan[0], pan[1]);
+  const v = call((g) => g.sceneCamera(Float32Array.from(positions), view));
+  const vector = (at) => [v[at], v[at + 1], v[at + 2]];
+  return {
+    viewProj: v.slice(0, 16),
+    eye: vector(16),
+    target: vector(19),
+    lightDir: vector(22),
+    right: vector(25),
+    up: vector(28),
+    forward: vector(31),
+    distance: v[34],
+    fovY: v[35],
+  };
+}
+
 /** The scheme names `refine` accepts. */
 export function schemes() {
   return call((g) => g.schemes());

@@ -10,8 +10,8 @@
 // package and uploaded whole when they change; deformation, tags and clips need the instanced
 // path. Displacement lives in the WebGPU engine alone and is refused with a message; so is all
 // of the above when the site was built without the engine.
-import { InstancedSurface, ready, readMesh, refine, writeMesh } from 'tessella';
-import { sceneCamera, toGlClip, project, FOV_Y_DEGREES } from './camera.js';
+import { InstancedSurface, ready, readMesh, refine, sceneCamera, writeMesh } from 'tessella';
+import { toGlClip, project } from './camera.js';
 import { checkParams, DEFAULTS, ENGINE_KEYS } from './params.js';
 import { GlRenderer, meshArrays } from './gl.js';
 import { GAP, panelWidths } from './panels.js';
@@ -406,8 +406,7 @@ export class FallbackViewer {
         // framed centre, the field of view; the first panel's size.
         const { viewports } = this.#layout(params);
         const cam = sceneCamera(this.#framing ?? this.#mesh.positions, { ...params, width: viewports[0].width, height: viewports[0].height });
-        const target = cam.eye.map((e, k) => e + cam.forward[k] * cam.distance);
-        o.camera = [...cam.eye, ...target, FOV_Y_DEGREES];
+        o.camera = [...cam.eye, ...cam.target, cam.fovY];
         o.size = [viewports[0].width, viewports[0].height];
       }
     }

@@ -3,7 +3,7 @@
 // mesh and parameters stay in effect.
 import { createBackend } from './backend.js';
 import { checkParams, DEFAULTS, ENGINE_KEYS, fromSearch, toSearch } from './params.js';
-import { sceneCamera, project } from './camera.js';
+import { project } from './camera.js';
 import { showMessage, clearMessage, download } from './ui.js';
 import { bindControls } from './controls.js';
 
@@ -76,13 +76,16 @@ async function fetchBytes(url) {
   return new Uint8Array(await response.arrayBuffer());
 }
 
-/** The coarse mesh as the page keeps it for vertex dragging (read by the npm package). */
+/**
+ * The coarse mesh as the page keeps it for vertex dragging (read by the npm package), with the
+ * package's `sceneCamera`: the engine's own framing, to map a drag into the scene.
+ */
 async function readCoarse(name, bytes) {
   try {
-    const { ready, readMesh } = await import('tessella');
+    const { ready, readMesh, sceneCamera } = await import('tessella');
     await ready;
     const m = readMesh(bytes, name);
-    return { positions: Float32Array.from(m.positions), indices: m.indices };
+    return { positions: Float32Array.from(m.positions), indices: m.indices, sceneCamera };
   } catch {
     return null; // only dragging needs it; the backend's own error is what the page shows
   }
@@ -215,14 +218,14 @@ function startVertexDrag(e) {
 function moveDraggedVertex(e) {
   const i = drag.vertex;
   const p = coarse.positions;
-  const cam = sceneCamera(p, { ...state, width: canvas.width, height: canvas.height });
+  const cam = coarse.sceneCamera(p, { ...state, width: canvas.width, height: canvas.height });
   const at = [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
   const s = project(cam.viewProj, at, canvas.width, canvas.height);
   if (!s) return;
   const [x, y] = pixel(e);
-  // World units per pixel at the vertex's depth (30° vertical field of view).
+  // World units per pixel at the vertex's depth.
   const depth = (at[0] - cam.eye[0]) * cam.forward[0] + (at[1] - cam.eye[1]) * cam.forward[1] + (at[2] - cam.eye[2]) * cam.forward[2];
-  const perPixel = (2 * depth * Math.tan(Math.PI / 12)) / canvas.height;
+  const perPixel = (2 * depth * Math.tan((cam.fovY * Math.PI) / 360)) / canvas.height;
   const dx = (x - s[0]) * perPixel;
   const dy = -(y - s[1]) * perPixel;
   const to = at.map((c, k) => c + cam.right[k] * dx + cam.up[k] * dy);

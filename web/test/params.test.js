@@ -3,7 +3,8 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { checkParams, DEFAULTS, fromSearch, toSearch } from '../src/params.js';
-import { framing, boundingSphere, project } from '../src/camera.js';
+import { project, toGlClip } from '../src/camera.js';
+import { ready, sceneCamera } from '../../js/src/index.js';
 import { panelWidths } from '../src/panels.js';
 import { MIME, resolvePath } from '../scripts/serve.js';
 
@@ -41,24 +42,30 @@ test('the URL holds what differs from the defaults and reads back the same', () 
   assert.equal(toSearch(DEFAULTS), '');
 });
 
-test('the camera centres the framed sphere and keeps it inside the view (camera.rs test)', () => {
-  const [c, r] = [[1, 2, 3], 2];
-  for (const [yaw, pitch, aspect] of [[0, 0, 1], [45, 30, 2], [200, -60, 0.5]]) {
-    const cam = framing(c, r, yaw, pitch, 1, aspect);
-    const [w, h] = [100 * aspect, 100];
+test("the page's camera (the npm package's sceneCamera) frames the points inside the view, and toGlClip keeps its planes", async () => {
+  await ready;
+  // Corners of a box: its bounding sphere, grown by a fifth, is what is framed.
+  const corners = [];
+  for (const x of [-1, 3]) for (const y of [0, 4]) for (const z of [1, 3]) corners.push(x, y, z);
+  const c = [1, 2, 2];
+  for (const [yaw, pitch, w, h] of [[0, 0, 100, 100], [45, 30, 200, 100], [200, -60, 50, 100]]) {
+    const cam = sceneCamera(corners, { yaw, pitch, zoom: 1, width: w, height: h });
     const centre = project(cam.viewProj, c, w, h);
-    assert.ok(Math.abs(centre[0] - w / 2) < 1e-6 && Math.abs(centre[1] - h / 2) < 1e-6);
-    for (const d of [[1, 0, 0], [0, 1, 0], [0, 0, 1], [-1, 0, 0], [0, -1, 0], [0, 0, -1]]) {
-      const q = project(cam.viewProj, c.map((x, k) => x + d[k] * r), w, h);
+    assert.ok(Math.abs(centre[0] - w / 2) < 1e-3 && Math.abs(centre[1] - h / 2) < 1e-3, String(centre));
+    for (let i = 0; i < corners.length; i += 3) {
+      const q = project(cam.viewProj, corners.slice(i, i + 3), w, h);
       assert.ok(q[0] >= 0 && q[0] <= w && q[1] >= 0 && q[1] <= h && q[2] > 0 && q[2] < 1, String(q));
+      // OpenGL's clip depth: the same point, depth moved from 0..1 to -1..1.
+      const g = project(toGlClip(cam.viewProj), corners.slice(i, i + 3), w, h);
+      assert.ok(Math.abs(g[0] - q[0]) < 1e-3 && Math.abs(g[2] - (2 * q[2] - 1)) < 1e-5, String(g));
     }
+    assert.equal(cam.fovY, 30);
+    assert.ok(Math.abs(Math.hypot(...cam.eye.map((e, k) => e - cam.target[k])) - cam.distance) < 1e-3 * cam.distance);
   }
   // yaw 0, pitch 0 looks along -Z from +Z.
-  const cam = framing([0, 0, 0], 1, 0, 0, 1, 1);
-  assert.ok(cam.eye[2] > 0 && Math.abs(cam.eye[0]) < 1e-12 && Math.abs(cam.eye[1]) < 1e-12);
-  const { center, radius } = boundingSphere(Float32Array.from([0, 0, 0, 2, 0, 0, 0, 4, 0]));
-  assert.deepEqual(center, [1, 2, 0]);
-  assert.equal(radius, Math.hypot(1, 2));
+  const cam = sceneCamera(corners, { yaw: 0, pitch: 0, width: 1, height: 1 });
+  assert.ok(cam.eye[2] > 3 && Math.abs(cam.eye[0] - 1) < 1e-6 && Math.abs(cam.eye[1] - 2) < 1e-6);
+  assert.throws(() => sceneCamera(corners, { width: 0, height: 1 }), /aspect must be positive/);
 });
 
 test('panel widths are tessella-view panel_widths', () => {

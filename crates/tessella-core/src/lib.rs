@@ -35,6 +35,7 @@ pub mod basis;
 pub mod displace;
 mod error;
 pub mod fields;
+pub mod framing;
 pub mod mesh;
 pub mod names;
 pub mod pattern;

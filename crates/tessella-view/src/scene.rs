@@ -3,8 +3,8 @@
 //! this part builds for the web too (the viewer's camera is this one).
 
 use crate::appearance::RenderUniforms;
-use crate::camera::framed_camera;
 use crate::colormap::FieldColors;
+use tessella_core::framing::Framing;
 use tessella_core::Mesh;
 use tessella_gpu::{Displacement, GpuError};
 
@@ -100,15 +100,15 @@ pub fn panel_widths(total: u32, n: usize) -> Option<Vec<u32>> {
 /// (`Lod::Screen`, `Lod::Distance`): levels then follow what this very picture shows.
 pub fn lod_camera(mesh: &Mesh, options: &RenderOptions) -> tessella_core::refine::Camera {
     let (w, h) = options.size;
-    let cam = framed_camera(
+    let cam = Framing::points(
         mesh.positions(),
         0.0,
         (options.yaw, options.pitch, options.zoom, options.pan),
         w.max(1) as f32 / h.max(1) as f32,
     );
     tessella_core::refine::Camera {
-        eye: cam.eye.into(),
-        target: cam.target.into(),
+        eye: cam.eye,
+        target: cam.target,
         fov_y_deg: crate::camera::FOV_Y_DEGREES,
     }
 }
@@ -117,7 +117,7 @@ pub fn lod_camera(mesh: &Mesh, options: &RenderOptions) -> tessella_core::refine
 /// displacement can move a point).
 pub fn scene_uniforms(mesh: &Mesh, options: &RenderOptions, reach: f32) -> RenderUniforms {
     let (w, h) = options.size;
-    let cam = framed_camera(
+    let cam = Framing::points(
         mesh.positions(),
         reach,
         (options.yaw, options.pitch, options.zoom, options.pan),
@@ -125,9 +125,9 @@ pub fn scene_uniforms(mesh: &Mesh, options: &RenderOptions, reach: f32) -> Rende
     );
     let c = options.color.map(srgb_to_linear);
     RenderUniforms {
-        view_proj: cam.view_proj.to_cols_array_2d(),
-        eye: cam.eye.extend(1.0).into(),
-        light_dir: cam.light_dir.extend(0.0).into(),
+        view_proj: cam.view_proj,
+        eye: [cam.eye[0], cam.eye[1], cam.eye[2], 1.0],
+        light_dir: [cam.light_dir[0], cam.light_dir[1], cam.light_dir[2], 0.0],
         base_color: [c[0], c[1], c[2], 1.0],
         wire_color: [0.004, 0.006, 0.015, 1.0],
         flags: [

@@ -23,6 +23,7 @@ mod arrays;
 mod deformer;
 mod errors;
 mod files;
+mod framing;
 mod gpu_nets;
 mod instanced;
 mod naga_check;
