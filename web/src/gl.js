@@ -1,5 +1,6 @@
 // The WebGL2 fallback's renderer, shaded as tessella-view's shade.wgsl does (Blinn-Phong with
-// the same light, colours and constants, linear colour written as sRGB), with its wireframe:
+// the same light, colours and constants, linear colour written as sRGB; the one hand-kept copy
+// of shade.wgsl, pinned by test/render-match.test.js against `tessella render`), with its wireframe:
 // coarse edges bold and dark, the pattern's edges thin. One draw per panel, each in its own
 // viewport. A panel is either
 // - instanced: the refinement pattern (barycentric points, uploaded once) drawn once per coarse

@@ -1,6 +1,7 @@
 // The viewer's picture against `tessella render` of the same mesh, scheme, level, camera and
 // size (the CLI built by `cargo build -p tessella-cli`; TESSELLA_CLI names another binary).
-// Both backends: the WebGL2 fallback (CPU refinement, its own port of the camera) and the
+// Both backends: the WebGL2 fallback (CPU refinement, the npm package's sceneCamera: the CLI's
+// framing, and gl.js's shading, the one hand-kept copy of shade.wgsl, which this test pins) and the
 // WebGPU engine (tessella-gpu's renderer) when dist/pkg holds it.
 //
 // Tolerances: the silhouettes (pixels not the white background) must overlap with IoU >= 0.98
