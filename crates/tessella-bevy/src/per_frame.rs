@@ -121,34 +121,16 @@ impl Target {
 }
 
 /// The kernel's WGSL for a normal mode and basis: the material's evaluation module for that
-/// basis (its control points a constant: the sums unrolled), moved to group 0, then the entry
-/// evaluating one welded vertex a thread.
+/// basis (its control points a constant: the sums unrolled), moved to group 0, then
+/// tessella-gpu's entry evaluating one welded vertex a thread (`evaluation_entry`).
 pub fn kernel_wgsl(mode: NormalMode, basis: Basis) -> String {
     let module = patch_module_of_for_bevy(mode, basis).replace("@group(3)", "@group(0)");
-    format!(
-        "{module}
-@group(0) @binding({ORIGINS_BINDING}) var<storage, read> tessella_origins: array<vec2<u32>>;
-@group(0) @binding({EVALUATED_BINDING}) var<storage, read_write> tessella_evaluated: array<f32>;
-@group(0) @binding({PLACEMENT_BINDING}) var<uniform> tessella_placement: vec4<u32>;
-
-@compute @workgroup_size({WORKGROUP})
-fn tessella_evaluate(@builtin(global_invocation_id) id: vec3<u32>) {{
-    let i = id.x;
-    if i >= tessella_placement.z || i >= arrayLength(&tessella_origins) {{
-        return;
-    }}
-    let origin = tessella_origins[i];
-    let point = tessella_point(origin.x, origin.y);
-    let at = tessella_placement.x + tessella_placement.y * i;
-    tessella_evaluated[at] = point.position.x;
-    tessella_evaluated[at + 1u] = point.position.y;
-    tessella_evaluated[at + 2u] = point.position.z;
-    tessella_evaluated[at + 3u] = point.normal.x;
-    tessella_evaluated[at + 4u] = point.normal.y;
-    tessella_evaluated[at + 5u] = point.normal.z;
-}}
-"
-    )
+    let entry = tessella_gpu::wgsl::evaluation_entry(
+        0,
+        [ORIGINS_BINDING, EVALUATED_BINDING, PLACEMENT_BINDING],
+        WORKGROUP,
+    );
+    format!("{module}\n{entry}")
 }
 
 /// The welded vertices' origins as the kernel reads them: per vertex, its coarse triangle and

@@ -52,29 +52,12 @@ fn main() -> Result<(), Box<dyn Error>> {
         .collect::<Option<_>>()
         .ok_or("a welded vertex off the pattern")?;
     let vertices = origins.len() as u32;
+    // The entry tessella-bevy's per-frame pass runs, its bindings in group 1; the vertices
+    // packed six floats apart.
     let source = format!(
-        "{}
-@group(1) @binding(0) var<storage, read> origins: array<vec2<u32>>;
-@group(1) @binding(1) var<storage, read_write> evaluated: array<f32>;
-
-@compute @workgroup_size({WORKGROUP})
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
-    let i = id.x;
-    if i >= arrayLength(&origins) {{
-        return;
-    }}
-    let origin = origins[i];
-    let point = tessella_point(origin.x, origin.y);
-    let at = 6u * i;
-    evaluated[at] = point.position.x;
-    evaluated[at + 1u] = point.position.y;
-    evaluated[at + 2u] = point.position.z;
-    evaluated[at + 3u] = point.normal.x;
-    evaluated[at + 4u] = point.normal.y;
-    evaluated[at + 5u] = point.normal.z;
-}}
-",
-        patch.wgsl()
+        "{}\n{}",
+        patch.wgsl(),
+        tessella_gpu::wgsl::evaluation_entry(1, [0, 1, 2], WORKGROUP)
     );
     let device = &ctx.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -93,7 +76,20 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     };
     let own = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: None,
-        entries: &[storage(0, true), storage(1, false)],
+        entries: &[
+            storage(0, true),
+            storage(1, false),
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+        ],
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: None,
@@ -104,7 +100,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
         label: Some("kernel_cost"),
         layout: Some(&layout),
         module: &module,
-        entry_point: Some("main"),
+        entry_point: Some("tessella_evaluate"),
         compilation_options: Default::default(),
         cache: None,
     });
@@ -113,6 +109,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
         label: None,
         contents: bytemuck::cast_slice(&origins),
         usage: wgpu::BufferUsages::STORAGE,
+    });
+    let placement = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(&[0u32, 6, vertices, 0]),
+        usage: wgpu::BufferUsages::UNIFORM,
     });
     let out = device.create_buffer(&wgpu::BufferDescriptor {
         label: None,
@@ -131,6 +132,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
             wgpu::BindGroupEntry {
                 binding: 1,
                 resource: out.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: placement.as_entire_binding(),
             },
         ],
     });

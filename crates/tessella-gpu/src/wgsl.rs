@@ -215,6 +215,42 @@ pub fn patch_module_of(
     source.replace("@group(0)", &format!("@group({group_index})"))
 }
 
+/// The compute entry `tessella_evaluate` of an engine's per-frame evaluation, for a module
+/// that holds `tessella_point` ([`patch_module`], [`patch_module_of`], [`PatchBindings::wgsl`]):
+/// thread `i` evaluates welded vertex `i`, `tessella_origins[i]` = (coarse triangle, pattern
+/// vertex), and writes its position and normal (six floats) from word
+/// `tessella_placement.x + tessella_placement.y * i` of `tessella_evaluated`, for
+/// `i < tessella_placement.z` (a stride of 6 packs the vertices; a larger one writes into a
+/// vertex buffer with more attributes). Its bindings sit at `@group(group)`, numbered
+/// `bindings` = origins (`array<vec2<u32>>`), evaluated (`array<f32>`, read-write), placement
+/// (a `vec4<u32>` uniform); `workgroup` threads a workgroup, along x.
+pub fn evaluation_entry(group: u32, bindings: [u32; 3], workgroup: u32) -> String {
+    let [origins, evaluated, placement] = bindings;
+    format!(
+        "@group({group}) @binding({origins}) var<storage, read> tessella_origins: array<vec2<u32>>;
+@group({group}) @binding({evaluated}) var<storage, read_write> tessella_evaluated: array<f32>;
+@group({group}) @binding({placement}) var<uniform> tessella_placement: vec4<u32>;
+
+@compute @workgroup_size({workgroup})
+fn tessella_evaluate(@builtin(global_invocation_id) id: vec3<u32>) {{
+    let i = id.x;
+    if i >= tessella_placement.z || i >= arrayLength(&tessella_origins) {{
+        return;
+    }}
+    let origin = tessella_origins[i];
+    let point = tessella_point(origin.x, origin.y);
+    let at = tessella_placement.x + tessella_placement.y * i;
+    tessella_evaluated[at] = point.position.x;
+    tessella_evaluated[at + 1u] = point.position.y;
+    tessella_evaluated[at + 2u] = point.position.z;
+    tessella_evaluated[at + 3u] = point.normal.x;
+    tessella_evaluated[at + 4u] = point.normal.y;
+    tessella_evaluated[at + 5u] = point.normal.z;
+}}
+"
+    )
+}
+
 /// The adaptive evaluation module (levels per edge that change every frame, the module
 /// [`AdaptiveRenderer`](crate::AdaptiveRenderer) draws with) for an engine's own vertex shader,
 /// its bindings at `@group(group_index)`: 0 net points, 1 net normals (the nets' bytes as
@@ -314,5 +350,36 @@ mod tests {
             }
         }
         assert_eq!(adaptive_params_bytes(tessella_core::Basis::Cubic).len(), 96);
+    }
+
+    /// A per-basis module with the evaluation entry beside it, its bindings in another group,
+    /// validates as one compute module whose entry is `tessella_evaluate`.
+    #[test]
+    fn the_evaluation_entry_validates_beside_the_module() {
+        for basis in [tessella_core::Basis::Cubic, tessella_core::Basis::Png1] {
+            let source = format!(
+                "{}\n{}",
+                patch_module_of(0, tessella_core::NormalMode::Real, basis),
+                evaluation_entry(1, [4, 5, 6], 256)
+            );
+            let module = naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+            let entries: Vec<&str> = module
+                .entry_points
+                .iter()
+                .map(|e| e.name.as_str())
+                .collect();
+            assert_eq!(entries, ["tessella_evaluate"]);
+            assert_eq!(module.entry_points[0].workgroup_size, [256, 1, 1]);
+            for binding in 4..=6 {
+                assert!(source.contains(&format!("@group(1) @binding({binding}) var")));
+            }
+        }
     }
 }

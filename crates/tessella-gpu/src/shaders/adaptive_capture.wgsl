@@ -14,13 +14,8 @@ fn cs_capture(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgro
     let job = jobs[i];
     let sp = tessella_adaptive_point(job.y, job.x);
     let o = i * 9u;
-    captured[o] = sp.position.x;
-    captured[o + 1u] = sp.position.y;
-    captured[o + 2u] = sp.position.z;
-    captured[o + 3u] = sp.normal.x;
-    captured[o + 4u] = sp.normal.y;
-    captured[o + 5u] = sp.normal.z;
-    captured[o + 6u] = sp.l.x;
-    captured[o + 7u] = sp.l.y;
-    captured[o + 8u] = sp.l.z;
+    let columns = mat3x3<f32>(sp.position, sp.normal, sp.l);
+    for (var k = 0u; k < 9u; k++) {
+        captured[o + k] = columns[k / 3u][k % 3u];
+    }
 }
