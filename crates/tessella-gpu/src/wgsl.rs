@@ -286,6 +286,19 @@ mod tests {
     use super::*;
     use wgpu::naga;
 
+    /// `source` parsed and validated by naga, or a panic with naga's message.
+    fn validated(source: &str) -> naga::Module {
+        let module = naga::front::wgsl::parse_str(source)
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+        module
+    }
+
     /// Every name the module an engine includes declares (functions, structs, bindings,
     /// constants) is tessella's: `tessella_`, `Tessella` or `TESSELLA_`.
     #[test]
@@ -336,14 +349,7 @@ mod tests {
             ] {
                 for spacing in [Spacing::FractionalOdd, Spacing::Grid] {
                     let source = adaptive_module(3, basis, mode, spacing);
-                    let module = naga::front::wgsl::parse_str(&source)
-                        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
-                    naga::valid::Validator::new(
-                        naga::valid::ValidationFlags::all(),
-                        naga::valid::Capabilities::all(),
-                    )
-                    .validate(&module)
-                    .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+                    validated(&source);
                     assert_eq!(source.matches("@group(3) @binding(").count(), 4);
                     assert!(source.contains("fn tessella_adaptive_point("));
                 }
@@ -362,14 +368,7 @@ mod tests {
                 patch_module_of(0, tessella_core::NormalMode::Real, basis),
                 evaluation_entry(1, [4, 5, 6], 256)
             );
-            let module = naga::front::wgsl::parse_str(&source)
-                .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::all(),
-            )
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+            let module = validated(&source);
             let entries: Vec<&str> = module
                 .entry_points
                 .iter()
