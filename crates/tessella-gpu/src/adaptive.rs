@@ -542,6 +542,7 @@ pub(crate) fn constants(
             normal_mode_code(normal_mode),
             spacing == Spacing::Grid
         ),
+        crate::gpu_types::AdaptiveParams::wgsl(),
         shader::patch_sum_wgsl(basis),
         shader::normal_net(Lang::Wgsl),
         shader::edge_weights_wgsl(),

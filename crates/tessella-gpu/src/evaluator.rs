@@ -140,13 +140,7 @@ impl Pipelines {
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("refine.wgsl"),
                 source: wgpu::ShaderSource::Wgsl(
-                    patch::shader_source(
-                        include_str!("shaders/refine.wgsl"),
-                        normal_mode,
-                        displacement,
-                        None,
-                    )
-                    .into(),
+                    patch::shader_source(&refine_wgsl(), normal_mode, displacement, None).into(),
                 ),
             });
         let pipeline = |entry| {
@@ -1120,6 +1114,12 @@ fn coarse_f32_len(plan: &Plan) -> usize {
 }
 
 const NONE: u32 = u32::MAX;
+
+/// The refinement kernels' own WGSL: `RefineParams` printed from its Rust twin, then
+/// `refine.wgsl`.
+pub(crate) fn refine_wgsl() -> String {
+    RefineParams::wgsl() + include_str!("shaders/refine.wgsl")
+}
 
 /// Everything `refine.wgsl` reads from `mesh_u32` (fixed per plan), and the offsets of both
 /// tables.

@@ -207,6 +207,7 @@ fn source(scheme: GpuScheme, normals: NetBuilder) -> String {
             "fn tessella_nets_normals(p: array<vec3<f32>, 3>, n: array<vec3<f32>, 3>) -> array<vec3<f32>, 6> {{\n    return {}(p, n);\n}}\n",
             normals.function_name()
         ),
+        NetsParams::wgsl(),
         include_str!("shaders/nets.wgsl").to_string(),
     ]
     .join("\n")

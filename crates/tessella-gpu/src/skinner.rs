@@ -392,10 +392,12 @@ fn compile(ctx: &GpuContext) -> SkinPipeline {
     SkinPipeline { pipeline, layout }
 }
 
-/// The skinning kernel's WGSL: the core's generated normal function, then `skin.wgsl`.
+/// The skinning kernel's WGSL: the core's generated normal function, `SkinParams`, then
+/// `skin.wgsl`.
 pub(crate) fn source() -> String {
     [
         tessella_core::shader::skin_normal(tessella_core::shader::Lang::Wgsl),
+        SkinParams::wgsl(),
         include_str!("shaders/skin.wgsl").to_string(),
     ]
     .concat()

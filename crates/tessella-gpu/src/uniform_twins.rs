@@ -48,8 +48,8 @@ macro_rules! twin {
     }};
 }
 
-/// Every uniform struct the crate's WGSL declares has its Rust twin here, field by field,
-/// read from the shader text the pipelines compile (not from a copy of it).
+/// Every uniform struct the crate's WGSL declares, as printed from its Rust twin into the shader
+/// text the pipelines compile, has the Rust layout, field by field (naga lays the WGSL out).
 #[test]
 fn every_uniform_twin_matches_its_wgsl_struct() {
     let patch = crate::patch::shader_source("", NormalMode::Quadratic, &Displacement::None, None);
@@ -76,7 +76,7 @@ fn every_uniform_twin_matches_its_wgsl_struct() {
         }
     );
     let refine = crate::patch::shader_source(
-        include_str!("shaders/refine.wgsl"),
+        &crate::evaluator::refine_wgsl(),
         NormalMode::Quadratic,
         &Displacement::None,
         None,
@@ -166,4 +166,38 @@ fn every_uniform_twin_matches_its_wgsl_struct() {
             normal_first,
         }
     );
+}
+
+/// No shader file types a uniform struct: each is printed from its Rust twin, once a module.
+#[test]
+fn no_shader_file_declares_a_uniform_struct() {
+    let files = [
+        include_str!("shaders/eval.wgsl"),
+        include_str!("shaders/displace.wgsl"),
+        include_str!("shaders/refine.wgsl"),
+        include_str!("shaders/adaptive.wgsl"),
+        include_str!("shaders/nets.wgsl"),
+        include_str!("shaders/skin.wgsl"),
+    ];
+    let names = [
+        EvalParams::WGSL_NAME,
+        DisplaceParams::WGSL_NAME,
+        RefineParams::WGSL_NAME,
+        AdaptiveParams::WGSL_NAME,
+        NetsParams::WGSL_NAME,
+        SkinParams::WGSL_NAME,
+    ];
+    for file in files {
+        for name in names {
+            assert!(!file.contains(&format!("struct {name} ")), "{name}");
+        }
+    }
+    let patch = crate::patch::shader_source("", NormalMode::Real, &Displacement::None, None);
+    for name in [EvalParams::WGSL_NAME, DisplaceParams::WGSL_NAME] {
+        assert_eq!(
+            patch.matches(&format!("struct {name} {{")).count(),
+            1,
+            "{name}"
+        );
+    }
 }

@@ -16,12 +16,7 @@
 // rasteriser): TESSELLA_BASIS_K (10 cubic, 21 PNG1), TESSELLA_NORMAL_MODE (0 linear, 1 quadratic, 2 real:
 // NormalMode order), TESSELLA_GRID (grid spacing, else a tessellator spacing).
 
-struct TessellaAdaptiveParams {
-    // Per edge k (corner k to k + 1): its boundary curve's control points
-    // (canonical::edge_controls), then its normal-net entries (xyz).
-    edge_controls: array<vec4<u32>, 3>,
-    edge_normals: array<vec4<u32>, 3>,
-}
+// TessellaAdaptiveParams is printed from its Rust twin (gpu_types.rs) before this file.
 
 @group(0) @binding(0) var<storage, read> tessella_net_points: array<f32>;
 @group(0) @binding(1) var<storage, read> tessella_net_normals: array<f32>;

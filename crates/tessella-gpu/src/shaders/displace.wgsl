@@ -4,18 +4,7 @@
 // is FaceFrame::direction (it reads the face records this file's bindings hold); the
 // GPU-vs-CPU tests compare them.
 
-struct TessellaDisplaceParams {
-    // The kind is the constant TESSELLA_DISPLACE_KIND (patch.rs compiles it in): 0 none,
-    // 1 sine a*sin(f*|P|), 2 Perlin a*noise(f*P), 3 height map a*h(uv).
-    amplitude: f32,
-    frequency: f32,
-    map_width: u32,
-    map_height: u32,
-    faces_at: u32, // first face record in displace_data, or 0xffffffff for none
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-}
+// TessellaDisplaceParams is printed from its Rust twin (gpu_types.rs) before this file.
 
 @group(0) @binding(4) var<uniform> tessella_displace_params: TessellaDisplaceParams;
 // Kind 2: Perlin's permutation, 512 entries (as f32). Kind 3: heights, row 0 at the image top.

@@ -4,18 +4,7 @@
 // (value[K] | du[K] | dv[K] | normal weights[6] | l[3]); here we only combine them.
 // K and the row stride are uniforms, so every basis (cubic K=10, PNG1 K=21, ...) runs unchanged.
 
-struct TessellaEvalParams {
-    k: u32,
-    stride: u32,
-    face_count: u32,
-    // f32 index (in all faces' nets) of the first float of the bound net_points / net_normals
-    // window: the compute path binds the nets of a window of faces when they exceed one binding.
-    points_base: u32,
-    normals_base: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-}
+// TessellaEvalParams is printed from its Rust twin (gpu_types.rs) before this file.
 
 @group(0) @binding(0) var<storage, read> tessella_stencil: array<f32>;
 @group(0) @binding(1) var<storage, read> tessella_net_points: array<f32>;

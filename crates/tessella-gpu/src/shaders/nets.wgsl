@@ -5,20 +5,7 @@
 // `tessella_nets_points(face, p, n)`, and the normal net's, `tessella_nets_normals(p, n)`, are
 // prepended from Rust with the builders, TESSELLA_NETS_K and TESSELLA_NORMAL_NET_LEN.
 
-struct NetsParams {
-    faces: u32,
-    vertices: u32,
-    positions_stride: u32,
-    positions_first: u32,
-    normals_stride: u32,
-    normals_first: u32,
-    across_at: u32,
-    copy_coarse: u32,
-    coarse_positions_at: u32,
-    coarse_normals_at: u32,
-    alpha: f32,
-    _pad: u32,
-}
+// NetsParams is printed from its Rust twin (gpu_types.rs) before this file.
 
 @group(0) @binding(0) var<uniform> params: NetsParams;
 // The triangles (3 words a face), then PN-AEN's across table (6 vertices a face).

@@ -3,44 +3,7 @@
 // OutputLayout (refine/plan/layout.rs): welded = corners | edges (lower -> higher vertex index) |
 // interiors; soup = (N+1)(N+2)/2 pattern points per face. Prepended: eval.wgsl, displace.wgsl.
 
-struct RefineParams {
-    level: u32,
-    weld: u32,
-    first: u32,             // first output item (vertex or triangle) of this chunk
-    count: u32,             // items in this chunk
-    input_vertices: u32,    // V
-    edge_base: u32,
-    interior_base: u32,
-    interior_per_face: u32, // (N-1)(N-2)/2
-    points_per_face: u32,   // (N+1)(N+2)/2
-    has_uv: u32,
-    // Offsets (in u32s) of the tables packed into `mesh_u32`.
-    triangles_at: u32,      // F x 3 input corner indices
-    vertex_owner_at: u32,   // V: face*4+corner, or NONE
-    edge_owner_at: u32,     // E: face*4+edge slot
-    edges_at: u32,          // E x 2 vertex indices, lower first
-    face_edges_at: u32,     // F x 3 edge ids
-    corner_points_at: u32,  // 3 pattern points
-    edge_points_at: u32,    // 3 x (N-1) pattern points, by edge then step
-    interior_points_at: u32,// (N-1)(N-2)/2 pattern points
-    point_codes_at: u32,    // per pattern point: class<<30 | edge<<28 | index
-    pattern_triangles_at: u32, // N^2 x 3 pattern points
-    // Offsets (in f32s) of the arrays packed into `mesh_f32`.
-    positions_at: u32,
-    normals_at: u32,
-    uvs_at: u32,
-    out_base: u32,          // f32 index of this chunk's first vertex in `out_vertices`
-    adaptive: u32,          // 1: every vertex from the lookup table (adaptive plans)
-    lookup_at: u32,         // per output vertex: face (or NONE), row | (corner + 1) << 30
-    // The caller's VertexFormat, in words: stride, offsets of position, normal, uv (NONE: the
-    // attribute is not written; neither is any word no attribute covers).
-    out_stride: u32,
-    out_position: u32,
-    out_normal: u32,
-    out_uv: u32,
-    _pad0: u32,
-    _pad1: u32,
-}
+// RefineParams is printed from its Rust twin (gpu_types.rs) before this file.
 
 const NONE: u32 = 0xffffffffu;
 

@@ -6,20 +6,7 @@
 // renormalised, falling back to the morphed rest normal, else +Z). Prepended: the generated
 // tessella_skin_normal.
 
-struct SkinParams {
-    vertex_count: u32,
-    slots: u32,             // influences per vertex (DeformTable::slots)
-    weights_at: u32,        // f32s: the morph weights in `frame`, after the matrices
-    morphs_at: u32,         // u32s: per vertex (target count, weight base, delta base) in `table`
-    deltas_at: u32,         // f32s: the position deltas (xyz) in `rest`
-    normal_deltas_at: u32,  // f32s: the normal deltas (xyz) in `rest`
-    row: u32,               // threads per row of the 2D dispatch
-    out_stride: u32,        // f32s: the output's stride, position and normal x (CoarseStream)
-    position_first: u32,
-    normal_first: u32,
-    _pad0: u32,
-    _pad1: u32,
-}
+// SkinParams is printed from its Rust twin (gpu_types.rs) before this file.
 
 @group(0) @binding(0) var<uniform> params: SkinParams;
 // Per vertex: rest position xyz, rest normal xyz; then the morph deltas.
