@@ -76,6 +76,9 @@ function call(fn) {
  * vertical field of view in degrees.
  */
 export function sceneCamera(positions, { yaw = 30, pitch = 20, zoom = 1, width, height, reach = 0, pan = [0, 0] }) {
+  for (const [name, value] of [['width', width], ['height', height]]) {
+    if (!(Number.isFinite(value) && value > 0)) throw new TessellaError(`sceneCamera: ${name} must be a positive number of pixels, not ${value}`);
+  }
   const view = Float32Array.of(yaw, pitch, zoom, width / height, reach, pan[0], pan[1]);
   const v = call((g) => g.sceneCamera(Float32Array.from(positions), view));
   const vector = (at) => [v[at], v[at + 1], v[at + 2]];

@@ -14,7 +14,7 @@ const three = pathToFileURL(new URL('../src/three.js', import.meta.url).pathname
 const gltfTransform = pathToFileURL(new URL('../src/gltf-transform.js', import.meta.url).pathname).href;
 
 test('the README has an example per function', () => {
-  for (const name of ['refine(', 'new Refiner(', 'readMesh(', 'writeMesh(', 'readAnimated(', 'refineGltf(', 'refineGltfWithReport(', 'tessellate(', 'refineGeometry(', 'new RefinedGeometry(', 'new TessellatedMesh(', 'schemes()', 'TessellaError']) {
+  for (const name of ['refine(', 'new Refiner(', 'readMesh(', 'writeMesh(', 'readAnimated(', 'refineGltf(', 'refineGltfWithReport(', 'tessellate(', 'refineGeometry(', 'new RefinedGeometry(', 'new TessellatedMesh(', 'schemes()', 'sceneCamera(', 'TessellaError']) {
     assert.ok(blocks.some((b) => b.includes(name)), name);
   }
 });

@@ -78,7 +78,8 @@ async function fetchBytes(url) {
 
 /**
  * The coarse mesh as the page keeps it for vertex dragging (read by the npm package), with the
- * package's `sceneCamera`: the engine's own framing, to map a drag into the scene.
+ * package's `sceneCamera` (the framing `tessella render` and the engine use; the page passes no
+ * displacement reach, so with displacement on a drag maps slightly off), to map a drag.
  */
 async function readCoarse(name, bytes) {
   try {

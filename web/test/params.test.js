@@ -65,7 +65,7 @@ test("the page's camera (the npm package's sceneCamera) frames the points inside
   // yaw 0, pitch 0 looks along -Z from +Z.
   const cam = sceneCamera(corners, { yaw: 0, pitch: 0, width: 1, height: 1 });
   assert.ok(cam.eye[2] > 3 && Math.abs(cam.eye[0] - 1) < 1e-6 && Math.abs(cam.eye[1] - 2) < 1e-6);
-  assert.throws(() => sceneCamera(corners, { width: 0, height: 1 }), /aspect must be positive/);
+  assert.throws(() => sceneCamera(corners, { width: 0, height: 1 }), /width must be a positive number/);
 });
 
 test('panel widths are tessella-view panel_widths', () => {

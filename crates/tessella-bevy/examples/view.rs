@@ -1,5 +1,5 @@
 //! A mesh file drawn by Bevy with `Tessellate` (or without, `--plain`), framed by the camera
-//! `tessella render` uses (crates/tessella-view/src/camera.rs), written to a PNG headless:
+//! `tessella render` uses (`tessella_core::framing`), written to a PNG headless:
 //!
 //! `cargo run --example view -- FILE --scheme S --level L --yaw Y --pitch P --zoom Z
 //!  --size WxH [--clip C --time T] --screenshot OUT.png [--plain] [--draw per-frame|mesh|welded|runs]

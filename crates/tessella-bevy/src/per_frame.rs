@@ -47,6 +47,10 @@ const WORKGROUP: u32 = 256;
 /// group, after the patch group's seven.
 const ORIGINS_BINDING: u32 = FIRST_BINDING + 7;
 
+/// The material's patch buffers a per-frame job binds (stencil, nets, uniforms, displacement,
+/// edge table), before its origins, output and placement.
+pub const PATCH_BUFFERS: usize = 7;
+
 /// Binding of the evaluated vertices: in the kernel's group, and in the material's (where the
 /// coarse texture coordinates hold 107).
 pub const EVALUATED_BINDING: u32 = FIRST_BINDING + 8;
@@ -89,7 +93,7 @@ pub(crate) fn release_slots(mut pools: ResMut<Pools>, seated: Query<&PerFrameSou
 #[derive(Component, Clone, Debug)]
 pub(crate) struct PerFrameSource {
     /// The patch group's seven buffers (bindings 100 to 106), the material's.
-    pub patch: [Handle<ShaderBuffer>; 7],
+    pub patch: [Handle<ShaderBuffer>; PATCH_BUFFERS],
     /// Per welded vertex, its coarse triangle and pattern vertex (two `u32`).
     pub origins: Handle<ShaderBuffer>,
     /// Where the evaluated vertices go.
@@ -195,14 +199,15 @@ struct Job {
 /// and the output's bound range.
 #[derive(PartialEq)]
 struct BindKey {
-    buffers: [BufferId; 10],
+    buffers: [BufferId; PATCH_BUFFERS + 3],
     at: u64,
     size: u64,
 }
 
-/// Every element, or `None` where one is missing: the per-frame lookups without a `Vec`.
+/// Every element, or `None` where one is missing (or there are none): the per-frame lookups
+/// without a `Vec`.
 fn all_some<T: Copy, const N: usize>(items: [Option<T>; N]) -> Option<[T; N]> {
-    let mut out = [items[0]?; N];
+    let mut out = [(*items.first()?)?; N];
     for (o, item) in out.iter_mut().zip(items) {
         *o = item?;
     }
@@ -350,7 +355,7 @@ fn evaluate(
                 continue;
             }
         };
-        let gpu: [Option<&Buffer>; 8] = std::array::from_fn(|i| {
+        let gpu: [Option<&Buffer>; PATCH_BUFFERS + 1] = std::array::from_fn(|i| {
             let handle = source.patch.get(i).unwrap_or(&source.origins);
             buffers.get(handle).map(|b| &b.buffer)
         });
@@ -397,7 +402,7 @@ fn evaluate(
                         BindingResource::Buffer(output),
                         placement.as_entire_binding(),
                     ])
-                    .zip((0..7).map(|b| FIRST_BINDING + b).chain([
+                    .zip((0..PATCH_BUFFERS as u32).map(|b| FIRST_BINDING + b).chain([
                         ORIGINS_BINDING,
                         EVALUATED_BINDING,
                         PLACEMENT_BINDING,
@@ -548,7 +553,7 @@ fn make_kernel(
         },
         count: None,
     };
-    let entries: Vec<BindGroupLayoutEntry> = (0..7)
+    let entries: Vec<BindGroupLayoutEntry> = (0..PATCH_BUFFERS as u32)
         .map(|b| storage(FIRST_BINDING + b, true))
         .chain([
             storage(ORIGINS_BINDING, true),

@@ -5,7 +5,8 @@
 //!
 //! ```
 //! use tessella_core::framing::Framing;
-//! let f = Framing::sphere([0.0, 0.0, 0.0], 1.0, 0.0, 0.0, 1.0, [0.0, 0.0], 1.0);
+//! // Yaw, pitch (degrees), zoom and pan; then the width-to-height ratio.
+//! let f = Framing::sphere([0.0, 0.0, 0.0], 1.0, (0.0, 0.0, 1.0, [0.0, 0.0]), 1.0);
 //! // Yaw 0, pitch 0: the eye on +Z, looking down -Z.
 //! assert!(f.eye[2] > 0.0 && (f.forward[2] + 1.0).abs() < 1e-6);
 //! ```
@@ -59,20 +60,24 @@ impl Framing {
         aspect: f32,
     ) -> Framing {
         let (center, radius) = bounding_sphere(points);
-        Framing::sphere(center, radius * 1.2 + reach, yaw, pitch, zoom, pan, aspect)
+        Framing::sphere(
+            center,
+            radius * 1.2 + reach,
+            (yaw, pitch, zoom, pan),
+            aspect,
+        )
     }
 
     /// Frames the sphere `(center, radius)` with the width-to-height ratio `aspect`: `yaw`
     /// turns about +Y and `pitch` raises the eye (degrees), `zoom > 1` moves closer, `pan`
     /// moves the point looked at (and the eye with it) along the view's right and up axes by
-    /// `pan × radius`.
+    /// `pan × radius`. A radius, zoom or aspect that is not positive and finite gives a
+    /// matrix of infinities or NaN: callers with user input check them first (the npm
+    /// package's `sceneCamera` does).
     pub fn sphere(
         center: [f32; 3],
         radius: f32,
-        yaw: f32,
-        pitch: f32,
-        zoom: f32,
-        pan: [f32; 2],
+        (yaw, pitch, zoom, pan): (f32, f32, f32, [f32; 2]),
         aspect: f32,
     ) -> Framing {
         let center = Vec3::from(center);
@@ -135,7 +140,7 @@ mod tests {
     fn framed_sphere_projects_inside_the_view() {
         let (c, r) = (Vec3::new(1.0, 2.0, 3.0), 2.0);
         for (yaw, pitch, aspect) in [(0.0, 0.0, 1.0), (45.0, 30.0, 2.0), (200.0, -60.0, 0.5)] {
-            let f = Framing::sphere(c.into(), r, yaw, pitch, 1.0, [0.0, 0.0], aspect);
+            let f = Framing::sphere(c.into(), r, (yaw, pitch, 1.0, [0.0, 0.0]), aspect);
             let m = f.view_proj_mat4();
             let centre = m * c.extend(1.0);
             let ndc = centre.truncate() / centre.w;
@@ -161,7 +166,7 @@ mod tests {
     #[test]
     fn pan_moves_the_centre_off_the_middle_of_the_view() {
         let (c, r) = (Vec3::new(1.0, 2.0, 3.0), 2.0);
-        let f = Framing::sphere(c.into(), r, 30.0, 20.0, 1.0, [0.25, -0.5], 1.0);
+        let f = Framing::sphere(c.into(), r, (30.0, 20.0, 1.0, [0.25, -0.5]), 1.0);
         let m = f.view_proj_mat4();
         // The panned target is in the middle; the sphere's centre left of and above it.
         let t = m * Vec3::from(f.target).extend(1.0);
@@ -180,9 +185,6 @@ mod tests {
         assert!((r - 5.0f32.sqrt()).abs() < 1e-6);
         let view = (10.0, 5.0, 1.0, [0.0, 0.0]);
         let f = Framing::points(&points, 0.5, view, 1.5);
-        assert_eq!(
-            f,
-            Framing::sphere(c, r * 1.2 + 0.5, 10.0, 5.0, 1.0, [0.0; 2], 1.5)
-        );
+        assert_eq!(f, Framing::sphere(c, r * 1.2 + 0.5, view, 1.5));
     }
 }

@@ -526,8 +526,9 @@ fn adaptive_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
 }
 
 /// The WGSL the adaptive shaders are compiled with, before `shaders/adaptive.wgsl`: the
-/// pipeline's constants (basis, normal mode, spacing), the record layout, then the weights
-/// generated from tessella-core's formulas.
+/// pipeline's constants (basis, normal mode, spacing), the record layout, the printed
+/// `TessellaAdaptiveParams`, the weights and glue generated from tessella-core's formulas, and
+/// `tessella_adaptive_normal` (the normal's steps, [`shader::normal_glue`]).
 pub(crate) fn constants(
     basis: tessella_core::basis::Basis,
     normal_mode: tessella_core::NormalMode,

@@ -97,12 +97,13 @@ const _: () = assert!(offset_of!(EvalParams, face_count) == 8);
 const _: () = assert!(offset_of!(EvalParams, normals_base) == 16);
 
 uniform! {
-    /// The uniform `shaders/displace.wgsl` reads.
+    /// The uniform `shaders/displace.wgsl` reads. The kind is the constant
+    /// `TESSELLA_DISPLACE_KIND` (compiled in): 0 none, 1 sine `a sin(f |P|)`, 2 Perlin
+    /// `a noise(f P)`, 3 height map `a h(uv)`.
     #[repr(C)]
     #[derive(Debug, Clone, Copy, Pod, Zeroable)]
     pub(crate) struct DisplaceParams as "TessellaDisplaceParams" {
-        /// The kind is the constant `TESSELLA_DISPLACE_KIND` (compiled in): 0 none, 1 sine
-        /// `a sin(f |P|)`, 2 Perlin `a noise(f P)`, 3 height map `a h(uv)`.
+        /// `a` and `f`.
         pub amplitude: f32,
         pub frequency: f32,
         pub map_width: u32,
@@ -123,8 +124,9 @@ uniform! {
     pub(crate) struct RefineParams as "RefineParams" {
         pub level: u32,
         pub weld: u32,
-        /// The chunk's first output item (vertex or triangle) and its item count.
+        /// The chunk's first output item (vertex or triangle).
         pub first: u32,
+        /// The chunk's items.
         pub count: u32,
         /// `V`, the coarse vertices.
         pub input_vertices: u32,
@@ -134,22 +136,26 @@ uniform! {
         pub interior_per_face: u32,
         pub points_per_face: u32,
         pub has_uv: u32,
-        /// Offsets (in `u32`s) of the tables packed into `mesh_u32`: `F x 3` corner indices;
-        /// per vertex its owner (`face * 4 + corner`, or none); per edge its owner (`face * 4 +
-        /// edge slot`); `E x 2` vertex indices, lower first; `F x 3` edge ids; the 3 corner, `3 x
-        /// (N-1)` edge (by edge, then step) and interior pattern points; per pattern point its
-        /// code (`class << 30 | edge << 28 | index`); `N^2 x 3` pattern triangles.
+        /// Offset (in `u32`s, as the `*_at` fields up to `pattern_triangles_at`) in `mesh_u32`
+        /// of the `F x 3` corner indices.
         pub triangles_at: u32,
+        /// Per vertex its owner: `face * 4 + corner`, or none.
         pub vertex_owner_at: u32,
+        /// Per edge its owner: `face * 4 + edge slot`.
         pub edge_owner_at: u32,
+        /// `E x 2` vertex indices, lower first.
         pub edges_at: u32,
+        /// `F x 3` edge ids.
         pub face_edges_at: u32,
+        /// The 3 corner, `3 x (N-1)` edge (by edge, then step) and interior pattern points.
         pub corner_points_at: u32,
         pub edge_points_at: u32,
         pub interior_points_at: u32,
+        /// Per pattern point its code: `class << 30 | edge << 28 | index`.
         pub point_codes_at: u32,
+        /// `N^2 x 3` pattern triangles.
         pub pattern_triangles_at: u32,
-        /// Offsets (in `f32`s) of the arrays packed into `mesh_f32`.
+        /// Offset (in `f32`s, as `normals_at` and `uvs_at`) of the positions in `mesh_f32`.
         pub positions_at: u32,
         pub normals_at: u32,
         pub uvs_at: u32,
@@ -161,7 +167,7 @@ uniform! {
         /// stencil row (`row | (corner + 1) << 30`).
         pub lookup_at: u32,
         /// The output's `VertexFormat`, in words: stride, then the offsets of position, normal and
-        /// uv (`u32::MAX`: not written).
+        /// uv (`u32::MAX`: not written; neither is a word no attribute covers).
         pub out_stride: u32,
         pub out_position: u32,
         pub out_normal: u32,
@@ -227,16 +233,18 @@ uniform! {
         pub vertex_count: u32,
         /// Influences per vertex (`DeformTable::slots`).
         pub slots: u32,
-        /// Index in the frame buffer of the first morph weight (after the matrices).
+        /// Index (in `f32`s) in the frame buffer of the first morph weight (after the matrices).
         pub weights_at: u32,
-        /// Index in the table of the per-vertex morph records.
+        /// Index (in `u32`s) in the table of the per-vertex morph records: (target count,
+        /// weight base, delta base).
         pub morphs_at: u32,
-        /// Indices in the rest buffer of the position and normal deltas.
+        /// Indices (in `f32`s) in the rest buffer of the position and normal deltas (xyz).
         pub deltas_at: u32,
         pub normal_deltas_at: u32,
         /// Threads per row of the 2D dispatch.
         pub row: u32,
-        /// The output's stride and the first word of a vertex's position and normal.
+        /// The output's stride (in `f32`s) and the first word of a vertex's position and normal
+        /// (`CoarseStream`).
         pub out_stride: u32,
         pub position_first: u32,
         pub normal_first: u32,

@@ -88,7 +88,8 @@
 //! generated from the schemes' Rust ([`tessella_core::shader::net_builder`]);
 //! `shaders/skin.wgsl` ([`GpuSkinner`]) follows the generated `tessella_skin_normal`.
 //! The layout constants both sides use are generated from Rust (`wgsl_constants.rs`) and
-//! prepended to every shader. Uniform structs have Rust twins in `gpu_types.rs` with size/offset assertions;
+//! prepended to every shader. The uniform structs are Rust structs in `gpu_types.rs` (size/offset
+//! assertions) whose WGSL declarations are printed from them and prepended (`uniform!`);
 //! `displace.wgsl` holds the displacement's bindings and reads; its offsets and direction are
 //! generated from `tessella_core::displace` ([`tessella_core::shader::displace_wgsl`]). The tests
 //! compare GPU and CPU outputs.

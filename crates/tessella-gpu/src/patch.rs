@@ -320,7 +320,9 @@ pub(crate) fn patch_normal_wgsl() -> &'static str {
 }
 
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
-/// generated normal glue, the shared evaluation and displacement modules, then its own.
+/// generated normal glue and canonical edge point, `tessella_patch_normal`, the shared
+/// evaluation and displacement modules (each after its uniform struct, printed from its Rust
+/// twin), then its own.
 /// Constants rather than uniforms, so each pipeline compiles only its own branch (a software
 /// rasteriser runs the whole body of a branch on a uniform: Perlin noise or `Du × Dv` for every
 /// vertex that needs neither).

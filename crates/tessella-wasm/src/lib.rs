@@ -3,7 +3,8 @@
 //! The Rust half of the npm package `tessella` (`js/`): wasm-bindgen exports over flat typed
 //! arrays. `js/src/index.js` wraps them into the documented API (`refine`, `Refiner`,
 //! `readMesh`, `writeMesh`, `readAnimated`, `refineGltf` (a whole glTF scene, `scene.rs`),
-//! `TessellaError`, and `InstancedSurface` and
+//! `TessellaError`, `sceneCamera` (the framing of tessella's pictures, `framing.rs`), and
+//! `InstancedSurface` and
 //! `AdaptiveSurface`, what `tessella/three`'s `TessellatedMesh` draws from, with one level or
 //! with `lod`); nothing here is meant to be
 //! called directly.

@@ -1,6 +1,7 @@
 // Compiled by test/types.test.js (tsc --noEmit, strict): the declarations describe the API the
 // other tests exercise; the lines marked @ts-expect-error must be refused.
-import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant, refineGltf, refineGltfWithReport } from 'tessella';
+import { ready, refine, Refiner, readMesh, readAnimated, AnimatedMesh, writeMesh, schemes, TessellaError, variant, refineGltf, refineGltfWithReport, sceneCamera } from 'tessella';
+import type { SceneCamera } from 'tessella';
 import type { RefinedPrimitive } from 'tessella';
 import { tessellate } from 'tessella/gltf-transform';
 import { Document } from '@gltf-transform/core';
@@ -89,5 +90,9 @@ await new Document().transform(tessellate({ scheme: 'phong', level: 2 }));
 tessellate({ buffers: {} });
 // @ts-expect-error: lod works on one mesh, not on a scene
 refineGltf(new Uint8Array(4), { lod: 'tolerance:0.1' });
-export { refinedGlb, triangles };
+const cam: SceneCamera = sceneCamera(new Float32Array(9), { yaw: 30, width: 800, height: 600, pan: [0.1, 0] });
+const viewProj: Float32Array = cam.viewProj;
+// @ts-expect-error: width and height are needed for the aspect
+sceneCamera(new Float32Array(9), { yaw: 30 });
+export { refinedGlb, triangles, viewProj };
 export { v, names, p, faces, i, computed, glb, e, g, same, clips, seconds, pose, rest, corners, count, bytes, instances, nets, glsl, wgsl, tsl };

@@ -70,7 +70,8 @@ pub fn corner_normal_of<T: Real>(corners: [[T; 3]; 3]) -> [T; 3] {
 }
 
 /// One step of a patch point's unit normal. Every evaluation takes [`NORMAL_STEPS`] in order:
-/// the CPU's kernels through [`normal_of`], the shaders through the glue
+/// the CPU's scalar kernel through [`normal_of`] (the SIMD kernels take the first steps in
+/// vectors and hand it every point whose normal did not stand), the shaders through the glue
 /// [`crate::shader::normal_glue`] prints from the same list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NormalStep {

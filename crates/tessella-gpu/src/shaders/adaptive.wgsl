@@ -8,7 +8,8 @@
 // layout and the basis, normal-net and edge weights generated from tessella-core's formulas
 // (tessella_core::shader: `tessella_patch_sum`, `tessella_normal_net_sum`,
 // `tessella_edge_weights`, `tessella_canonical_edge`, `tessella_locate`, `tessella_grid_*`,
-// `TESSELLA_*` constants); appended: adaptive_draw.wgsl (the vertex
+// `TESSELLA_*` constants), the normal's glue (`tessella_adaptive_normal`) and the printed
+// TessellaAdaptiveParams; appended: adaptive_draw.wgsl (the vertex
 // shader) or adaptive_capture.wgsl (a compute read-back of the same points).
 
 // Set by the renderer before this file, so that each pipeline compiles only its own basis,
