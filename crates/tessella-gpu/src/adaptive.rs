@@ -560,23 +560,8 @@ pub(crate) fn constants(
 /// normal steps ([`shader::normal_glue`]) over the point's summed derivatives and its normal
 /// net's sum (the canonical edge's, on an edge).
 fn adaptive_normal_wgsl() -> String {
-    use shader::{NormalSources, RealNormalSource};
-    let glue = shader::normal_glue(
-        Lang::Wgsl,
-        &NormalSources {
-            real: Some(RealNormalSource {
-                when: Some("TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL"),
-                du: "du",
-                dv: "dv",
-            }),
-            net: "n = net;",
-            corners: [
-                "tessella_net_point(face, 0u)",
-                "tessella_net_point(face, 1u)",
-                "tessella_net_point(face, 2u)",
-            ],
-        },
-    );
+    let sources = crate::patch::face_normal_sources("du", "dv", "n = net;");
+    let glue = shader::normal_glue(Lang::Wgsl, &sources);
     format!(
         "fn tessella_adaptive_normal(face: u32, du: vec3<f32>, dv: vec3<f32>, net: vec3<f32>) \
          -> vec3<f32> {{\n{glue}    return n;\n}}\n"

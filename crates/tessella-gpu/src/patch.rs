@@ -288,29 +288,45 @@ pub(crate) fn canonical_edge_wgsl() -> &'static str {
     TEXT.get_or_init(|| tessella_core::shader::canonical_edge(tessella_core::shader::Lang::Wgsl))
 }
 
+/// The normal's sources of a WGSL evaluation of patch `face` in a pipeline compiled for one
+/// normal mode (`TESSELLA_NORMAL_MODE`): the real normal from `du`, `dv` in `Real`, the net's
+/// statements `net`, the face's first three control points as its corners. The pattern's and
+/// the adaptive renderer's evaluations differ only in `du`, `dv` and `net`.
+pub(crate) fn face_normal_sources<'a>(
+    du: &'a str,
+    dv: &'a str,
+    net: &'a str,
+) -> tessella_core::shader::NormalSources<'a> {
+    tessella_core::shader::NormalSources {
+        real: Some(tessella_core::shader::RealNormalSource {
+            when: Some("TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL"),
+            du,
+            dv,
+        }),
+        net,
+        corners: [
+            "tessella_net_point(face, 0u)",
+            "tessella_net_point(face, 1u)",
+            "tessella_net_point(face, 2u)",
+        ],
+    }
+}
+
 /// A stencil row's unit normal, `tessella_patch_normal(face, base)`: the core's normal steps
 /// ([`tessella_core::shader::normal_glue`]) over `eval.wgsl`'s sums of the row at `base`,
 /// generated once per process.
 pub(crate) fn patch_normal_wgsl() -> &'static str {
-    use tessella_core::shader::{normal_glue, Lang, NormalSources, RealNormalSource};
+    use tessella_core::shader::{normal_glue, Lang};
     static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
     TEXT.get_or_init(|| {
         let glue = normal_glue(
             Lang::Wgsl,
-            &NormalSources {
-                real: Some(RealNormalSource {
-                    when: Some("TESSELLA_NORMAL_MODE == TESSELLA_MODE_REAL"),
-                    du: "tessella_combine_points(face, base + k)",
-                    dv: "tessella_combine_points(face, base + 2u * k)",
-                }),
-                net: "for (var j = 0u; j < TESSELLA_NORMAL_NET_LEN; j++) {\n    \
-                      n += tessella_stencil[base + 3u * k + j] * tessella_net_normal(face, j);\n}",
-                corners: [
-                    "tessella_net_point(face, 0u)",
-                    "tessella_net_point(face, 1u)",
-                    "tessella_net_point(face, 2u)",
-                ],
-            },
+            &face_normal_sources(
+                "tessella_combine_points(face, base + k)",
+                "tessella_combine_points(face, base + 2u * k)",
+                "for (var j = 0u; j < TESSELLA_NORMAL_NET_LEN; j++) {\n    \
+                 n += tessella_stencil[base + 3u * k + j] * tessella_net_normal(face, j);\n}",
+            ),
         );
         format!(
             "fn tessella_patch_normal(face: u32, base: u32) -> vec3<f32> {{\n    \

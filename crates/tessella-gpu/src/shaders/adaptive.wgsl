@@ -91,9 +91,9 @@ fn tessella_add_plan_edge(acc: ptr<function, TessellaSums>, q: vec3<f32>) {
 }
 
 // Grid point (i, j) of a face: its surface into `acc`, summed over the plan the generated
-// `tessella_grid_edge_plan` or `tessella_grid_inner_plan` gives (the snap and the geomorph sources of refine::grid_point, which
-// the CPU's patterns and stencils run); returns the barycentric point and its edge
-// (TESSELLA_NO_EDGE off the edges).
+// `tessella_grid_edge_plan` or `tessella_grid_inner_plan` gives (the snap and the geomorph
+// sources of refine::grid_point, which the CPU's patterns and stencils run); returns the
+// barycentric point and its edge (TESSELLA_NO_EDGE off the edges).
 fn tessella_grid_point(face: u32, rec: u32, face_forward: u32, i: u32, j: u32, acc: ptr<function, TessellaSums>) -> vec4<f32> {
     let segments = vec3<u32>(
         tessella_records[rec + TESSELLA_GRID_SEGMENTS_WORD],

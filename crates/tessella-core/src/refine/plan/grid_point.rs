@@ -19,9 +19,9 @@
 //! [`super::instanced::grid_point`]), and [`crate::shader::grid_plan_wgsl`] traces
 //! [`grid_edge_of`], [`edge_plan_of`] and [`inner_plan_of`] into the adaptive renderer's WGSL.
 //! Branches inside them are selections: every side is computed and one kept (a side not taken
-//! may divide zero by zero; its weight is zero, and a caller skips a zero weight). Steps are `u32`, exact while the products `i (n − 1)` and
-//! `step n` stay below 2³², so for every grid level up to 65,536 (a pattern of 2³¹ points a
-//! face).
+//! may divide zero by zero; its weight is zero, and a caller skips a zero weight). Steps are
+//! `u32`, exact while the products `i (n − 1)` and `step n` stay below 2³², so for every grid
+//! level up to 65,536 (a pattern of 2³¹ points a face).
 
 use crate::scalar::{Noise, Word};
 use crate::tessellator::parts::NO_EDGE;
