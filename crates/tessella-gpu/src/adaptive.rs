@@ -548,7 +548,9 @@ pub(crate) fn constants(
         shader::normal_net(Lang::Wgsl),
         shader::edge_weights_wgsl(),
         crate::patch::canonical_edge_wgsl().to_string(),
+        crate::patch::canonical_edge_point_wgsl().to_string(),
         shader::locate_wgsl(),
+        shader::tessellator_point(Lang::Wgsl),
         shader::grid_plan_wgsl(),
         crate::patch::surface_normal_wgsl().to_string(),
         adaptive_normal_wgsl(),
@@ -558,7 +560,8 @@ pub(crate) fn constants(
 
 /// An adaptive point's unit normal, `tessella_adaptive_normal(face, du, dv, net)`: the core's
 /// normal steps ([`shader::normal_glue`]) over the point's summed derivatives and its normal
-/// net's sum (the canonical edge's, on an edge).
+/// net's sum; on an edge, `tessella_canonical_edge_point` then takes the edge's net normal
+/// where the mode does.
 fn adaptive_normal_wgsl() -> String {
     let sources = crate::patch::face_normal_sources("du", "dv", "n = net;");
     let glue = shader::normal_glue(Lang::Wgsl, &sources);

@@ -288,6 +288,23 @@ pub(crate) fn canonical_edge_wgsl() -> &'static str {
     TEXT.get_or_init(|| tessella_core::shader::canonical_edge(tessella_core::shader::Lang::Wgsl))
 }
 
+/// A coarse edge's point in canonical order, `tessella_canonical_edge_point` (and
+/// `tessella_edge_forward`), for a pipeline compiled for one normal mode; generated once per
+/// process. The pattern's and the adaptive renderer's hosts define the edge tables' reads.
+pub(crate) fn canonical_edge_point_wgsl() -> &'static str {
+    use tessella_core::shader::{canonical_edge_point, EdgeSources, Lang};
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| {
+        canonical_edge_point(
+            Lang::Wgsl,
+            &EdgeSources {
+                context: ("", ""),
+                net_normals: "TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL",
+            },
+        )
+    })
+}
+
 /// The normal's sources of a WGSL evaluation of patch `face` in a pipeline compiled for one
 /// normal mode (`TESSELLA_NORMAL_MODE`): the real normal from `du`, `dv` in `Real`, the net's
 /// statements `net`, the face's first three control points as its corners. The pattern's and
@@ -336,7 +353,7 @@ pub(crate) fn patch_normal_wgsl() -> &'static str {
 }
 
 /// The WGSL source of a pipeline: the normal mode and the displacement as constants, the
-/// generated normal glue and canonical edge point, `tessella_patch_normal`, the shared
+/// generated normal glue, canonical edge sums and canonical edge point, `tessella_patch_normal`, the shared
 /// evaluation and displacement modules (each after its uniform struct, printed from its Rust
 /// twin), then its own.
 /// Constants rather than uniforms, so each pipeline compiles only its own branch (a software
@@ -358,6 +375,7 @@ pub(crate) fn shader_source(
         ),
         surface_normal_wgsl(),
         canonical_edge_wgsl(),
+        canonical_edge_point_wgsl(),
         patch_normal_wgsl(),
         &crate::gpu_types::EvalParams::wgsl(),
         include_str!("shaders/eval.wgsl"),

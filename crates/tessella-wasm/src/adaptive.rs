@@ -35,11 +35,14 @@ const RULER_WORDS: usize = 5;
 /// Bits of a 16.16 value in `[0, 1]` (1.0 is `1 << 16`).
 const FIXED_BITS: u32 = 17;
 const FIXED_MASK: u32 = (1 << FIXED_BITS) - 1;
+/// Where the canonical bits sit in ruler 0's third word (above its fraction and odd bit); the
+/// shaders' `TESSELLA_PACKED_FORWARD_SHIFT`.
+const FORWARD_SHIFT: u32 = FIXED_BITS + 1;
 
 /// Packs a record's four rulers and canonical bits into 12 words. Ruler `r`'s five words
 /// `[inv_floor, inv_ceil, fraction, split, half | odd << 8 | points << 16]` become
 /// `inv_floor | split << 17 | half << 24`, `inv_ceil | points << 17`, `fraction | odd << 17`;
-/// the canonical bits go above ruler 0's third word (`<< 18`). Every 16.16 value is at most 1.0
+/// the canonical bits go above ruler 0's third word (`<< FORWARD_SHIFT`). Every 16.16 value is at most 1.0
 /// (17 bits), `split` below 128, `half` below 256 (levels are at most 64).
 pub fn pack_record(record: &[u32]) -> [u32; PACKED_WORDS] {
     let mut out = [0u32; PACKED_WORDS];
@@ -51,7 +54,7 @@ pub fn pack_record(record: &[u32]) -> [u32; PACKED_WORDS] {
         out[3 * r + 1] = w[1] | points << FIXED_BITS;
         out[3 * r + 2] = w[2] | odd << FIXED_BITS;
     }
-    out[2] |= record[FORWARD_WORD] << 18;
+    out[2] |= record[FORWARD_WORD] << FORWARD_SHIFT;
     out
 }
 
@@ -72,7 +75,7 @@ fn packed_ruler_word(packed: &[u32; PACKED_WORDS], r: usize, k: usize) -> u32 {
 /// The canonical edge bits of a packed record.
 #[cfg(test)]
 fn packed_forward(packed: &[u32; PACKED_WORDS]) -> u32 {
-    (packed[2] >> 18) & 7
+    (packed[2] >> FORWARD_SHIFT) & 7
 }
 
 /// What the LOD function needs each frame, parsed once.
@@ -464,9 +467,12 @@ fn part_arrays(table: &PartTable) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
 
 /// GLSL (ES 3.00) for a vertex shader that draws one part instance: [`nets_glsl`]'s nets
 /// reader and `tessella_evaluate` (the basis' and normal net's weights generated from the core's
-/// formulas), the record layout constants, the tessellator's placement `tessella_locate` and the
-/// canonical edge weights and point, generated from the core's Rust (`shader::locate_glsl`,
-/// `shader::edge_weights_glsl`, `shader::canonical_edge`), and
+/// formulas), the record layout constants, the packed record's and the edge tables' reads, and
+/// the adaptive point's steps generated from the core's Rust: the tessellator's placement
+/// `tessella_locate`, its barycentric point and canonical parameter
+/// `tessella_tessellator_point`, the canonical edge weights and point
+/// (`shader::locate_glsl`, `shader::tessellator_point`, `shader::edge_weights_glsl`,
+/// `shader::canonical_edge`, `shader::canonical_edge_point`); last
 /// `void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal,
 /// out vec3 bary)`:
 /// the point the part's `code` names on instance `inst` (`face | side << 30`), placed with the
@@ -484,6 +490,7 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
         &[
             ("TESSELLA_BASIS_K", basis.len() as u32),
             ("TESSELLA_RECORD_TEXELS", RECORD_TEXELS as u32),
+            ("TESSELLA_PACKED_FORWARD_SHIFT", FORWARD_SHIFT),
         ],
     );
     let [controls, normals] = edge_tables(basis);
@@ -497,10 +504,25 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     );
     s += ADAPTIVE_GLSL_READERS;
     s += &shader::locate_glsl();
+    s += &shader::tessellator_point(Lang::Glsl);
     s += &shader::edge_weights_glsl();
     s += &shader::canonical_edge(Lang::Glsl);
+    s += &shader::canonical_edge_point(Lang::Glsl, &edge_sources(Lang::Glsl));
     s += ADAPTIVE_GLSL_MAIN;
     s
+}
+
+/// The canonical edge point's sources in either language: the WGSL's net reads take the nets
+/// texture first (TSL passes it), and the mode is the `TESSELLA_REAL_NORMALS` constant.
+fn edge_sources(lang: Lang) -> shader::EdgeSources<'static> {
+    shader::EdgeSources {
+        context: if matches!(lang, Lang::Wgsl) {
+            ("nets: texture_2d<f32>, ", "nets, ")
+        } else {
+            ("", "")
+        },
+        net_normals: "!TESSELLA_REAL_NORMALS",
+    }
 }
 
 /// The edge tables both languages declare: per coarse edge its four boundary control points
@@ -520,9 +542,9 @@ fn edge_tables(basis: tessella_core::Basis) -> [String; 2] {
 
 /// WGSL for three.js's WebGPURenderer (TSL `wgslFn`), the twin of [`glsl`]: [`nets_wgsl`]'s
 /// nets reader, `tessella_position` and `tessella_normal`, the record layout constants, the
-/// edge tables, the packed record's reader, the same generated `tessella_locate`,
-/// `tessella_edge_weights` and `tessella_canonical_edge` (`shader::locate_wgsl`,
-/// `shader::edge_weights_wgsl`, `shader::canonical_edge`), and last
+/// edge tables, the packed record's reader, the same generated steps (`tessella_locate`,
+/// `tessella_tessellator_point`, `tessella_edge_weights`, `tessella_canonical_edge`,
+/// `tessella_canonical_edge_point`, whose net reads take the nets texture first), and last
 /// `fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>,
 /// instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32>`:
 /// [`glsl`]'s `tessella_adaptive_evaluate` for the instance word (`face | side << 30`) at
@@ -539,6 +561,7 @@ pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
         &[
             ("TESSELLA_BASIS_K", basis.len() as u32),
             ("TESSELLA_RECORD_TEXELS", RECORD_TEXELS as u32),
+            ("TESSELLA_PACKED_FORWARD_SHIFT", FORWARD_SHIFT),
         ],
     );
     let [controls, normals] = edge_tables(basis);
@@ -553,8 +576,10 @@ pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     );
     s += ADAPTIVE_WGSL_READERS;
     s += &shader::locate_wgsl();
+    s += &shader::tessellator_point(Lang::Wgsl);
     s += &shader::edge_weights_wgsl();
     s += &shader::canonical_edge(Lang::Wgsl);
+    s += &shader::canonical_edge_point(Lang::Wgsl, &edge_sources(Lang::Wgsl));
     s += ADAPTIVE_WGSL_MAIN;
     s
 }
@@ -573,6 +598,9 @@ fn tessella_read_record(records: texture_2d<u32>, face: u32) {
 fn tessella_packed(i: u32) -> u32 {
     return tessella_rec[i >> 2u][i & 3u];
 }
+fn tessella_forward_bits() -> u32 {
+    return tessella_rec[0].z >> TESSELLA_PACKED_FORWARD_SHIFT;
+}
 fn tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32 {
     let a = tessella_packed(3u * r);
     let b = tessella_packed(3u * r + 1u);
@@ -586,9 +614,18 @@ fn tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32 {
 fn tessella_net_float(nets: texture_2d<f32>, face: u32, x: u32) -> f32 {
     return tessella_texel(nets, face, x >> 2u)[x & 3u];
 }
-fn tessella_net_entry(nets: texture_2d<f32>, face: u32, i: u32) -> vec3<f32> {
-    let x = 3u * i;
+fn tessella_net_point(nets: texture_2d<f32>, face: u32, k: u32) -> vec3<f32> {
+    let x = 3u * k;
     return vec3<f32>(tessella_net_float(nets, face, x), tessella_net_float(nets, face, x + 1u), tessella_net_float(nets, face, x + 2u));
+}
+fn tessella_net_normal(nets: texture_2d<f32>, face: u32, k: u32) -> vec3<f32> {
+    return tessella_net_point(nets, face, TESSELLA_BASIS_K + k);
+}
+fn tessella_edge_control(edge: u32, i: u32) -> u32 {
+    return TESSELLA_EDGE_CONTROLS[4u * edge + i];
+}
+fn tessella_edge_normal_control(edge: u32, i: u32) -> u32 {
+    return TESSELLA_EDGE_NORMALS[3u * edge + i];
 }
 fn tessella_instance_word(instances: texture_2d<u32>, i: u32) -> u32 {
     let width = textureDimensions(instances).x;
@@ -603,35 +640,22 @@ const ADAPTIVE_WGSL_MAIN: &str = r#"fn tessella_adaptive_point(nets: texture_2d<
     let face = inst & 0x3fffffffu;
     tessella_read_record(records, face);
     let p = tessella_locate(0u, code & 0x3fffffffu, inst >> 30u);
-    let lf = vec3<u32>(p.x, p.y, TESSELLA_FIXED_ONE - p.x - p.y);
-    let l = vec3<f32>(lf) / f32(TESSELLA_FIXED_ONE);
-    var position = tessella_position(nets, face, l);
-    var normal = tessella_normal(nets, face, l);
-    let edge = p.z;
-    if (edge != TESSELLA_NO_EDGE) {
-        // The edge's own data in canonical order, summed in the same order on both faces.
-        let forward = ((tessella_rec[0].z >> (18u + edge)) & 1u) != 0u;
-        let a = select(TESSELLA_FIXED_ONE - lf[edge], lf[edge], forward);
-        let w = tessella_edge_weights(f32(a) / f32(TESSELLA_FIXED_ONE), f32(TESSELLA_FIXED_ONE - a) / f32(TESSELLA_FIXED_ONE));
-        var c: array<vec3<f32>, 4>;
-        for (var i = 0u; i < 4u; i++) {
-            c[i] = tessella_net_entry(nets, face, TESSELLA_EDGE_CONTROLS[4u * edge + select(3u - i, i, forward)]);
-        }
-        var m: array<vec3<f32>, 3>;
-        for (var i = 0u; i < 3u; i++) {
-            m[i] = tessella_net_entry(nets, face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + select(2u - i, i, forward)]);
-        }
-        let e = tessella_canonical_edge(w.value, w.normal, c, m);
+    let bits = tessella_forward_bits();
+    let t = tessella_tessellator_point(p, bits);
+    var position = tessella_position(nets, face, t.l);
+    var normal = tessella_normal(nets, face, t.l);
+    if (p.z != TESSELLA_NO_EDGE) {
+        let w = tessella_edge_weights(t.ab.x, t.ab.y);
+        let e = tessella_canonical_edge_point(nets, face, p.z, tessella_edge_forward(bits, p.z), w.value, w.normal, normal);
         position = e.p;
-        if (!TESSELLA_REAL_NORMALS && any(e.n != vec3<f32>(0.0))) {
-            normal = e.n;
-        }
+        normal = e.n;
     }
-    return mat3x3<f32>(position, normal, l);
+    return mat3x3<f32>(position, normal, t.l);
 }
 "#;
 
-/// The packed record's reader (the twin of [`packed_ruler_word`]) and the nets' entries.
+/// The packed record's reader (the twin of [`packed_ruler_word`]), its canonical bits, and the
+/// reads the generated canonical edge point takes: the nets' entries and the edge tables.
 const ADAPTIVE_GLSL_READERS: &str = r#"uvec4 tessella_rec[3];
 void tessella_read_record(int face) {
     int row = face / tessellaRecordsPerRow;
@@ -649,45 +673,33 @@ uint tessella_ruler_word(uint rec, uint r, uint k) {
     if (k == 3u) return (a >> 17u) & 0x7fu;
     return (a >> 24u) | ((c >> 17u) & 1u) << TESSELLA_RULER_ODD_SHIFT | (b >> 17u) << TESSELLA_RULER_POINTS_SHIFT;
 }
+uint tessella_forward_bits() { return tessella_rec[0].z >> TESSELLA_PACKED_FORWARD_SHIFT; }
 float tessella_net_float(int face, int x) {
     vec4 t = tessella_texel(face, x >> 2);
     return t[x & 3];
 }
-vec3 tessella_net_entry(int face, uint i) {
-    int x = 3 * int(i);
-    return vec3(tessella_net_float(face, x), tessella_net_float(face, x + 1), tessella_net_float(face, x + 2));
+vec3 tessella_net_point(uint face, uint k) {
+    int x = 3 * int(k);
+    return vec3(tessella_net_float(int(face), x), tessella_net_float(int(face), x + 1), tessella_net_float(int(face), x + 2));
 }
+vec3 tessella_net_normal(uint face, uint k) { return tessella_net_point(face, TESSELLA_BASIS_K + k); }
+uint tessella_edge_control(uint edge, uint i) { return TESSELLA_EDGE_CONTROLS[4u * edge + i]; }
+uint tessella_edge_normal_control(uint edge, uint i) { return TESSELLA_EDGE_NORMALS[3u * edge + i]; }
 "#;
 
 const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, out vec3 bary) {
     int face = int(inst & 0x3fffffffu);
     tessella_read_record(face);
     uvec3 p = tessella_locate(0u, code & 0x3fffffffu, inst >> 30u);
-    uvec3 lf = uvec3(p.x, p.y, TESSELLA_FIXED_ONE - p.x - p.y);
-    vec3 l = vec3(lf) / float(TESSELLA_FIXED_ONE);
-    bary = l;
-    tessella_evaluate(face, l, position, normal);
-    uint edge = p.z;
-    if (edge != TESSELLA_NO_EDGE) {
-        // The edge's own data in canonical order, summed in the same order on both faces.
-        bool forward = ((tessella_rec[0].z >> (18u + edge)) & 1u) != 0u;
-        uint a = forward ? lf[edge] : TESSELLA_FIXED_ONE - lf[edge];
+    uint bits = tessella_forward_bits();
+    vec2 ab;
+    tessella_tessellator_point(p, bits, bary, ab);
+    tessella_evaluate(face, bary, position, normal);
+    if (p.z != TESSELLA_NO_EDGE) {
         vec4 ew;
         vec3 en;
-        tessella_edge_weights(float(a) / float(TESSELLA_FIXED_ONE), float(TESSELLA_FIXED_ONE - a) / float(TESSELLA_FIXED_ONE), ew, en);
-        vec3 c[4];
-        for (uint i = 0u; i < 4u; i++) {
-            c[i] = tessella_net_entry(face, TESSELLA_EDGE_CONTROLS[4u * edge + (forward ? i : 3u - i)]);
-        }
-        vec3 m[3];
-        for (uint i = 0u; i < 3u; i++) {
-            m[i] = tessella_net_entry(face, TESSELLA_BASIS_K + TESSELLA_EDGE_NORMALS[3u * edge + (forward ? i : 2u - i)]);
-        }
-        vec3 p_edge;
-        vec3 n_edge;
-        tessella_canonical_edge(ew, en, c, m, p_edge, n_edge);
-        position = p_edge;
-        if (!TESSELLA_REAL_NORMALS && n_edge != vec3(0.0)) normal = n_edge;
+        tessella_edge_weights(ab.x, ab.y, ew, en);
+        tessella_canonical_edge_point(uint(face), p.z, tessella_edge_forward(bits, p.z), ew, en, normal, position, normal);
     }
 }
 "#;

@@ -9,8 +9,8 @@
 //! arrays indexed in loops, which some compilers put in memory). A shader file holds only what
 //! is its own (bindings, entry points, the order it sums in) and calls these.
 //!
-//! Every name declared here starts with `tessella_` (`TessellaPatchSum` for the one struct),
-//! so an engine can include the code beside its own. The sums read control points through two
+//! Every name declared here starts with `tessella_` (`Tessella` for the structs, such as
+//! `TessellaPatchSum`), so an engine can include the code beside its own. The sums read control points through two
 //! functions the including shader defines:
 //!
 //! - `tessella_net_point(face: u32, k: u32) -> vec3<f32>`: control point `k` of `face`;
@@ -598,6 +598,129 @@ pub fn canonical_edge(lang: Lang) -> String {
             "void tessella_canonical_edge(vec4 value, vec3 normal, vec3 c[4], vec3 m[3], out vec3 p, out vec3 n) {{\n{}    \
              p = vec3({p});\n    n = vec3({n});\n}}\n",
             body.statements
+        ),
+    }
+}
+
+/// A tessellator point read back in an adaptive shader, traced from the CPU's
+/// [`crate::refine::canonical::fixed_point_of`]: from `p`, what [`locate_wgsl`] returns (16.16
+/// `u`, `v`, the coarse edge), and the face's canonical edge bits `forward` (bit `k` set where
+/// edge `k` runs canonically), the barycentric point `l` and, on an edge, the canonical
+/// parameter `ab` that [`edge_weights_wgsl`] takes (meaningless off the edges).
+///
+/// - WGSL: `fn tessella_tessellator_point(p: vec3<u32>, forward: u32) ->
+///   TessellaTessellatorPoint` (and the struct, fields `l: vec3<f32>`, `ab: vec2<f32>`);
+/// - GLSL (ES 3.00): `void tessella_tessellator_point(uvec3 p, uint forward, out vec3 l,
+///   out vec2 ab)`.
+pub fn tessellator_point(lang: Lang) -> String {
+    let (tape, (l, ab)) = trace(|| {
+        let u = UExpr::input;
+        crate::refine::canonical::fixed_point_of::<Expr>(u("p.x"), u("p.y"), u("p.z"), u("forward"))
+    });
+    let outputs: Vec<Expr> = l.iter().chain(&ab).copied().collect();
+    let body = Body::new(&tape, lang, &outputs);
+    let l = l.map(|e| body.name(e)).join(", ");
+    let ab = ab.map(|e| body.name(e)).join(", ");
+    match lang {
+        Lang::Wgsl => format!(
+            "struct TessellaTessellatorPoint {{\n    l: vec3<f32>,\n    ab: vec2<f32>,\n}}\n\n\
+             fn tessella_tessellator_point(p: vec3<u32>, forward: u32) -> TessellaTessellatorPoint {{\n{}    \
+             return TessellaTessellatorPoint(vec3<f32>({l}), vec2<f32>({ab}));\n}}\n",
+            body.statements
+        ),
+        Lang::Glsl => format!(
+            "void tessella_tessellator_point(uvec3 p, uint forward, out vec3 l, out vec2 ab) {{\n{}    \
+             l = vec3({l});\n    ab = vec2({ab});\n}}\n",
+            body.statements
+        ),
+    }
+}
+
+/// What a host's canonical edge point reads, for [`canonical_edge_point`].
+#[derive(Clone, Copy, Debug)]
+pub struct EdgeSources<'a> {
+    /// Parameters the host's net reads take before `face`, declared and passed on: WGSL for
+    /// three.js passes its textures (`("nets: texture_2d<f32>, ", "nets, ")`); empty where the
+    /// reads use the host's globals.
+    pub context: (&'a str, &'a str),
+    /// A shader condition: whether the pipeline's normal mode takes the normal net's normal
+    /// (every mode but `Real`, whose normal looks across the edge and stays the face's own).
+    pub net_normals: &'a str,
+}
+
+/// A coarse edge's point as every backend evaluates it: the edge's four boundary control
+/// points and three normal-net entries read in canonical order (the CPU's
+/// [`crate::refine::canonical::canonical_points`] and
+/// [`crate::refine::canonical::canonical_normals`]), summed by [`canonical_edge`]'s
+/// `tessella_canonical_edge`, and the normal chosen as the CPU chooses it: the edge's net
+/// normal where the mode takes the net and it does not vanish, else the face's own. Two
+/// functions:
+///
+/// - `tessella_edge_forward(bits, edge)`: whether `edge` runs canonically (bit `edge` of the
+///   face's `bits`);
+/// - `tessella_canonical_edge_point(face, edge, forward, value, normal, face_normal)`: the
+///   point (`p`) and its unit normal (`n`) at the canonical weights `value`, `normal`.
+///
+/// The host defines the reads: `tessella_net_point` and `tessella_net_normal` (see the module
+/// docs, after [`EdgeSources::context`]), and `tessella_edge_control(edge, i)` and
+/// `tessella_edge_normal_control(edge, i)`, the `i`th entry of
+/// [`crate::refine::canonical::edge_controls`] and
+/// [`crate::refine::canonical::edge_normal_controls`] of `edge` (`u32` in and out).
+/// WGSL returns [`canonical_edge`]'s `TessellaCanonicalEdge`; GLSL (ES 3.00) writes `out vec3
+/// p, out vec3 n` after the same arguments.
+///
+/// ```
+/// use tessella_core::shader::{self, EdgeSources, Lang};
+/// let wgsl = shader::canonical_edge_point(Lang::Wgsl, &EdgeSources {
+///     context: ("", ""),
+///     net_normals: "TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL",
+/// });
+/// assert!(wgsl.contains("tessella_net_point(face, tessella_edge_control(edge, select(3u - i, i, forward)))"));
+/// ```
+pub fn canonical_edge_point(lang: Lang, sources: &EdgeSources) -> String {
+    let (param, arg) = sources.context;
+    let net_normals = sources.net_normals;
+    // A loop over the edge's entries in the face's direction, reversed where the edge runs
+    // against it, as `canonical_points` reverses.
+    let read = |n: usize, name: &str, reader: &str, control: &str| {
+        let last = n - 1;
+        let order = match lang {
+            Lang::Wgsl => format!("select({last}u - i, i, forward)"),
+            Lang::Glsl => format!("(forward ? i : {last}u - i)"),
+        };
+        let call = format!("{reader}({arg}face, {control}(edge, {order}))");
+        match lang {
+            Lang::Wgsl => format!(
+                "    var {name}: array<vec3<f32>, {n}>;\n    for (var i = 0u; i < {n}u; i++) {{\n        \
+                 {name}[i] = {call};\n    }}\n"
+            ),
+            Lang::Glsl => format!(
+                "    vec3 {name}[{n}];\n    for (uint i = 0u; i < {n}u; i++) {{\n        {name}[i] = {call};\n    }}\n"
+            ),
+        }
+    };
+    let reads = read(4, "c", "tessella_net_point", "tessella_edge_control")
+        + &read(
+            3,
+            "m",
+            "tessella_net_normal",
+            "tessella_edge_normal_control",
+        );
+    match lang {
+        Lang::Wgsl => format!(
+            "fn tessella_edge_forward(bits: u32, edge: u32) -> bool {{\n    \
+             return ((bits >> edge) & 1u) != 0u;\n}}\n\n\
+             fn tessella_canonical_edge_point({param}face: u32, edge: u32, forward: bool, value: vec4<f32>, normal: vec3<f32>, face_normal: vec3<f32>) -> TessellaCanonicalEdge {{\n\
+             {reads}    var e = tessella_canonical_edge(value, normal, c, m);\n    \
+             if (!({net_normals}) || all(e.n == vec3<f32>(0.0))) {{\n        e.n = face_normal;\n    }}\n    \
+             return e;\n}}\n"
+        ),
+        Lang::Glsl => format!(
+            "bool tessella_edge_forward(uint bits, uint edge) {{\n    \
+             return ((bits >> edge) & 1u) != 0u;\n}}\n\n\
+             void tessella_canonical_edge_point({param}uint face, uint edge, bool forward, vec4 value, vec3 normal, vec3 face_normal, out vec3 p, out vec3 n) {{\n\
+             {reads}    tessella_canonical_edge(value, normal, c, m, p, n);\n    \
+             if (!({net_normals}) || n == vec3(0.0)) {{\n        n = face_normal;\n    }}\n}}\n"
         ),
     }
 }

@@ -402,9 +402,18 @@ fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
         edge_weights_wgsl(),
         p2,
         normal,
+        tessellator_point(Lang::Wgsl),
+        tessellator_point(Lang::Glsl),
+        canonical_edge_point(
+            Lang::Glsl,
+            &EdgeSources {
+                context: ("", ""),
+                net_normals: "true",
+            },
+        ),
     ] {
         for line in text.lines() {
-            for keyword in ["fn ", "struct ", "void "] {
+            for keyword in ["fn ", "struct ", "void ", "bool "] {
                 if let Some(rest) = line.strip_prefix(keyword) {
                     assert!(
                         rest.starts_with("tessella_") || rest.starts_with("Tessella"),
@@ -1090,4 +1099,133 @@ fn traced_canonical_edge_gives_the_cpus_bits() {
     assert!(canonical_edge(Lang::Glsl).starts_with(
         "void tessella_canonical_edge(vec4 value, vec3 normal, vec3 c[4], vec3 m[3], out vec3 p, out vec3 n) {"
     ));
+}
+
+/// The traced tessellator point, run on every point the CPU's placement gives, is the exact
+/// barycentric point of its 16.16 `u`, `v`, and on a coarse edge the canonical parameter the
+/// CPU's tiles take (`Tile::edge_weights`: the start corner's and the end corner's weights,
+/// swapped where the edge runs against the face), for every combination of canonical bits.
+#[test]
+fn traced_tessellator_point_gives_the_cpus_barycentrics_and_canonical_parameter() {
+    use crate::tessellator::parts::{locate_of, FaceRulers, NO_EDGE};
+    use crate::tessellator::points::RULER_WORDS;
+    use crate::tessellator::{process_levels, Partitioning, TessLevels};
+    let (tape, (l, ab)) = trace(|| {
+        let u = UExpr::input;
+        crate::refine::canonical::fixed_point_of::<Expr>(u("p.x"), u("p.y"), u("p.z"), u("forward"))
+    });
+    let one = f64::from(crate::tessellator::fixed::ONE);
+    let mut on_edges = 0;
+    for (spacing, outer, inner) in [
+        (Partitioning::FractionalOdd, [3.3, 5.0, 1.7], 4.6),
+        (Partitioning::Equal, [4.0, 4.0, 9.0], 3.0),
+    ] {
+        let p = process_levels(spacing, TessLevels { outer, inner }).expect("levels that draw");
+        let rulers = FaceRulers::new(&p);
+        let words = rulers.words();
+        for side in 0..3u32 {
+            for i in 0..rulers.outer_points[side as usize] {
+                let code = side << 8 | i;
+                let [u, v, edge] =
+                    locate_of(|r: u32, k| words[RULER_WORDS * r as usize + k], code, 0);
+                // Independent of the traced code: the i64 sum the patterns once took.
+                let want_l = [u, v].map(f64::from).map(|x| x / one);
+                let w = (i64::from(crate::tessellator::fixed::ONE) - i64::from(u) - i64::from(v))
+                    as f64
+                    / one;
+                for forward in 0..8u32 {
+                    let got = run(
+                        &tape,
+                        &[
+                            ("p.x", f64::from(u)),
+                            ("p.y", f64::from(v)),
+                            ("p.z", f64::from(edge)),
+                            ("forward", f64::from(forward)),
+                        ],
+                    );
+                    let l = l.map(|e| got[e.index()]);
+                    assert_eq!(l, [want_l[0], want_l[1], w], "{spacing:?} code {code:#x}");
+                    assert_eq!(l, crate::tessellator::fixed::barycentric_of::<f64>(u, v));
+                    if edge == NO_EDGE {
+                        continue;
+                    }
+                    let k = edge as usize;
+                    let (start, end) = (l[k], l[(k + 1) % 3]);
+                    let want = if forward >> k & 1 == 1 {
+                        [start, end]
+                    } else {
+                        [end, start]
+                    };
+                    assert_eq!(
+                        ab.map(|e| got[e.index()]),
+                        want,
+                        "code {code:#x} bits {forward}"
+                    );
+                    on_edges += 1;
+                }
+            }
+        }
+    }
+    assert!(on_edges > 100, "{on_edges}");
+    assert!(tessellator_point(Lang::Wgsl).contains(
+        "fn tessella_tessellator_point(p: vec3<u32>, forward: u32) -> TessellaTessellatorPoint {"
+    ));
+    assert!(tessellator_point(Lang::Glsl).starts_with(
+        "void tessella_tessellator_point(uvec3 p, uint forward, out vec3 l, out vec2 ab) {"
+    ));
+}
+
+/// The canonical edge point reads the edge's entries in the face's direction or reversed, as
+/// `canonical_points` and `canonical_normals` order them, passes the host's context on, and
+/// keeps the face's normal where the mode or a vanished net says so.
+#[test]
+fn canonical_edge_point_reads_in_canonical_order_and_keeps_the_faces_normal_where_due() {
+    let sources = EdgeSources {
+        context: ("nets: texture_2d<f32>, ", "nets, "),
+        net_normals: "!TESSELLA_REAL_NORMALS",
+    };
+    let wgsl = canonical_edge_point(Lang::Wgsl, &sources);
+    assert!(wgsl.contains(
+        "fn tessella_canonical_edge_point(nets: texture_2d<f32>, face: u32, edge: u32, forward: bool, \
+         value: vec4<f32>, normal: vec3<f32>, face_normal: vec3<f32>) -> TessellaCanonicalEdge {"
+    ));
+    // The reversal is the CPU's: entry i of the reversed list is entry n - 1 - i.
+    let mut c = crate::refine::canonical::canonical_points(
+        Basis::Cubic,
+        &std::array::from_fn::<_, 10, _>(|i| [i as f32; 3]),
+        1,
+        false,
+    )
+    .map(|p| p[0] as usize);
+    assert_eq!(c, {
+        let mut e = crate::refine::canonical::edge_controls(Basis::Cubic, 1);
+        e.reverse();
+        e
+    });
+    c.reverse();
+    assert_eq!(c, crate::refine::canonical::edge_controls(Basis::Cubic, 1));
+    for want in [
+        "c[i] = tessella_net_point(nets, face, tessella_edge_control(edge, select(3u - i, i, forward)));",
+        "m[i] = tessella_net_normal(nets, face, tessella_edge_normal_control(edge, select(2u - i, i, forward)));",
+        "if (!(!TESSELLA_REAL_NORMALS) || all(e.n == vec3<f32>(0.0))) {\n        e.n = face_normal;",
+        "fn tessella_edge_forward(bits: u32, edge: u32) -> bool {\n    return ((bits >> edge) & 1u) != 0u;",
+    ] {
+        assert!(wgsl.contains(want), "{want}\n{wgsl}");
+    }
+    let glsl = canonical_edge_point(
+        Lang::Glsl,
+        &EdgeSources {
+            context: ("", ""),
+            net_normals: "!TESSELLA_REAL_NORMALS",
+        },
+    );
+    for want in [
+        "void tessella_canonical_edge_point(uint face, uint edge, bool forward, vec4 value, vec3 normal, vec3 face_normal, out vec3 p, out vec3 n) {",
+        "c[i] = tessella_net_point(face, tessella_edge_control(edge, (forward ? i : 3u - i)));",
+        "tessella_canonical_edge(value, normal, c, m, p, n);",
+        "if (!(!TESSELLA_REAL_NORMALS) || n == vec3(0.0)) {\n        n = face_normal;",
+    ] {
+        assert!(glsl.contains(want), "{want}\n{glsl}");
+    }
+    assert!(!glsl.contains("let ") && !glsl.contains("select("));
 }

@@ -15,6 +15,8 @@ pub const ONE_THIRD: u32 = 0x5555;
 /// 2/3, truncated (0xaaaa): the scale from a 1D position to an inner ring's distance from its edge.
 pub const TWO_THIRDS: u32 = 0xaaaa;
 
+use crate::scalar::{Noise, Word};
+
 const FRACTION_MASK: u32 = ONE - 1;
 const INTEGER_MASK: u32 = 0x7fff_0000;
 
@@ -101,9 +103,19 @@ pub fn from_f32(x: f32) -> u32 {
     }
 }
 
-/// The exact value of a 16.16 number.
+/// The exact value of a 16.16 number (the patterns take theirs from [`barycentric_of`]).
+#[cfg(test)]
 pub fn to_f64(x: u32) -> f64 {
     f64::from(x) / f64::from(ONE)
+}
+
+/// The barycentric point `(u, v, 1 − u − v)` of a pattern point at 16.16 `(u, v)` (`u + v ≤ 1`),
+/// each coordinate exact, for any [`Noise`] number: the CPU's patterns in `f64`, and traced for
+/// the adaptive shaders, which place the point in 16.16 (`crate::shader::tessellator_point`).
+pub fn barycentric_of<R: Noise>(u: R::W, v: R::W) -> [R; 3] {
+    let w = R::W::lit(ONE).wsub(u).wsub(v);
+    let scale = R::lit(f64::from(ONE));
+    [u, v, w].map(|x| R::from_word(x) / scale)
 }
 
 /// Smallest integer ≥ `x` (in 16.16).

@@ -273,12 +273,7 @@ fn build(p: &ProcessedLevels) -> Pattern {
 
 /// `(l1, l2, l3) = (u, v, 1 − u − v)`, exact.
 fn barycentric(u: u32, v: u32) -> [f64; 3] {
-    let w = i64::from(ONE) - i64::from(u) - i64::from(v);
-    [
-        fixed::to_f64(u),
-        fixed::to_f64(v),
-        w as f64 / f64::from(ONE),
-    ]
+    fixed::barycentric_of(u, v)
 }
 
 /// Triangles, ring by ring from the outside in, each ring side by side.

@@ -7,8 +7,9 @@
 // from the edge's own data, the same floats on both faces. Prepended (adaptive.rs): the record
 // layout and the basis, normal-net and edge weights generated from tessella-core's formulas
 // (tessella_core::shader: `tessella_patch_sum`, `tessella_normal_net_sum`,
-// `tessella_edge_weights`, `tessella_canonical_edge`, `tessella_locate`, `tessella_grid_*`,
-// `TESSELLA_*` constants), the normal's glue (`tessella_adaptive_normal`) and the printed
+// `tessella_edge_weights`, `tessella_canonical_edge`, `tessella_canonical_edge_point`,
+// `tessella_locate`, `tessella_tessellator_point`, `tessella_grid_*`, `TESSELLA_*` constants),
+// the normal's glue (`tessella_adaptive_normal`) and the printed
 // TessellaAdaptiveParams; appended: adaptive_draw.wgsl (the vertex
 // shader) or adaptive_capture.wgsl (a compute read-back of the same points).
 
@@ -42,6 +43,16 @@ fn tessella_net_normal(face: u32, k: u32) -> vec3<f32> {
 // tessella_core::tessellator) reads.
 fn tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32 {
     return tessella_records[rec + TESSELLA_RULER_WORDS * r + k];
+}
+
+// The edge tables' reads `tessella_canonical_edge_point` takes: edge `edge`'s boundary control
+// points and normal-net entries (canonical::edge_controls, edge_normal_controls).
+fn tessella_edge_control(edge: u32, i: u32) -> u32 {
+    return tessella_adaptive_params.edge_controls[edge][i];
+}
+
+fn tessella_edge_normal_control(edge: u32, i: u32) -> u32 {
+    return tessella_adaptive_params.edge_normals[edge][i];
 }
 
 // A point's surface, accumulated (geomorphing blends several): position, Du, Dv and the normal
@@ -144,15 +155,15 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
     var l: vec3<f32>;
     var edge = TESSELLA_NO_EDGE;
     if (!TESSELLA_GRID) {
+        // The tessellator's 16.16 placement, read back as the generated functions do it
+        // (tessella_locate, tessella_tessellator_point: the CPU's canonical::fixed_point_of).
         let p = tessella_locate(rec, code, inst >> 30u);
-        let lf = vec3<u32>(p.x, p.y, TESSELLA_FIXED_ONE - p.x - p.y);
-        l = vec3<f32>(lf) / f32(TESSELLA_FIXED_ONE);
+        let t = tessella_tessellator_point(p, face_forward);
+        l = t.l;
         tessella_add_point(&acc, face, l, 1.0);
         edge = p.z;
         if (edge != TESSELLA_NO_EDGE) {
-            let forward = ((face_forward >> edge) & 1u) != 0u;
-            let a = select(TESSELLA_FIXED_ONE - lf[edge], lf[edge], forward);
-            tessella_add_edge(&acc, f32(a) / f32(TESSELLA_FIXED_ONE), f32(TESSELLA_FIXED_ONE - a) / f32(TESSELLA_FIXED_ONE), 1.0);
+            tessella_add_edge(&acc, t.ab.x, t.ab.y, 1.0);
         }
     } else {
         let g = tessella_grid_point(face, rec, face_forward, code & 0xffu, (code >> 8u) & 0xffu, &acc);
@@ -160,29 +171,15 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
         edge = u32(g.w);
     }
 
-    var p = acc.p;
-    var net = acc.n;
+    // The normal's steps are the CPU's (tessella_adaptive_normal, generated in adaptive.rs).
+    var point = TessellaAdaptivePoint(acc.p, tessella_adaptive_normal(face, acc.du, acc.dv, acc.n), l);
     if (edge != TESSELLA_NO_EDGE) {
         // The edge's own data in canonical order, summed in the same order on both faces
-        // (the generated tessella_canonical_edge, the CPU's canonical::edge_sum_of).
-        let forward = ((face_forward >> edge) & 1u) != 0u;
-        let ctrl = tessella_adaptive_params.edge_controls[edge];
-        let nc = tessella_adaptive_params.edge_normals[edge];
-        var c: array<vec3<f32>, 4>;
-        for (var i = 0u; i < 4u; i++) {
-            c[i] = tessella_net_point(face, ctrl[select(3u - i, i, forward)]);
-        }
-        var m: array<vec3<f32>, 3>;
-        for (var i = 0u; i < 3u; i++) {
-            m[i] = tessella_net_normal(face, nc[select(2u - i, i, forward)]);
-        }
-        let e = tessella_canonical_edge(acc.edge_w, acc.edge_n, c, m);
-        p = e.p;
-        // The edge's net normal where the mode takes the net; a real normal stays the face's.
-        if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL && any(e.n != vec3<f32>(0.0))) {
-            net = e.n;
-        }
+        // (the generated tessella_canonical_edge_point, the CPU's canonical::edge_sum_of).
+        let forward = tessella_edge_forward(face_forward, edge);
+        let e = tessella_canonical_edge_point(face, edge, forward, acc.edge_w, acc.edge_n, point.normal);
+        point.position = e.p;
+        point.normal = e.n;
     }
-    // The normal's steps are the CPU's (tessella_adaptive_normal, generated in adaptive.rs).
-    return TessellaAdaptivePoint(p, tessella_adaptive_normal(face, acc.du, acc.dv, net), l);
+    return point;
 }

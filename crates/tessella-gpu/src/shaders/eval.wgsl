@@ -67,10 +67,20 @@ fn tessella_eval_patch(face: u32, row: u32) -> TessellaSurfacePoint {
     return out;
 }
 
+// The edge tables' reads `tessella_canonical_edge_point` takes (the table's head: per edge
+// its four boundary control points, then its three normal-net entries; crate::canonical).
+fn tessella_edge_control(edge: u32, i: u32) -> u32 {
+    return tessella_edge_table[1u + edge * 4u + i];
+}
+
+fn tessella_edge_normal_control(edge: u32, i: u32) -> u32 {
+    return tessella_edge_table[13u + edge * 3u + i];
+}
+
 // A point on coarse edge k is evaluated from the edge's own four control points (and three
 // normal-net entries) in canonical order, from the corner with the lower position id, with
 // weights made on the CPU: the two faces sharing the edge compute the same floats in the same
-// order (the generated tessella_canonical_edge, the CPU's canonical::edge_sum_of), so its
+// order (the generated tessella_canonical_edge_point, the CPU's canonical::edge_sum_of), so its
 // vertices are bit-identical. "Real" normals stay the face's own.
 fn tessella_edge_point(face: u32, row: u32, out: ptr<function, TessellaSurfacePoint>) {
     let r = TESSELLA_EDGE_ROWS_AT + row * TESSELLA_EDGE_ROW_LEN;
@@ -79,16 +89,8 @@ fn tessella_edge_point(face: u32, row: u32, out: ptr<function, TessellaSurfacePo
         return;
     }
     let k = code - 1u;
-    let forward = ((tessella_edge_table[tessella_edge_table[0] + face] >> k) & 1u) != 0u;
+    let forward = tessella_edge_forward(tessella_edge_table[tessella_edge_table[0] + face], k);
     let w = r + 1u + select(7u, 0u, forward);
-    var c: array<vec3<f32>, 4>;
-    for (var i = 0u; i < 4u; i++) {
-        c[i] = tessella_net_point(face, tessella_edge_table[1u + k * 4u + select(3u - i, i, forward)]);
-    }
-    var m: array<vec3<f32>, 3>;
-    for (var i = 0u; i < 3u; i++) {
-        m[i] = tessella_net_normal(face, tessella_edge_table[13u + k * 3u + select(2u - i, i, forward)]);
-    }
     let value = vec4<f32>(
         bitcast<f32>(tessella_edge_table[w]),
         bitcast<f32>(tessella_edge_table[w + 1u]),
@@ -100,9 +102,7 @@ fn tessella_edge_point(face: u32, row: u32, out: ptr<function, TessellaSurfacePo
         bitcast<f32>(tessella_edge_table[w + 5u]),
         bitcast<f32>(tessella_edge_table[w + 6u]),
     );
-    let e = tessella_canonical_edge(value, normal, c, m);
+    let e = tessella_canonical_edge_point(face, k, forward, value, normal, (*out).normal);
     (*out).position = e.p;
-    if (TESSELLA_NORMAL_MODE != TESSELLA_MODE_REAL && any(e.n != vec3<f32>(0.0))) {
-        (*out).normal = e.n;
-    }
+    (*out).normal = e.n;
 }

@@ -19,7 +19,7 @@
 
 use crate::basis::png1::own_slot;
 use crate::basis::Basis;
-use crate::scalar::Real;
+use crate::scalar::{Noise, Real, Word};
 
 /// Control point indices of edge `k`'s boundary curve: start corner, its own control point
 /// near the start, near the end, end corner (edge `k` runs from corner `k` to `k + 1 mod 3`).
@@ -81,6 +81,34 @@ pub fn forward(t: [u32; 3], k: usize, position_ids: &[u32]) -> bool {
     let (v0, v1) = (t[k], t[(k + 1) % 3]);
     let (p0, p1) = (position_ids[v0 as usize], position_ids[v1 as usize]);
     (p0, v0) < (p1, v1)
+}
+
+/// A tessellator point as the adaptive shaders place it (`crate::shader::tessellator_point`),
+/// from its 16.16 `u`, `v` and coarse edge `edge` (`tessellator::parts::NO_EDGE` off the
+/// edges) on a face whose edge `k` runs canonically where bit `k` of `forward` is set: its
+/// barycentric point (`tessellator::fixed::barycentric_of`) and, on an edge, the
+/// canonical parameter `[a, b]` of [`EdgeWeights::new`]: the canonical start corner's weight
+/// and the end corner's, `a + b = 1` exactly (off the edges it means nothing). The CPU takes
+/// the same `a`, `b` from its f64 pattern points ([`super::tiling::Tile::edge_weights`]).
+pub fn fixed_point_of<R: Noise>(u: R::W, v: R::W, edge: R::W, forward: R::W) -> ([R; 3], [R; 2]) {
+    let w = R::W::lit;
+    let one = w(crate::tessellator::fixed::ONE);
+    // Edge `edge`'s entry of a per-edge triple.
+    let of_edge =
+        |v: [R::W; 3]| R::W::select_eq(edge, w(1), v[1], R::W::select_eq(edge, w(2), v[2], v[0]));
+    let start = of_edge([u, v, one.wsub(u).wsub(v)]);
+    let bit = |b: u32| forward.shr(b).and(w(1));
+    let a = R::W::select_eq(
+        of_edge([bit(0), bit(1), bit(2)]),
+        w(1),
+        start,
+        one.wsub(start),
+    );
+    let scale = R::lit(f64::from(crate::tessellator::fixed::ONE));
+    (
+        crate::tessellator::fixed::barycentric_of(u, v),
+        [a, one.wsub(a)].map(|x| R::from_word(x) / scale),
+    )
 }
 
 /// The four control points of edge `k` of a patch, in canonical order.
