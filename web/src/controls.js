@@ -1,6 +1,7 @@
 // The HTML controls: each one sets a parameter by its URL name; `refresh` writes the state back
 // into them (after a refused value too, so they never show what is not drawn).
 import { download, showMessage } from './ui.js';
+import { ANIMATIONS, LABELS, NORMALS, SCHEMES, SPACINGS } from './params.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -18,8 +19,24 @@ function formatBytes(n) {
   return `${(n / 1024 / 1024).toFixed(2)} MiB`;
 }
 
+/** Fills the menus of the parameters with a fixed list of names from params.js's lists. */
+function fillMenus(form) {
+  const lists = { scheme: SCHEMES, normals: NORMALS, spacing: SPACINGS, animate: ANIMATIONS };
+  for (const [name, values] of Object.entries(lists)) {
+    form.querySelector(`select[name="${name}"]`).replaceChildren(
+      ...values.map((v) => {
+        const o = document.createElement('option');
+        o.value = v;
+        o.textContent = LABELS[v] ?? v;
+        return o;
+      }),
+    );
+  }
+}
+
 export function bindControls({ state, set, load, getCore, capture }) {
   const form = $('controls');
+  fillMenus(form);
   const named = [...form.querySelectorAll('[name]')];
   let tagTarget = null;
 

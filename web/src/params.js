@@ -10,6 +10,16 @@ export const SPACINGS = ['grid', 'equal', 'fractional-odd', 'fractional-even'];
 export const NORMALS = ['default', 'linear', 'quadratic', 'real'];
 export const ANIMATIONS = ['none', 'twist', 'bend'];
 
+/** How the page's menus show a name of these lists, where it is not the name itself. */
+export const LABELS = Object.freeze({
+  phong: 'Phong',
+  pn: 'PN',
+  png1: 'PNG1',
+  'pn-aen': 'PN-AEN',
+  st: 'scalar-tagged',
+  default: "the scheme's",
+});
+
 /**
  * The defaults: `tessella render`'s (crates/tessella-cli/src/args.rs, RenderArgs) but for the
  * level, 8 as the engine's (the CLI renders 16), and geomorphing on as in the engine.

@@ -86,6 +86,21 @@ test('every broken file of the corpus gives its message and the previous mesh st
   await page.close();
 });
 
+test('the menus list params.js\'s names with their labels, and choosing one sets the parameter', async () => {
+  const { ANIMATIONS, LABELS, NORMALS, SCHEMES, SPACINGS } = await import('../src/params.js');
+  const page = await open(env, '?mesh=samples/icosphere.obj&size=200x160&level=4');
+  for (const [name, want] of [['scheme', SCHEMES], ['normals', NORMALS], ['spacing', SPACINGS], ['animate', ANIMATIONS]]) {
+    const shown = await page.locator(`select[name=${name}] option`).evaluateAll((os) => os.map((o) => [o.value, o.textContent]));
+    assert.deepEqual(shown, want.map((v) => [v, LABELS[v] ?? v]), name);
+  }
+  assert.equal(await page.inputValue('select[name=scheme]'), 'pn');
+  await page.selectOption('select[name=scheme]', 'png1');
+  await page.waitForFunction(() => window.viewer.get().scheme === 'png1');
+  assert.equal(await message(page), '');
+  await page.close();
+  assert.deepEqual(page.problems, []);
+});
+
 test('NaN typed into a field, bad URL values and what needs WebGPU: a message, nothing changes', async () => {
   const page = await open(env, '?mesh=samples/icosphere.obj&size=200x160&level=4&zoom=abc');
   assert.match(await message(page), /zoom must be a positive number/);
