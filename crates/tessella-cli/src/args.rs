@@ -95,6 +95,17 @@ fn scheme_parser() -> impl TypedValueParser<Value = SchemeArg> {
     CoreName::<Scheme>::new().map(SchemeArg)
 }
 
+/// The surface's shape flags of `refine`, `render` and `view`.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct ShapeArgs {
+    /// Phong shape factor: 0 is flat, 1 the full projection.
+    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
+    pub alpha: f32,
+    /// How refined normals are made (default: the scheme's own).
+    #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
+    pub normals: Option<NormalsArg>,
+}
+
 /// The pose flags of `refine` and `render`.
 #[derive(Debug, Clone, Args)]
 pub struct PoseFlags {
@@ -136,12 +147,8 @@ pub struct RefineArgs {
     /// coordinates in its corner order) saying where each refined vertex comes from.
     #[arg(long)]
     pub write_origin: bool,
-    /// Phong shape factor: 0 is flat, 1 the full projection.
-    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
-    pub alpha: f32,
-    /// How refined normals are made (default: the scheme's own).
-    #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
-    pub normals: Option<NormalsArg>,
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Give every coarse triangle its own vertices instead of sharing them along coarse edges.
     #[arg(long)]
     pub soup: bool,
@@ -212,12 +219,8 @@ pub struct RenderArgs {
     pub spacing: Spacing,
     #[command(flatten)]
     pub lod: LodArgs,
-    /// Phong shape factor.
-    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
-    pub alpha: f32,
-    /// How normals are made (default: the scheme's own).
-    #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
-    pub normals: Option<NormalsArg>,
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Picture size, WIDTHxHEIGHT (of the whole picture with --compare: the panels share it).
     #[arg(long, default_value = "800x800", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -351,12 +354,8 @@ pub struct ViewArgs {
     /// `distance:NEAR,FAR,MAX` or `tolerance:D`.
     #[arg(long, value_name = "SPEC")]
     pub lod: Option<String>,
-    /// Phong shape factor.
-    #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
-    pub alpha: f32,
-    /// How normals are made (default: the scheme's own).
-    #[arg(long, value_parser = CoreName::<NormalMode>::new().map(NormalsArg))]
-    pub normals: Option<NormalsArg>,
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Window size, WIDTHxHEIGHT (pixels).
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     pub size: (u32, u32),

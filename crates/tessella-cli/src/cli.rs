@@ -91,7 +91,7 @@ mod tests {
             panic!("not a refine command")
         };
         assert_eq!(args.scheme, SchemeArg(Scheme::PnAen));
-        assert_eq!(args.normals, Some(NormalsArg(NormalMode::Real)));
+        assert_eq!(args.shape.normals, Some(NormalsArg(NormalMode::Real)));
         assert_eq!(args.backend, Backend::Cpu);
         let Command::Refine(args) = refine(&["--scheme", "phong", "--alpha", "0.5"])
             .unwrap()
@@ -99,7 +99,10 @@ mod tests {
         else {
             panic!("not a refine command")
         };
-        assert_eq!(args.scheme.scheme(args.alpha), Scheme::Phong { alpha: 0.5 });
+        assert_eq!(
+            args.scheme.scheme(args.shape.alpha),
+            Scheme::Phong { alpha: 0.5 }
+        );
         assert_eq!(args.backend, Backend::Auto);
 
         let err = refine(&["--scheme", "loop"]).unwrap_err().to_string();

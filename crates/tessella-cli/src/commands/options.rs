@@ -3,21 +3,21 @@
 //! [`RefineOptions::from_pairs`] as Python's `level=5.5`, npm's `{ level: 5.5 }` and the
 //! viewer's `?level=5.5` are. A bad value's message names the flag.
 
-use crate::args::{NormalsArg, SchemeArg};
+use crate::args::{SchemeArg, ShapeArgs};
 use tessella_core::refine::{Ask, Spacing};
 use tessella_core::{Named, RefineOptions};
 
 /// The option flags as given.
 pub struct Flags<'a> {
     pub scheme: SchemeArg,
-    pub alpha: f32,
+    /// `--alpha` and `--normals`.
+    pub shape: ShapeArgs,
     pub level: f64,
     pub spacing: Spacing,
     pub lod: Option<&'a str>,
     /// `--camera` as given, or the picture's own camera for `render`.
     pub camera: Option<String>,
     pub size: Option<(u32, u32)>,
-    pub normals: Option<NormalsArg>,
     pub soup: bool,
     pub max_memory: Option<u64>,
 }
@@ -27,7 +27,7 @@ impl Flags<'_> {
     pub fn pairs(&self) -> Vec<(&'static str, String)> {
         let mut pairs = vec![
             ("scheme", self.scheme.0.name().to_string()),
-            ("alpha", self.alpha.to_string()),
+            ("alpha", self.shape.alpha.to_string()),
             ("spacing", self.spacing.to_string()),
             ("soup", self.soup.to_string()),
         ];
@@ -41,7 +41,7 @@ impl Flags<'_> {
         if let Some((w, h)) = self.size {
             pairs.push(("size", format!("{w}x{h}")));
         }
-        if let Some(normals) = self.normals {
+        if let Some(normals) = self.shape.normals {
             pairs.push(("normals", normals.0.name().to_string()));
         }
         if let Some(bytes) = self.max_memory {

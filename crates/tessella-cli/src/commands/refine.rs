@@ -299,13 +299,12 @@ pub fn same_file(input: &std::path::Path, output: &std::path::Path) -> bool {
 fn options(args: &RefineArgs) -> anyhow::Result<RefineOptions> {
     super::options::Flags {
         scheme: args.scheme,
-        alpha: args.alpha,
+        shape: args.shape,
         level: args.level,
         spacing: args.spacing,
         lod: args.lod.lod.as_deref(),
         camera: args.lod.camera.clone(),
         size: args.size,
-        normals: args.normals,
         soup: args.soup,
         max_memory: Some(args.max_memory),
     }

@@ -31,7 +31,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     ];
     super::options::refuse_conflicts(&levels, asks.into_iter().flatten())?;
     let options_for = |scheme: crate::args::SchemeArg| -> anyhow::Result<RefineOptions> {
-        let scheme = scheme.scheme(args.alpha);
+        let scheme = scheme.scheme(args.shape.alpha);
         let mut options = RefineOptions {
             scheme,
             ..levels.clone()
@@ -148,7 +148,7 @@ fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Resul
     let lod = args.lod.lod.as_deref();
     super::options::Flags {
         scheme: args.scheme,
-        alpha: args.alpha,
+        shape: args.shape,
         level: args.level,
         spacing: args.spacing,
         lod,
@@ -158,7 +158,6 @@ fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Resul
             (_, given) => given.clone(),
         },
         size: lod.map(|_| view.size),
-        normals: args.normals,
         soup: false,
         max_memory: None,
     }
