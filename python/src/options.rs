@@ -87,6 +87,27 @@ pub struct Given<'a> {
     pub weld: bool,
 }
 
+impl<'a> Given<'a> {
+    /// A whole grid level with the shape's arguments, the rest as `refine`'s defaults: what
+    /// the FEM refinement and the `Refiner` take.
+    pub fn grid(
+        scheme: &'a str,
+        alpha: f64,
+        level: i64,
+        normals_mode: Option<&'a str>,
+        weld: bool,
+    ) -> Given<'a> {
+        Given {
+            scheme,
+            alpha,
+            level: level.to_string(),
+            normals_mode,
+            weld,
+            ..Default::default()
+        }
+    }
+}
+
 impl Default for Given<'_> {
     fn default() -> Self {
         Given {

@@ -206,14 +206,13 @@ impl Refiner {
         backend: &str,
         weld: bool,
     ) -> PyResult<Self> {
-        let opts = options::refine_options(options::Given {
-            scheme,
-            alpha,
-            level: level.to_string(),
-            normals_mode,
-            weld,
-            ..Default::default()
-        })?;
+        let opts = options::refine_options(options::Given::grid(
+        scheme,
+        alpha,
+        level,
+        normals_mode,
+        weld,
+    ))?;
         let scheme = opts.scheme;
         scheme.validate().map_err(errors::refine_error)?;
         let backend_choice = options::backend(backend)?;
