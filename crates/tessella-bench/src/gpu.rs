@@ -18,6 +18,18 @@ use tessella_gpu::{
 use tessella_view::{scene_uniforms, Appearance, RenderOptions, RenderUniforms, Target};
 use web_time::Instant;
 
+/// The blocking twin of an async bench function, natively with the `blocking` feature: the
+/// same arguments, run to completion on this thread (the async one is the browser's form).
+macro_rules! blocking {
+    ($(#[$doc:meta])* $name:ident = $run:ident($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $(#[$doc])*
+        #[cfg(feature = "blocking")]
+        pub fn $name($($arg: $ty),*) -> $ret {
+            pollster::block_on($run($($arg),*))
+        }
+    };
+}
+
 /// One row of [`refine_throughput`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct RefineRow {
@@ -172,12 +184,13 @@ pub fn mesh_with_faces(faces: usize) -> Result<Mesh, GpuError> {
     Ok(samples::first_faces(&samples::icosphere(sub), faces))
 }
 
-/// GMR Figure 7 redone: frame time and GPU footprint of (a) a static refined vertex buffer
-/// (written by [`GpuEvaluator`]) and (b) the instanced pattern, for each coarse triangle count
-/// and level. Both pictures are compared, so a row also says that both drew the same surface.
-#[cfg(feature = "blocking")]
-pub fn figure7(ctx: &GpuContext, config: &Figure7Config) -> Result<Vec<Figure7Row>, GpuError> {
-    pollster::block_on(figure7_async(ctx, config))
+blocking! {
+    /// GMR Figure 7 redone: frame time and GPU footprint of (a) a static refined vertex buffer
+    /// (written by [`GpuEvaluator`]) and (b) the instanced pattern, for each coarse triangle count
+    /// and level. Both pictures are compared, so a row also says that both drew the same surface.
+    figure7 = figure7_async(
+        ctx: &GpuContext, config: &Figure7Config
+    ) -> Result<Vec<Figure7Row>, GpuError>
 }
 
 /// [`figure7`] without blocking: the browser's form.
@@ -323,19 +336,12 @@ pub struct SchemeRow {
     pub frame_ms: f64,
 }
 
-/// Frame time of the instanced pattern per scheme (e.g. PN vs PNG1: 10 vs 21 control points).
-#[cfg(feature = "blocking")]
-pub fn scheme_frame_times(
-    ctx: &GpuContext,
-    mesh: &Mesh,
-    schemes: &[Scheme],
-    level: u32,
-    frames: u32,
-    size: (u32, u32),
-) -> Result<Vec<SchemeRow>, GpuError> {
-    pollster::block_on(scheme_frame_times_async(
-        ctx, mesh, schemes, level, frames, size,
-    ))
+blocking! {
+    /// Frame time of the instanced pattern per scheme (e.g. PN vs PNG1: 10 vs 21 control points).
+    scheme_frame_times = scheme_frame_times_async(
+        ctx: &GpuContext, mesh: &Mesh, schemes: &[Scheme], level: u32, frames: u32,
+        size: (u32, u32)
+    ) -> Result<Vec<SchemeRow>, GpuError>
 }
 
 /// [`scheme_frame_times`] without blocking.
@@ -471,21 +477,14 @@ fn median(v: &mut [f64]) -> f64 {
     v[v.len() / 2]
 }
 
-/// Frame times of the instanced renderer with mixed patterns against one uniform pattern of
-/// about the same triangle count: `(uniform_ms, mixed_ms, uniform_triangles,
-/// mixed_triangles, mixed_draws)`. The mixed plan has per-edge fractional-odd levels spread
-/// over `[1, √3·level]` (one draw per distinct tile); the uniform one is the grid at `level`.
-#[cfg(feature = "blocking")]
-pub fn mixed_pattern_frame_times(
-    ctx: &GpuContext,
-    mesh: &Mesh,
-    level: u32,
-    frames: u32,
-    size: (u32, u32),
-) -> Result<(f64, f64, usize, usize, usize), GpuError> {
-    pollster::block_on(mixed_pattern_frame_times_async(
-        ctx, mesh, level, frames, size,
-    ))
+blocking! {
+    /// Frame times of the instanced renderer with mixed patterns against one uniform pattern of
+    /// about the same triangle count: `(uniform_ms, mixed_ms, uniform_triangles,
+    /// mixed_triangles, mixed_draws)`. The mixed plan has per-edge fractional-odd levels spread
+    /// over `[1, √3·level]` (one draw per distinct tile); the uniform one is the grid at `level`.
+    mixed_pattern_frame_times = mixed_pattern_frame_times_async(
+        ctx: &GpuContext, mesh: &Mesh, level: u32, frames: u32, size: (u32, u32)
+    ) -> Result<(f64, f64, usize, usize, usize), GpuError>
 }
 
 /// [`mixed_pattern_frame_times`] without blocking.
@@ -559,18 +558,13 @@ fn moving_levels(edges: usize, top: f32, frame: u32) -> Vec<f32> {
         .collect()
 }
 
-/// What a frame costs when the levels change every frame (a camera flying, a LOD updating):
-/// rebuilding the adaptive plan and its renderer each frame against one [`AdaptiveRenderer`]
-/// fed new levels; and, levels fixed, the draw of each (PN, per-edge levels up to `top`).
-#[cfg(feature = "blocking")]
-pub fn changing_levels(
-    ctx: &GpuContext,
-    mesh: &Mesh,
-    top: f32,
-    frames: u32,
-    size: (u32, u32),
-) -> Result<Vec<ChangingLevelsRow>, GpuError> {
-    pollster::block_on(changing_levels_async(ctx, mesh, top, frames, size))
+blocking! {
+    /// What a frame costs when the levels change every frame (a camera flying, a LOD updating):
+    /// rebuilding the adaptive plan and its renderer each frame against one [`AdaptiveRenderer`]
+    /// fed new levels; and, levels fixed, the draw of each (PN, per-edge levels up to `top`).
+    changing_levels = changing_levels_async(
+        ctx: &GpuContext, mesh: &Mesh, top: f32, frames: u32, size: (u32, u32)
+    ) -> Result<Vec<ChangingLevelsRow>, GpuError>
 }
 
 /// [`changing_levels`] without blocking.
