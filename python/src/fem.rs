@@ -65,13 +65,7 @@ pub fn refine_fem<'py>(
     cell_data: Vec<FieldIn<'py>>,
     uvs: Option<PyReadonlyArray2<'py, f32>>,
 ) -> PyResult<FemArrays<'py>> {
-    let opts = options::refine_options(options::Given::grid(
-        scheme,
-        alpha,
-        level,
-        normals_mode,
-        weld,
-    ))?;
+    let opts = options::grid_options(scheme, alpha, level, normals_mode, weld)?;
     let backend = options::backend(backend)?;
     let mesh = crate::mesh_with_mids_from(py, vertices, faces, mids, normals, uvs)?;
     let point_data = point_data

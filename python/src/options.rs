@@ -87,27 +87,6 @@ pub struct Given<'a> {
     pub weld: bool,
 }
 
-impl<'a> Given<'a> {
-    /// A whole grid level with the shape's arguments, the rest as `refine`'s defaults: what
-    /// the FEM refinement and the `Refiner` take.
-    pub fn grid(
-        scheme: &'a str,
-        alpha: f64,
-        level: i64,
-        normals_mode: Option<&'a str>,
-        weld: bool,
-    ) -> Given<'a> {
-        Given {
-            scheme,
-            alpha,
-            level: level.to_string(),
-            normals_mode,
-            weld,
-            ..Default::default()
-        }
-    }
-}
-
 impl Default for Given<'_> {
     fn default() -> Self {
         Given {
@@ -151,6 +130,25 @@ pub fn refine_options(given: Given<'_>) -> PyResult<tessella_core::RefineOptions
         };
         let argument = argument.replace('-', "_");
         bad_option(format!("{argument}: {}{hint}", e.message))
+    })
+}
+
+/// The options of a whole grid level with the shape's arguments, the rest as `refine`'s
+/// defaults: what the FEM refinement and the `Refiner` take.
+pub fn grid_options(
+    scheme: &str,
+    alpha: f64,
+    level: i64,
+    normals_mode: Option<&str>,
+    weld: bool,
+) -> PyResult<tessella_core::RefineOptions> {
+    refine_options(Given {
+        scheme,
+        alpha,
+        level: level.to_string(),
+        normals_mode,
+        weld,
+        ..Default::default()
     })
 }
 

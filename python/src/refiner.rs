@@ -206,13 +206,7 @@ impl Refiner {
         backend: &str,
         weld: bool,
     ) -> PyResult<Self> {
-        let opts = options::refine_options(options::Given::grid(
-        scheme,
-        alpha,
-        level,
-        normals_mode,
-        weld,
-    ))?;
+        let opts = options::grid_options(scheme, alpha, level, normals_mode, weld)?;
         let scheme = opts.scheme;
         scheme.validate().map_err(errors::refine_error)?;
         let backend_choice = options::backend(backend)?;

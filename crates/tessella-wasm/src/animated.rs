@@ -16,6 +16,8 @@ pub struct Animated {
     poser: Poser,
 }
 
+crate::arrays::poser_exports!(Animated);
+
 #[wasm_bindgen]
 impl Animated {
     /// The triangles' corners, 3 vertex indices per triangle.
@@ -26,17 +28,6 @@ impl Animated {
     /// The clips' names, in the file's order.
     pub fn clips(&self) -> Vec<String> {
         self.poser.clip_names().map(String::from).collect()
-    }
-
-    #[wasm_bindgen(js_name = vertexCount)]
-    pub fn vertex_count(&self) -> usize {
-        self.poser.vertex_count()
-    }
-
-    /// Whether the file has normals (otherwise each pose's normals are computed).
-    #[wasm_bindgen(js_name = hasNormals)]
-    pub fn has_normals(&self) -> bool {
-        self.poser.has_normals()
     }
 
     /// The index of the clip named `name` (or, when none has that name, of decimal index

@@ -39,6 +39,58 @@ pub fn triangles(values: &[u32]) -> Result<Vec<[u32; 3]>, String> {
     Ok(bytemuck::cast_slice(values).to_vec())
 }
 
+/// The exports of a class that JS feeds frame by frame through [`FrameInputs`] (its field
+/// `inputs`): `positionsInput(len)` and `normalsInput(len)`, the input arrays for `len` numbers
+/// (resized only when `len` changes) as addresses in wasm memory, and `frame(normals)`, which
+/// runs the class's `step` on the frame now in them (`normals`: whether the normals input holds
+/// this frame's normals; otherwise they are computed). On error the class keeps the last good
+/// frame.
+macro_rules! frame_input_exports {
+    ($class:ty) => {
+        #[wasm_bindgen::prelude::wasm_bindgen]
+        impl $class {
+            /// The positions input for `len` numbers; its address in wasm memory.
+            #[wasm_bindgen(js_name = positionsInput)]
+            pub fn positions_input(&mut self, len: usize) -> *mut f32 {
+                self.inputs.positions_ptr(len)
+            }
+            /// The normals input for `len` numbers; its address in wasm memory.
+            #[wasm_bindgen(js_name = normalsInput)]
+            pub fn normals_input(&mut self, len: usize) -> *mut f32 {
+                self.inputs.normals_ptr(len)
+            }
+            /// Takes the frame now in the inputs (`normals`: whether the normals input holds
+            /// it); on error the last good frame stays.
+            pub fn frame(&mut self, normals: bool) -> Result<(), wasm_bindgen::JsError> {
+                self.step(normals).map_err(crate::errors::text)
+            }
+        }
+    };
+}
+pub(crate) use frame_input_exports;
+
+/// The exports of a class that poses an animated file through its field `poser`
+/// (`tessella_core::animation::Poser`): `vertexCount()` and `hasNormals()` (whether the file
+/// has normals; otherwise each pose's normals are computed).
+macro_rules! poser_exports {
+    ($class:ty) => {
+        #[wasm_bindgen::prelude::wasm_bindgen]
+        impl $class {
+            /// The file's vertex count.
+            #[wasm_bindgen(js_name = vertexCount)]
+            pub fn vertex_count(&self) -> usize {
+                self.poser.vertex_count()
+            }
+            /// Whether the file has normals (otherwise each pose's normals are computed).
+            #[wasm_bindgen(js_name = hasNormals)]
+            pub fn has_normals(&self) -> bool {
+                self.poser.has_normals()
+            }
+        }
+    };
+}
+pub(crate) use poser_exports;
+
 /// A frame's positions and, when it has them, its normals.
 pub type FramePoints<'a> = (&'a [[f32; 3]], Option<&'a [[f32; 3]]>);
 

@@ -44,6 +44,8 @@ pub struct Source<'a> {
     pub targets: u32,
 }
 
+crate::arrays::poser_exports!(Deformer);
+
 #[wasm_bindgen]
 impl Deformer {
     #[wasm_bindgen(constructor)]
@@ -75,16 +77,6 @@ impl Deformer {
     #[wasm_bindgen(js_name = matrixCount)]
     pub fn matrix_count(&self) -> usize {
         self.poser.deform_matrix_count()
-    }
-
-    #[wasm_bindgen(js_name = vertexCount)]
-    pub fn vertex_count(&self) -> usize {
-        self.poser.vertex_count()
-    }
-
-    #[wasm_bindgen(js_name = hasNormals)]
-    pub fn has_normals(&self) -> bool {
-        self.poser.has_normals()
     }
 
     /// Poses the mesh with `matrices` (16 numbers each, column-major) and the morph `weights`

@@ -77,6 +77,8 @@ pub struct InstancedSurface {
     bounds: [f32; 10],
 }
 
+crate::arrays::frame_input_exports!(InstancedSurface);
+
 #[wasm_bindgen]
 impl InstancedSurface {
     /// Checks the options and the indices' shape now; the mesh is checked on the first frame.
@@ -153,24 +155,6 @@ impl InstancedSurface {
     /// The same in WGSL, for three.js's WebGPURenderer (TSL `wgslFn`): see [`wgsl`].
     pub fn wgsl(&self) -> String {
         wgsl(self.options.scheme.basis(), self.options.normal_mode())
-    }
-
-    /// The input array for `len` position numbers, resized only when `len` changes; returns
-    /// its address in wasm memory.
-    #[wasm_bindgen(js_name = positionsInput)]
-    pub fn positions_input(&mut self, len: usize) -> *mut f32 {
-        self.inputs.positions_ptr(len)
-    }
-    #[wasm_bindgen(js_name = normalsInput)]
-    pub fn normals_input(&mut self, len: usize) -> *mut f32 {
-        self.inputs.normals_ptr(len)
-    }
-
-    /// Builds the nets of the frame now in the input arrays (`normals`: whether the normals
-    /// input holds this frame's normals; otherwise they are computed). On error the nets keep
-    /// the last good frame.
-    pub fn frame(&mut self, normals: bool) -> Result<(), JsError> {
-        self.step(normals).map_err(errors::text)
     }
 
     /// The packed nets (`textureWidth * textureHeight * 4` floats) in wasm memory.

@@ -31,30 +31,14 @@ pub struct Refiner {
     built: Option<Built>,
 }
 
+crate::arrays::frame_input_exports!(Refiner);
+
 #[wasm_bindgen]
 impl Refiner {
     /// Checks the options now; the mesh is checked on the first frame.
     #[wasm_bindgen(constructor)]
     pub fn new(indices: &[u32], uvs: Option<Vec<f32>>, options: &str) -> Result<Refiner, JsError> {
         Refiner::with(indices, uvs, options).map_err(errors::text)
-    }
-
-    /// The input array for `len` position numbers (and as many normal numbers when `normals`),
-    /// resized only when `len` changes; returns its address in wasm memory.
-    #[wasm_bindgen(js_name = positionsInput)]
-    pub fn positions_input(&mut self, len: usize) -> *mut f32 {
-        self.inputs.positions_ptr(len)
-    }
-    #[wasm_bindgen(js_name = normalsInput)]
-    pub fn normals_input(&mut self, len: usize) -> *mut f32 {
-        self.inputs.normals_ptr(len)
-    }
-
-    /// Refines the frame now in the input arrays (`normals`: whether the normals input holds
-    /// this frame's normals; otherwise they are computed). On error the outputs keep the last
-    /// good frame.
-    pub fn frame(&mut self, normals: bool) -> Result<(), JsError> {
-        self.step(normals).map_err(errors::text)
     }
 
     #[wasm_bindgen(js_name = vertexCount)]
