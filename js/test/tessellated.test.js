@@ -153,7 +153,7 @@ test("the materials' vertex shaders evaluate the patch and hide three's attribut
     assert.equal(shader.uniforms.tessellaNets.value, mesh.netsTexture);
     assert.equal(shader.uniforms.tessellaFacesPerRow.value, mesh.surface.facesPerRow);
     const main = shader.vertexShader.indexOf('void main() {');
-    assert.ok(shader.vertexShader.indexOf('void tessella_cubic_weights(vec3 l, out vec3 w[21])') < main);
+    assert.ok(shader.vertexShader.indexOf('void tessella_evaluate(int face, vec3 l, out vec3 position, out vec3 normal)') < main);
     const body = shader.vertexShader.slice(main);
     assert.ok(body.indexOf('vec3 position = tessellaPosition;') < body.indexOf('#include <begin_vertex>'));
     assert.ok(body.includes('vec2 uv = tessellaBarycentric.x * tessellaUv01.xy'));
@@ -229,6 +229,12 @@ test('a renderer without instancing, float textures or vertex textures is refuse
   mesh.dispose();
 });
 
+/** The terms of the sum a generated `tessella_position` returns (`p = t5 * c0 + ...`). */
+function sumTerms(code) {
+  const line = code.split('\n').find((l) => l.trimStart().startsWith('p = '));
+  return line.match(/ \* c\d+/g).length;
+}
+
 test("the WGSL for WebGPURenderer: TSL's parser finds tessella_position and tessella_normal with the parameters the node passes", () => {
   for (const scheme of ['pn', 'png1']) {
     const mesh = new TessellatedMesh(new IcosahedronGeometry(1, 0), undefined, { scheme, level: 3 });
@@ -249,9 +255,12 @@ test("the WGSL for WebGPURenderer: TSL's parser finds tessella_position and tess
     // The same text, the same nodes: a user's material calling them includes the helpers once.
     assert.equal(tessellaFunctions(code), tessellaFunctions(code));
     const helpers = position.includes[0].code;
-    for (const name of ['tessella_texel', 'tessella_normal_weights', `tessella_${scheme === 'pn' ? 'cubic' : 'png1'}_weights`]) {
+    for (const name of ['tessella_texel', 'tessella_normal_weights']) {
       assert.match(helpers, new RegExp(`fn ${name}\\(`));
     }
+    // The sums are the core's straight-line code (shader::patch_sum), one term a control
+    // point: 10 for PN, 21 for PNG1.
+    assert.equal(sumTerms(position.code), scheme === 'pn' ? 10 : 21);
     // The nets texture's layout is the GLSL's: the same texels per face.
     assert.match(code, new RegExp(`const TESSELLA_TEXELS_PER_FACE: u32 = ${mesh.surface.texelsPerFace}u;`));
     // The material draws the node under WebGPURenderer (and its onBeforeCompile under WebGLRenderer).

@@ -137,23 +137,33 @@ vec3 ctrl(int f, int k) { return tc_pts[k]; }
 vec3 nctrl(int f, int k) { return tc_nrm[k]; }
 "#;
 
-/// The evaluation's entry point: the sums, then the generated normal steps.
-const EVALUATION_MAIN: &str = r#"
-void main() {
+/// The evaluation's entry point: the generated sums of the program's basis, then the generated
+/// normal steps.
+fn evaluation_main() -> String {
+    let point = |k: usize| format!("ctrl(f, {k})");
+    let sums = |basis: Basis| {
+        let sources = shader::SumSources {
+            point: &point,
+            into: [Some("p"), Some("du"), Some("dv")],
+        };
+        let glue = shader::patch_sum(Lang::Glsl, basis, &sources);
+        glue.lines()
+            .map(|l| format!("    {l}\n"))
+            .collect::<String>()
+    };
+    format!(
+        r#"
+void main() {{
     // gl_TessCoord (u, v, w) is (l1, l2, l3): u = 1 at P1 (tessella_core::tessellator).
     vec3 l = gl_TessCoord;
     int f = gl_PrimitiveID;
-    vec3 w[21];
-    if (u_k == 21) { tessella_png1_weights(l, w); } else { tessella_cubic_weights(l, w); }
-    vec3 p = vec3(0.0);
-    vec3 du = vec3(0.0);
-    vec3 dv = vec3(0.0);
-    for (int k = 0; k < u_k; ++k) {
-        vec3 c = ctrl(f, k);
-        p += w[k].x * c;
-        du += w[k].y * c;
-        dv += w[k].z * c;
-    }
+    vec3 p;
+    vec3 du;
+    vec3 dv;
+    // The patch's sums (tessella_core::shader::patch_sum), for PNG1's 21 points or the cubic 10.
+    if (u_k == 21) {{
+{}    }} else {{
+{}    }}
     // The normal's steps are the CPU's (tessella_patch_normal, generated: patch_normal).
     vec3 n = tessella_patch_normal(f, l, du, dv);
     tf_position = p;
@@ -161,8 +171,12 @@ void main() {
     tf_coord = l;
     tf_face = f;
     gl_Position = u_view_proj * vec4(p, 1.0);
+}}
+"#,
+        sums(Basis::Png1),
+        sums(Basis::Cubic)
+    )
 }
-"#;
 
 /// Colour by normal (the paper's pictures), for drawing.
 const FRAGMENT: &str = r#"
@@ -259,13 +273,12 @@ pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
             shader::png1_normals_glsl()
         ),
         evaluation: format!(
-            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{}{}{EVALUATION}{}{EVALUATION_MAIN}",
+            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{EVALUATION}{}{}",
             layout(spacing),
-            shader::weights(Lang::Glsl, Basis::Cubic),
-            shader::weights(Lang::Glsl, Basis::Png1),
             shader::normal_net(Lang::Glsl),
             shader::surface_normal(Lang::Glsl),
-            patch_normal()
+            patch_normal(),
+            evaluation_main()
         ),
         fragment: format!("{HEADER}{FRAGMENT}"),
     }
@@ -287,11 +300,7 @@ mod tests {
             (
                 "evaluation",
                 &s.evaluation,
-                &[
-                    "tessella_png1_weights",
-                    "tessella_cubic_weights",
-                    "tessella_normal_weights",
-                ][..],
+                &["tessella_normal_weights"][..],
             ),
         ] {
             for f in calls {
@@ -330,7 +339,23 @@ mod tests {
         }
         // The normal's steps: the generated glue, once; none typed here.
         assert_eq!(s.evaluation.matches(&patch_normal()).count(), 1);
-        for typed in [EVALUATION, EVALUATION_MAIN] {
+        // The sums: the generated ones of both bases, once each; none typed here.
+        for basis in [Basis::Cubic, Basis::Png1] {
+            let point = |k: usize| format!("ctrl(f, {k})");
+            let sums = shader::patch_sum(
+                Lang::Glsl,
+                basis,
+                &shader::SumSources {
+                    point: &point,
+                    into: [Some("p"), Some("du"), Some("dv")],
+                },
+            );
+            let indented: String = sums.lines().map(|l| format!("    {l}\n")).collect();
+            assert_eq!(s.evaluation.matches(&indented).count(), 1, "{basis:?}");
+        }
+        let main = evaluation_main();
+        for typed in [EVALUATION, main.as_str()] {
+            assert!(!typed.contains("for (int k"), "a sum typed by hand");
             assert!(!typed.contains("1e-12") && !typed.contains("cross("));
             assert!(!typed.contains("tessella_unit_or_zero") && !typed.contains("tessella_corner"));
         }

@@ -102,33 +102,89 @@ pub fn weights(lang: Lang, basis: Basis) -> String {
     s + "}\n"
 }
 
-/// WGSL: `fn tessella_patch_sum(face: u32, l: vec3<f32>) -> TessellaPatchSum` for `basis` (a
-/// pipeline compiles one basis), the patch's point and derivatives at `l`:
-/// `Σ w_k(l) C_k` with the control points from `tessella_net_point(face, k)`. The weights are
-/// [`weights`]'; the sums skip the terms whose weight is the constant zero.
-pub fn patch_sum_wgsl(basis: Basis) -> String {
+/// Where a host's patch sum reads and what it sets, for [`patch_sum`].
+pub struct SumSources<'a> {
+    /// Control point `k` as an expression of the host's (a read of its nets, a local).
+    pub point: &'a dyn Fn(usize) -> String,
+    /// The variables (declared by the host) that get the point, `Du` and `Dv`: `None` for a
+    /// sum the host does not need, whose weights are then not computed.
+    pub into: [Option<&'a str>; 3],
+}
+
+/// The statements of a patch's point and derivatives at the barycentric point `l` (named so
+/// by the host) for `basis`: `Σ w_k(l) C_k` with the weights traced from the basis' Rust
+/// ([`weights`]' formulas, as straight-line code), each sum in index order, skipping the terms
+/// whose weight is the constant zero. They declare the control points `c0..` (from
+/// [`SumSources::point`]) and the weights' temporaries `t<n>`, then assign each asked-for sum.
+/// Indented for a function body. Every backend that evaluates a patch from computed weights
+/// prints its sums here: the adaptive renderer ([`patch_sum_wgsl`]), the GL evaluation shader
+/// and the wasm GLSL and WGSL.
+///
+/// ```
+/// use tessella_core::shader::{self, Lang, SumSources};
+/// use tessella_core::Basis;
+/// let point = |k: usize| format!("ctrl(f, {k})");
+/// let glsl = shader::patch_sum(Lang::Glsl, Basis::Cubic, &SumSources {
+///     point: &point,
+///     into: [Some("p"), None, None],
+/// });
+/// assert!(glsl.contains("    vec3 c9 = ctrl(f, 9);\n"));
+/// assert!(glsl.contains("    p = ") && !glsl.contains("    du = "));
+/// ```
+pub fn patch_sum(lang: Lang, basis: Basis, sources: &SumSources) -> String {
     let (tape, w) = trace(|| basis.weights_of(traced_l()));
-    let outputs: Vec<Expr> = w.iter().flat_map(|d| [d.v, d.du, d.dv]).collect();
-    let body = Body::new(&tape, Lang::Wgsl, &outputs);
-    let mut s = String::from(PATCH_SUM_STRUCT_WGSL);
-    s += "\nfn tessella_patch_sum(face: u32, l: vec3<f32>) -> TessellaPatchSum {\n";
-    s += &body.statements;
+    let parts = |d: &Dual<Expr>| [d.v, d.du, d.dv];
+    let outputs: Vec<Expr> = w
+        .iter()
+        .flat_map(|d| {
+            parts(d)
+                .into_iter()
+                .zip(sources.into)
+                .filter_map(|(e, into)| into.map(|_| e))
+        })
+        .collect();
+    let body = Body::new(&tape, lang, &outputs);
+    let mut s = body.statements.clone();
+    let declare = match lang {
+        Lang::Wgsl => "let",
+        Lang::Glsl => "vec3",
+    };
     for k in 0..w.len() {
-        s += &format!("    let c{k} = tessella_net_point(face, {k}u);\n");
+        s += &format!("    {declare} c{k} = {};\n", (sources.point)(k));
     }
-    s += "    var s: TessellaPatchSum;\n";
-    for (field, part) in [("p", 0), ("du", 1), ("dv", 2)] {
+    for (part, into) in sources.into.iter().enumerate() {
+        let Some(into) = into else { continue };
         let terms: Vec<String> = w
             .iter()
             .enumerate()
-            .map(|(k, d)| ([d.v, d.du, d.dv][part], k))
+            .map(|(k, d)| (parts(d)[part], k))
             .filter(|&(e, _)| !body.is_zero(e))
             .map(|(e, k)| format!("{} * c{k}", body.name(e)))
             .collect();
         if !terms.is_empty() {
-            s += &format!("    s.{field} = {};\n", terms.join(" + "));
+            s += &format!("    {into} = {};\n", terms.join(" + "));
         }
     }
+    s
+}
+
+/// WGSL: `fn tessella_patch_sum(face: u32, l: vec3<f32>) -> TessellaPatchSum` for `basis` (a
+/// pipeline compiles one basis), the patch's point and derivatives at `l`:
+/// [`patch_sum`] with the control points from `tessella_net_point(face, k)`.
+pub fn patch_sum_wgsl(basis: Basis) -> String {
+    let point = |k: usize| format!("tessella_net_point(face, {k}u)");
+    let sums = patch_sum(
+        Lang::Wgsl,
+        basis,
+        &SumSources {
+            point: &point,
+            into: [Some("s.p"), Some("s.du"), Some("s.dv")],
+        },
+    );
+    let mut s = String::from(PATCH_SUM_STRUCT_WGSL);
+    s += "\nfn tessella_patch_sum(face: u32, l: vec3<f32>) -> TessellaPatchSum {\n";
+    s += "    var s: TessellaPatchSum;\n";
+    s += &sums;
     s + "    return s;\n}\n"
 }
 
