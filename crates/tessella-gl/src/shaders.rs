@@ -241,6 +241,7 @@ void main() {
 /// the core's normal steps ([`shader::normal_glue`]) over the point's derivatives, its normal
 /// net and its corners.
 fn patch_normal() -> String {
+    let net = shader::normal_net_sum(Lang::Glsl, &|k| format!("nctrl(f, {k})"), "n");
     let glue = shader::normal_glue(
         Lang::Glsl,
         &shader::NormalSources {
@@ -249,9 +250,7 @@ fn patch_normal() -> String {
                 du: "du",
                 dv: "dv",
             }),
-            net: "float nw[6];\n\
-                  tessella_normal_weights(l, nw);\n\
-                  for (int j = 0; j < 6; ++j) { n += nw[j] * nctrl(f, j); }",
+            net: &net,
             corners: ["ctrl(f, 0)", "ctrl(f, 1)", "ctrl(f, 2)"],
         },
     );
@@ -273,9 +272,8 @@ pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
             shader::png1_normals_glsl()
         ),
         evaluation: format!(
-            "{HEADER}layout(triangles, {}, ccw) in;\n{}{}{EVALUATION}{}{}",
+            "{HEADER}layout(triangles, {}, ccw) in;\n{}{EVALUATION}{}{}",
             layout(spacing),
-            shader::normal_net(Lang::Glsl),
             shader::surface_normal(Lang::Glsl),
             patch_normal(),
             evaluation_main()
@@ -291,30 +289,22 @@ mod tests {
     #[test]
     fn every_stage_takes_the_generated_weights_it_calls() {
         let s = glsl_sources(Partitioning::Equal);
-        for (stage, text, calls) in [
-            (
-                "control",
-                &s.control,
-                &["tessella_png1_net", "tessella_png1_normals"][..],
-            ),
-            (
-                "evaluation",
-                &s.evaluation,
-                &["tessella_normal_weights"][..],
-            ),
-        ] {
-            for f in calls {
-                assert_eq!(
-                    text.matches(&format!("void {f}(")).count(),
-                    1,
-                    "{stage}: {f}"
-                );
-                assert!(
-                    text.matches(&format!("{f}(")).count() >= 2,
-                    "{stage} calls {f}"
-                );
-            }
+        for f in ["tessella_png1_net", "tessella_png1_normals"] {
+            assert_eq!(s.control.matches(&format!("void {f}(")).count(), 1, "{f}");
+            assert!(
+                s.control.matches(&format!("{f}(")).count() >= 2,
+                "calls {f}"
+            );
         }
+        // The normal net's sum: the generated one, once, in the normal's steps.
+        let net = shader::normal_net_sum(Lang::Glsl, &|k| format!("nctrl(f, {k})"), "n");
+        let indented: String = net.lines().map(|l| format!("        {l}\n")).collect();
+        assert_eq!(
+            s.evaluation.matches(&indented).count(),
+            1,
+            "{}",
+            s.evaluation
+        );
         // The normal glue: the generated functions once, each called, none typed here.
         assert_eq!(
             s.evaluation

@@ -545,7 +545,7 @@ pub(crate) fn constants(
         ),
         crate::gpu_types::AdaptiveParams::wgsl(),
         shader::patch_sum_wgsl(basis),
-        shader::normal_net(Lang::Wgsl),
+        shader::normal_net_sum_wgsl(),
         shader::edge_weights_wgsl(),
         crate::patch::canonical_edge_wgsl().to_string(),
         crate::patch::canonical_edge_point_wgsl().to_string(),

@@ -10,6 +10,8 @@ pub(crate) struct Body<'t> {
     lang: Lang,
     /// GLSL in double precision (`double`, `1.0LF`): the OpenGL control shader's PNG1 net.
     double: bool,
+    /// What the temporaries' names start with (`t`; another where two bodies share a scope).
+    prefix: &'static str,
     /// One line per operation, indented by four spaces.
     pub(crate) statements: String,
 }
@@ -18,6 +20,17 @@ impl<'t> Body<'t> {
     /// Statements computing every operation `outputs` depend on.
     pub(crate) fn new<V: Traced + Copy>(tape: &'t Tape, lang: Lang, outputs: &[V]) -> Body<'t> {
         Body::of(tape, lang, false, outputs.iter().map(Traced::index))
+    }
+
+    /// [`Body::new`] with temporaries named `<prefix><index>`, so that its statements can stand
+    /// in one scope with another body's.
+    pub(crate) fn prefixed<V: Traced + Copy>(
+        tape: &'t Tape,
+        lang: Lang,
+        outputs: &[V],
+        prefix: &'static str,
+    ) -> Body<'t> {
+        Body::with(tape, lang, false, prefix, outputs.iter().map(Traced::index))
     }
 
     /// [`Body::new`] for outputs of both types: `f32` ones and `u32` ones.
@@ -47,6 +60,16 @@ impl<'t> Body<'t> {
         double: bool,
         outputs: impl Iterator<Item = usize>,
     ) -> Body<'t> {
+        Body::with(tape, lang, double, "t", outputs)
+    }
+
+    fn with(
+        tape: &'t Tape,
+        lang: Lang,
+        double: bool,
+        prefix: &'static str,
+        outputs: impl Iterator<Item = usize>,
+    ) -> Body<'t> {
         let mut needed = vec![false; tape.nodes.len()];
         for e in outputs {
             needed[e] = true;
@@ -64,6 +87,7 @@ impl<'t> Body<'t> {
             tape,
             lang,
             double,
+            prefix,
             statements: String::new(),
         };
         for (i, node) in tape.nodes.iter().enumerate() {
@@ -79,7 +103,7 @@ impl<'t> Body<'t> {
                 (Lang::Glsl, Ty::F32) => "float",
                 (Lang::Glsl, Ty::U32) => "uint",
             };
-            body.statements += &format!("    {decl} t{i} = {value};\n");
+            body.statements += &format!("    {decl} {prefix}{i} = {value};\n");
         }
         body
     }
@@ -95,7 +119,7 @@ impl<'t> Body<'t> {
             Node::Const(bits) if self.double => double_literal(f64::from_bits(*bits)),
             Node::Const(bits) => literal(f64::from_bits(*bits)),
             Node::UConst(x) => format!("{x}u"),
-            _ => format!("t{i}"),
+            _ => format!("{}{i}", self.prefix),
         }
     }
 

@@ -192,50 +192,46 @@ pub fn patch_sum_wgsl(basis: Basis) -> String {
 const PATCH_SUM_STRUCT_WGSL: &str =
     "struct TessellaPatchSum {\n    p: vec3<f32>,\n    du: vec3<f32>,\n    dv: vec3<f32>,\n}\n";
 
-/// The quadratic normal net's weights at `l` (`l1², l2², l3², l1 l2, l2 l3, l3 l1`):
+/// The statements of the normal net's sum at the barycentric point `l` (named so by the
+/// host): `into = Σ w_k(l) N_k` over the six entries (`l1², l2², l3², l1 l2, l2 l3, l3 l1`,
+/// [`crate::basis::normal_weights`], traced), in index order, with entry `k` from `normal(k)`,
+/// an expression of the host's. They declare the entries `m0..m5` and temporaries `tn<n>`
+/// (apart from [`patch_sum`]'s, so both can stand in one function) and assign `into`, which
+/// the host declared. Indented for a function body. Every backend that sums a normal net at
+/// computed weights prints it here: the adaptive renderer ([`normal_net_sum_wgsl`]), the GL
+/// evaluation shader and the wasm GLSL and WGSL (as [`normal_glue`]'s net source).
 ///
-/// - WGSL: `fn tessella_normal_net_sum(face: u32, l: vec3<f32>) -> vec3<f32>`, the weighted
-///   sum of `tessella_net_normal(face, k)`;
-/// - GLSL: `void tessella_normal_weights(vec3 l, out float w[6])`.
-pub fn normal_net(lang: Lang) -> String {
+/// ```
+/// use tessella_core::shader::{self, Lang};
+/// let glsl = shader::normal_net_sum(Lang::Glsl, &|k| format!("nctrl(f, {k})"), "n");
+/// assert!(glsl.contains("    vec3 m5 = nctrl(f, 5);\n"));
+/// assert!(glsl.contains("    n = tn3 * m0 + "));
+/// ```
+pub fn normal_net_sum(lang: Lang, normal: &dyn Fn(usize) -> String, into: &str) -> String {
     let (tape, w) = trace(|| normal_weights(traced_l()));
-    let body = Body::new(&tape, lang, &w);
-    match lang {
-        Lang::Wgsl => {
-            let terms: Vec<String> = (0..NORMAL_NET_LEN)
-                .map(|k| format!("{} * tessella_net_normal(face, {k}u)", body.name(w[k])))
-                .collect();
-            format!(
-                "fn tessella_normal_net_sum(face: u32, l: vec3<f32>) -> vec3<f32> {{\n{}    return {};\n}}\n",
-                body.statements,
-                terms.join(" + ")
-            )
-        }
-        Lang::Glsl => {
-            let mut s = format!(
-                "void tessella_normal_weights(vec3 l, out float w[{NORMAL_NET_LEN}]) {{\n{}",
-                body.statements
-            );
-            for (k, e) in w.iter().enumerate() {
-                s += &format!("    w[{k}] = {};\n", body.name(*e));
-            }
-            s + "}\n"
-        }
+    let body = Body::prefixed(&tape, lang, &w, "tn");
+    let declare = match lang {
+        Lang::Wgsl => "let",
+        Lang::Glsl => "vec3",
+    };
+    let mut s = body.statements.clone();
+    for k in 0..NORMAL_NET_LEN {
+        s += &format!("    {declare} m{k} = {};\n", normal(k));
     }
+    let terms: Vec<String> = (0..NORMAL_NET_LEN)
+        .map(|k| format!("{} * m{k}", body.name(w[k])))
+        .collect();
+    s + &format!("    {into} = {};\n", terms.join(" + "))
 }
 
-/// WGSL: `fn tessella_normal_weights(l: vec3<f32>) -> array<f32, 6>`, the quadratic normal
-/// net's weights at `l` alone (what [`normal_net`]'s GLSL fills in), for a shader that reads
-/// the normal net itself rather than through `tessella_net_normal` (one whose nets arrive as a
-/// function's texture parameter, as three.js's TSL passes them).
-pub fn normal_weights_wgsl() -> String {
-    let (tape, w) = trace(|| normal_weights(traced_l()));
-    let body = Body::new(&tape, Lang::Wgsl, &w);
-    let items: Vec<String> = w.iter().map(|e| body.name(*e)).collect();
+/// WGSL: `fn tessella_normal_net_sum(face: u32, l: vec3<f32>) -> vec3<f32>`, [`normal_net_sum`]
+/// with the entries from `tessella_net_normal(face, k)`.
+pub fn normal_net_sum_wgsl() -> String {
+    let normal = |k: usize| format!("tessella_net_normal(face, {k}u)");
     format!(
-        "fn tessella_normal_weights(l: vec3<f32>) -> array<f32, {NORMAL_NET_LEN}> {{\n{}    return array<f32, {NORMAL_NET_LEN}>({});\n}}\n",
-        body.statements,
-        items.join(", ")
+        "fn tessella_normal_net_sum(face: u32, l: vec3<f32>) -> vec3<f32> {{\n    \
+         var n: vec3<f32>;\n{}    return n;\n}}\n",
+        normal_net_sum(Lang::Wgsl, &normal, "n")
     )
 }
 

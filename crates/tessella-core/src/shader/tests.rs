@@ -388,17 +388,17 @@ fn printed_functions_declare_only_tessella_names_and_cover_every_weight() {
     }
     let p2 = p2_weights_wgsl();
     assert_eq!(p2.matches("array<f32, 6>").count(), 2, "{p2}");
-    let normal = normal_weights_wgsl();
-    assert!(normal.starts_with("fn tessella_normal_weights(l: vec3<f32>) -> array<f32, 6>"));
-    // Six weights returned (their values are the traced tape's, checked above).
-    let returned = normal.lines().rev().nth(1).unwrap();
-    let items = returned.split_once("6>(").unwrap().1;
-    assert_eq!(items.matches(", ").count(), 5, "{normal}");
+    let normal = normal_net_sum_wgsl();
+    assert!(normal.starts_with("fn tessella_normal_net_sum(face: u32, l: vec3<f32>) -> vec3<f32>"));
+    // Six entries summed (the weights' values are the traced tape's, checked above), with
+    // temporaries apart from the patch sum's.
+    let returned = normal.lines().find(|l| l.starts_with("    n = ")).unwrap();
+    assert_eq!(returned.matches(" * m").count(), 6, "{normal}");
+    assert!(normal.contains("    let tn3 = l.x * l.x;\n"), "{normal}");
     for text in [
         wgsl,
         glsl,
         sum,
-        normal_net(Lang::Wgsl),
         edge_weights_wgsl(),
         p2,
         normal,
