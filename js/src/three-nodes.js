@@ -15,8 +15,8 @@ const functions = new Map();
 /**
  * TSL functions from `InstancedSurface.wgsl()`: `{ position, normal }`, each a `wgslFn` taking
  * `{ nets, face, l }` (the nets texture node, the coarse triangle's index, the barycentric point)
- * and returning a vec3 (the patch's point, its unit normal), sharing the helpers (weights, the
- * texel reader) as one include. The same text gives the same nodes.
+ * and returning a vec3 (the patch's point, its unit normal), sharing the helpers (the texel
+ * reader, the normal's fallbacks) as one include. The same text gives the same nodes.
  */
 export function tessellaFunctions(code) {
   let f = functions.get(code);

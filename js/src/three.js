@@ -397,7 +397,7 @@ function missing(renderer) {
 }
 
 // The vertex shader's additions, one variant per evaluation (each its own program):
-// - 'instanced' (per draw): the GLSL from the wasm (the generated weights and the nets reader),
+// - 'instanced' (per draw): the GLSL from the wasm (the generated evaluation and the nets reader),
 //   the attributes, and at the top of main() the patch evaluated at the instance's coarse
 //   triangle (`tessellaFaceIndex`), into locals named as three's attributes (position, normal,
 //   uv, color) that hide them, so every chunk of three's shaders (lighting, shadows, fog,

@@ -1,9 +1,9 @@
-//! The GLSL of the backend. The basis weights (cubic Bernstein, PNG1's rational weights as dual
-//! numbers), the normal net's weights and the control shader's net builders (van Veen's design:
-//! the patch's net built on the GPU from its corners; PNG1's in doubles) are generated from
-//! tessella-core's own Rust functions ([`tessella_core::shader`]); what is written here is the
-//! stages' own code: the levels, which builder a patch takes and what feeds it, and the
-//! evaluation shader's sums.
+//! The GLSL of the backend. The evaluation's sums (the patch's with the cubic Bernstein or
+//! PNG1's rational weights, the normal net's), the normal's steps and the control shader's net
+//! builders (van Veen's design: the patch's net built on the GPU from its corners; PNG1's in
+//! doubles) are generated from tessella-core's own Rust functions ([`tessella_core::shader`]);
+//! what is written here is the stages' own code: the levels, which builder a patch takes and
+//! what feeds it, and where the evaluation reads its control points.
 
 use tessella_core::shader::{self, Lang, NetBuilder};
 use tessella_core::tessellator::Partitioning;
@@ -287,7 +287,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_stage_takes_the_generated_weights_it_calls() {
+    fn every_stage_takes_the_generated_code_it_calls() {
         let s = glsl_sources(Partitioning::Equal);
         for f in ["tessella_png1_net", "tessella_png1_normals"] {
             assert_eq!(s.control.matches(&format!("void {f}(")).count(), 1, "{f}");

@@ -794,11 +794,23 @@ mod tests {
     }
 
     #[test]
-    fn the_glsl_holds_the_generated_placement_and_the_record_layout() {
+    fn the_glsl_holds_the_generated_placement_edge_point_and_the_record_layout() {
         let g = glsl(tessella_core::Basis::Cubic, NormalMode::Quadratic);
         assert!(g.contains(&shader::locate_glsl()));
         assert!(g.contains(&shader::edge_weights_glsl()));
         assert!(g.contains(&shader::canonical_edge(Lang::Glsl)));
+        // The adaptive point's steps: generated, and called by the entry.
+        assert!(g.contains(&shader::tessellator_point(Lang::Glsl)));
+        assert!(g.contains(&shader::canonical_edge_point(
+            Lang::Glsl,
+            &edge_sources(Lang::Glsl)
+        )));
+        for call in [
+            "tessella_tessellator_point(p, bits, bary, ab);",
+            "tessella_canonical_edge_point(uint(face), p.z, ",
+        ] {
+            assert!(ADAPTIVE_GLSL_MAIN.contains(call), "{call}");
+        }
         assert!(g.contains(&format!(
             "const uint TESSELLA_RULER_WORDS = {RULER_WORDS}u;"
         )));
@@ -819,6 +831,11 @@ mod tests {
             assert!(w.contains(&shader::locate_wgsl()));
             assert!(w.contains(&shader::edge_weights_wgsl()));
             assert!(w.contains(&shader::canonical_edge(Lang::Wgsl)));
+            assert!(w.contains(&shader::tessellator_point(Lang::Wgsl)));
+            assert!(w.contains(&shader::canonical_edge_point(
+                Lang::Wgsl,
+                &edge_sources(Lang::Wgsl)
+            )));
             assert!(w.contains(&shader::record_layout(Lang::Wgsl)));
             assert!(w.starts_with(&nets_wgsl(basis, mode)));
             // The same edge tables as the GLSL's.

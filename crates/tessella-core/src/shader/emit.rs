@@ -1,5 +1,6 @@
 //! Printing a tape as straight-line WGSL or GLSL: one `let` (`float`) per recorded operation
-//! that an output needs, in tape order, named `t<index>`.
+//! that an output needs, in tape order, named `t<index>` (another prefix where two bodies share
+//! a scope).
 
 use super::lang::Lang;
 use super::trace::{Cmp, Node, Tape, Traced, Ty, UOp};
@@ -108,7 +109,7 @@ impl<'t> Body<'t> {
         body
     }
 
-    /// How the generated code names `e`: an input's text, a literal, or its `t<index>`.
+    /// How the generated code names `e`: an input's text, a literal, or its `<prefix><index>`.
     pub(crate) fn name<V: Traced>(&self, e: V) -> String {
         self.name_at(e.index())
     }

@@ -38,8 +38,9 @@ use crate::scheme::{NormalMode, Scheme};
 use emit::Body;
 use trace::{trace, Expr, UExpr};
 
-/// Length of the weight arrays the GLSL functions fill: the largest basis (PNG1's 21), so one
-/// array serves every basis; entries past the basis' own are left unwritten.
+/// Length of the weight arrays [`weights`]' GLSL fills: the largest basis (PNG1's 21), so one
+/// array serves every basis; entries past the basis' own are left unwritten. (The backends sum
+/// through [`patch_sum`], which needs no array; the functions stay for an engine's own sums.)
 pub const GLSL_WEIGHTS_LEN: usize = crate::basis::png1::PNG1_LEN;
 
 /// The basis' name in the generated functions (`tessella_{name}_weights`): `cubic`, `png1`.
@@ -161,9 +162,13 @@ pub fn patch_sum(lang: Lang, basis: Basis, sources: &SumSources) -> String {
             .filter(|&(e, _)| !body.is_zero(e))
             .map(|(e, k)| format!("{} * c{k}", body.name(e)))
             .collect();
-        if !terms.is_empty() {
-            s += &format!("    {into} = {};\n", terms.join(" + "));
-        }
+        // A sum whose every weight is the constant zero is zero (no basis has one).
+        let sum = match (terms.is_empty(), lang) {
+            (false, _) => terms.join(" + "),
+            (true, Lang::Wgsl) => "vec3<f32>(0.0)".into(),
+            (true, Lang::Glsl) => "vec3(0.0)".into(),
+        };
+        s += &format!("    {into} = {sum};\n");
     }
     s
 }

@@ -1101,7 +1101,8 @@ fn traced_canonical_edge_gives_the_cpus_bits() {
     ));
 }
 
-/// The traced tessellator point, run on every point the CPU's placement gives, is the exact
+/// The traced tessellator point, run on every point the CPU's placement gives (each ring, side
+/// and side offset), is the exact
 /// barycentric point of its 16.16 `u`, `v`, and on a coarse edge the canonical parameter the
 /// CPU's tiles take (`Tile::edge_weights`: the start corner's and the end corner's weights,
 /// swapped where the edge runs against the face), for every combination of canonical bits.
@@ -1115,7 +1116,7 @@ fn traced_tessellator_point_gives_the_cpus_barycentrics_and_canonical_parameter(
         crate::refine::canonical::fixed_point_of::<Expr>(u("p.x"), u("p.y"), u("p.z"), u("forward"))
     });
     let one = f64::from(crate::tessellator::fixed::ONE);
-    let mut on_edges = 0;
+    let (mut checked, mut on_edges) = (0, 0);
     for (spacing, outer, inner) in [
         (Partitioning::FractionalOdd, [3.3, 5.0, 1.7], 4.6),
         (Partitioning::Equal, [4.0, 4.0, 9.0], 3.0),
@@ -1123,11 +1124,23 @@ fn traced_tessellator_point_gives_the_cpus_barycentrics_and_canonical_parameter(
         let p = process_levels(spacing, TessLevels { outer, inner }).expect("levels that draw");
         let rulers = FaceRulers::new(&p);
         let words = rulers.words();
-        for side in 0..3u32 {
-            for i in 0..rulers.outer_points[side as usize] {
-                let code = side << 8 | i;
-                let [u, v, edge] =
-                    locate_of(|r: u32, k| words[RULER_WORDS * r as usize + k], code, 0);
+        // Every code a part can name (rings, sides, indices along a side), each side offset.
+        let codes = (0..=rulers.inner_points / 2).flat_map(|ring| {
+            (0..3u32).flat_map(move |side| {
+                let along = rulers.inner_points.max(rulers.outer_points[side as usize]);
+                (0..along).flat_map(move |i| (0..3).map(move |o| (ring << 10 | side << 8 | i, o)))
+            })
+        });
+        for (code, side_offset) in codes {
+            {
+                let [u, v, edge] = locate_of(
+                    |r: u32, k| words[RULER_WORDS * r as usize + k],
+                    code,
+                    side_offset,
+                );
+                if u64::from(u) + u64::from(v) > u64::from(crate::tessellator::fixed::ONE) {
+                    continue; // an index past its ring's side: no point a part names
+                }
                 // Independent of the traced code: the i64 sum the patterns once took.
                 let want_l = [u, v].map(f64::from).map(|x| x / one);
                 let w = (i64::from(crate::tessellator::fixed::ONE) - i64::from(u) - i64::from(v))
@@ -1146,6 +1159,7 @@ fn traced_tessellator_point_gives_the_cpus_barycentrics_and_canonical_parameter(
                     let l = l.map(|e| got[e.index()]);
                     assert_eq!(l, [want_l[0], want_l[1], w], "{spacing:?} code {code:#x}");
                     assert_eq!(l, crate::tessellator::fixed::barycentric_of::<f64>(u, v));
+                    checked += 1;
                     if edge == NO_EDGE {
                         continue;
                     }
@@ -1166,7 +1180,7 @@ fn traced_tessellator_point_gives_the_cpus_barycentrics_and_canonical_parameter(
             }
         }
     }
-    assert!(on_edges > 100, "{on_edges}");
+    assert!(checked > 1000 && on_edges > 300, "{checked} {on_edges}");
     assert!(tessellator_point(Lang::Wgsl).contains(
         "fn tessella_tessellator_point(p: vec3<u32>, forward: u32) -> TessellaTessellatorPoint {"
     ));

@@ -273,6 +273,8 @@ fn build(p: &ProcessedLevels) -> Pattern {
 
 /// `(l1, l2, l3) = (u, v, 1 − u − v)`, exact.
 fn barycentric(u: u32, v: u32) -> [f64; 3] {
+    // Every placed point is in the triangle: the third weight's u32 subtraction cannot wrap.
+    debug_assert!(u64::from(u) + u64::from(v) <= u64::from(ONE), "({u}, {v})");
     fixed::barycentric_of(u, v)
 }
 
