@@ -107,6 +107,8 @@ pub struct AdaptiveSurface {
     instances: Vec<u32>,
 }
 
+crate::arrays::frame_input_exports!(AdaptiveSurface, via nets);
+
 #[wasm_bindgen]
 impl AdaptiveSurface {
     /// `options`: `scheme`, `normals`, `alpha`, `spacing` (a tessellator spacing); `lod`: the
@@ -198,18 +200,6 @@ impl AdaptiveSurface {
         wgsl(o.scheme.basis(), o.normal_mode())
     }
 
-    #[wasm_bindgen(js_name = positionsInput)]
-    pub fn positions_input(&mut self, len: usize) -> *mut f32 {
-        self.nets.positions_input(len)
-    }
-    #[wasm_bindgen(js_name = normalsInput)]
-    pub fn normals_input(&mut self, len: usize) -> *mut f32 {
-        self.nets.normals_input(len)
-    }
-    /// Builds the nets of the frame in the input arrays (see `InstancedSurface::frame`).
-    pub fn frame(&mut self, normals: bool) -> Result<(), JsError> {
-        self.nets.step_inputs(normals).map_err(errors::text)
-    }
     #[wasm_bindgen(js_name = netsOutput)]
     pub fn nets_output(&self) -> *const f32 {
         self.nets.nets_output()

@@ -40,29 +40,29 @@ pub fn triangles(values: &[u32]) -> Result<Vec<[u32; 3]>, String> {
 }
 
 /// The exports of a class that JS feeds frame by frame through [`FrameInputs`] (its field
-/// `inputs`): `positionsInput(len)` and `normalsInput(len)`, the input arrays for `len` numbers
-/// (resized only when `len` changes) as addresses in wasm memory, and `frame(normals)`, which
-/// runs the class's `step` on the frame now in them (`normals`: whether the normals input holds
-/// this frame's normals; otherwise they are computed). On error the class keeps the last good
-/// frame.
+/// `inputs`, or its field `$via`'s): `positionsInput(len)` and `normalsInput(len)`, the input
+/// arrays for `len` numbers (resized only when `len` changes) as addresses in wasm memory, and
+/// `frame(normals)`, which runs the (field's) `step` on the frame now in them (`normals`:
+/// whether the normals input holds this frame's normals; otherwise they are computed). On error
+/// the class keeps the last good frame.
 macro_rules! frame_input_exports {
-    ($class:ty) => {
+    ($class:ty $(, via $via:ident)?) => {
         #[wasm_bindgen::prelude::wasm_bindgen]
         impl $class {
             /// The positions input for `len` numbers; its address in wasm memory.
             #[wasm_bindgen(js_name = positionsInput)]
             pub fn positions_input(&mut self, len: usize) -> *mut f32 {
-                self.inputs.positions_ptr(len)
+                self$(.$via)?.inputs.positions_ptr(len)
             }
             /// The normals input for `len` numbers; its address in wasm memory.
             #[wasm_bindgen(js_name = normalsInput)]
             pub fn normals_input(&mut self, len: usize) -> *mut f32 {
-                self.inputs.normals_ptr(len)
+                self$(.$via)?.inputs.normals_ptr(len)
             }
             /// Takes the frame now in the inputs (`normals`: whether the normals input holds
             /// it); on error the last good frame stays.
             pub fn frame(&mut self, normals: bool) -> Result<(), wasm_bindgen::JsError> {
-                self.step(normals).map_err(crate::errors::text)
+                self$(.$via)?.step(normals).map_err(crate::errors::text)
             }
         }
     };

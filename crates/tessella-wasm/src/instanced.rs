@@ -68,7 +68,7 @@ pub struct InstancedSurface {
     options: SurfaceOptions,
     level: u32,
     layout: Layout,
-    inputs: arrays::FrameInputs,
+    pub(crate) inputs: arrays::FrameInputs,
     built: Option<Built>,
     /// The packed nets, `width * height * 4` floats.
     nets: Vec<f32>,
@@ -245,11 +245,6 @@ impl InstancedSurface {
         })
     }
 
-    /// [`InstancedSurface::frame`] with a `String` error.
-    pub(crate) fn step_inputs(&mut self, normals: bool) -> Result<(), String> {
-        self.step(normals)
-    }
-
     /// The surface and the last frame, once a frame was built.
     pub(crate) fn built(&self) -> Option<(&Surface, &Frame<'static>)> {
         self.built.as_ref().map(|b| (&b.surface, &b.frame))
@@ -267,7 +262,9 @@ impl InstancedSurface {
         self.step(normals.is_some())
     }
 
-    fn step(&mut self, with_normals: bool) -> Result<(), String> {
+    /// Builds the nets of the frame now in the inputs (`InstancedSurface::frame`, and
+    /// `AdaptiveSurface`'s through its nets) with a `String` error.
+    pub(crate) fn step(&mut self, with_normals: bool) -> Result<(), String> {
         match &mut self.built {
             None => {
                 let normals = self.inputs.normals(with_normals);
