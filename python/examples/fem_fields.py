@@ -101,11 +101,9 @@ def plot(results: Dict[str, Dict[str, Any]], levels: List[int], path: str) -> No
             colour, line = style.get(scheme, (None, "-"))
             label = scheme if "P2" in scheme else f"{scheme} (P1 mesh)"
             ax.loglog(levels, [r["max"] for r in row], line, marker="o", color=colour, label=label)
-        ax.set_title(f"{name}: order 1 vs order 2 gmsh boundary")
-        ax.set_xlabel("level (segments per coarse edge)")
-        ax.set_ylabel("max distance to true surface / size")
-        ax.set_xticks(levels)
-        ax.set_xticklabels([str(l) for l in levels])
+        ax.set(title=f"{name}: order 1 vs order 2 gmsh boundary",
+               xlabel="level (segments per coarse edge)", ylabel="max distance to true surface / size",
+               xticks=levels, xticklabels=[str(l) for l in levels])
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()

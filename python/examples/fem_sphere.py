@@ -194,11 +194,9 @@ def plot(results: Dict[str, Dict[str, List[Dict[str, float]]]], levels: List[int
                       label=f"{label} (max)")
             ax.loglog(lv, [r["rms"] for r in row], line, marker=".", color=colour, alpha=0.45,
                       label=f"{label} (rms)")
-        ax.set_title(f"{name}: coarse gmsh boundary refined ({normals} normals)")
-        ax.set_xlabel("level (segments per coarse edge)")
-        ax.set_ylabel("distance to true surface / size")
-        ax.set_xticks(levels)
-        ax.set_xticklabels([str(l) for l in levels])
+        ax.set(title=f"{name}: coarse gmsh boundary refined ({normals} normals)",
+               xlabel="level (segments per coarse edge)", ylabel="distance to true surface / size",
+               xticks=levels, xticklabels=[str(l) for l in levels])
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()

@@ -61,10 +61,11 @@ fn gltf_path(path: &Path, what: &str) -> PyResult<()> {
 /// Refines the glTF scene `source` (a path, or the bytes of a file called `name` whose
 /// external buffers are `buffers`) and writes it to `output` (`.glb` or `.gltf`), or returns
 /// it as GLB bytes when `output` is `None`. `level` (default 8) or `max_edge` (a target edge
-/// length in world space) chooses each primitive's level. See `tessella.refine_gltf`.
+/// length in world space) chooses each primitive's level; `scheme` is PN by default. See
+/// `tessella.refine_gltf`.
 #[pyfunction]
 #[pyo3(name = "_refine_gltf", signature = (source, output=None, *, name="scene.glb", buffers=Vec::new(),
-                    scheme="pn", level=None, max_edge=None, alpha=0.75, normals_mode=None,
+                    scheme=None, level=None, max_edge=None, alpha=0.75, normals_mode=None,
                     tangents="recomputed", joint_sets=None, sync=true))]
 #[allow(clippy::too_many_arguments)]
 fn refine_gltf<'py>(
@@ -73,7 +74,7 @@ fn refine_gltf<'py>(
     output: Option<PathBuf>,
     name: &str,
     buffers: Vec<(String, Bound<'py, PyBytes>)>,
-    scheme: &str,
+    scheme: Option<&str>,
     level: Option<i64>,
     max_edge: Option<f64>,
     alpha: f64,
@@ -111,7 +112,7 @@ fn refine_gltf<'py>(
     // The scheme, alpha and normals as every other function reads them (the level is replaced
     // per primitive by `levels`).
     let refine = options::refine_options(options::Given {
-        scheme,
+        scheme: scheme.unwrap_or("pn"),
         alpha,
         level: "1".into(),
         normals_mode,

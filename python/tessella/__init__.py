@@ -39,7 +39,7 @@ What this build has: :func:`schemes`; what works on this machine: :func:`backend
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, List, Optional, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -48,7 +48,10 @@ from ._errors import FileFormatError, GpuError, MeshError, OptionError, Tessella
 from ._options import Camera, Displace, Lod
 from ._result import PrimitiveReport, RefinedMesh, SceneReport
 from ._tessella import AnimatedMesh, __version__, backends, gpu_info, info, load, load_animated, pattern, save, schemes
-from ._types import BackendName, NormalsMode, SchemeName, Spacing
+from ._types import BackendName, NormalsMode, SchemeName, Spacing, ViewOptions
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 #: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the
 #: path of a JSON file (see :func:`refine`).
@@ -540,21 +543,13 @@ def render(
     faces: Any,
     normals: Any = None,
     *,
-    path: Union[str, "os.PathLike[str]", None] = None,
     scheme: Optional[SchemeName] = None,
     level: int = 8,
     size: Tuple[int, int] = (512, 512),
-    yaw: float = 30.0,
-    pitch: float = 20.0,
-    zoom: float = 1.0,
-    wireframe: bool = False,
     compare: Optional[List[str]] = None,
     point_data: Optional[Dict[str, Any]] = None,
-    color_by: Optional[str] = None,
-    colormap: str = "viridis",
     range: Optional[Tuple[float, float]] = None,
-    colorbar: bool = True,
-    label: Optional[str] = None,
+    **view: Unpack[ViewOptions],
 ) -> np.ndarray:
     """Draw the refined surface offscreen on the GPU (the CLI's ``tessella render``).
 
@@ -632,18 +627,10 @@ def render(
         scheme=scheme,
         level=level,
         size=(int(size[0]), int(size[1])),
-        yaw=yaw,
-        pitch=pitch,
-        zoom=zoom,
-        wireframe=wireframe,
         compare=None if compare is None else [str(s) for s in compare],
         point_data=fields,
-        color_by=color_by,
-        colormap=colormap,
         range=None if range is None else (float(range[0]), float(range[1])),
-        colorbar=colorbar,
-        label=label,
-        path=None if path is None else os.fspath(path),
+        **view,
     )
 
 

@@ -14,32 +14,28 @@ from __future__ import annotations
 
 import os
 import warnings as _warnings
-from typing import Any, List, Mapping, Optional, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Tuple, Union, cast
 
 from . import _options, _tessella
 from ._result import PrimitiveReport, SceneReport
-from ._types import NormalsMode, SchemeName
+from ._types import SceneOptions
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 PathLike = Union[str, "os.PathLike[str]"]
 BytesLike = Union[bytes, bytearray, memoryview]
 
-#: The options :func:`refine_gltf` and :func:`refine_gltf_bytes` take.
-OPTIONS = ("scheme", "level", "max_edge", "alpha", "normals_mode", "tangents", "joint_sets")
+#: The options :func:`refine_gltf` and :func:`refine_gltf_bytes` take (:class:`SceneOptions`).
+OPTIONS = tuple(SceneOptions.__annotations__)
 
 
 def refine_gltf(
     src: PathLike,
     dst: PathLike,
     *,
-    scheme: Optional[SchemeName] = "pn",
-    level: Optional[int] = None,
-    max_edge: Optional[float] = None,
-    alpha: float = 0.75,
-    normals_mode: Optional[NormalsMode] = None,
-    tangents: str = "recomputed",
-    joint_sets: Optional[int] = None,
     sync: bool = True,
-    **options: Any,
+    **options: Unpack[SceneOptions],
 ) -> SceneReport:
     """Refine a whole glTF scene: read ``src`` (``.glb`` or ``.gltf``), refine every triangle
     primitive, write ``dst`` (``.glb``, or ``.gltf`` with ``NAME.bin`` beside it) keeping
@@ -116,12 +112,9 @@ def refine_gltf(
     """
     if isinstance(src, (bytes, bytearray, memoryview)):
         raise TypeError("refine_gltf(src, dst): src is a path; tessella.refine_gltf_bytes(data) refines bytes")
-    level = _options.check_scene_options("refine_gltf", level, max_edge, options, OPTIONS + ("sync",))
+    scene = _scene_options("refine_gltf", options, OPTIONS + ("sync",))
     out = os.fspath(dst)
-    rows, warnings, _ = _tessella._refine_gltf(
-        os.fspath(src), out, scheme="pn" if scheme is None else scheme, level=level, max_edge=max_edge,
-        alpha=alpha, normals_mode=normals_mode, tangents=tangents, joint_sets=joint_sets, sync=sync,
-    )
+    rows, warnings, _ = _tessella._refine_gltf(os.fspath(src), out, sync=sync, **scene)
     for warning in warnings:
         _warnings.warn(f"refine_gltf(): {warning}", RuntimeWarning, stacklevel=2)
     return SceneReport(out, _rows(rows), warnings)
@@ -132,14 +125,7 @@ def refine_gltf_bytes(
     *,
     name: str = "scene.glb",
     buffers: Optional[Mapping[str, BytesLike]] = None,
-    scheme: Optional[SchemeName] = "pn",
-    level: Optional[int] = None,
-    max_edge: Optional[float] = None,
-    alpha: float = 0.75,
-    normals_mode: Optional[NormalsMode] = None,
-    tangents: str = "recomputed",
-    joint_sets: Optional[int] = None,
-    **options: Any,
+    **options: Unpack[SceneOptions],
 ) -> bytes:
     """Refine a whole glTF scene held in memory: the bytes of a ``.glb`` (or ``.gltf``) file
     in, the refined scene's GLB bytes out, the file system untouched. The same refinement and
@@ -170,15 +156,21 @@ def refine_gltf_bytes(
     FileFormatError, OptionError, MeshError
         As :func:`refine_gltf`.
     """
-    level = _options.check_scene_options("refine_gltf_bytes", level, max_edge, options, ("name", "buffers") + OPTIONS)
+    scene = _scene_options("refine_gltf_bytes", options, ("name", "buffers") + OPTIONS)
     given = [(str(uri), bytes(b)) for uri, b in dict(buffers or {}).items()]
-    _, _, glb = _tessella._refine_gltf(
-        bytes(data), None, name=name, buffers=given, scheme="pn" if scheme is None else scheme,
-        level=level, max_edge=max_edge, alpha=alpha, normals_mode=normals_mode, tangents=tangents,
-        joint_sets=joint_sets,
-    )
+    _, _, glb = _tessella._refine_gltf(bytes(data), None, name=name, buffers=given, **scene)
     assert glb is not None
     return glb
+
+
+def _scene_options(call: str, options: Mapping[str, Any], accepted: Tuple[str, ...]) -> SceneOptions:
+    """The :class:`SceneOptions` among a call's keyword ``options``, checked against each other
+    and against the others (:func:`tessella._options.check_scene_options`), for the compiled
+    module, which checks their values and applies the defaults."""
+    scene: Dict[str, Any] = {k: v for k, v in options.items() if k in OPTIONS}
+    others = {k: v for k, v in options.items() if k not in OPTIONS}
+    scene["level"] = _options.check_scene_options(call, scene.get("level"), scene.get("max_edge"), others, accepted)
+    return cast(SceneOptions, scene)
 
 
 def _rows(rows: List[Tuple[int, int, int, int, int, int, int, List[str]]]) -> List[PrimitiveReport]:

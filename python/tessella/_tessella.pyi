@@ -6,7 +6,9 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
-from ._types import BackendName, NormalsMode, SchemeName, Spacing
+from typing_extensions import Unpack
+
+from ._types import BackendName, NormalsMode, SceneOptions, SchemeName, Spacing, ViewOptions
 
 __version__: str
 
@@ -73,18 +75,10 @@ def render(
     scheme: SchemeName = "pn",
     level: int = 8,
     size: Tuple[int, int] = (512, 512),
-    yaw: float = 30.0,
-    pitch: float = 20.0,
-    zoom: float = 1.0,
-    wireframe: bool = False,
     compare: Optional[List[str]] = None,
     point_data: List[Tuple[str, npt.NDArray[np.float32]]] = ...,
-    color_by: Optional[str] = None,
-    colormap: str = "viridis",
     range: Optional[Tuple[float, float]] = None,
-    colorbar: bool = True,
-    label: Optional[str] = None,
-    path: Optional[_Path] = None,
+    **view: Unpack[ViewOptions],
 ) -> npt.NDArray[np.uint8]: ...
 def quality(
     vertices: npt.ArrayLike,
@@ -130,14 +124,8 @@ def _refine_gltf(
     *,
     name: str = "scene.glb",
     buffers: List[Tuple[str, bytes]] = ...,
-    scheme: SchemeName = "pn",
-    level: Optional[int] = None,
-    max_edge: Optional[float] = None,
-    alpha: float = 0.75,
-    normals_mode: Optional[NormalsMode] = None,
-    tangents: str = "recomputed",
-    joint_sets: Optional[int] = None,
     sync: bool = True,
+    **options: Unpack[SceneOptions],
 ) -> Tuple[
     List[Tuple[int, int, int, int, int, int, int, List[str]]],
     List[str],

@@ -3,18 +3,12 @@
 //! with, `tessella_gpu::wgsl::adaptive_module`), registered once per basis, normal mode and
 //! spacing family as the Bevy import `tessella_bevy::adaptive_<basis>_<normals>_<family>`.
 
-use crate::material::{insert_shader, rebind, MATERIAL_GROUP};
+use crate::material::{insert_shader, rebind, vertex_extension, MATERIAL_GROUP};
 use bevy::asset::{uuid::Uuid, uuid_handle};
-use bevy::mesh::MeshVertexBufferLayoutRef;
-use bevy::pbr::{
-    ExtendedMaterial, MaterialExtension, MaterialExtensionKey, MaterialExtensionPipeline,
-};
+use bevy::pbr::ExtendedMaterial;
 use bevy::prelude::*;
-use bevy::render::render_resource::{
-    AsBindGroup, RenderPipelineDescriptor, SpecializedMeshPipelineError,
-};
+use bevy::render::render_resource::AsBindGroup;
 use bevy::render::storage::ShaderBuffer;
-use bevy::shader::ShaderRef;
 use std::marker::PhantomData;
 use tessella_core::refine::Spacing;
 use tessella_core::{Basis, NormalMode};
@@ -105,30 +99,18 @@ fn shader_def(name: &str) -> String {
     format!("TESSELLA_{}", name.to_ascii_uppercase())
 }
 
-impl MaterialExtension for TessellaLodExtension {
-    fn vertex_shader() -> ShaderRef {
-        LOD_VERTEX_SHADER.into()
-    }
-    fn prepass_vertex_shader() -> ShaderRef {
-        LOD_PREPASS_SHADER.into()
-    }
-    fn deferred_vertex_shader() -> ShaderRef {
-        LOD_PREPASS_SHADER.into()
-    }
-    fn specialize(
-        _pipeline: &MaterialExtensionPipeline,
-        descriptor: &mut RenderPipelineDescriptor,
-        _layout: &MeshVertexBufferLayoutRef,
-        key: MaterialExtensionKey<Self>,
-    ) -> Result<(), SpecializedMeshPipelineError> {
-        let variant = variants().nth(key.bind_group_data.variant as usize);
-        if let Some(v) = variant {
-            let def = shader_def(&variant_name(v));
-            descriptor.vertex.shader_defs.push(def.into());
-        }
-        Ok(())
+impl TessellaLodKey {
+    /// The shader def of this key's adaptive module.
+    fn shader_defs(self) -> Vec<String> {
+        let variant = variants().nth(self.variant as usize);
+        variant
+            .map(|v| shader_def(&variant_name(v)))
+            .into_iter()
+            .collect()
     }
 }
+
+vertex_extension!(TessellaLodExtension, LOD_VERTEX_SHADER, LOD_PREPASS_SHADER);
 
 /// tessella-gpu's adaptive module rebound into Bevy's material group: group 3, bindings 100
 /// to 103, the uniform as read-only storage. Only the declarations change.

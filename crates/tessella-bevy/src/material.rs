@@ -3,16 +3,10 @@
 //! tessella-gpu's exported WGSL module, registered as Bevy shader imports.
 
 use bevy::asset::uuid_handle;
-use bevy::mesh::MeshVertexBufferLayoutRef;
-use bevy::pbr::{
-    ExtendedMaterial, MaterialExtension, MaterialExtensionKey, MaterialExtensionPipeline,
-};
+use bevy::pbr::ExtendedMaterial;
 use bevy::prelude::*;
-use bevy::render::render_resource::{
-    AsBindGroup, RenderPipelineDescriptor, SpecializedMeshPipelineError,
-};
+use bevy::render::render_resource::AsBindGroup;
 use bevy::render::storage::ShaderBuffer;
-use bevy::shader::ShaderRef;
 use std::borrow::Cow;
 use tessella_core::NormalMode;
 
@@ -113,30 +107,52 @@ impl From<&TessellaExtension> for TessellaKey {
     }
 }
 
-impl MaterialExtension for TessellaExtension {
-    fn vertex_shader() -> ShaderRef {
-        VERTEX_SHADER.into()
-    }
-    fn prepass_vertex_shader() -> ShaderRef {
-        PREPASS_SHADER.into()
-    }
-    fn deferred_vertex_shader() -> ShaderRef {
-        PREPASS_SHADER.into()
-    }
-    fn specialize(
-        _pipeline: &MaterialExtensionPipeline,
-        descriptor: &mut RenderPipelineDescriptor,
-        _layout: &MeshVertexBufferLayoutRef,
-        key: MaterialExtensionKey<Self>,
-    ) -> Result<(), SpecializedMeshPipelineError> {
-        let defs = &mut descriptor.vertex.shader_defs;
-        defs.push(key.bind_group_data.normal_mode.def().into());
-        if key.bind_group_data.per_frame {
+impl TessellaKey {
+    /// The shader defs of this key's pipeline: the imported module's, and the per-frame read.
+    fn shader_defs(self) -> Vec<String> {
+        let mut defs = vec![self.normal_mode.def().to_string()];
+        if self.per_frame {
             defs.push("TESSELLA_PER_FRAME".into());
         }
-        Ok(())
+        defs
     }
 }
+
+/// Implements `MaterialExtension` for a tessella extension whose vertex stages are its own:
+/// `$vertex` for the main pass, `$prepass` for the prepass and the deferred pass, and the
+/// shader defs of its key's `shader_defs()` (the key is the extension's bind-group data).
+/// The fragment stages stay the base `StandardMaterial`'s.
+macro_rules! vertex_extension {
+    ($extension:ty, $vertex:expr, $prepass:expr) => {
+        impl bevy::pbr::MaterialExtension for $extension {
+            fn vertex_shader() -> bevy::shader::ShaderRef {
+                $vertex.into()
+            }
+            fn prepass_vertex_shader() -> bevy::shader::ShaderRef {
+                $prepass.into()
+            }
+            fn deferred_vertex_shader() -> bevy::shader::ShaderRef {
+                $prepass.into()
+            }
+            fn specialize(
+                _pipeline: &bevy::pbr::MaterialExtensionPipeline,
+                descriptor: &mut bevy::render::render_resource::RenderPipelineDescriptor,
+                _layout: &bevy::mesh::MeshVertexBufferLayoutRef,
+                key: bevy::pbr::MaterialExtensionKey<Self>,
+            ) -> Result<(), bevy::render::render_resource::SpecializedMeshPipelineError> {
+                let defs = key.bind_group_data.shader_defs();
+                descriptor
+                    .vertex
+                    .shader_defs
+                    .extend(defs.into_iter().map(Into::into));
+                Ok(())
+            }
+        }
+    };
+}
+pub(crate) use vertex_extension;
+
+vertex_extension!(TessellaExtension, VERTEX_SHADER, PREPASS_SHADER);
 
 /// tessella-gpu's exported evaluation module for `mode`, rebound into Bevy's material group:
 /// group 3, bindings 100 to 106, and the two uniforms as read-only storage (a material's

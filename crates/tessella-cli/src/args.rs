@@ -95,9 +95,12 @@ fn scheme_parser() -> impl TypedValueParser<Value = SchemeArg> {
     CoreName::<Scheme>::new().map(SchemeArg)
 }
 
-/// The surface's shape flags of `refine`, `render` and `view`.
+/// The surface's flags of `refine`, `render` and `view`: the scheme and its shape.
 #[derive(Debug, Clone, Copy, Args)]
 pub struct ShapeArgs {
+    /// Surface built over each coarse triangle.
+    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
+    pub scheme: SchemeArg,
     /// Phong shape factor: 0 is flat, 1 the full projection.
     #[arg(long, default_value_t = 0.75, value_parser = parse_alpha, allow_hyphen_values = true)]
     pub alpha: f32,
@@ -127,9 +130,6 @@ pub struct RefineArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub pose: PoseFlags,
-    /// Surface built over each coarse triangle.
-    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
-    pub scheme: SchemeArg,
     /// Segments per coarse edge: each triangle becomes LEVEL² triangles (grid). With a
     /// tessellator --spacing a fractional level (e.g. 5.5), clamped to the spacing's range.
     #[arg(short, long, default_value_t = 8.0, value_parser = parse_level, allow_negative_numbers = true)]
@@ -206,9 +206,6 @@ pub struct RenderArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub pose: PoseFlags,
-    /// Surface built over each coarse triangle.
-    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
-    pub scheme: SchemeArg,
     /// Segments per coarse edge (the refinement pattern drawn for every triangle). With a
     /// tessellator --spacing a fractional level (e.g. 5.5), clamped to the spacing's range.
     #[arg(short, long, default_value_t = 16.0, value_parser = parse_level, allow_negative_numbers = true)]
@@ -237,10 +234,11 @@ pub struct RenderArgs {
     #[arg(
         long,
         value_name = "MIN,MAX",
+        value_parser = parse_range,
         allow_hyphen_values = true,
         requires = "color_by"
     )]
-    pub range: Option<String>,
+    pub range: Option<[f32; 2]>,
     /// Side-by-side labelled panels, one per scheme, e.g. `flat,pn,png1` (overrides --scheme).
     #[arg(long, value_parser = scheme_parser(), value_delimiter = ',')]
     pub compare: Vec<SchemeArg>,
@@ -341,9 +339,6 @@ pub struct AnimateArgs {
 pub struct ViewArgs {
     /// Mesh file (.obj, .ply, .gltf, .glb, .stl); default: the first bundled sample.
     pub input: Option<PathBuf>,
-    /// Surface built over each coarse triangle.
-    #[arg(long, value_parser = scheme_parser(), default_value = "pn")]
-    pub scheme: SchemeArg,
     /// Segments per coarse edge; fractional with a tessellator --spacing (grid: geomorphed).
     #[arg(short, long, default_value_t = 8.0, allow_negative_numbers = true)]
     pub level: f64,
@@ -542,6 +537,15 @@ pub fn parse_alpha(text: &str) -> Result<f32, String> {
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let [w, h] = tessella_core::refine::parse_size(text).map_err(|e| e.message)?;
     Ok((w, h))
+}
+
+/// `MIN,MAX` of `--range`: two finite numbers, `MIN < MAX`.
+pub fn parse_range(text: &str) -> Result<[f32; 2], String> {
+    let parsed: Option<Vec<f32>> = text.split(',').map(|x| x.trim().parse().ok()).collect();
+    match parsed.as_deref() {
+        Some(&[lo, hi]) if lo.is_finite() && hi.is_finite() && lo < hi => Ok([lo, hi]),
+        _ => Err("give MIN,MAX, two finite numbers with MIN < MAX".into()),
+    }
 }
 
 /// `512MiB`, `8GiB`, `1.5G`, `1000000` into bytes (the core's `max-memory` option).

@@ -90,7 +90,7 @@ mod tests {
         else {
             panic!("not a refine command")
         };
-        assert_eq!(args.scheme, SchemeArg(Scheme::PnAen));
+        assert_eq!(args.shape.scheme, SchemeArg(Scheme::PnAen));
         assert_eq!(args.shape.normals, Some(NormalsArg(NormalMode::Real)));
         assert_eq!(args.backend, Backend::Cpu);
         let Command::Refine(args) = refine(&["--scheme", "phong", "--alpha", "0.5"])
@@ -100,7 +100,7 @@ mod tests {
             panic!("not a refine command")
         };
         assert_eq!(
-            args.scheme.scheme(args.shape.alpha),
+            args.shape.scheme.scheme(args.shape.alpha),
             Scheme::Phong { alpha: 0.5 }
         );
         assert_eq!(args.backend, Backend::Auto);

@@ -25,7 +25,7 @@ use crate::mesh::topology::NO_NEIGHBOR;
 use crate::mesh::Mesh;
 use crate::pattern::Pattern;
 use crate::refine::RefineOptions;
-use crate::scheme::{build_nets_tagged, NormalMode, PatchNets, Scheme};
+use crate::scheme::{build_nets, NormalMode, PatchNets, Scheme};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -97,7 +97,7 @@ pub fn report(mesh: &Mesh, options: &RefineOptions) -> Result<QualityReport, Ref
     };
     let scheme = options.scheme;
     let topo = mesh.topology();
-    let nets = build_nets_tagged(
+    let nets = build_nets(
         mesh,
         Some(&topo),
         &scheme,

@@ -3,7 +3,7 @@
 
 use glam::{DVec3, Vec3};
 use tessella_core::basis::Basis;
-use tessella_core::scheme::{build_nets_tagged, NormalMode, PatchNets};
+use tessella_core::scheme::{build_nets, NormalMode, PatchNets};
 use tessella_core::tags::{EdgeTag, Tags, VertexTag};
 use tessella_core::{samples, Mesh, RefineError, RefineOptions, Scheme, TagError};
 
@@ -93,7 +93,7 @@ fn creased_edge_is_watertight_and_sharp_by_the_requested_amount() {
     };
     tags.set_vertex(&mesh, 1, crease).unwrap();
     let topo = mesh.topology();
-    let nets = build_nets_tagged(
+    let nets = build_nets(
         &mesh,
         Some(&topo),
         &Scheme::ScalarTagged,
@@ -129,7 +129,7 @@ fn creased_edge_is_watertight_and_sharp_by_the_requested_amount() {
         }
     }
     // Untagged strip: the same edge is smooth (flat, normals +z on both sides).
-    let plain = build_nets_tagged(
+    let plain = build_nets(
         &mesh,
         Some(&topo),
         &Scheme::ScalarTagged,

@@ -126,7 +126,7 @@ pub use evaluator::{gpu_refine, gpu_refine_with};
 pub use evaluator::{GpuEvaluator, GpuOutput, GpuRefineOptions, IndexWidth};
 pub use net_builder::{GpuNetBuilder, NetsDispatch, NetsTarget};
 pub use renderer::{PatternRenderer, PATTERN_VERTEX_STORAGE_BUFFERS};
-pub use shading::{Shading, TargetFormats, VERTEX_WGSL};
+pub use shading::{cleared_depth, Shading, TargetFormats, VERTEX_WGSL};
 pub use skinner::{GpuSkinner, SKINNED_VERTEX_BYTES};
 pub use tessella_core::displace::Displacement;
 pub use wgsl::PatchBindings;

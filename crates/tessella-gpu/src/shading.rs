@@ -119,3 +119,16 @@ impl Shading<'_> {
             })
     }
 }
+
+/// The depth attachment the pipelines' depth test (`Less`) expects of a pass that draws a
+/// picture from scratch: `view` cleared to 1 (the far plane) and discarded after the pass.
+pub fn cleared_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(1.0),
+            store: wgpu::StoreOp::Discard,
+        }),
+        stencil_ops: None,
+    }
+}

@@ -69,14 +69,7 @@ pub fn begin_pass<'e>(
                 store: wgpu::StoreOp::Discard,
             },
         })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: views.depth,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
-                store: wgpu::StoreOp::Discard,
-            }),
-            stencil_ops: None,
-        }),
+        depth_stencil_attachment: Some(tessella_gpu::cleared_depth(views.depth)),
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,

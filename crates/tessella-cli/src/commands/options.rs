@@ -3,14 +3,13 @@
 //! [`RefineOptions::from_pairs`] as Python's `level=5.5`, npm's `{ level: 5.5 }` and the
 //! viewer's `?level=5.5` are. A bad value's message names the flag.
 
-use crate::args::{SchemeArg, ShapeArgs};
+use crate::args::ShapeArgs;
 use tessella_core::refine::{Ask, Spacing};
 use tessella_core::{Named, RefineOptions};
 
 /// The option flags as given.
 pub struct Flags<'a> {
-    pub scheme: SchemeArg,
-    /// `--alpha` and `--normals`.
+    /// `--scheme`, `--alpha` and `--normals`.
     pub shape: ShapeArgs,
     pub level: f64,
     pub spacing: Spacing,
@@ -26,7 +25,7 @@ impl Flags<'_> {
     /// The flags as `key=value` pairs: a LOD replaces `--level`, which always has a value.
     pub fn pairs(&self) -> Vec<(&'static str, String)> {
         let mut pairs = vec![
-            ("scheme", self.scheme.0.name().to_string()),
+            ("scheme", self.shape.scheme.0.name().to_string()),
             ("alpha", self.shape.alpha.to_string()),
             ("spacing", self.spacing.to_string()),
             ("soup", self.soup.to_string()),

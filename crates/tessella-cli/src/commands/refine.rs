@@ -298,7 +298,6 @@ pub fn same_file(input: &std::path::Path, output: &std::path::Path) -> bool {
 /// grid level geomorphs (docs/formulas.md, "Geomorphing grid patterns").
 fn options(args: &RefineArgs) -> anyhow::Result<RefineOptions> {
     super::options::Flags {
-        scheme: args.scheme,
         shape: args.shape,
         level: args.level,
         spacing: args.spacing,

@@ -48,7 +48,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             );
         }
         let panels = if args.compare.is_empty() {
-            vec![(String::new(), options_for(args.scheme)?)]
+            vec![(String::new(), options_for(args.shape.scheme)?)]
         } else {
             args.compare
                 .iter()
@@ -70,7 +70,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let ctx = gpu::render_context()?;
     let picture = if args.compare.is_empty() {
-        render(&ctx, &mesh, &options_for(args.scheme)?, &view)?
+        render(&ctx, &mesh, &options_for(args.shape.scheme)?, &view)?
     } else {
         let panels = args
             .compare
@@ -110,18 +110,6 @@ fn field_colors(
         .colormap
         .parse()
         .map_err(|e: String| anyhow::anyhow!("--colormap: {e}"))?;
-    let range = match &args.range {
-        None => None,
-        Some(text) => {
-            let parsed: Option<Vec<f32>> = text.split(',').map(|x| x.trim().parse().ok()).collect();
-            match parsed.as_deref() {
-                Some(&[lo, hi]) if lo.is_finite() && hi.is_finite() && lo < hi => Some([lo, hi]),
-                _ => anyhow::bail!(
-                    "--range {text:?}: give MIN,MAX, two finite numbers with MIN < MAX"
-                ),
-            }
-        }
-    };
     let Some(values) = raw.vertex_scalars.get(name) else {
         let have: Vec<&str> = raw.vertex_scalars.keys().map(String::as_str).collect();
         anyhow::bail!(
@@ -138,7 +126,7 @@ fn field_colors(
         name: name.clone(),
         values: values.clone(),
         colormap,
-        range,
+        range: args.range,
     }))
 }
 
@@ -147,7 +135,6 @@ fn field_colors(
 fn levels(args: &RenderArgs, mesh: &Mesh, view: &RenderOptions) -> anyhow::Result<RefineOptions> {
     let lod = args.lod.lod.as_deref();
     super::options::Flags {
-        scheme: args.scheme,
         shape: args.shape,
         level: args.level,
         spacing: args.spacing,

@@ -91,7 +91,7 @@ fn changes(args: &ViewArgs) -> anyhow::Result<Map<String, Value>> {
         None => String::new(),
     };
     let value = json!({
-        "scheme": args.scheme.0.name(),
+        "scheme": args.shape.scheme.0.name(),
         "level": args.level,
         "spacing": spacing,
         "lod": args.lod.as_deref().unwrap_or("fixed"),

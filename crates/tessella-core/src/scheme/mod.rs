@@ -157,7 +157,7 @@ pub struct PatchNets {
 }
 
 impl PatchNets {
-    /// Nets of no patches, ready to be filled by [`build_nets_into`].
+    /// Nets of no patches, for a surface to fill ([`build_nets`] builds filled ones).
     pub fn empty(basis: Basis, normal_mode: NormalMode) -> PatchNets {
         PatchNets {
             basis,
@@ -213,41 +213,17 @@ pub struct Corners {
 /// Builds the control nets of every face of `mesh`, in parallel.
 ///
 /// `topology` is for schemes that look across edges ([`Scheme::needs_topology`]); it is computed
-/// here when such a scheme gets `None`. Flat, Phong and PN ignore it.
+/// here when such a scheme gets `None`. Flat, Phong and PN ignore it. `tags` are the shape tags:
+/// sharp edges for PNG1, everything for the scalar-tagged scheme (checked against its
+/// restrictions first); other schemes ignore them. A deforming mesh's per-frame update reuses
+/// its nets' memory through [`crate::refine::Surface::update`] instead.
 pub fn build_nets(
     mesh: &Mesh,
     topology: Option<&Topology>,
     scheme: &Scheme,
     normal_mode: NormalMode,
-) -> Result<PatchNets, RefineError> {
-    build_nets_tagged(mesh, topology, scheme, normal_mode, None)
-}
-
-/// [`build_nets`] with shape tags: sharp edges for PNG1, everything for the scalar-tagged
-/// scheme (checked against its restrictions first); other schemes ignore them.
-pub fn build_nets_tagged(
-    mesh: &Mesh,
-    topology: Option<&Topology>,
-    scheme: &Scheme,
-    normal_mode: NormalMode,
     tags: Option<&Tags>,
 ) -> Result<PatchNets, RefineError> {
-    let mut nets = PatchNets::empty(scheme.basis(), normal_mode);
-    build_nets_into(mesh, topology, scheme, normal_mode, tags, &mut nets)?;
-    Ok(nets)
-}
-
-/// [`build_nets_tagged`] into existing nets, reusing their memory: the per-frame update of a
-/// deforming mesh (O(coarse triangles), no allocation once `nets` has the mesh's size). Every
-/// check runs before the first write, so on error `nets` is unchanged.
-pub fn build_nets_into(
-    mesh: &Mesh,
-    topology: Option<&Topology>,
-    scheme: &Scheme,
-    normal_mode: NormalMode,
-    tags: Option<&Tags>,
-    nets: &mut PatchNets,
-) -> Result<(), RefineError> {
     let owned;
     let topology = match topology {
         Some(t) => Some(t),
@@ -258,11 +234,12 @@ pub fn build_nets_into(
         None => None,
     };
     validate_nets(mesh, topology, scheme, tags)?;
-    fill_nets(mesh, topology, scheme, normal_mode, tags, nets);
-    Ok(())
+    let mut nets = PatchNets::empty(scheme.basis(), normal_mode);
+    fill_nets(mesh, topology, scheme, normal_mode, tags, &mut nets);
+    Ok(nets)
 }
 
-/// The checks of [`build_nets_into`]: they depend on the scheme, the tags and the topology only,
+/// The checks of [`build_nets`]: they depend on the scheme, the tags and the topology only,
 /// so a deforming mesh passes them once. `topology` is required for schemes that need it.
 pub(crate) fn validate_nets(
     mesh: &Mesh,
