@@ -137,17 +137,30 @@ vec3 ctrl(int f, int k) { return tc_pts[k]; }
 vec3 nctrl(int f, int k) { return tc_nrm[k]; }
 "#;
 
-/// The evaluation's entry point: the generated sums of the program's basis, then the generated
-/// normal steps.
+/// What the evaluation stage evaluates a patch from: the control points and normal net the
+/// control stage passed (`ctrl`, `nctrl`), the real normal where `u_real`; it sets `p` and
+/// `normal`.
+fn evaluation_sources() -> shader::EvalSources<'static> {
+    fn point(k: usize) -> String {
+        format!("ctrl(f, {k})")
+    }
+    fn net_normal(k: usize) -> String {
+        format!("nctrl(f, {k})")
+    }
+    shader::EvalSources {
+        point: &point,
+        net_normal: &net_normal,
+        real: shader::RealNormal::When("u_real != 0"),
+        into: [Some("p"), Some("normal")],
+    }
+}
+
+/// The evaluation's entry point: for the program's basis (`u_k`), the generated evaluation of
+/// the patch's point and unit normal ([`shader::evaluate`], the real normal where `u_real`).
 fn evaluation_main() -> String {
-    let point = |k: usize| format!("ctrl(f, {k})");
-    let sums = |basis: Basis| {
-        let sources = shader::SumSources {
-            point: &point,
-            into: [Some("p"), Some("du"), Some("dv")],
-        };
-        let glue = shader::patch_sum(Lang::Glsl, basis, &sources);
-        glue.lines()
+    let evaluation = |basis: Basis| {
+        let text = shader::evaluate(Lang::Glsl, basis, &evaluation_sources());
+        text.lines()
             .map(|l| format!("    {l}\n"))
             .collect::<String>()
     };
@@ -158,23 +171,21 @@ void main() {{
     vec3 l = gl_TessCoord;
     int f = gl_PrimitiveID;
     vec3 p;
-    vec3 du;
-    vec3 dv;
-    // The patch's sums (tessella_core::shader::patch_sum), for PNG1's 21 points or the cubic 10.
+    vec3 normal;
+    // The patch's point and normal (tessella_core::shader::evaluate), for PNG1's 21 points or
+    // the cubic 10.
     if (u_k == 21) {{
 {}    }} else {{
 {}    }}
-    // The normal's steps are the CPU's (tessella_patch_normal, generated: patch_normal).
-    vec3 n = tessella_patch_normal(f, l, du, dv);
     tf_position = p;
-    tf_normal = n;
+    tf_normal = normal;
     tf_coord = l;
     tf_face = f;
     gl_Position = u_view_proj * vec4(p, 1.0);
 }}
 "#,
-        sums(Basis::Png1),
-        sums(Basis::Cubic)
+        evaluation(Basis::Png1),
+        evaluation(Basis::Cubic)
     )
 }
 
@@ -237,28 +248,6 @@ void main() {
 }
 "#;
 
-/// A patch point's unit normal, `vec3 tessella_patch_normal(int f, vec3 l, vec3 du, vec3 dv)`:
-/// the core's normal steps ([`shader::normal_glue`]) over the point's derivatives, its normal
-/// net and its corners.
-fn patch_normal() -> String {
-    let net = shader::normal_net_sum(Lang::Glsl, &|k| format!("nctrl(f, {k})"), "n");
-    let glue = shader::normal_glue(
-        Lang::Glsl,
-        &shader::NormalSources {
-            real: Some(shader::RealNormalSource {
-                when: Some("u_real != 0"),
-                du: "du",
-                dv: "dv",
-            }),
-            net: &net,
-            corners: ["ctrl(f, 0)", "ctrl(f, 1)", "ctrl(f, 2)"],
-        },
-    );
-    format!(
-        "vec3 tessella_patch_normal(int f, vec3 l, vec3 du, vec3 dv) {{\n{glue}    return n;\n}}\n"
-    )
-}
-
 /// The sources for `spacing`.
 pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
     ShaderSources {
@@ -272,10 +261,9 @@ pub fn glsl_sources(spacing: Partitioning) -> ShaderSources {
             shader::png1_normals_glsl()
         ),
         evaluation: format!(
-            "{HEADER}layout(triangles, {}, ccw) in;\n{}{EVALUATION}{}{}",
+            "{HEADER}layout(triangles, {}, ccw) in;\n{}{EVALUATION}{}",
             layout(spacing),
             shader::surface_normal(Lang::Glsl),
-            patch_normal(),
             evaluation_main()
         ),
         fragment: format!("{HEADER}{FRAGMENT}"),
@@ -296,15 +284,6 @@ mod tests {
                 "calls {f}"
             );
         }
-        // The normal net's sum: the generated one, once, in the normal's steps.
-        let net = shader::normal_net_sum(Lang::Glsl, &|k| format!("nctrl(f, {k})"), "n");
-        let indented: String = net.lines().map(|l| format!("        {l}\n")).collect();
-        assert_eq!(
-            s.evaluation.matches(&indented).count(),
-            1,
-            "{}",
-            s.evaluation
-        );
         // The normal glue: the generated functions once, each called, none typed here.
         assert_eq!(
             s.evaluation
@@ -327,27 +306,28 @@ mod tests {
                 "calls {f}"
             );
         }
-        // The normal's steps: the generated glue, once; none typed here.
-        assert_eq!(s.evaluation.matches(&patch_normal()).count(), 1);
-        // The sums: the generated ones of both bases, once each; none typed here.
+        // Each basis's point and normal: one generated evaluation, once, over the control
+        // stage's points and normal net, the real normal where u_real; none typed here.
+        let point = |k: usize| format!("ctrl(f, {k})");
+        let net_normal = |k: usize| format!("nctrl(f, {k})");
+        let mut typed = evaluation_main();
         for basis in [Basis::Cubic, Basis::Png1] {
-            let point = |k: usize| format!("ctrl(f, {k})");
-            let sums = shader::patch_sum(
-                Lang::Glsl,
-                basis,
-                &shader::SumSources {
-                    point: &point,
-                    into: [Some("p"), Some("du"), Some("dv")],
-                },
-            );
-            let indented: String = sums.lines().map(|l| format!("    {l}\n")).collect();
+            let sources = shader::EvalSources {
+                point: &point,
+                net_normal: &net_normal,
+                real: shader::RealNormal::When("u_real != 0"),
+                into: [Some("p"), Some("normal")],
+            };
+            let text = shader::evaluate(Lang::Glsl, basis, &sources);
+            let indented: String = text.lines().map(|l| format!("    {l}\n")).collect();
             assert_eq!(s.evaluation.matches(&indented).count(), 1, "{basis:?}");
+            typed = typed.replace(&indented, "");
         }
-        let main = evaluation_main();
-        for typed in [EVALUATION, main.as_str()] {
+        for typed in [EVALUATION, typed.as_str()] {
             assert!(!typed.contains("for (int k"), "a sum typed by hand");
             assert!(!typed.contains("1e-12") && !typed.contains("cross("));
             assert!(!typed.contains("tessella_unit_or_zero") && !typed.contains("tessella_corner"));
+            assert!(!typed.contains("tessella_real_normal") && !typed.contains(" * c0"));
         }
         // PNG1's net: no formula of its own here, only the generated builders fed.
         for typed in ["cross(", "sqrt(", "normalize", "dot("] {

@@ -1148,6 +1148,96 @@ pub fn normal_glue(lang: Lang, sources: &NormalSources) -> String {
     s
 }
 
+/// When a host's evaluation takes the real normal (`Du × Dv`), for [`evaluate`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum RealNormal<'a> {
+    /// Never: the host is built for a mode without it.
+    Never,
+    /// Always: the host is built for `Real`.
+    Always,
+    /// Where this condition of the host's holds (its mode as a uniform).
+    When(&'a str),
+}
+
+/// Where a host's evaluation of a whole patch point reads and what it sets, for [`evaluate`].
+pub struct EvalSources<'a> {
+    /// Control point `k` as an expression of the host's (a read of its nets, a local).
+    pub point: &'a dyn Fn(usize) -> String,
+    /// Normal-net entry `k` (of six) as an expression of the host's.
+    pub net_normal: &'a dyn Fn(usize) -> String,
+    /// When the real normal is taken.
+    pub real: RealNormal<'a>,
+    /// The variables (declared by the host) that get the point and the unit normal: `None`
+    /// for one the host does not need here.
+    pub into: [Option<&'a str>; 2],
+}
+
+/// The statements of a patch's point and unit normal at the barycentric point `l` (named so
+/// by the host), as the CPU's [`eval_point`](crate::refine::eval_point) computes them: the
+/// point `Σ w_k(l) C_k` ([`patch_sum`]), and the normal through the core's normal steps
+/// ([`normal_glue`]) over `Du × Dv` where [`EvalSources::real`] says, the normal net's sum
+/// ([`normal_net_sum`]) and the corner triangle `C_0 C_1 C_2`. Every backend that evaluates a
+/// whole point at once prints it here, one call per function: the GL evaluation shader and the
+/// wasm GLSL and WGSL. (The adaptive renderer blends two points' sums before their normal,
+/// for its geomorph, so it prints the parts; the pattern renderer's weights come from its
+/// stencil rows.) Besides [`patch_sum`]'s and [`normal_net_sum`]'s names it declares `du`,
+/// `dv` (for a real normal) and `n`. Indented for a function body.
+///
+/// ```
+/// use tessella_core::shader::{self, EvalSources, Lang, RealNormal};
+/// use tessella_core::Basis;
+/// let point = |k: usize| format!("ctrl(f, {k})");
+/// let net_normal = |k: usize| format!("nctrl(f, {k})");
+/// let glsl = shader::evaluate(Lang::Glsl, Basis::Cubic, &EvalSources {
+///     point: &point,
+///     net_normal: &net_normal,
+///     real: RealNormal::When("u_real != 0"),
+///     into: [Some("position"), Some("normal")],
+/// });
+/// assert!(glsl.contains("    position = ") && glsl.contains("    du = "));
+/// assert!(glsl.contains("tessella_real_normal(du, dv)"));
+/// assert!(glsl.ends_with("    normal = n;\n"));
+/// ```
+pub fn evaluate(lang: Lang, basis: Basis, sources: &EvalSources) -> String {
+    let [position, normal] = sources.into;
+    let real = normal.is_some() && sources.real != RealNormal::Never;
+    let mut s = String::new();
+    if real {
+        s += match lang {
+            Lang::Wgsl => "    var du: vec3<f32>;\n    var dv: vec3<f32>;\n",
+            Lang::Glsl => "    vec3 du;\n    vec3 dv;\n",
+        };
+    }
+    s += &patch_sum(
+        lang,
+        basis,
+        &SumSources {
+            point: sources.point,
+            into: [position, real.then_some("du"), real.then_some("dv")],
+        },
+    );
+    let Some(normal) = normal else { return s };
+    let net = normal_net_sum(lang, sources.net_normal, "n");
+    let when = match sources.real {
+        RealNormal::When(condition) => Some(condition),
+        RealNormal::Never | RealNormal::Always => None,
+    };
+    s += &normal_glue(
+        lang,
+        &NormalSources {
+            real: real.then_some(RealNormalSource {
+                when,
+                du: "du",
+                dv: "dv",
+            }),
+            net: &net,
+            corners: ["c0", "c1", "c2"],
+        },
+    );
+    s + &format!("    {normal} = n;\n")
+}
+
 /// The layout of the adaptive renderer's per-face records and the tessellator's 16.16 fixed
 /// point, as `TESSELLA_`-prefixed `u32` constants (see [`constants`]): the words a shader
 /// reads are the words [`crate::refine::instanced`] writes.

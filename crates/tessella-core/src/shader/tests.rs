@@ -804,6 +804,69 @@ fn normal_glue_takes_the_steps_in_order() {
     }
 }
 
+/// A whole point's evaluation sets what the host asks for and nothing else: the point's sum
+/// where asked, the derivatives (declared here) only for a normal that may be real, the normal
+/// net and the corners only for a normal, the real normal's condition where the host has one.
+#[test]
+fn evaluate_sets_what_the_host_asks_for() {
+    let point = |k: usize| format!("P({k})");
+    let net_normal = |k: usize| format!("N({k})");
+    for lang in [Lang::Wgsl, Lang::Glsl] {
+        for basis in [Basis::Cubic, Basis::Png1] {
+            for real in [
+                RealNormal::Never,
+                RealNormal::Always,
+                RealNormal::When("IS_REAL"),
+            ] {
+                for into in [
+                    [Some("POS"), Some("NRM")],
+                    [Some("POS"), None],
+                    [None, Some("NRM")],
+                ] {
+                    let text = evaluate(
+                        lang,
+                        basis,
+                        &EvalSources {
+                            point: &point,
+                            net_normal: &net_normal,
+                            real,
+                            into,
+                        },
+                    );
+                    let what = format!("{lang:?} {basis:?} {real:?} {into:?}:\n{text}");
+                    let normal = into[1].is_some();
+                    let derivatives = normal && real != RealNormal::Never;
+                    assert_eq!(text.contains("    POS = "), into[0].is_some(), "{what}");
+                    assert_eq!(text.contains("    du = "), derivatives, "{what}");
+                    assert_eq!(text.contains("    dv = "), derivatives, "{what}");
+                    assert_eq!(
+                        text.contains("tessella_real_normal(du, dv)"),
+                        derivatives,
+                        "{what}"
+                    );
+                    assert_eq!(
+                        text.contains("if (IS_REAL)"),
+                        derivatives && matches!(real, RealNormal::When(_)),
+                        "{what}"
+                    );
+                    assert_eq!(text.contains("N(5)"), normal, "{what}");
+                    assert_eq!(
+                        text.contains("tessella_corner_normal(c0, c1, c2)"),
+                        normal,
+                        "{what}"
+                    );
+                    assert_eq!(text.ends_with("    NRM = n;\n"), normal, "{what}");
+                    // Every control point is read once, whatever is asked (the corners are
+                    // the first three).
+                    for k in 0..basis.len() {
+                        assert_eq!(text.matches(&format!("P({k});")).count(), 1, "{what}");
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The packed net the per-texel function reads from: its floats, run in f32 as a shader runs
 /// them, are the CPU's `f32` nets (points then normal net) bit for bit, for every builder the
 /// GPU has; and each texel's branch returns floats `4j..4j+4` of it (zeros past the end).
