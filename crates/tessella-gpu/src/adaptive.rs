@@ -527,8 +527,9 @@ fn adaptive_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
 
 /// The WGSL the adaptive shaders are compiled with, before `shaders/adaptive.wgsl`: the
 /// pipeline's constants (basis, normal mode, spacing), the record layout, the printed
-/// `TessellaAdaptiveParams`, the weights and glue generated from tessella-core's formulas, and
-/// `tessella_adaptive_normal` (the normal's steps, [`shader::normal_glue`]).
+/// `TessellaAdaptiveParams`, the weights and glue generated from tessella-core's formulas,
+/// `tessella_adaptive_normal` (the normal's steps, [`shader::normal_glue`]) and the point on
+/// the tessellator's spacings (`tessella_tessellator_adaptive_point`, [`shader::adaptive_point`]).
 pub(crate) fn constants(
     basis: tessella_core::basis::Basis,
     normal_mode: tessella_core::NormalMode,
@@ -554,8 +555,38 @@ pub(crate) fn constants(
         shader::grid_plan_wgsl(),
         crate::patch::surface_normal_wgsl().to_string(),
         adaptive_normal_wgsl(),
+        tessellator_point_wgsl(),
     ]
     .join("\n")
+}
+
+/// What [`tessellator_point_wgsl`]'s adaptive point reads: the face's record at `rec` in the
+/// records buffer, and its evaluation, the patch's sums at `l` then the normal's steps.
+pub(crate) const TESSELLATOR_POINT: shader::PointSources<'static> = shader::PointSources {
+    face: "face",
+    context: "",
+    record: "rec",
+    code: "code",
+    side: "side",
+    forward_bits: "tessella_records[rec + TESSELLA_FORWARD_WORD]",
+    evaluate: "var acc: TessellaSums;\n\
+               tessella_add_point(&acc, face, l, 1.0);\n\
+               position = acc.p;\n\
+               normal = tessella_adaptive_normal(face, acc.du, acc.dv, acc.n);",
+};
+
+/// A point on the tessellator's spacings, `tessella_tessellator_adaptive_point(face, rec, code,
+/// side)`: the core's adaptive point ([`shader::adaptive_point`]: the placement, its
+/// barycentric point, the canonical edge point in place of the patch's on a coarse edge) over
+/// this renderer's records and its evaluation (the patch's sums at `l`, then
+/// `tessella_adaptive_normal`).
+fn tessellator_point_wgsl() -> String {
+    let steps = shader::adaptive_point(Lang::Wgsl, &TESSELLATOR_POINT);
+    format!(
+        "fn tessella_tessellator_adaptive_point(face: u32, rec: u32, code: u32, side: u32) -> \
+         TessellaAdaptivePoint {{\n    var position: vec3<f32>;\n    var normal: vec3<f32>;\n\
+         {steps}    return TessellaAdaptivePoint(position, normal, l);\n}}\n"
+    )
 }
 
 /// An adaptive point's unit normal, `tessella_adaptive_normal(face, du, dv, net)`: the core's

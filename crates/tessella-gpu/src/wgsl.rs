@@ -358,6 +358,28 @@ mod tests {
         assert_eq!(adaptive_params_bytes(tessella_core::Basis::Cubic).len(), 96);
     }
 
+    /// The adaptive point on the tessellator's spacings is the core's generated one, once;
+    /// the shader file only branches to it (the placement and its read-back are typed nowhere
+    /// here; the grid's plans keep their own blend of edge weights).
+    #[test]
+    fn the_tessellator_point_is_the_cores_adaptive_point() {
+        use tessella_core::shader::{self, Lang};
+        let source = adaptive_module(
+            0,
+            tessella_core::Basis::Cubic,
+            tessella_core::NormalMode::Quadratic,
+            tessella_core::refine::Spacing::FractionalOdd,
+        );
+        let steps = shader::adaptive_point(Lang::Wgsl, &crate::adaptive::TESSELLATOR_POINT);
+        assert_eq!(source.matches(&steps).count(), 1);
+        let typed = include_str!("shaders/adaptive.wgsl");
+        for call in ["tessella_locate(", "tessella_tessellator_point("] {
+            assert!(!typed.contains(call), "{call} typed in adaptive.wgsl");
+        }
+        assert!(typed
+            .contains("return tessella_tessellator_adaptive_point(face, rec, code, inst >> 30u);"));
+    }
+
     /// A per-basis module with the evaluation entry beside it, its bindings in another group,
     /// validates as one compute module whose entry is `tessella_evaluate`.
     #[test]

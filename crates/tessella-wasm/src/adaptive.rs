@@ -462,7 +462,8 @@ fn part_arrays(table: &PartTable) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
 /// `tessella_locate`, its barycentric point and canonical parameter
 /// `tessella_tessellator_point`, the canonical edge weights and point
 /// (`shader::locate_glsl`, `shader::tessellator_point`, `shader::edge_weights_glsl`,
-/// `shader::canonical_edge`, `shader::canonical_edge_point`); last
+/// `shader::canonical_edge`, `shader::canonical_edge_point`); last, from the core's adaptive
+/// point (`shader::adaptive_point`, over `tessella_evaluate`),
 /// `void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal,
 /// out vec3 bary)`:
 /// the point the part's `code` names on instance `inst` (`face | side << 30`), placed with the
@@ -498,8 +499,34 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     s += &shader::edge_weights_glsl();
     s += &shader::canonical_edge(Lang::Glsl);
     s += &shader::canonical_edge_point(Lang::Glsl, &edge_sources(Lang::Glsl));
-    s += ADAPTIVE_GLSL_MAIN;
+    let steps = shader::adaptive_point(Lang::Glsl, &point_sources(Lang::Glsl));
+    s += &format!(
+        "void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, \
+         out vec3 bary) {{\n    int face = int(inst & 0x3fffffffu);\n    tessella_read_record(face);\n\
+         {steps}    bary = l;\n}}\n"
+    );
     s
+}
+
+/// The adaptive point's sources in either language: the record read into locals (`0u`), its
+/// bits from the packed record, the point evaluated by [`nets_glsl`]'s `tessella_evaluate` or
+/// [`nets_wgsl`]'s `tessella_position` and `tessella_normal` (whose reads take the nets
+/// texture first).
+fn point_sources(lang: Lang) -> shader::PointSources<'static> {
+    let wgsl = matches!(lang, Lang::Wgsl);
+    shader::PointSources {
+        face: if wgsl { "face" } else { "uint(face)" },
+        context: if wgsl { "nets, " } else { "" },
+        record: "0u",
+        code: "code & 0x3fffffffu",
+        side: "inst >> 30u",
+        forward_bits: "tessella_forward_bits()",
+        evaluate: if wgsl {
+            "position = tessella_position(nets, face, l);\nnormal = tessella_normal(nets, face, l);"
+        } else {
+            "tessella_evaluate(face, l, position, normal);"
+        },
+    }
 }
 
 /// The canonical edge point's sources in either language: the WGSL's net reads take the nets
@@ -541,8 +568,10 @@ fn edge_tables(basis: tessella_core::Basis) -> [String; 2] {
 /// `instance` of the `instances` texture (R32UI, row-major; three.js cannot give a WebGPU
 /// draw a first instance, so a part reads its words at its first plus the instance index),
 /// returning the columns point, unit normal, barycentric coordinates. The textures' rows are
-/// their widths over the texels per record / face. The readers and the entry are written
-/// next to the GLSL's (`ADAPTIVE_WGSL_*`), validated by naga in the tests.
+/// their widths over the texels per record / face. Its steps are the core's adaptive point
+/// (`shader::adaptive_point`, over `tessella_position` and `tessella_normal`), as the GLSL's;
+/// the readers are written next to the GLSL's (`ADAPTIVE_WGSL_READERS`), validated by naga in
+/// the tests.
 pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     let mut s = nets_wgsl(basis, mode);
     s += &shader::record_layout(Lang::Wgsl);
@@ -570,7 +599,17 @@ pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     s += &shader::edge_weights_wgsl();
     s += &shader::canonical_edge(Lang::Wgsl);
     s += &shader::canonical_edge_point(Lang::Wgsl, &edge_sources(Lang::Wgsl));
-    s += ADAPTIVE_WGSL_MAIN;
+    let steps = shader::adaptive_point(Lang::Wgsl, &point_sources(Lang::Wgsl));
+    s += &format!(
+        "fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, \
+         instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32> {{\n    \
+         let inst = tessella_instance_word(instances, instance);\n    \
+         let face = inst & 0x3fffffffu;\n    \
+         tessella_read_record(records, face);\n    \
+         var position: vec3<f32>;\n    \
+         var normal: vec3<f32>;\n\
+         {steps}    return mat3x3<f32>(position, normal, l);\n}}\n"
+    );
     s
 }
 
@@ -624,26 +663,6 @@ fn tessella_instance_word(instances: texture_2d<u32>, i: u32) -> u32 {
 }
 "#;
 
-/// [`ADAPTIVE_GLSL_MAIN`] in WGSL, the instance word read at `instance`.
-const ADAPTIVE_WGSL_MAIN: &str = r#"fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32> {
-    let inst = tessella_instance_word(instances, instance);
-    let face = inst & 0x3fffffffu;
-    tessella_read_record(records, face);
-    let p = tessella_locate(0u, code & 0x3fffffffu, inst >> 30u);
-    let bits = tessella_forward_bits();
-    let t = tessella_tessellator_point(p, bits);
-    var position = tessella_position(nets, face, t.l);
-    var normal = tessella_normal(nets, face, t.l);
-    if (p.z != TESSELLA_NO_EDGE) {
-        let w = tessella_edge_weights(t.ab.x, t.ab.y);
-        let e = tessella_canonical_edge_point(nets, face, p.z, tessella_edge_forward(bits, p.z), w.value, w.normal, normal);
-        position = e.p;
-        normal = e.n;
-    }
-    return mat3x3<f32>(position, normal, t.l);
-}
-"#;
-
 /// The packed record's reader (the twin of [`packed_ruler_word`]), its canonical bits, and the
 /// reads the generated canonical edge point takes: the nets' entries and the edge tables.
 const ADAPTIVE_GLSL_READERS: &str = r#"uvec4 tessella_rec[3];
@@ -675,23 +694,6 @@ vec3 tessella_net_point(uint face, uint k) {
 vec3 tessella_net_normal(uint face, uint k) { return tessella_net_point(face, TESSELLA_BASIS_K + k); }
 uint tessella_edge_control(uint edge, uint i) { return TESSELLA_EDGE_CONTROLS[4u * edge + i]; }
 uint tessella_edge_normal_control(uint edge, uint i) { return TESSELLA_EDGE_NORMALS[3u * edge + i]; }
-"#;
-
-const ADAPTIVE_GLSL_MAIN: &str = r#"void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, out vec3 bary) {
-    int face = int(inst & 0x3fffffffu);
-    tessella_read_record(face);
-    uvec3 p = tessella_locate(0u, code & 0x3fffffffu, inst >> 30u);
-    uint bits = tessella_forward_bits();
-    vec2 ab;
-    tessella_tessellator_point(p, bits, bary, ab);
-    tessella_evaluate(face, bary, position, normal);
-    if (p.z != TESSELLA_NO_EDGE) {
-        vec4 ew;
-        vec3 en;
-        tessella_edge_weights(ab.x, ab.y, ew, en);
-        tessella_canonical_edge_point(uint(face), p.z, tessella_edge_forward(bits, p.z), ew, en, normal, position, normal);
-    }
-}
 "#;
 
 #[cfg(test)]
@@ -795,12 +797,12 @@ mod tests {
             Lang::Glsl,
             &edge_sources(Lang::Glsl)
         )));
-        for call in [
-            "tessella_tessellator_point(p, bits, bary, ab);",
-            "tessella_canonical_edge_point(uint(face), p.z, ",
-        ] {
-            assert!(ADAPTIVE_GLSL_MAIN.contains(call), "{call}");
-        }
+        // The entry: the core's adaptive point over tessella_evaluate, its point's barycentric
+        // coordinates given back.
+        let steps = shader::adaptive_point(Lang::Glsl, &point_sources(Lang::Glsl));
+        let entry = g.find("void tessella_adaptive_evaluate(uint code, uint inst, out vec3 position, out vec3 normal, out vec3 bary) {").unwrap();
+        assert_eq!(g[entry..].matches(&steps).count(), 1);
+        assert!(g.ends_with("    bary = l;\n}\n"));
         assert!(g.contains(&format!(
             "const uint TESSELLA_RULER_WORDS = {RULER_WORDS}u;"
         )));
@@ -838,7 +840,10 @@ mod tests {
                 w.contains("const TESSELLA_REAL_NORMALS: bool = true;"),
                 mode == NormalMode::Real
             );
-            // The entry TSL calls comes last.
+            // The entry TSL calls: the core's adaptive point over tessella_position and
+            // tessella_normal, last.
+            let steps = shader::adaptive_point(Lang::Wgsl, &point_sources(Lang::Wgsl));
+            assert_eq!(w.matches(&steps).count(), 1);
             let at = w.find("fn tessella_adaptive_point(nets: texture_2d<f32>, records: texture_2d<u32>, instances: texture_2d<u32>, code: u32, instance: u32) -> mat3x3<f32> {").unwrap();
             assert!(!w[at + 3..].contains("\nfn "));
             // A vertex shader as three's would include it: valid WGSL.

@@ -782,6 +782,94 @@ pub fn canonical_edge_point(lang: Lang, sources: &EdgeSources) -> String {
     }
 }
 
+/// What a host's adaptive point reads and how it evaluates its patch, for [`adaptive_point`].
+#[derive(Clone, Copy, Debug)]
+pub struct PointSources<'a> {
+    /// The face, as the host's canonical edge point takes it (an expression).
+    pub face: &'a str,
+    /// The arguments the host's net reads take before `face` ([`EdgeSources::context`]'s).
+    pub context: &'a str,
+    /// The face's record for [`locate_wgsl`]'s `tessella_locate` (the first word of its record,
+    /// or `0u` where the host reads its record words from elsewhere).
+    pub record: &'a str,
+    /// The point's code in its part and its side offset (expressions, `u32`).
+    pub code: &'a str,
+    pub side: &'a str,
+    /// The face's canonical edge bits (an expression, evaluated once).
+    pub forward_bits: &'a str,
+    /// Statements that evaluate the face's patch at the barycentric point `l` (declared by
+    /// these steps) into the host's `position` and `normal` (declared by the host).
+    pub evaluate: &'a str,
+}
+
+/// The statements of an adaptive point on the tessellator's spacings, in the order the CPU's
+/// adaptive evaluation takes them (`refine::cpu::adaptive`): the point's placement in its
+/// face's record ([`locate_wgsl`] / [`locate_glsl`]'s `tessella_locate`), read back as a
+/// barycentric point `l` and canonical parameter ([`tessellator_point`]), the patch evaluated
+/// there (the host's [`PointSources::evaluate`]), and on a coarse edge the edge's own point in
+/// canonical order with its weights ([`edge_weights_wgsl`] / [`edge_weights_glsl`],
+/// [`canonical_edge_point`]) in place of the patch's, the same floats from both faces. They
+/// declare `p`, `bits`, `l` (and WGSL's `t`, GLSL's `ab`), and leave the point in the host's
+/// `position` and `normal`. Every adaptive host prints its point here: the adaptive renderer
+/// (tessella-gpu) and the wasm GLSL and WGSL for three.js. Indented for a function body.
+///
+/// ```
+/// use tessella_core::shader::{self, Lang, PointSources};
+/// let glsl = shader::adaptive_point(Lang::Glsl, &PointSources {
+///     face: "uint(face)",
+///     context: "",
+///     record: "0u",
+///     code: "code",
+///     side: "inst >> 30u",
+///     forward_bits: "tessella_forward_bits()",
+///     evaluate: "tessella_evaluate(face, l, position, normal);",
+/// });
+/// assert!(glsl.starts_with("    uvec3 p = tessella_locate(0u, code, inst >> 30u);\n"));
+/// assert!(glsl.contains("    tessella_evaluate(face, l, position, normal);\n"));
+/// ```
+pub fn adaptive_point(lang: Lang, sources: &PointSources) -> String {
+    let PointSources {
+        face,
+        context,
+        record,
+        code,
+        side,
+        forward_bits,
+        evaluate,
+    } = *sources;
+    let evaluate: String = evaluate.lines().map(|l| format!("    {l}\n")).collect();
+    let canonical = format!("{context}{face}, p.z, tessella_edge_forward(bits, p.z)");
+    match lang {
+        Lang::Wgsl => format!(
+            "    let p = tessella_locate({record}, {code}, {side});\n    \
+             let bits = {forward_bits};\n    \
+             let t = tessella_tessellator_point(p, bits);\n    \
+             let l = t.l;\n\
+             {evaluate}    \
+             if (p.z != TESSELLA_NO_EDGE) {{\n        \
+             let w = tessella_edge_weights(t.ab.x, t.ab.y);\n        \
+             let e = tessella_canonical_edge_point({canonical}, w.value, w.normal, normal);\n        \
+             position = e.p;\n        \
+             normal = e.n;\n    \
+             }}\n"
+        ),
+        Lang::Glsl => format!(
+            "    uvec3 p = tessella_locate({record}, {code}, {side});\n    \
+             uint bits = {forward_bits};\n    \
+             vec3 l;\n    \
+             vec2 ab;\n    \
+             tessella_tessellator_point(p, bits, l, ab);\n\
+             {evaluate}    \
+             if (p.z != TESSELLA_NO_EDGE) {{\n        \
+             vec4 ew;\n        \
+             vec3 en;\n        \
+             tessella_edge_weights(ab.x, ab.y, ew, en);\n        \
+             tessella_canonical_edge_point({canonical}, ew, en, normal, position, normal);\n    \
+             }}\n"
+        ),
+    }
+}
+
 /// GLSL (ES 3.00): `void tessella_edge_weights(float a, float b, out vec4 value, out vec3
 /// normal)`, [`edge_weights_wgsl`]'s weights of a point of a canonical edge for WebGL2.
 pub fn edge_weights_glsl() -> String {

@@ -867,6 +867,51 @@ fn evaluate_sets_what_the_host_asks_for() {
     }
 }
 
+/// The adaptive point takes the CPU's steps in the CPU's order: placement, read-back, the
+/// host's evaluation at `l`, then on a coarse edge the canonical edge point in its place, from
+/// the face's bits and the edge's own parameter; the host's names where it gives them.
+#[test]
+fn adaptive_point_takes_the_cpus_steps_in_order() {
+    for lang in [Lang::Wgsl, Lang::Glsl] {
+        let text = adaptive_point(
+            lang,
+            &PointSources {
+                face: "FACE",
+                context: "CTX, ",
+                record: "REC",
+                code: "CODE",
+                side: "SIDE",
+                forward_bits: "BITS",
+                evaluate: "EVAL_1\nEVAL_2",
+            },
+        );
+        let at = |needle: &str| {
+            assert_eq!(text.matches(needle).count(), 1, "{needle} in\n{text}");
+            text.find(needle).unwrap()
+        };
+        let order = [
+            at("tessella_locate(REC, CODE, SIDE);"),
+            at(" = BITS;"),
+            at("tessella_tessellator_point(p, bits"),
+            at("    EVAL_1\n    EVAL_2\n"),
+            at("if (p.z != TESSELLA_NO_EDGE) {"),
+            at("tessella_edge_weights("),
+            at("tessella_canonical_edge_point(CTX, FACE, p.z, tessella_edge_forward(bits, p.z), "),
+        ];
+        assert!(order.windows(2).all(|w| w[0] < w[1]), "{text}");
+        // The edge point replaces the patch's point and normal, from the patch's normal.
+        match lang {
+            Lang::Wgsl => {
+                at("w.value, w.normal, normal);");
+                assert!(text.contains("position = e.p;") && text.contains("normal = e.n;"));
+            }
+            Lang::Glsl => {
+                at("ew, en, normal, position, normal);");
+            }
+        }
+    }
+}
+
 /// The packed net the per-texel function reads from: its floats, run in f32 as a shader runs
 /// them, are the CPU's `f32` nets (points then normal net) bit for bit, for every builder the
 /// GPU has; and each texel's branch returns floats `4j..4j+4` of it (zeros past the end).

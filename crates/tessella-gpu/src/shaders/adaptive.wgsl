@@ -9,7 +9,8 @@
 // (tessella_core::shader: `tessella_patch_sum`, `tessella_normal_net_sum`,
 // `tessella_edge_weights`, `tessella_canonical_edge`, `tessella_canonical_edge_point`,
 // `tessella_locate`, `tessella_tessellator_point`, `tessella_grid_*`, `TESSELLA_*` constants),
-// the normal's glue (`tessella_adaptive_normal`) and the printed
+// the normal's glue (`tessella_adaptive_normal`), the point on the tessellator's spacings
+// (`tessella_tessellator_adaptive_point`, shader::adaptive_point) and the printed
 // TessellaAdaptiveParams; appended: adaptive_draw.wgsl (the vertex
 // shader) or adaptive_capture.wgsl (a compute read-back of the same points).
 
@@ -150,32 +151,21 @@ fn tessella_adaptive_point(vcode: u32, inst: u32) -> TessellaAdaptivePoint {
     let face = inst & 0x3fffffffu;
     let code = vcode & 0x3fffffffu;
     let rec = face * TESSELLA_RECORD_WORDS;
+    if (!TESSELLA_GRID) {
+        // The tessellator's 16.16 placement read back and evaluated, a coarse edge's point in
+        // canonical order: the core's adaptive point (generated in adaptive.rs).
+        return tessella_tessellator_adaptive_point(face, rec, code, inst >> 30u);
+    }
     let face_forward = tessella_records[rec + TESSELLA_FORWARD_WORD];
     var acc: TessellaSums;
-    var l: vec3<f32>;
-    var edge = TESSELLA_NO_EDGE;
-    if (!TESSELLA_GRID) {
-        // The tessellator's 16.16 placement, read back as the generated functions do it
-        // (tessella_locate, tessella_tessellator_point: the CPU's canonical::fixed_point_of).
-        let p = tessella_locate(rec, code, inst >> 30u);
-        let t = tessella_tessellator_point(p, face_forward);
-        l = t.l;
-        tessella_add_point(&acc, face, l, 1.0);
-        edge = p.z;
-        if (edge != TESSELLA_NO_EDGE) {
-            tessella_add_edge(&acc, t.ab.x, t.ab.y, 1.0);
-        }
-    } else {
-        let g = tessella_grid_point(face, rec, face_forward, code & 0xffu, (code >> 8u) & 0xffu, &acc);
-        l = g.xyz;
-        edge = u32(g.w);
-    }
-
+    let g = tessella_grid_point(face, rec, face_forward, code & 0xffu, (code >> 8u) & 0xffu, &acc);
+    let edge = u32(g.w);
     // The normal's steps are the CPU's (tessella_adaptive_normal, generated in adaptive.rs).
-    var point = TessellaAdaptivePoint(acc.p, tessella_adaptive_normal(face, acc.du, acc.dv, acc.n), l);
+    var point = TessellaAdaptivePoint(acc.p, tessella_adaptive_normal(face, acc.du, acc.dv, acc.n), g.xyz);
     if (edge != TESSELLA_NO_EDGE) {
         // The edge's own data in canonical order, summed in the same order on both faces
-        // (the generated tessella_canonical_edge_point, the CPU's canonical::edge_sum_of).
+        // (the generated tessella_canonical_edge_point, the CPU's canonical::edge_sum_of),
+        // at the weights the grid plan blended.
         let forward = tessella_edge_forward(face_forward, edge);
         let e = tessella_canonical_edge_point(face, edge, forward, acc.edge_w, acc.edge_n, point.normal);
         point.position = e.p;
