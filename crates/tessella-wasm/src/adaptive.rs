@@ -12,71 +12,26 @@
 //!
 //! A record is the core's 24 words ([`RECORD_WORDS`]) of which the tessellator reads 21 (four
 //! rulers of five words and the canonical edge bits); they are packed into 12 words (three
-//! `RGBA32UI` texels per face, see [`pack_record`]) so that a frame uploads 48 bytes of records
+//! `RGBA32UI` texels per face, the core's `refine::packed`) so that a frame uploads 48 bytes of records
 //! and at most 16 of instances per coarse triangle.
 
 use crate::instanced::{
     glsl as nets_glsl, wgsl as nets_wgsl, InstancedSurface, Layout, MAX_TEXTURE_WIDTH,
 };
 use crate::{errors, options::Options};
-use tessella_core::refine::instanced::{FrameInstances, PartTable, FORWARD_WORD, RECORD_WORDS};
+use tessella_core::refine::instanced::{FrameInstances, PartTable, RECORD_WORDS};
+use tessella_core::refine::packed::{pack_record, PACKED_WORDS};
 use tessella_core::refine::{canonical, Camera, InstancedDriver, Lod, SurfaceOptions};
 use tessella_core::shader::{self, Lang};
 use tessella_core::{Named, NormalMode};
 use wasm_bindgen::prelude::*;
 
-/// Words of a packed record: three per ruler.
-pub const PACKED_WORDS: usize = 12;
 /// Texels (RGBA32UI) of a packed record.
 pub const RECORD_TEXELS: usize = PACKED_WORDS / 4;
 /// Words of one ruler in the core's record (`tessellator::points::RULER_WORDS`; the GLSL's
 /// `TESSELLA_RULER_WORDS`, which a test compares).
+#[cfg(test)]
 const RULER_WORDS: usize = 5;
-/// Bits of a 16.16 value in `[0, 1]` (1.0 is `1 << 16`).
-const FIXED_BITS: u32 = 17;
-const FIXED_MASK: u32 = (1 << FIXED_BITS) - 1;
-/// Where the canonical bits sit in ruler 0's third word (above its fraction and odd bit); the
-/// shaders' `TESSELLA_PACKED_FORWARD_SHIFT`.
-const FORWARD_SHIFT: u32 = FIXED_BITS + 1;
-
-/// Packs a record's four rulers and canonical bits into 12 words. Ruler `r`'s five words
-/// `[inv_floor, inv_ceil, fraction, split, half | odd << 8 | points << 16]` become
-/// `inv_floor | split << 17 | half << 24`, `inv_ceil | points << 17`, `fraction | odd << 17`;
-/// the canonical bits go above ruler 0's third word (`<< FORWARD_SHIFT`). Every 16.16 value is at most 1.0
-/// (17 bits), `split` below 128, `half` below 256 (levels are at most 64).
-pub fn pack_record(record: &[u32]) -> [u32; PACKED_WORDS] {
-    let mut out = [0u32; PACKED_WORDS];
-    for r in 0..4 {
-        let w = &record[RULER_WORDS * r..RULER_WORDS * (r + 1)];
-        let (half, odd, points) = (w[4] & 0xff, (w[4] >> 8) & 1, w[4] >> 16);
-        debug_assert!(w[..3].iter().all(|&x| x <= FIXED_MASK) && w[3] < 128 && points < 1 << 15);
-        out[3 * r] = w[0] | w[3] << FIXED_BITS | half << 24;
-        out[3 * r + 1] = w[1] | points << FIXED_BITS;
-        out[3 * r + 2] = w[2] | odd << FIXED_BITS;
-    }
-    out[2] |= record[FORWARD_WORD] << FORWARD_SHIFT;
-    out
-}
-
-/// Word `k` of ruler `r` from a packed record: the Rust twin of the GLSL's
-/// `tessella_ruler_word` (the tests check that it gives back every word the core wrote).
-#[cfg(test)]
-fn packed_ruler_word(packed: &[u32; PACKED_WORDS], r: usize, k: usize) -> u32 {
-    let [a, b, c] = [packed[3 * r], packed[3 * r + 1], packed[3 * r + 2]];
-    match k {
-        0 => a & FIXED_MASK,
-        1 => b & FIXED_MASK,
-        2 => c & FIXED_MASK,
-        3 => (a >> FIXED_BITS) & 0x7f,
-        _ => (a >> 24) | ((c >> FIXED_BITS) & 1) << 8 | (b >> FIXED_BITS) << 16,
-    }
-}
-
-/// The canonical edge bits of a packed record.
-#[cfg(test)]
-fn packed_forward(packed: &[u32; PACKED_WORDS]) -> u32 {
-    (packed[2] >> FORWARD_SHIFT) & 7
-}
 
 /// What the LOD function needs each frame, parsed once.
 #[derive(Debug, Clone, Copy)]
@@ -481,7 +436,6 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
         &[
             ("TESSELLA_BASIS_K", basis.len() as u32),
             ("TESSELLA_RECORD_TEXELS", RECORD_TEXELS as u32),
-            ("TESSELLA_PACKED_FORWARD_SHIFT", FORWARD_SHIFT),
         ],
     );
     let [controls, normals] = edge_tables(basis);
@@ -494,6 +448,7 @@ pub fn glsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
         mode == NormalMode::Real
     );
     s += ADAPTIVE_GLSL_READERS;
+    s += &shader::packed_record(Lang::Glsl);
     s += &shader::locate_glsl();
     s += &shader::tessellator_point(Lang::Glsl);
     s += &shader::edge_weights_glsl();
@@ -580,7 +535,6 @@ pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
         &[
             ("TESSELLA_BASIS_K", basis.len() as u32),
             ("TESSELLA_RECORD_TEXELS", RECORD_TEXELS as u32),
-            ("TESSELLA_PACKED_FORWARD_SHIFT", FORWARD_SHIFT),
         ],
     );
     let [controls, normals] = edge_tables(basis);
@@ -594,6 +548,7 @@ pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
         mode == NormalMode::Real
     );
     s += ADAPTIVE_WGSL_READERS;
+    s += &shader::packed_record(Lang::Wgsl);
     s += &shader::locate_wgsl();
     s += &shader::tessellator_point(Lang::Wgsl);
     s += &shader::edge_weights_wgsl();
@@ -613,8 +568,7 @@ pub fn wgsl(basis: tessella_core::Basis, mode: NormalMode) -> String {
     s
 }
 
-/// [`ADAPTIVE_GLSL_READERS`] in WGSL (the twin of [`packed_ruler_word`]), and the instance word's
-/// reader.
+/// [`ADAPTIVE_GLSL_READERS`] in WGSL, and the instance word's reader.
 const ADAPTIVE_WGSL_READERS: &str = r#"var<private> tessella_rec: array<vec4<u32>, 3>;
 fn tessella_read_record(records: texture_2d<u32>, face: u32) {
     let per_row = textureDimensions(records).x / TESSELLA_RECORD_TEXELS;
@@ -626,19 +580,6 @@ fn tessella_read_record(records: texture_2d<u32>, face: u32) {
 }
 fn tessella_packed(i: u32) -> u32 {
     return tessella_rec[i >> 2u][i & 3u];
-}
-fn tessella_forward_bits() -> u32 {
-    return tessella_rec[0].z >> TESSELLA_PACKED_FORWARD_SHIFT;
-}
-fn tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32 {
-    let a = tessella_packed(3u * r);
-    let b = tessella_packed(3u * r + 1u);
-    let c = tessella_packed(3u * r + 2u);
-    if (k == 0u) { return a & 0x1ffffu; }
-    if (k == 1u) { return b & 0x1ffffu; }
-    if (k == 2u) { return c & 0x1ffffu; }
-    if (k == 3u) { return (a >> 17u) & 0x7fu; }
-    return (a >> 24u) | (((c >> 17u) & 1u) << TESSELLA_RULER_ODD_SHIFT) | ((b >> 17u) << TESSELLA_RULER_POINTS_SHIFT);
 }
 fn tessella_net_float(nets: texture_2d<f32>, face: u32, x: u32) -> f32 {
     return tessella_texel(nets, face, x >> 2u)[x & 3u];
@@ -663,8 +604,8 @@ fn tessella_instance_word(instances: texture_2d<u32>, i: u32) -> u32 {
 }
 "#;
 
-/// The packed record's reader (the twin of [`packed_ruler_word`]), its canonical bits, and the
-/// reads the generated canonical edge point takes: the nets' entries and the edge tables.
+/// The packed record's texel reads (`tessella_packed`, under the generated
+/// `shader::packed_record`), and the reads the generated canonical edge point takes: the nets' entries and the edge tables.
 const ADAPTIVE_GLSL_READERS: &str = r#"uvec4 tessella_rec[3];
 void tessella_read_record(int face) {
     int row = face / tessellaRecordsPerRow;
@@ -672,17 +613,6 @@ void tessella_read_record(int face) {
     for (int j = 0; j < 3; j++) tessella_rec[j] = texelFetch(tessellaRecords, ivec2(column + j, row), 0);
 }
 uint tessella_packed(uint i) { return tessella_rec[i >> 2u][i & 3u]; }
-uint tessella_ruler_word(uint rec, uint r, uint k) {
-    uint a = tessella_packed(3u * r);
-    uint b = tessella_packed(3u * r + 1u);
-    uint c = tessella_packed(3u * r + 2u);
-    if (k == 0u) return a & 0x1ffffu;
-    if (k == 1u) return b & 0x1ffffu;
-    if (k == 2u) return c & 0x1ffffu;
-    if (k == 3u) return (a >> 17u) & 0x7fu;
-    return (a >> 24u) | ((c >> 17u) & 1u) << TESSELLA_RULER_ODD_SHIFT | (b >> 17u) << TESSELLA_RULER_POINTS_SHIFT;
-}
-uint tessella_forward_bits() { return tessella_rec[0].z >> TESSELLA_PACKED_FORWARD_SHIFT; }
 float tessella_net_float(int face, int x) {
     vec4 t = tessella_texel(face, x >> 2);
     return t[x & 3];
@@ -700,8 +630,8 @@ uint tessella_edge_normal_control(uint edge, uint i) { return TESSELLA_EDGE_NORM
 mod tests {
     use super::*;
     use crate::test_meshes::sample;
-    use tessella_core::refine::{instanced, Spacing};
-    use tessella_core::refine::{Levels, Plan};
+    use tessella_core::refine::instanced::FORWARD_WORD;
+    use tessella_core::refine::{packed, Levels, Plan};
 
     fn flat(p: &[[f32; 3]]) -> Vec<f32> {
         p.iter().flatten().copied().collect()
@@ -732,13 +662,13 @@ mod tests {
                     for r in 0..4 {
                         for k in 0..RULER_WORDS {
                             assert_eq!(
-                                packed_ruler_word(&packed, r, k),
+                                packed::ruler_word(&packed, r, k),
                                 record[RULER_WORDS * r + k],
                                 "{spacing} face {f} ruler {r} word {k}"
                             );
                         }
                     }
-                    assert_eq!(packed_forward(&packed), record[FORWARD_WORD]);
+                    assert_eq!(packed::forward_bits(&packed), record[FORWARD_WORD]);
                 }
                 // The CPU's adaptive refinement with the same LOD makes as many triangles.
                 let options = Options::from_json(&json)
@@ -753,42 +683,16 @@ mod tests {
                 assert_eq!(frame.triangles, plan.triangle_count() as u64, "{spacing}");
             }
         }
-        // Every level of every spacing: the packed words are the core's.
-        for spacing in [
-            Spacing::Equal,
-            Spacing::FractionalOdd,
-            Spacing::FractionalEven,
-        ] {
-            let topology = tessella_core::mesh::Topology::new(&m);
-            let table = PartTable::new(spacing);
-            for step in 0..=260 {
-                let level = 1.0 + step as f32 / 4.0;
-                let levels: Vec<f32> = (0..topology.edges.len())
-                    .map(|e| 1.0 + ((level - 1.0) + e as f32 * 0.7) % 64.0)
-                    .collect();
-                let frame = instanced::frame_instances(
-                    &table,
-                    &topology,
-                    m.triangles(),
-                    &topology.position_ids,
-                    &levels,
-                    None,
-                )
-                .unwrap();
-                for record in frame.records.chunks_exact(RECORD_WORDS) {
-                    let packed = pack_record(record);
-                    for (i, &word) in record[..4 * RULER_WORDS].iter().enumerate() {
-                        assert_eq!(packed_ruler_word(&packed, i / 5, i % 5), word);
-                    }
-                }
-            }
-        }
     }
 
     #[test]
     fn the_glsl_holds_the_generated_placement_edge_point_and_the_record_layout() {
         let g = glsl(tessella_core::Basis::Cubic, NormalMode::Quadratic);
         assert!(g.contains(&shader::locate_glsl()));
+        // The packed record's reader: the generated one, the only one.
+        assert!(g.contains(&shader::packed_record(Lang::Glsl)));
+        assert_eq!(g.matches("uint tessella_ruler_word(").count(), 1);
+        assert_eq!(g.matches("uint tessella_forward_bits(").count(), 1);
         assert!(g.contains(&shader::edge_weights_glsl()));
         assert!(g.contains(&shader::canonical_edge(Lang::Glsl)));
         // The adaptive point's steps: generated, and called by the entry.
@@ -821,6 +725,9 @@ mod tests {
             let w = wgsl(basis, mode);
             let g = glsl(basis, mode);
             assert!(w.contains(&shader::locate_wgsl()));
+            assert!(w.contains(&shader::packed_record(Lang::Wgsl)));
+            assert_eq!(w.matches("fn tessella_ruler_word(").count(), 1);
+            assert_eq!(w.matches("fn tessella_forward_bits(").count(), 1);
             assert!(w.contains(&shader::edge_weights_wgsl()));
             assert!(w.contains(&shader::canonical_edge(Lang::Wgsl)));
             assert!(w.contains(&shader::tessellator_point(Lang::Wgsl)));

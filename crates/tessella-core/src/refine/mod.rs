@@ -43,4 +43,4 @@ pub use plan::sizes::PlanSizes;
 pub use plan::surface::{Frame, Surface, SurfaceOptions};
 pub use plan::table::Plan;
 pub use plan::tiling::{grid_pattern, Morph, Tile, Tiling};
-pub use plan::{canonical, instanced, lod, morph};
+pub use plan::{canonical, instanced, lod, morph, packed};

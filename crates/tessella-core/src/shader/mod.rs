@@ -608,6 +608,50 @@ pub fn locate_glsl() -> String {
     )
 }
 
+/// The reads of a packed record ([`crate::refine::packed`]), traced from
+/// [`crate::refine::packed::ruler_word_of`] and `forward_bits_of`, the functions that give the
+/// CPU its words back: `tessella_ruler_word(rec, r, k)`, word `k` of ruler `r` as
+/// [`locate_wgsl`] / [`locate_glsl`] read it (`rec` unused: the host holds one record), and
+/// `tessella_forward_bits()`, the face's canonical edge bits. They read the packed words
+/// through `tessella_packed(i)` (`u32` in and out), which the host defines over its texture.
+pub fn packed_record(lang: Lang) -> String {
+    let [(ruler_tape, word), (bits_tape, bits)] = traced_packed_record();
+    let function = |head: &str, tape: &trace::Tape, out: UExpr| {
+        let body = Body::new(tape, lang, &[out]);
+        format!(
+            "{head} {{\n{}    return {};\n}}\n",
+            body.statements,
+            body.name(out)
+        )
+    };
+    let (ruler_head, bits_head) = match lang {
+        Lang::Wgsl => (
+            "fn tessella_ruler_word(rec: u32, r: u32, k: u32) -> u32",
+            "fn tessella_forward_bits() -> u32",
+        ),
+        Lang::Glsl => (
+            "uint tessella_ruler_word(uint rec, uint r, uint k)",
+            "uint tessella_forward_bits()",
+        ),
+    };
+    function(ruler_head, &ruler_tape, word) + &function(bits_head, &bits_tape, bits)
+}
+
+/// [`packed_record`]'s two functions traced: word `k` of ruler `r`, and the canonical bits,
+/// each read through `tessella_packed(i)`.
+fn traced_packed_record() -> [(trace::Tape, UExpr); 2] {
+    use crate::refine::packed::{forward_bits_of, ruler_word_of};
+    let packed = |i: UExpr| UExpr::call("tessella_packed", &[i]);
+    [
+        trace(|| {
+            let r = UExpr::input("r");
+            let at = |j: u32| packed(UExpr::lit(3).wmul(r).wadd(UExpr::lit(j)));
+            ruler_word_of(at(0), at(1), at(2), UExpr::input("k"))
+        }),
+        trace(|| forward_bits_of(packed(UExpr::lit(2)))),
+    ]
+}
+
 /// A canonical edge point traced from [`crate::refine::canonical::edge_sum_of`] and
 /// [`crate::basis::surface_normal::unit_or_zero_of`] (the CPU's `canonical::position` and
 /// `canonical::net_normal`): the point and the unit normal (zero where it vanishes).

@@ -912,6 +912,68 @@ fn adaptive_point_takes_the_cpus_steps_in_order() {
     }
 }
 
+/// The packed record's traced reader gives back every word the placement reads and the
+/// canonical bits, from real records of every spacing; and it is printed with the names the
+/// placement calls.
+#[test]
+fn traced_packed_record_reader_gives_back_the_records_words() {
+    use crate::mesh::Topology;
+    use crate::refine::instanced::{frame_instances, PartTable, FORWARD_WORD, RECORD_WORDS};
+    use crate::refine::packed::pack_record;
+    use crate::refine::Spacing;
+    use crate::tessellator::points::RULER_WORDS;
+    let [(ruler_tape, word), (bits_tape, bits)] = traced_packed_record();
+    let mesh = crate::samples::by_name("icosphere").expect("a bundled sample");
+    let topology = Topology::new(&mesh);
+    let mut checked = 0;
+    for spacing in [
+        Spacing::Equal,
+        Spacing::FractionalOdd,
+        Spacing::FractionalEven,
+    ] {
+        let table = PartTable::new(spacing);
+        for level in [1.0, 2.5, 7.3, 16.0, 33.9, 64.0] {
+            let levels: Vec<f32> = (0..topology.edges.len())
+                .map(|e| (level + e as f32 * 0.37) % 64.0 + 1.0)
+                .collect();
+            let frame = frame_instances(
+                &table,
+                &topology,
+                mesh.triangles(),
+                &topology.position_ids,
+                &levels,
+                None,
+            )
+            .expect("levels in range");
+            for record in frame.records.chunks_exact(RECORD_WORDS).step_by(7) {
+                let packed = pack_record(record);
+                let read = |name: &str, args: &[u32]| {
+                    assert_eq!(name, "tessella_packed");
+                    packed[args[0] as usize]
+                };
+                for (i, &want) in record[..4 * RULER_WORDS].iter().enumerate() {
+                    let inputs = [
+                        ("r", (i / RULER_WORDS) as f64),
+                        ("k", (i % RULER_WORDS) as f64),
+                    ];
+                    let v = run_with(&ruler_tape, &inputs, read);
+                    assert_eq!(v[word.index()] as u32, want, "{spacing:?} {level} word {i}");
+                }
+                let v = run_with(&bits_tape, &[], read);
+                assert_eq!(v[bits.index()] as u32, record[FORWARD_WORD]);
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 100, "{checked}");
+    for lang in [Lang::Wgsl, Lang::Glsl] {
+        let text = packed_record(lang);
+        assert_eq!(text.matches("tessella_ruler_word(").count(), 1, "{text}");
+        assert_eq!(text.matches("tessella_forward_bits(").count(), 1, "{text}");
+        assert!(text.contains("tessella_packed("), "{text}");
+    }
+}
+
 /// The packed net the per-texel function reads from: its floats, run in f32 as a shader runs
 /// them, are the CPU's `f32` nets (points then normal net) bit for bit, for every builder the
 /// GPU has; and each texel's branch returns floats `4j..4j+4` of it (zeros past the end).

@@ -8,7 +8,7 @@
 //! - [`tiling`], [`instanced`], [`morph`], [`canonical`]: adaptive plans' per-face patterns,
 //!   their instanced parts, geomorphs and canonical edge weights; [`grid_point`], a grid
 //!   point's snap and geomorph sources, written once for the CPU and the shaders; [`driver`], an instanced
-//!   renderer's per-frame levels and instances;
+//!   renderer's per-frame levels and instances; [`packed`], its records packed for a texture;
 //! - [`layout`], [`indices`], [`pieces`], [`stream`]: where the output's vertices go, its
 //!   triangles, and its cut into pieces; [`sizes`], what a plan's buffers are sized by;
 //! - [`surface`]: topology and scheme, which build each frame's nets;
@@ -26,6 +26,7 @@ pub mod lod;
 pub mod morph;
 pub mod options;
 pub mod options_text;
+pub mod packed;
 pub mod pieces;
 pub mod sizes;
 pub mod stream;
