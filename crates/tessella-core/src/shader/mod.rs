@@ -609,7 +609,7 @@ pub fn locate_glsl() -> String {
 }
 
 /// The reads of a packed record ([`crate::refine::packed`]), traced from
-/// [`crate::refine::packed::ruler_word_of`] and `forward_bits_of`, the functions that give the
+/// `refine::packed::ruler_word_of` and `forward_bits_of`, the functions that give the
 /// CPU its words back: `tessella_ruler_word(rec, r, k)`, word `k` of ruler `r` as
 /// [`locate_wgsl`] / [`locate_glsl`] read it (`rec` unused: the host holds one record), and
 /// `tessella_forward_bits()`, the face's canonical edge bits. They read the packed words

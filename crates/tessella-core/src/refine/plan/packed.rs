@@ -3,8 +3,8 @@
 //! tessellator's placement reads 21 (four rulers of five words and the canonical edge bits);
 //! they pack into [`PACKED_WORDS`], three `RGBA32UI` texels a face, so that a frame uploads 48
 //! bytes of records a coarse triangle. The shaders' reader ([`crate::shader::packed_record`])
-//! is traced from [`ruler_word_of`] and [`forward_bits_of`], the functions that give the words
-//! back here.
+//! is traced from `ruler_word_of` and `forward_bits_of`, the functions that give the words back
+//! here ([`ruler_word`], [`forward_bits`]).
 
 use super::instanced::FORWARD_WORD;
 use crate::scalar::Word;
