@@ -39,6 +39,7 @@ What this build has: :func:`schemes`; what works on this machine: :func:`backend
 from __future__ import annotations
 
 import os
+import sys
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
@@ -50,7 +51,9 @@ from ._result import PrimitiveReport, RefinedMesh, SceneReport
 from ._tessella import AnimatedMesh, __version__, backends, gpu_info, info, load, load_animated, pattern, save, schemes
 from ._types import BackendName, NormalsMode, SchemeName, Spacing, ViewOptions
 
-if TYPE_CHECKING:
+if sys.version_info >= (3, 11):
+    from typing import Unpack
+elif TYPE_CHECKING:
     from typing_extensions import Unpack
 
 #: What ``tags=`` accepts: a dict in the sidecar-JSON structure, that JSON as a string, or the

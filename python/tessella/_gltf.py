@@ -13,6 +13,7 @@ copied. The work runs in Rust with the GIL released.
 from __future__ import annotations
 
 import os
+import sys
 import warnings as _warnings
 from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Tuple, Union, cast
 
@@ -20,7 +21,9 @@ from . import _options, _tessella
 from ._result import PrimitiveReport, SceneReport
 from ._types import SceneOptions
 
-if TYPE_CHECKING:
+if sys.version_info >= (3, 11):
+    from typing import Unpack
+elif TYPE_CHECKING:
     from typing_extensions import Unpack
 
 PathLike = Union[str, "os.PathLike[str]"]

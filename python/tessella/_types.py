@@ -17,8 +17,9 @@ Spacing = Literal["grid", "equal", "fractional-odd", "fractional-even"]
 NormalsMode = Literal["linear", "quadratic", "real"]
 #: ``backend=``: where the work runs.
 BackendName = Literal["auto", "cpu", "gpu", "gl"]
-#: ``tangents=`` of a glTF scene: recomputed on the refined mesh, or the file's carried.
-Tangents = Literal["recomputed", "carried"]
+#: ``tangents=`` of a glTF scene: recomputed on the refined mesh (``"mikktspace"`` is the same),
+#: or the file's carried.
+Tangents = Literal["recomputed", "mikktspace", "carried"]
 
 
 class SceneOptions(TypedDict, total=False):
@@ -45,7 +46,7 @@ class ViewOptions(TypedDict, total=False):
     zoom: float
     wireframe: bool
     color_by: Optional[str]
-    colormap: Literal["viridis", "coolwarm"]
+    colormap: str
     colorbar: bool
     label: Optional[str]
     path: Union[str, "os.PathLike[str]", None]

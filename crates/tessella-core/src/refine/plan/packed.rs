@@ -90,7 +90,7 @@ mod tests {
     use crate::refine::Spacing;
 
     /// Every word the placement reads comes back from the packed record, for every spacing
-    /// and a sweep of levels up to 64.
+    /// and a sweep of levels up to 65 (clamped to 64).
     #[test]
     fn packed_records_give_back_every_word_the_placement_reads() {
         let mesh = crate::samples::by_name("icosphere").expect("a bundled sample");
@@ -104,7 +104,7 @@ mod tests {
             for step in 0..=252 {
                 let level = 1.0 + step as f32 / 4.0;
                 let levels: Vec<f32> = (0..topology.edges.len())
-                    .map(|e| 1.0 + ((level - 1.0) + e as f32 * 0.7) % 63.0)
+                    .map(|e| 1.0 + ((level - 1.0) + e as f32 * 0.7) % 64.0)
                     .collect();
                 let frame = frame_instances(
                     &table,
