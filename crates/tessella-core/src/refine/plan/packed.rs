@@ -15,8 +15,10 @@ pub const PACKED_WORDS: usize = 12;
 /// Bits of a 16.16 value in `[0, 1]` (1.0 is `1 << 16`).
 const FIXED_BITS: u32 = 17;
 const FIXED_MASK: u32 = (1 << FIXED_BITS) - 1;
-/// Where a ruler's split and half-point count sit in its first word, above its 16.16 value.
+/// Where a ruler's half-point count sits in its first word, above its 16.16 value and split.
 const HALF_SHIFT: u32 = 24;
+/// A ruler's split, between its 16.16 value and its half-point count.
+const SPLIT_MASK: u32 = (1 << (HALF_SHIFT - FIXED_BITS)) - 1;
 /// Where the canonical edge bits sit in ruler 0's third word (above its fraction and odd bit).
 pub const PACKED_FORWARD_SHIFT: u32 = FIXED_BITS + 1;
 
@@ -32,7 +34,9 @@ pub fn pack_record(record: &[u32]) -> [u32; PACKED_WORDS] {
         let half = w[4] & ((1 << RULER_ODD_SHIFT) - 1);
         let odd = (w[4] >> RULER_ODD_SHIFT) & 1;
         let points = w[4] >> RULER_POINTS_SHIFT;
-        debug_assert!(w[..3].iter().all(|&x| x <= FIXED_MASK) && w[3] < 128 && points < 1 << 15);
+        debug_assert!(
+            w[..3].iter().all(|&x| x <= FIXED_MASK) && w[3] <= SPLIT_MASK && points < 1 << 15
+        );
         out[3 * r] = w[0] | w[3] << FIXED_BITS | half << HALF_SHIFT;
         out[3 * r + 1] = w[1] | points << FIXED_BITS;
         out[3 * r + 2] = w[2] | odd << FIXED_BITS;
@@ -45,7 +49,7 @@ pub fn pack_record(record: &[u32]) -> [u32; PACKED_WORDS] {
 /// given back (the fields of the last word do not overlap, so they add).
 pub(crate) fn ruler_word_of<W: Word>(a: W, b: W, c: W, k: W) -> W {
     let fixed = W::lit(FIXED_MASK);
-    let split = a.shr(FIXED_BITS).and(W::lit(0x7f));
+    let split = a.shr(FIXED_BITS).and(W::lit(SPLIT_MASK));
     let packed = a
         .shr(HALF_SHIFT)
         .wadd(
@@ -54,16 +58,11 @@ pub(crate) fn ruler_word_of<W: Word>(a: W, b: W, c: W, k: W) -> W {
                 .wmul(W::lit(1 << RULER_ODD_SHIFT)),
         )
         .wadd(b.shr(FIXED_BITS).wmul(W::lit(1 << RULER_POINTS_SHIFT)));
-    let k_is = |i: u32, yes: W, no: W| W::select_eq(k, W::lit(i), yes, no);
-    k_is(
-        0,
-        a.and(fixed),
-        k_is(
-            1,
-            b.and(fixed),
-            k_is(2, c.and(fixed), k_is(3, split, packed)),
-        ),
-    )
+    let words = [a.and(fixed), b.and(fixed), c.and(fixed), split];
+    // Word 4 where `k` is none of 0 to 3.
+    (0..words.len()).rev().fold(packed, |other, i| {
+        W::select_eq(k, W::lit(i as u32), words[i], other)
+    })
 }
 
 /// The canonical edge bits from ruler 0's third packed word.
